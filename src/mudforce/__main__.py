@@ -1,0 +1,7 @@
+"""``python -m mudforce`` runs the command line."""
+
+import sys
+
+from mudforce.cli import main
+
+sys.exit(main())

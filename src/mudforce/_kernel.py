@@ -1,0 +1,374 @@
+"""The one compiled stepper that every path (batch, streaming, vectorised) runs.
+
+Layout
+------
+A foot's state is one row of a float64 array ``states[j, :]`` (indices
+``S_*`` below); its constants are one row of ``params[j, :]`` (``P_*``);
+each step writes one row of ``out[k, :]`` (``O_*``). Everything works on
+2-D arrays and row indices so that the same function serves one foot
+(streaming, batch) and many (vectorised) without copies or views.
+
+The step (``../shared/MODEL.md``)
+---------------------------------
+From sample ``k-1`` to ``k`` the input depth is linear in time. The step
+picks the motion direction ``d`` (intrusion branch for ``d >= 0``), applies
+the state machine's transitions at its start (NECKED -> CONTACT/FREE when
+moving down), enters CONTACT at the surface-crossing instant from FREE,
+advances the Maxwell element in closed form, locates the necking instant
+inside the step in closed form, and continues in closed form after it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mudforce.equations import (
+    drag_stress,
+    maxwell_strain_step,
+    neck_filter_response,
+    necking_time,
+    nonlinear_spring_stress,
+)
+
+__all__: list[str] = []
+
+# contact states
+FREE = 0
+CONTACT = 1
+NECKED = 2
+STATE_NAMES = ("FREE", "CONTACT", "NECKED")
+
+# params row
+P_K_I = 0
+P_B_I = 1
+P_K_W = 2
+P_B_W = 3
+P_ALPHA = 4
+P_BETA = 5
+P_SIGMA_Y = 6
+P_ZETA = 7
+P_OMEGA_0 = 8
+P_RHO_M = 9
+P_LAMBDA = 10
+P_AREA = 11
+P_WIDTH = 12
+P_WINDOW = 13
+P_DEADBAND = 14
+P_TAU_I = 15
+P_TAU_W = 16
+N_PARAMS = 17
+
+# ring buffer for the smoothing differentiator
+RING = 65  # holds window + 1 samples, so windows up to 64 steps
+MAX_WINDOW = RING - 1
+
+# state row
+S_STARTED = 0
+S_MODE = 1
+S_TIME = 2  # time since the first sample [s]
+S_DEPTH = 3  # z_i at the last sample [m]
+S_MUD = 4  # z_m at the last sample [m]
+S_NECK_AGE = 5  # time since necking [s]
+S_NECK_V = 6  # v_m0, mud velocity at necking [m/s]
+S_NECK_Z = 7  # z_m at necking [m]
+S_DIRECTION = 8  # -1 up, 0 rest, +1 down
+S_VELOCITY = 9  # velocity estimate at the last sample [m/s]
+S_RING_N = 10
+S_RING_HEAD = 11
+S_CACHE_DT = 12  # step length the cached decays are for (a cache, not state)
+S_CACHE_DECAY_I = 13
+S_CACHE_DECAY_W = 14
+S_RING_Z = 15
+S_RING_T = S_RING_Z + RING
+N_STATE = S_RING_T + RING
+N_SNAPSHOT = S_CACHE_DT  # the entries before S_CACHE_DT and the ring are the state
+
+# output row
+O_FORCE = 0
+O_F_E1 = 1
+O_F_E2 = 2
+O_F_S = 3
+O_MUD = 4
+O_MUD_VELOCITY = 5
+O_VELOCITY = 6
+O_STATE = 7
+O_NECK_OFFSET = 8  # time from the step's start to necking [s], NaN if none
+N_OUT = 9
+
+
+def make_params(values: np.ndarray, area: float, width: float, window: int, deadband: float) -> np.ndarray:
+    """One params row from the 11 model values [SI], the foot and the velocity filter."""
+    row = np.empty(N_PARAMS, dtype=np.float64)
+    row[:11] = values
+    row[P_AREA] = area
+    row[P_WIDTH] = width
+    row[P_WINDOW] = float(window)
+    row[P_DEADBAND] = float(deadband)
+    row[P_TAU_I] = row[P_B_I] / row[P_K_I]
+    row[P_TAU_W] = row[P_B_W] / row[P_K_W]
+    return row
+
+
+def new_states(n: int) -> np.ndarray:
+    """``n`` fresh state rows (not started: the first step sets the initial sample)."""
+    states = np.zeros((n, N_STATE), dtype=np.float64)
+    states[:, S_CACHE_DT] = -1.0
+    return states
+
+
+@njit(cache=True, nogil=True)
+def _direction(velocity: float, previous: float, deadband: float) -> float:
+    """Motion direction from a velocity estimate, with a Schmitt-trigger deadband.
+
+    ``+1`` moving down, ``-1`` moving up, ``0`` at rest. With ``deadband = 0``
+    this is exactly ``sign(v)`` with ``0`` for ``v == 0`` (the paper's
+    ``sign(0) = +1`` then selects the intrusion branch). With a deadband the
+    direction changes when ``|v|`` exceeds it and keeps a direction until
+    ``|v|`` falls below half of it.
+    """
+    if velocity > deadband:
+        return 1.0
+    if velocity < -deadband:
+        return -1.0
+    if deadband > 0.0:
+        if previous < 0.0 and velocity < -0.5 * deadband:
+            return -1.0
+        if previous > 0.0 and velocity > 0.5 * deadband:
+            return 1.0
+    return 0.0
+
+
+@njit(cache=True, nogil=True)
+def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: float,
+           mud: float, mud_velocity: float, velocity: float, mode: int, neck_offset: float) -> None:
+    out[k, O_FORCE] = force
+    out[k, O_F_E1] = fe1
+    out[k, O_F_E2] = fe2
+    out[k, O_F_S] = fs
+    out[k, O_MUD] = mud
+    out[k, O_MUD_VELOCITY] = mud_velocity
+    out[k, O_VELOCITY] = velocity
+    out[k, O_STATE] = mode
+    out[k, O_NECK_OFFSET] = neck_offset
+
+
+@njit(cache=True, nogil=True)
+def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float,
+         out: np.ndarray, k: int) -> float:
+    """Advance foot ``j`` to the next sample ``depth`` [m] after ``dt`` [s].
+
+    Writes the sample's outputs to ``out[k]`` and returns the force [N].
+    The first call on a fresh state sets the initial sample and ignores
+    ``dt``. Returns NaN, changing nothing, for a non-finite depth or a
+    ``dt`` that is not finite and > 0.
+    """
+    s = states[j]
+    p = params[j]
+    if not math.isfinite(depth):
+        return math.nan
+    area = p[P_AREA]
+    width = p[P_WIDTH]
+    window = int(p[P_WINDOW])
+
+    if s[S_STARTED] == 0.0:
+        # MODEL.md: a trajectory that starts below the surface starts in
+        # CONTACT with relaxed mud (z_m = z_i); otherwise FREE.
+        s[S_STARTED] = 1.0
+        s[S_TIME] = 0.0
+        s[S_DEPTH] = depth
+        s[S_MUD] = depth
+        s[S_DIRECTION] = 0.0
+        s[S_VELOCITY] = 0.0
+        s[S_NECK_AGE] = 0.0
+        s[S_NECK_V] = 0.0
+        s[S_NECK_Z] = 0.0
+        s[S_RING_HEAD] = 0.0
+        s[S_RING_N] = 1.0
+        s[S_RING_Z] = depth
+        s[S_RING_T] = 0.0
+        if depth > 0.0:
+            s[S_MODE] = CONTACT
+            fe2 = nonlinear_spring_stress(p[P_ALPHA], p[P_BETA], depth, width)
+            force = fe2 * area
+            _write(out, k, force, 0.0, fe2, 0.0, depth, 0.0, 0.0, CONTACT, math.nan)
+            return force
+        s[S_MODE] = FREE
+        _write(out, k, 0.0, 0.0, 0.0, 0.0, depth, 0.0, 0.0, FREE, math.nan)
+        return 0.0
+
+    if not (dt > 0.0) or not math.isfinite(dt):
+        return math.nan
+
+    z0 = s[S_DEPTH]
+    z1 = depth
+    v = (z1 - z0) / dt  # first-order hold: constant velocity over the step
+    t1 = s[S_TIME] + dt
+
+    # --- velocity estimate for the branch choice (MODEL.md "Measured trajectories")
+    if window <= 1:
+        vhat = v
+    else:
+        head = (int(s[S_RING_HEAD]) + 1) % RING
+        s[S_RING_Z + head] = z1
+        s[S_RING_T + head] = t1
+        n = min(int(s[S_RING_N]) + 1, window + 1)
+        old = (head - (n - 1)) % RING
+        s[S_RING_HEAD] = head
+        s[S_RING_N] = n
+        vhat = (z1 - s[S_RING_Z + old]) / (t1 - s[S_RING_T + old])
+    d = _direction(vhat, s[S_DIRECTION], p[P_DEADBAND])
+
+    tau_i = p[P_TAU_I]
+    tau_w = p[P_TAU_W]
+    # decays for a full step, reused while the step length stays the same
+    # (to 1e-12 relative, so that sampling jitter of a few ulps still hits)
+    if abs(dt - s[S_CACHE_DT]) > 1e-12 * dt:
+        s[S_CACHE_DT] = dt
+        s[S_CACHE_DECAY_I] = math.exp(-dt / tau_i)
+        s[S_CACHE_DECAY_W] = math.exp(-dt / tau_w)
+
+    mode = int(s[S_MODE])
+    zm = s[S_MUD]
+    neck_offset = math.nan
+    lam = p[P_LAMBDA]
+    rho = p[P_RHO_M]
+
+    # --- transitions at the start of the step
+    if mode == NECKED and d > 0.0:
+        if z0 > 0.0:
+            mode = CONTACT  # keeps z_m
+        else:
+            mode = FREE
+            zm = z0
+
+    start = 0.0  # time into the step at which CONTACT begins
+    z_start = z0
+    if mode == FREE:
+        if z1 > 0.0:
+            # touchdown: CONTACT from the crossing instant, with z_m = 0 there
+            start = -z0 / v if z0 < 0.0 else 0.0
+            mode = CONTACT
+            zm = 0.0
+            z_start = 0.0
+        else:
+            zm = z1
+
+    strain = 0.0
+    if mode == CONTACT:
+        strain = z_start - zm
+        if d >= 0.0:
+            # intrusion / hold branch, Eqs. (2)-(3) with k_m_i, b_m_i
+            decay = s[S_CACHE_DECAY_I] if start == 0.0 else math.exp(-(dt - start) / tau_i)
+            strain = maxwell_strain_step(strain, v, tau_i, decay)
+            if z1 <= 0.0:
+                mode = FREE  # a step ending on the intrusion branch above the surface
+                zm = z1
+            else:
+                zm = z1 - strain
+        else:
+            # withdrawal branch with k_m_w, b_m_w; necking per Eq. (9).
+            # The drag acts only while z_i > 0, so the step is split where it
+            # crosses the surface; in each piece the stress is monotone.
+            k_w = p[P_K_W]
+            sigma_y = p[P_SIGMA_Y]
+            split = dt
+            if (z_start > 0.0) != (z1 > 0.0) and v != 0.0:
+                tc = start - z_start / v
+                if start < tc < dt:
+                    split = tc
+            t_a = start
+            z_a = z_start
+            pieces = 1 if split == dt else 2
+            for piece in range(pieces):
+                t_b = split if piece == 0 else dt
+                length = t_b - t_a
+                z_mid = z_a + 0.5 * v * length
+                fs = drag_stress(lam, rho, v) if z_mid > 0.0 else 0.0
+                if t_a == 0.0 and t_b == dt:
+                    decay = s[S_CACHE_DECAY_W]
+                else:
+                    decay = math.exp(-length / tau_w)
+                tn = necking_time(strain, v, tau_w, k_w, fs, sigma_y, length, decay)
+                if tn >= 0.0:
+                    if tn > 0.0:
+                        strain = (-sigma_y - fs) / k_w  # exactly on the yield surface
+                    z_n = z_a + v * tn
+                    mode = NECKED
+                    neck_offset = t_a + tn
+                    s[S_NECK_V] = strain / tau_w  # v_m0 = dz_m/dt = (z_i - z_m)/tau_w
+                    s[S_NECK_Z] = z_n - strain
+                    s[S_NECK_AGE] = dt - neck_offset
+                    break
+                strain = maxwell_strain_step(strain, v, tau_w, decay)
+                t_a = t_b
+                z_a = 0.0 if piece == 0 and pieces == 2 else z1
+            if mode == CONTACT:
+                zm = z1 - strain
+    elif mode == NECKED:
+        s[S_NECK_AGE] += dt
+
+    # --- outputs at the sample
+    fs_end = drag_stress(lam, rho, v) if z1 > 0.0 else 0.0
+    if mode == FREE:
+        fe1 = 0.0
+        fe2 = 0.0
+        fs_out = 0.0
+        mud_velocity = v
+    elif mode == CONTACT:
+        fs_out = fs_end
+        if d >= 0.0:
+            fe1 = p[P_K_I] * strain
+            fe2 = nonlinear_spring_stress(p[P_ALPHA], p[P_BETA], z1, width)
+            mud_velocity = strain / tau_i
+        else:
+            fe1 = p[P_K_W] * strain
+            fe2 = 0.0
+            mud_velocity = strain / tau_w
+    else:
+        # after necking the visco-elastic stress is the damper's: b_m_w dz_m/dt
+        g, g_int = neck_filter_response(s[S_NECK_AGE], p[P_ZETA], p[P_OMEGA_0])
+        v_m0 = s[S_NECK_V]
+        mud_velocity = v_m0 * g
+        zm = s[S_NECK_Z] + v_m0 * g_int
+        fe1 = p[P_B_W] * mud_velocity
+        fe2 = 0.0
+        fs_out = fs_end
+
+    force = (fe1 + fe2 + fs_out) * area
+    s[S_MODE] = mode
+    s[S_DEPTH] = z1
+    s[S_MUD] = zm
+    s[S_TIME] = t1
+    s[S_DIRECTION] = d
+    s[S_VELOCITY] = vhat
+    _write(out, k, force, fe1, fe2, fs_out, zm, mud_velocity, vhat, mode, neck_offset)
+    return force
+
+
+@njit(cache=True, nogil=True)
+def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, params: np.ndarray,
+              out: np.ndarray) -> int:
+    """Run foot 0 over a whole trajectory; returns the index of a bad sample or -1."""
+    n = time.shape[0]
+    for k in range(n):
+        dt = time[k] - time[k - 1] if k > 0 else 0.0
+        f = step(states, 0, params, depth[k], dt, out, k)
+        if f != f:
+            return k
+    return -1
+
+
+@njit(cache=True, nogil=True)
+def run_feet(states: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
+             forces: np.ndarray, out: np.ndarray) -> int:
+    """One step of every foot (row ``j`` of ``states``/``params``); returns a bad foot or -1."""
+    bad = -1
+    for j in range(depths.shape[0]):
+        f = step(states, j, params, depths[j], dt, out, j)
+        forces[j] = f
+        if f != f and bad < 0:
+            bad = j
+    return bad

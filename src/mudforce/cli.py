@@ -1,0 +1,74 @@
+"""The ``mudforce`` command line.
+
+Each subcommand lives in its own module under :mod:`mudforce.commands` and
+provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
+
+Exit status: 0 on success, 2 for bad input (one line on stderr, no
+traceback, no output file touched), 130 when interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+from typing import NoReturn
+
+from mudforce.errors import InputError
+
+__all__ = ["COMMANDS", "main"]
+
+#: Subcommand modules, in the order ``mudforce --help`` lists them.
+COMMANDS: tuple[str, ...] = (
+    "mudforce.commands.simulate",
+    "mudforce.commands.params",
+)
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argparse parser whose errors are one line and exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full argument parser with every available subcommand."""
+    from mudforce import __version__
+
+    parser = _Parser(prog="mudforce", description="The mud resistive-force model of Chen, Yi & Shan (2024).")
+    parser.add_argument("--version", action="version", version=f"mudforce {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(name)
+        except ModuleNotFoundError as exc:
+            if exc.name == name:  # a command not written yet
+                continue
+            raise
+        cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.__doc__)
+        module.add_arguments(cmd)
+        cmd.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "_run", None) is None:
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return int(args._run(args) or 0)
+    except InputError as exc:
+        print(f"mudforce {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("mudforce: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

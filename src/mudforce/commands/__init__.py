@@ -1,0 +1,1 @@
+"""The subcommands of the ``mudforce`` command line, one module each."""

@@ -1,0 +1,201 @@
+"""Streaming: one foot, one sample at a time, for a control loop."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce.errors import InputError
+from mudforce.foot import Foot
+from mudforce.parameters import MudParameters
+from mudforce.simulation import STATE_NAMES, params_row, resolve_velocity_filter
+from mudforce.velocity import VelocityFilter
+
+__all__ = ["ContactSample", "ContactState", "MudContact"]
+
+
+class ContactSample(NamedTuple):
+    """Everything the last step computed (units as in :class:`SimulationResult`)."""
+
+    force: float  #: total force [N], positive up
+    f_e1: float  #: visco-elastic stress [Pa], Eq. (2)
+    f_e2: float  #: nonlinear-spring stress [Pa], Eq. (4)
+    f_s: float  #: drag stress [Pa], Eq. (5)
+    mud_displacement: float  #: z_m [m]
+    mud_velocity: float  #: dz_m/dt [m/s]
+    velocity: float  #: branch velocity estimate [m/s]
+    state: str  #: "FREE", "CONTACT" or "NECKED"
+    necked: bool  #: True if the neck broke during this step
+
+
+@dataclass(frozen=True, eq=False)
+class ContactState:
+    """A snapshot of one foot's contact state, for save and restore in rollouts.
+
+    Read it from :attr:`MudContact.state` and assign it back to restore.
+    The snapshot is a copy: later steps do not change it.
+    """
+
+    data: np.ndarray
+
+    def __post_init__(self) -> None:
+        arr = np.array(self.data, dtype=np.float64)  # always a private copy
+        if arr.shape != (K.N_STATE,):
+            raise InputError(f"a contact state has {K.N_STATE} values, got shape {arr.shape}")
+        arr.setflags(write=False)
+        object.__setattr__(self, "data", arr)
+
+    @property
+    def started(self) -> bool:
+        """False before the first sample."""
+        return bool(self.data[K.S_STARTED])
+
+    @property
+    def mode(self) -> str:
+        """``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        return STATE_NAMES[int(self.data[K.S_MODE])]
+
+    @property
+    def time(self) -> float:
+        """Time since the first sample [s]."""
+        return float(self.data[K.S_TIME])
+
+    @property
+    def depth(self) -> float:
+        """Foot depth at the last sample [m]."""
+        return float(self.data[K.S_DEPTH])
+
+    @property
+    def mud_displacement(self) -> float:
+        """Mud displacement ``z_m`` at the last sample [m]."""
+        return float(self.data[K.S_MUD])
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, ContactState):
+            return NotImplemented
+        a, b = self.data.copy(), other.data.copy()
+        # the step-length cache is not state
+        a[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
+        b[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
+        return bool(np.array_equal(a, b))
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return (
+            f"ContactState(mode={self.mode!r}, time={self.time:g} s, depth={self.depth:g} m, "
+            f"mud_displacement={self.mud_displacement:g} m)"
+        )
+
+
+class MudContact:
+    """The mud force on one foot, stepped one sample at a time.
+
+    Runs the same compiled stepper as :func:`mudforce.simulate`, so feeding
+    it a trajectory's samples gives exactly the batch result.
+
+    Parameters
+    ----------
+    params : MudParameters
+        Mud parameters.
+    foot : Foot, optional
+        Foot geometry; the paper's 51 x 38 mm cuboid by default.
+    velocity_filter : "exact" or VelocityFilter
+        Branch-velocity filter. A stream cannot look ahead to estimate its
+        noise, so the default is the paper's exact rule; for measured depth
+        pass ``noise_std`` or a :class:`VelocityFilter`.
+    noise_std : float, optional
+        Depth noise [m]; with ``dt``, builds ``VelocityFilter.for_noise(noise_std, dt)``.
+    dt : float, optional
+        Nominal time step [s], needed with ``noise_std``.
+
+    Examples
+    --------
+    >>> from mudforce import MudContact, MudParameters
+    >>> contact = MudContact(MudParameters.from_water_content(0.25))
+    >>> contact.step(0.0, 0.01)   # first sample: sets the initial state
+    0.0
+    >>> round(contact.step(0.0001, 0.01), 3) > 0
+    True
+    """
+
+    def __init__(
+        self,
+        params: MudParameters,
+        foot: Foot | None = None,
+        *,
+        velocity_filter: VelocityFilter | str = "exact",
+        noise_std: float | None = None,
+        dt: float | None = None,
+    ) -> None:
+        self.params = params
+        self.foot = Foot.paper() if foot is None else foot
+        if noise_std is not None:
+            if dt is None:
+                raise InputError("noise_std needs the nominal time step dt [s]")
+            velocity_filter = VelocityFilter.for_noise(noise_std, dt)
+        self.velocity_filter = resolve_velocity_filter(velocity_filter)
+        self._params = params_row(params, self.foot, self.velocity_filter)[None, :]
+        self._states = K.new_states(1)
+        self._out = np.zeros((1, K.N_OUT), dtype=np.float64)
+        self._step = K.step
+
+    def step(self, depth: float, dt: float) -> float:
+        """Advance to the next depth sample and return the force [N].
+
+        Parameters
+        ----------
+        depth : float
+            Foot depth below the surface [m], positive down.
+        dt : float
+            Time since the previous sample [s], > 0; ignored on the first call,
+            which sets the initial sample.
+        """
+        force: float = self._step(self._states, 0, self._params, float(depth), float(dt), self._out, 0)
+        if force != force:
+            self._refuse(depth, dt)
+        return force
+
+    def _refuse(self, depth: float, dt: float) -> None:
+        if not math.isfinite(float(depth)):
+            raise InputError(f"depth must be finite [m], got {depth!r}")
+        raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+
+    @property
+    def last(self) -> ContactSample:
+        """The components of the last step."""
+        row = self._out[0]
+        return ContactSample(
+            force=float(row[K.O_FORCE]),
+            f_e1=float(row[K.O_F_E1]),
+            f_e2=float(row[K.O_F_E2]),
+            f_s=float(row[K.O_F_S]),
+            mud_displacement=float(row[K.O_MUD]),
+            mud_velocity=float(row[K.O_MUD_VELOCITY]),
+            velocity=float(row[K.O_VELOCITY]),
+            state=STATE_NAMES[int(row[K.O_STATE])],
+            necked=bool(np.isfinite(row[K.O_NECK_OFFSET])),
+        )
+
+    def reset(self) -> None:
+        """Forget the history: the next call to :meth:`step` sets the initial sample."""
+        self._states[:] = K.new_states(1)
+
+    @property
+    def state(self) -> ContactState:
+        """A snapshot of the contact state; assign one back to restore it."""
+        return ContactState(self._states[0])
+
+    @state.setter
+    def state(self, value: ContactState) -> None:
+        if not isinstance(value, ContactState):
+            raise InputError(f"state must be a ContactState (from MudContact.state), got {type(value).__name__}")
+        self._states[0] = value.data
+        self._states[0, K.S_CACHE_DT] = -1.0  # recompute the step-length cache
+
+    def __repr__(self) -> str:
+        return f"MudContact({self.params.source!r}, foot={self.foot.shape!r}, state={self.state.mode})"

@@ -1,0 +1,199 @@
+"""Prescribed foot motions as typed steps: intrude, hold, withdraw.
+
+A :class:`Protocol` is a start depth, a list of steps and a sampling rate.
+Its samples are at exactly ``t_k = k / rate`` and its depth is piecewise
+linear between the steps' breakpoints.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Union
+
+import numpy as np
+
+from mudforce.errors import InputError
+
+if TYPE_CHECKING:
+    from mudforce.foot import Foot
+    from mudforce.parameters import MudParameters
+    from mudforce.simulation import SimulationResult
+
+__all__ = ["Hold", "Intrude", "Protocol", "Step", "Withdraw"]
+
+
+def _positive(name: str, value: float, unit: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise InputError(f"{name} must be a number [{unit}], got {value!r}")
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise InputError(f"{name} must be finite and > 0 [{unit}], got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class Intrude:
+    """Move down at constant speed to an absolute depth.
+
+    Parameters
+    ----------
+    velocity : float
+        Speed, > 0 [m/s].
+    depth : float
+        Target depth below the surface [m]; must be deeper than where the step starts.
+    """
+
+    velocity: float
+    depth: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "velocity", _positive("intrusion velocity", self.velocity, "m/s"))
+        if not math.isfinite(self.depth):
+            raise InputError(f"intrusion depth must be finite [m], got {self.depth!r}")
+
+
+@dataclass(frozen=True)
+class Hold:
+    """Keep the foot still.
+
+    Parameters
+    ----------
+    duration : float
+        Hold time, > 0 [s].
+    """
+
+    duration: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "duration", _positive("hold duration", self.duration, "s"))
+
+
+@dataclass(frozen=True)
+class Withdraw:
+    """Move up at constant speed until the foot is ``rise`` above the surface.
+
+    Parameters
+    ----------
+    velocity : float
+        Speed, > 0 [m/s].
+    rise : float
+        Final height of the foot's bottom above the surface, >= 0 [m]
+        (the final depth is ``-rise``).
+    """
+
+    velocity: float
+    rise: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "velocity", _positive("withdrawal velocity", self.velocity, "m/s"))
+        if not math.isfinite(self.rise) or self.rise < 0.0:
+            raise InputError(f"withdrawal rise must be finite and >= 0 [m], got {self.rise!r}")
+
+
+Step = Union[Intrude, Hold, Withdraw]
+
+
+@dataclass(frozen=True)
+class Protocol:
+    """A sampled, piecewise-linear foot motion.
+
+    Parameters
+    ----------
+    steps : tuple of Intrude, Hold, Withdraw
+        The motion, in order.
+    rate : float
+        Sampling rate [Hz]; samples are at ``k / rate`` [s].
+    start_depth : float
+        Depth at ``t = 0`` [m]; negative is above the surface.
+    """
+
+    steps: tuple[Step, ...]
+    rate: float = 100.0
+    start_depth: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "steps", tuple(self.steps))
+        object.__setattr__(self, "rate", _positive("sampling rate", self.rate, "Hz"))
+        if not math.isfinite(self.start_depth):
+            raise InputError(f"start depth must be finite [m], got {self.start_depth!r}")
+        if not self.steps:
+            raise InputError("a protocol needs at least one step (Intrude, Hold or Withdraw)")
+        self.breakpoints()  # validates the sequence
+
+    @classmethod
+    def paper(
+        cls,
+        depth: float = 0.02,
+        velocity: float = 0.01,
+        hold: float = 6.0,
+        rise: float = 0.02,
+        rate: float = 100.0,
+        approach: float = 0.0,
+    ) -> Protocol:
+        """The paper's experiment (Section II-A), with the project's defaults.
+
+        Intrude to ``depth`` [m] at ``velocity`` [m/s], hold for ``hold`` [s],
+        withdraw at the same speed until ``rise`` [m] above the surface,
+        sampled at ``rate`` [Hz]. ``approach`` [m] starts the foot that far
+        above the surface (0: at the surface).
+        """
+        if not math.isfinite(approach) or approach < 0.0:
+            raise InputError(f"approach height must be finite and >= 0 [m], got {approach!r}")
+        return cls(
+            (Intrude(velocity, depth), Hold(hold), Withdraw(velocity, rise)),
+            rate=rate,
+            start_depth=-approach,
+        )
+
+    def breakpoints(self) -> tuple[np.ndarray, np.ndarray]:
+        """Times [s] and depths [m] of the corners of the motion."""
+        times = [0.0]
+        depths = [self.start_depth]
+        for i, st in enumerate(self.steps):
+            here = depths[-1]
+            if isinstance(st, Intrude):
+                if st.depth <= here:
+                    raise InputError(
+                        f"step {i + 1} (Intrude to {st.depth:g} m) must go deeper than {here:g} m"
+                    )
+                times.append(times[-1] + (st.depth - here) / st.velocity)
+                depths.append(st.depth)
+            elif isinstance(st, Hold):
+                times.append(times[-1] + st.duration)
+                depths.append(here)
+            elif isinstance(st, Withdraw):
+                target = -st.rise
+                if target >= here:
+                    raise InputError(
+                        f"step {i + 1} (Withdraw to {st.rise:g} m above the surface) must go up from {here:g} m"
+                    )
+                times.append(times[-1] + (here - target) / st.velocity)
+                depths.append(target)
+            else:
+                raise InputError(f"step {i + 1} is {st!r}; expected Intrude, Hold or Withdraw")
+        return np.array(times), np.array(depths)
+
+    @property
+    def duration(self) -> float:
+        """Total time of the motion [s]."""
+        return float(self.breakpoints()[0][-1])
+
+    def sample(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sample times ``k / rate`` [s] and depths [m], covering the whole motion.
+
+        The last sample is the first grid point at or after the end of the
+        motion (the foot stays at its final depth).
+        """
+        bt, bz = self.breakpoints()
+        n = int(math.ceil(bt[-1] * self.rate - 1e-9)) + 1
+        time = np.arange(n, dtype=np.float64) / self.rate
+        depth = np.interp(time, bt, bz)
+        return time, depth
+
+    def simulate(self, params: MudParameters, foot: Foot | None = None) -> SimulationResult:
+        """Sample the motion and run :func:`mudforce.simulate` on it."""
+        from mudforce.simulation import simulate
+
+        time, depth = self.sample()
+        return simulate(time, depth, params, foot)

@@ -1,0 +1,281 @@
+"""Batch simulation of a prescribed foot trajectory, and its result."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce.errors import InputError
+from mudforce.foot import Foot
+from mudforce.parameters import MudParameters
+from mudforce.velocity import VelocityFilter, auto_velocity_filter
+
+if TYPE_CHECKING:
+    import pandas
+
+__all__ = ["STATE_NAMES", "SimulationResult", "simulate"]
+
+#: Contact state codes in :attr:`SimulationResult.state`: 0 FREE, 1 CONTACT, 2 NECKED.
+STATE_NAMES: tuple[str, ...] = K.STATE_NAMES
+
+_CSV_COLUMNS = (
+    ("time_s", "time"),
+    ("depth_m", "depth"),
+    ("velocity_m_s", "velocity"),
+    ("mud_displacement_m", "mud_displacement"),
+    ("mud_velocity_m_s", "mud_velocity"),
+    ("f_e1_Pa", "f_e1"),
+    ("f_e2_Pa", "f_e2"),
+    ("f_s_Pa", "f_s"),
+    ("force_N", "force"),
+)
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationResult:
+    """The model's response to a sampled trajectory; all arrays have one entry per sample.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times [s].
+    depth : ndarray
+        Foot depth ``z_i`` below the surface [m], positive down.
+    velocity : ndarray
+        Foot velocity estimate used for the branch choice [m/s] (the raw
+        backward difference for the exact filter; 0 at the first sample).
+    mud_displacement : ndarray
+        Mud displacement ``z_m`` of the Maxwell element [m], Eq. (3).
+    mud_velocity : ndarray
+        ``dz_m/dt`` [m/s] (after necking, ``v_m0 g(t - t_n)``, Eq. (7)).
+    f_e1, f_e2, f_s : ndarray
+        Visco-elastic, nonlinear-spring and drag stresses [Pa], Eqs. (2), (4), (5).
+    force : ndarray
+        Total vertical force on the foot [N], positive up (resistance), Eq. (8) times area.
+    state : ndarray of int8
+        Contact state per sample: 0 FREE, 1 CONTACT, 2 NECKED.
+    necking_times : ndarray
+        Instants at which the neck broke [s], located inside the step.
+    params : MudParameters
+        The parameters used.
+    foot : Foot
+        The foot used.
+    velocity_filter : VelocityFilter
+        The branch-velocity filter used (resolved from ``"auto"``).
+    """
+
+    time: np.ndarray
+    depth: np.ndarray
+    velocity: np.ndarray
+    mud_displacement: np.ndarray
+    mud_velocity: np.ndarray
+    f_e1: np.ndarray
+    f_e2: np.ndarray
+    f_s: np.ndarray
+    force: np.ndarray
+    state: np.ndarray
+    necking_times: np.ndarray
+    params: MudParameters
+    foot: Foot
+    velocity_filter: VelocityFilter = field(default_factory=VelocityFilter.exact)
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        """Unpack as ``time, force``."""
+        return iter((self.time, self.force))
+
+    def __len__(self) -> int:
+        return int(self.time.shape[0])
+
+    @property
+    def state_names(self) -> list[str]:
+        """The contact state of each sample as ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        return [STATE_NAMES[s] for s in self.state]
+
+    @property
+    def peak_force(self) -> float:
+        """Largest resistance force [N]."""
+        return float(np.max(self.force))
+
+    @property
+    def min_force(self) -> float:
+        """Most negative (suction) force [N]."""
+        return float(np.min(self.force))
+
+    def columns(self) -> dict[str, Any]:
+        """The per-sample data under unit-suffixed column names (``time_s``, ``force_N``, ...)."""
+        data: dict[str, Any] = {name: getattr(self, attr) for name, attr in _CSV_COLUMNS}
+        data["state"] = np.array(self.state_names, dtype=object)
+        return data
+
+    def to_pandas(self) -> pandas.DataFrame:
+        """A :class:`pandas.DataFrame` with the columns of :meth:`to_csv` (needs pandas)."""
+        from mudforce._optional import require
+
+        pd = require("pandas", "pandas", "to_pandas()")
+        return pd.DataFrame(self.columns())
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write the samples as CSV, atomically.
+
+        Columns: ``time_s, depth_m, velocity_m_s, mud_displacement_m,
+        mud_velocity_m_s, f_e1_Pa, f_e2_Pa, f_s_Pa, force_N, state``.
+        """
+        from mudforce.io import atomic_open
+
+        names = [name for name, _ in _CSV_COLUMNS]
+        block = np.column_stack([getattr(self, attr) for _, attr in _CSV_COLUMNS])
+        states = self.state_names
+        with atomic_open(path, "w") as handle:
+            handle.write(",".join([*names, "state"]) + "\n")
+            for row, st in zip(block, states, strict=True):
+                handle.write(",".join(f"{x:.12g}" for x in row) + f",{st}\n")
+
+    def plot(self, path: str | os.PathLike[str] | None = None, *, title: str | None = None) -> Any:
+        """Plot force over time and over depth, with the contact states (needs matplotlib).
+
+        Parameters
+        ----------
+        path : path-like, optional
+            Save the figure there (PNG, atomically) instead of only returning it.
+        title : str, optional
+            Figure title.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from mudforce.plotting import plot_result
+
+        return plot_result(self, path, title=title)
+
+
+def _as_trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
+    try:
+        t = np.asarray(time, dtype=np.float64)
+        z = np.asarray(depth, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("time and depth must be numeric arrays [s], [m]") from None
+    if t.ndim != 1 or z.ndim != 1:
+        raise InputError(f"time and depth must be 1-D arrays, got shapes {t.shape} and {z.shape}")
+    if t.shape != z.shape:
+        raise InputError(f"time and depth must have the same length, got {t.size} and {z.size}")
+    if t.size == 0:
+        raise InputError("the trajectory is empty; expected at least one sample")
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise InputError(f"time is not finite at sample {bad[0]} ({t[bad[0]]!r}); expected numbers [s]")
+    bad = np.flatnonzero(~np.isfinite(z))
+    if bad.size:
+        raise InputError(f"depth is not finite at sample {bad[0]} ({z[bad[0]]!r}); expected numbers [m]")
+    if t.size > 1:
+        steps = np.diff(t)
+        bad = np.flatnonzero(steps <= 0.0)
+        if bad.size:
+            i = bad[0] + 1
+            what = "repeats" if steps[bad[0]] == 0.0 else "goes backwards"
+            raise InputError(
+                f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); expected strictly increasing time"
+            )
+    return np.ascontiguousarray(t), np.ascontiguousarray(z)
+
+
+def resolve_velocity_filter(
+    velocity_filter: VelocityFilter | str, time: np.ndarray | None = None, depth: np.ndarray | None = None
+) -> VelocityFilter:
+    """Turn ``"auto"``, ``"exact"`` or a :class:`VelocityFilter` into a filter."""
+    if isinstance(velocity_filter, VelocityFilter):
+        return velocity_filter
+    if velocity_filter == "exact":
+        return VelocityFilter.exact()
+    if velocity_filter == "auto":
+        if time is None or depth is None:
+            raise InputError('velocity_filter="auto" needs the whole trajectory; use "exact" or a VelocityFilter')
+        return auto_velocity_filter(time, depth)
+    raise InputError(f'velocity_filter must be "auto", "exact" or a VelocityFilter, got {velocity_filter!r}')
+
+
+def params_row(params: MudParameters, foot: Foot, velocity_filter: VelocityFilter) -> np.ndarray:
+    """The compiled stepper's constants for one foot."""
+    if not isinstance(params, MudParameters):
+        raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
+    if not isinstance(foot, Foot):
+        raise InputError(f"foot must be a Foot, got {type(foot).__name__}")
+    return K.make_params(params.as_array(), foot.area, foot.width, velocity_filter.window, velocity_filter.deadband)
+
+
+def simulate(
+    time: Any,
+    depth: Any,
+    params: MudParameters,
+    foot: Foot | None = None,
+    *,
+    velocity_filter: VelocityFilter | str = "auto",
+) -> SimulationResult:
+    """Simulate the mud force on a foot following a prescribed trajectory.
+
+    Exact for the first-order-hold input as ``../shared/MODEL.md`` defines
+    it: closed-form Maxwell steps (Eq. (3)), the necking instant located
+    inside the step (Eq. (9)), and the closed-form decay after necking
+    (Eq. (7)).
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times [s], finite and strictly increasing (any spacing).
+    depth : array_like
+        Foot depth below the undisturbed surface [m], positive down.
+    params : MudParameters
+        Mud parameters, e.g. ``MudParameters.from_water_content(0.25)``.
+    foot : Foot, optional
+        Foot geometry; the paper's 51 x 38 mm cuboid by default.
+    velocity_filter : {"auto", "exact"} or VelocityFilter
+        How the intrusion/withdrawal branch is chosen. ``"auto"`` (default)
+        estimates the depth noise: clean input gets the paper's exact rule,
+        noisy input a smoothing secant with a deadband
+        (:mod:`mudforce.velocity`).
+
+    Returns
+    -------
+    SimulationResult
+
+    Examples
+    --------
+    >>> import mudforce
+    >>> t, z = mudforce.Protocol.paper().sample()
+    >>> res = mudforce.simulate(t, z, mudforce.MudParameters.from_water_content(0.25))
+    >>> round(res.peak_force, 1)
+    59.5
+    """
+    t, z = _as_trajectory(time, depth)
+    foot = Foot.paper() if foot is None else foot
+    vf = resolve_velocity_filter(velocity_filter, t, z)
+    prow = params_row(params, foot, vf)[None, :]
+    states = K.new_states(1)
+    out = np.empty((t.size, K.N_OUT), dtype=np.float64)
+    bad = K.run_batch(t, z, states, prow, out)
+    if bad >= 0:  # pragma: no cover - inputs are validated above
+        raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
+    offsets = out[:, K.O_NECK_OFFSET]
+    necked = np.flatnonzero(np.isfinite(offsets))
+    necking_times = t[necked - 1] + offsets[necked] if necked.size else np.empty(0)
+    return SimulationResult(
+        time=t,
+        depth=z,
+        velocity=out[:, K.O_VELOCITY].copy(),
+        mud_displacement=out[:, K.O_MUD].copy(),
+        mud_velocity=out[:, K.O_MUD_VELOCITY].copy(),
+        f_e1=out[:, K.O_F_E1].copy(),
+        f_e2=out[:, K.O_F_E2].copy(),
+        f_s=out[:, K.O_F_S].copy(),
+        force=out[:, K.O_FORCE].copy(),
+        state=out[:, K.O_STATE].astype(np.int8),
+        necking_times=necking_times,
+        params=params,
+        foot=foot,
+        velocity_filter=vf,
+    )

@@ -1,0 +1,123 @@
+"""Quantities with units at the edges: ``20mm``, ``10mm/s``, ``6s``, ``100Hz``, ``25%``.
+
+Everything is converted to SI here; a bare number is refused with an
+example, so that ``--depth 20`` can never silently mean 20 m.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from mudforce.errors import InputError
+
+__all__ = ["KINDS", "format_quantity", "parse_list", "parse_quantity"]
+
+_LENGTH = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
+_TIME = {"s": 1.0, "ms": 1e-3, "min": 60.0}
+_UNITS: dict[str, dict[str, float]] = {
+    "length": _LENGTH,
+    "velocity": {f"{lu}/{tu}": lf / tf for lu, lf in _LENGTH.items() for tu, tf in _TIME.items()},
+    "time": _TIME,
+    "frequency": {"hz": 1.0, "khz": 1e3},
+    "fraction": {"%": 1e-2},
+    "force": {"n": 1.0, "kn": 1e3, "mn": 1e-3},
+    "mass": {"kg": 1.0, "g": 1e-3},
+    "pressure": {"pa": 1.0, "kpa": 1e3, "mpa": 1e6},
+    "area": {"m2": 1.0, "cm2": 1e-4, "mm2": 1e-6},
+}
+_EXAMPLES = {
+    "length": "20mm or 0.02m",
+    "velocity": "10mm/s or 0.01m/s",
+    "time": "6s or 500ms",
+    "frequency": "100Hz or 1kHz",
+    "fraction": "25% (or the fraction 0.25)",
+    "force": "0.2N",
+    "mass": "5kg",
+    "pressure": "6kPa",
+    "area": "19.38cm2",
+}
+#: The kinds of quantity :func:`parse_quantity` knows.
+KINDS = tuple(_UNITS)
+
+_NUMBER = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*([^\s\d.+-].*?)?\s*$")
+
+
+def _case_key(kind: str, unit: str) -> str:
+    # lengths and times are case-sensitive in principle (mm vs Mm), but no
+    # one means megametres here; frequencies, forces and pressures are
+    # conventionally capitalised (Hz, N, kPa) and compared case-free
+    return unit.lower() if kind in ("frequency", "force", "pressure", "fraction", "area", "mass") else unit
+
+
+def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative: bool = False,
+                   allow_zero: bool = False) -> float:
+    """Parse ``text`` as a quantity of ``kind`` and return it in SI.
+
+    Parameters
+    ----------
+    text : str
+        A number followed by a unit, e.g. ``"20mm"``, ``"10 mm/s"``, ``"25%"``.
+    kind : str
+        One of :data:`KINDS`.
+    name : str
+        What the value is, for the error message (``"--depth"``).
+    allow_negative, allow_zero : bool
+        Accept values below or equal to zero (default: strictly positive).
+
+    Raises
+    ------
+    InputError
+        For a bare number, an unknown unit, a non-finite or out-of-sign value,
+        with an example of what is expected.
+    """
+    if kind not in _UNITS:
+        raise ValueError(f"unknown quantity kind {kind!r}")
+    example = _EXAMPLES[kind]
+    match = _NUMBER.match(str(text))
+    if match is None:
+        raise InputError(f"{name}: cannot read {text!r} as a {kind}; expected a number with a unit, e.g. {example}")
+    number, unit = match.group(1), (match.group(2) or "").strip()
+    if not unit:
+        if kind == "fraction":
+            value = float(number)
+            if not 0.0 <= value <= 1.0:
+                raise InputError(f"{name}: {text!r} is not a fraction in [0, 1]; write a percentage, e.g. 25%")
+            return value
+        raise InputError(f"{name}: {text!r} has no unit; expected a {kind} with a unit, e.g. {example}")
+    table = {_case_key(kind, u): f for u, f in _UNITS[kind].items()}
+    factor = table.get(_case_key(kind, unit.replace(" ", "")))
+    if factor is None:
+        known = ", ".join(_UNITS[kind])
+        raise InputError(f"{name}: unknown {kind} unit {unit!r} in {text!r}; use one of {known}, e.g. {example}")
+    value = float(number) * factor
+    if not math.isfinite(value):
+        raise InputError(f"{name}: {text!r} is not finite; expected e.g. {example}")
+    if value < 0.0 and not allow_negative:
+        raise InputError(f"{name}: {text!r} must not be negative; expected e.g. {example}")
+    if value == 0.0 and not allow_zero:
+        raise InputError(f"{name}: {text!r} must be greater than zero; expected e.g. {example}")
+    return value
+
+
+def parse_list(text: str, kind: str, *, name: str = "value", **kwargs: bool) -> list[float]:
+    """Parse a comma-separated list of quantities, e.g. ``"10mm/s,20mm/s"``."""
+    items = [item for item in str(text).split(",") if item.strip()]
+    if not items:
+        raise InputError(f"{name}: empty list; expected e.g. {_EXAMPLES[kind]},{_EXAMPLES[kind].split()[0]}")
+    return [parse_quantity(item, kind, name=name, **kwargs) for item in items]
+
+
+def format_quantity(value: float, kind: str) -> str:
+    """A short human-readable rendering of an SI value (``0.02`` length -> ``"20 mm"``)."""
+    if kind == "length":
+        return f"{value * 1e3:g} mm"
+    if kind == "velocity":
+        return f"{value * 1e3:g} mm/s"
+    if kind == "fraction":
+        return f"{value * 100:g}%"
+    if kind == "frequency":
+        return f"{value:g} Hz"
+    if kind == "time":
+        return f"{value:g} s"
+    return f"{value:g}"
