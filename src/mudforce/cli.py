@@ -23,6 +23,12 @@ __all__ = ["COMMANDS", "main"]
 COMMANDS: tuple[str, ...] = (
     "mudforce.commands.simulate",
     "mudforce.commands.params",
+    "mudforce.commands.synth",
+    "mudforce.commands.fit",
+    "mudforce.commands.fit_drag",
+    "mudforce.commands.identify",
+    "mudforce.commands.drop",
+    "mudforce.commands.reproduce",
 )
 
 
