@@ -17,13 +17,54 @@ All quantities are SI: m, s, N, Pa, kg/m^3.
 
 from __future__ import annotations
 
-from mudforce.contact import ContactSample, ContactState, MudContact
-from mudforce.errors import InputError
-from mudforce.foot import Foot
-from mudforce.parameters import CHEN2024, PARAMETER_NAMES, TABLE_I, MudParameters
-from mudforce.protocol import Hold, Intrude, Protocol, Withdraw
-from mudforce.simulation import STATE_NAMES, SimulationResult, simulate
-from mudforce.velocity import VelocityFilter, estimate_depth_noise
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from mudforce.contact import ContactSample, ContactState, MudContact
+    from mudforce.errors import InputError
+    from mudforce.foot import Foot
+    from mudforce.parameters import CHEN2024, PARAMETER_NAMES, TABLE_I, MudParameters
+    from mudforce.protocol import Hold, Intrude, Protocol, Withdraw
+    from mudforce.simulation import STATE_NAMES, SimulationResult, simulate
+    from mudforce.velocity import VelocityFilter, estimate_depth_noise
+
+# Public names are imported on first use (PEP 562), so that `import mudforce`
+# and the command line's error paths do not pay for compiling anything.
+_LAZY = {
+    "ContactSample": "mudforce.contact",
+    "ContactState": "mudforce.contact",
+    "MudContact": "mudforce.contact",
+    "InputError": "mudforce.errors",
+    "Foot": "mudforce.foot",
+    "CHEN2024": "mudforce.parameters",
+    "PARAMETER_NAMES": "mudforce.parameters",
+    "TABLE_I": "mudforce.parameters",
+    "MudParameters": "mudforce.parameters",
+    "Hold": "mudforce.protocol",
+    "Intrude": "mudforce.protocol",
+    "Protocol": "mudforce.protocol",
+    "Withdraw": "mudforce.protocol",
+    "STATE_NAMES": "mudforce.simulation",
+    "SimulationResult": "mudforce.simulation",
+    "simulate": "mudforce.simulation",
+    "VelocityFilter": "mudforce.velocity",
+    "estimate_depth_noise": "mudforce.velocity",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'mudforce' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
 
 __version__ = "0.1.0"
 

@@ -81,10 +81,12 @@ S_RING_HEAD = 11
 S_CACHE_DT = 12  # step length the cached decays are for (a cache, not state)
 S_CACHE_DECAY_I = 13
 S_CACHE_DECAY_W = 14
-S_RING_Z = 15
+S_NECK_G = 15  # g(age): normalised mud velocity after necking, Eq. (7)
+S_NECK_GI = 16  # G(age) = integral of g [s]
+S_CACHE_PHI = 17  # 4 entries: transition matrix of Eq. (7)'s filter over one cached step (a cache)
+S_RING_Z = 21
 S_RING_T = S_RING_Z + RING
 N_STATE = S_RING_T + RING
-N_SNAPSHOT = S_CACHE_DT  # the entries before S_CACHE_DT and the ring are the state
 
 # output row
 O_FORCE = 0
@@ -192,9 +194,9 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
         if depth > 0.0:
             s[S_MODE] = CONTACT
             fe2 = nonlinear_spring_stress(p[P_ALPHA], p[P_BETA], depth, width)
-            force = fe2 * area
-            _write(out, k, force, 0.0, fe2, 0.0, depth, 0.0, 0.0, CONTACT, math.nan)
-            return force
+            first: float = fe2 * area
+            _write(out, k, first, 0.0, fe2, 0.0, depth, 0.0, 0.0, CONTACT, math.nan)
+            return first
         s[S_MODE] = FREE
         _write(out, k, 0.0, 0.0, 0.0, 0.0, depth, 0.0, 0.0, FREE, math.nan)
         return 0.0
@@ -229,6 +231,13 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
         s[S_CACHE_DT] = dt
         s[S_CACHE_DECAY_I] = math.exp(-dt / tau_i)
         s[S_CACHE_DECAY_W] = math.exp(-dt / tau_w)
+        # transition matrix of z'' + 2 zeta omega_0 z' + omega_0^2 z = 0 over dt:
+        # [G, g](t + dt) = [[g_d + 2a G_d, G_d], [-omega_0^2 G_d, g_d]] [G, g](t)
+        g_d, gi_d = neck_filter_response(dt, p[P_ZETA], p[P_OMEGA_0])
+        s[S_CACHE_PHI] = g_d + 2.0 * p[P_ZETA] * p[P_OMEGA_0] * gi_d
+        s[S_CACHE_PHI + 1] = gi_d
+        s[S_CACHE_PHI + 2] = -p[P_OMEGA_0] * p[P_OMEGA_0] * gi_d
+        s[S_CACHE_PHI + 3] = g_d
 
     mode = int(s[S_MODE])
     zm = s[S_MUD]
@@ -301,6 +310,9 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
                     s[S_NECK_V] = strain / tau_w  # v_m0 = dz_m/dt = (z_i - z_m)/tau_w
                     s[S_NECK_Z] = z_n - strain
                     s[S_NECK_AGE] = dt - neck_offset
+                    g0, gi0 = neck_filter_response(s[S_NECK_AGE], p[P_ZETA], p[P_OMEGA_0])
+                    s[S_NECK_G] = g0
+                    s[S_NECK_GI] = gi0
                     break
                 strain = maxwell_strain_step(strain, v, tau_w, decay)
                 t_a = t_b
@@ -308,7 +320,13 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
             if mode == CONTACT:
                 zm = z1 - strain
     elif mode == NECKED:
+        # a whole step after necking: the filter's exact discrete-time update
+        # (its transition matrix is cached for the step length)
         s[S_NECK_AGE] += dt
+        gi0 = s[S_NECK_GI]
+        g0 = s[S_NECK_G]
+        s[S_NECK_GI] = s[S_CACHE_PHI] * gi0 + s[S_CACHE_PHI + 1] * g0
+        s[S_NECK_G] = s[S_CACHE_PHI + 2] * gi0 + s[S_CACHE_PHI + 3] * g0
 
     # --- outputs at the sample
     fs_end = drag_stress(lam, rho, v) if z1 > 0.0 else 0.0
@@ -329,15 +347,14 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
             mud_velocity = strain / tau_w
     else:
         # after necking the visco-elastic stress is the damper's: b_m_w dz_m/dt
-        g, g_int = neck_filter_response(s[S_NECK_AGE], p[P_ZETA], p[P_OMEGA_0])
         v_m0 = s[S_NECK_V]
-        mud_velocity = v_m0 * g
-        zm = s[S_NECK_Z] + v_m0 * g_int
+        mud_velocity = v_m0 * s[S_NECK_G]
+        zm = s[S_NECK_Z] + v_m0 * s[S_NECK_GI]
         fe1 = p[P_B_W] * mud_velocity
         fe2 = 0.0
         fs_out = fs_end
 
-    force = (fe1 + fe2 + fs_out) * area
+    force: float = (fe1 + fe2 + fs_out) * area
     s[S_MODE] = mode
     s[S_DEPTH] = z1
     s[S_MUD] = zm
@@ -345,6 +362,21 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
     s[S_DIRECTION] = d
     s[S_VELOCITY] = vhat
     _write(out, k, force, fe1, fe2, fs_out, zm, mud_velocity, vhat, mode, neck_offset)
+    return force
+
+
+def new_stream_buffer(params_row: np.ndarray) -> np.ndarray:
+    """One array holding a single foot's state (row 0), constants (row 1) and outputs (row 2)."""
+    buf = np.zeros((3, N_STATE), dtype=np.float64)
+    buf[0] = new_states(1)[0]
+    buf[1, :N_PARAMS] = params_row
+    return buf
+
+
+@njit(cache=True, nogil=True)
+def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
+    """:func:`step` for one foot packed by :func:`new_stream_buffer` (one argument: less call overhead)."""
+    force: float = step(buf[0:1], 0, buf[1:2, :N_PARAMS], depth, dt, buf[2:3, :N_OUT], 0)
     return force
 
 

@@ -41,6 +41,8 @@ class ContactState:
     """
 
     data: np.ndarray
+    #: the params row the snapshot was taken with (keeps the step-length cache valid on restore)
+    params_key: bytes = b""
 
     def __post_init__(self) -> None:
         arr = np.array(self.data, dtype=np.float64)  # always a private copy
@@ -79,8 +81,9 @@ class ContactState:
             return NotImplemented
         a, b = self.data.copy(), other.data.copy()
         # the step-length cache is not state
-        a[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
-        b[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
+        for arr in (a, b):
+            arr[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
+            arr[K.S_CACHE_PHI : K.S_CACHE_PHI + 4] = 0.0
         return bool(np.array_equal(a, b))
 
     __hash__ = None  # type: ignore[assignment]
@@ -139,10 +142,11 @@ class MudContact:
                 raise InputError("noise_std needs the nominal time step dt [s]")
             velocity_filter = VelocityFilter.for_noise(noise_std, dt)
         self.velocity_filter = resolve_velocity_filter(velocity_filter)
-        self._params = params_row(params, self.foot, self.velocity_filter)[None, :]
-        self._states = K.new_states(1)
-        self._out = np.zeros((1, K.N_OUT), dtype=np.float64)
-        self._step = K.step
+        self._params = params_row(params, self.foot, self.velocity_filter)
+        self._buf = K.new_stream_buffer(self._params)
+        self._states = self._buf[0:1]  # views into the one buffer the compiled step sees
+        self._out = self._buf[2:3, : K.N_OUT]
+        self._step = K.stream_step
 
     def step(self, depth: float, dt: float) -> float:
         """Advance to the next depth sample and return the force [N].
@@ -155,7 +159,7 @@ class MudContact:
             Time since the previous sample [s], > 0; ignored on the first call,
             which sets the initial sample.
         """
-        force: float = self._step(self._states, 0, self._params, float(depth), float(dt), self._out, 0)
+        force: float = self._step(self._buf, float(depth), float(dt))
         if force != force:
             self._refuse(depth, dt)
         return force
@@ -188,14 +192,15 @@ class MudContact:
     @property
     def state(self) -> ContactState:
         """A snapshot of the contact state; assign one back to restore it."""
-        return ContactState(self._states[0])
+        return ContactState(self._states[0], self._params.tobytes())
 
     @state.setter
     def state(self, value: ContactState) -> None:
         if not isinstance(value, ContactState):
             raise InputError(f"state must be a ContactState (from MudContact.state), got {type(value).__name__}")
         self._states[0] = value.data
-        self._states[0, K.S_CACHE_DT] = -1.0  # recompute the step-length cache
+        if value.params_key != self._params.tobytes():
+            self._states[0, K.S_CACHE_DT] = -1.0  # other parameters: recompute the step-length cache
 
     def __repr__(self) -> str:
         return f"MudContact({self.params.source!r}, foot={self.foot.shape!r}, state={self.state.mode})"

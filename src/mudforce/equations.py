@@ -18,8 +18,8 @@ from numba import njit
 __all__ = [
     "drag_stress",
     "maxwell_strain_step",
-    "necking_time",
     "neck_filter_response",
+    "necking_time",
     "nonlinear_spring_stress",
     "viscoelastic_stress",
 ]
@@ -85,7 +85,7 @@ def nonlinear_spring_stress(alpha: float, beta: float, depth: float, width: floa
     """
     if depth <= 0.0:
         return 0.0
-    return alpha * (depth / width) ** beta
+    return float(alpha * (depth / width) ** beta)
 
 
 @njit(cache=True, nogil=True)

@@ -179,7 +179,7 @@ class MudParameters:
         for w, row in zip(TABLE_I_WATER_CONTENTS, _TABLE_I_PAPER_UNITS, strict=True):
             if abs(water_content - w) < 1e-9:
                 values = [v * s for v, s in zip(row, _TABLE_I_SCALE, strict=True)]
-                return cls(*values, rho_m=_RHO_M, lambda_=_LAMBDA, source=f"{CHEN2024}, Table I, W = {w:.0%}")
+                return cls._from_nine(values, f"{CHEN2024}, Table I, W = {w:.0%}")
         raise InputError(
             f"Table I has no row for water content {water_content:g}; rows are "
             + ", ".join(f"{w:g}" for w in TABLE_I_WATER_CONTENTS)
@@ -224,12 +224,13 @@ class MudParameters:
         table = np.array(_TABLE_I_PAPER_UNITS) * np.array(_TABLE_I_SCALE)
         logs = np.log(table)
         values = [float(np.exp(np.interp(w, TABLE_I_WATER_CONTENTS, logs[:, j]))) for j in range(table.shape[1])]
-        return cls(
-            *values,
-            rho_m=_RHO_M,
-            lambda_=_LAMBDA,
-            source=f"{CHEN2024}, Table I, log-linear interpolation at W = {w:.2%}",
-        )
+        return cls._from_nine(values, f"{CHEN2024}, Table I, log-linear interpolation at W = {w:.2%}")
+
+    @classmethod
+    def _from_nine(cls, values: list[float], source: str) -> MudParameters:
+        """The nine calibrated values of a Table I row [SI], with the paper's rho_m and lambda."""
+        k_i, b_i, k_w, b_w, alpha, beta, sigma_y, zeta, omega_0 = values
+        return cls(k_i, b_i, k_w, b_w, alpha, beta, sigma_y, zeta, omega_0, _RHO_M, _LAMBDA, source)
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "user") -> MudParameters:

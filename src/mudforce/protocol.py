@@ -143,7 +143,7 @@ class Protocol:
         return cls(
             (Intrude(velocity, depth), Hold(hold), Withdraw(velocity, rise)),
             rate=rate,
-            start_depth=-approach,
+            start_depth=-approach if approach > 0.0 else 0.0,
         )
 
     def breakpoints(self) -> tuple[np.ndarray, np.ndarray]:
@@ -186,7 +186,7 @@ class Protocol:
         motion (the foot stays at its final depth).
         """
         bt, bz = self.breakpoints()
-        n = int(math.ceil(bt[-1] * self.rate - 1e-9)) + 1
+        n = math.ceil(bt[-1] * self.rate - 1e-9) + 1
         time = np.arange(n, dtype=np.float64) / self.rate
         depth = np.interp(time, bt, bz)
         return time, depth

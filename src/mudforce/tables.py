@@ -27,6 +27,11 @@ COLUMN_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
 }
 
 
+def _clip(text: str, limit: int = 60) -> str:
+    """``text`` cut to ``limit`` characters, so that a garbage file still gives a one-line, short message."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def _expected(spellings: Sequence[tuple[str, float]]) -> str:
     return " or ".join(s for s, _ in spellings)
 
@@ -76,7 +81,10 @@ def read_columns(
         raise InputError(f"{p}: not a valid CSV file ({exc})") from None
     except OSError as exc:
         raise InputError(f"{p}: cannot read ({exc.strerror})") from None
-    rows = [r for r in rows if r and any(c.strip() for c in r)]
+    # keep each row's 1-based line number in the file for messages (blank lines are skipped)
+    numbered = [(i + 1, r) for i, r in enumerate(rows) if r and any(c.strip() for c in r)]
+    lines = [n for n, _ in numbered]
+    rows = [r for _, r in numbered]
     wanted = {**columns, **(optional or {})}
     example = ",".join(spellings[0][0] for spellings in columns.values())
     if not rows:
@@ -91,45 +99,55 @@ def read_columns(
         else:
             if quantity in columns:
                 raise InputError(
-                    f"{p}: missing column {_expected(spellings)}; the header is {','.join(header)!r}, "
+                    f"{p}: missing column {_expected(spellings)}; the header is {_clip(','.join(header))!r}, "
                     f"expected e.g. {example}"
                 )
     text_index = {name: header.index(name) for name in keep_text if name in header}
     data = rows[1:]
     if not data:
-        raise InputError(f"{p}: has a header but no data rows; expected rows of numbers under {','.join(header)}")
+        raise InputError(
+            f"{p}: has a header but no data rows; expected rows of numbers under {_clip(','.join(header))}"
+        )
     out = {q: np.empty(len(data), dtype=np.float64) for q in index}
     texts: dict[str, list[str]] = {name: [] for name in text_index}
     for r, row in enumerate(data):
-        line = r + 2  # 1-based, after the header
+        line = lines[r + 1]
         if len(row) != len(header):
-            raise InputError(f"{p}: row {line} has {len(row)} fields, the header has {len(header)}; rows must not be ragged")
+            raise InputError(
+                f"{p}: row {line} has {len(row)} fields, the header has {len(header)}; rows must not be ragged"
+            )
         for quantity, (col, factor, spelling) in index.items():
             cell = row[col].strip()
             try:
                 value = float(cell)
             except ValueError:
-                raise InputError(f"{p}: row {line}, column {spelling}: {cell!r} is not a number") from None
+                raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not a number") from None
             if not math.isfinite(value):
-                raise InputError(f"{p}: row {line}, column {spelling}: {cell!r} is not finite; expected a number")
+                raise InputError(
+                    f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not finite; expected a number"
+                )
             out[quantity][r] = value * factor
         for name, col in text_index.items():
             texts[name].append(row[col].strip())
     result: dict[str, np.ndarray] = dict(out)
+    result["line"] = np.array(lines[1:], dtype=np.int64)  # each data row's line number in the file
     for name, values in texts.items():
         result[name] = np.array(values, dtype=object)
     return result
 
 
-def check_time(path: str | os.PathLike[str], time: np.ndarray, column: str = "time_s") -> None:
-    """Refuse time that repeats or goes backwards, naming the row."""
+def check_time(
+    path: str | os.PathLike[str], time: np.ndarray, column: str = "time_s", lines: np.ndarray | None = None
+) -> None:
+    """Refuse time that repeats or goes backwards, naming the row (``lines``: from :func:`read_columns`)."""
     steps = np.diff(time)
     bad = np.flatnonzero(steps <= 0.0)
     if bad.size:
         i = int(bad[0])
         what = "repeats" if steps[i] == 0.0 else "goes backwards"
+        row = int(lines[i + 1]) if lines is not None else i + 3
         raise InputError(
-            f"{path}: row {i + 3}, column {column}: time {what} ({time[i]:g} then {time[i + 1]:g}); "
+            f"{path}: row {row}, column {column}: time {what} ({time[i]:g} then {time[i + 1]:g}); "
             f"expected strictly increasing time"
         )
 
@@ -145,5 +163,5 @@ def read_trajectory(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
         [m], positive below the surface.
     """
     cols = read_columns(path, {"time": COLUMN_UNITS["time"], "depth": COLUMN_UNITS["depth"]})
-    check_time(path, cols["time"])
+    check_time(path, cols["time"], lines=cols["line"])
     return cols["time"], cols["depth"]

@@ -1,0 +1,79 @@
+"""Benchmark the core model: batch ns per sample and streaming us per call.
+
+Run: ``python benchmarks/bench_core.py``. Prints figures; asserts nothing.
+Targets (issue 2): batch <= 15 ns/sample on one core for a 2-million-sample
+gait; ``MudContact.step`` <= 2 us per call from Python.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+import mudforce as mf
+
+
+def gait(n: int, rate: float = 1000.0) -> tuple[np.ndarray, np.ndarray]:
+    """A foot stepping at 1.5 Hz: in the mud ~40 % of the time, 25 mm deep at most [s], [m]."""
+    t = np.arange(n) / rate
+    z = 0.03 * np.sin(2 * np.pi * 1.5 * t) - 0.005
+    return t, z
+
+
+def best_of(fn, repeats: int) -> float:  # type: ignore[no-untyped-def]
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--samples", type=int, default=2_000_000)
+    ap.add_argument("--calls", type=int, default=200_000)
+    args = ap.parse_args()
+    params = mf.MudParameters.from_water_content(0.25)
+    t, z = gait(args.samples)
+    mf.simulate(t[:1000], z[:1000], params, velocity_filter="exact")  # compile / load cache
+    res = mf.simulate(t, z, params, velocity_filter="exact")
+    states = np.bincount(res.state, minlength=3) / res.state.size
+    necks = res.necking_times.size
+
+    from mudforce import _kernel as K
+    from mudforce.simulation import params_row
+
+    prow = params_row(params, mf.Foot.paper(), mf.VelocityFilter.exact())[None, :]
+    out = np.empty((t.size, K.N_OUT))
+
+    def kernel_only() -> None:
+        K.run_batch(t, z, K.new_states(1), prow, out)
+
+    def whole() -> None:
+        mf.simulate(t, z, params, velocity_filter="exact")
+
+    k = best_of(kernel_only, 5)
+    w = best_of(whole, 3)
+    print(f"batch gait: {args.samples:,} samples at 1 kHz "
+          f"(FREE {states[0]:.0%}, CONTACT {states[1]:.0%}, NECKED {states[2]:.0%}, {necks} neckings)")
+    print(f"  compiled stepper loop : {k / args.samples * 1e9:6.2f} ns/sample")
+    print(f"  mudforce.simulate()   : {w / args.samples * 1e9:6.2f} ns/sample (incl. validation and result arrays)")
+
+    contact = mf.MudContact(params)
+    depths = z[: args.calls].tolist()
+    contact.step(depths[0], 0.0)
+    step = contact.step
+
+    def stream() -> None:
+        for d in depths:
+            step(d, 0.001)
+
+    s = best_of(stream, 3)
+    print(f"streaming MudContact.step: {s / args.calls * 1e6:6.3f} us/call ({args.calls:,} calls from Python)")
+
+
+if __name__ == "__main__":
+    main()

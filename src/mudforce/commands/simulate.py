@@ -1,0 +1,329 @@
+"""Simulate the mud force on a foot for the paper's protocol or a measured trajectory, and write it as CSV.
+
+The motion is either the paper's experiment (intrude at --velocity to
+--depth, hold for --hold, withdraw at the same speed to --rise above the
+surface, sampled at --rate; defaults 20mm, 10mm/s, 6s, 20mm, 100Hz) or a
+CSV file given with --trajectory (header with time_s and depth_m or
+depth_mm; depth positive below the surface). The mud is a row of Table I
+(--water-content, interpolated between rows) or a parameter file
+(--params, the flat JSON of `mudforce params --json`, SI).
+
+Every quantity needs its unit (20mm, 10mm/s, 6s, 100Hz, 25%). The foot is
+--foot cuboid:51mmx38mm (the paper's, the default), disc:50mm, or
+area:19.38cm2,width:38mm for any other flat foot (contact area S and the
+width H of Eq. (4)). Everything is checked before anything is written;
+the output files are replaced atomically, so an error leaves them as they
+were.
+
+Output columns: time_s, depth_m, velocity_m_s, mud_displacement_m,
+mud_velocity_m_s, f_e1_Pa, f_e2_Pa, f_s_Pa, force_N (+ up), state
+(FREE, CONTACT or NECKED).
+
+example: mudforce simulate --water-content 25% --depth 20mm --velocity 10mm/s --out force.csv --plot force.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import re
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mudforce.errors import InputError
+from mudforce.units import format_quantity, parse_quantity
+
+if TYPE_CHECKING:
+    from mudforce.foot import Foot
+    from mudforce.parameters import MudParameters
+    from mudforce.simulation import SimulationResult
+
+__all__ = ["FOOT_EXAMPLES", "HELP", "MAX_SAMPLES", "NAME", "add_arguments", "check_output_path", "parse_foot", "run"]
+
+NAME = "simulate"
+HELP = "simulate the force for the paper's protocol or a trajectory CSV, write CSV (and a plot)"
+
+#: The accepted --foot forms, for help and error messages.
+FOOT_EXAMPLES = "cuboid:51mmx38mm, disc:50mm or area:19.38cm2,width:38mm"
+
+#: Largest number of samples a protocol may produce (memory guard; ~1 GB of output arrays).
+MAX_SAMPLES = 10_000_000
+
+#: The paper-protocol options: (attribute, option, kind, default text, zero allowed).
+_PROTOCOL_OPTIONS: tuple[tuple[str, str, str, str, bool], ...] = (
+    ("depth", "--depth", "length", "20mm", False),
+    ("velocity", "--velocity", "velocity", "10mm/s", False),
+    ("hold", "--hold", "time", "6s", False),
+    ("rise", "--rise", "length", "20mm", True),
+    ("rate", "--rate", "frequency", "100Hz", False),
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Declare the options of ``mudforce simulate``."""
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter  # keep the docstring's paragraphs
+    # argparse reads "--depth -5mm" as a missing value followed by an option "-5mm"; no option of this
+    # command starts with "-<digit>", so take such words as values and let parse_quantity refuse the sign
+    if isinstance(getattr(parser, "_negative_number_matcher", None), re.Pattern):
+        parser._negative_number_matcher = re.compile(r"^-\.?\d")
+    mud = parser.add_argument_group("mud (exactly one)")
+    which = mud.add_mutually_exclusive_group(required=True)
+    which.add_argument("--water-content", metavar="W",
+                       help="water content within Table I's 15%%-35%%, e.g. 25%%; between rows "
+                            "the parameters are interpolated log-linearly")
+    which.add_argument("--params", metavar="FILE.json",
+                       help="parameter file: a flat JSON object with the 11 keys in SI "
+                            "(as `mudforce params --water-content 25%% --json` prints)")
+
+    motion = parser.add_argument_group(
+        "motion: the paper's protocol (defaults shown), or --trajectory")
+    for attr, option, kind, default, _ in _PROTOCOL_OPTIONS:
+        text = {
+            "depth": "intrusion depth below the surface",
+            "velocity": "intrusion and withdrawal speed",
+            "hold": "hold time at depth",
+            "rise": "final height of the foot above the surface",
+            "rate": "sampling rate",
+        }[attr]
+        motion.add_argument(option, dest=attr, metavar=kind.upper(), default=None,
+                            help=f"{text} (default {default})")
+    motion.add_argument("--trajectory", metavar="FILE.csv",
+                        help="prescribed motion instead: CSV with a header naming time_s and "
+                             "depth_m (or depth_mm), depth positive down; excludes the options above")
+
+    parser.add_argument("--foot", metavar="SPEC", default=None,
+                        help=f"foot geometry: {FOOT_EXAMPLES} (default: the paper's cuboid:51mmx38mm)")
+    parser.add_argument("--velocity-filter", choices=("auto", "exact"), default="auto",
+                        help="how the intrusion/withdrawal branch is chosen from the depth: auto "
+                             "(exact for clean input, noise-robust for measured data; default) or exact")
+    parser.add_argument("--out", metavar="FILE.csv", required=True, help="write the samples here (CSV)")
+    parser.add_argument("--plot", metavar="FILE.png", default=None,
+                        help="also draw force over time and depth as PNG (needs matplotlib)")
+    parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+
+
+# ---------------------------------------------------------------------------- foot
+
+_SIDES = re.compile(r"\s*[x×*]\s*", flags=re.IGNORECASE)
+
+
+def parse_foot(text: str, *, name: str = "--foot") -> Foot:
+    """Parse a foot specification into a :class:`mudforce.Foot`.
+
+    Accepted forms (keywords are case-insensitive; every size needs a unit):
+
+    ``cuboid:LxW``
+        A rectangular bottom face ``L`` by ``W``, e.g. ``cuboid:51mmx38mm``
+        (area ``L W`` [m^2]; ``H`` of Eq. (4) is the shorter side).
+    ``disc:D``
+        A circular bottom face of diameter ``D``, e.g. ``disc:50mm``
+        (``H = D``).
+    ``area:S,width:H``
+        Any flat foot: contact area ``S`` (``m2``, ``cm2`` or ``mm2``) and
+        width ``H`` (a length), in either order, e.g. ``area:19.38cm2,width:38mm``.
+    ``paper``
+        The paper's 51 x 38 mm cuboid.
+
+    Raises
+    ------
+    InputError
+        For anything else, naming the problem and showing the forms above.
+    """
+    from mudforce.foot import Foot
+
+    spec = str(text).strip()
+    kind, sep, body = spec.partition(":")
+    kind = kind.strip().lower()
+    if kind == "paper" and not sep:
+        return Foot.paper()
+    if not sep or not body.strip():
+        raise InputError(f"{name}: cannot read {text!r}; expected {FOOT_EXAMPLES}")
+    if kind in ("cuboid", "box", "rect", "rectangle"):
+        sides = _SIDES.split(body.strip())
+        if len(sides) != 2:
+            raise InputError(f"{name}: {text!r} needs two sides LENGTHxWIDTH, each with a unit, e.g. cuboid:51mmx38mm")
+        length = parse_quantity(sides[0], "length", name=f"{name} cuboid length")
+        width = parse_quantity(sides[1], "length", name=f"{name} cuboid width")
+        return Foot.cuboid(length, width)
+    if kind in ("disc", "disk", "circle"):
+        return Foot.disc(parse_quantity(body, "length", name=f"{name} disc diameter"))
+    if kind in ("area", "width"):
+        values: dict[str, str] = {}
+        for item in spec.split(","):
+            key, sep_item, value = item.partition(":")
+            key = key.strip().lower()
+            if not sep_item or key not in ("area", "width") or key in values:
+                raise InputError(f"{name}: cannot read {item.strip()!r} in {text!r}; "
+                                 f"expected area:AREA,width:LENGTH, e.g. area:19.38cm2,width:38mm")
+            values[key] = value
+        if set(values) != {"area", "width"}:
+            raise InputError(f"{name}: {text!r} needs both area and width, e.g. area:19.38cm2,width:38mm")
+        area = parse_quantity(values["area"], "area", name=f"{name} area")
+        width = parse_quantity(values["width"], "length", name=f"{name} width")
+        return Foot(area=area, width=width, shape="custom")
+    raise InputError(f"{name}: unknown foot shape {kind!r} in {text!r}; expected {FOOT_EXAMPLES}")
+
+
+# ---------------------------------------------------------------------------- checks
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+    except OSError:
+        return False
+    return a.resolve() == b.resolve()
+
+
+def check_output_path(text: str, option: str, *, suffix: str | None = None) -> Path:
+    """Refuse an output path that cannot be written, before any work is done.
+
+    Parameters
+    ----------
+    text : str
+        The path as given.
+    option : str
+        The option's name, for the message (``"--out"``).
+    suffix : str, optional
+        Required file extension (``".png"``), compared case-free.
+    """
+    if not str(text).strip():
+        raise InputError(f"{option}: empty file name; expected a file name")
+    if str(text).strip() == "-":
+        raise InputError(f"{option}: writing to stdout ('-') is not supported; expected a file name")
+    path = Path(text)
+    if suffix is not None and path.suffix.lower() != suffix:
+        raise InputError(f"{option}: {str(path)!r} must end in {suffix} (only {suffix[1:].upper()} is written)")
+    if path.is_dir():
+        raise InputError(f"{option}: {str(path)!r} is a directory; expected a file name")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{option}: directory {str(parent)!r} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{option}: directory {str(parent)!r} is not writable")
+    if path.exists() and not os.access(path, os.W_OK):
+        raise InputError(f"{option}: {str(path)!r} exists and is not writable")
+    return path
+
+
+def _load_params(args: argparse.Namespace) -> tuple[MudParameters, str]:
+    """The mud parameters and a short label for them."""
+    from mudforce.commands.params import parse_water_content
+    from mudforce.parameters import TABLE_I_WATER_CONTENTS, MudParameters
+
+    if args.params is not None:
+        return MudParameters.load(args.params), f"parameters from {args.params}"
+    w = parse_water_content(args.water_content)
+    on_row = any(abs(w - row) < 1e-9 for row in TABLE_I_WATER_CONTENTS)
+    label = "Table I" if on_row else "Table I interpolated"
+    return MudParameters.from_water_content(w), f"{label}, W = {format_quantity(w, 'fraction')}"
+
+
+def _motion(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, str]:
+    """Sampled time [s] and depth [m], and a label for the motion."""
+    given = [option for attr, option, *_ in _PROTOCOL_OPTIONS if getattr(args, attr) is not None]
+    if args.trajectory is not None:
+        if given:
+            raise InputError(
+                f"{', '.join(given)} cannot be used with --trajectory (the file sets the motion); "
+                f"give either the protocol options or --trajectory"
+            )
+        from mudforce.tables import read_trajectory
+
+        time, depth = read_trajectory(args.trajectory)
+        return time, depth, f"trajectory {args.trajectory}"
+
+    from mudforce.protocol import Protocol
+
+    values: dict[str, float] = {}
+    for attr, option, kind, default, zero in _PROTOCOL_OPTIONS:
+        text = getattr(args, attr)
+        values[attr] = parse_quantity(default if text is None else text, kind, name=option, allow_zero=zero)
+    duration = 2.0 * values["depth"] / values["velocity"] + values["hold"] + values["rise"] / values["velocity"]
+    samples = duration * values["rate"]
+    if not math.isfinite(samples) or samples > MAX_SAMPLES:
+        raise InputError(
+            f"--rate: {format_quantity(values['rate'], 'frequency')} over the {duration:.4g} s protocol is "
+            f"{samples:.3g} samples, more than {MAX_SAMPLES:,}; lower --rate or shorten the motion"
+        )
+    protocol = Protocol.paper(values["depth"], values["velocity"], values["hold"], values["rise"], values["rate"])
+    time, depth = protocol.sample()
+    label = (
+        f"paper protocol: {format_quantity(values['depth'], 'length')} at "
+        f"{format_quantity(values['velocity'], 'velocity')}, hold {format_quantity(values['hold'], 'time')}, "
+        f"{format_quantity(values['rate'], 'frequency')}"
+    )
+    return time, depth, label
+
+
+def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: Path | None) -> str:
+    k_max = int(np.argmax(result.force))
+    k_min = int(np.argmin(result.force))
+    necks = [f"{t:.4g} s" for t in result.necking_times[:5]]
+    if result.necking_times.size > 5:
+        necks.append(f"and {result.necking_times.size - 5} more")
+    if not necks:
+        necks = [f"none (suction never exceeded sigma_y = {result.params.sigma_y:g} Pa)"]
+    lines = [
+        f"mud: {mud}",
+        f"motion: {motion}",
+        f"foot: {result.foot.shape} (S = {result.foot.area * 1e6:.6g} mm^2, H = {result.foot.width * 1e3:.6g} mm)",
+        f"peak force: {result.force[k_max]:.4g} N at {result.time[k_max]:.4g} s",
+        f"min force: {result.force[k_min]:.4g} N at {result.time[k_min]:.4g} s",
+        f"necking: {', '.join(necks)}",
+        f"wrote {len(result)} rows to {out}",
+    ]
+    if plot is not None:
+        lines.append(f"wrote plot to {plot}")
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------------- run
+
+def run(args: argparse.Namespace) -> int:
+    """Check all inputs, simulate, then write the CSV (and PNG) atomically; print a summary."""
+    out = check_output_path(args.out, "--out")
+    plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
+    if plot is not None and _same_file(out, plot):
+        raise InputError(f"--out and --plot are the same file {str(out)!r}; give two different names")
+    for option, source in (("--trajectory", args.trajectory), ("--params", args.params)):
+        if source is not None and _same_file(out, Path(source)):
+            raise InputError(f"--out {str(out)!r} is the {option} input file; choose another output name")
+        if source is not None and plot is not None and _same_file(plot, Path(source)):
+            raise InputError(f"--plot {str(plot)!r} is the {option} input file; choose another output name")
+    if plot is not None:
+        from mudforce._optional import require
+
+        require("matplotlib", "plot", "--plot")
+    foot = parse_foot(args.foot) if args.foot is not None else None
+    params, mud = _load_params(args)
+    time, depth, motion = _motion(args)
+
+    from mudforce.simulation import simulate
+
+    result = simulate(time, depth, params, foot, velocity_filter=args.velocity_filter)
+    if not np.all(np.isfinite(result.force)):
+        k = int(np.flatnonzero(~np.isfinite(result.force))[0])
+        raise InputError(f"the force is not finite at sample {k} (t = {result.time[k]:g} s); "
+                         f"check the depths and parameters for extreme values")
+    png: bytes | None = None
+    if plot is not None:
+        from mudforce.plotting import figure_to_png, plot_result
+
+        png = figure_to_png(plot_result(result, title=f"{mud}; {motion}"))
+
+    from mudforce.io import atomic_open
+
+    try:
+        result.to_csv(out)
+        if plot is not None and png is not None:
+            with atomic_open(plot, "wb") as handle:
+                handle.write(png)
+    except OSError as exc:
+        raise InputError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    if not args.quiet:
+        print(_summary(result, mud, motion, out, plot))
+    return 0
