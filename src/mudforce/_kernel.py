@@ -121,7 +121,7 @@ def new_states(n: int) -> np.ndarray:
     return states
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def _direction(velocity: float, previous: float, deadband: float) -> float:
     """Motion direction from a velocity estimate, with a Schmitt-trigger deadband.
 
@@ -143,7 +143,7 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
     return 0.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: float,
            mud: float, mud_velocity: float, velocity: float, mode: int, neck_offset: float) -> None:
     out[k, O_FORCE] = force
@@ -157,7 +157,10 @@ def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: fl
     out[k, O_NECK_OFFSET] = neck_offset
 
 
-@njit(cache=True, nogil=True)
+# `_nrt=False`: the stepper allocates nothing, and without numba's reference
+# counting the array arguments cost no atomic increments per call (a 2-3x
+# difference per sample); `inline="always"` compiles it into each caller's loop.
+@njit(cache=True, nogil=True, inline="always", _nrt=False)
 def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float,
          out: np.ndarray, k: int) -> float:
     """Advance foot ``j`` to the next sample ``depth`` [m] after ``dt`` [s].
@@ -167,83 +170,81 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
     ``dt``. Returns NaN, changing nothing, for a non-finite depth or a
     ``dt`` that is not finite and > 0.
     """
-    s = states[j]
-    p = params[j]
     if not math.isfinite(depth):
         return math.nan
-    area = p[P_AREA]
-    width = p[P_WIDTH]
-    window = int(p[P_WINDOW])
+    area = params[j, P_AREA]
+    width = params[j, P_WIDTH]
+    window = int(params[j, P_WINDOW])
 
-    if s[S_STARTED] == 0.0:
+    if states[j, S_STARTED] == 0.0:
         # MODEL.md: a trajectory that starts below the surface starts in
         # CONTACT with relaxed mud (z_m = z_i); otherwise FREE.
-        s[S_STARTED] = 1.0
-        s[S_TIME] = 0.0
-        s[S_DEPTH] = depth
-        s[S_MUD] = depth
-        s[S_DIRECTION] = 0.0
-        s[S_VELOCITY] = 0.0
-        s[S_NECK_AGE] = 0.0
-        s[S_NECK_V] = 0.0
-        s[S_NECK_Z] = 0.0
-        s[S_RING_HEAD] = 0.0
-        s[S_RING_N] = 1.0
-        s[S_RING_Z] = depth
-        s[S_RING_T] = 0.0
+        states[j, S_STARTED] = 1.0
+        states[j, S_TIME] = 0.0
+        states[j, S_DEPTH] = depth
+        states[j, S_MUD] = depth
+        states[j, S_DIRECTION] = 0.0
+        states[j, S_VELOCITY] = 0.0
+        states[j, S_NECK_AGE] = 0.0
+        states[j, S_NECK_V] = 0.0
+        states[j, S_NECK_Z] = 0.0
+        states[j, S_RING_HEAD] = 0.0
+        states[j, S_RING_N] = 1.0
+        states[j, S_RING_Z] = depth
+        states[j, S_RING_T] = 0.0
         if depth > 0.0:
-            s[S_MODE] = CONTACT
-            fe2 = nonlinear_spring_stress(p[P_ALPHA], p[P_BETA], depth, width)
+            states[j, S_MODE] = CONTACT
+            fe2 = nonlinear_spring_stress(params[j, P_ALPHA], params[j, P_BETA], depth, width)
             first: float = fe2 * area
             _write(out, k, first, 0.0, fe2, 0.0, depth, 0.0, 0.0, CONTACT, math.nan)
             return first
-        s[S_MODE] = FREE
+        states[j, S_MODE] = FREE
         _write(out, k, 0.0, 0.0, 0.0, 0.0, depth, 0.0, 0.0, FREE, math.nan)
         return 0.0
 
     if not (dt > 0.0) or not math.isfinite(dt):
         return math.nan
 
-    z0 = s[S_DEPTH]
+    z0 = states[j, S_DEPTH]
     z1 = depth
     v = (z1 - z0) / dt  # first-order hold: constant velocity over the step
-    t1 = s[S_TIME] + dt
+    t1 = states[j, S_TIME] + dt
 
     # --- velocity estimate for the branch choice (MODEL.md "Measured trajectories")
     if window <= 1:
         vhat = v
     else:
-        head = (int(s[S_RING_HEAD]) + 1) % RING
-        s[S_RING_Z + head] = z1
-        s[S_RING_T + head] = t1
-        n = min(int(s[S_RING_N]) + 1, window + 1)
+        head = (int(states[j, S_RING_HEAD]) + 1) % RING
+        states[j, S_RING_Z + head] = z1
+        states[j, S_RING_T + head] = t1
+        n = min(int(states[j, S_RING_N]) + 1, window + 1)
         old = (head - (n - 1)) % RING
-        s[S_RING_HEAD] = head
-        s[S_RING_N] = n
-        vhat = (z1 - s[S_RING_Z + old]) / (t1 - s[S_RING_T + old])
-    d = _direction(vhat, s[S_DIRECTION], p[P_DEADBAND])
+        states[j, S_RING_HEAD] = head
+        states[j, S_RING_N] = n
+        vhat = (z1 - states[j, S_RING_Z + old]) / (t1 - states[j, S_RING_T + old])
+    d = _direction(vhat, states[j, S_DIRECTION], params[j, P_DEADBAND])
 
-    tau_i = p[P_TAU_I]
-    tau_w = p[P_TAU_W]
+    tau_i = params[j, P_TAU_I]
+    tau_w = params[j, P_TAU_W]
     # decays for a full step, reused while the step length stays the same
     # (to 1e-12 relative, so that sampling jitter of a few ulps still hits)
-    if abs(dt - s[S_CACHE_DT]) > 1e-12 * dt:
-        s[S_CACHE_DT] = dt
-        s[S_CACHE_DECAY_I] = math.exp(-dt / tau_i)
-        s[S_CACHE_DECAY_W] = math.exp(-dt / tau_w)
+    if abs(dt - states[j, S_CACHE_DT]) > 1e-12 * dt:
+        states[j, S_CACHE_DT] = dt
+        states[j, S_CACHE_DECAY_I] = math.exp(-dt / tau_i)
+        states[j, S_CACHE_DECAY_W] = math.exp(-dt / tau_w)
         # transition matrix of z'' + 2 zeta omega_0 z' + omega_0^2 z = 0 over dt:
         # [G, g](t + dt) = [[g_d + 2a G_d, G_d], [-omega_0^2 G_d, g_d]] [G, g](t)
-        g_d, gi_d = neck_filter_response(dt, p[P_ZETA], p[P_OMEGA_0])
-        s[S_CACHE_PHI] = g_d + 2.0 * p[P_ZETA] * p[P_OMEGA_0] * gi_d
-        s[S_CACHE_PHI + 1] = gi_d
-        s[S_CACHE_PHI + 2] = -p[P_OMEGA_0] * p[P_OMEGA_0] * gi_d
-        s[S_CACHE_PHI + 3] = g_d
+        g_d, gi_d = neck_filter_response(dt, params[j, P_ZETA], params[j, P_OMEGA_0])
+        states[j, S_CACHE_PHI] = g_d + 2.0 * params[j, P_ZETA] * params[j, P_OMEGA_0] * gi_d
+        states[j, S_CACHE_PHI + 1] = gi_d
+        states[j, S_CACHE_PHI + 2] = -params[j, P_OMEGA_0] * params[j, P_OMEGA_0] * gi_d
+        states[j, S_CACHE_PHI + 3] = g_d
 
-    mode = int(s[S_MODE])
-    zm = s[S_MUD]
+    mode = int(states[j, S_MODE])
+    zm = states[j, S_MUD]
     neck_offset = math.nan
-    lam = p[P_LAMBDA]
-    rho = p[P_RHO_M]
+    lam = params[j, P_LAMBDA]
+    rho = params[j, P_RHO_M]
 
     # --- transitions at the start of the step
     if mode == NECKED and d > 0.0:
@@ -270,7 +271,7 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
         strain = z_start - zm
         if d >= 0.0:
             # intrusion / hold branch, Eqs. (2)-(3) with k_m_i, b_m_i
-            decay = s[S_CACHE_DECAY_I] if start == 0.0 else math.exp(-(dt - start) / tau_i)
+            decay = states[j, S_CACHE_DECAY_I] if start == 0.0 else math.exp(-(dt - start) / tau_i)
             strain = maxwell_strain_step(strain, v, tau_i, decay)
             if z1 <= 0.0:
                 mode = FREE  # a step ending on the intrusion branch above the surface
@@ -281,8 +282,8 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
             # withdrawal branch with k_m_w, b_m_w; necking per Eq. (9).
             # The drag acts only while z_i > 0, so the step is split where it
             # crosses the surface; in each piece the stress is monotone.
-            k_w = p[P_K_W]
-            sigma_y = p[P_SIGMA_Y]
+            k_w = params[j, P_K_W]
+            sigma_y = params[j, P_SIGMA_Y]
             split = dt
             if (z_start > 0.0) != (z1 > 0.0) and v != 0.0:
                 tc = start - z_start / v
@@ -297,7 +298,7 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
                 z_mid = z_a + 0.5 * v * length
                 fs = drag_stress(lam, rho, v) if z_mid > 0.0 else 0.0
                 if t_a == 0.0 and t_b == dt:
-                    decay = s[S_CACHE_DECAY_W]
+                    decay = states[j, S_CACHE_DECAY_W]
                 else:
                     decay = math.exp(-length / tau_w)
                 tn = necking_time(strain, v, tau_w, k_w, fs, sigma_y, length, decay)
@@ -307,12 +308,12 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
                     z_n = z_a + v * tn
                     mode = NECKED
                     neck_offset = t_a + tn
-                    s[S_NECK_V] = strain / tau_w  # v_m0 = dz_m/dt = (z_i - z_m)/tau_w
-                    s[S_NECK_Z] = z_n - strain
-                    s[S_NECK_AGE] = dt - neck_offset
-                    g0, gi0 = neck_filter_response(s[S_NECK_AGE], p[P_ZETA], p[P_OMEGA_0])
-                    s[S_NECK_G] = g0
-                    s[S_NECK_GI] = gi0
+                    states[j, S_NECK_V] = strain / tau_w  # v_m0 = dz_m/dt = (z_i - z_m)/tau_w
+                    states[j, S_NECK_Z] = z_n - strain
+                    states[j, S_NECK_AGE] = dt - neck_offset
+                    g0, gi0 = neck_filter_response(states[j, S_NECK_AGE], params[j, P_ZETA], params[j, P_OMEGA_0])
+                    states[j, S_NECK_G] = g0
+                    states[j, S_NECK_GI] = gi0
                     break
                 strain = maxwell_strain_step(strain, v, tau_w, decay)
                 t_a = t_b
@@ -322,11 +323,16 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
     elif mode == NECKED:
         # a whole step after necking: the filter's exact discrete-time update
         # (its transition matrix is cached for the step length)
-        s[S_NECK_AGE] += dt
-        gi0 = s[S_NECK_GI]
-        g0 = s[S_NECK_G]
-        s[S_NECK_GI] = s[S_CACHE_PHI] * gi0 + s[S_CACHE_PHI + 1] * g0
-        s[S_NECK_G] = s[S_CACHE_PHI + 2] * gi0 + s[S_CACHE_PHI + 3] * g0
+        states[j, S_NECK_AGE] += dt
+        gi0 = states[j, S_NECK_GI]
+        g0 = states[j, S_NECK_G]
+        if abs(gi0) + abs(g0) < 1e-250:
+            # fully decayed: flush to zero before the update reaches subnormal
+            # numbers, which are slow (the filter's response tends to 0 anyway)
+            gi0 = 0.0
+            g0 = 0.0
+        states[j, S_NECK_GI] = states[j, S_CACHE_PHI] * gi0 + states[j, S_CACHE_PHI + 1] * g0
+        states[j, S_NECK_G] = states[j, S_CACHE_PHI + 2] * gi0 + states[j, S_CACHE_PHI + 3] * g0
 
     # --- outputs at the sample
     fs_end = drag_stress(lam, rho, v) if z1 > 0.0 else 0.0
@@ -338,29 +344,29 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
     elif mode == CONTACT:
         fs_out = fs_end
         if d >= 0.0:
-            fe1 = p[P_K_I] * strain
-            fe2 = nonlinear_spring_stress(p[P_ALPHA], p[P_BETA], z1, width)
+            fe1 = params[j, P_K_I] * strain
+            fe2 = nonlinear_spring_stress(params[j, P_ALPHA], params[j, P_BETA], z1, width)
             mud_velocity = strain / tau_i
         else:
-            fe1 = p[P_K_W] * strain
+            fe1 = params[j, P_K_W] * strain
             fe2 = 0.0
             mud_velocity = strain / tau_w
     else:
         # after necking the visco-elastic stress is the damper's: b_m_w dz_m/dt
-        v_m0 = s[S_NECK_V]
-        mud_velocity = v_m0 * s[S_NECK_G]
-        zm = s[S_NECK_Z] + v_m0 * s[S_NECK_GI]
-        fe1 = p[P_B_W] * mud_velocity
+        v_m0 = states[j, S_NECK_V]
+        mud_velocity = v_m0 * states[j, S_NECK_G]
+        zm = states[j, S_NECK_Z] + v_m0 * states[j, S_NECK_GI]
+        fe1 = params[j, P_B_W] * mud_velocity
         fe2 = 0.0
         fs_out = fs_end
 
     force: float = (fe1 + fe2 + fs_out) * area
-    s[S_MODE] = mode
-    s[S_DEPTH] = z1
-    s[S_MUD] = zm
-    s[S_TIME] = t1
-    s[S_DIRECTION] = d
-    s[S_VELOCITY] = vhat
+    states[j, S_MODE] = mode
+    states[j, S_DEPTH] = z1
+    states[j, S_MUD] = zm
+    states[j, S_TIME] = t1
+    states[j, S_DIRECTION] = d
+    states[j, S_VELOCITY] = vhat
     _write(out, k, force, fe1, fe2, fs_out, zm, mud_velocity, vhat, mode, neck_offset)
     return force
 
@@ -373,14 +379,14 @@ def new_stream_buffer(params_row: np.ndarray) -> np.ndarray:
     return buf
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
     """:func:`step` for one foot packed by :func:`new_stream_buffer` (one argument: less call overhead)."""
     force: float = step(buf[0:1], 0, buf[1:2, :N_PARAMS], depth, dt, buf[2:3, :N_OUT], 0)
     return force
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, params: np.ndarray,
               out: np.ndarray) -> int:
     """Run foot 0 over a whole trajectory; returns the index of a bad sample or -1."""
@@ -393,7 +399,7 @@ def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, params: n
     return -1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def run_feet(states: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
              forces: np.ndarray, out: np.ndarray) -> int:
     """One step of every foot (row ``j`` of ``states``/``params``); returns a bad foot or -1."""

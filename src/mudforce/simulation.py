@@ -263,16 +263,17 @@ def simulate(
     offsets = out[:, K.O_NECK_OFFSET]
     necked = np.flatnonzero(np.isfinite(offsets))
     necking_times = t[necked - 1] + offsets[necked] if necked.size else np.empty(0)
+    # the result's arrays are (strided) views of the one output block: no copies
     return SimulationResult(
         time=t,
         depth=z,
-        velocity=out[:, K.O_VELOCITY].copy(),
-        mud_displacement=out[:, K.O_MUD].copy(),
-        mud_velocity=out[:, K.O_MUD_VELOCITY].copy(),
-        f_e1=out[:, K.O_F_E1].copy(),
-        f_e2=out[:, K.O_F_E2].copy(),
-        f_s=out[:, K.O_F_S].copy(),
-        force=out[:, K.O_FORCE].copy(),
+        velocity=out[:, K.O_VELOCITY],
+        mud_displacement=out[:, K.O_MUD],
+        mud_velocity=out[:, K.O_MUD_VELOCITY],
+        f_e1=out[:, K.O_F_E1],
+        f_e2=out[:, K.O_F_E2],
+        f_s=out[:, K.O_F_S],
+        force=out[:, K.O_FORCE],
         state=out[:, K.O_STATE].astype(np.int8),
         necking_times=necking_times,
         params=params,
