@@ -76,7 +76,8 @@ def main() -> None:
             step(d, 0.001)
 
     sw, sc = best_of(stream, 3)
-    print(f"streaming MudContact.step: {sw / args.calls * 1e6:6.3f} us/call wall, {sc / args.calls * 1e6:6.3f} us/call CPU "
+    print(f"streaming MudContact.step: {sw / args.calls * 1e6:6.3f} us/call wall, "
+          f"{sc / args.calls * 1e6:6.3f} us/call CPU "
           f"({args.calls:,} calls from Python)")
 
 

@@ -21,6 +21,8 @@ inside the step in closed form, and continues in closed form after it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 import numpy as np
 from numba import njit
@@ -34,6 +36,21 @@ from mudforce.equations import (
 )
 
 __all__: list[str] = []
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _compiled(inline: str = "never") -> Callable[[_F], _F]:
+    """``numba.njit`` for the stepper: cached, releases the GIL, no reference counting.
+
+    ``_nrt=False``: the stepper allocates nothing, and without numba's
+    reference counting its array arguments cost no atomic increments per
+    call (a 2-3x difference per sample). ``inline="always"`` compiles a
+    function into each caller's loop.
+    """
+    options: dict[str, Any] = {"cache": True, "nogil": True, "_nrt": False, "inline": inline}
+    decorator: Callable[[_F], _F] = njit(**options)
+    return decorator
 
 # contact states
 FREE = 0
@@ -121,7 +138,7 @@ def new_states(n: int) -> np.ndarray:
     return states
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@_compiled()
 def _direction(velocity: float, previous: float, deadband: float) -> float:
     """Motion direction from a velocity estimate, with a Schmitt-trigger deadband.
 
@@ -143,7 +160,7 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
     return 0.0
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@_compiled()
 def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: float,
            mud: float, mud_velocity: float, velocity: float, mode: int, neck_offset: float) -> None:
     out[k, O_FORCE] = force
@@ -157,10 +174,7 @@ def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: fl
     out[k, O_NECK_OFFSET] = neck_offset
 
 
-# `_nrt=False`: the stepper allocates nothing, and without numba's reference
-# counting the array arguments cost no atomic increments per call (a 2-3x
-# difference per sample); `inline="always"` compiles it into each caller's loop.
-@njit(cache=True, nogil=True, inline="always", _nrt=False)
+@_compiled(inline="always")
 def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float,
          out: np.ndarray, k: int) -> float:
     """Advance foot ``j`` to the next sample ``depth`` [m] after ``dt`` [s].
@@ -379,14 +393,14 @@ def new_stream_buffer(params_row: np.ndarray) -> np.ndarray:
     return buf
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@_compiled()
 def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
     """:func:`step` for one foot packed by :func:`new_stream_buffer` (one argument: less call overhead)."""
     force: float = step(buf[0:1], 0, buf[1:2, :N_PARAMS], depth, dt, buf[2:3, :N_OUT], 0)
     return force
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@_compiled()
 def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, params: np.ndarray,
               out: np.ndarray) -> int:
     """Run foot 0 over a whole trajectory; returns the index of a bad sample or -1."""
@@ -399,7 +413,7 @@ def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, params: n
     return -1
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@_compiled()
 def run_feet(states: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
              forces: np.ndarray, out: np.ndarray) -> int:
     """One step of every foot (row ``j`` of ``states``/``params``); returns a bad foot or -1."""
