@@ -21,6 +21,7 @@ PUBLIC = {
     "InputError",
     "Intrude",
     "MudContact",
+    "MudContacts",
     "MudParameters",
     "Protocol",
     "SimulationResult",

@@ -160,7 +160,7 @@ def test_console_script(tmp_path: Path) -> None:
     script = _console_script()
     if script is None:
         pytest.skip("the mudforce console script is not installed")
-    proc = run_cli(["params", "--water-content", "0.3", "--json"], tmp_path, command=[script])
+    proc = run_cli(["params", "--water-content", "30%", "--json"], tmp_path, command=[script])
     assert proc.returncode == 0, proc.stderr
     assert json.loads(proc.stdout) == MudParameters.table_i(0.30).to_dict()
 
@@ -208,6 +208,8 @@ BAD: list[tuple[str, list[str], dict[str, bytes], tuple[str, ...]]] = [
      ("--water-content", "90%", "range")),
     ("water-content-bare-25", ["simulate", "--water-content", "25", "--out", "out.csv"], {},
      ("--water-content", "25%")),
+    ("water-content-bare-fraction", ["simulate", "--water-content", "0.25", "--out", "out.csv"], {},
+     ("--water-content", "no unit", "25%")),
     ("params-water-content-90%", ["params", "--water-content", "90%", "--json"], {}, ("--water-content", "range")),
     ("unitless-depth", sim("--depth", "20"), {}, ("--depth", "no unit", "20mm")),
     ("negative-depth", sim("--depth", "-20mm"), {}, ("--depth", "negative")),

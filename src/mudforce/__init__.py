@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from mudforce.parameters import CHEN2024, PARAMETER_NAMES, TABLE_I, MudParameters
     from mudforce.protocol import Hold, Intrude, Protocol, Withdraw
     from mudforce.simulation import STATE_NAMES, SimulationResult, simulate
+    from mudforce.vectorized import MudContacts
     from mudforce.velocity import VelocityFilter, estimate_depth_noise
 
 # Public names are imported on first use (PEP 562), so that `import mudforce`
@@ -48,6 +49,7 @@ _LAZY = {
     "STATE_NAMES": "mudforce.simulation",
     "SimulationResult": "mudforce.simulation",
     "simulate": "mudforce.simulation",
+    "MudContacts": "mudforce.vectorized",
     "VelocityFilter": "mudforce.velocity",
     "estimate_depth_noise": "mudforce.velocity",
 }
@@ -80,6 +82,7 @@ __all__ = [
     "InputError",
     "Intrude",
     "MudContact",
+    "MudContacts",
     "MudParameters",
     "Protocol",
     "SimulationResult",

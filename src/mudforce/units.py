@@ -31,7 +31,7 @@ _EXAMPLES = {
     "velocity": "10mm/s or 0.01m/s",
     "time": "6s or 500ms",
     "frequency": "100Hz or 1kHz",
-    "fraction": "25% (or the fraction 0.25)",
+    "fraction": "25%",
     "force": "0.2N",
     "mass": "5kg",
     "pressure": "6kPa",
@@ -79,11 +79,8 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         raise InputError(f"{name}: cannot read {text!r} as a {kind}; expected a number with a unit, e.g. {example}")
     number, unit = match.group(1), (match.group(2) or "").strip()
     if not unit:
-        if kind == "fraction":
-            value = float(number)
-            if not 0.0 <= value <= 1.0:
-                raise InputError(f"{name}: {text!r} is not a fraction in [0, 1]; write a percentage, e.g. 25%")
-            return value
+        # a bare number is refused for every kind, percentages included:
+        # "--water-content 25" (25 % or 2500 %?) must never be guessed
         raise InputError(f"{name}: {text!r} has no unit; expected a {kind} with a unit, e.g. {example}")
     table = {_case_key(kind, u): f for u, f in _UNITS[kind].items()}
     factor = table.get(_case_key(kind, unit.replace(" ", "")))

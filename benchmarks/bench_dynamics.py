@@ -1,0 +1,162 @@
+"""Benchmarks of the dynamics issue: vectorised stepping, the built-in engine, MuJoCo adapter overhead.
+
+Run: ``python benchmarks/bench_dynamics.py`` (prints figures; asserts nothing).
+
+* ``MudContacts``: 4096 feet, each on its own sinusoidal intrusion/withdrawal
+  cycle (phases spread, so CONTACT on both branches and NECKED all occur),
+  1 kHz; nanoseconds per foot per step, best of several repeats (the best
+  is the least disturbed by other processes on a shared machine).
+* The built-in engine: wall time of one 8 s drop (8000 samples, 80000 RK4 steps).
+* MuJoCo: a quadruped-like body (free torso, four legs with hip and knee
+  hinges under PD position actuators, box feet); ``mj_step`` on a rigid
+  floor (bare) against ``MudAdapter.step`` with the four feet in mud.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from typing import Any
+
+import numpy as np
+
+from mudforce import MudParameters
+from mudforce.vectorized import MudContacts
+
+
+def _best(fn: Any, repeats: int) -> float:
+    best = math.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def bench_contacts(n: int = 4096, steps: int = 500, repeats: int = 5) -> float:
+    """Nanoseconds per foot per step of ``MudContacts.step``."""
+    params = MudParameters.from_water_content(0.25)
+    contacts = MudContacts(params, n)
+    rng = np.random.default_rng(0)
+    dt = 1e-3
+    t = np.arange(steps * repeats + 1) * dt
+    phase = rng.uniform(0.0, 2.0 * np.pi, n)
+    freq = rng.uniform(0.2, 2.0, n)
+    depths = np.ascontiguousarray(0.008 + 0.012 * np.sin(2.0 * np.pi * freq * t[:, None] + phase))
+    contacts.step(depths[0], dt)
+    counter = iter(range(1, depths.shape[0]))
+
+    def run() -> None:
+        for _ in range(steps):
+            contacts.step(depths[next(counter)], dt)
+
+    return _best(run, repeats) / (steps * n) * 1e9
+
+
+def bench_builtin(repeats: int = 3) -> float:
+    """Seconds per 8 s drop with the built-in engine."""
+    from mudforce.dynamics import simulate_foot
+
+    params = MudParameters.from_water_content(0.25)
+    simulate_foot(5.0, params, duration=0.1)
+    return _best(lambda: simulate_foot(10.0, params), repeats)
+
+
+QUADRUPED = """
+<mujoco model="quadruped">
+  <option timestep="0.001" integrator="implicitfast"/>
+  <default>
+    <joint damping="0.5" armature="0.01"/>
+    <geom contype="1" conaffinity="1" friction="1 0.005 0.0001"/>
+    <position kp="300" kv="10"/>
+  </default>
+  <worldbody>
+    {floor}
+    <body name="torso" pos="0 0 {height}">
+      <freejoint/>
+      <geom type="box" size="0.2 0.1 0.04" mass="8"/>
+      {legs}
+    </body>
+  </worldbody>
+  <actuator>{actuators}</actuator>
+</mujoco>
+"""
+LEG = """
+      <body name="thigh{i}" pos="{x} {y} -0.04">
+        <joint name="hip{i}" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.15" size="0.015" mass="0.5"/>
+        <body name="shin{i}" pos="0 0 -0.15">
+          <joint name="knee{i}" type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.15" size="0.012" mass="0.3"/>
+          <geom name="foot{i}" type="box" pos="0 0 -0.1625" size="0.0255 0.019 0.0125" mass="0.2"/>
+        </body>
+      </body>"""
+
+
+def quadruped_xml(floor: bool) -> str:
+    corners = [(0.15, 0.08), (0.15, -0.08), (-0.15, 0.08), (-0.15, -0.08)]
+    legs = "".join(LEG.format(i=i, x=x, y=y) for i, (x, y) in enumerate(corners))
+    acts = "".join(f'<position joint="hip{i}"/><position joint="knee{i}"/>' for i in range(4))
+    plane = '<geom name="floor" type="plane" size="5 5 0.1"/>' if floor else ""
+    # feet bottoms at z = 0 when standing straight: 0.04 + 0.15 + 0.15 + 0.175
+    return QUADRUPED.format(floor=plane, height=0.04 + 0.3 + 0.175, legs=legs, actuators=acts)
+
+
+def bench_mujoco(steps: int = 2000, repeats: int = 10) -> tuple[float, float, float]:
+    """Microseconds per step: bare ``mj_step`` on a rigid floor, bare without floor, and ``MudAdapter.step``."""
+    import mujoco
+
+    from mudforce.mujoco import MudAdapter, MudPatch, add_mud
+
+    bare_model = mujoco.MjModel.from_xml_string(quadruped_xml(floor=True))
+    bare_data = mujoco.MjData(bare_model)
+    air_model = mujoco.MjModel.from_xml_string(quadruped_xml(floor=False))
+    air_data = mujoco.MjData(air_model)
+    spec = mujoco.MjSpec.from_string(quadruped_xml(floor=False))
+    feet = [f"foot{i}" for i in range(4)]
+    add_mud(spec, feet)
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    mud = MudAdapter(model, data, feet, MudPatch(MudParameters.from_water_content(0.20)))
+
+    def bare() -> None:
+        for _ in range(steps):
+            mujoco.mj_step(bare_model, bare_data)
+
+    def air() -> None:
+        for _ in range(steps):
+            mujoco.mj_step(air_model, air_data)
+
+    def adapted() -> None:
+        for _ in range(steps):
+            mud.step()
+
+    bare()
+    adapted()  # settle, compile
+    air()
+    # interleaved, best of each: the least disturbed by other processes
+    best = [math.inf, math.inf, math.inf]
+    for _ in range(repeats):
+        for i, fn in enumerate((bare, air, adapted)):
+            best[i] = min(best[i], _best(fn, 1))
+    return best[0] / steps * 1e6, best[1] / steps * 1e6, best[2] / steps * 1e6
+
+
+def main() -> None:
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"machine: {os.cpu_count()} CPUs, load average {load:.2f}")
+    print(f"MudContacts, 4096 feet: {bench_contacts():.1f} ns per foot per step")
+    print(f"built-in engine, one 8 s drop (8000 samples): {bench_builtin() * 1e3:.0f} ms")
+    try:
+        t_bare, t_air, t_mud = bench_mujoco()
+    except ImportError:
+        print("MuJoCo: not installed")
+        return
+    print(f"MuJoCo quadruped: bare mj_step standing on a rigid floor {t_bare:.1f} us, "
+          f"falling with no contact at all {t_air:.1f} us, with MudAdapter on 4 feet in mud {t_mud:.1f} us; "
+          f"ratio {t_mud / t_bare:.2f} (vs floor), {t_mud / t_air:.2f} (vs no contact)")
+
+
+if __name__ == "__main__":
+    main()

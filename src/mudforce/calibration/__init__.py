@@ -1,0 +1,77 @@
+"""Calibration: fit the model to measured intrusion experiments, and identify the mud's water content.
+
+Modules, in the order data flows through them:
+
+* :mod:`~mudforce.calibration.dataset` -- the dataset format (``dataset.json``
+  plus one CSV per trial, or one tidy CSV), :func:`load_dataset`, :func:`save_dataset`;
+* :mod:`~mudforce.calibration.synth` -- :func:`synthesize`: datasets from the
+  model with noise and sensor bias (``mudforce synth``);
+* :mod:`~mudforce.calibration.preprocess` -- each trial's motion fitted
+  (reversal located precisely) and force tared;
+* :mod:`~mudforce.calibration.models` -- the models a fit can use
+  (:data:`CHEN2024`; add others with :func:`register_model`);
+* :mod:`~mudforce.calibration.fit` -- :func:`fit_condition`, :func:`fit_dataset`
+  (``mudforce fit``);
+* :mod:`~mudforce.calibration.drag` -- :func:`fit_drag`, lambda from sliding
+  experiments (``mudforce fit-drag``);
+* :mod:`~mudforce.calibration.identify` -- :func:`identify_water_content`
+  (``mudforce identify``);
+* :mod:`~mudforce.calibration.report` -- :func:`write_report` (``--report``).
+
+Everything is SI: s, m, N, Pa; water content is a fraction.
+"""
+
+from __future__ import annotations
+
+from mudforce.calibration.dataset import Dataset, Trial, load_dataset, load_trial, parse_foot, save_dataset
+from mudforce.calibration.drag import DragFit, fit_drag, read_sliding
+from mudforce.calibration.fit import (
+    ConditionFit,
+    FitOptions,
+    FitResult,
+    TrialFit,
+    fit_by_velocity,
+    fit_condition,
+    fit_dataset,
+    load_fit,
+    load_fit_parameters,
+)
+from mudforce.calibration.identify import Identification, identify_water_content
+from mudforce.calibration.models import CHEN2024, MODELS, FitStage, ForceModel, get_model, register_model
+from mudforce.calibration.preprocess import Motion, PreparedTrial, fit_motion, prepare_trial, tare
+from mudforce.calibration.synth import synthesize
+
+__all__ = [
+    "CHEN2024",
+    "MODELS",
+    "ConditionFit",
+    "Dataset",
+    "DragFit",
+    "FitOptions",
+    "FitResult",
+    "FitStage",
+    "ForceModel",
+    "Identification",
+    "Motion",
+    "PreparedTrial",
+    "Trial",
+    "TrialFit",
+    "fit_by_velocity",
+    "fit_condition",
+    "fit_dataset",
+    "fit_drag",
+    "fit_motion",
+    "get_model",
+    "identify_water_content",
+    "load_dataset",
+    "load_fit",
+    "load_fit_parameters",
+    "load_trial",
+    "parse_foot",
+    "prepare_trial",
+    "read_sliding",
+    "register_model",
+    "save_dataset",
+    "synthesize",
+    "tare",
+]

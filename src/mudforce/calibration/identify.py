@@ -1,0 +1,162 @@
+"""Telling the mud's water content from one intrusion trial.
+
+The paper's Table I gives the parameters at five water contents;
+:meth:`MudParameters.from_water_content` interpolates between them. For a
+measured trial, :func:`identify_water_content` finds the water content
+whose parameters reproduce the measured force best (least squares over
+all samples, after the same preparation as a fit: motion fitted, force
+tared, tare offset profiled), and an interval from the rise of the
+residual sum of squares.
+
+The interval is a likelihood-ratio interval that allows for model error:
+``SSR(W) - SSR_min <= chi2_1(level) * s^2 * n / n_eff`` with
+``s^2 = SSR_min / (n - 1)`` and ``n_eff`` the effective number of
+independent residuals from their lag-1 autocorrelation. A trial that the
+family fits to the noise floor gets a narrow interval; a trial it misfits
+(correlated residuals, large ``s``) a wide one.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+from scipy.stats import chi2
+
+from mudforce.calibration.dataset import Trial
+from mudforce.calibration.models import CHEN2024
+from mudforce.calibration.preprocess import PreparedTrial, prepare_trial, tare_correction
+from mudforce.errors import InputError
+from mudforce.foot import Foot
+from mudforce.parameters import WATER_CONTENT_RANGE, MudParameters
+
+__all__ = ["Identification", "identify_water_content"]
+
+
+@dataclass(frozen=True, eq=False)
+class Identification:
+    """The water content that explains a trial best.
+
+    Attributes
+    ----------
+    water_content : float
+        Best estimate [-] (a fraction: 0.23 is 23%).
+    interval : tuple of float
+        Confidence interval [-] at ``level``, clipped to the family's range.
+    rmse : float
+        RMS force residual at the estimate [N].
+    level : float
+        Confidence level of ``interval`` [-].
+    grid, grid_rmse : ndarray
+        Water contents scanned [-] and the RMS residual at each [N].
+    warnings : tuple of str
+    """
+
+    water_content: float
+    interval: tuple[float, float]
+    rmse: float
+    level: float
+    grid: np.ndarray
+    grid_rmse: np.ndarray
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, object]:
+        """``{"water_content", "interval", "rmse_N", "level", "warnings"}``."""
+        return {
+            "water_content": self.water_content,
+            "interval": [self.interval[0], self.interval[1]],
+            "rmse_N": self.rmse,
+            "level": self.level,
+            "warnings": list(self.warnings),
+        }
+
+
+def _edge(ssr: Callable[[float], float], level: float, inside: float, outward: np.ndarray, limit: float) -> float:
+    """Where ``ssr`` rises through ``level`` walking from ``inside`` along ``outward`` (else ``limit``)."""
+    previous = inside
+    for w in outward:
+        if ssr(float(w)) > level:
+            return float(brentq(lambda x: ssr(x) - level, previous, float(w), xtol=1e-7))
+        previous = float(w)
+    return float(limit)
+
+
+def identify_water_content(
+    trial: Trial | PreparedTrial,
+    foot: Foot | None = None,
+    *,
+    family: Callable[[float], MudParameters] = MudParameters.from_water_content,
+    bounds: tuple[float, float] = WATER_CONTENT_RANGE,
+    level: float = 0.95,
+    points: int = 81,
+) -> Identification:
+    """Estimate the water content of one trial from a one-parameter family of parameter sets.
+
+    Parameters
+    ----------
+    trial : Trial or PreparedTrial
+        An intrude/hold/withdraw trial starting above the surface.
+    foot : Foot, optional
+        The intruder; the paper's cuboid by default.
+    family : callable
+        Water content [-] -> :class:`MudParameters`; Table I, interpolated, by default.
+    bounds : tuple of float
+        Range of water contents to search [-].
+    level : float
+        Confidence level of the interval, in (0, 1).
+    points : int
+        Grid points for the scan before refinement.
+
+    Returns
+    -------
+    Identification
+    """
+    if not 0.0 < level < 1.0:
+        raise InputError(f"confidence level must be in (0, 1), got {level!r}")
+    foot = Foot.paper() if foot is None else foot
+    tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial)
+    lo, hi = bounds
+
+    def residual(w: float) -> np.ndarray:
+        values = family(w).as_array()
+        r: np.ndarray = CHEN2024.force(tr.time, tr.depth, values, foot) - tr.force
+        return r + tare_correction(r, tr.precontact)
+
+    def ssr(w: float) -> float:
+        r = residual(w)
+        return float(r @ r)
+
+    grid = np.linspace(lo, hi, points)
+    costs = np.array([ssr(float(w)) for w in grid])
+    k = int(np.argmin(costs))
+    a, b = grid[max(k - 1, 0)], grid[min(k + 1, points - 1)]
+    sol = minimize_scalar(ssr, bounds=(a, b), method="bounded", options={"xatol": 1e-6})
+    w_best, c_best = (float(sol.x), float(sol.fun)) if sol.fun < costs[k] else (float(grid[k]), float(costs[k]))
+    r = residual(w_best)
+    n = r.size
+    rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 2 and np.std(r) > 0 else 0.0
+    rho = min(max(rho, 0.0), 0.99)
+    n_eff = n * (1.0 - rho) / (1.0 + rho)
+    threshold = float(chi2.ppf(level, 1)) * c_best / max(n - 1, 1) * n / max(n_eff, 1.0)
+    low = _edge(ssr, c_best + threshold, w_best, grid[grid < w_best][::-1], lo)
+    high = _edge(ssr, c_best + threshold, w_best, grid[grid > w_best], hi)
+    warnings = []
+    if w_best - lo < 1e-3 or hi - w_best < 1e-3:
+        warnings.append(f"the estimate is at the edge of the searched range [{lo:g}, {hi:g}]: "
+                        "the mud may be drier or wetter than the family covers")
+    rmse = math.sqrt(c_best / n)
+    if math.isfinite(tr.force_noise) and rmse > 2.0 * tr.force_noise:
+        warnings.append(f"RMSE {rmse:.3g} N is well above the force noise {tr.force_noise:.3g} N: "
+                        "the family does not describe this trial well; the interval allows for that")
+    return Identification(
+        water_content=w_best,
+        interval=(low, high),
+        rmse=rmse,
+        level=level,
+        grid=grid,
+        grid_rmse=np.sqrt(costs / n),
+        warnings=tuple(warnings),
+    )

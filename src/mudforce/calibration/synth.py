@@ -1,0 +1,130 @@
+"""Synthetic intrusion datasets from the model, with realistic sensor imperfections.
+
+Each trial is the paper's protocol (intrude to a depth, hold, withdraw at
+the same speed until clear of the mud, Section II-A of [1]) preceded by an
+approach from above the surface, simulated exactly, then measured with:
+white force noise [N], white depth noise [m] (motion capture), and a
+constant force-sensor bias [N]. The true parameters travel in the
+manifest's ``synthetic`` entry so that a fit can be checked against them.
+
+.. [1] X. Chen, J. Yi, J. Shan, arXiv:2403.02617 (2024).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from mudforce.calibration.dataset import Dataset, Trial, save_dataset
+from mudforce.errors import InputError
+from mudforce.foot import Foot
+from mudforce.parameters import MudParameters
+from mudforce.protocol import Protocol
+from mudforce.simulation import simulate
+
+__all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "synthesize", "trial_name"]
+
+#: Water contents [-] that ``mudforce synth`` makes by default.
+DEFAULT_WATER_CONTENTS: tuple[float, ...] = (0.25,)
+#: Speeds [m/s] that ``mudforce synth`` makes by default.
+DEFAULT_VELOCITIES: tuple[float, ...] = (0.01, 0.02, 0.04)
+
+
+def trial_name(water_content: float, velocity: float, repeat: int) -> str:
+    """The file name of a synthetic trial, e.g. ``w25_v10_r1.csv`` (W in %, v in mm/s)."""
+    stem = f"w{water_content * 100:g}_v{velocity * 1e3:g}_r{repeat}"
+    return stem.replace(".", "p") + ".csv"
+
+
+def synthesize(
+    out: str | os.PathLike[str] | None = None,
+    *,
+    water_contents: Sequence[float] = DEFAULT_WATER_CONTENTS,
+    velocities: Sequence[float] = DEFAULT_VELOCITIES,
+    repeats: int = 3,
+    force_noise: float = 0.2,
+    depth_noise: float = 3e-5,
+    bias: float = 0.5,
+    seed: int = 0,
+    foot: Foot | None = None,
+    depth: float = 0.02,
+    hold: float = 6.0,
+    approach: float = 0.005,
+    rise: float = 0.02,
+    rate: float = 100.0,
+    parameters: dict[float, MudParameters] | None = None,
+) -> Dataset:
+    """Make (and optionally write) a synthetic dataset.
+
+    Parameters
+    ----------
+    out : path-like, optional
+        Folder to write ``dataset.json`` and the trial CSVs into.
+    water_contents : sequence of float
+        Volume fractions [-]; parameters from :meth:`MudParameters.from_water_content`
+        (Table I, interpolated) unless ``parameters`` gives them.
+    velocities : sequence of float
+        Intrusion and withdrawal speeds [m/s].
+    repeats : int
+        Trials per (water content, speed).
+    force_noise : float
+        Standard deviation of white force noise [N].
+    depth_noise : float
+        Standard deviation of white depth noise [m].
+    bias : float
+        Constant force-sensor offset added to every sample [N].
+    seed : int
+        Seed of the noise; the same seed gives the same files.
+    foot : Foot, optional
+        The intruder; the paper's 51 x 38 mm cuboid by default.
+    depth, hold, approach, rise : float
+        Protocol: hold depth [m], hold time [s], start height above the
+        surface [m], final height above the surface [m].
+    rate : float
+        Sampling rate [Hz].
+    parameters : dict, optional
+        Water content [-] -> :class:`MudParameters`, overriding Table I.
+
+    Returns
+    -------
+    Dataset
+        With the true parameters under ``extra["synthetic"]``.
+    """
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise InputError(f"repeats must be a positive integer, got {repeats!r}")
+    for name, value in (("force noise", force_noise), ("depth noise", depth_noise), ("bias", bias)):
+        if not np.isfinite(value) or (value < 0 and name != "bias"):
+            raise InputError(f"{name} must be finite and >= 0, got {value!r}")
+    if not water_contents or not velocities:
+        raise InputError("synthesize needs at least one water content and one velocity")
+    foot = Foot.paper() if foot is None else foot
+    rng = np.random.default_rng(seed)
+    truths: dict[str, Any] = {}
+    trials: list[Trial] = []
+    for w in water_contents:
+        params = (parameters or {}).get(w) or MudParameters.from_water_content(w)
+        truths[f"{w:g}"] = params.to_dict()
+        for v in velocities:
+            protocol = Protocol.paper(depth=depth, velocity=v, hold=hold, rise=rise, rate=rate, approach=approach)
+            time, z = protocol.sample()
+            clean = simulate(time, z, params, foot, velocity_filter="exact").force
+            for r in range(1, repeats + 1):
+                force = clean + bias + force_noise * rng.standard_normal(time.size)
+                measured = z + depth_noise * rng.standard_normal(time.size)
+                trials.append(Trial(trial_name(w, v, r), float(w), time, measured, force, float(v), r))
+    synthetic = {
+        "seed": seed,
+        "force_noise_N": force_noise,
+        "depth_noise_m": depth_noise,
+        "bias_N": bias,
+        "protocol": {"depth_m": depth, "hold_s": hold, "approach_m": approach, "rise_m": rise, "rate_Hz": rate},
+        "parameters": truths,
+    }
+    dataset = Dataset(foot=foot, trials=tuple(trials), source="synthesize()", extra={"synthetic": synthetic})
+    if out is not None:
+        path = save_dataset(dataset, out)
+        dataset = Dataset(foot=foot, trials=dataset.trials, source=str(path), extra=dataset.extra)
+    return dataset

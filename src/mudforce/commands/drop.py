@@ -1,0 +1,114 @@
+"""Drop a cuboid foot into mud and simulate how it sinks, sticks and settles.
+
+The paper's 51 x 38 mm cuboid foot of the given mass is released at rest
+with its bottom at the mud surface (or --height above it) and falls under
+gravity (9.81 m/s^2) into mud of the given water content (Table I of Chen,
+Yi & Shan 2024, interpolated between rows). The mud force is the model's,
+coupled with the foot's motion: the foot sinks on the intrusion branch,
+and at rest it sticks while its weight lies between the withdrawal- and
+intrusion-branch forces (README, "Dynamics").
+
+Engines: "builtin" integrates the one-degree-of-freedom foot event-driven
+(RK4 with event location, 0.1 ms sub-steps); "mujoco" runs MuJoCo (1 ms
+steps) with the mudforce.mujoco adapter (needs: pip install 'mudforce[mujoco]').
+
+Output CSV columns: time_s, depth_m (positive down), velocity_m_s
+(positive down), force_N (mud force, positive up), state (FREE, INTRUSION,
+WITHDRAWAL, STUCK, NECKED), one row per millisecond.
+
+examples:
+  mudforce drop --mass 5kg --water-content 25% --out drop.csv
+  mudforce drop --engine mujoco --mass 10kg --water-content 20% --duration 4s --out drop.csv --plot drop.png
+  mudforce drop --mass 5kg --water-content 15% --height 20mm --out drop.csv
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+
+from mudforce.errors import InputError
+from mudforce.units import parse_quantity
+
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
+NAME = "drop"
+HELP = "drop a cuboid foot into mud (built-in or MuJoCo engine) and write its depth and force (CSV)"
+
+_MAX_DURATION = 600.0  # [s]
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Declare the options of ``mudforce drop``."""
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.add_argument("--engine", choices=("builtin", "mujoco"), default="builtin",
+                        help="dynamics engine (default: builtin)")
+    parser.add_argument("--mass", required=True, metavar="M", help="foot mass with unit, e.g. 5kg")
+    parser.add_argument("--water-content", required=True, metavar="W",
+                        help="mud water content within 15%%-35%%, e.g. 25%%")
+    parser.add_argument("--duration", default="8s", metavar="T", help="simulated time with unit (default: 8s)")
+    parser.add_argument("--height", default="0mm", metavar="H",
+                        help="release height of the foot's bottom above the surface (default: 0mm)")
+    parser.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write (atomically)")
+    parser.add_argument("--plot", default=None, metavar="FILE.png", help="also save a PNG figure")
+
+
+def _check_target(path: str, what: str) -> Path:
+    target = Path(path)
+    if target.exists() and target.is_dir():
+        raise InputError(f"{what} {path!r} is a directory; expected a file name")
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{what} {path!r}: directory {str(parent)!r} does not exist")
+    if not os.access(parent, os.W_OK):
+        raise InputError(f"{what} {path!r}: directory {str(parent)!r} is not writable")
+    return target
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``mudforce drop``; returns the exit status."""
+    from mudforce.parameters import MudParameters
+
+    mass = parse_quantity(args.mass, "mass", name="--mass")
+    water = parse_quantity(args.water_content, "fraction", name="--water-content")
+    duration = parse_quantity(args.duration, "time", name="--duration")
+    height = parse_quantity(args.height, "length", name="--height", allow_zero=True)
+    if duration > _MAX_DURATION:
+        raise InputError(f"--duration: {args.duration!r} is longer than {_MAX_DURATION:g} s")
+    if duration < 2e-3:
+        raise InputError(f"--duration: {args.duration!r} is shorter than 2 ms (two samples)")
+    if mass > 1e4:
+        raise InputError(f"--mass: {args.mass!r} is more than 10000 kg; expected e.g. 5kg")
+    if height > 10.0:
+        raise InputError(f"--height: {args.height!r} is more than 10 m; expected e.g. 20mm")
+    params = MudParameters.from_water_content(water)
+    out = _check_target(args.out, "--out")
+    plot = _check_target(args.plot, "--plot") if args.plot is not None else None
+    if plot is not None and plot.resolve() == out.resolve():
+        raise InputError("--plot and --out name the same file")
+    if plot is not None:
+        from mudforce._optional import require
+
+        require("matplotlib", "plot", "--plot")
+    if args.engine == "mujoco":
+        from mudforce._optional import require
+
+        require("mujoco", "mujoco", "--engine mujoco")
+        from mudforce.mujoco import simulate_drop
+
+        result = simulate_drop(mass, params, duration=duration, height=height)
+    else:
+        from mudforce.dynamics import simulate_foot
+
+        result = simulate_foot(mass, params, duration=duration, depth0=-height)
+    try:
+        result.to_csv(out)
+        if plot is not None:
+            result.plot(plot, title=f"{mass:g} kg foot dropped into mud at W = {water:.0%} ({args.engine})")
+    except OSError as exc:
+        raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
+    weight = mass * result.gravity
+    print(f"{args.engine}: rest depth {result.rest_depth * 1e3:.3f} mm after {duration:g} s; "
+          f"force std over the last second {100.0 * result.force_std(1.0) / weight:.3f}% of m g; wrote {out}")
+    return 0

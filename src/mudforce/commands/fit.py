@@ -1,0 +1,100 @@
+"""Fit the model to an intrusion dataset: the nine parameters per water content, with standard errors.
+
+DATASET is a folder with dataset.json and one CSV per trial (or the
+dataset.json itself, or a tidy CSV with the columns trial, water_content,
+time_s, depth_m, force_N); see docs/calibration.md. Each trial's motion is
+fitted (reversal located to a fraction of a sample) and its force tared
+from the samples before contact. The fit is staged: intrusion and hold
+(k_m_i, b_m_i, alpha, beta); withdrawal (k_m_w, b_m_w, sigma_y, zeta,
+omega_0) with a seeded global search; then all jointly. rho_m and lambda
+stay fixed unless --free names them. fit.json holds, per water content,
+the 11 parameters in SI, their standard errors (null where fixed or not
+determined), the RMSE over all samples and per trial, the parameter
+correlation matrix, and warnings for parameters the data cannot determine.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from mudforce.errors import InputError
+
+NAME = "fit"
+HELP = "fit the model to an intrusion dataset (per water content, staged, with standard errors)"
+
+
+def _names(text: str | None, option: str) -> list[str]:
+    if not text:
+        return []
+    names = [x.strip() for x in text.split(",") if x.strip()]
+    if not names:
+        raise InputError(f"{option}: empty list; expected parameter names such as k_m_w,b_m_w")
+    return names
+
+
+def _fixed(text: str | None) -> dict[str, float]:
+    out: dict[str, float] = {}
+    for item in _names(text, "--fix"):
+        name, sep, value = item.partition("=")
+        try:
+            out[name.strip()] = float(value)
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise InputError(f"--fix: cannot read {item!r}; expected NAME=VALUE in SI, e.g. beta=0.5")
+    return out
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``mudforce fit``."""
+    parser.add_argument("dataset", metavar="DATASET", help="dataset folder, its dataset.json, or a tidy CSV")
+    parser.add_argument("--out", required=True, metavar="FIT.json", help="where to write the fit (JSON)")
+    parser.add_argument("--report", metavar="DIR", help="also write a markdown + PNG report there (needs matplotlib)")
+    parser.add_argument("--shared", metavar="NAMES", help="parameters shared across water contents, e.g. k_m_w,b_m_w")
+    parser.add_argument("--free", metavar="NAMES", help="also fit these normally fixed parameters, e.g. lambda")
+    parser.add_argument("--fix", metavar="NAME=VALUE,...", help="hold parameters at values in SI, e.g. beta=0.5")
+    parser.add_argument("--model", default="chen2024", help="force model to fit (default chen2024)")
+    parser.add_argument("--foot", help="foot of a tidy CSV: paper, cuboid:51mm,38mm, disc:40mm, custom:AREA,WIDTH")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the global search (default 0)")
+    parser.add_argument("--quiet", action="store_true", help="no progress, no summary")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Load, fit, write fit.json (and the report), print a summary."""
+    from mudforce.calibration.dataset import load_dataset, parse_foot
+    from mudforce.calibration.fit import fit_by_velocity, fit_dataset, speed_key
+    from mudforce.calibration.models import get_model
+
+    if args.report:
+        from mudforce._optional import require
+
+        require("matplotlib", "plot", "--report")
+    model = get_model(args.model)
+    dataset = load_dataset(args.dataset, foot=parse_foot(args.foot) if args.foot else None)
+    extra = _names(args.free, "--free")
+    for name in extra:
+        if name not in model.parameter_names:
+            raise InputError(f"--free {name}: unknown parameter; expected one of {', '.join(model.parameter_names)}")
+    free = [n for n in model.parameter_names if n not in model.fixed or n in extra]
+    fixed = _fixed(args.fix)
+    for name in fixed:
+        if name not in model.parameter_names:
+            raise InputError(f"--fix {name}: unknown parameter; expected one of {', '.join(model.parameter_names)}")
+    result = fit_dataset(dataset, model=model, free=free, fixed=fixed, shared=_names(args.shared, "--shared"),
+                         seed=args.seed, quiet=args.quiet)
+    result.save(args.out)
+    if args.report:
+        from mudforce.calibration.report import write_report
+
+        speeds = {speed_key(t.nominal_velocity, t.velocity) for c in result.conditions for t in c.trials}
+        per_speed = fit_by_velocity(dataset, model=model, free=free, fixed=fixed, seed=args.seed,
+                                    quiet=args.quiet) if len(speeds) > 1 else []
+        write_report(result, args.report, velocity_fits=per_speed)
+    if not args.quiet:
+        for c in result.conditions:
+            print(f"W = {c.water_content:.1%}: RMSE {c.rmse:.3f} N (force noise {c.force_noise:.3f} N), "
+                  f"{len(c.trials)} trials, {len(c.warnings)} warning(s)")
+            for w in c.warnings:
+                print(f"  warning: {w}")
+        print(f"wrote {args.out}" + (f" and {args.report}/report.md" if args.report else ""))
+    return 0

@@ -1,0 +1,203 @@
+"""Many feet at once: the streaming contact vectorised over feet.
+
+:class:`MudContacts` holds ``n`` contact states as the rows of one array
+and steps all of them with one call to the compiled stepper
+(:func:`mudforce._kernel.run_feet`), with no Python loop over feet. Each foot
+may have its own mud parameters and foot geometry (one params row each), for
+domain randomisation in reinforcement learning. Feeding foot ``j`` the same
+samples as a :class:`mudforce.MudContact` gives bit-for-bit the same force.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce.errors import InputError
+from mudforce.foot import Foot
+from mudforce.parameters import PARAMETER_NAMES, MudParameters
+from mudforce.simulation import STATE_NAMES, resolve_velocity_filter
+from mudforce.velocity import VelocityFilter
+
+__all__ = ["MudContacts"]
+
+
+def _param_rows(
+    params: MudParameters | Sequence[MudParameters] | np.ndarray,
+    n: int,
+    foot: Foot | Sequence[Foot] | None,
+    vf: VelocityFilter,
+) -> np.ndarray:
+    feet: list[Foot]
+    if foot is None:
+        feet = [Foot.paper()] * n
+    elif isinstance(foot, Foot):
+        feet = [foot] * n
+    else:
+        feet = list(foot)
+        if len(feet) != n:
+            raise InputError(f"got {len(feet)} feet for {n} contacts; give one Foot or one per contact")
+    if isinstance(params, MudParameters):
+        values = np.tile(params.as_array(), (n, 1))
+    elif isinstance(params, np.ndarray):
+        values = np.array(params, dtype=np.float64)
+        if values.ndim == 1:
+            values = np.tile(values, (n, 1))
+        if values.shape != (n, len(PARAMETER_NAMES)):
+            raise InputError(
+                f"a parameter array must have shape ({n}, {len(PARAMETER_NAMES)}) "
+                f"(columns {', '.join(PARAMETER_NAMES)}, SI), got {values.shape}"
+            )
+        # validate every row through MudParameters (positivity, beta in (0, 1], ...)
+        for row in values:
+            MudParameters(*row.tolist())
+    else:
+        plist = list(params)
+        if len(plist) != n:
+            raise InputError(f"got {len(plist)} parameter sets for {n} contacts; give one or one per contact")
+        for p in plist:
+            if not isinstance(p, MudParameters):
+                raise InputError(f"params must be MudParameters, got {type(p).__name__}")
+        values = np.array([p.as_array() for p in plist], dtype=np.float64)
+    rows = np.empty((n, K.N_PARAMS), dtype=np.float64)
+    for j in range(n):
+        rows[j] = K.make_params(values[j], feet[j].area, feet[j].width, vf.window, vf.deadband)
+    return rows
+
+
+class MudContacts:
+    """The mud force on ``n`` feet, all stepped together, one sample at a time.
+
+    Parameters
+    ----------
+    params : MudParameters, sequence of MudParameters, or ndarray
+        One parameter set for all feet, one per foot, or an array of shape
+        ``(n, 11)`` (or ``(11,)``) in :data:`mudforce.PARAMETER_NAMES` order,
+        SI units, for domain randomisation. Every row is validated.
+    n : int
+        Number of feet, >= 1.
+    foot : Foot or sequence of Foot, optional
+        Foot geometry, shared or one per foot; the paper's 51 x 38 mm cuboid by default.
+    velocity_filter : "exact" or VelocityFilter
+        Branch-velocity filter shared by all feet (default: the paper's exact rule).
+
+    Notes
+    -----
+    Foot ``j`` is row ``j`` of one state array and one parameter array, and
+    every step runs the compiled stepper of :class:`mudforce.MudContact`
+    over all rows in one compiled loop, so the result is exactly that of
+    ``n`` independent :class:`~mudforce.MudContact` objects. The force
+    array returned by :meth:`step` is a buffer that the next call
+    overwrites; copy it to keep it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mudforce import MudParameters
+    >>> from mudforce.vectorized import MudContacts
+    >>> feet = MudContacts(MudParameters.from_water_content(0.25), 3)
+    >>> feet.step(np.zeros(3), 0.01).tolist()
+    [0.0, 0.0, 0.0]
+    >>> bool((feet.step(np.full(3, 1e-4), 0.01) > 0).all())
+    True
+    """
+
+    def __init__(
+        self,
+        params: MudParameters | Sequence[MudParameters] | np.ndarray,
+        n: int,
+        foot: Foot | Sequence[Foot] | None = None,
+        *,
+        velocity_filter: VelocityFilter | str = "exact",
+    ) -> None:
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise InputError(f"the number of feet n must be an integer >= 1, got {n!r}")
+        self.n = int(n)
+        self.velocity_filter = resolve_velocity_filter(velocity_filter)
+        self.params_array = _param_rows(params, self.n, foot, self.velocity_filter)
+        self.states = K.new_states(self.n)
+        self.out = np.zeros((self.n, K.N_OUT), dtype=np.float64)
+        self.forces = np.zeros(self.n, dtype=np.float64)
+
+    def step(self, depths: Any, dt: float) -> np.ndarray:
+        """Advance every foot to its next depth sample; return the forces [N].
+
+        Parameters
+        ----------
+        depths : array_like, shape (n,)
+            Foot depths below the surface [m], positive down.
+        dt : float
+            Time since the previous sample [s], finite and > 0 (ignored by a
+            foot's first step after creation or :meth:`reset`).
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Vertical mud force on each foot [N], positive up. A buffer
+            reused by the next call.
+        """
+        z = depths if isinstance(depths, np.ndarray) and depths.dtype == np.float64 else np.asarray(
+            depths, dtype=np.float64)
+        if z.shape != (self.n,):
+            raise InputError(f"depths must have shape ({self.n},), got {z.shape}")
+        dt = float(dt)
+        if not (dt > 0.0 and dt < np.inf):
+            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        bad = K.run_feet(self.states, self.params_array, z, dt, self.forces, self.out)
+        if bad >= 0:
+            # the kernel refused foot `bad` without changing it; the others stepped
+            raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
+        return self.forces
+
+    def reset(self, feet: Any = None) -> None:
+        """Forget the history of some feet (all by default).
+
+        Parameters
+        ----------
+        feet : int, sequence of int, or boolean mask of shape (n,), optional
+            Which feet to reset; their next :meth:`step` sets their initial sample.
+        """
+        fresh = K.new_states(1)[0]
+        if feet is None:
+            self.states[:] = fresh
+            return
+        idx = np.asarray(feet)
+        if idx.dtype == np.bool_:
+            if idx.shape != (self.n,):
+                raise InputError(f"a reset mask must have shape ({self.n},), got {idx.shape}")
+        elif not np.issubdtype(idx.dtype, np.integer):
+            raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
+        elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):
+            raise InputError(f"foot index out of range 0..{self.n - 1}: {idx.tolist()}")
+        self.states[idx] = fresh
+
+    @property
+    def modes(self) -> list[str]:
+        """Each foot's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        return [STATE_NAMES[int(m)] for m in self.states[:, K.S_MODE]]
+
+    @property
+    def depths(self) -> np.ndarray:
+        """Each foot's depth at its last sample [m] (a copy)."""
+        return np.array(self.states[:, K.S_DEPTH], dtype=np.float64)
+
+    def snapshot(self) -> np.ndarray:
+        """A copy of all feet's states, for :meth:`restore` (rollouts, resets)."""
+        return np.array(self.states, dtype=np.float64)
+
+    def restore(self, snapshot: np.ndarray) -> None:
+        """Restore all feet's states from :meth:`snapshot`."""
+        arr = np.asarray(snapshot, dtype=np.float64)
+        if arr.shape != self.states.shape:
+            raise InputError(f"a snapshot of {self.n} feet has shape {self.states.shape}, got {arr.shape}")
+        self.states[:] = arr
+        self.states[:, K.S_CACHE_DT] = -1.0  # recompute the step-length cache
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __repr__(self) -> str:
+        return f"MudContacts(n={self.n})"

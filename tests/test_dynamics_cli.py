@@ -1,0 +1,69 @@
+"""``mudforce drop`` through a subprocess: output columns, both engines, bad input (exit 2, one line)."""
+
+from __future__ import annotations
+
+import csv
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from mudforce import MudParameters
+from mudforce.dynamics import exact_drop
+
+PYTHON_M = [sys.executable, "-m", "mudforce", "drop"]
+PREVIOUS = b"previous output, must survive any error\n"
+
+
+def run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([*PYTHON_M, *args], cwd=cwd, capture_output=True, text=True, timeout=120, check=False)
+
+
+def read(path: Path) -> list[dict[str, str]]:
+    with path.open(newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+@pytest.mark.parametrize("engine", ["builtin", "mujoco"])
+def test_drop_writes_the_csv(tmp_path: Path, engine: str) -> None:
+    if engine == "mujoco" and importlib.util.find_spec("mujoco") is None:
+        pytest.skip("mujoco is not installed")
+    args = ["--engine", engine, "--mass", "5kg", "--water-content", "25%", "--duration", "3s", "--out", "drop.csv"]
+    if engine == "builtin":
+        args += ["--plot", "drop.png", "--height", "10mm"]
+    proc = run(args, tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    rows = read(tmp_path / "drop.csv")
+    assert list(rows[0]) == ["time_s", "depth_m", "velocity_m_s", "force_N", "state"]
+    assert len(rows) == 3001
+    height = 0.01 if engine == "builtin" else 0.0
+    assert float(rows[0]["depth_m"]) == -height and rows[0]["state"] == "FREE"
+    assert rows[-1]["state"] == "STUCK"
+    ref = exact_drop(5.0, MudParameters.from_water_content(0.25), duration=3.0, height=height)
+    assert float(rows[-1]["depth_m"]) == pytest.approx(ref.rest_depth, rel=0.02 if engine == "builtin" else 0.05)
+    assert float(rows[-1]["force_N"]) == pytest.approx(5.0 * 9.81, rel=1e-6)
+    if engine == "builtin":
+        assert (tmp_path / "drop.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--mass", "5", "--water-content", "25%"], "--mass: '5' has no unit"),
+        (["--mass", "5kg", "--water-content", "25%", "--duration", "8"], "--duration: '8' has no unit"),
+        (["--mass", "5kg", "--water-content", "50%"], "outside Table I's range"),
+        (["--mass", "5kg", "--water-content", "25%", "--height=-3mm"], "must not be negative"),
+    ],
+)
+def test_bad_input_exit_2_one_line_output_untouched(tmp_path: Path, args: list[str], message: str) -> None:
+    out = tmp_path / "drop.csv"
+    out.write_bytes(PREVIOUS)
+    proc = run([*args, "--out", "drop.csv"], tmp_path)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0] and "Traceback" not in proc.stderr
+    assert out.read_bytes() == PREVIOUS
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["drop.csv"]

@@ -1,0 +1,109 @@
+"""MudContacts: n feet stepped together equal n MudContact objects fed the same samples."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mudforce import Foot, MudContact, MudParameters
+from mudforce.errors import InputError
+from mudforce.parameters import TABLE_I
+from mudforce.vectorized import MudContacts
+
+W25 = MudParameters.from_water_content(0.25)
+
+
+def _walks(seed: int, steps: int, n: int) -> np.ndarray:
+    """Random depth walks around the surface [m]: intrusions, holds, withdrawals, necking."""
+    rng = np.random.default_rng(seed)
+    v = rng.normal(0.0, 0.02, (steps, n)) * (rng.random((steps, n)) < 0.7)
+    return np.cumsum(v * 0.01, axis=0) + rng.uniform(-0.002, 0.01, n)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), n=st.integers(1, 6), dt=st.floats(1e-4, 0.05))
+def test_equals_independent_contacts(seed: int, n: int, dt: float) -> None:
+    rng = np.random.default_rng(seed)
+    rows = list(TABLE_I.values())
+    params = [rows[int(i)] for i in rng.integers(0, len(rows), n)]
+    feet = [Foot.cuboid(float(a), float(b)) for a, b in rng.uniform(0.02, 0.08, (n, 2))]
+    many = MudContacts(params, n, feet)
+    single = [MudContact(p, f) for p, f in zip(params, feet, strict=True)]
+    for depths in _walks(seed, 200, n):
+        forces = many.step(depths, dt).copy()
+        expected = [c.step(float(z), dt) for c, z in zip(single, depths, strict=True)]
+        np.testing.assert_array_equal(forces, expected)  # bit for bit: the same compiled stepper
+    for j in range(n):
+        np.testing.assert_array_equal(many.states[j], single[j].state.data)
+    assert many.modes == [c.state.mode for c in single]
+
+
+def test_parameter_array_for_domain_randomisation() -> None:
+    rng = np.random.default_rng(1)
+    base = W25.as_array()
+    values = base * rng.uniform(0.8, 1.2, (4, base.size))
+    values[:, 5] = np.clip(values[:, 5], 0.1, 1.0)  # beta stays in (0, 1]
+    many = MudContacts(values, 4)
+    single = [MudContact(MudParameters(*row.tolist())) for row in values]
+    for depths in _walks(2, 100, 4):
+        np.testing.assert_array_equal(many.step(depths, 0.01), [c.step(float(z), 0.01) for c, z in
+                                                                 zip(single, depths, strict=True)])
+    with pytest.raises(InputError, match="beta"):
+        MudContacts(np.tile(np.r_[base[:5], 2.0, base[6:]], (2, 1)), 2)
+    with pytest.raises(InputError, match="shape"):
+        MudContacts(values[:, :5], 4)
+
+
+def test_reset_selected_feet() -> None:
+    many = MudContacts(W25, 3)
+    fresh = MudContact(W25)
+    many.step(np.zeros(3), 0.01)
+    for z in (0.005, 0.01, 0.012):
+        many.step(np.full(3, z), 0.01)
+    many.reset([1])
+    assert many.modes == ["CONTACT", "FREE", "CONTACT"]
+    kept = many.states[[0, 2]].copy()
+    # foot 1 starts again from its next sample, like a fresh MudContact
+    depths = np.array([0.012, 0.0, 0.012])
+    f = many.step(depths, 0.01).copy()
+    assert f[1] == fresh.step(0.0, 0.01)
+    for z in (0.003, 0.006):
+        f = many.step(np.array([0.012, z, 0.012]), 0.01).copy()
+        assert f[1] == fresh.step(z, 0.01)
+    assert not np.array_equal(kept, many.states[[0, 2]])  # the others went on relaxing
+    mask = np.array([True, False, True])
+    many.reset(mask)
+    assert many.modes == ["FREE", "CONTACT", "FREE"]
+    many.reset()
+    assert many.modes == ["FREE"] * 3
+
+
+def test_snapshot_restore_replays_exactly() -> None:
+    many = MudContacts(W25, 2)
+    walks = _walks(3, 60, 2)
+    for depths in walks[:30]:
+        many.step(depths, 0.01)
+    snap = many.snapshot()
+    first = np.array([many.step(d, 0.01).copy() for d in walks[30:]])
+    many.restore(snap)
+    second = np.array([many.step(d, 0.01).copy() for d in walks[30:]])
+    np.testing.assert_array_equal(first, second)
+
+
+def test_bad_input_is_refused() -> None:
+    many = MudContacts(W25, 2)
+    with pytest.raises(InputError, match="shape"):
+        many.step(np.zeros(3), 0.01)
+    with pytest.raises(InputError, match="dt"):
+        many.step(np.zeros(2), 0.0)
+    many.step(np.zeros(2), 0.01)
+    with pytest.raises(InputError, match="foot 1"):
+        many.step(np.array([0.001, np.nan]), 0.01)
+    with pytest.raises(InputError, match="n must be"):
+        MudContacts(W25, 0)
+    with pytest.raises(InputError, match="out of range"):
+        many.reset([2])
+    with pytest.raises(InputError, match="3 parameter sets"):
+        MudContacts([W25] * 3, 2)
