@@ -265,9 +265,16 @@ def register_model(model: ForceModel) -> None:
 
 
 def get_model(model: str | ForceModel) -> ForceModel:
-    """A registered model by name (or the model itself)."""
+    """A registered model by name (or the model itself).
+
+    The built-in baselines of :mod:`mudforce.baselines` (``granular_rft``,
+    ``drft``, ``maxwell_only``) are registered on first use, so that every
+    caller, the command line's ``--model`` included, sees them.
+    """
     if isinstance(model, ForceModel):
         return model
+    import mudforce.baselines  # noqa: F401  (registers the baselines; imported late: it imports this module)
+
     try:
         return MODELS[model]
     except KeyError:

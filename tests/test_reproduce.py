@@ -1,0 +1,103 @@
+"""``mudforce reproduce``: the report's files, its documented keys, determinism, and option checks."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from mudforce.errors import InputError
+from mudforce.reproduce import ReproduceConfig
+
+SEED = "7"
+
+
+def _run(*args: str) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONHASHSEED": "0"}
+    return subprocess.run([sys.executable, "-m", "mudforce", "reproduce", *args], capture_output=True, text=True,
+                          env=env, timeout=240)
+
+
+@pytest.fixture(scope="module")
+def reports(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    """The same quick report twice: in two worker processes, then in one."""
+    base = tmp_path_factory.mktemp("reproduce")
+    first, second = base / "a", base / "b"
+    for out, jobs in ((first, "2"), (second, "1")):
+        proc = _run("--quick", "--seed", SEED, "--out", str(out), "--jobs", jobs)
+        assert proc.returncode == 0, proc.stderr
+        assert "wrote" in proc.stdout
+    return first, second
+
+
+def test_report_files_and_keys(reports: tuple[Path, Path]) -> None:
+    out = reports[0]
+    pngs = sorted(p.name for p in out.glob("*.png"))
+    assert len(pngs) >= 8
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["config"]["seed"] == int(SEED) and summary["config"]["quick"] is True
+    rows = summary["table_i"]
+    assert [r["water_content"] for r in rows] == [0.15, 0.2, 0.25, 0.3, 0.35]
+    for row in rows:
+        assert set(row["fitted"]) >= {"k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "beta", "sigma_y", "zeta",
+                                      "omega_0"}
+        assert row["paper"]["alpha"] > 0 and row["rmse_N"] > 0
+    crit = summary["critical_withdrawal_velocity"]
+    assert crit[0]["paper_m_s"] == pytest.approx(17e3 / 1.35e6, rel=1e-5)
+    base = summary["baselines"]
+    assert set(base) == {"mud_model", "granular_rft", "drft", "maxwell_only"}
+    for entry in base.values():
+        assert entry["rmse_N"] > 0
+    for name in ("granular_rft", "drft", "maxwell_only"):
+        assert base["mud_model"]["rmse_N"] < base[name]["rmse_N"]
+
+
+def test_report_html_captions_every_figure(reports: tuple[Path, Path]) -> None:
+    out = reports[0]
+    text = (out / "report.html").read_text()
+    images = re.findall(r'<img src="([^"]+)"', text)
+    assert len(images) >= 8
+    for src in images:
+        assert (out / src).is_file()
+    captions = re.findall(r"<figcaption><b>([^<]+)</b>", text)
+    assert len(captions) == len(images)
+    assert all("Paper" in c for c in captions)
+    for fig in ("Fig. 2", "Fig. 6", "Fig. 7", "Fig. 8", "Fig. 9", "Fig. 10", "Fig. 11"):
+        assert any(fig in c for c in captions), fig
+
+
+def test_byte_identical_for_the_same_seed(reports: tuple[Path, Path]) -> None:
+    first, second = reports
+    names = sorted(p.name for p in first.iterdir())
+    assert names == sorted(p.name for p in second.iterdir())
+    for name in names:
+        assert (first / name).read_bytes() == (second / name).read_bytes(), name
+
+
+@pytest.mark.parametrize("seed", ["-1", "abc", "1.5", str(2**40)])
+def test_bad_seed_is_one_line_exit_2(tmp_path: Path, seed: str) -> None:
+    proc = _run("--quick", "--seed", seed, "--out", str(tmp_path / "r"))
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "--seed" in proc.stderr
+    assert not (tmp_path / "r").exists()
+
+
+def test_unwritable_out_is_one_line_exit_2(tmp_path: Path) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("not a directory\n")
+    for out in (blocker, blocker / "sub"):
+        proc = _run("--quick", "--out", str(out))
+        assert proc.returncode == 2, proc.stderr
+        assert proc.stderr.count("\n") == 1 and "--out" in proc.stderr
+
+
+def test_config_refuses_bad_values() -> None:
+    with pytest.raises(InputError):
+        ReproduceConfig(seed=-3)
+    with pytest.raises(InputError):
+        ReproduceConfig(water_contents=(0.15, 0.35))
