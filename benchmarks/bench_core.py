@@ -49,10 +49,11 @@ def main() -> None:
     from mudforce.simulation import params_row
 
     prow = params_row(params, mf.Foot.paper(), mf.VelocityFilter.exact())[None, :]
-    out = np.empty((t.size, K.N_OUT))
+    out = K.new_out(t.size)
+    ring = K.new_ring(1, 1)
 
     def kernel_only() -> None:
-        K.run_batch(t, z, K.new_states(1), prow, out)
+        K.run_batch(t, z, K.new_states(1), ring, prow, out)
 
     def whole() -> None:
         mf.simulate(t, z, params, velocity_filter="exact")

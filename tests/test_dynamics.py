@@ -116,17 +116,18 @@ def test_band_is_a_trial_step_on_a_copy() -> None:
     params = MudParameters.from_water_content(0.20)
     prow = params_row(params, Foot.paper(), VelocityFilter.exact())[None, :]
     states = K.new_states(1)
-    out = np.zeros((1, K.N_OUT))
+    ring = K.new_ring(1, 1)
+    out = K.new_out(1)
     dt = 1e-3
     for z in np.r_[np.linspace(0.0, 0.02, 41), np.full(5, 0.02)]:
-        K.step(states, 0, prow, float(z), dt, out, 0)
+        K.step(states, ring, 0, prow, float(z), dt, out, 0)
     f_up, f_down, drag = np.zeros(1), np.zeros(1), np.zeros(1)
     branch_forces(states, prow, dt, 1.0, f_up, f_down, drag)
     trial = states.copy()
-    hold = K.step(trial, 0, prow, 0.02, dt, out, 0)
+    hold = K.step(trial, ring, 0, prow, 0.02, dt, out, 0)
     assert math.isclose(f_down[0], hold, rel_tol=1e-12)
     trial = states.copy()
-    up = K.step(trial, 0, prow, 0.02 - 1e-9, dt, out, 0)
+    up = K.step(trial, ring, 0, prow, 0.02 - 1e-9, dt, out, 0)
     assert abs(f_up[0] - up) < 1e-3 * abs(up)
     assert drag[0] == 0.0
     lo, hi = rest_band(prow[0], K.CONTACT, 0.02, 1e-4, 0.0)

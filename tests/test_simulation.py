@@ -124,13 +124,23 @@ def test_streaming_refuses_bad_steps() -> None:
         ([0.0, 0.1, 0.1], [0, 0, 0], "time repeats at sample 2"),
         ([0.0, 0.2, 0.1], [0, 0, 0], "time goes backwards at sample 2"),
         ([0.0, 0.1], [0.0, float("nan")], "depth is not finite at sample 1"),
+        ([float("nan"), 0.1], [0.0, 0.0], "time is not finite at sample 0"),
+        ([-float("inf"), 0.1, 0.2], [0.0, 0.0, 0.0], "time is not finite at sample 0"),
+        ([0.0, 0.1, float("inf")], [0.0, 0.0, 0.0], "time is not finite at sample 2"),
+        ([float("inf")], [0.0], "time is not finite at sample 0"),
+        ([0.0], [float("inf")], "depth is not finite at sample 0"),
+        ([0.0, 0.1, 0.05, 0.2], [0.0, 0.0, float("nan"), 0.0], "depth is not finite at sample 2"),
         ([], [], "empty"),
         ([0.0, 0.1], [0.0], "same length"),
     ],
 )
-def test_simulate_refuses_bad_trajectories(time: list[float], depth: list[float], message: str) -> None:
+@pytest.mark.parametrize("velocity_filter", ["auto", "exact", VelocityFilter(3, 0.01)])
+def test_simulate_refuses_bad_trajectories(
+    time: list[float], depth: list[float], message: str, velocity_filter: str | VelocityFilter
+) -> None:
+    """The same message whether checked up front ("auto") or when the compiled loop refuses a sample."""
     with pytest.raises(InputError, match=message):
-        simulate(time, depth, W25)
+        simulate(time, depth, W25, velocity_filter=velocity_filter)
 
 
 def test_starting_below_the_surface_is_relaxed_contact() -> None:
@@ -206,3 +216,37 @@ def test_rate_independence_of_the_exact_discretisation() -> None:
     r1k = Protocol.paper(rate=1000.0).simulate(W25)
     np.testing.assert_allclose(r1k.force[::10], r100.force, atol=1e-9 * r100.peak_force)
     np.testing.assert_allclose(r1k.necking_times, r100.necking_times, atol=1e-9)
+
+
+def test_snapshot_restore_keeps_the_velocity_filter_history() -> None:
+    """The smoothing filter's recent samples (kept outside the state row) are part of a snapshot."""
+    vf = VelocityFilter(5, 0.002)
+    t = np.arange(400) * 0.01
+    z = 0.01 * np.sin(2.0 * t) + 0.004
+    c = MudContact(W25, velocity_filter=vf)
+    c.step(z[0], 0.0)
+    for k in range(1, 200):
+        c.step(z[k], t[k] - t[k - 1])
+    snapshot = c.state
+    assert snapshot.ring.size > 0
+    first = [c.step(z[k], t[k] - t[k - 1]) for k in range(200, 400)]
+    assert c.state != snapshot
+    c.state = snapshot
+    assert c.state == snapshot
+    np.testing.assert_array_equal([c.step(z[k], t[k] - t[k - 1]) for k in range(200, 400)], first)
+    np.testing.assert_array_equal(first, simulate(t, z, W25, velocity_filter=vf).force[200:])
+    with pytest.raises(InputError, match="exact filter"):
+        c.state = MudContact(W25).state
+
+
+def test_stepper_refuses_a_window_without_a_ring() -> None:
+    """A filter window > 1 needs a ring row; without one the step refuses rather than write out of bounds."""
+    from mudforce import _kernel as K
+    from mudforce.simulation import params_row
+
+    prow = params_row(W25, mf.Foot.paper(), VelocityFilter(4, 0.0))[None, :]
+    states = K.new_states(1)
+    out = K.new_out(1)
+    assert math.isnan(K.step(states, K.new_ring(1, 1), 0, prow, 0.01, 0.01, out, 0))
+    assert states[0, K.S_STARTED] == 0.0
+    assert K.step(states, K.new_ring(1, 4), 0, prow, 0.01, 0.01, out, 0) == out[K.O_FORCE, 0] > 0.0

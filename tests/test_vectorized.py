@@ -107,3 +107,28 @@ def test_bad_input_is_refused() -> None:
         many.reset([2])
     with pytest.raises(InputError, match="3 parameter sets"):
         MudContacts([W25] * 3, 2)
+
+
+def test_snapshot_restore_with_a_smoothing_filter() -> None:
+    """A snapshot holds each foot's state row and its filter's recent samples; replays are exact."""
+    from mudforce import VelocityFilter
+    from mudforce import _kernel as K
+
+    vf = VelocityFilter(6, 0.001)
+    many = MudContacts(W25, 3, velocity_filter=vf)
+    single = [MudContact(W25, velocity_filter=vf) for _ in range(3)]
+    walks = _walks(4, 80, 3)
+    for depths in walks[:40]:
+        many.step(depths, 0.01)
+        for c, z in zip(single, depths, strict=True):
+            c.step(float(z), 0.01)
+    snap = many.snapshot()
+    assert snap.shape == (3, K.N_STATE + K.N_RING)
+    np.testing.assert_array_equal(snap[1, K.N_STATE:], single[1].state.ring)
+    first = np.array([many.step(d, 0.01).copy() for d in walks[40:]])
+    expected = np.array([[c.step(float(z), 0.01) for c, z in zip(single, d, strict=True)] for d in walks[40:]])
+    np.testing.assert_array_equal(first, expected)
+    many.restore(snap)
+    np.testing.assert_array_equal(np.array([many.step(d, 0.01).copy() for d in walks[40:]]), first)
+    with pytest.raises(InputError, match="shape"):
+        many.restore(snap[:, : K.N_STATE])

@@ -4,9 +4,19 @@ Layout
 ------
 A foot's state is one row of a float64 array ``states[j, :]`` (indices
 ``S_*`` below); its constants are one row of ``params[j, :]`` (``P_*``);
-each step writes one row of ``out[k, :]`` (``O_*``). Everything works on
-2-D arrays and row indices so that the same function serves one foot
-(streaming, batch) and many (vectorised) without copies or views.
+the history of its smoothing velocity filter is one row of ``ring[j, :]``
+(``R_*``; only read and written when the filter's window is > 1, so exact
+filters pass a ring with no columns); each step writes column ``k`` of
+``out[:, k]`` (rows ``O_*``). Everything works on 2-D arrays and row or
+column indices so that the same function serves one foot (streaming,
+batch) and many (vectorised) without copies.
+
+Why this layout: the state row holds only what every step reads (19
+doubles), so the states of thousands of feet stay in cache; the ring
+(132 doubles) would otherwise be most of it. The outputs are column-major
+so that the batch result's arrays (force, states, ...) are contiguous rows
+of ``out``: post-processing them reads 8 bytes per sample, not a 72-byte
+stride.
 
 The step (``../shared/MODEL.md``)
 ---------------------------------
@@ -78,10 +88,6 @@ P_TAU_I = 15
 P_TAU_W = 16
 N_PARAMS = 17
 
-# ring buffer for the smoothing differentiator
-RING = 65  # holds window + 1 samples, so windows up to 64 steps
-MAX_WINDOW = RING - 1
-
 # state row
 S_STARTED = 0
 S_MODE = 1
@@ -93,19 +99,24 @@ S_NECK_V = 6  # v_m0, mud velocity at necking [m/s]
 S_NECK_Z = 7  # z_m at necking [m]
 S_DIRECTION = 8  # -1 up, 0 rest, +1 down
 S_VELOCITY = 9  # velocity estimate at the last sample [m/s]
-S_RING_N = 10
-S_RING_HEAD = 11
+S_NECK_G = 10  # g(age): normalised mud velocity after necking, Eq. (7)
+S_NECK_GI = 11  # G(age) = integral of g [s]
 S_CACHE_DT = 12  # step length the cached decays are for (a cache, not state)
 S_CACHE_DECAY_I = 13
 S_CACHE_DECAY_W = 14
-S_NECK_G = 15  # g(age): normalised mud velocity after necking, Eq. (7)
-S_NECK_GI = 16  # G(age) = integral of g [s]
-S_CACHE_PHI = 17  # 4 entries: transition matrix of Eq. (7)'s filter over one cached step (a cache)
-S_RING_Z = 21
-S_RING_T = S_RING_Z + RING
-N_STATE = S_RING_T + RING
+S_CACHE_PHI = 15  # 4 entries: transition matrix of Eq. (7)'s filter over one cached step (a cache)
+N_STATE = S_CACHE_PHI + 4
 
-# output row
+# ring row: the smoothing differentiator's last samples (for filter windows > 1)
+RING = 65  # holds window + 1 samples, so windows up to 64 steps
+MAX_WINDOW = RING - 1
+R_N = 0  # number of samples held
+R_HEAD = 1  # index of the newest sample
+R_Z = 2  # RING depths [m]
+R_T = R_Z + RING  # RING times [s]
+N_RING = R_T + RING
+
+# output rows (``out`` is column-major: ``out[O_FORCE, k]`` is sample k's force)
 O_FORCE = 0
 O_F_E1 = 1
 O_F_E2 = 2
@@ -138,6 +149,21 @@ def new_states(n: int) -> np.ndarray:
     return states
 
 
+def ring_width(window: int) -> int:
+    """Columns of a ring row for a velocity filter of ``window`` steps: none for ``window <= 1``."""
+    return N_RING if window > 1 else 0
+
+
+def new_ring(n: int, window: int) -> np.ndarray:
+    """``n`` ring rows for a velocity filter of ``window`` steps (the first step fills them)."""
+    return np.zeros((n, ring_width(window)), dtype=np.float64)
+
+
+def new_out(n: int) -> np.ndarray:
+    """Outputs of ``n`` samples or feet: ``N_OUT`` contiguous rows of ``n`` (column ``k`` per step)."""
+    return np.empty((N_OUT, n), dtype=np.float64)
+
+
 @_compiled()
 def _direction(velocity: float, previous: float, deadband: float) -> float:
     """Motion direction from a velocity estimate, with a Schmitt-trigger deadband.
@@ -148,47 +174,53 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
     direction changes when ``|v|`` exceeds it and keeps a direction until
     ``|v|`` falls below half of it.
     """
-    if velocity > deadband:
-        return 1.0
-    if velocity < -deadband:
-        return -1.0
     if deadband > 0.0:
+        if velocity > deadband:
+            return 1.0
+        if velocity < -deadband:
+            return -1.0
         if previous < 0.0 and velocity < -0.5 * deadband:
             return -1.0
         if previous > 0.0 and velocity > 0.5 * deadband:
             return 1.0
-    return 0.0
+        return 0.0
+    # sign(v), written so that it compiles to selects rather than branches:
+    # across many feet the sign of the motion is unpredictable
+    return (1.0 if velocity > 0.0 else 0.0) - (1.0 if velocity < 0.0 else 0.0)
 
 
 @_compiled()
 def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: float,
            mud: float, mud_velocity: float, velocity: float, mode: int, neck_offset: float) -> None:
-    out[k, O_FORCE] = force
-    out[k, O_F_E1] = fe1
-    out[k, O_F_E2] = fe2
-    out[k, O_F_S] = fs
-    out[k, O_MUD] = mud
-    out[k, O_MUD_VELOCITY] = mud_velocity
-    out[k, O_VELOCITY] = velocity
-    out[k, O_STATE] = mode
-    out[k, O_NECK_OFFSET] = neck_offset
+    out[O_FORCE, k] = force
+    out[O_F_E1, k] = fe1
+    out[O_F_E2, k] = fe2
+    out[O_F_S, k] = fs
+    out[O_MUD, k] = mud
+    out[O_MUD_VELOCITY, k] = mud_velocity
+    out[O_VELOCITY, k] = velocity
+    out[O_STATE, k] = mode
+    out[O_NECK_OFFSET, k] = neck_offset
 
 
 @_compiled(inline="always")
-def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float,
+def step(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float,
          out: np.ndarray, k: int) -> float:
     """Advance foot ``j`` to the next sample ``depth`` [m] after ``dt`` [s].
 
-    Writes the sample's outputs to ``out[k]`` and returns the force [N].
-    The first call on a fresh state sets the initial sample and ignores
-    ``dt``. Returns NaN, changing nothing, for a non-finite depth or a
-    ``dt`` that is not finite and > 0.
+    Writes the sample's outputs to column ``out[:, k]`` and returns the
+    force [N]. The first call on a fresh state sets the initial sample and
+    ignores ``dt``. Returns NaN, changing nothing, for a non-finite depth
+    or a ``dt`` that is not finite and > 0, and for a filter window > 1
+    without a ring row of ``N_RING`` columns (:func:`new_ring`).
     """
     if not math.isfinite(depth):
         return math.nan
     area = params[j, P_AREA]
     width = params[j, P_WIDTH]
     window = int(params[j, P_WINDOW])
+    if window > 1 and ring.shape[1] < N_RING:
+        return math.nan  # no room for the filter's history (arrays are not bounds-checked)
 
     if states[j, S_STARTED] == 0.0:
         # MODEL.md: a trajectory that starts below the surface starts in
@@ -202,10 +234,11 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
         states[j, S_NECK_AGE] = 0.0
         states[j, S_NECK_V] = 0.0
         states[j, S_NECK_Z] = 0.0
-        states[j, S_RING_HEAD] = 0.0
-        states[j, S_RING_N] = 1.0
-        states[j, S_RING_Z] = depth
-        states[j, S_RING_T] = 0.0
+        if window > 1:
+            ring[j, R_HEAD] = 0.0
+            ring[j, R_N] = 1.0
+            ring[j, R_Z] = depth
+            ring[j, R_T] = 0.0
         if depth > 0.0:
             states[j, S_MODE] = CONTACT
             fe2 = nonlinear_spring_stress(params[j, P_ALPHA], params[j, P_BETA], depth, width)
@@ -228,14 +261,14 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
     if window <= 1:
         vhat = v
     else:
-        head = (int(states[j, S_RING_HEAD]) + 1) % RING
-        states[j, S_RING_Z + head] = z1
-        states[j, S_RING_T + head] = t1
-        n = min(int(states[j, S_RING_N]) + 1, window + 1)
+        head = (int(ring[j, R_HEAD]) + 1) % RING
+        ring[j, R_Z + head] = z1
+        ring[j, R_T + head] = t1
+        n = min(int(ring[j, R_N]) + 1, window + 1)
         old = (head - (n - 1)) % RING
-        states[j, S_RING_HEAD] = head
-        states[j, S_RING_N] = n
-        vhat = (z1 - states[j, S_RING_Z + old]) / (t1 - states[j, S_RING_T + old])
+        ring[j, R_HEAD] = head
+        ring[j, R_N] = n
+        vhat = (z1 - ring[j, R_Z + old]) / (t1 - ring[j, R_T + old])
     d = _direction(vhat, states[j, S_DIRECTION], params[j, P_DEADBAND])
 
     tau_i = params[j, P_TAU_I]
@@ -388,42 +421,66 @@ def step(states: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
     return force
 
 
+# rows of a stream buffer: the state, the params, the ring, then the outputs in column 0
+_STREAM_STATE, _STREAM_PARAMS, _STREAM_RING, _STREAM_OUT = 0, 1, 2, 3
+
+
 def new_stream_buffer(params_row: np.ndarray) -> np.ndarray:
-    """One array holding a single foot's state (row 0), constants (row 1) and outputs (row 2)."""
-    buf = np.zeros((3, N_STATE), dtype=np.float64)
-    buf[0] = new_states(1)[0]
-    buf[1, :N_PARAMS] = params_row
+    """One array holding a single foot's state, constants, ring and outputs (see :func:`stream_parts`)."""
+    width = max(N_STATE, N_PARAMS, ring_width(int(params_row[P_WINDOW])))
+    buf = np.zeros((_STREAM_OUT + N_OUT, width), dtype=np.float64)
+    buf[_STREAM_STATE, :N_STATE] = new_states(1)[0]
+    buf[_STREAM_PARAMS, :N_PARAMS] = params_row
     return buf
+
+
+def stream_parts(buf: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Views ``(states, params, out, ring)`` of a stream buffer, shaped as :func:`step` takes them.
+
+    Plain slicing (no reshapes, which cost a library call each in compiled
+    code), run both from Python and compiled into :func:`stream_step`.
+    """
+    states = buf[_STREAM_STATE:_STREAM_STATE + 1, :N_STATE]
+    params = buf[_STREAM_PARAMS:_STREAM_PARAMS + 1, :N_PARAMS]
+    ring = buf[_STREAM_RING:_STREAM_RING + 1, :N_RING if buf.shape[1] >= N_RING else 0]
+    out = buf[_STREAM_OUT:, 0:1]
+    return states, params, out, ring
+
+
+_stream_parts = _compiled(inline="always")(stream_parts)
 
 
 @_compiled()
 def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
     """:func:`step` for one foot packed by :func:`new_stream_buffer` (one argument: less call overhead)."""
-    force: float = step(buf[0:1], 0, buf[1:2, :N_PARAMS], depth, dt, buf[2:3, :N_OUT], 0)
+    states, params, out, ring = _stream_parts(buf)
+    force: float = step(states, ring, 0, params, depth, dt, out, 0)
     return force
 
 
 @_compiled()
-def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, params: np.ndarray,
+def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray,
               out: np.ndarray) -> int:
-    """Run foot 0 over a whole trajectory; returns the index of a bad sample or -1."""
+    """Run foot 0 over a whole trajectory into ``out[:, k]``; returns the index of a bad sample or -1."""
     n = time.shape[0]
     for k in range(n):
         dt = time[k] - time[k - 1] if k > 0 else 0.0
-        f = step(states, 0, params, depth[k], dt, out, k)
+        f = step(states, ring, 0, params, depth[k], dt, out, k)
         if f != f:
             return k
     return -1
 
 
 @_compiled()
-def run_feet(states: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
-             forces: np.ndarray, out: np.ndarray) -> int:
-    """One step of every foot (row ``j`` of ``states``/``params``); returns a bad foot or -1."""
+def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
+             out: np.ndarray) -> int:
+    """One step of every foot (row ``j`` of ``states``/``ring``/``params``, column ``j`` of ``out``).
+
+    Returns the first foot refused (left unchanged, its outputs not written) or -1.
+    """
     bad = -1
     for j in range(depths.shape[0]):
-        f = step(states, j, params, depths[j], dt, out, j)
-        forces[j] = f
+        f = step(states, ring, j, params, depths[j], dt, out, j)
         if f != f and bad < 0:
             bad = j
     return bad

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
@@ -40,16 +40,24 @@ class ContactState:
     The snapshot is a copy: later steps do not change it.
     """
 
+    #: the state row of :mod:`mudforce._kernel`
     data: np.ndarray
     #: the params row the snapshot was taken with (keeps the step-length cache valid on restore)
     params_key: bytes = b""
+    #: the velocity filter's recent samples (empty for the exact filter, which keeps none)
+    ring: np.ndarray = field(default_factory=lambda: np.empty(0))
 
     def __post_init__(self) -> None:
-        arr = np.array(self.data, dtype=np.float64)  # always a private copy
+        arr = np.array(self.data, dtype=np.float64)  # always private copies
         if arr.shape != (K.N_STATE,):
             raise InputError(f"a contact state has {K.N_STATE} values, got shape {arr.shape}")
+        ring = np.array(self.ring, dtype=np.float64).ravel()
+        if ring.size not in (0, K.N_RING):
+            raise InputError(f"a contact state's filter history has 0 or {K.N_RING} values, got {ring.size}")
         arr.setflags(write=False)
+        ring.setflags(write=False)
         object.__setattr__(self, "data", arr)
+        object.__setattr__(self, "ring", ring)
 
     @property
     def started(self) -> bool:
@@ -84,7 +92,7 @@ class ContactState:
         for arr in (a, b):
             arr[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
             arr[K.S_CACHE_PHI : K.S_CACHE_PHI + 4] = 0.0
-        return bool(np.array_equal(a, b))
+        return bool(np.array_equal(a, b)) and np.array_equal(self.ring, other.ring)
 
     __hash__ = None  # type: ignore[assignment]
 
@@ -144,8 +152,8 @@ class MudContact:
         self.velocity_filter = resolve_velocity_filter(velocity_filter)
         self._params = params_row(params, self.foot, self.velocity_filter)
         self._buf = K.new_stream_buffer(self._params)
-        self._states = self._buf[0:1]  # views into the one buffer the compiled step sees
-        self._out = self._buf[2:3, : K.N_OUT]
+        # views into the one buffer the compiled step sees
+        self._states, _, self._out, self._ring = K.stream_parts(self._buf)
         self._step = K.stream_step
 
     def step(self, depth: float, dt: float) -> float:
@@ -172,7 +180,7 @@ class MudContact:
     @property
     def last(self) -> ContactSample:
         """The components of the last step."""
-        row = self._out[0]
+        row = self._out[:, 0]
         return ContactSample(
             force=float(row[K.O_FORCE]),
             f_e1=float(row[K.O_F_E1]),
@@ -192,12 +200,17 @@ class MudContact:
     @property
     def state(self) -> ContactState:
         """A snapshot of the contact state; assign one back to restore it."""
-        return ContactState(self._states[0], self._params.tobytes())
+        return ContactState(self._states[0], self._params.tobytes(), self._ring[0])
 
     @state.setter
     def state(self, value: ContactState) -> None:
         if not isinstance(value, ContactState):
             raise InputError(f"state must be a ContactState (from MudContact.state), got {type(value).__name__}")
+        if self._ring.size:
+            if value.ring.size != self._ring.size:
+                raise InputError("this contact's velocity filter needs the history of one with a window > 1; "
+                                 "the state was taken with the exact filter")
+            self._ring[0] = value.ring
         self._states[0] = value.data
         if value.params_key != self._params.tobytes():
             self._states[0, K.S_CACHE_DT] = -1.0  # other parameters: recompute the step-length cache

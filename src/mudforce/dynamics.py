@@ -676,14 +676,15 @@ def _profile(applied_force: Any) -> tuple[np.ndarray, np.ndarray]:
 @njit(cache=True, nogil=True)
 def _naive(states: np.ndarray, params: np.ndarray, m: float, g: float, z0: float, dt: float, n: int,
            depth: np.ndarray, force: np.ndarray) -> None:
-    out = np.empty((1, K.N_OUT))
+    out = np.empty((K.N_OUT, 1))
+    ring = states[:, :0]  # the exact velocity filter keeps no history
     z = z0
     v = 0.0
-    f = K.step(states, 0, params, z, dt, out, 0)
+    f = K.step(states, ring, 0, params, z, dt, out, 0)
     for k in range(n):
         v += dt * (g - f / m)  # semi-implicit Euler, force from the last sample's branch
         z += dt * v
-        f = K.step(states, 0, params, z, dt, out, 0)
+        f = K.step(states, ring, 0, params, z, dt, out, 0)
         depth[k] = z
         force[k] = f
 

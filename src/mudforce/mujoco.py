@@ -209,6 +209,7 @@ def _commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray,
     n = ints.shape[1]
     dt = conf[_C_DT]
     commit = conf[_C_COMMIT] != 0.0
+    ring = states[:, :0]  # the adapter's velocity filter has window 1: no history to keep
     for j in range(n):
         # take back the force applied for the step just taken (see _apply_mud)
         body = ints[_I_BODY, j]
@@ -226,7 +227,7 @@ def _commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray,
             states[j, :] = 0.0
             states[j, K.S_CACHE_DT] = -1.0
         elif commit or states[j, K.S_STARTED] == 0.0:
-            K.step(states, j, params, depth, dt, out, j)
+            K.step(states, ring, j, params, depth, dt, out, j)
     branch_forces(states, params, dt, conf[_C_WEIGHT], work[_W_UP], work[_W_DOWN], work[_W_DRAG])
     for j in range(n):
         lo = work[_W_UP, j]
@@ -331,7 +332,7 @@ class MudAdapter:
         self._bodies = self._ints[_I_BODY]
         self._tendons = self._ints[_I_TENDON]
         self.states = K.new_states(n)
-        self._out = np.zeros((n, K.N_OUT))
+        self._out = np.zeros((K.N_OUT, n))
         self._work = np.zeros((7, n))
         # views into MuJoCo's buffers (fixed for the life of model and data)
         self._site_xpos = data.site_xpos

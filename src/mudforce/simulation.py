@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numba import njit
 
 from mudforce import _kernel as K
 from mudforce.errors import InputError
@@ -154,7 +156,8 @@ class SimulationResult:
         return plot_result(self, path, title=title)
 
 
-def _as_trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
+def _as_arrays(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The trajectory as contiguous float64 arrays of one shape (values are checked by :func:`_check_values`)."""
     try:
         t = np.asarray(time, dtype=np.float64)
         z = np.asarray(depth, dtype=np.float64)
@@ -166,22 +169,34 @@ def _as_trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(f"time and depth must have the same length, got {t.size} and {z.size}")
     if t.size == 0:
         raise InputError("the trajectory is empty; expected at least one sample")
+    return np.ascontiguousarray(t), np.ascontiguousarray(z)
+
+
+@njit(cache=True, nogil=True)
+def _values_ok(t: np.ndarray, z: np.ndarray) -> bool:
+    """True if all times and depths are finite and time strictly increases (one pass, no temporaries)."""
+    for k in range(t.shape[0]):
+        if not (math.isfinite(t[k]) and math.isfinite(z[k])):
+            return False
+        if k > 0 and not t[k] > t[k - 1]:
+            return False
+    return True
+
+
+def _check_values(t: np.ndarray, z: np.ndarray) -> None:
+    """Raise :class:`InputError` naming the first non-finite time, depth or non-increasing time."""
+    if _values_ok(t, z):
+        return
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
         raise InputError(f"time is not finite at sample {bad[0]} ({t[bad[0]]!r}); expected numbers [s]")
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
         raise InputError(f"depth is not finite at sample {bad[0]} ({z[bad[0]]!r}); expected numbers [m]")
-    if t.size > 1:
-        steps = np.diff(t)
-        bad = np.flatnonzero(steps <= 0.0)
-        if bad.size:
-            i = bad[0] + 1
-            what = "repeats" if steps[bad[0]] == 0.0 else "goes backwards"
-            raise InputError(
-                f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); expected strictly increasing time"
-            )
-    return np.ascontiguousarray(t), np.ascontiguousarray(z)
+    steps = np.diff(t)
+    i = int(np.flatnonzero(steps <= 0.0)[0]) + 1
+    what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
+    raise InputError(f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); expected strictly increasing time")
 
 
 def resolve_velocity_filter(
@@ -251,30 +266,38 @@ def simulate(
     >>> round(res.peak_force, 1)
     59.5
     """
-    t, z = _as_trajectory(time, depth)
+    t, z = _as_arrays(time, depth)
+    if t.size == 1 or not (isinstance(velocity_filter, VelocityFilter) or velocity_filter == "exact"):
+        # the "auto" filter's noise estimate needs valid samples; the compiled
+        # loop checks them all for the other filters, except one sample's time
+        _check_values(t, z)
     foot = Foot.paper() if foot is None else foot
     vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
     states = K.new_states(1)
-    out = np.empty((t.size, K.N_OUT), dtype=np.float64)
-    bad = K.run_batch(t, z, states, prow, out)
-    if bad >= 0:  # pragma: no cover - inputs are validated above
+    ring = K.new_ring(1, vf.window)
+    out = K.new_out(t.size)
+    bad = K.run_batch(t, z, states, ring, prow, out)
+    if bad >= 0:
+        # the step refuses a non-finite depth and a time step that is not finite
+        # and > 0, so a non-finite time or one that does not increase too
+        _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
-    offsets = out[:, K.O_NECK_OFFSET]
+    offsets = out[K.O_NECK_OFFSET]
     necked = np.flatnonzero(np.isfinite(offsets))
     necking_times = t[necked - 1] + offsets[necked] if necked.size else np.empty(0)
-    # the result's arrays are (strided) views of the one output block: no copies
+    # the result's arrays are (contiguous) rows of the one output block: no copies
     return SimulationResult(
         time=t,
         depth=z,
-        velocity=out[:, K.O_VELOCITY],
-        mud_displacement=out[:, K.O_MUD],
-        mud_velocity=out[:, K.O_MUD_VELOCITY],
-        f_e1=out[:, K.O_F_E1],
-        f_e2=out[:, K.O_F_E2],
-        f_s=out[:, K.O_F_S],
-        force=out[:, K.O_FORCE],
-        state=out[:, K.O_STATE].astype(np.int8),
+        velocity=out[K.O_VELOCITY],
+        mud_displacement=out[K.O_MUD],
+        mud_velocity=out[K.O_MUD_VELOCITY],
+        f_e1=out[K.O_F_E1],
+        f_e2=out[K.O_F_E2],
+        f_s=out[K.O_F_S],
+        force=out[K.O_FORCE],
+        state=out[K.O_STATE].astype(np.int8),
         necking_times=necking_times,
         params=params,
         foot=foot,

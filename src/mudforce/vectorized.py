@@ -119,8 +119,11 @@ class MudContacts:
         self.velocity_filter = resolve_velocity_filter(velocity_filter)
         self.params_array = _param_rows(params, self.n, foot, self.velocity_filter)
         self.states = K.new_states(self.n)
-        self.out = np.zeros((self.n, K.N_OUT), dtype=np.float64)
-        self.forces = np.zeros(self.n, dtype=np.float64)
+        #: the velocity filter's recent samples, one row per foot (no columns for the exact filter)
+        self.ring = K.new_ring(self.n, self.velocity_filter.window)
+        #: the last step's outputs: row ``K.O_*`` holds one quantity for all feet
+        self.out = np.zeros((K.N_OUT, self.n), dtype=np.float64)
+        self.forces: np.ndarray = self.out[K.O_FORCE]  # a view: the step writes the forces there
 
     def step(self, depths: Any, dt: float) -> np.ndarray:
         """Advance every foot to its next depth sample; return the forces [N].
@@ -146,7 +149,7 @@ class MudContacts:
         dt = float(dt)
         if not (dt > 0.0 and dt < np.inf):
             raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        bad = K.run_feet(self.states, self.params_array, z, dt, self.forces, self.out)
+        bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.out)
         if bad >= 0:
             # the kernel refused foot `bad` without changing it; the others stepped
             raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
@@ -185,15 +188,21 @@ class MudContacts:
         return np.array(self.states[:, K.S_DEPTH], dtype=np.float64)
 
     def snapshot(self) -> np.ndarray:
-        """A copy of all feet's states, for :meth:`restore` (rollouts, resets)."""
-        return np.array(self.states, dtype=np.float64)
+        """A copy of all feet's states, for :meth:`restore` (rollouts, resets).
+
+        Row ``j`` is foot ``j``'s state row followed by its velocity filter's
+        history (which the exact filter does not keep).
+        """
+        return np.hstack((self.states, self.ring))
 
     def restore(self, snapshot: np.ndarray) -> None:
         """Restore all feet's states from :meth:`snapshot`."""
         arr = np.asarray(snapshot, dtype=np.float64)
-        if arr.shape != self.states.shape:
-            raise InputError(f"a snapshot of {self.n} feet has shape {self.states.shape}, got {arr.shape}")
-        self.states[:] = arr
+        shape = (self.n, K.N_STATE + self.ring.shape[1])
+        if arr.shape != shape:
+            raise InputError(f"a snapshot of {self.n} feet has shape {shape}, got {arr.shape}")
+        self.states[:] = arr[:, : K.N_STATE]
+        self.ring[:] = arr[:, K.N_STATE :]
         self.states[:, K.S_CACHE_DT] = -1.0  # recompute the step-length cache
 
     def __len__(self) -> int:

@@ -168,9 +168,9 @@ def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: F
     already validated, and only needs the force.
     """
     row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
-    out = np.empty((time.size, K.N_OUT), dtype=np.float64)
-    bad = K.run_batch(time, depth, K.new_states(1), row, out)
-    force: np.ndarray = out[:, K.O_FORCE]
+    out = K.new_out(time.size)
+    bad = K.run_batch(time, depth, K.new_states(1), K.new_ring(1, 1), row, out)
+    force: np.ndarray = out[K.O_FORCE]
     if bad >= 0:  # numerically impossible parameters: a huge, finite residual
         force[bad:] = 1e6
     return force
@@ -179,9 +179,13 @@ def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: F
 @njit(cache=True, nogil=True)
 def _run_from(time: np.ndarray, depth: np.ndarray, first: int, states: np.ndarray, params: np.ndarray,
               out: np.ndarray) -> int:
-    """Continue foot 0 from sample ``first`` (the state holds sample ``first - 1``); like ``run_batch``."""
+    """Continue foot 0 from sample ``first`` (the state holds sample ``first - 1``); like ``run_batch``.
+
+    The exact velocity filter (window 1) keeps no ring: ``states[:, :0]`` stands in for it.
+    """
+    ring = states[:, :0]
     for k in range(first, time.shape[0]):
-        f = K.step(states, 0, params, depth[k], time[k] - time[k - 1], out, k - first)
+        f = K.step(states, ring, 0, params, depth[k], time[k] - time[k - 1], out, k - first)
         if f != f:
             return k
     return -1
@@ -191,17 +195,17 @@ def _chen_resume(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: 
                  first: int) -> Callable[[np.ndarray], np.ndarray]:
     """Simulate samples ``[:first]`` once; the tail after it for withdrawal-only parameter changes."""
     row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
-    head = np.empty((first, K.N_OUT), dtype=np.float64)
+    head = K.new_out(first)
     snapshot = K.new_states(1)
-    K.run_batch(time[:first], depth[:first], snapshot, row, head)
+    K.run_batch(time[:first], depth[:first], snapshot, K.new_ring(1, 1), row, head)
     snapshot[:, K.S_CACHE_DT] = -1.0  # cached decays belong to the old parameters
-    out = np.empty((time.size - first, K.N_OUT), dtype=np.float64)
+    out = K.new_out(time.size - first)
 
     def tail(new_values: np.ndarray) -> np.ndarray:
         states = snapshot.copy()
         prow = K.make_params(new_values, foot.area, foot.width, 1, 0.0)[None, :]
         bad = _run_from(time, depth, first, states, prow, out)
-        force: np.ndarray = out[:, K.O_FORCE].copy()
+        force: np.ndarray = out[K.O_FORCE].copy()
         if bad >= 0:
             force[bad - first:] = 1e6
         return force
