@@ -37,6 +37,7 @@ from typing import Any, TypeVar
 import numpy as np
 from numba import njit
 
+from mudforce import _cache
 from mudforce.equations import (
     drag_stress,
     maxwell_strain_step,
@@ -44,6 +45,9 @@ from mudforce.equations import (
     necking_time,
     nonlinear_spring_stress,
 )
+
+# drop numba cache files made from an older version of this file or of equations.py
+_cache.refresh()
 
 __all__: list[str] = []
 
