@@ -146,6 +146,22 @@ def test_short_and_backwards_trials(tmp_path: Path) -> None:
         load_trial(path)
 
 
+def test_time_errors_name_the_files_own_row_and_column(tmp_path: Path) -> None:
+    """Rows count the file's lines (blank lines included) and the column is the file's spelling."""
+    rows = [f"{10 * i},{-0.001},{0.0}" for i in range(30)]
+    rows[10] = "50,0,0"
+    path = tmp_path / "ms.csv"
+    path.write_text("time_ms,depth_m,force_N\n\n" + "\n".join(rows) + "\n")  # a blank line after the header
+    with pytest.raises(InputError, match="row 13, column time_ms: time goes backwards"):
+        load_trial(path)
+    tidy = tmp_path / "tidy.csv"
+    lines = [f"a,0.25,{0.01 * i},-0.001,0" for i in range(30)]
+    lines[10] = "a,0.25,0.01,-0.001,0"
+    tidy.write_text("trial,water_content,time_s,depth_m,force_N\n\n" + "\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"tidy.csv \(trial 'a'\): row 13, column time_s: time goes backwards"):
+        load_dataset(tidy)
+
+
 def test_cli_bad_input_exit_2(small: Path, tmp_path: Path) -> None:
     manifest = json.loads((small / "dataset.json").read_text())
     manifest["trials"][0]["water_content"] = 1.5

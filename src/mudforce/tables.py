@@ -42,6 +42,7 @@ def read_columns(
     *,
     optional: Mapping[str, Sequence[tuple[str, float]]] | None = None,
     keep_text: Sequence[str] = (),
+    matched: dict[str, str] | None = None,
 ) -> dict[str, np.ndarray]:
     """Read named numeric columns from a CSV file with a header row.
 
@@ -55,11 +56,16 @@ def read_columns(
         The same, for columns that may be absent.
     keep_text : sequence of str
         Header names returned as arrays of strings, unconverted (if present).
+    matched : dict, optional
+        Filled with the header each quantity was read from (``{"time": "time_ms"}``),
+        for messages about the values that name the file's own column.
 
     Returns
     -------
     dict of str to ndarray
-        One float64 array [SI] per quantity found (and one str array per ``keep_text`` column).
+        One float64 array [SI] per quantity found, one str array per
+        ``keep_text`` column, and under ``"line"`` each data row's line
+        number in the file (blank lines are skipped, so rows are not ``k + 2``).
 
     Raises
     ------
@@ -129,6 +135,8 @@ def read_columns(
             out[quantity][r] = value * factor
         for name, col in text_index.items():
             texts[name].append(row[col].strip())
+    if matched is not None:
+        matched.update({quantity: spelling for quantity, (_, _, spelling) in index.items()})
     result: dict[str, np.ndarray] = dict(out)
     result["line"] = np.array(lines[1:], dtype=np.int64)  # each data row's line number in the file
     for name, values in texts.items():
@@ -162,6 +170,7 @@ def read_trajectory(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
     depth : ndarray
         [m], positive below the surface.
     """
-    cols = read_columns(path, {"time": COLUMN_UNITS["time"], "depth": COLUMN_UNITS["depth"]})
-    check_time(path, cols["time"], lines=cols["line"])
+    matched: dict[str, str] = {}
+    cols = read_columns(path, {"time": COLUMN_UNITS["time"], "depth": COLUMN_UNITS["depth"]}, matched=matched)
+    check_time(path, cols["time"], matched["time"], lines=cols["line"])
     return cols["time"], cols["depth"]

@@ -199,10 +199,10 @@ def foot_to_json(foot: Foot) -> dict[str, Any]:
 
 
 # ---------------------------------------------------------------------------- loading
-def _check_trial_arrays(where: str, time: np.ndarray, column: str = "time_s") -> None:
+def _check_trial_arrays(where: str, time: np.ndarray, column: str, lines: np.ndarray) -> None:
     if time.size < MIN_SAMPLES:
         raise InputError(f"{where}: only {time.size} samples; a trial needs at least {MIN_SAMPLES}")
-    check_time(where, time, column)
+    check_time(where, time, column, lines=lines)
 
 
 def load_trial(path: str | os.PathLike[str], water_content: float = math.nan, *,
@@ -220,9 +220,9 @@ def load_trial(path: str | os.PathLike[str], water_content: float = math.nan, *,
     repeat : int, optional
         Repeat number.
     """
-    cols = read_columns(path, _TRIAL_COLUMNS)
-    header = "time_s"
-    _check_trial_arrays(str(path), cols["time"], header)
+    matched: dict[str, str] = {}
+    cols = read_columns(path, _TRIAL_COLUMNS, matched=matched)
+    _check_trial_arrays(str(path), cols["time"], matched["time"], cols["line"])
     return Trial(Path(path).name, float(water_content), cols["time"], cols["depth"], cols["force"], velocity, repeat)
 
 
@@ -288,7 +288,10 @@ def _load_manifest(path: Path) -> Dataset:
 
 def _load_tidy(path: Path, foot: Foot) -> Dataset:
     where = str(path)
-    cols = read_columns(path, {**_TRIAL_COLUMNS, "water_content": (("water_content", 1.0),)}, keep_text=("trial",))
+    matched: dict[str, str] = {}
+    cols = read_columns(path, {**_TRIAL_COLUMNS, "water_content": (("water_content", 1.0),)}, keep_text=("trial",),
+                        matched=matched)
+    line = cols["line"]  # each data row's line number in the file
     if "trial" not in cols:
         raise InputError(f"{where}: missing column trial; expected trial,water_content,time_s,depth_m,force_N")
     ids = cols["trial"]
@@ -296,12 +299,12 @@ def _load_tidy(path: Path, foot: Foot) -> Dataset:
     rows: dict[str, list[int]] = {}
     for r, tid in enumerate(ids):
         if not tid:
-            raise InputError(f"{where}: row {r + 2}, column trial: empty trial id")
+            raise InputError(f"{where}: row {line[r]}, column trial: empty trial id")
         if tid not in rows:
             order.append(tid)
             rows[tid] = []
         elif rows[tid][-1] != r - 1:
-            raise InputError(f"{where}: row {r + 2}, column trial: trial {tid!r} resumes after another trial; "
+            raise InputError(f"{where}: row {line[r]}, column trial: trial {tid!r} resumes after another trial; "
                              "expected each trial's rows together")
         rows[tid].append(r)
     trials = []
@@ -309,21 +312,14 @@ def _load_tidy(path: Path, foot: Foot) -> Dataset:
         idx = np.array(rows[tid])
         w_values = cols["water_content"][idx]
         if not np.all(w_values == w_values[0]):
-            r = int(idx[np.flatnonzero(w_values != w_values[0])[0]]) + 2
+            r = int(line[idx[np.flatnonzero(w_values != w_values[0])[0]]])
             raise InputError(f"{where}: row {r}, column water_content: trial {tid!r} changes water content")
         w = float(w_values[0])
         if not 0.0 < w < 1.0:
-            raise InputError(f"{where}: row {int(idx[0]) + 2}, column water_content: {w:g} is not a fraction "
+            raise InputError(f"{where}: row {line[idx[0]]}, column water_content: {w:g} is not a fraction "
                              "in (0, 1); expected e.g. 0.25 for 25%")
         t = cols["time"][idx]
-        if t.size < MIN_SAMPLES:
-            raise InputError(f"{where}: trial {tid!r} has only {t.size} samples; a trial needs at least {MIN_SAMPLES}")
-        steps = np.diff(t)
-        bad = np.flatnonzero(steps <= 0)
-        if bad.size:
-            r = int(idx[bad[0] + 1]) + 2
-            raise InputError(f"{where}: row {r}, column time_s: time does not increase within trial {tid!r} "
-                             f"({t[bad[0]]:g} then {t[bad[0] + 1]:g}); expected strictly increasing time")
+        _check_trial_arrays(f"{where} (trial {tid!r})", t, matched["time"], line[idx])
         trials.append(Trial(tid, w, t, cols["depth"][idx], cols["force"][idx]))
     return Dataset(foot=foot, trials=tuple(trials), source=where)
 
