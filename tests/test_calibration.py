@@ -184,6 +184,9 @@ def test_parse_foot() -> None:
     assert_allclose(parse_foot("cuboid:51mm,38mm").area, 0.051 * 0.038)
     assert_allclose(parse_foot("disc:40mm").width, 0.04)
     assert_allclose(parse_foot("custom:19.38cm2,38mm").area, 19.38e-4)
+    # one parser for every --foot: the forms of `mudforce simulate` work here too
+    assert parse_foot("cuboid:51mmx38mm") == parse_foot("cuboid:51mm,38mm")
+    assert parse_foot("area:19.38cm2,width:38mm") == parse_foot("custom:19.38cm2,38mm")
     with pytest.raises(InputError, match="expected paper, cuboid"):
         parse_foot("triangle:3mm")
 

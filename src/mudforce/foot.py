@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 from mudforce.errors import InputError
 
-__all__ = ["Foot"]
+__all__ = ["FOOT_EXAMPLES", "Foot", "parse_foot"]
+
+#: The foot specifications every ``--foot`` option accepts, for help and error messages.
+FOOT_EXAMPLES = "paper, cuboid:51mmx38mm, disc:50mm or area:19.38cm2,width:38mm"
+
+_SIDES = re.compile(r"\s*[x×*,]\s*", flags=re.IGNORECASE)
 
 _PAPER_LENGTH = 0.051  # [m], the paper's 51 x 38 x 25 mm cuboid intruder
 _PAPER_WIDTH = 0.038  # [m]
@@ -69,3 +75,66 @@ class Foot:
     def paper(cls) -> Foot:
         """The paper's 51 x 38 mm cuboid intruder."""
         return cls.cuboid()
+
+
+def parse_foot(text: str, *, name: str = "--foot") -> Foot:
+    """Parse a command-line foot specification into a :class:`Foot` (every size needs a unit).
+
+    Accepted forms (keywords are case-insensitive):
+
+    ``cuboid:LxW``
+        A rectangular bottom face ``L`` by ``W``, e.g. ``cuboid:51mmx38mm``
+        (``cuboid:51mm,38mm`` too); area ``L W`` [m^2], ``H`` of Eq. (4) the shorter side.
+    ``disc:D``
+        A circular bottom face of diameter ``D``, e.g. ``disc:50mm`` (``H = D``).
+    ``area:S,width:H``
+        Any flat foot: contact area ``S`` (``m2``, ``cm2`` or ``mm2``) and width
+        ``H``, in either order, e.g. ``area:19.38cm2,width:38mm``; also
+        ``custom:S,H`` (area then width).
+    ``paper``
+        The paper's 51 x 38 mm cuboid.
+
+    Raises
+    ------
+    InputError
+        For anything else, naming the problem and showing the forms above.
+    """
+    from mudforce.units import parse_quantity
+
+    spec = str(text).strip()
+    kind, sep, body = spec.partition(":")
+    kind = kind.strip().lower()
+    if kind == "paper" and not sep:
+        return Foot.paper()
+    if not sep or not body.strip():
+        raise InputError(f"{name}: cannot read {text!r}; expected {FOOT_EXAMPLES}")
+    if kind in ("cuboid", "box", "rect", "rectangle"):
+        sides = _SIDES.split(body.strip())
+        if len(sides) != 2:
+            raise InputError(f"{name}: {text!r} needs two sides LENGTHxWIDTH, each with a unit, e.g. cuboid:51mmx38mm")
+        length = parse_quantity(sides[0], "length", name=f"{name} cuboid length")
+        width = parse_quantity(sides[1], "length", name=f"{name} cuboid width")
+        return Foot.cuboid(length, width)
+    if kind in ("disc", "disk", "circle"):
+        return Foot.disc(parse_quantity(body, "length", name=f"{name} disc diameter"))
+    if kind == "custom":
+        parts = body.split(",")
+        if len(parts) != 2:
+            raise InputError(f"{name}: {text!r} needs AREA,WIDTH, e.g. custom:19.38cm2,38mm")
+        values = {"area": parts[0], "width": parts[1]}
+    elif kind in ("area", "width"):
+        values = {}
+        for item in spec.split(","):
+            key, sep_item, value = item.partition(":")
+            key = key.strip().lower()
+            if not sep_item or key not in ("area", "width") or key in values:
+                raise InputError(f"{name}: cannot read {item.strip()!r} in {text!r}; "
+                                 f"expected area:AREA,width:LENGTH, e.g. area:19.38cm2,width:38mm")
+            values[key] = value
+        if set(values) != {"area", "width"}:
+            raise InputError(f"{name}: {text!r} needs both area and width, e.g. area:19.38cm2,width:38mm")
+    else:
+        raise InputError(f"{name}: unknown foot shape {kind!r} in {text!r}; expected {FOOT_EXAMPLES}")
+    area = parse_quantity(values["area"], "area", name=f"{name} area")
+    width = parse_quantity(values["width"], "length", name=f"{name} width")
+    return Foot(area=area, width=width, shape="custom")

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.errors import InputError
-from mudforce.foot import Foot
+from mudforce.foot import Foot, parse_foot
 from mudforce.io import atomic_write_text
 from mudforce.tables import COLUMN_UNITS, check_time, read_columns
 
@@ -164,29 +164,6 @@ def foot_from_json(data: Any, where: str) -> Foot:
     if shape == "disc":
         return Foot.disc(values["diameter"])
     return Foot(area=values["area"], width=values["width"], shape="custom")
-
-
-def parse_foot(text: str, *, name: str = "--foot") -> Foot:
-    """A foot from a command-line string.
-
-    ``paper`` (the 51 x 38 mm cuboid), ``cuboid:51mm,38mm`` (length, width),
-    ``disc:40mm`` (diameter) or ``custom:19.38cm2,38mm`` (area, width ``H``).
-    """
-    from mudforce.units import parse_quantity
-
-    example = "paper, cuboid:51mm,38mm, disc:40mm or custom:19.38cm2,38mm"
-    shape, _, rest = str(text).strip().partition(":")
-    parts = [x for x in rest.split(",") if x.strip()]
-    if shape == "paper" and not parts:
-        return Foot.paper()
-    if shape == "cuboid" and len(parts) == 2:
-        return Foot.cuboid(*(parse_quantity(x, "length", name=name) for x in parts))
-    if shape == "disc" and len(parts) == 1:
-        return Foot.disc(parse_quantity(parts[0], "length", name=name))
-    if shape == "custom" and len(parts) == 2:
-        return Foot(area=parse_quantity(parts[0], "area", name=name),
-                    width=parse_quantity(parts[1], "length", name=name), shape="custom")
-    raise InputError(f"{name}: cannot read {text!r} as a foot; expected {example}")
 
 
 def foot_to_json(foot: Foot) -> dict[str, Any]:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 
 from mudforce.errors import InputError
+from mudforce.foot import FOOT_EXAMPLES
 
 NAME = "fit"
 HELP = "fit the model to an intrusion dataset (per water content, staged, with standard errors)"
@@ -54,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--free", metavar="NAMES", help="also fit these normally fixed parameters, e.g. lambda")
     parser.add_argument("--fix", metavar="NAME=VALUE,...", help="hold parameters at values in SI, e.g. beta=0.5")
     parser.add_argument("--model", default="chen2024", help="force model to fit (default chen2024)")
-    parser.add_argument("--foot", help="foot of a tidy CSV: paper, cuboid:51mm,38mm, disc:40mm, custom:AREA,WIDTH")
+    parser.add_argument("--foot", help=f"foot of a tidy CSV: {FOOT_EXAMPLES}")
     parser.add_argument("--seed", type=int, default=0, help="seed of the global search (default 0)")
     parser.add_argument("--quiet", action="store_true", help="no progress, no summary")
 

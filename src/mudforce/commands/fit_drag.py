@@ -15,6 +15,7 @@ import json
 import re
 
 from mudforce.errors import InputError
+from mudforce.foot import FOOT_EXAMPLES
 
 NAME = "fit-drag"
 HELP = "fit the drag factor lambda (Eq. 5) to sliding-experiment data"
@@ -40,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", metavar="FILE.csv", help="columns velocity_m_s (or velocity_mm_s), force_N")
     area = parser.add_mutually_exclusive_group()
     area.add_argument("--area", help="contact area, e.g. 19.38cm2 (default: the paper's foot)")
-    area.add_argument("--foot", help="foot giving the area: paper, cuboid:51mm,38mm, disc:40mm")
+    area.add_argument("--foot", help=f"foot giving the area: {FOOT_EXAMPLES}")
     parser.add_argument("--rho-m", default="1840kg/m3", help="mud density (default 1840kg/m3)")
     parser.add_argument("--intercept", action="store_true", help="also fit a constant force offset")
     parser.add_argument("--json", action="store_true", help="print JSON")

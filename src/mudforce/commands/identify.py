@@ -14,6 +14,8 @@ from __future__ import annotations
 import argparse
 import json
 
+from mudforce.foot import FOOT_EXAMPLES
+
 NAME = "identify"
 HELP = "estimate the water content of one trial (Table I family, with an interval)"
 
@@ -21,7 +23,7 @@ HELP = "estimate the water content of one trial (Table I family, with an interva
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``mudforce identify``."""
     parser.add_argument("trial", metavar="TRIAL.csv", help="columns time_s, depth_m (or depth_mm), force_N")
-    parser.add_argument("--foot", default="paper", help="paper (default), cuboid:51mm,38mm, disc:40mm, ...")
+    parser.add_argument("--foot", default="paper", help=f"{FOOT_EXAMPLES} (default paper)")
     parser.add_argument("--level", default="95%", help="confidence level of the interval (default 95%%)")
     parser.add_argument("--json", action="store_true", help="print JSON")
 

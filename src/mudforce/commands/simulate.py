@@ -34,10 +34,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mudforce.errors import InputError
+from mudforce.foot import FOOT_EXAMPLES, parse_foot
 from mudforce.units import format_quantity, parse_quantity
 
 if TYPE_CHECKING:
-    from mudforce.foot import Foot
     from mudforce.parameters import MudParameters
     from mudforce.simulation import SimulationResult
 
@@ -47,7 +47,6 @@ NAME = "simulate"
 HELP = "simulate the force for the paper's protocol or a trajectory CSV, write CSV (and a plot)"
 
 #: The accepted --foot forms, for help and error messages.
-FOOT_EXAMPLES = "cuboid:51mmx38mm, disc:50mm or area:19.38cm2,width:38mm"
 
 #: Largest number of samples a protocol may produce (memory guard; ~1 GB of output arrays).
 MAX_SAMPLES = 10_000_000
@@ -103,68 +102,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", metavar="FILE.png", default=None,
                         help="also draw force over time and depth as PNG (needs matplotlib)")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
-
-
-# ---------------------------------------------------------------------------- foot
-
-_SIDES = re.compile(r"\s*[x×*]\s*", flags=re.IGNORECASE)
-
-
-def parse_foot(text: str, *, name: str = "--foot") -> Foot:
-    """Parse a foot specification into a :class:`mudforce.Foot`.
-
-    Accepted forms (keywords are case-insensitive; every size needs a unit):
-
-    ``cuboid:LxW``
-        A rectangular bottom face ``L`` by ``W``, e.g. ``cuboid:51mmx38mm``
-        (area ``L W`` [m^2]; ``H`` of Eq. (4) is the shorter side).
-    ``disc:D``
-        A circular bottom face of diameter ``D``, e.g. ``disc:50mm``
-        (``H = D``).
-    ``area:S,width:H``
-        Any flat foot: contact area ``S`` (``m2``, ``cm2`` or ``mm2``) and
-        width ``H`` (a length), in either order, e.g. ``area:19.38cm2,width:38mm``.
-    ``paper``
-        The paper's 51 x 38 mm cuboid.
-
-    Raises
-    ------
-    InputError
-        For anything else, naming the problem and showing the forms above.
-    """
-    from mudforce.foot import Foot
-
-    spec = str(text).strip()
-    kind, sep, body = spec.partition(":")
-    kind = kind.strip().lower()
-    if kind == "paper" and not sep:
-        return Foot.paper()
-    if not sep or not body.strip():
-        raise InputError(f"{name}: cannot read {text!r}; expected {FOOT_EXAMPLES}")
-    if kind in ("cuboid", "box", "rect", "rectangle"):
-        sides = _SIDES.split(body.strip())
-        if len(sides) != 2:
-            raise InputError(f"{name}: {text!r} needs two sides LENGTHxWIDTH, each with a unit, e.g. cuboid:51mmx38mm")
-        length = parse_quantity(sides[0], "length", name=f"{name} cuboid length")
-        width = parse_quantity(sides[1], "length", name=f"{name} cuboid width")
-        return Foot.cuboid(length, width)
-    if kind in ("disc", "disk", "circle"):
-        return Foot.disc(parse_quantity(body, "length", name=f"{name} disc diameter"))
-    if kind in ("area", "width"):
-        values: dict[str, str] = {}
-        for item in spec.split(","):
-            key, sep_item, value = item.partition(":")
-            key = key.strip().lower()
-            if not sep_item or key not in ("area", "width") or key in values:
-                raise InputError(f"{name}: cannot read {item.strip()!r} in {text!r}; "
-                                 f"expected area:AREA,width:LENGTH, e.g. area:19.38cm2,width:38mm")
-            values[key] = value
-        if set(values) != {"area", "width"}:
-            raise InputError(f"{name}: {text!r} needs both area and width, e.g. area:19.38cm2,width:38mm")
-        area = parse_quantity(values["area"], "area", name=f"{name} area")
-        width = parse_quantity(values["width"], "length", name=f"{name} width")
-        return Foot(area=area, width=width, shape="custom")
-    raise InputError(f"{name}: unknown foot shape {kind!r} in {text!r}; expected {FOOT_EXAMPLES}")
 
 
 # ---------------------------------------------------------------------------- checks

@@ -14,6 +14,7 @@ import argparse
 from pathlib import Path
 
 from mudforce.errors import InputError
+from mudforce.foot import FOOT_EXAMPLES
 from mudforce.units import parse_list, parse_quantity
 
 NAME = "synth"
@@ -34,7 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--hold", default="6s", help="hold time (default 6s)")
     parser.add_argument("--approach", default="5mm", help="start height above the surface (default 5mm)")
     parser.add_argument("--rate", default="100Hz", help="sampling rate (default 100Hz)")
-    parser.add_argument("--foot", default="paper", help="paper, cuboid:51mm,38mm, disc:40mm or custom:AREA,WIDTH")
+    parser.add_argument("--foot", default="paper", help=f"{FOOT_EXAMPLES} (default paper)")
     parser.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
     parser.add_argument("--force", action="store_true", help="overwrite an existing dataset in DIR")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
