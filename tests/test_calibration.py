@@ -162,6 +162,24 @@ def test_time_errors_name_the_files_own_row_and_column(tmp_path: Path) -> None:
         load_dataset(tidy)
 
 
+@pytest.mark.parametrize(
+    ("extra", "words"),
+    [
+        (["--out", "no/such/dir/fit.json"], "--out: directory 'no/such/dir' does not exist"),
+        (["--out", "."], "is a directory"),
+        (["--out", "same", "--report", "same"], "--report same: the same path as --out"),
+    ],
+)
+def test_fit_refuses_unusable_outputs_before_fitting(small: Path, tmp_path: Path, extra: list[str],
+                                                     words: str) -> None:
+    proc = subprocess.run([sys.executable, "-m", "mudforce", "fit", str(small), *extra, "--quiet"],
+                          cwd=tmp_path, capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert words in proc.stderr and "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert not any(tmp_path.iterdir())  # nothing written, no report folder made
+
+
 def test_cli_bad_input_exit_2(small: Path, tmp_path: Path) -> None:
     manifest = json.loads((small / "dataset.json").read_text())
     manifest["trials"][0]["water_content"] = 1.5

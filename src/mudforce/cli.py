@@ -4,7 +4,8 @@ Each subcommand lives in its own module under :mod:`mudforce.commands` and
 provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 
 Exit status: 0 on success, 2 for bad input (one line on stderr, no
-traceback, no output file touched), 130 when interrupted.
+traceback, no output file touched), 1 when the system fails mid-way (an
+``OSError``: one line too), 130 when interrupted.
 """
 
 from __future__ import annotations
@@ -81,6 +82,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    except OSError as exc:
+        # the system failed us mid-way (a full disk, a vanished folder): one line, not a traceback;
+        # status 1, since the input itself was fine (paths are checked before any work)
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"mudforce {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -25,10 +25,9 @@ examples:
 from __future__ import annotations
 
 import argparse
-import os
-from pathlib import Path
 
 from mudforce.errors import InputError
+from mudforce.io import check_output_path
 from mudforce.units import parse_quantity
 
 __all__ = ["HELP", "NAME", "add_arguments", "run"]
@@ -54,18 +53,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", default=None, metavar="FILE.png", help="also save a PNG figure")
 
 
-def _check_target(path: str, what: str) -> Path:
-    target = Path(path)
-    if target.exists() and target.is_dir():
-        raise InputError(f"{what} {path!r} is a directory; expected a file name")
-    parent = target.parent if str(target.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{what} {path!r}: directory {str(parent)!r} does not exist")
-    if not os.access(parent, os.W_OK):
-        raise InputError(f"{what} {path!r}: directory {str(parent)!r} is not writable")
-    return target
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``mudforce drop``; returns the exit status."""
     from mudforce.parameters import MudParameters
@@ -83,8 +70,8 @@ def run(args: argparse.Namespace) -> int:
     if height > 10.0:
         raise InputError(f"--height: {args.height!r} is more than 10 m; expected e.g. 20mm")
     params = MudParameters.from_water_content(water)
-    out = _check_target(args.out, "--out")
-    plot = _check_target(args.plot, "--plot") if args.plot is not None else None
+    out = check_output_path(args.out, "--out")
+    plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
     if plot is not None and plot.resolve() == out.resolve():
         raise InputError("--plot and --out name the same file")
     if plot is not None:

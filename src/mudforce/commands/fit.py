@@ -16,9 +16,11 @@ correlation matrix, and warnings for parameters the data cannot determine.
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from mudforce.errors import InputError
 from mudforce.foot import FOOT_EXAMPLES
+from mudforce.io import check_output_dir, check_output_path
 
 NAME = "fit"
 HELP = "fit the model to an intrusion dataset (per water content, staged, with standard errors)"
@@ -70,6 +72,12 @@ def run(args: argparse.Namespace) -> int:
         from mudforce._optional import require
 
         require("matplotlib", "plot", "--report")
+    # refuse unusable outputs before the fit, not after it
+    out = check_output_path(args.out, "--out")
+    if args.report:
+        if Path(args.report).resolve() == out.resolve():
+            raise InputError(f"--report {args.report}: the same path as --out; expected a folder for the report")
+        check_output_dir(args.report, "--report")
     model = get_model(args.model)
     dataset = load_dataset(args.dataset, foot=parse_foot(args.foot) if args.foot else None)
     extra = _names(args.free, "--free")

@@ -35,6 +35,7 @@ import numpy as np
 
 from mudforce.errors import InputError
 from mudforce.foot import FOOT_EXAMPLES, parse_foot
+from mudforce.io import check_output_path
 from mudforce.units import format_quantity, parse_quantity
 
 if TYPE_CHECKING:
@@ -113,37 +114,6 @@ def _same_file(a: Path, b: Path) -> bool:
     except OSError:
         return False
     return a.resolve() == b.resolve()
-
-
-def check_output_path(text: str, option: str, *, suffix: str | None = None) -> Path:
-    """Refuse an output path that cannot be written, before any work is done.
-
-    Parameters
-    ----------
-    text : str
-        The path as given.
-    option : str
-        The option's name, for the message (``"--out"``).
-    suffix : str, optional
-        Required file extension (``".png"``), compared case-free.
-    """
-    if not str(text).strip():
-        raise InputError(f"{option}: empty file name; expected a file name")
-    if str(text).strip() == "-":
-        raise InputError(f"{option}: writing to stdout ('-') is not supported; expected a file name")
-    path = Path(text)
-    if suffix is not None and path.suffix.lower() != suffix:
-        raise InputError(f"{option}: {str(path)!r} must end in {suffix} (only {suffix[1:].upper()} is written)")
-    if path.is_dir():
-        raise InputError(f"{option}: {str(path)!r} is a directory; expected a file name")
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{option}: directory {str(parent)!r} does not exist")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"{option}: directory {str(parent)!r} is not writable")
-    if path.exists() and not os.access(path, os.W_OK):
-        raise InputError(f"{option}: {str(path)!r} exists and is not writable")
-    return path
 
 
 def _load_params(args: argparse.Namespace) -> tuple[MudParameters, str]:
