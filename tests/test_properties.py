@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 import mudforce as mf
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
+from mudforce.simulation import STATE_NAMES, SimulationResult
 
 
 def _log_uniform(lo: float, hi: float) -> st.SearchStrategy[float]:
@@ -53,12 +54,23 @@ def trajectories(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
     return time, depth
 
 
-def _stream(time: np.ndarray, depth: np.ndarray, params: MudParameters, foot: Foot) -> np.ndarray:
-    contact = mf.MudContact(params, foot)
-    forces = [contact.step(depth[0], 0.0)]
-    for k in range(1, time.size):
-        forces.append(contact.step(depth[k], time[k] - time[k - 1]))
-    return np.array(forces)
+_COLUMNS = ("force", "f_e1", "f_e2", "f_s", "mud_displacement", "mud_velocity", "velocity")
+
+
+def _stream(time: np.ndarray, depth: np.ndarray, contact: mf.MudContact) -> dict[str, np.ndarray]:
+    """Every output of a streaming contact fed the samples, as arrays like a batch result's."""
+    rows = []
+    for k in range(time.size):
+        contact.step(depth[k], time[k] - time[k - 1] if k else 0.0)
+        rows.append(contact.last)
+    got = {name: np.array([getattr(r, name) for r in rows]) for name in _COLUMNS}
+    got["state"] = np.array([STATE_NAMES.index(r.state) for r in rows], dtype=np.int8)
+    return got
+
+
+def _assert_batch_is_stream(res: SimulationResult, stream: dict[str, np.ndarray]) -> None:
+    for name, values in stream.items():
+        np.testing.assert_array_equal(values, getattr(res, name), err_msg=name)
 
 
 # MUDFORCE_EXAMPLES=2000 for a longer search than the default run's
@@ -71,7 +83,7 @@ SETTINGS = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=
 def test_outputs_are_finite(params: MudParameters, traj: tuple[np.ndarray, np.ndarray]) -> None:
     time, depth = traj
     res = mf.simulate(time, depth, params, velocity_filter="exact")
-    for name in ("force", "f_e1", "f_e2", "f_s", "mud_displacement", "mud_velocity", "velocity"):
+    for name in _COLUMNS:
         assert np.all(np.isfinite(getattr(res, name))), name
     assert set(np.unique(res.state)) <= {0, 1, 2}
 
@@ -82,7 +94,8 @@ def test_batch_equals_streaming_bit_for_bit(params: MudParameters, traj: tuple[n
     time, depth = traj
     foot = Foot.disc(0.05)
     res = mf.simulate(time, depth, params, foot, velocity_filter="exact")
-    np.testing.assert_array_equal(_stream(time, depth, params, foot), res.force)
+    # every column: the batch derives its components from a record of the path
+    _assert_batch_is_stream(res, _stream(time, depth, mf.MudContact(params, foot)))
 
 
 @SETTINGS
@@ -93,11 +106,7 @@ def test_batch_equals_streaming_with_a_filter(
     time, depth = traj
     vf = mf.VelocityFilter(window, deadband)
     res = mf.simulate(time, depth, params, velocity_filter=vf)
-    contact = mf.MudContact(params, velocity_filter=vf)
-    forces = [contact.step(depth[0], 0.0)] + [
-        contact.step(depth[k], time[k] - time[k - 1]) for k in range(1, time.size)
-    ]
-    np.testing.assert_array_equal(np.array(forces), res.force)
+    _assert_batch_is_stream(res, _stream(time, depth, mf.MudContact(params, velocity_filter=vf)))
 
 
 @SETTINGS

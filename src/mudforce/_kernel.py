@@ -1,22 +1,41 @@
 """The one compiled stepper that every path (batch, streaming, vectorised) runs.
 
+Structure
+---------
+Two pure functions are the model: :func:`advance` takes a foot's state
+(a :class:`State` value), its step-length cache (:class:`Cache`), its
+constants (:class:`Params`) and the next depth sample, and returns the new
+state plus what the sample's outputs need; :func:`sample_outputs` turns
+that into the force and its components. Every path is a loop around them:
+
+* :func:`step` (streaming, MuJoCo, the built-in engine) loads a foot's row
+  of ``states``, advances it, stores it, and writes all outputs to
+  ``out[:, k]``;
+* :func:`run_feet` (``MudContacts``) does that for every foot, writing
+  only the forces;
+* :func:`run_batch_compact` (``simulate``) keeps the state in registers
+  through the whole trajectory and records the force plus what the other
+  outputs derive from; :func:`derive_outputs` derives them, on demand;
+* :func:`run_batch` (calibration) writes every output of every sample.
+
 Layout
 ------
 A foot's state is one row of a float64 array ``states[j, :]`` (indices
-``S_*`` below); its constants are one row of ``params[j, :]`` (``P_*``);
-the history of its smoothing velocity filter is one row of ``ring[j, :]``
-(``R_*``; only read and written when the filter's window is > 1, so exact
-filters pass a ring with no columns); each step writes column ``k`` of
-``out[:, k]`` (rows ``O_*``). Everything works on 2-D arrays and row or
-column indices so that the same function serves one foot (streaming,
-batch) and many (vectorised) without copies.
+``S_*`` below: the state proper, then the cache); its constants are one
+row of ``params[j, :]`` (``P_*``); the history of its smoothing velocity
+filter is one row of ``ring[j, :]`` (``R_*``; only read and written when
+the filter's window is > 1, so exact filters pass a ring with no columns).
+Outputs are column-major: ``out[O_FORCE, k]`` is sample ``k``'s force, so
+a batch's arrays are contiguous rows.
 
-Why this layout: the state row holds only what every step reads (19
-doubles), so the states of thousands of feet stay in cache; the ring
-(132 doubles) would otherwise be most of it. The outputs are column-major
-so that the batch result's arrays (force, states, ...) are contiguous rows
-of ``out``: post-processing them reads 8 bytes per sample, not a 72-byte
-stride.
+Why: the state row holds only what every step reads (20 doubles), so the
+states of thousands of feet stay in cache; the ring (132 doubles) would
+otherwise be most of it. State as values rather than array elements lets
+the batch loop keep it in registers (array stores could alias the outputs,
+so the compiler would otherwise reload every field on every sample), and
+the mode is a float so that no int conversion sits on the loop-carried
+path. The Maxwell extension ``z_i - z_m`` is carried whole, not rebuilt
+from ``z_m``, which shortens that path too.
 
 The step (``../shared/MODEL.md``)
 ---------------------------------
@@ -32,7 +51,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 from numba import njit
@@ -105,11 +124,14 @@ S_DIRECTION = 8  # -1 up, 0 rest, +1 down
 S_VELOCITY = 9  # velocity estimate at the last sample [m/s]
 S_NECK_G = 10  # g(age): normalised mud velocity after necking, Eq. (7)
 S_NECK_GI = 11  # G(age) = integral of g [s]
-S_CACHE_DT = 12  # step length the cached decays are for (a cache, not state)
-S_CACHE_DECAY_I = 13
-S_CACHE_DECAY_W = 14
-S_CACHE_PHI = 15  # 4 entries: transition matrix of Eq. (7)'s filter over one cached step (a cache)
+S_STRAIN = 12  # z_i - z_m at the last sample in CONTACT [m] (carried whole: z_m is rounded)
+# a cache of what the step length allows to precompute (not state: recomputed when missing)
+S_CACHE_DT = 13  # step length the cached values are for
+S_CACHE_DECAY_I = 14  # exp(-dt / tau_i)
+S_CACHE_DECAY_W = 15  # exp(-dt / tau_w)
+S_CACHE_PHI = 16  # 4 entries: transition matrix of Eq. (7)'s filter over one step
 N_STATE = S_CACHE_PHI + 4
+N_CORE = S_CACHE_DT  # the state proper: columns 0 .. N_CORE - 1
 
 # ring row: the smoothing differentiator's last samples (for filter windows > 1)
 RING = 65  # holds window + 1 samples, so windows up to 64 steps
@@ -193,9 +215,337 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
     return (1.0 if velocity > 0.0 else 0.0) - (1.0 if velocity < 0.0 else 0.0)
 
 
-@_compiled()
+class State(NamedTuple):
+    """A foot's state as values: columns ``0 .. N_CORE - 1`` of a state row, in the order of the ``S_*`` indices."""
+
+    started: float
+    mode: float
+    time: float
+    depth: float
+    mud: float
+    neck_age: float
+    neck_v: float
+    neck_z: float
+    direction: float
+    velocity: float
+    neck_g: float
+    neck_gi: float
+    strain: float
+
+
+class Cache(NamedTuple):
+    """What a constant step length lets a foot precompute: columns ``S_CACHE_*`` of a state row."""
+
+    dt: float
+    decay_i: float
+    decay_w: float
+    phi0: float
+    phi1: float
+    phi2: float
+    phi3: float
+
+
+class Params(NamedTuple):
+    """A foot's constants as values (the fields of a params row, in the order of the ``P_*`` indices)."""
+
+    k_i: float
+    b_i: float
+    k_w: float
+    b_w: float
+    alpha: float
+    beta: float
+    sigma_y: float
+    zeta: float
+    omega_0: float
+    rho_m: float
+    lam: float
+    area: float
+    width: float
+    window: float
+    deadband: float
+    tau_i: float
+    tau_w: float
+
+
+@_compiled(inline="always")
+def load_state(states: np.ndarray, j: int) -> State:
+    """Row ``j`` of ``states`` as a :class:`State`."""
+    r = states[j]
+    return State(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12])
+
+
+@_compiled(inline="always")
+def store_state(states: np.ndarray, j: int, s: State) -> None:
+    """Write ``s`` to row ``j`` of ``states``."""
+    r = states[j]
+    r[0] = s.started
+    r[1] = s.mode
+    r[2] = s.time
+    r[3] = s.depth
+    r[4] = s.mud
+    r[5] = s.neck_age
+    r[6] = s.neck_v
+    r[7] = s.neck_z
+    r[8] = s.direction
+    r[9] = s.velocity
+    r[10] = s.neck_g
+    r[11] = s.neck_gi
+    r[12] = s.strain
+
+
+@_compiled(inline="always")
+def load_cache(states: np.ndarray, j: int) -> Cache:
+    """The step-length cache of row ``j`` of ``states``."""
+    r = states[j]
+    return Cache(r[13], r[14], r[15], r[16], r[17], r[18], r[19])
+
+
+@_compiled(inline="always")
+def store_cache(states: np.ndarray, j: int, c: Cache) -> None:
+    """Write the step-length cache ``c`` to row ``j`` of ``states``."""
+    r = states[j]
+    r[13] = c.dt
+    r[14] = c.decay_i
+    r[15] = c.decay_w
+    r[16] = c.phi0
+    r[17] = c.phi1
+    r[18] = c.phi2
+    r[19] = c.phi3
+
+
+@_compiled(inline="always")
+def load_params(params: np.ndarray, j: int) -> Params:
+    """Row ``j`` of ``params`` as :class:`Params`."""
+    r = params[j]
+    return Params(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14],
+                  r[15], r[16])
+
+
+@_compiled(inline="always")
+def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: float, dt: float
+            ) -> tuple[State, Cache, bool, float, float, float, float, float]:
+    """The state machine: foot state ``s`` at the last sample -> state at ``depth`` [m] after ``dt`` [s].
+
+    A pure function of its arguments except for the velocity filter's
+    history ``ring[j]`` (read and written only for filter windows > 1).
+
+    ``c`` holds what the step length allows to precompute; it is refreshed
+    when ``dt`` differs from the one it was made for by more than 1e-9
+    relative.
+
+    Returns ``(state, cache, ok, d, x, neck_offset, vhat, v)``: the new
+    state and cache;
+    ``ok`` False for a refused sample (non-finite depth, ``dt`` not finite
+    and > 0, a window > 1 without a ring row of ``N_RING`` columns), with
+    the state unchanged; the branch direction ``d`` (+1 down, -1 up, 0 rest);
+    ``x``, the Maxwell extension ``z_i - z_m`` [m] in CONTACT or the mud
+    velocity ``v_m0 g`` [m/s] in NECKED (what :func:`sample_outputs` needs);
+    the time from the step's start to necking [s] (NaN if the neck did not
+    break in this step); the branch velocity estimate [m/s]; and the
+    first-order-hold velocity [m/s] (both 0 at the first sample). The first
+    call on a fresh state sets the initial sample and ignores ``dt``.
+    """
+    nan = math.nan
+    if not math.isfinite(depth):
+        return s, c, False, 0.0, 0.0, nan, 0.0, 0.0
+    window = int(p.window)
+    if window > 1 and ring.shape[1] < N_RING:
+        return s, c, False, 0.0, 0.0, nan, 0.0, 0.0  # no room for the filter's history (arrays are not bounds-checked)
+
+    if s.started == 0.0:
+        # MODEL.md: a trajectory that starts below the surface starts in
+        # CONTACT with relaxed mud (z_m = z_i); otherwise FREE.
+        if window > 1:
+            ring[j, R_HEAD] = 0.0
+            ring[j, R_N] = 1.0
+            ring[j, R_Z] = depth
+            ring[j, R_T] = 0.0
+        first_mode = float(CONTACT) if depth > 0.0 else float(FREE)
+        s0 = State(1.0, first_mode, 0.0, depth, depth, 0.0, 0.0, 0.0, 0.0, 0.0, s.neck_g, s.neck_gi, 0.0)
+        return s0, c, True, 0.0, 0.0, nan, 0.0, 0.0
+
+    if not (dt > 0.0) or not math.isfinite(dt):
+        return s, c, False, 0.0, 0.0, nan, 0.0, 0.0
+
+    z0 = s.depth
+    z1 = depth
+    v = (z1 - z0) / dt  # first-order hold: constant velocity over the step
+    t1 = s.time + dt
+
+    # --- velocity estimate for the branch choice (MODEL.md "Measured trajectories")
+    if window <= 1:
+        vhat = v
+    else:
+        head = (int(ring[j, R_HEAD]) + 1) % RING
+        ring[j, R_Z + head] = z1
+        ring[j, R_T + head] = t1
+        n = min(int(ring[j, R_N]) + 1, window + 1)
+        old = (head - (n - 1)) % RING
+        ring[j, R_HEAD] = head
+        ring[j, R_N] = n
+        vhat = (z1 - ring[j, R_Z + old]) / (t1 - ring[j, R_T + old])
+    d = _direction(vhat, s.direction, p.deadband)
+
+    tau_i = p.tau_i
+    tau_w = p.tau_w
+    # decays for a full step, reused while the step length stays the same to
+    # 1e-9 relative: sample times k/rate carry rounding of one ulp of t (1e-13 s
+    # at t = 1000 s), which would otherwise miss the cache on most steps. The
+    # cached decay is then off by at most ~1e-9 relative, which the Maxwell
+    # element forgets (it is contractive): far below the model's accuracy.
+    if abs(dt - c.dt) > 1e-9 * dt:
+        # transition matrix of z'' + 2 zeta omega_0 z' + omega_0^2 z = 0 over dt:
+        # [G, g](t + dt) = [[g_d + 2a G_d, G_d], [-omega_0^2 G_d, g_d]] [G, g](t)
+        g_d, gi_d = neck_filter_response(dt, p.zeta, p.omega_0)
+        c = Cache(dt, math.exp(-dt / tau_i), math.exp(-dt / tau_w), g_d + 2.0 * p.zeta * p.omega_0 * gi_d, gi_d,
+                  -p.omega_0 * p.omega_0 * gi_d, g_d)
+
+    strain_start = s.strain
+    mode = s.mode  # a float: an int conversion each step would chain the samples' latencies
+    zm = s.mud
+    neck_offset = nan
+    neck_age = s.neck_age
+    neck_v = s.neck_v
+    neck_z = s.neck_z
+    neck_g = s.neck_g
+    neck_gi = s.neck_gi
+
+    # --- transitions at the start of the step
+    if mode == NECKED and d > 0.0:
+        if z0 > 0.0:
+            mode = 1.0  # CONTACT, keeps z_m
+            strain_start = z0 - zm
+        else:
+            mode = 0.0  # FREE
+            zm = z0
+
+    start = 0.0  # time into the step at which CONTACT begins
+    z_start = z0
+    if mode == FREE:
+        if z1 > 0.0:
+            # touchdown: CONTACT from the crossing instant, with z_m = 0 there
+            start = -z0 / v if z0 < 0.0 else 0.0
+            mode = 1.0  # CONTACT
+            zm = 0.0
+            z_start = 0.0
+            strain_start = 0.0
+        else:
+            zm = z1
+
+    x = 0.0
+    strain = strain_start
+    if mode == CONTACT:
+        if d >= 0.0:
+            # intrusion / hold branch, Eqs. (2)-(3) with k_m_i, b_m_i
+            decay = c.decay_i if start == 0.0 else math.exp(-(dt - start) / tau_i)
+            strain = maxwell_strain_step(strain, v, tau_i, decay)
+            if z1 <= 0.0:
+                mode = 0.0  # FREE: a step ending on the intrusion branch above the surface
+                zm = z1
+            else:
+                zm = z1 - strain
+        else:
+            # withdrawal branch with k_m_w, b_m_w; necking per Eq. (9).
+            # The drag acts only while z_i > 0, so the step is split where it
+            # crosses the surface; in each piece the stress is monotone.
+            k_w = p.k_w
+            sigma_y = p.sigma_y
+            split = dt
+            if (z_start > 0.0) != (z1 > 0.0) and v != 0.0:
+                tc = start - z_start / v
+                if start < tc < dt:
+                    split = tc
+            t_a = start
+            z_a = z_start
+            pieces = 1 if split == dt else 2
+            for piece in range(pieces):
+                t_b = split if piece == 0 else dt
+                length = t_b - t_a
+                z_mid = z_a + 0.5 * v * length
+                fs = drag_stress(p.lam, p.rho_m, v) if z_mid > 0.0 else 0.0
+                if t_a == 0.0 and t_b == dt:
+                    decay = c.decay_w
+                else:
+                    decay = math.exp(-length / tau_w)
+                tn = necking_time(strain, v, tau_w, k_w, fs, sigma_y, length, decay)
+                if tn >= 0.0:
+                    if tn > 0.0:
+                        strain = (-sigma_y - fs) / k_w  # exactly on the yield surface
+                    z_n = z_a + v * tn
+                    mode = 2.0  # NECKED
+                    neck_offset = t_a + tn
+                    neck_v = strain / tau_w  # v_m0 = dz_m/dt = (z_i - z_m)/tau_w
+                    neck_z = z_n - strain
+                    neck_age = dt - neck_offset
+                    neck_g, neck_gi = neck_filter_response(neck_age, p.zeta, p.omega_0)
+                    break
+                strain = maxwell_strain_step(strain, v, tau_w, decay)
+                t_a = t_b
+                z_a = 0.0 if piece == 0 and pieces == 2 else z1
+            if mode == CONTACT:
+                zm = z1 - strain
+        x = strain
+    elif mode == NECKED:
+        # a whole step after necking: the filter's exact discrete-time update
+        # (its transition matrix is cached for the step length)
+        neck_age += dt
+        gi0 = neck_gi
+        g0 = neck_g
+        if abs(gi0) + abs(g0) < 1e-250:
+            # fully decayed: flush to zero before the update reaches subnormal
+            # numbers, which are slow (the filter's response tends to 0 anyway)
+            gi0 = 0.0
+            g0 = 0.0
+        neck_gi = c.phi0 * gi0 + c.phi1 * g0
+        neck_g = c.phi2 * gi0 + c.phi3 * g0
+    if mode == NECKED:
+        # after necking the mud moves as v_m0 g(t - t_n), Eq. (7)
+        x = neck_v * neck_g
+        zm = neck_z + neck_v * neck_gi
+
+    s1 = State(1.0, mode, t1, z1, zm, neck_age, neck_v, neck_z, d, vhat, neck_g, neck_gi, strain)
+    return s1, c, True, d, x, neck_offset, vhat, v
+
+
+@_compiled(inline="always")
+def sample_outputs(p: Params, mode: float, d: float, x: float, z1: float, v: float
+                   ) -> tuple[float, float, float, float, float]:
+    """The force and its parts at a sample, from what :func:`advance` returned.
+
+    ``mode`` is the sample's contact state, ``d`` the branch direction,
+    ``x`` the Maxwell extension [m] (CONTACT) or mud velocity [m/s]
+    (NECKED), ``z1`` the depth [m] and ``v`` the first-order-hold velocity
+    [m/s]. Returns ``(force [N], f_e1, f_e2, f_s [Pa], dz_m/dt [m/s])``:
+    Eqs. (2), (4), (5), (7) and (8) times the area.
+    """
+    if mode == FREE:
+        fe1 = 0.0
+        fe2 = 0.0
+        fs = 0.0
+        mud_velocity = v
+    else:
+        fs = drag_stress(p.lam, p.rho_m, v) if z1 > 0.0 else 0.0
+        if mode == CONTACT:
+            if d >= 0.0:
+                fe1 = p.k_i * x
+                fe2 = nonlinear_spring_stress(p.alpha, p.beta, z1, p.width)
+                mud_velocity = x / p.tau_i
+            else:
+                fe1 = p.k_w * x
+                fe2 = 0.0
+                mud_velocity = x / p.tau_w
+        else:
+            # after necking the visco-elastic stress is the damper's: b_m_w dz_m/dt
+            mud_velocity = x
+            fe1 = p.b_w * x
+            fe2 = 0.0
+    force = (fe1 + fe2 + fs) * p.area
+    return force, fe1, fe2, fs, mud_velocity
+
+
+@_compiled(inline="always")
 def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: float,
-           mud: float, mud_velocity: float, velocity: float, mode: int, neck_offset: float) -> None:
+           mud: float, mud_velocity: float, velocity: float, mode: float, neck_offset: float) -> None:
     out[O_FORCE, k] = force
     out[O_F_E1, k] = fe1
     out[O_F_E2, k] = fe2
@@ -212,216 +562,23 @@ def step(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth
          out: np.ndarray, k: int) -> float:
     """Advance foot ``j`` to the next sample ``depth`` [m] after ``dt`` [s].
 
-    Writes the sample's outputs to column ``out[:, k]`` and returns the
-    force [N]. The first call on a fresh state sets the initial sample and
-    ignores ``dt``. Returns NaN, changing nothing, for a non-finite depth
-    or a ``dt`` that is not finite and > 0, and for a filter window > 1
-    without a ring row of ``N_RING`` columns (:func:`new_ring`).
+    Row ``j`` of ``states``, ``params`` and ``ring`` are the foot's; writes
+    the sample's outputs to column ``out[:, k]`` and returns the force [N].
+    The first call on a fresh state sets the initial sample and ignores
+    ``dt``. Returns NaN, changing nothing, for a non-finite depth or a
+    ``dt`` that is not finite and > 0, and for a filter window > 1 without
+    a ring row of ``N_RING`` columns (:func:`new_ring`).
     """
-    if not math.isfinite(depth):
+    p = load_params(params, j)
+    c = load_cache(states, j)
+    s, c1, ok, d, x, neck_offset, vhat, v = advance(load_state(states, j), c, p, ring, j, depth, dt)
+    if not ok:
         return math.nan
-    area = params[j, P_AREA]
-    width = params[j, P_WIDTH]
-    window = int(params[j, P_WINDOW])
-    if window > 1 and ring.shape[1] < N_RING:
-        return math.nan  # no room for the filter's history (arrays are not bounds-checked)
-
-    if states[j, S_STARTED] == 0.0:
-        # MODEL.md: a trajectory that starts below the surface starts in
-        # CONTACT with relaxed mud (z_m = z_i); otherwise FREE.
-        states[j, S_STARTED] = 1.0
-        states[j, S_TIME] = 0.0
-        states[j, S_DEPTH] = depth
-        states[j, S_MUD] = depth
-        states[j, S_DIRECTION] = 0.0
-        states[j, S_VELOCITY] = 0.0
-        states[j, S_NECK_AGE] = 0.0
-        states[j, S_NECK_V] = 0.0
-        states[j, S_NECK_Z] = 0.0
-        if window > 1:
-            ring[j, R_HEAD] = 0.0
-            ring[j, R_N] = 1.0
-            ring[j, R_Z] = depth
-            ring[j, R_T] = 0.0
-        if depth > 0.0:
-            states[j, S_MODE] = CONTACT
-            fe2 = nonlinear_spring_stress(params[j, P_ALPHA], params[j, P_BETA], depth, width)
-            first: float = fe2 * area
-            _write(out, k, first, 0.0, fe2, 0.0, depth, 0.0, 0.0, CONTACT, math.nan)
-            return first
-        states[j, S_MODE] = FREE
-        _write(out, k, 0.0, 0.0, 0.0, 0.0, depth, 0.0, 0.0, FREE, math.nan)
-        return 0.0
-
-    if not (dt > 0.0) or not math.isfinite(dt):
-        return math.nan
-
-    z0 = states[j, S_DEPTH]
-    z1 = depth
-    v = (z1 - z0) / dt  # first-order hold: constant velocity over the step
-    t1 = states[j, S_TIME] + dt
-
-    # --- velocity estimate for the branch choice (MODEL.md "Measured trajectories")
-    if window <= 1:
-        vhat = v
-    else:
-        head = (int(ring[j, R_HEAD]) + 1) % RING
-        ring[j, R_Z + head] = z1
-        ring[j, R_T + head] = t1
-        n = min(int(ring[j, R_N]) + 1, window + 1)
-        old = (head - (n - 1)) % RING
-        ring[j, R_HEAD] = head
-        ring[j, R_N] = n
-        vhat = (z1 - ring[j, R_Z + old]) / (t1 - ring[j, R_T + old])
-    d = _direction(vhat, states[j, S_DIRECTION], params[j, P_DEADBAND])
-
-    tau_i = params[j, P_TAU_I]
-    tau_w = params[j, P_TAU_W]
-    # decays for a full step, reused while the step length stays the same to
-    # 1e-9 relative: sample times k/rate carry rounding of one ulp of t (1e-13 s
-    # at t = 1000 s), which would otherwise miss the cache on most steps. The
-    # cached decay is then off by at most ~1e-9 relative, which the Maxwell
-    # element forgets (it is contractive): far below the model's accuracy.
-    if abs(dt - states[j, S_CACHE_DT]) > 1e-9 * dt:
-        states[j, S_CACHE_DT] = dt
-        states[j, S_CACHE_DECAY_I] = math.exp(-dt / tau_i)
-        states[j, S_CACHE_DECAY_W] = math.exp(-dt / tau_w)
-        # transition matrix of z'' + 2 zeta omega_0 z' + omega_0^2 z = 0 over dt:
-        # [G, g](t + dt) = [[g_d + 2a G_d, G_d], [-omega_0^2 G_d, g_d]] [G, g](t)
-        g_d, gi_d = neck_filter_response(dt, params[j, P_ZETA], params[j, P_OMEGA_0])
-        states[j, S_CACHE_PHI] = g_d + 2.0 * params[j, P_ZETA] * params[j, P_OMEGA_0] * gi_d
-        states[j, S_CACHE_PHI + 1] = gi_d
-        states[j, S_CACHE_PHI + 2] = -params[j, P_OMEGA_0] * params[j, P_OMEGA_0] * gi_d
-        states[j, S_CACHE_PHI + 3] = g_d
-
-    mode = int(states[j, S_MODE])
-    zm = states[j, S_MUD]
-    neck_offset = math.nan
-    lam = params[j, P_LAMBDA]
-    rho = params[j, P_RHO_M]
-
-    # --- transitions at the start of the step
-    if mode == NECKED and d > 0.0:
-        if z0 > 0.0:
-            mode = CONTACT  # keeps z_m
-        else:
-            mode = FREE
-            zm = z0
-
-    start = 0.0  # time into the step at which CONTACT begins
-    z_start = z0
-    if mode == FREE:
-        if z1 > 0.0:
-            # touchdown: CONTACT from the crossing instant, with z_m = 0 there
-            start = -z0 / v if z0 < 0.0 else 0.0
-            mode = CONTACT
-            zm = 0.0
-            z_start = 0.0
-        else:
-            zm = z1
-
-    strain = 0.0
-    if mode == CONTACT:
-        strain = z_start - zm
-        if d >= 0.0:
-            # intrusion / hold branch, Eqs. (2)-(3) with k_m_i, b_m_i
-            decay = states[j, S_CACHE_DECAY_I] if start == 0.0 else math.exp(-(dt - start) / tau_i)
-            strain = maxwell_strain_step(strain, v, tau_i, decay)
-            if z1 <= 0.0:
-                mode = FREE  # a step ending on the intrusion branch above the surface
-                zm = z1
-            else:
-                zm = z1 - strain
-        else:
-            # withdrawal branch with k_m_w, b_m_w; necking per Eq. (9).
-            # The drag acts only while z_i > 0, so the step is split where it
-            # crosses the surface; in each piece the stress is monotone.
-            k_w = params[j, P_K_W]
-            sigma_y = params[j, P_SIGMA_Y]
-            split = dt
-            if (z_start > 0.0) != (z1 > 0.0) and v != 0.0:
-                tc = start - z_start / v
-                if start < tc < dt:
-                    split = tc
-            t_a = start
-            z_a = z_start
-            pieces = 1 if split == dt else 2
-            for piece in range(pieces):
-                t_b = split if piece == 0 else dt
-                length = t_b - t_a
-                z_mid = z_a + 0.5 * v * length
-                fs = drag_stress(lam, rho, v) if z_mid > 0.0 else 0.0
-                if t_a == 0.0 and t_b == dt:
-                    decay = states[j, S_CACHE_DECAY_W]
-                else:
-                    decay = math.exp(-length / tau_w)
-                tn = necking_time(strain, v, tau_w, k_w, fs, sigma_y, length, decay)
-                if tn >= 0.0:
-                    if tn > 0.0:
-                        strain = (-sigma_y - fs) / k_w  # exactly on the yield surface
-                    z_n = z_a + v * tn
-                    mode = NECKED
-                    neck_offset = t_a + tn
-                    states[j, S_NECK_V] = strain / tau_w  # v_m0 = dz_m/dt = (z_i - z_m)/tau_w
-                    states[j, S_NECK_Z] = z_n - strain
-                    states[j, S_NECK_AGE] = dt - neck_offset
-                    g0, gi0 = neck_filter_response(states[j, S_NECK_AGE], params[j, P_ZETA], params[j, P_OMEGA_0])
-                    states[j, S_NECK_G] = g0
-                    states[j, S_NECK_GI] = gi0
-                    break
-                strain = maxwell_strain_step(strain, v, tau_w, decay)
-                t_a = t_b
-                z_a = 0.0 if piece == 0 and pieces == 2 else z1
-            if mode == CONTACT:
-                zm = z1 - strain
-    elif mode == NECKED:
-        # a whole step after necking: the filter's exact discrete-time update
-        # (its transition matrix is cached for the step length)
-        states[j, S_NECK_AGE] += dt
-        gi0 = states[j, S_NECK_GI]
-        g0 = states[j, S_NECK_G]
-        if abs(gi0) + abs(g0) < 1e-250:
-            # fully decayed: flush to zero before the update reaches subnormal
-            # numbers, which are slow (the filter's response tends to 0 anyway)
-            gi0 = 0.0
-            g0 = 0.0
-        states[j, S_NECK_GI] = states[j, S_CACHE_PHI] * gi0 + states[j, S_CACHE_PHI + 1] * g0
-        states[j, S_NECK_G] = states[j, S_CACHE_PHI + 2] * gi0 + states[j, S_CACHE_PHI + 3] * g0
-
-    # --- outputs at the sample
-    fs_end = drag_stress(lam, rho, v) if z1 > 0.0 else 0.0
-    if mode == FREE:
-        fe1 = 0.0
-        fe2 = 0.0
-        fs_out = 0.0
-        mud_velocity = v
-    elif mode == CONTACT:
-        fs_out = fs_end
-        if d >= 0.0:
-            fe1 = params[j, P_K_I] * strain
-            fe2 = nonlinear_spring_stress(params[j, P_ALPHA], params[j, P_BETA], z1, width)
-            mud_velocity = strain / tau_i
-        else:
-            fe1 = params[j, P_K_W] * strain
-            fe2 = 0.0
-            mud_velocity = strain / tau_w
-    else:
-        # after necking the visco-elastic stress is the damper's: b_m_w dz_m/dt
-        v_m0 = states[j, S_NECK_V]
-        mud_velocity = v_m0 * states[j, S_NECK_G]
-        zm = states[j, S_NECK_Z] + v_m0 * states[j, S_NECK_GI]
-        fe1 = params[j, P_B_W] * mud_velocity
-        fe2 = 0.0
-        fs_out = fs_end
-
-    force: float = (fe1 + fe2 + fs_out) * area
-    states[j, S_MODE] = mode
-    states[j, S_DEPTH] = z1
-    states[j, S_MUD] = zm
-    states[j, S_TIME] = t1
-    states[j, S_DIRECTION] = d
-    states[j, S_VELOCITY] = vhat
-    _write(out, k, force, fe1, fe2, fs_out, zm, mud_velocity, vhat, mode, neck_offset)
+    store_state(states, j, s)
+    if c1.dt != c.dt:
+        store_cache(states, j, c1)
+    force, fe1, fe2, fs, mud_velocity = sample_outputs(p, s.mode, d, x, s.depth, v)
+    _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, s.mode, neck_offset)
     return force
 
 
@@ -465,26 +622,113 @@ def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
 @_compiled()
 def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray,
               out: np.ndarray) -> int:
-    """Run foot 0 over a whole trajectory into ``out[:, k]``; returns the index of a bad sample or -1."""
+    """Run foot 0 over a whole trajectory into ``out[:, k]``; returns the index of a bad sample or -1.
+
+    The state stays in registers through the loop (a :class:`State` value)
+    and is stored to ``states[0]`` at the end (or before a bad sample).
+    """
+    s = load_state(states, 0)
+    c = load_cache(states, 0)
+    p = load_params(params, 0)
     n = time.shape[0]
+    bad = -1
     for k in range(n):
         dt = time[k] - time[k - 1] if k > 0 else 0.0
-        f = step(states, ring, 0, params, depth[k], dt, out, k)
-        if f != f:
-            return k
-    return -1
+        s1, c, ok, d, x, neck_offset, vhat, v = advance(s, c, p, ring, 0, depth[k], dt)
+        if not ok:
+            bad = k
+            break
+        s = s1
+        force, fe1, fe2, fs, mud_velocity = sample_outputs(p, s.mode, d, x, s.depth, v)
+        _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, s.mode, neck_offset)
+    store_state(states, 0, s)
+    store_cache(states, 0, c)
+    return bad
+
+
+@_compiled()
+def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray,
+                      params: np.ndarray, mode_out: np.ndarray, direction_out: np.ndarray, x_out: np.ndarray,
+                      mud_out: np.ndarray, velocity_out: np.ndarray, neck_index: np.ndarray,
+                      neck_offset: np.ndarray, counts: np.ndarray, force_out: np.ndarray) -> int:
+    """Run foot 0 over a whole trajectory: the force, and a record the other outputs are derived from.
+
+    Writes per sample the force [N], the contact state and branch direction
+    (int8), the ``x`` of :func:`advance` and ``z_m`` [m], and the branch
+    velocity [m/s] if ``velocity_out`` has room (filters with a window > 1;
+    the exact filter's is the first-order-hold velocity, which
+    :func:`derive_outputs` recomputes). Neckings go to
+    ``neck_index[:counts[0]]`` (sample) and ``neck_offset`` (time into the
+    step [s]): those arrays are written only at neckings. About a third of
+    :func:`run_batch`'s memory traffic, which bounds the batch's speed;
+    :func:`derive_outputs` gives the stress components and velocities from
+    the record, as :func:`step` computes them. Returns the index of a bad
+    sample or -1.
+    """
+    s = load_state(states, 0)
+    c = load_cache(states, 0)
+    p = load_params(params, 0)
+    n = time.shape[0]
+    keep_velocity = velocity_out.shape[0] >= n
+    necks = 0
+    bad = -1
+    for k in range(n):
+        dt = time[k] - time[k - 1] if k > 0 else 0.0
+        s1, c, ok, d, x, offset, vhat, v = advance(s, c, p, ring, 0, depth[k], dt)
+        if not ok:
+            bad = k
+            break
+        s = s1
+        mode_out[k] = int(s.mode)
+        direction_out[k] = int(d)
+        x_out[k] = x
+        mud_out[k] = s.mud
+        force_out[k] = sample_outputs(p, s.mode, d, x, s.depth, v)[0]
+        if keep_velocity:
+            velocity_out[k] = vhat
+        if offset == offset:
+            neck_index[necks] = k
+            neck_offset[necks] = offset
+            necks += 1
+    store_state(states, 0, s)
+    store_cache(states, 0, c)
+    counts[0] = necks
+    return bad
+
+
+@_compiled()
+def derive_outputs(time: np.ndarray, depth: np.ndarray, params: np.ndarray, mode: np.ndarray,
+                   direction: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
+    """``f_e1, f_e2, f_s`` [Pa], ``dz_m/dt`` and the first-order-hold velocity [m/s] into rows 0-4 of ``out``."""
+    p = load_params(params, 0)
+    for k in range(time.shape[0]):
+        v = (depth[k] - depth[k - 1]) / (time[k] - time[k - 1]) if k > 0 else 0.0
+        _, fe1, fe2, fs, mud_velocity = sample_outputs(p, mode[k], direction[k], x[k], depth[k], v)
+        out[0, k] = fe1
+        out[1, k] = fe2
+        out[2, k] = fs
+        out[3, k] = mud_velocity
+        out[4, k] = v
 
 
 @_compiled()
 def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
-             out: np.ndarray) -> int:
-    """One step of every foot (row ``j`` of ``states``/``ring``/``params``, column ``j`` of ``out``).
+             forces: np.ndarray) -> int:
+    """One step of every foot (row ``j`` of ``states``/``ring``/``params``); the forces [N] into ``forces[j]``.
 
-    Returns the first foot refused (left unchanged, its outputs not written) or -1.
+    Returns the first foot refused (left unchanged, its force not written) or -1.
     """
     bad = -1
     for j in range(depths.shape[0]):
-        f = step(states, ring, j, params, depths[j], dt, out, j)
-        if f != f and bad < 0:
-            bad = j
+        p = load_params(params, j)
+        c = load_cache(states, j)
+        s, c1, ok, d, x, _, _, v = advance(load_state(states, j), c, p, ring, j, depths[j], dt)
+        if not ok:
+            if bad < 0:
+                bad = j
+            continue
+        store_state(states, j, s)
+        if c1.dt != c.dt:
+            store_cache(states, j, c1)
+        forces[j] = sample_outputs(p, s.mode, d, x, s.depth, v)[0]
     return bad

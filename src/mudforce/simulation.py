@@ -42,6 +42,12 @@ _CSV_COLUMNS = (
 class SimulationResult:
     """The model's response to a sampled trajectory; all arrays have one entry per sample.
 
+    The batch loop records the state machine's path (contact state, branch,
+    Maxwell extension, mud displacement) and the force; the other arrays
+    are derived from that record on first access, by the same compiled
+    functions the streaming step uses, so they are the stepper's values
+    bit for bit and cost nothing until asked for.
+
     Attributes
     ----------
     time : ndarray
@@ -73,18 +79,53 @@ class SimulationResult:
 
     time: np.ndarray
     depth: np.ndarray
-    velocity: np.ndarray
     mud_displacement: np.ndarray
-    mud_velocity: np.ndarray
-    f_e1: np.ndarray
-    f_e2: np.ndarray
-    f_s: np.ndarray
     force: np.ndarray
     state: np.ndarray
     necking_times: np.ndarray
     params: MudParameters
     foot: Foot
     velocity_filter: VelocityFilter = field(default_factory=VelocityFilter.exact)
+    # the record the other arrays are derived from (see _derived)
+    _branch: np.ndarray = field(default_factory=lambda: np.empty(0, np.int8), repr=False)
+    _extension: np.ndarray = field(default_factory=lambda: np.empty(0), repr=False)
+    _branch_velocity: np.ndarray | None = field(default=None, repr=False)
+    _params_row: np.ndarray = field(default_factory=lambda: np.empty((1, K.N_PARAMS)), repr=False)
+    _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+
+    def _derived(self, name: str) -> np.ndarray:
+        """An array derived from the record (computed once, with its siblings, on first access)."""
+        if not self._cache:
+            rows = np.empty((5, self.time.size), dtype=np.float64)
+            K.derive_outputs(self.time, self.depth, self._params_row, self.state, self._branch, self._extension, rows)
+            velocity = rows[4] if self._branch_velocity is None else self._branch_velocity
+            self._cache.update(f_e1=rows[0], f_e2=rows[1], f_s=rows[2], mud_velocity=rows[3], velocity=velocity)
+        return self._cache[name]
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Foot velocity estimate used for the branch choice [m/s] (0 at the first sample)."""
+        return self._derived("velocity")
+
+    @property
+    def mud_velocity(self) -> np.ndarray:
+        """``dz_m/dt`` [m/s], Eq. (3); after necking ``v_m0 g(t - t_n)``, Eq. (7)."""
+        return self._derived("mud_velocity")
+
+    @property
+    def f_e1(self) -> np.ndarray:
+        """Visco-elastic stress [Pa], Eq. (2) (after necking the damper's ``b_m_w dz_m/dt``)."""
+        return self._derived("f_e1")
+
+    @property
+    def f_e2(self) -> np.ndarray:
+        """Nonlinear-spring stress [Pa], Eq. (4) (intrusion branch only)."""
+        return self._derived("f_e2")
+
+    @property
+    def f_s(self) -> np.ndarray:
+        """Drag stress [Pa], Eq. (5) (below the surface only)."""
+        return self._derived("f_s")
 
     def __iter__(self) -> Iterator[np.ndarray]:
         """Unpack as ``time, force``."""
@@ -274,32 +315,40 @@ def simulate(
     foot = Foot.paper() if foot is None else foot
     vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
-    states = K.new_states(1)
-    ring = K.new_ring(1, vf.window)
-    out = K.new_out(t.size)
-    bad = K.run_batch(t, z, states, ring, prow, out)
+    n = t.size
+    state = np.empty(n, dtype=np.int8)
+    branch = np.empty(n, dtype=np.int8)
+    extension = np.empty(n, dtype=np.float64)
+    mud = np.empty(n, dtype=np.float64)
+    # the branch velocity only needs keeping when it is not the first-order hold's
+    velocity = np.empty(n if vf.window > 1 else 0, dtype=np.float64)
+    # written at neckings only (pages never touched cost nothing)
+    neck_index = np.empty(n, dtype=np.int64)
+    neck_offset = np.empty(n, dtype=np.float64)
+    counts = np.zeros(1, dtype=np.int64)
+    force = np.empty(n, dtype=np.float64)
+    bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, vf.window), prow, state, branch, extension, mud,
+                              velocity, neck_index, neck_offset, counts, force)
     if bad >= 0:
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
-    offsets = out[K.O_NECK_OFFSET]
-    necked = np.flatnonzero(np.isfinite(offsets))
-    necking_times = t[necked - 1] + offsets[necked] if necked.size else np.empty(0)
-    # the result's arrays are (contiguous) rows of the one output block: no copies
+    necks = int(counts[0])
+    at = neck_index[:necks]
+    necking_times = t[at - 1] + neck_offset[:necks]
     return SimulationResult(
         time=t,
         depth=z,
-        velocity=out[K.O_VELOCITY],
-        mud_displacement=out[K.O_MUD],
-        mud_velocity=out[K.O_MUD_VELOCITY],
-        f_e1=out[K.O_F_E1],
-        f_e2=out[K.O_F_E2],
-        f_s=out[K.O_F_S],
-        force=out[K.O_FORCE],
-        state=out[K.O_STATE].astype(np.int8),
+        mud_displacement=mud,
+        force=force,
+        state=state,
         necking_times=necking_times,
         params=params,
         foot=foot,
         velocity_filter=vf,
+        _branch=branch,
+        _extension=extension,
+        _branch_velocity=velocity if vf.window > 1 else None,
+        _params_row=prow,
     )

@@ -121,9 +121,8 @@ class MudContacts:
         self.states = K.new_states(self.n)
         #: the velocity filter's recent samples, one row per foot (no columns for the exact filter)
         self.ring = K.new_ring(self.n, self.velocity_filter.window)
-        #: the last step's outputs: row ``K.O_*`` holds one quantity for all feet
-        self.out = np.zeros((K.N_OUT, self.n), dtype=np.float64)
-        self.forces: np.ndarray = self.out[K.O_FORCE]  # a view: the step writes the forces there
+        #: the last step's forces [N] (the step writes them here)
+        self.forces: np.ndarray = np.zeros(self.n, dtype=np.float64)
 
     def step(self, depths: Any, dt: float) -> np.ndarray:
         """Advance every foot to its next depth sample; return the forces [N].
@@ -149,7 +148,7 @@ class MudContacts:
         dt = float(dt)
         if not (dt > 0.0 and dt < np.inf):
             raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.out)
+        bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.forces)
         if bad >= 0:
             # the kernel refused foot `bad` without changing it; the others stepped
             raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
