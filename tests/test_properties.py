@@ -190,6 +190,12 @@ def test_inserting_samples_on_the_input_line_changes_nothing(
     clinging = (r1.state[:-1] == 1) & (depth[:-1] <= 0.0) & (depth[1:] > 0.0)
     if np.any(clinging):
         return
+    # a motion of a few ulps: a point inserted on the line rounds onto one of
+    # its ends, so one half-step is a hold (intrusion branch) and the other a
+    # withdrawal; the branch of such a step is decided by rounding, not by the model
+    moves = np.abs(np.diff(depth))
+    if np.any((moves > 0.0) & (moves < 1e-12)):
+        return
     r2 = mf.simulate(t2, z2, params, velocity_filter="exact")
     idx = np.searchsorted(t2, time)
     scale = max(1.0, float(np.max(np.abs(r1.force))))
