@@ -11,6 +11,7 @@ import argparse
 import time
 
 import numpy as np
+from numba import njit
 
 import mudforce as mf
 
@@ -20,6 +21,24 @@ def gait(n: int, rate: float = 1000.0) -> tuple[np.ndarray, np.ndarray]:
     t = np.arange(n) / rate
     z = 0.03 * np.sin(2 * np.pi * 1.5 * t) - 0.005
     return t, z
+
+
+@njit(cache=True)
+def _floor(t: np.ndarray, z: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray,
+           e: np.ndarray) -> None:
+    """The memory floor of simulate(): read time and depth, write arrays of the same types, no model."""
+    for k in range(t.shape[0]):
+        a[k] = z[k] * 2.0
+        b[k] = z[k] - t[k]
+        c[k] = t[k]
+        d[k] = 1 if z[k] > 0.0 else 0
+        e[k] = 2 if z[k] > 0.0 else 0
+
+
+def memory_floor(t: np.ndarray, z: np.ndarray) -> None:
+    """Allocate and fill what simulate() allocates and fills (3 float64, 2 int8 arrays) with no model."""
+    n = t.size
+    _floor(t, z, np.empty(n), np.empty(n), np.empty(n), np.empty(n, np.int8), np.empty(n, np.int8))
 
 
 def timings(fn, repeats: int) -> tuple[float, float]:  # type: ignore[no-untyped-def]
@@ -46,7 +65,7 @@ def main() -> None:
     args = ap.parse_args()
     params = mf.MudParameters.from_water_content(0.25)
     t, z = gait(args.samples)
-    mf.simulate(t[:1000], z[:1000], params, velocity_filter="exact").f_e1  # compile / load cache
+    _ = mf.simulate(t[:1000], z[:1000], params, velocity_filter="exact").f_e1  # compile / load cache
     res = mf.simulate(t, z, params, velocity_filter="exact")
     states = np.bincount(res.state, minlength=3) / res.state.size
     necks = res.necking_times.size
@@ -63,7 +82,7 @@ def main() -> None:
 
     def simulate_all_columns() -> None:
         r = mf.simulate(t, z, params, velocity_filter="exact")
-        r.f_e1  # derives f_e1, f_e2, f_s, mud velocity and velocity  # noqa: B018
+        _ = r.f_e1  # derives f_e1, f_e2, f_s, mud velocity and velocity
 
     def full_output_loop() -> None:
         K.run_batch(t, z, K.new_states(1), ring, prow, out)
@@ -72,7 +91,9 @@ def main() -> None:
     print(f"batch gait: {n:,} samples at 1 kHz "
           f"(FREE {states[0]:.0%}, CONTACT {states[1]:.0%}, NECKED {states[2]:.0%}, {necks} neckings); "
           f"CPU ns/sample, best and median of {args.repeats}")
+    memory_floor(t[:10], z[:10])
     for label, fn in (
+        ("memory floor: allocate and fill the same arrays, no model", lambda: memory_floor(t, z)),
         ("mudforce.simulate() (force, state, z_m; the rest on access)", simulate),
         ("simulate() + deriving f_e1, f_e2, f_s, velocities", simulate_all_columns),
         ("full-output loop into a reused 9-row block (calibration)", full_output_loop),
