@@ -32,10 +32,11 @@ Why: the state row holds only what every step reads (20 doubles), so the
 states of thousands of feet stay in cache; the ring (132 doubles) would
 otherwise be most of it. State as values rather than array elements lets
 the batch loop keep it in registers (array stores could alias the outputs,
-so the compiler would otherwise reload every field on every sample), and
-the mode is a float so that no int conversion sits on the loop-carried
-path. The Maxwell extension ``z_i - z_m`` is carried whole, not rebuilt
-from ``z_m``, which shortens that path too.
+so the compiler would otherwise reload every field on every sample); the
+mode is an int in the value and a float only in the row, so no conversion
+sits on the batch loop's loop-carried path. The Maxwell extension
+``z_i - z_m`` is carried whole, not rebuilt from ``z_m``, which shortens
+that path too.
 
 The step (``../shared/MODEL.md``)
 ---------------------------------
@@ -219,7 +220,7 @@ class State(NamedTuple):
     """A foot's state as values: columns ``0 .. N_CORE - 1`` of a state row, in the order of the ``S_*`` indices."""
 
     started: float
-    mode: float
+    mode: int
     time: float
     depth: float
     mud: float
@@ -271,7 +272,7 @@ class Params(NamedTuple):
 def load_state(states: np.ndarray, j: int) -> State:
     """Row ``j`` of ``states`` as a :class:`State`."""
     r = states[j]
-    return State(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12])
+    return State(r[0], int(r[1]), r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12])
 
 
 @_compiled(inline="always")
@@ -279,7 +280,7 @@ def store_state(states: np.ndarray, j: int, s: State) -> None:
     """Write ``s`` to row ``j`` of ``states``."""
     r = states[j]
     r[0] = s.started
-    r[1] = s.mode
+    r[1] = float(s.mode)
     r[2] = s.time
     r[3] = s.depth
     r[4] = s.mud
@@ -360,7 +361,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
             ring[j, R_N] = 1.0
             ring[j, R_Z] = depth
             ring[j, R_T] = 0.0
-        first_mode = float(CONTACT) if depth > 0.0 else float(FREE)
+        first_mode = CONTACT if depth > 0.0 else FREE
         s0 = State(1.0, first_mode, 0.0, depth, depth, 0.0, 0.0, 0.0, 0.0, 0.0, s.neck_g, s.neck_gi, 0.0)
         return s0, c, True, 0.0, 0.0, nan, 0.0, 0.0
 
@@ -401,7 +402,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
                   -p.omega_0 * p.omega_0 * gi_d, g_d)
 
     strain_start = s.strain
-    mode = s.mode  # a float: an int conversion each step would chain the samples' latencies
+    mode = s.mode
     zm = s.mud
     neck_offset = nan
     neck_age = s.neck_age
@@ -413,10 +414,10 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
     # --- transitions at the start of the step
     if mode == NECKED and d > 0.0:
         if z0 > 0.0:
-            mode = 1.0  # CONTACT, keeps z_m
+            mode = CONTACT  # keeps z_m
             strain_start = z0 - zm
         else:
-            mode = 0.0  # FREE
+            mode = FREE
             zm = z0
 
     start = 0.0  # time into the step at which CONTACT begins
@@ -425,7 +426,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
         if z1 > 0.0:
             # touchdown: CONTACT from the crossing instant, with z_m = 0 there
             start = -z0 / v if z0 < 0.0 else 0.0
-            mode = 1.0  # CONTACT
+            mode = CONTACT
             zm = 0.0
             z_start = 0.0
             strain_start = 0.0
@@ -440,7 +441,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
             decay = c.decay_i if start == 0.0 else math.exp(-(dt - start) / tau_i)
             strain = maxwell_strain_step(strain, v, tau_i, decay)
             if z1 <= 0.0:
-                mode = 0.0  # FREE: a step ending on the intrusion branch above the surface
+                mode = FREE  # a step ending on the intrusion branch above the surface
                 zm = z1
             else:
                 zm = z1 - strain
@@ -472,7 +473,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
                     if tn > 0.0:
                         strain = (-sigma_y - fs) / k_w  # exactly on the yield surface
                     z_n = z_a + v * tn
-                    mode = 2.0  # NECKED
+                    mode = NECKED
                     neck_offset = t_a + tn
                     neck_v = strain / tau_w  # v_m0 = dz_m/dt = (z_i - z_m)/tau_w
                     neck_z = z_n - strain
@@ -508,7 +509,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
 
 
 @_compiled(inline="always")
-def sample_outputs(p: Params, mode: float, d: float, x: float, z1: float, v: float
+def sample_outputs(p: Params, mode: int, d: float, x: float, z1: float, v: float
                    ) -> tuple[float, float, float, float, float]:
     """The force and its parts at a sample, from what :func:`advance` returned.
 
@@ -578,7 +579,7 @@ def step(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth
     if c1.dt != c.dt:
         store_cache(states, j, c1)
     force, fe1, fe2, fs, mud_velocity = sample_outputs(p, s.mode, d, x, s.depth, v)
-    _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, s.mode, neck_offset)
+    _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, float(s.mode), neck_offset)
     return force
 
 
@@ -640,7 +641,7 @@ def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.
             break
         s = s1
         force, fe1, fe2, fs, mud_velocity = sample_outputs(p, s.mode, d, x, s.depth, v)
-        _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, s.mode, neck_offset)
+        _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, float(s.mode), neck_offset)
     store_state(states, 0, s)
     store_cache(states, 0, c)
     return bad
@@ -679,7 +680,7 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
             bad = k
             break
         s = s1
-        mode_out[k] = int(s.mode)
+        mode_out[k] = s.mode
         direction_out[k] = int(d)
         x_out[k] = x
         mud_out[k] = s.mud
