@@ -46,7 +46,10 @@ class SimulationResult:
     Maxwell extension, mud displacement) and the force; the other arrays
     are derived from that record on first access, by the same compiled
     functions the streaming step uses, so they are the stepper's values
-    bit for bit and cost nothing until asked for.
+    bit for bit and cost nothing until asked for. The record is read-only;
+    ``time`` and ``depth`` are the caller's arrays when they were already
+    contiguous float64 (not copied), so modify those in place only after
+    reading the derived arrays.
 
     Attributes
     ----------
@@ -334,6 +337,8 @@ def simulate(
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
+    for record in (state, branch, extension, velocity):
+        record.setflags(write=False)  # the derived arrays are computed from them
     necks = int(counts[0])
     at = neck_index[:necks]
     necking_times = t[at - 1] + neck_offset[:necks]
