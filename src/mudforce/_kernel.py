@@ -559,6 +559,23 @@ def _write(out: np.ndarray, k: int, force: float, fe1: float, fe2: float, fs: fl
 
 
 @_compiled(inline="always")
+def _advance_row(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float
+                 ) -> tuple[bool, Params, State, float, float, float, float, float]:
+    """:func:`advance` foot ``j`` in place: load its rows, step, store (unless refused).
+
+    Returns ``(ok, params, state, d, x, neck_offset, vhat, v)`` as :func:`advance` does.
+    """
+    p = load_params(params, j)
+    c = load_cache(states, j)
+    s, c1, ok, d, x, neck_offset, vhat, v = advance(load_state(states, j), c, p, ring, j, depth, dt)
+    if ok:
+        store_state(states, j, s)
+        if c1.dt != c.dt:
+            store_cache(states, j, c1)
+    return ok, p, s, d, x, neck_offset, vhat, v
+
+
+@_compiled(inline="always")
 def step(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float,
          out: np.ndarray, k: int) -> float:
     """Advance foot ``j`` to the next sample ``depth`` [m] after ``dt`` [s].
@@ -570,14 +587,9 @@ def step(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth
     ``dt`` that is not finite and > 0, and for a filter window > 1 without
     a ring row of ``N_RING`` columns (:func:`new_ring`).
     """
-    p = load_params(params, j)
-    c = load_cache(states, j)
-    s, c1, ok, d, x, neck_offset, vhat, v = advance(load_state(states, j), c, p, ring, j, depth, dt)
+    ok, p, s, d, x, neck_offset, vhat, v = _advance_row(states, ring, j, params, depth, dt)
     if not ok:
         return math.nan
-    store_state(states, j, s)
-    if c1.dt != c.dt:
-        store_cache(states, j, c1)
     force, fe1, fe2, fs, mud_velocity = sample_outputs(p, s.mode, d, x, s.depth, v)
     _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, float(s.mode), neck_offset)
     return force
@@ -721,15 +733,10 @@ def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: n
     """
     bad = -1
     for j in range(depths.shape[0]):
-        p = load_params(params, j)
-        c = load_cache(states, j)
-        s, c1, ok, d, x, _, _, v = advance(load_state(states, j), c, p, ring, j, depths[j], dt)
+        ok, p, s, d, x, _, _, v = _advance_row(states, ring, j, params, depths[j], dt)
         if not ok:
             if bad < 0:
                 bad = j
             continue
-        store_state(states, j, s)
-        if c1.dt != c.dt:
-            store_cache(states, j, c1)
         forces[j] = sample_outputs(p, s.mode, d, x, s.depth, v)[0]
     return bad

@@ -354,6 +354,6 @@ def simulate(
         velocity_filter=vf,
         _branch=branch,
         _extension=extension,
-        _branch_velocity=velocity if vf.window > 1 else None,
+        _branch_velocity=velocity if velocity.size else None,
         _params_row=prow,
     )
