@@ -97,8 +97,8 @@ class LinearRFT:
         self.model, self.data, self.k, self.area = model, data, k, area
         self.site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, f"mud_site_{foot_name}")
         self.tendon = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TENDON, f"mud_tendon_{foot_name}")
-        anchor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"mud_anchor_{foot_name}")
-        self.mocap = int(model.body_mocapid[anchor])
+        # the tendon's upper end: a world-body site that add_mud made, moved through model.site_pos
+        self.anchor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, f"mud_anchor_site_{foot_name}")
         self.body = int(model.site_bodyid[self.site])
         self.mid = 0.0
         mujoco.mj_forward(model, data)
@@ -115,7 +115,7 @@ class LinearRFT:
         d.xfrc_applied[self.body, 2] = 0.5 * band
         d.xfrc_applied[self.body, 3] = r[1] * 0.5 * band
         d.xfrc_applied[self.body, 4] = -r[0] * 0.5 * band
-        d.mocap_pos[self.mocap] = p + np.array([0.0, 0.0, 1.0])
+        self.model.site_pos[self.anchor] = p + np.array([0.0, 0.0, 1.0])
         self.mid = 0.5 * band
 
     def step(self) -> None:

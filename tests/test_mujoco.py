@@ -79,3 +79,21 @@ def test_unprepared_foot_is_refused() -> None:
         MudAdapter(model, mujoco.MjData(model), ["sole_a"], MudPatch(MudParameters.from_water_content(0.2)))
     with pytest.raises(InputError, match="no geom or body"):
         add_mud(mujoco.MjSpec.from_string(XML), ["nope"])
+
+
+def test_nstep_equals_single_steps_and_anchor_stays_above_the_foot() -> None:
+    runs = []
+    for nsteps in ([5, 5, 5], [1] * 15):
+        spec = mujoco.MjSpec.from_string(XML)
+        add_mud(spec, ["sole_a"], points=[(0.0, 0.0, -0.0125)])
+        model = spec.compile()
+        data = mujoco.MjData(model)
+        mud = MudAdapter(model, data, ["sole_a"], MudPatch(MudParameters.from_water_content(0.20)))
+        for n in nsteps:
+            mud.step(n)
+        runs.append((data.qpos.copy(), mud.states.copy()))
+        # the tendon's anchor (a world site the adapter moves) is 1 m above the contact point
+        foot = data.site("mud_site_sole_a").xpos
+        anchor = model.site("mud_anchor_site_sole_a").pos
+        assert anchor[:2] == pytest.approx(foot[:2]) and anchor[2] == pytest.approx(foot[2] + 1.0)
+    assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])

@@ -24,10 +24,11 @@ mid-band force, so the adapter lets MuJoCo's own constraint solver handle it,
 with the whole robot's dynamics, contacts and actuators in the same solve:
 
 * :func:`add_mud` adds, per foot, a site at the foot's bottom (the contact
-  point), a mocap anchor body and a spatial tendon from the anchor down to
-  that site. Before every step the adapter moves the anchor 1 m straight
-  above the foot, so the tendon's direction is the world vertical at the
-  contact point and its velocity is the foot's vertical velocity.
+  point), an anchor site on the world body and a spatial tendon from the
+  anchor down to that site. Before every step the adapter moves the anchor
+  (its ``model.site_pos``) 1 m straight above the foot, so the tendon's
+  direction is the world vertical at the contact point and its velocity is
+  the foot's vertical velocity.
 * Each step the adapter sets the tendon's ``frictionloss`` to the band's
   half-width ``(F_down - F_up) / 2`` and applies the mid-band force
   ``(F_up + F_down) / 2`` plus the drag (Eq. (5)) upward at the contact
@@ -59,12 +60,14 @@ lets a stuck foot creep (``impedance 0.9999``, time constant two steps).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
-from numba import njit
+from numba import njit, typeof, types
+from numba.extending import intrinsic
+from numba.np.numpy_support import carray  # numba.carray
 
 from mudforce import _kernel as K
 from mudforce._optional import require
@@ -119,8 +122,9 @@ class MudPatch:
                 raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got {self.extent}")
 
 
-def _names(prefix: str, foot: str) -> tuple[str, str, str, str]:
-    return (f"{prefix}site_{foot}", f"{prefix}anchor_{foot}", f"{prefix}anchor_site_{foot}", f"{prefix}tendon_{foot}")
+def _names(prefix: str, foot: str) -> tuple[str, str, str]:
+    """Names of a foot's contact site, anchor site and tendon."""
+    return f"{prefix}site_{foot}", f"{prefix}anchor_site_{foot}", f"{prefix}tendon_{foot}"
 
 
 def _bottom_offset(geom: Any) -> list[float]:
@@ -160,7 +164,7 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
     points : sequence of (x, y, z), optional
         Contact points in each foot body's frame [m], overriding the above.
     prefix : str
-        Prefix of the names of the added sites, mocap bodies and tendons.
+        Prefix of the names of the added sites and tendons.
     """
     _mujoco()
     if isinstance(feet, str):
@@ -179,10 +183,12 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
             raise InputError(f"the model has no geom or body named {name!r}")
         if points is not None:
             point = [float(v) for v in points[i]]
-        site_name, anchor_name, anchor_site, tendon_name = _names(prefix, name)
+        site_name, anchor_site, tendon_name = _names(prefix, name)
         body.add_site(name=site_name, pos=point, size=[0.002, 0.0, 0.0])
-        anchor = spec.worldbody.add_body(name=anchor_name, mocap=True, pos=[0.0, 0.0, ANCHOR_HEIGHT])
-        anchor.add_site(name=anchor_site, size=[0.002, 0.0, 0.0])
+        # the anchor is a site of the world body that the adapter moves through model.site_pos:
+        # its world position is then exactly site_pos, as a mocap body's would be, without the
+        # cost of an extra body in every step (~5% of a small robot's step)
+        spec.worldbody.add_site(name=anchor_site, pos=[0.0, 0.0, ANCHOR_HEIGHT], size=[0.002, 0.0, 0.0])
         tendon = spec.add_tendon(name=tendon_name)
         tendon.wrap_site(anchor_site)
         tendon.wrap_site(site_name)
@@ -191,20 +197,36 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         tendon.solimp_friction = list(_SOLIMP_FRICTION)
 
 
-# rows of the adapter's integer table and work array
-_I_SITE, _I_BODY, _I_TENDON, _I_MOCAP = 0, 1, 2, 3
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _jit(**options: Any) -> Callable[[_F], _F]:
+    """``numba.njit(cache=True, **options)``, typed so that the compiled functions keep their signatures.
+
+    The per-step functions keep the GIL (releasing and taking it back would
+    cost more than it frees); those that allocate nothing and need no
+    ``carray`` run without reference counting (``_nrt=False``: counting
+    the array views they take costs ~25% of their time).
+    """
+    decorator: Callable[[_F], _F] = njit(cache=True, **options)
+    return decorator
+
+
+# rows of the adapter's integer array (ints) and work array
+_I_SITE, _I_BODY, _I_TENDON, _I_ANCHOR = 0, 1, 2, 3
 _W_UP, _W_DOWN, _W_DRAG, _W_MID, _W_TX, _W_TY, _W_LAST = 0, 1, 2, 3, 4, 5, 6
 # conf: dt [s], band weight [-], commit flag, then per foot: surface [m], xmin, xmax, ymin, ymax [m]
 _C_DT, _C_WEIGHT, _C_COMMIT, _C_FOOT = 0, 1, 2, 3
 
 
-@njit(cache=True, nogil=True)
+@_jit(_nrt=False)
 def _commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray, ints: np.ndarray,
                         conf: np.ndarray, work: np.ndarray, site_xpos: np.ndarray, xipos: np.ndarray,
-                        xfrc: np.ndarray, mocap_pos: np.ndarray, frictionloss: np.ndarray) -> None:
+                        xfrc: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray) -> None:
     """After a MuJoCo step: commit each foot's depth; before the next: band, forces, anchors.
 
-    (Few arguments on purpose: each costs a fraction of a microsecond to pass from Python.)
+    Forces [N], torques [N m], positions [m], ``conf[_C_DT]`` [s]. Called
+    through :func:`_after_step` (one argument from Python, see there).
     """
     n = ints.shape[1]
     dt = conf[_C_DT]
@@ -250,20 +272,104 @@ def _commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray,
         work[_W_MID, j] = mid
         work[_W_TX, j] = ry * mid
         work[_W_TY, j] = -rx * mid
-        m = ints[_I_MOCAP, j]
-        mocap_pos[m, 0] = site_xpos[site, 0]
-        mocap_pos[m, 1] = site_xpos[site, 1]
-        mocap_pos[m, 2] = site_xpos[site, 2] + ANCHOR_HEIGHT
+        a = ints[_I_ANCHOR, j]
+        site_pos[a, 0] = site_xpos[site, 0]
+        site_pos[a, 1] = site_xpos[site, 1]
+        site_pos[a, 2] = site_xpos[site, 2] + ANCHOR_HEIGHT
 
 
-@njit(cache=True, nogil=True)
+@_jit(_nrt=False)
 def _apply_mud(xfrc: np.ndarray, ints: np.ndarray, work: np.ndarray) -> None:
-    """Add the mud force and torque to ``xfrc_applied`` for one step (taken back after it)."""
+    """Add the mud force [N] and torque [N m] to ``xfrc_applied`` for one step (taken back after it)."""
     for j in range(ints.shape[1]):
         body = ints[_I_BODY, j]
         xfrc[body, 2] += work[_W_MID, j]
         xfrc[body, 3] += work[_W_TX, j]
         xfrc[body, 4] += work[_W_TY, j]
+
+
+# The per-step calls take a single argument, an int64 table of the addresses and shapes of the
+# arrays they work on, because from Python every argument costs: numba's dispatcher spends
+# ~0.15 us per array resolving types, and even its compiled entry point ~0.05 us per array
+# unboxing it; with one small argument a call costs ~0.1 us. Slot k of the table is
+# (address, rows, columns) of array k (columns 1 for 1-D arrays). All are C-contiguous
+# float64 except the int64 ``ints``. The adapter keeps every array alive and never replaces
+# one, and MuJoCo's buffers do not move for the life of the model and data.
+_T_STATES, _T_PARAMS, _T_OUT, _T_INTS, _T_CONF, _T_WORK = 0, 1, 2, 3, 4, 5
+_T_SITE_XPOS, _T_XIPOS, _T_XFRC, _T_SITE_POS, _T_FRICTIONLOSS = 6, 7, 8, 9, 10
+_N_TABLE = 11
+
+
+def _voidptr_typing(typingctx: Any, address: Any) -> Any:
+    """Typing and code of :data:`_voidptr`."""
+    if not isinstance(address, types.Integer):
+        return None
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
+
+    return types.voidptr(address), codegen
+
+
+#: In compiled code, the raw pointer at an integer address (numba has no public cast from an integer to a pointer).
+_voidptr: Any = intrinsic(_voidptr_typing)
+
+
+# views of the arrays in slot k of a table (no copies; carray builds an array on the memory as is)
+@_jit(inline="always")
+def _f64_1d(table: np.ndarray, k: int) -> np.ndarray:
+    return carray(_voidptr(table[3 * k]), table[3 * k + 1], np.float64)
+
+
+@_jit(inline="always")
+def _f64_2d(table: np.ndarray, k: int) -> np.ndarray:
+    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
+
+
+@_jit(inline="always")
+def _i64_2d(table: np.ndarray, k: int) -> np.ndarray:
+    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.int64)
+
+
+@_jit()
+def _before_step(table: np.ndarray) -> None:
+    """:func:`_apply_mud` on the arrays in ``table`` (slots ``_T_*``)."""
+    _apply_mud(_f64_2d(table, _T_XFRC), _i64_2d(table, _T_INTS), _f64_2d(table, _T_WORK))
+
+
+@_jit()
+def _after_step(table: np.ndarray) -> None:
+    """:func:`_commit_and_prepare` on the arrays in ``table`` (slots ``_T_*``)."""
+    _commit_and_prepare(_f64_2d(table, _T_STATES), _f64_2d(table, _T_PARAMS), _f64_2d(table, _T_OUT),
+                        _i64_2d(table, _T_INTS), _f64_1d(table, _T_CONF), _f64_2d(table, _T_WORK),
+                        _f64_2d(table, _T_SITE_XPOS), _f64_2d(table, _T_XIPOS), _f64_2d(table, _T_XFRC),
+                        _f64_2d(table, _T_SITE_POS), _f64_1d(table, _T_FRICTIONLOSS))
+
+
+def _address_table(arrays: Sequence[np.ndarray]) -> np.ndarray:
+    """The table of :func:`_before_step`/:func:`_after_step` for ``arrays`` in slot order."""
+    table = np.zeros(3 * _N_TABLE, dtype=np.int64)
+    for k, a in enumerate(arrays):
+        # the compiled side trusts these (a wrong one would be read as garbage, or written over)
+        expected = np.int64 if k == _T_INTS else np.float64
+        if a.dtype != expected or not a.flags.c_contiguous or not a.flags.writeable or a.ndim not in (1, 2):
+            raise RuntimeError(f"array {k} of the MuJoCo adapter is not a writeable C-contiguous "
+                               f"{np.dtype(expected)} array of 1 or 2 dimensions")
+        table[3 * k] = a.ctypes.data
+        table[3 * k + 1] = a.shape[0]
+        table[3 * k + 2] = a.shape[1] if a.ndim == 2 else 1
+    return table
+
+
+def _direct(fn: Any, table: np.ndarray) -> Any:
+    """``fn``'s compiled code for a table, callable without numba's dispatcher (or ``fn`` itself).
+
+    ``Dispatcher.compile`` (which also loads from numba's cache) returns
+    the compiled entry point; calling it skips the dispatcher's type
+    resolution, ~0.2 us per call, most of the adapter's overhead per step.
+    """
+    entry = fn.compile((typeof(table),))
+    return entry if callable(entry) else fn
 
 
 class MudAdapter:
@@ -277,8 +383,8 @@ class MudAdapter:
         Its data. During :meth:`step` the adapter adds the mud force to
         ``xfrc_applied`` of the foot bodies and takes it back afterwards, so
         between steps ``xfrc_applied`` holds only the user's forces (set or
-        clear them freely). It owns ``mocap_pos`` of its anchors and
-        ``model.tendon_frictionloss`` of its tendons.
+        clear them freely). It owns ``model.site_pos`` of its anchor sites
+        and ``model.tendon_frictionloss`` of its tendons.
     feet : sequence of str
         The names given to :func:`add_mud`.
     patches : MudPatch or sequence of MudPatch
@@ -311,7 +417,7 @@ class MudAdapter:
         flist = [foot or Foot.paper()] * n if foot is None or isinstance(foot, Foot) else list(foot)
         self.patches = plist
         vf = VelocityFilter(1, STICK_VELOCITY)
-        self.params = np.array([params_row(p.params, f, vf) for p, f in zip(plist, flist, strict=True)])
+        self._params = np.array([params_row(p.params, f, vf) for p, f in zip(plist, flist, strict=True)])
         big = 1e300
         conf = [0.0, 1.0, 0.0]
         for p in plist:
@@ -320,32 +426,45 @@ class MudAdapter:
         self._conf[_C_DT] = float(model.opt.timestep)
         ints = []
         for name in self.feet:
-            site_name, anchor_name, _, tendon_name = _names(prefix, name)
+            site_name, anchor_site, tendon_name = _names(prefix, name)
             sid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_SITE, site_name)
             tid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_TENDON, tendon_name)
-            aid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, anchor_name)
+            aid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_SITE, anchor_site)
             if sid < 0 or tid < 0 or aid < 0:
                 raise InputError(f"foot {name!r} was not prepared: call add_mud(spec, [{name!r}, ...]) "
                                  "before compiling")
-            ints.append((sid, int(model.site_bodyid[sid]), tid, int(model.body_mocapid[aid])))
+            ints.append((sid, int(model.site_bodyid[sid]), tid, aid))
         self._ints = np.ascontiguousarray(np.array(ints, dtype=np.int64).T)
         self._bodies = self._ints[_I_BODY]
         self._tendons = self._ints[_I_TENDON]
-        self.states = K.new_states(n)
+        self._states = K.new_states(n)
         self._out = np.zeros((K.N_OUT, n))
         self._work = np.zeros((7, n))
-        # views into MuJoCo's buffers (fixed for the life of model and data)
-        self._site_xpos = data.site_xpos
-        self._xipos = data.xipos
-        self._xfrc = data.xfrc_applied
-        self._mocap_pos = data.mocap_pos
-        self._frictionloss = model.tendon_frictionloss
+        # views into MuJoCo's buffers (fixed for the life of model and data); holding them keeps
+        # model and data alive. The table has the raw addresses of these and the arrays above,
+        # which are therefore never replaced, only written in place.
+        self._arrays = (self._states, self._params, self._out, self._ints, self._conf, self._work,
+                        data.site_xpos, data.xipos, data.xfrc_applied, model.site_pos, model.tendon_frictionloss)
+        self._table = _address_table(self._arrays)
+        self._after = _direct(_after_step, self._table)
+        # what step() needs, in one attribute: each lookup there is a measurable part of its cost
+        self._step_args = (_direct(_before_step, self._table), self._after, self._table, mj.mj_step, model, data)
         self.reset()
+
+    @property
+    def states(self) -> np.ndarray:
+        """The feet's contact states, one row each (layout of :mod:`mudforce._kernel`; the live array)."""
+        return self._states
+
+    @property
+    def params(self) -> np.ndarray:
+        """The feet's mud and foot constants, one row each (layout of :mod:`mudforce._kernel`; the live array)."""
+        return self._params
 
     def reset(self) -> None:
         """Forget all contact histories and prepare the next step from the current ``data`` (runs ``mj_forward``)."""
         self._work[:] = 0.0
-        self.states[:] = K.new_states(len(self.feet))
+        self._states[:] = K.new_states(len(self.feet))
         self._mj.mj_forward(self.model, self.data)
         self._conf[_C_COMMIT] = 0.0
         self._prepare()
@@ -361,23 +480,16 @@ class MudAdapter:
         self._conf[_C_WEIGHT] = float(value)
 
     def _prepare(self) -> None:
-        _commit_and_prepare(self.states, self.params, self._out, self._ints, self._conf, self._work,
-                            self._site_xpos, self._xipos, self._xfrc, self._mocap_pos, self._frictionloss)
+        self._after(self._table)
 
     def step(self, nstep: int = 1) -> None:
         """Advance the simulation ``nstep`` MuJoCo steps with the mud forces."""
-        mj_step = self._mj.mj_step
-        model = self.model
-        data = self.data
-        prepare = _commit_and_prepare
-        apply = _apply_mud
-        args = (self.states, self.params, self._out, self._ints, self._conf, self._work, self._site_xpos,
-                self._xipos, self._xfrc, self._mocap_pos, self._frictionloss)
-        xfrc, ints, work = self._xfrc, self._ints, self._work
-        for _ in range(nstep):
-            apply(xfrc, ints, work)
+        before, after, table, mj_step, model, data = self._step_args
+        while nstep > 0:  # not range(): making one costs ~0.2 us, a few per cent of a small robot's step
+            before(table)
             mj_step(model, data)
-            prepare(*args)
+            after(table)
+            nstep -= 1
 
     @property
     def forces(self) -> np.ndarray:
@@ -387,12 +499,12 @@ class MudAdapter:
     @property
     def depths(self) -> np.ndarray:
         """Each foot's depth below its patch's surface at the last step [m] (positive down)."""
-        return np.array(self.states[:, K.S_DEPTH], dtype=np.float64)
+        return np.array(self._states[:, K.S_DEPTH], dtype=np.float64)
 
     @property
     def modes(self) -> list[str]:
         """Each foot's contact state (FREE, CONTACT, NECKED)."""
-        return [K.STATE_NAMES[int(m)] for m in self.states[:, K.S_MODE]]
+        return [K.STATE_NAMES[int(m)] for m in self._states[:, K.S_MODE]]
 
     @property
     def band(self) -> tuple[np.ndarray, np.ndarray]:
