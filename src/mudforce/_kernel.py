@@ -74,15 +74,17 @@ __all__: list[str] = []
 _F = TypeVar("_F", bound=Callable[..., Any])
 
 
-def _compiled(inline: str = "never") -> Callable[[_F], _F]:
+def _compiled(inline: str = "never", **overrides: Any) -> Callable[[_F], _F]:
     """``numba.njit`` for the stepper: cached, releases the GIL, no reference counting.
 
     ``_nrt=False``: the stepper allocates nothing, and without numba's
     reference counting its array arguments cost no atomic increments per
     call (a 2-3x difference per sample). ``inline="always"`` compiles a
-    function into each caller's loop.
+    function into each caller's loop. ``overrides`` replace these options
+    (the MuJoCo adapter's per-step functions keep the GIL, for one). Typed
+    so that the compiled functions keep their signatures for mypy.
     """
-    options: dict[str, Any] = {"cache": True, "nogil": True, "_nrt": False, "inline": inline}
+    options: dict[str, Any] = {"cache": True, "nogil": True, "_nrt": False, "inline": inline, **overrides}
     decorator: Callable[[_F], _F] = njit(**options)
     return decorator
 

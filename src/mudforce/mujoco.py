@@ -60,12 +60,12 @@ lets a stuck foot creep (``impedance 0.9999``, time constant two steps).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
-from numba import njit, typeof, types
+from numba import typeof, types
 from numba.extending import intrinsic
 from numba.np.numpy_support import carray  # numba.carray
 
@@ -197,19 +197,10 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         tendon.solimp_friction = list(_SOLIMP_FRICTION)
 
 
-_F = TypeVar("_F", bound=Callable[..., Any])
-
-
-def _jit(**options: Any) -> Callable[[_F], _F]:
-    """``numba.njit(cache=True, **options)``, typed so that the compiled functions keep their signatures.
-
-    The per-step functions keep the GIL (releasing and taking it back would
-    cost more than it frees); those that allocate nothing and need no
-    ``carray`` run without reference counting (``_nrt=False``: counting
-    the array views they take costs ~25% of their time).
-    """
-    decorator: Callable[[_F], _F] = njit(cache=True, **options)
-    return decorator
+# The compiled functions here use the stepper's options (K._compiled) except that the per-step
+# ones keep the GIL (releasing and taking it back would cost more than it frees), and those that
+# build ``carray`` views need numba's reference counting (``_nrt=True``); the workers, which
+# allocate nothing, run without it (counting the array views they take costs ~25% of their time).
 
 
 # rows of the adapter's integer array (ints) and work array
@@ -219,7 +210,7 @@ _W_UP, _W_DOWN, _W_DRAG, _W_MID, _W_TX, _W_TY, _W_LAST = 0, 1, 2, 3, 4, 5, 6
 _C_DT, _C_WEIGHT, _C_COMMIT, _C_FOOT = 0, 1, 2, 3
 
 
-@_jit(_nrt=False)
+@K._compiled(nogil=False)
 def _commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray, ints: np.ndarray,
                         conf: np.ndarray, work: np.ndarray, site_xpos: np.ndarray, xipos: np.ndarray,
                         xfrc: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray) -> None:
@@ -278,7 +269,7 @@ def _commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray,
         site_pos[a, 2] = site_xpos[site, 2] + ANCHOR_HEIGHT
 
 
-@_jit(_nrt=False)
+@K._compiled(nogil=False)
 def _apply_mud(xfrc: np.ndarray, ints: np.ndarray, work: np.ndarray) -> None:
     """Add the mud force [N] and torque [N m] to ``xfrc_applied`` for one step (taken back after it)."""
     for j in range(ints.shape[1]):
@@ -316,28 +307,28 @@ _voidptr: Any = intrinsic(_voidptr_typing)
 
 
 # views of the arrays in slot k of a table (no copies; carray builds an array on the memory as is)
-@_jit(inline="always")
+@K._compiled(inline="always", nogil=False, _nrt=True)
 def _f64_1d(table: np.ndarray, k: int) -> np.ndarray:
     return carray(_voidptr(table[3 * k]), table[3 * k + 1], np.float64)
 
 
-@_jit(inline="always")
+@K._compiled(inline="always", nogil=False, _nrt=True)
 def _f64_2d(table: np.ndarray, k: int) -> np.ndarray:
     return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
 
 
-@_jit(inline="always")
+@K._compiled(inline="always", nogil=False, _nrt=True)
 def _i64_2d(table: np.ndarray, k: int) -> np.ndarray:
     return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.int64)
 
 
-@_jit()
+@K._compiled(nogil=False, _nrt=True)
 def _before_step(table: np.ndarray) -> None:
     """:func:`_apply_mud` on the arrays in ``table`` (slots ``_T_*``)."""
     _apply_mud(_f64_2d(table, _T_XFRC), _i64_2d(table, _T_INTS), _f64_2d(table, _T_WORK))
 
 
-@_jit()
+@K._compiled(nogil=False, _nrt=True)
 def _after_step(table: np.ndarray) -> None:
     """:func:`_commit_and_prepare` on the arrays in ``table`` (slots ``_T_*``)."""
     _commit_and_prepare(_f64_2d(table, _T_STATES), _f64_2d(table, _T_PARAMS), _f64_2d(table, _T_OUT),
@@ -435,7 +426,6 @@ class MudAdapter:
                                  "before compiling")
             ints.append((sid, int(model.site_bodyid[sid]), tid, aid))
         self._ints = np.ascontiguousarray(np.array(ints, dtype=np.int64).T)
-        self._bodies = self._ints[_I_BODY]
         self._tendons = self._ints[_I_TENDON]
         self._states = K.new_states(n)
         self._out = np.zeros((K.N_OUT, n))
