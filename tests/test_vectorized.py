@@ -132,3 +132,66 @@ def test_snapshot_restore_with_a_smoothing_filter() -> None:
     np.testing.assert_array_equal(np.array([many.step(d, 0.01).copy() for d in walks[40:]]), first)
     with pytest.raises(InputError, match="shape"):
         many.restore(snap[:, : K.N_STATE])
+
+
+@pytest.mark.parametrize("window", [1, 6])
+def test_threads_give_the_same_forces_bit_for_bit(window: int) -> None:
+    """Stepping the feet in slices on threads changes nothing: the feet are independent."""
+    from mudforce import VelocityFilter
+
+    vf = "exact" if window == 1 else VelocityFilter(window, 0.001)
+    n = 37
+    rng = np.random.default_rng(5)
+    rows = list(TABLE_I.values())
+    params = [rows[int(i)] for i in rng.integers(0, len(rows), n)]
+    runs = [MudContacts(params, n, velocity_filter=vf, threads=t) for t in (1, 2, 5)]
+    assert [c.threads for c in runs] == [1, 2, 5]
+    for depths in _walks(6, 150, n):
+        forces = [c.step(depths, 0.01).copy() for c in runs]
+        np.testing.assert_array_equal(forces[1], forces[0])
+        np.testing.assert_array_equal(forces[2], forces[0])
+    for c in runs[1:]:
+        np.testing.assert_array_equal(c.states, runs[0].states)
+        np.testing.assert_array_equal(c.ring, runs[0].ring)
+    # a refused foot in a later slice is reported by its index; the other feet step
+    bad = np.full(n, 0.004)
+    bad[30] = np.nan
+    for c in runs:
+        with pytest.raises(InputError, match="foot 30"):
+            c.step(bad, 0.01)
+    np.testing.assert_array_equal(runs[2].states, runs[0].states)
+
+
+def test_threads_argument() -> None:
+    assert MudContacts(W25, 3, threads=8).threads == 3  # at most one slice per foot
+    assert MudContacts(W25, 10).threads == 1  # too few feet to pay for a launch
+    assert "threads=1" in repr(MudContacts(W25, 2))
+    for bad in (0, -1, 1.5, True):
+        with pytest.raises(InputError, match="threads must be"):
+            MudContacts(W25, 2, threads=bad)  # type: ignore[arg-type]
+
+
+def test_a_forked_child_steps_on_one_thread() -> None:
+    """GNU OpenMP is not fork-safe: a child forked after threads ran steps its feet on its own thread."""
+    import os
+
+    if not hasattr(os, "fork"):
+        pytest.skip("no fork on this platform")
+    from mudforce import vectorized
+
+    parent = MudContacts(W25, 8, threads=2)
+    parent.step(np.zeros(8), 0.01)
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # pragma: no cover - the child reports through the pipe
+        try:
+            child = MudContacts(W25, 4 * vectorized.FEET_PER_THREAD)
+            f = parent.step(np.full(8, 0.003), 0.01)
+            ok = vectorized._forked and child.threads == 1 and bool(np.all(f > 0))
+            os.write(w, b"1" if ok else b"0")
+        finally:
+            os._exit(0)
+    os.close(w)
+    answer = os.read(r, 1)
+    os.waitpid(pid, 0)
+    assert answer == b"1"

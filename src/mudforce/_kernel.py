@@ -55,7 +55,7 @@ from collections.abc import Callable
 from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from mudforce import _cache
 from mudforce.equations import (
@@ -742,3 +742,26 @@ def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: n
             continue
         forces[j] = sample_outputs(p, s.mode, d, x, s.depth, v)[0]
     return bad
+
+
+@_compiled(parallel=True)
+def run_feet_threads(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
+                     forces: np.ndarray, chunks: np.ndarray) -> int:
+    """:func:`run_feet` on ``chunks.shape[0]`` contiguous slices of the feet, on numba's threads.
+
+    The feet are independent, so the results are those of :func:`run_feet`
+    bit for bit, whatever the number of slices. ``chunks`` (int64, one per
+    slice) receives each slice's first refused foot or -1. Returns the
+    first foot refused or -1.
+    """
+    n = depths.shape[0]
+    m = chunks.shape[0]
+    for c in prange(m):
+        lo = n * c // m
+        hi = n * (c + 1) // m
+        b = run_feet(states[lo:hi], ring[lo:hi], params[lo:hi], depths[lo:hi], dt, forces[lo:hi])
+        chunks[c] = b + lo if b >= 0 else -1
+    for c in range(m):
+        if chunks[c] >= 0:
+            return int(chunks[c])
+    return -1

@@ -6,13 +6,27 @@ and steps all of them with one call to the compiled stepper
 may have its own mud parameters and foot geometry (one params row each), for
 domain randomisation in reinforcement learning. Feeding foot ``j`` the same
 samples as a :class:`mudforce.MudContact` gives bit-for-bit the same force.
+
+Threads: with thousands of feet the step splits the feet into contiguous
+slices stepped on numba's threads (:func:`mudforce._kernel.run_feet_threads`),
+one slice per thread. The feet are independent, so the forces are the same
+bit for bit with any number of threads. Only numba's OpenMP and TBB
+threading layers launch fast enough to pay (~6 us per step); with its
+fallback "workqueue" layer (~140 us per launch), and in a process forked
+after threads were used (GNU OpenMP is not fork-safe), the automatic choice
+is one thread.
 """
 
 from __future__ import annotations
 
+import functools
+import os
+import threading
 from collections.abc import Sequence
 from typing import Any
 
+import numba
+import numba.np.ufunc.parallel
 import numpy as np
 
 from mudforce import _kernel as K
@@ -23,6 +37,45 @@ from mudforce.simulation import STATE_NAMES, resolve_velocity_filter
 from mudforce.velocity import VelocityFilter
 
 __all__ = ["MudContacts"]
+
+#: feet per thread below which splitting the step does not pay for the launch (~6 us)
+FEET_PER_THREAD = 1024
+
+# numba's workqueue layer must not be entered by two Python threads at once;
+# held around every threaded step (uncontended: ~0.1 us against ~50 us per step)
+_launch_lock = threading.Lock()
+_forked = False
+
+
+def _mark_forked() -> None:
+    global _forked
+    _forked = True
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_mark_forked)
+
+
+@functools.lru_cache(maxsize=1)
+def _fast_threading_layer() -> bool:
+    """Whether numba's threading layer launches fast enough (OpenMP or TBB) to step feet on threads."""
+    states = K.new_states(2)
+    K.run_feet_threads(states, K.new_ring(2, 1), np.zeros((2, K.N_PARAMS)), np.zeros(2), 1.0, np.zeros(2),
+                       np.zeros(2, dtype=np.int64))
+    layer: str = numba.np.ufunc.parallel.threading_layer()
+    return layer in ("omp", "tbb")
+
+
+def _resolve_threads(threads: int | None, n: int) -> int:
+    """Number of slices to step ``n`` feet in: ``threads`` if given, else automatic (see the module docstring)."""
+    if threads is not None:
+        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+            raise InputError(f"threads must be an integer >= 1 or None (automatic), got {threads!r}")
+        return min(int(threads), n)
+    auto = min(numba.get_num_threads(), n // FEET_PER_THREAD)
+    if auto <= 1 or _forked or not _fast_threading_layer():
+        return 1
+    return auto
 
 
 def _param_rows(
@@ -83,6 +136,11 @@ class MudContacts:
         Foot geometry, shared or one per foot; the paper's 51 x 38 mm cuboid by default.
     velocity_filter : "exact" or VelocityFilter
         Branch-velocity filter shared by all feet (default: the paper's exact rule).
+    threads : int, optional
+        Step the feet in this many slices on numba's threads. By default one
+        per core (``numba.get_num_threads()``) if there are at least
+        :data:`FEET_PER_THREAD` feet per thread and numba's threading layer is
+        OpenMP or TBB, else 1. The forces do not depend on it.
 
     Notes
     -----
@@ -112,6 +170,7 @@ class MudContacts:
         foot: Foot | Sequence[Foot] | None = None,
         *,
         velocity_filter: VelocityFilter | str = "exact",
+        threads: int | None = None,
     ) -> None:
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
             raise InputError(f"the number of feet n must be an integer >= 1, got {n!r}")
@@ -123,6 +182,9 @@ class MudContacts:
         self.ring = K.new_ring(self.n, self.velocity_filter.window)
         #: the last step's forces [N] (the step writes them here)
         self.forces: np.ndarray = np.zeros(self.n, dtype=np.float64)
+        #: slices the feet are stepped in, one per thread (1: the calling thread only)
+        self.threads = _resolve_threads(threads, self.n)
+        self._chunks = np.empty(self.threads, dtype=np.int64)
 
     def step(self, depths: Any, dt: float) -> np.ndarray:
         """Advance every foot to its next depth sample; return the forces [N].
@@ -148,7 +210,11 @@ class MudContacts:
         dt = float(dt)
         if not (dt > 0.0 and dt < np.inf):
             raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.forces)
+        if self.threads > 1 and not _forked:
+            with _launch_lock:
+                bad = K.run_feet_threads(self.states, self.ring, self.params_array, z, dt, self.forces, self._chunks)
+        else:
+            bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.forces)
         if bad >= 0:
             # the kernel refused foot `bad` without changing it; the others stepped
             raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
@@ -208,4 +274,4 @@ class MudContacts:
         return self.n
 
     def __repr__(self) -> str:
-        return f"MudContacts(n={self.n})"
+        return f"MudContacts(n={self.n}, threads={self.threads})"
