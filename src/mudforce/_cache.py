@@ -22,7 +22,7 @@ from pathlib import Path
 __all__ = ["refresh"]
 
 _PACKAGE = Path(__file__).resolve().parent
-_SOURCES = ("_kernel.py", "equations.py")
+_SOURCES = ("_kernel.py", "equations.py", "_pow.py")
 _STAMP = _PACKAGE / "__pycache__" / "numba-kernel.stamp"
 
 

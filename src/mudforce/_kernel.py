@@ -75,16 +75,20 @@ _F = TypeVar("_F", bound=Callable[..., Any])
 
 
 def _compiled(inline: str = "never", **overrides: Any) -> Callable[[_F], _F]:
-    """``numba.njit`` for the stepper: cached, releases the GIL, no reference counting.
+    """``numba.njit`` for the stepper: cached, releases the GIL, no reference counting, IEEE division.
 
     ``_nrt=False``: the stepper allocates nothing, and without numba's
     reference counting its array arguments cost no atomic increments per
-    call (a 2-3x difference per sample). ``inline="always"`` compiles a
+    call (a 2-3x difference per sample). ``error_model="numpy"``: a
+    division is a division, without Python's check for a zero divisor,
+    which is a branch that keeps loops from vectorising (the stepper
+    validates its inputs before it divides by them). ``inline="always"`` compiles a
     function into each caller's loop. ``overrides`` replace these options
     (the MuJoCo adapter's per-step functions keep the GIL, for one). Typed
     so that the compiled functions keep their signatures for mypy.
     """
-    options: dict[str, Any] = {"cache": True, "nogil": True, "_nrt": False, "inline": inline, **overrides}
+    options: dict[str, Any] = {"cache": True, "nogil": True, "_nrt": False, "error_model": "numpy", "inline": inline,
+                               **overrides}
     decorator: Callable[[_F], _F] = njit(**options)
     return decorator
 
@@ -511,39 +515,83 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
 
 
 @_compiled(inline="always")
-def sample_outputs(p: Params, mode: int, d: float, x: float, z1: float, v: float
-                   ) -> tuple[float, float, float, float, float]:
-    """The force and its parts at a sample, from what :func:`advance` returned.
+def stress_parts(p: Params, mode: int, d: float, x: float, z1: float, v: float
+                 ) -> tuple[float, float, float, bool]:
+    """A sample's stresses but the nonlinear spring's, from what :func:`advance` returned.
 
     ``mode`` is the sample's contact state, ``d`` the branch direction,
     ``x`` the Maxwell extension [m] (CONTACT) or mud velocity [m/s]
     (NECKED), ``z1`` the depth [m] and ``v`` the first-order-hold velocity
-    [m/s]. Returns ``(force [N], f_e1, f_e2, f_s [Pa], dz_m/dt [m/s])``:
-    Eqs. (2), (4), (5), (7) and (8) times the area.
+    [m/s]. Returns ``(f_e1, f_s [Pa], dz_m/dt [m/s], spring)``: Eqs. (2),
+    (5) and (7); ``spring`` is True where the nonlinear spring, Eq. (4),
+    acts (CONTACT on the intrusion branch), which :func:`sample_outputs`
+    evaluates at once and the loops over many samples or feet in one
+    vectorised pass (:func:`spring_pass`).
     """
     if mode == FREE:
-        fe1 = 0.0
-        fe2 = 0.0
-        fs = 0.0
-        mud_velocity = v
-    else:
-        fs = drag_stress(p.lam, p.rho_m, v) if z1 > 0.0 else 0.0
-        if mode == CONTACT:
-            if d >= 0.0:
-                fe1 = p.k_i * x
-                fe2 = nonlinear_spring_stress(p.alpha, p.beta, z1, p.width)
-                mud_velocity = x / p.tau_i
-            else:
-                fe1 = p.k_w * x
-                fe2 = 0.0
-                mud_velocity = x / p.tau_w
-        else:
-            # after necking the visco-elastic stress is the damper's: b_m_w dz_m/dt
-            mud_velocity = x
-            fe1 = p.b_w * x
-            fe2 = 0.0
-    force = (fe1 + fe2 + fs) * p.area
-    return force, fe1, fe2, fs, mud_velocity
+        return 0.0, 0.0, v, False
+    fs = drag_stress(p.lam, p.rho_m, v) if z1 > 0.0 else 0.0
+    if mode == CONTACT:
+        if d >= 0.0:
+            return p.k_i * x, fs, x / p.tau_i, True
+        return p.k_w * x, fs, x / p.tau_w, False
+    # after necking the visco-elastic stress is the damper's: b_m_w dz_m/dt
+    return p.b_w * x, fs, x, False
+
+
+@_compiled(inline="always")
+def total_force(fe2: float, rest: float, area: float) -> float:
+    """The force [N], Eqs. (1) and (8), from the spring stress ``fe2``, ``rest = f_e1 + f_s`` [Pa] and the area [m^2].
+
+    Every path sums in this order, so that they agree bit for bit.
+    """
+    return (fe2 + rest) * area
+
+
+@_compiled(inline="always")
+def sample_outputs(p: Params, mode: int, d: float, x: float, z1: float, v: float
+                   ) -> tuple[float, float, float, float, float]:
+    """The force and its parts at a sample, from what :func:`advance` returned (see :func:`stress_parts`).
+
+    Returns ``(force [N], f_e1, f_e2, f_s [Pa], dz_m/dt [m/s])``: Eqs. (2),
+    (4), (5), (7) and (8) times the area.
+    """
+    fe1, fs, mud_velocity, spring = stress_parts(p, mode, d, x, z1, v)
+    fe2 = nonlinear_spring_stress(p.alpha, p.beta, z1, p.width) if spring else 0.0
+    return total_force(fe2, fe1 + fs, p.area), fe1, fe2, fs, mud_velocity
+
+
+# rows of the scratch block of the deferred spring pass: one column per sample or foot on the spring
+SP_DEPTH = 0  # z_i [m]
+SP_WIDTH = 1  # H [m]
+SP_ALPHA = 2  # alpha [Pa]
+SP_BETA = 3  # beta [-]
+SP_REST = 4  # f_e1 + f_s [Pa]; the pass overwrites it with the force [N]
+SP_AREA = 5  # area [m^2]
+N_SPRING = 6
+
+
+def new_spring_scratch(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A scratch block for ``n`` samples or feet on the spring, and its int64 index of where each force goes."""
+    return np.empty((N_SPRING, n), dtype=np.float64), np.empty(n, dtype=np.int64)
+
+
+@_compiled(inline="always")
+def spring_pass(scratch: np.ndarray, m: int) -> None:
+    """The force of the first ``m`` columns of ``scratch``: the nonlinear spring, Eq. (4), plus the rest.
+
+    A loop with no branches over contiguous rows, which the compiler
+    vectorises: the spring's power is most of a step's arithmetic, and
+    vectorised it costs a fraction of a scalar call.
+    """
+    z = scratch[SP_DEPTH]
+    w = scratch[SP_WIDTH]
+    a = scratch[SP_ALPHA]
+    b = scratch[SP_BETA]
+    rest = scratch[SP_REST]
+    area = scratch[SP_AREA]
+    for i in range(m):
+        rest[i] = total_force(nonlinear_spring_stress(a[i], b[i], z[i], w[i]), rest[i], area[i])
 
 
 @_compiled(inline="always")
@@ -665,7 +713,8 @@ def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.
 def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray,
                       params: np.ndarray, mode_out: np.ndarray, direction_out: np.ndarray, x_out: np.ndarray,
                       mud_out: np.ndarray, velocity_out: np.ndarray, neck_index: np.ndarray,
-                      neck_offset: np.ndarray, counts: np.ndarray, force_out: np.ndarray) -> int:
+                      neck_offset: np.ndarray, counts: np.ndarray, force_out: np.ndarray, scratch: np.ndarray,
+                      index: np.ndarray) -> int:
     """Run foot 0 over a whole trajectory: the force, and a record the other outputs are derived from.
 
     Writes per sample the force [N], the contact state and branch direction
@@ -677,8 +726,10 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
     step [s]): those arrays are written only at neckings. About a third of
     :func:`run_batch`'s memory traffic, which bounds the batch's speed;
     :func:`derive_outputs` gives the stress components and velocities from
-    the record, as :func:`step` computes them. Returns the index of a bad
-    sample or -1.
+    the record, as :func:`step` computes them. The nonlinear spring's
+    samples are collected in ``scratch`` (:func:`new_spring_scratch`, any
+    width >= 1) and their forces computed a block at a time
+    (:func:`spring_pass`). Returns the index of a bad sample or -1.
     """
     s = load_state(states, 0)
     c = load_cache(states, 0)
@@ -687,6 +738,12 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
     keep_velocity = velocity_out.shape[0] >= n
     necks = 0
     bad = -1
+    block = scratch.shape[1]
+    scratch[SP_WIDTH] = p.width
+    scratch[SP_ALPHA] = p.alpha
+    scratch[SP_BETA] = p.beta
+    scratch[SP_AREA] = p.area
+    m = 0
     for k in range(n):
         dt = time[k] - time[k - 1] if k > 0 else 0.0
         s1, c, ok, d, x, offset, vhat, v = advance(s, c, p, ring, 0, depth[k], dt)
@@ -698,13 +755,28 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
         direction_out[k] = int(d)
         x_out[k] = x
         mud_out[k] = s.mud
-        force_out[k] = sample_outputs(p, s.mode, d, x, s.depth, v)[0]
+        fe1, fs, _, spring = stress_parts(p, s.mode, d, x, s.depth, v)
+        if spring:
+            index[m] = k
+            scratch[SP_DEPTH, m] = s.depth
+            scratch[SP_REST, m] = fe1 + fs
+            m += 1
+            if m == block:
+                spring_pass(scratch, m)
+                for i in range(m):
+                    force_out[index[i]] = scratch[SP_REST, i]
+                m = 0
+        else:
+            force_out[k] = total_force(0.0, fe1 + fs, p.area)
         if keep_velocity:
             velocity_out[k] = vhat
         if offset == offset:
             neck_index[necks] = k
             neck_offset[necks] = offset
             necks += 1
+    spring_pass(scratch, m)
+    for i in range(m):
+        force_out[index[i]] = scratch[SP_REST, i]
     store_state(states, 0, s)
     store_cache(states, 0, c)
     counts[0] = necks
@@ -728,38 +800,64 @@ def derive_outputs(time: np.ndarray, depth: np.ndarray, params: np.ndarray, mode
 
 @_compiled()
 def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
-             forces: np.ndarray) -> int:
+             forces: np.ndarray, scratch: np.ndarray, index: np.ndarray) -> int:
     """One step of every foot (row ``j`` of ``states``/``ring``/``params``); the forces [N] into ``forces[j]``.
 
-    Returns the first foot refused (left unchanged, its force not written) or -1.
+    The feet on the nonlinear spring are collected in ``scratch`` and
+    ``index`` (:func:`new_spring_scratch` for as many feet) and their
+    forces computed in one vectorised pass (:func:`spring_pass`) after the
+    loop. Returns the first foot refused (left unchanged, its force not
+    written) or -1.
     """
     bad = -1
+    m = 0
     for j in range(depths.shape[0]):
         ok, p, s, d, x, _, _, v = _advance_row(states, ring, j, params, depths[j], dt)
         if not ok:
             if bad < 0:
                 bad = j
             continue
-        forces[j] = sample_outputs(p, s.mode, d, x, s.depth, v)[0]
+        fe1, fs, _, spring = stress_parts(p, s.mode, d, x, s.depth, v)
+        if spring:
+            index[m] = j
+            scratch[SP_DEPTH, m] = s.depth
+            scratch[SP_WIDTH, m] = p.width
+            scratch[SP_ALPHA, m] = p.alpha
+            scratch[SP_BETA, m] = p.beta
+            scratch[SP_REST, m] = fe1 + fs
+            scratch[SP_AREA, m] = p.area
+            m += 1
+        else:
+            forces[j] = total_force(0.0, fe1 + fs, p.area)
+    spring_pass(scratch, m)
+    for i in range(m):
+        forces[index[i]] = scratch[SP_REST, i]
     return bad
+
+
+def new_feet_scratch(n: int, slices: int) -> tuple[np.ndarray, np.ndarray]:
+    """Scratch blocks for :func:`run_feet_threads`: one :func:`new_spring_scratch` per slice of ``n`` feet."""
+    width = -(-n // slices)
+    return np.empty((slices, N_SPRING, width), dtype=np.float64), np.empty((slices, width), dtype=np.int64)
 
 
 @_compiled(parallel=True)
 def run_feet_threads(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
-                     forces: np.ndarray, chunks: np.ndarray) -> int:
+                     forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, chunks: np.ndarray) -> int:
     """:func:`run_feet` on ``chunks.shape[0]`` contiguous slices of the feet, on numba's threads.
 
     The feet are independent, so the results are those of :func:`run_feet`
-    bit for bit, whatever the number of slices. ``chunks`` (int64, one per
-    slice) receives each slice's first refused foot or -1. Returns the
-    first foot refused or -1.
+    bit for bit, whatever the number of slices. ``scratch`` and ``index``
+    hold one block per slice (:func:`new_feet_scratch`); ``chunks`` (int64,
+    one per slice) receives each slice's first refused foot or -1. Returns
+    the first foot refused or -1.
     """
     n = depths.shape[0]
     m = chunks.shape[0]
     for c in prange(m):
         lo = n * c // m
         hi = n * (c + 1) // m
-        b = run_feet(states[lo:hi], ring[lo:hi], params[lo:hi], depths[lo:hi], dt, forces[lo:hi])
+        b = run_feet(states[lo:hi], ring[lo:hi], params[lo:hi], depths[lo:hi], dt, forces[lo:hi], scratch[c], index[c])
         chunks[c] = b + lo if b >= 0 else -1
     for c in range(m):
         if chunks[c] >= 0:

@@ -15,6 +15,8 @@ import math
 
 from numba import njit
 
+from mudforce._pow import power
+
 __all__ = [
     "drag_stress",
     "maxwell_strain_step",
@@ -69,7 +71,7 @@ def maxwell_strain_step(strain: float, velocity: float, tau: float, decay: float
     return strain * decay + velocity * tau * (1.0 - decay)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")  # inlined: the loops vectorise over it
 def nonlinear_spring_stress(alpha: float, beta: float, depth: float, width: float) -> float:
     """Nonlinear spring stress ``f_e2 = alpha (max(z_i, 0) / H)^beta`` [Pa], Eq. (4).
 
@@ -86,7 +88,7 @@ def nonlinear_spring_stress(alpha: float, beta: float, depth: float, width: floa
     """
     if depth <= 0.0:
         return 0.0
-    return float(alpha * (depth / width) ** beta)
+    return float(alpha * power(depth / width, beta))
 
 
 @njit(cache=True, nogil=True)

@@ -25,6 +25,9 @@ __all__ = ["STATE_NAMES", "SimulationResult", "simulate"]
 #: Contact state codes in :attr:`SimulationResult.state`: 0 FREE, 1 CONTACT, 2 NECKED.
 STATE_NAMES: tuple[str, ...] = K.STATE_NAMES
 
+#: samples on the nonlinear spring collected before their forces are computed in one vectorised pass
+SPRING_BLOCK = 512
+
 _CSV_COLUMNS = (
     ("time_s", "time"),
     ("depth_m", "depth"),
@@ -331,7 +334,8 @@ def simulate(
     counts = np.zeros(1, dtype=np.int64)
     force = np.empty(n, dtype=np.float64)
     bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, vf.window), prow, state, branch, extension, mud,
-                              velocity, neck_index, neck_offset, counts, force)
+                              velocity, neck_index, neck_offset, counts, force,
+                              *K.new_spring_scratch(SPRING_BLOCK))
     if bad >= 0:
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too

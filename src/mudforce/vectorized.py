@@ -61,7 +61,7 @@ def _fast_threading_layer() -> bool:
     """Whether numba's threading layer launches fast enough (OpenMP or TBB) to step feet on threads."""
     states = K.new_states(2)
     K.run_feet_threads(states, K.new_ring(2, 1), np.zeros((2, K.N_PARAMS)), np.zeros(2), 1.0, np.zeros(2),
-                       np.zeros(2, dtype=np.int64))
+                       *K.new_feet_scratch(2, 2), np.zeros(2, dtype=np.int64))
     layer: str = numba.np.ufunc.parallel.threading_layer()
     return layer in ("omp", "tbb")
 
@@ -185,6 +185,8 @@ class MudContacts:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = _resolve_threads(threads, self.n)
         self._chunks = np.empty(self.threads, dtype=np.int64)
+        # where the feet on the nonlinear spring wait for their vectorised pass, one block per slice
+        self._scratch, self._index = K.new_feet_scratch(self.n, self.threads)
 
     def step(self, depths: Any, dt: float) -> np.ndarray:
         """Advance every foot to its next depth sample; return the forces [N].
@@ -212,9 +214,11 @@ class MudContacts:
             raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
         if self.threads > 1 and not _forked:
             with _launch_lock:
-                bad = K.run_feet_threads(self.states, self.ring, self.params_array, z, dt, self.forces, self._chunks)
+                bad = K.run_feet_threads(self.states, self.ring, self.params_array, z, dt, self.forces,
+                                         self._scratch, self._index, self._chunks)
         else:
-            bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.forces)
+            bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.forces, self._scratch[0],
+                             self._index[0])
         if bad >= 0:
             # the kernel refused foot `bad` without changing it; the others stepped
             raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
