@@ -18,6 +18,13 @@ that into the force and its components. Every path is a loop around them:
   outputs derive from; :func:`derive_outputs` derives them, on demand;
 * :func:`run_batch` (calibration) writes every output of every sample.
 
+:func:`sample_outputs` is :func:`stress_parts` (every stress but the
+nonlinear spring's) plus the spring, summed by :func:`total_force`.
+:func:`run_feet` and :func:`run_batch_compact` set the feet or samples on
+the spring aside and compute their forces in one vectorised pass
+(:func:`spring_pass`); the spring's power (:func:`mudforce._pow.power`)
+gives the same bits there as in a single call, so every path agrees.
+
 Layout
 ------
 A foot's state is one row of a float64 array ``states[j, :]`` (indices
