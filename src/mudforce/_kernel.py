@@ -584,12 +584,14 @@ def new_spring_scratch(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @_compiled(inline="always")
-def spring_pass(scratch: np.ndarray, m: int) -> None:
-    """The force of the first ``m`` columns of ``scratch``: the nonlinear spring, Eq. (4), plus the rest.
+def spring_pass(scratch: np.ndarray, index: np.ndarray, m: int, forces: np.ndarray) -> None:
+    """The forces [N] of the first ``m`` columns of ``scratch`` into ``forces[index[i]]``.
 
-    A loop with no branches over contiguous rows, which the compiler
-    vectorises: the spring's power is most of a step's arithmetic, and
-    vectorised it costs a fraction of a scalar call.
+    Each is the nonlinear spring, Eq. (4), plus the rest of the stress,
+    times the area. Computed in a loop with no branches over contiguous
+    rows, which the compiler vectorises (the spring's power is most of a
+    step's arithmetic, and vectorised it costs a fraction of a scalar
+    call), then scattered to where each force goes.
     """
     z = scratch[SP_DEPTH]
     w = scratch[SP_WIDTH]
@@ -599,6 +601,8 @@ def spring_pass(scratch: np.ndarray, m: int) -> None:
     area = scratch[SP_AREA]
     for i in range(m):
         rest[i] = total_force(nonlinear_spring_stress(a[i], b[i], z[i], w[i]), rest[i], area[i])
+    for i in range(m):
+        forces[index[i]] = rest[i]
 
 
 @_compiled(inline="always")
@@ -769,9 +773,7 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
             scratch[SP_REST, m] = fe1 + fs
             m += 1
             if m == block:
-                spring_pass(scratch, m)
-                for i in range(m):
-                    force_out[index[i]] = scratch[SP_REST, i]
+                spring_pass(scratch, index, m, force_out)
                 m = 0
         else:
             force_out[k] = total_force(0.0, fe1 + fs, p.area)
@@ -781,9 +783,7 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
             neck_index[necks] = k
             neck_offset[necks] = offset
             necks += 1
-    spring_pass(scratch, m)
-    for i in range(m):
-        force_out[index[i]] = scratch[SP_REST, i]
+    spring_pass(scratch, index, m, force_out)
     store_state(states, 0, s)
     store_cache(states, 0, c)
     counts[0] = necks
@@ -836,9 +836,7 @@ def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: n
             m += 1
         else:
             forces[j] = total_force(0.0, fe1 + fs, p.area)
-    spring_pass(scratch, m)
-    for i in range(m):
-        forces[index[i]] = scratch[SP_REST, i]
+    spring_pass(scratch, index, m, forces)
     return bad
 
 
