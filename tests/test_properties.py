@@ -38,10 +38,18 @@ def parameters(draw: st.DrawFn) -> MudParameters:
 
 @st.composite
 def trajectories(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
-    """Random finite trajectories: strictly increasing time, depth around the surface."""
+    """Random finite trajectories: strictly increasing time, depth around the surface.
+
+    Half are sampled at a constant rate, at times ``k / rate`` as protocols
+    sample them: the batch's fast path for steps in which nothing happens
+    (``_kernel.glide``) runs only there; the other half have random steps.
+    """
     n = draw(st.integers(1, 80))
-    dts = draw(st.lists(_log_uniform(1e-4, 0.2), min_size=n, max_size=n))
-    time = np.cumsum(np.array(dts)) - dts[0]
+    if draw(st.booleans()):
+        time = np.arange(n) / draw(_log_uniform(5.0, 1e4))
+    else:
+        dts = draw(st.lists(_log_uniform(1e-4, 0.2), min_size=n, max_size=n))
+        time = np.cumsum(np.array(dts)) - dts[0]
     kind = draw(st.sampled_from(["walk", "random", "holds"]))
     if kind == "random":
         depth = np.array(draw(st.lists(st.floats(-0.05, 0.05), min_size=n, max_size=n)))
@@ -65,12 +73,18 @@ def _stream(time: np.ndarray, depth: np.ndarray, contact: mf.MudContact) -> dict
         rows.append(contact.last)
     got = {name: np.array([getattr(r, name) for r in rows]) for name in _COLUMNS}
     got["state"] = np.array([STATE_NAMES.index(r.state) for r in rows], dtype=np.int8)
+    got["necked"] = np.array([r.necked for r in rows])
     return got
 
 
 def _assert_batch_is_stream(res: SimulationResult, stream: dict[str, np.ndarray]) -> None:
     for name, values in stream.items():
-        np.testing.assert_array_equal(values, getattr(res, name), err_msg=name)
+        if name != "necked":
+            np.testing.assert_array_equal(values, getattr(res, name), err_msg=name)
+    # the neck broke in the same steps
+    steps = np.flatnonzero(stream["necked"])
+    assert res.necking_times.size == steps.size
+    assert np.all((res.necking_times >= res.time[steps - 1]) & (res.necking_times <= res.time[steps]))
 
 
 # MUDFORCE_EXAMPLES=2000 for a longer search than the default run's
@@ -94,7 +108,8 @@ def test_batch_equals_streaming_bit_for_bit(params: MudParameters, traj: tuple[n
     time, depth = traj
     foot = Foot.disc(0.05)
     res = mf.simulate(time, depth, params, foot, velocity_filter="exact")
-    # every column: the batch derives its components from a record of the path
+    # every column: force, state and z_m from the batch loop (and its fast
+    # path), the others from the full-output loop it runs on access
     _assert_batch_is_stream(res, _stream(time, depth, mf.MudContact(params, foot)))
 
 

@@ -254,7 +254,7 @@ def test_stepper_refuses_a_window_without_a_ring() -> None:
 
 @pytest.mark.parametrize("window", [1, 6])
 def test_full_output_loop_equals_simulate(window: int) -> None:
-    """The full-output loop (used by calibration) and simulate's record-and-derive path agree bit for bit."""
+    """The full-output loop (calibration; simulate's other outputs) and simulate's own loop agree bit for bit."""
     from mudforce import _kernel as K
     from mudforce.simulation import params_row
 
@@ -270,3 +270,34 @@ def test_full_output_loop_equals_simulate(window: int) -> None:
                       (K.O_STATE, "state")):
         np.testing.assert_array_equal(out[row], getattr(res, name), err_msg=name)
     assert res.necking_times.size >= 1
+
+
+@pytest.mark.parametrize("w", [0.15, 0.2, 0.25, 0.3, 0.35])
+def test_constant_rate_fast_path_is_the_stepper(w: float) -> None:
+    """simulate()'s loop for steps in which nothing happens gives the streaming stepper's numbers, bit for bit.
+
+    A 1 kHz gait of several cycles (touchdown from above, intrusion, hold,
+    withdrawal, necking, lift-off, clinging mud, touchdown again, with
+    small reversals), with a stretch of jittered steps and one longer step
+    in the middle, where the fast path must step aside.
+    """
+    params = mf.MudParameters.from_water_content(w)
+    n = 6000
+    t = np.arange(n) / 1000.0
+    rng = np.random.default_rng(7)
+    t[2500:2600] += rng.uniform(-2e-4, 2e-4, 100)  # jittered steps
+    t[4000:] += 0.01  # one long step
+    z = 0.03 * np.sin(2 * np.pi * 1.5 * t) - 0.005 + 2e-5 * np.sin(2 * np.pi * 40.0 * t)
+    z[3000:3300] = z[3000]  # a hold
+    res = simulate(t, z, params, velocity_filter="exact")
+    assert {0, 1, 2} <= set(np.unique(res.state)) and res.necking_times.size >= 5
+    c = MudContact(params)
+    forces, states, mud = [], [], []
+    for k in range(n):
+        forces.append(c.step(z[k], t[k] - t[k - 1] if k else 0.0))
+        last = c.last
+        states.append(mf.simulation.STATE_NAMES.index(last.state))
+        mud.append(last.mud_displacement)
+    np.testing.assert_array_equal(forces, res.force)
+    np.testing.assert_array_equal(states, res.state)
+    np.testing.assert_array_equal(mud, res.mud_displacement)

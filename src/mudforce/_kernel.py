@@ -14,12 +14,21 @@ that into the force and its components. Every path is a loop around them:
 * :func:`run_feet` (``MudContacts``) does that for every foot, writing
   only the forces;
 * :func:`run_batch_compact` (``simulate``) keeps the state in registers
-  through the whole trajectory and records the force plus what the other
-  outputs derive from; :func:`derive_outputs` derives them, on demand;
-* :func:`run_batch` (calibration) writes every output of every sample.
+  through the whole trajectory and writes the force, the contact state and
+  ``z_m``;
+* :func:`run_batch` (calibration, and ``simulate``'s other outputs on
+  demand) writes every output of every sample.
 
 :func:`sample_outputs` is :func:`stress_parts` (every stress but the
 nonlinear spring's) plus the spring, summed by :func:`total_force`.
+For the exact velocity rule, the steps in which nothing happens (the
+contact state stays, no surface crossing, no necking, the step length the
+cached one: most steps at a constant rate) go through :func:`quiet_step`,
+which does what :func:`advance` does for them without its bookkeeping;
+:func:`run_feet` tries it first for each foot and :func:`run_batch_compact`
+runs it in a loop of its own (:func:`glide`). The streaming :func:`step`
+always runs :func:`advance`, so the tests that compare batch and many feet
+with streaming bit for bit check :func:`quiet_step` against it.
 :func:`run_feet` and :func:`run_batch_compact` set the feet or samples on
 the spring aside and compute their forces in one vectorised pass
 (:func:`spring_pass`); the spring's power (:func:`mudforce._pow.power`)
@@ -224,8 +233,14 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
         if previous > 0.0 and velocity > 0.5 * deadband:
             return 1.0
         return 0.0
-    # sign(v), written so that it compiles to selects rather than branches:
-    # across many feet the sign of the motion is unpredictable
+    return sign(velocity)
+
+
+@_compiled(inline="always")
+def sign(velocity: float) -> float:
+    """``sign(v)``: ``+1``, ``-1``, or ``0`` for ``v == 0`` (the exact rule's branch direction)."""
+    # written so that it compiles to selects rather than branches: across
+    # many feet the sign of the motion is unpredictable
     return (1.0 if velocity > 0.0 else 0.0) - (1.0 if velocity < 0.0 else 0.0)
 
 
@@ -333,6 +348,34 @@ def load_params(params: np.ndarray, j: int) -> Params:
     r = params[j]
     return Params(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14],
                   r[15], r[16])
+
+
+@_compiled(inline="always")
+def neck_filter_step(c: Cache, gi: float, g: float) -> tuple[float, float]:
+    """``(G, g)`` of Eq. (7)'s filter one whole step later: its exact discrete-time update (cached matrix)."""
+    if abs(gi) + abs(g) < 1e-250:
+        # fully decayed: flush to zero before the update reaches subnormal
+        # numbers, which are slow (the filter's response tends to 0 anyway)
+        gi = 0.0
+        g = 0.0
+    return c.phi0 * gi + c.phi1 * g, c.phi2 * gi + c.phi3 * g
+
+
+@_compiled(inline="always")
+def neck_motion(neck_v: float, neck_z: float, g: float, gi: float) -> tuple[float, float]:
+    """After necking the mud moves as ``v_m0 g(t - t_n)``, Eq. (7): ``(dz_m/dt [m/s], z_m [m])``."""
+    return neck_v * g, neck_z + neck_v * gi
+
+
+@_compiled(inline="always")
+def piece_drag(p: Params, z_a: float, v: float, length: float) -> float:
+    """Drag stress [Pa], Eq. (5), over a withdrawal piece of ``length`` [s] from depth ``z_a`` [m] at ``v`` [m/s].
+
+    The drag acts while the foot is below the surface; a piece does not
+    cross it, so its midpoint decides.
+    """
+    z_mid = z_a + 0.5 * v * length
+    return drag_stress(p.lam, p.rho_m, v) if z_mid > 0.0 else 0.0
 
 
 @_compiled(inline="always")
@@ -475,8 +518,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
             for piece in range(pieces):
                 t_b = split if piece == 0 else dt
                 length = t_b - t_a
-                z_mid = z_a + 0.5 * v * length
-                fs = drag_stress(p.lam, p.rho_m, v) if z_mid > 0.0 else 0.0
+                fs = piece_drag(p, z_a, v, length)
                 if t_a == 0.0 and t_b == dt:
                     decay = c.decay_w
                 else:
@@ -500,22 +542,10 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
                 zm = z1 - strain
         x = strain
     elif mode == NECKED:
-        # a whole step after necking: the filter's exact discrete-time update
-        # (its transition matrix is cached for the step length)
         neck_age += dt
-        gi0 = neck_gi
-        g0 = neck_g
-        if abs(gi0) + abs(g0) < 1e-250:
-            # fully decayed: flush to zero before the update reaches subnormal
-            # numbers, which are slow (the filter's response tends to 0 anyway)
-            gi0 = 0.0
-            g0 = 0.0
-        neck_gi = c.phi0 * gi0 + c.phi1 * g0
-        neck_g = c.phi2 * gi0 + c.phi3 * g0
+        neck_gi, neck_g = neck_filter_step(c, neck_gi, neck_g)
     if mode == NECKED:
-        # after necking the mud moves as v_m0 g(t - t_n), Eq. (7)
-        x = neck_v * neck_g
-        zm = neck_z + neck_v * neck_gi
+        x, zm = neck_motion(neck_v, neck_z, neck_g, neck_gi)
 
     s1 = State(1.0, mode, t1, z1, zm, neck_age, neck_v, neck_z, d, vhat, neck_g, neck_gi, strain)
     return s1, c, True, d, x, neck_offset, vhat, v
@@ -583,7 +613,7 @@ def new_spring_scratch(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.empty((N_SPRING, n), dtype=np.float64), np.empty(n, dtype=np.int64)
 
 
-@_compiled(inline="always")
+@_compiled()
 def spring_pass(scratch: np.ndarray, index: np.ndarray, m: int, forces: np.ndarray) -> None:
     """The forces [N] of the first ``m`` columns of ``scratch`` into ``forces[index[i]]``.
 
@@ -720,69 +750,167 @@ def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.
     return bad
 
 
+@_compiled(inline="always")
+def defer_spring(scratch: np.ndarray, index: np.ndarray, m: int, k: int, depth: float, rest: float,
+                 forces: np.ndarray) -> int:
+    """Set sample ``k`` (depth [m], ``rest = f_e1 + f_s`` [Pa]) aside for the spring pass; returns the new count.
+
+    The block's constant rows (width, alpha, beta, area) are the caller's
+    to fill; a full block is passed (:func:`spring_pass`) into ``forces``.
+    """
+    index[m] = k
+    scratch[SP_DEPTH, m] = depth
+    scratch[SP_REST, m] = rest
+    m += 1
+    if m == scratch.shape[1]:
+        spring_pass(scratch, index, m, forces)
+        m = 0
+    return m
+
+
+@_compiled(inline="always")
+def quiet_step(s: State, c: Cache, p: Params, depth: float, dt: float
+               ) -> tuple[bool, State, float, float, float]:
+    """:func:`advance` for a step in which nothing happens; ``ok`` False if something does.
+
+    Nothing happens in a step when the state has started, its length is
+    the cached one (so the cached decays apply), the contact state stays
+    what it was, and no surface crossing or necking falls inside it: most
+    steps of a trajectory sampled at a constant rate, and of feet stepped
+    together. For those this does exactly what :func:`advance` does,
+    through the same functions, without its bookkeeping; the loops call
+    :func:`advance` for the others. Only for the exact velocity rule
+    (filter window <= 1, no deadband: the branch direction is the sign of
+    the step's velocity), which the caller checks.
+
+    Returns ``(ok, state, d, x, v)`` as :func:`advance` returns them (the
+    state is meaningless when ``ok`` is False).
+    """
+    z0 = s.depth
+    v = (depth - z0) / dt
+    d = sign(v)
+    # inside this tolerance the step length is certainly the cache's by
+    # advance's test (1e-9 relative), and finite and > 0
+    ok = (abs(dt - c.dt) <= 0.5e-9 * c.dt) & (abs(depth) < math.inf) & (s.started != 0.0)
+    mode = s.mode
+    strain = s.strain
+    age = s.neck_age
+    g = s.neck_g
+    gi = s.neck_gi
+    x = 0.0
+    if mode == FREE:
+        ok = ok & (depth <= 0.0)  # else touchdown
+        zm = depth
+    elif mode == NECKED:
+        ok = ok & (d <= 0.0)  # else NECKED ends
+        age += dt
+        gi, g = neck_filter_step(c, gi, g)
+        x, zm = neck_motion(s.neck_v, s.neck_z, g, gi)
+    else:
+        if d >= 0.0:
+            ok = ok & (depth > 0.0)  # else FREE at the step's end
+            strain = maxwell_strain_step(strain, v, p.tau_i, c.decay_i)
+        else:
+            # one piece (no surface crossing) in which the neck holds
+            fs = piece_drag(p, z0, v, dt)
+            tn = necking_time(strain, v, p.tau_w, p.k_w, fs, p.sigma_y, dt, c.decay_w)
+            ok = ok & ((z0 > 0.0) == (depth > 0.0)) & (tn < 0.0)
+            strain = maxwell_strain_step(strain, v, p.tau_w, c.decay_w)
+        x = strain
+        zm = depth - strain
+    return ok, State(1.0, mode, s.time + dt, depth, zm, age, s.neck_v, s.neck_z, d, v, g, gi, strain), d, x, v
+
+
+@_compiled(inline="always")
+def glide(time: np.ndarray, depth: np.ndarray, k: int, s: State, c: Cache, p: Params, mode_out: np.ndarray,
+          mud_out: np.ndarray, force_out: np.ndarray, scratch: np.ndarray, index: np.ndarray, m: int
+          ) -> tuple[State, int, int]:
+    """:func:`quiet_step` over samples ``k, k+1, ...`` (``k >= 1``) while nothing happens; returns ``(s, k, m)``.
+
+    Writes what :func:`run_batch_compact` writes for those samples and
+    returns the state after them, the index of the first sample in which
+    something happens (or ``n``) and the spring block's new count ``m``.
+    A loop of its own, apart from :func:`advance`'s, which it would
+    otherwise share registers with.
+    """
+    n = time.shape[0]
+    while k < n:
+        ok, s1, d, x, v = quiet_step(s, c, p, depth[k], time[k] - time[k - 1])
+        if not ok:
+            break
+        s = s1
+        mode_out[k] = s.mode
+        mud_out[k] = s.mud
+        fe1, fs, _, spring = stress_parts(p, s.mode, d, x, s.depth, v)
+        if spring:
+            m = defer_spring(scratch, index, m, k, s.depth, fe1 + fs, force_out)
+        else:
+            force_out[k] = total_force(0.0, fe1 + fs, p.area)
+        k += 1
+    return s, k, m
+
+
 @_compiled()
 def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray,
-                      params: np.ndarray, mode_out: np.ndarray, direction_out: np.ndarray, x_out: np.ndarray,
-                      mud_out: np.ndarray, velocity_out: np.ndarray, neck_index: np.ndarray,
+                      params: np.ndarray, mode_out: np.ndarray, mud_out: np.ndarray, neck_index: np.ndarray,
                       neck_offset: np.ndarray, counts: np.ndarray, force_out: np.ndarray, scratch: np.ndarray,
                       index: np.ndarray) -> int:
-    """Run foot 0 over a whole trajectory: the force, and a record the other outputs are derived from.
+    """Run foot 0 over a whole trajectory: the force [N], the contact state (int8) and ``z_m`` [m] per sample.
 
-    Writes per sample the force [N], the contact state and branch direction
-    (int8), the ``x`` of :func:`advance` and ``z_m`` [m], and the branch
-    velocity [m/s] if ``velocity_out`` has room (filters with a window > 1;
-    the exact filter's is the first-order-hold velocity, which
-    :func:`derive_outputs` recomputes). Neckings go to
-    ``neck_index[:counts[0]]`` (sample) and ``neck_offset`` (time into the
-    step [s]): those arrays are written only at neckings. About a third of
-    :func:`run_batch`'s memory traffic, which bounds the batch's speed;
-    :func:`derive_outputs` gives the stress components and velocities from
-    the record, as :func:`step` computes them. The nonlinear spring's
-    samples are collected in ``scratch`` (:func:`new_spring_scratch`, any
-    width >= 1) and their forces computed a block at a time
-    (:func:`spring_pass`). Returns the index of a bad sample or -1.
+    Neckings go to ``neck_index[:counts[0]]`` (sample) and ``neck_offset``
+    (time into the step [s]): those arrays are written only at neckings.
+    The other outputs are :func:`run_batch`'s to give (``simulate`` runs it
+    when they are asked for): this loop writes about a third of its
+    memory traffic, which bounds the batch's speed. Steps in which nothing
+    happens go through :func:`glide`, the others through :func:`advance`.
+    The nonlinear spring's samples are collected in ``scratch``
+    (:func:`new_spring_scratch`, any width >= 1) and their forces computed
+    a block at a time (:func:`spring_pass`). Returns the index of a bad
+    sample or -1.
     """
     s = load_state(states, 0)
     c = load_cache(states, 0)
     p = load_params(params, 0)
     n = time.shape[0]
-    keep_velocity = velocity_out.shape[0] >= n
+    exact = int(p.window) <= 1 and not (p.deadband > 0.0)  # the rule glide() follows
     necks = 0
     bad = -1
-    block = scratch.shape[1]
     scratch[SP_WIDTH] = p.width
     scratch[SP_ALPHA] = p.alpha
     scratch[SP_BETA] = p.beta
     scratch[SP_AREA] = p.area
     m = 0
-    for k in range(n):
+    k = 0
+    wait = 0  # samples to step before trying glide() again: it backs off where steps vary in length
+    backoff = 0
+    while k < n:
+        if exact and k > 0 and wait == 0:
+            k0 = k
+            s, k, m = glide(time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
+            if k == n:
+                break
+            backoff = min(2 * backoff + 1, 64) if k == k0 else 0
+            wait = backoff
+        elif wait > 0:
+            wait -= 1
         dt = time[k] - time[k - 1] if k > 0 else 0.0
-        s1, c, ok, d, x, offset, vhat, v = advance(s, c, p, ring, 0, depth[k], dt)
+        s1, c, ok, d, x, offset, _, v = advance(s, c, p, ring, 0, depth[k], dt)
         if not ok:
             bad = k
             break
         s = s1
         mode_out[k] = s.mode
-        direction_out[k] = int(d)
-        x_out[k] = x
         mud_out[k] = s.mud
         fe1, fs, _, spring = stress_parts(p, s.mode, d, x, s.depth, v)
         if spring:
-            index[m] = k
-            scratch[SP_DEPTH, m] = s.depth
-            scratch[SP_REST, m] = fe1 + fs
-            m += 1
-            if m == block:
-                spring_pass(scratch, index, m, force_out)
-                m = 0
+            m = defer_spring(scratch, index, m, k, s.depth, fe1 + fs, force_out)
         else:
             force_out[k] = total_force(0.0, fe1 + fs, p.area)
-        if keep_velocity:
-            velocity_out[k] = vhat
         if offset == offset:
             neck_index[necks] = k
             neck_offset[necks] = offset
             necks += 1
+        k += 1
     spring_pass(scratch, index, m, force_out)
     store_state(states, 0, s)
     store_cache(states, 0, c)
@@ -791,25 +919,11 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
 
 
 @_compiled()
-def derive_outputs(time: np.ndarray, depth: np.ndarray, params: np.ndarray, mode: np.ndarray,
-                   direction: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
-    """``f_e1, f_e2, f_s`` [Pa], ``dz_m/dt`` and the first-order-hold velocity [m/s] into rows 0-4 of ``out``."""
-    p = load_params(params, 0)
-    for k in range(time.shape[0]):
-        v = (depth[k] - depth[k - 1]) / (time[k] - time[k - 1]) if k > 0 else 0.0
-        _, fe1, fe2, fs, mud_velocity = sample_outputs(p, mode[k], direction[k], x[k], depth[k], v)
-        out[0, k] = fe1
-        out[1, k] = fe2
-        out[2, k] = fs
-        out[3, k] = mud_velocity
-        out[4, k] = v
-
-
-@_compiled()
 def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
              forces: np.ndarray, scratch: np.ndarray, index: np.ndarray) -> int:
     """One step of every foot (row ``j`` of ``states``/``ring``/``params``); the forces [N] into ``forces[j]``.
 
+    Each foot goes through :func:`quiet_step` if it can, else :func:`advance`.
     The feet on the nonlinear spring are collected in ``scratch`` and
     ``index`` (:func:`new_spring_scratch` for as many feet) and their
     forces computed in one vectorised pass (:func:`spring_pass`) after the
@@ -819,11 +933,18 @@ def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: n
     bad = -1
     m = 0
     for j in range(depths.shape[0]):
-        ok, p, s, d, x, _, _, v = _advance_row(states, ring, j, params, depths[j], dt)
+        p = load_params(params, j)
+        ok = False
+        if int(p.window) <= 1 and not (p.deadband > 0.0):
+            ok, s, d, x, v = quiet_step(load_state(states, j), load_cache(states, j), p, depths[j], dt)
+            if ok:
+                store_state(states, j, s)
         if not ok:
-            if bad < 0:
-                bad = j
-            continue
+            ok, p, s, d, x, _, _, v = _advance_row(states, ring, j, params, depths[j], dt)
+            if not ok:
+                if bad < 0:
+                    bad = j
+                continue
         fe1, fs, _, spring = stress_parts(p, s.mode, d, x, s.depth, v)
         if spring:
             index[m] = j

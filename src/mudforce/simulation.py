@@ -92,20 +92,26 @@ class SimulationResult:
     params: MudParameters
     foot: Foot
     velocity_filter: VelocityFilter = field(default_factory=VelocityFilter.exact)
-    # the record the other arrays are derived from (see _derived)
-    _branch: np.ndarray = field(default_factory=lambda: np.empty(0, np.int8), repr=False)
-    _extension: np.ndarray = field(default_factory=lambda: np.empty(0), repr=False)
-    _branch_velocity: np.ndarray | None = field(default=None, repr=False)
+    # the stepper's constants, for the outputs computed on access (see _derived)
     _params_row: np.ndarray = field(default_factory=lambda: np.empty((1, K.N_PARAMS)), repr=False)
     _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     def _derived(self, name: str) -> np.ndarray:
-        """An array derived from the record (computed once, with its siblings, on first access)."""
+        """An output :func:`simulate` did not keep, computed with its siblings on first access.
+
+        The stepper runs the trajectory again writing every output
+        (``_kernel.run_batch``): the same function on the same samples, so
+        the same numbers, bit for bit, as a :class:`~mudforce.MudContact`
+        fed them.
+        """
         if not self._cache:
-            rows = np.empty((5, self.time.size), dtype=np.float64)
-            K.derive_outputs(self.time, self.depth, self._params_row, self.state, self._branch, self._extension, rows)
-            velocity = rows[4] if self._branch_velocity is None else self._branch_velocity
-            self._cache.update(f_e1=rows[0], f_e2=rows[1], f_s=rows[2], mud_velocity=rows[3], velocity=velocity)
+            out = K.new_out(self.time.size)
+            K.run_batch(self.time, self.depth, K.new_states(1), K.new_ring(1, self.velocity_filter.window),
+                        self._params_row, out)
+            for row in out:
+                row.setflags(write=False)
+            self._cache.update(f_e1=out[K.O_F_E1], f_e2=out[K.O_F_E2], f_s=out[K.O_F_S],
+                               mud_velocity=out[K.O_MUD_VELOCITY], velocity=out[K.O_VELOCITY])
         return self._cache[name]
 
     @property
@@ -323,26 +329,19 @@ def simulate(
     prow = params_row(params, foot, vf)[None, :]
     n = t.size
     state = np.empty(n, dtype=np.int8)
-    branch = np.empty(n, dtype=np.int8)
-    extension = np.empty(n, dtype=np.float64)
     mud = np.empty(n, dtype=np.float64)
-    # the branch velocity only needs keeping when it is not the first-order hold's
-    velocity = np.empty(n if vf.window > 1 else 0, dtype=np.float64)
     # written at neckings only (pages never touched cost nothing)
     neck_index = np.empty(n, dtype=np.int64)
     neck_offset = np.empty(n, dtype=np.float64)
     counts = np.zeros(1, dtype=np.int64)
     force = np.empty(n, dtype=np.float64)
-    bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, vf.window), prow, state, branch, extension, mud,
-                              velocity, neck_index, neck_offset, counts, force,
-                              *K.new_spring_scratch(SPRING_BLOCK))
+    bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, vf.window), prow, state, mud, neck_index,
+                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK))
     if bad >= 0:
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
-    for record in (state, branch, extension, velocity):
-        record.setflags(write=False)  # the derived arrays are computed from them
     necks = int(counts[0])
     at = neck_index[:necks]
     necking_times = t[at - 1] + neck_offset[:necks]
@@ -356,8 +355,5 @@ def simulate(
         params=params,
         foot=foot,
         velocity_filter=vf,
-        _branch=branch,
-        _extension=extension,
-        _branch_velocity=velocity if velocity.size else None,
         _params_row=prow,
     )
