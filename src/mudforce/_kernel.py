@@ -830,18 +830,33 @@ def glide(time: np.ndarray, depth: np.ndarray, k: int, s: State, c: Cache, p: Pa
     Writes what :func:`run_batch_compact` writes for those samples and
     returns the state after them, the index of the first sample in which
     something happens (or ``n``) and the spring block's new count ``m``.
-    A loop of its own, apart from :func:`advance`'s, which it would
-    otherwise share registers with.
+    A loop of its own, apart from :func:`advance`'s (with which it would
+    share registers), and one copy of it per contact state, which the
+    state stays in (so the compiler drops the other states' code from it).
     """
+    if s.mode == FREE:
+        return _glide_in(FREE, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
+    if s.mode == CONTACT:
+        return _glide_in(CONTACT, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
+    return _glide_in(NECKED, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
+
+
+@_compiled(inline="always")
+def _glide_in(mode: int, time: np.ndarray, depth: np.ndarray, k: int, s: State, c: Cache, p: Params,
+              mode_out: np.ndarray, mud_out: np.ndarray, force_out: np.ndarray, scratch: np.ndarray,
+              index: np.ndarray, m: int) -> tuple[State, int, int]:
+    """:func:`glide` for a state in contact state ``mode`` (a constant at each call site)."""
     n = time.shape[0]
+    s = State(s.started, mode, s.time, s.depth, s.mud, s.neck_age, s.neck_v, s.neck_z, s.direction, s.velocity,
+              s.neck_g, s.neck_gi, s.strain)  # the mode as the constant it is here
     while k < n:
         ok, s1, d, x, v = quiet_step(s, c, p, depth[k], time[k] - time[k - 1])
         if not ok:
             break
         s = s1
-        mode_out[k] = s.mode
+        mode_out[k] = mode
         mud_out[k] = s.mud
-        fe1, fs, _, spring = stress_parts(p, s.mode, d, x, s.depth, v)
+        fe1, fs, _, spring = stress_parts(p, mode, d, x, s.depth, v)
         if spring:
             m = defer_spring(scratch, index, m, k, s.depth, fe1 + fs, force_out)
         else:

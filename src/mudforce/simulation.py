@@ -45,14 +45,15 @@ _CSV_COLUMNS = (
 class SimulationResult:
     """The model's response to a sampled trajectory; all arrays have one entry per sample.
 
-    The batch loop records the state machine's path (contact state, branch,
-    Maxwell extension, mud displacement) and the force; the other arrays
-    are derived from that record on first access, by the same compiled
-    functions the streaming step uses, so they are the stepper's values
-    bit for bit and cost nothing until asked for. The record is read-only;
+    The batch loop writes the force, the contact state and the mud
+    displacement; the other arrays (stress components, velocities) are
+    computed on first access, all together, by running the trajectory
+    again through the stepper's full-output loop, so they are the
+    stepper's values bit for bit and cost nothing until asked for (about
+    twice the batch's own time when they are). They are read-only.
     ``time`` and ``depth`` are the caller's arrays when they were already
     contiguous float64 (not copied), so modify those in place only after
-    reading the derived arrays.
+    reading the computed arrays.
 
     Attributes
     ----------
