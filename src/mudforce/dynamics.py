@@ -64,7 +64,7 @@ from numba import njit
 
 from mudforce import _kernel as K
 from mudforce.equations import drag_stress, neck_filter_response, nonlinear_spring_stress
-from mudforce.errors import InputError
+from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
@@ -634,8 +634,7 @@ def simulate_foot(
     dt = _check_positive("dt", dt, "s")
     if not math.isfinite(gravity) or not math.isfinite(depth0) or not math.isfinite(velocity0):
         raise InputError("gravity [m/s^2], depth0 [m] and velocity0 [m/s] must be finite")
-    if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or substeps < 1:
-        raise InputError(f"substeps must be an integer >= 1, got {substeps!r}")
+    substeps = positive_int(substeps, "substeps")
     foot = Foot.paper() if foot is None else foot
     p = params_row(params, foot, VelocityFilter.exact())
     tp, fp = _profile(applied_force)

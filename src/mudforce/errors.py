@@ -1,8 +1,12 @@
-"""The package's exception for bad input."""
+"""The package's exception for bad input, and the one check that several modules share."""
 
 from __future__ import annotations
 
-__all__ = ["InputError"]
+from typing import Any
+
+import numpy as np
+
+__all__ = ["InputError", "positive_int"]
 
 
 class InputError(ValueError):
@@ -11,3 +15,20 @@ class InputError(ValueError):
     The message is one line that names the problem and shows what is
     expected. The command line prints it and exits with status 2.
     """
+
+
+def positive_int(value: Any, name: str, alternative: str = "") -> int:
+    """``value`` as an ``int`` if it is an integer >= 1 (Python or numpy, not ``bool``), else :class:`InputError`.
+
+    Parameters
+    ----------
+    value : Any
+        A count: feet, threads, jobs, substeps, repeats [-].
+    name : str
+        What it counts, for the message (``"the number of feet n"``).
+    alternative : str
+        What else the caller accepts, for the message (``" or None (automatic)"``).
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise InputError(f"{name} must be an integer >= 1{alternative}, got {value!r}")
+    return int(value)

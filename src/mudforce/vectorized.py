@@ -30,7 +30,7 @@ import numba.np.ufunc.parallel
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce.errors import InputError
+from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import PARAMETER_NAMES, MudParameters
 from mudforce.simulation import STATE_NAMES, resolve_velocity_filter
@@ -69,9 +69,7 @@ def _fast_threading_layer() -> bool:
 def _resolve_threads(threads: int | None, n: int) -> int:
     """Number of slices to step ``n`` feet in: ``threads`` if given, else automatic (see the module docstring)."""
     if threads is not None:
-        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
-            raise InputError(f"threads must be an integer >= 1 or None (automatic), got {threads!r}")
-        return min(int(threads), n)
+        return min(positive_int(threads, "threads", " or None (automatic)"), n)
     auto = min(numba.get_num_threads(), n // FEET_PER_THREAD)
     if auto <= 1 or _forked or not _fast_threading_layer():
         return 1
@@ -172,9 +170,7 @@ class MudContacts:
         velocity_filter: VelocityFilter | str = "exact",
         threads: int | None = None,
     ) -> None:
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-            raise InputError(f"the number of feet n must be an integer >= 1, got {n!r}")
-        self.n = int(n)
+        self.n = positive_int(n, "the number of feet n")
         self.velocity_filter = resolve_velocity_filter(velocity_filter)
         self.params_array = _param_rows(params, self.n, foot, self.velocity_filter)
         self.states = K.new_states(self.n)

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.calibration.dataset import Dataset, Trial, save_dataset
-from mudforce.errors import InputError
+from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.protocol import Protocol
@@ -93,8 +93,7 @@ def synthesize(
     Dataset
         With the true parameters under ``extra["synthetic"]``.
     """
-    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
-        raise InputError(f"repeats must be a positive integer, got {repeats!r}")
+    repeats = positive_int(repeats, "repeats")
     for name, value in (("force noise", force_noise), ("depth noise", depth_noise), ("bias", bias)):
         if not np.isfinite(value) or (value < 0 and name != "bias"):
             raise InputError(f"{name} must be finite and >= 0, got {value!r}")

@@ -43,7 +43,7 @@ from mudforce.calibration.dataset import Dataset, Trial
 from mudforce.calibration.fit import ConditionFit, FitOptions, TrialFit, fit_condition
 from mudforce.calibration.report import error_profile
 from mudforce.calibration.synth import synthesize, trial_name
-from mudforce.errors import InputError
+from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.io import atomic_write_text
 from mudforce.parameters import CHEN2024, TABLE_I, TABLE_I_RMSE_N, MudParameters
@@ -984,8 +984,7 @@ def reproduce(out: str | os.PathLike[str], config: ReproduceConfig | None = None
     require("matplotlib", "plot", "mudforce reproduce")
     _warm_up_matplotlib()  # before the workers fork, so that they do not each pay for it
     config = ReproduceConfig.full() if config is None else config
-    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
-        raise InputError(f"jobs must be a positive integer, got {jobs!r}")
+    positive_int(jobs, "jobs")
     path = check_output_dir(out)
     say = log if log is not None else (lambda _: None)
     dataset, truths = make_experiments(config)
