@@ -25,8 +25,9 @@ For the exact velocity rule, the steps in which nothing happens (the
 contact state stays, no surface crossing, no necking, the step length the
 cached one: most steps at a constant rate) go through :func:`quiet_step`,
 which does what :func:`advance` does for them without its bookkeeping;
-:func:`run_feet` tries it first for each foot and :func:`run_batch_compact`
-runs it in a loop of its own (:func:`glide`). The streaming :func:`step`
+:func:`run_feet` and :func:`run_batch` try it first for each foot or
+sample, and :func:`run_batch_compact` runs it in a loop of its own
+(:func:`glide`). The streaming :func:`step`
 always runs :func:`advance`, so the tests that compare batch and many feet
 with streaming bit for bit check :func:`quiet_step` against it.
 :func:`run_feet` and :func:`run_batch_compact` set the feet or samples on
@@ -730,18 +731,26 @@ def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.
 
     The state stays in registers through the loop (a :class:`State` value)
     and is stored to ``states[0]`` at the end (or before a bad sample).
+    Steps in which nothing happens go through :func:`quiet_step`.
     """
     s = load_state(states, 0)
     c = load_cache(states, 0)
     p = load_params(params, 0)
     n = time.shape[0]
+    exact = int(p.window) <= 1 and not (p.deadband > 0.0)
     bad = -1
     for k in range(n):
         dt = time[k] - time[k - 1] if k > 0 else 0.0
-        s1, c, ok, d, x, neck_offset, vhat, v = advance(s, c, p, ring, 0, depth[k], dt)
+        ok = False
+        neck_offset = math.nan
+        if exact:
+            ok, s1, d, x, v = quiet_step(s, c, p, depth[k], dt)
+            vhat = v
         if not ok:
-            bad = k
-            break
+            s1, c, ok, d, x, neck_offset, vhat, v = advance(s, c, p, ring, 0, depth[k], dt)
+            if not ok:
+                bad = k
+                break
         s = s1
         force, fe1, fe2, fs, mud_velocity = sample_outputs(p, s.mode, d, x, s.depth, v)
         _write(out, k, force, fe1, fe2, fs, s.mud, mud_velocity, vhat, float(s.mode), neck_offset)
