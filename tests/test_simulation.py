@@ -301,3 +301,27 @@ def test_constant_rate_fast_path_is_the_stepper(w: float) -> None:
     np.testing.assert_array_equal(forces, res.force)
     np.testing.assert_array_equal(states, res.state)
     np.testing.assert_array_equal(mud, res.mud_displacement)
+
+
+def test_post_necking_response_is_flushed_once_decayed() -> None:
+    """Past ln(1e250) / r after necking the filter's response is exactly zero, and never subnormal before."""
+    import dataclasses
+
+    from mudforce import _kernel as K
+
+    params = dataclasses.replace(W25, zeta=0.5, omega_0=500.0)  # slowest decay r = 250 /s
+    flush = K.neck_flush_age(0.5, 500.0)
+    assert flush == pytest.approx(250.0 * math.log(10.0) / 250.0)
+    t = np.arange(6001) / 1000.0
+    z = np.where(t < 1.0, 0.01 * t, 0.01 - 0.01 * (t - 1.0))  # in 10 mm, then out and up for 5 s
+    res = simulate(t, z, params, velocity_filter="exact")
+    (tn,) = res.necking_times
+    mv = res.mud_velocity
+    late = t > tn + flush + 1e-3
+    assert np.all(res.state[t > tn + 1e-3] == 2) and late.any()
+    assert np.all(mv[late] == 0.0)
+    assert np.all((mv == 0.0) | (np.abs(mv) > 1e-300))  # no subnormal numbers on the way
+    # before the flush the recursion follows the closed form, Eq. (7)
+    early = (t > tn + 1e-3) & (t < tn + 0.05)
+    g = np.array([mf.equations.neck_filter_response(a, 0.5, 500.0)[0] for a in t[early] - tn])
+    np.testing.assert_allclose(mv[early], mv[early][0] / g[0] * g, rtol=1e-9, atol=1e-15)

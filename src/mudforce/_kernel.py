@@ -133,7 +133,8 @@ P_WINDOW = 13
 P_DEADBAND = 14
 P_TAU_I = 15
 P_TAU_W = 16
-N_PARAMS = 17
+P_NECK_FLUSH = 17  # age after necking [s] past which Eq. (7)'s filter response is flushed to zero
+N_PARAMS = 18
 
 # state row
 S_STARTED = 0
@@ -189,7 +190,23 @@ def make_params(values: np.ndarray, area: float, width: float, window: int, dead
     row[P_DEADBAND] = float(deadband)
     row[P_TAU_I] = row[P_B_I] / row[P_K_I]
     row[P_TAU_W] = row[P_B_W] / row[P_K_W]
+    row[P_NECK_FLUSH] = neck_flush_age(row[P_ZETA], row[P_OMEGA_0])
     return row
+
+
+def neck_flush_age(zeta: float, omega_0: float) -> float:
+    """The age after necking [s] at which Eq. (7)'s filter response has decayed below 1e-250 [-].
+
+    Its slowest mode decays as ``exp(-r t)``, ``r = zeta omega_0`` up to
+    critical damping and ``omega_0 (zeta - sqrt(zeta^2 - 1))`` beyond
+    (written ``omega_0 / (zeta + sqrt(zeta^2 - 1))``, which does not cancel).
+    Past ``ln(1e250) / r`` the stepper sets the response to zero: it is
+    nothing physically, and left alone it would go on into subnormal
+    numbers, which are slow. Deciding by the age rather than by the values
+    keeps the test off the filter update's chain of dependent operations.
+    """
+    rate = zeta * omega_0 if zeta <= 1.0 else omega_0 / (zeta + math.sqrt(zeta * zeta - 1.0))
+    return 250.0 * math.log(10.0) / rate
 
 
 def new_states(n: int) -> np.ndarray:
@@ -295,6 +312,7 @@ class Params(NamedTuple):
     deadband: float
     tau_i: float
     tau_w: float
+    neck_flush: float
 
 
 @_compiled(inline="always")
@@ -348,15 +366,17 @@ def load_params(params: np.ndarray, j: int) -> Params:
     """Row ``j`` of ``params`` as :class:`Params`."""
     r = params[j]
     return Params(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14],
-                  r[15], r[16])
+                  r[15], r[16], r[17])
 
 
 @_compiled(inline="always")
-def neck_filter_step(c: Cache, gi: float, g: float) -> tuple[float, float]:
-    """``(G, g)`` of Eq. (7)'s filter one whole step later: its exact discrete-time update (cached matrix)."""
-    if abs(gi) + abs(g) < 1e-250:
-        # fully decayed: flush to zero before the update reaches subnormal
-        # numbers, which are slow (the filter's response tends to 0 anyway)
+def neck_filter_step(c: Cache, p: Params, age: float, gi: float, g: float) -> tuple[float, float]:
+    """``(G, g)`` of Eq. (7)'s filter one whole step later, at ``age`` [s]: its exact discrete-time update.
+
+    The transition matrix is the cache's; past :func:`neck_flush_age` the
+    response is zero.
+    """
+    if age > p.neck_flush:
         gi = 0.0
         g = 0.0
     return c.phi0 * gi + c.phi1 * g, c.phi2 * gi + c.phi3 * g
@@ -544,7 +564,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
         x = strain
     elif mode == NECKED:
         neck_age += dt
-        neck_gi, neck_g = neck_filter_step(c, neck_gi, neck_g)
+        neck_gi, neck_g = neck_filter_step(c, p, neck_age, neck_gi, neck_g)
     if mode == NECKED:
         x, zm = neck_motion(neck_v, neck_z, neck_g, neck_gi)
 
@@ -813,7 +833,7 @@ def quiet_step(s: State, c: Cache, p: Params, depth: float, dt: float
     elif mode == NECKED:
         ok = ok & (d <= 0.0)  # else NECKED ends
         age += dt
-        gi, g = neck_filter_step(c, gi, g)
+        gi, g = neck_filter_step(c, p, age, gi, g)
         x, zm = neck_motion(s.neck_v, s.neck_z, g, gi)
     else:
         if d >= 0.0:
