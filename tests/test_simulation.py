@@ -325,3 +325,14 @@ def test_post_necking_response_is_flushed_once_decayed() -> None:
     early = (t > tn + 1e-3) & (t < tn + 0.05)
     g = np.array([mf.equations.neck_filter_response(a, 0.5, 500.0)[0] for a in t[early] - tn])
     np.testing.assert_allclose(mv[early], mv[early][0] / g[0] * g, rtol=1e-9, atol=1e-15)
+
+
+def test_outputs_on_access_refuse_a_trajectory_changed_in_place() -> None:
+    t, z = Protocol.paper().sample()
+    res = simulate(t, z, W25)
+    kept = z[300]
+    z[300] += 1e-3  # the caller's array, not copied
+    with pytest.raises(InputError, match="changed in place"):
+        _ = res.f_e1
+    z[300] = kept
+    assert res.f_e1.shape == t.shape  # the same trajectory again: fine

@@ -49,11 +49,12 @@ class SimulationResult:
     displacement; the other arrays (stress components, velocities) are
     computed on first access, all together, by running the trajectory
     again through the stepper's full-output loop, so they are the
-    stepper's values bit for bit and cost nothing until asked for (about
-    twice the batch's own time when they are). They are read-only.
+    stepper's values bit for bit and cost nothing until asked for (three to
+    four times the batch's own time when they are). They are read-only.
     ``time`` and ``depth`` are the caller's arrays when they were already
-    contiguous float64 (not copied), so modify those in place only after
-    reading the computed arrays.
+    contiguous float64 (not copied): changed in place before the other
+    arrays are read, they would no longer be the trajectory the force was
+    computed for, and reading those arrays then raises :class:`InputError`.
 
     Attributes
     ----------
@@ -109,6 +110,9 @@ class SimulationResult:
             out = K.new_out(self.time.size)
             K.run_batch(self.time, self.depth, K.new_states(1), K.new_ring(1, self.velocity_filter.window),
                         self._params_row, out)
+            if not np.array_equal(out[K.O_FORCE], self.force, equal_nan=True):
+                raise InputError("time or depth was changed in place after simulate(), so the force no longer "
+                                 "belongs to them; simulate again (or pass copies)")
             for row in out:
                 row.setflags(write=False)
             self._cache.update(f_e1=out[K.O_F_E1], f_e2=out[K.O_F_E2], f_s=out[K.O_F_S],
