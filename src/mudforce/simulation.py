@@ -281,6 +281,41 @@ def params_row(params: MudParameters, foot: Foot, velocity_filter: VelocityFilte
     return K.make_params(params.as_array(), foot.area, foot.width, velocity_filter.window, velocity_filter.deadband)
 
 
+def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
+                ) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The compiled batch loop (``_kernel.run_batch_compact``) over a trajectory, on fresh arrays.
+
+    Parameters
+    ----------
+    t, z : ndarray
+        Sample times [s] and depths [m], contiguous float64 (not checked here).
+    prow : ndarray
+        The stepper's constants, shape ``(1, N_PARAMS)`` (:func:`params_row`).
+    window : int
+        The velocity filter's window [steps].
+
+    Returns
+    -------
+    tuple
+        ``(bad, force [N], state (int8), z_m [m], necking times [s])``;
+        ``bad`` is the first sample the stepper refused (the arrays are
+        then valid before it) or -1.
+    """
+    n = t.size
+    state = np.empty(n, dtype=np.int8)
+    mud = np.empty(n, dtype=np.float64)
+    # written at neckings only (pages never touched cost nothing)
+    neck_index = np.empty(n, dtype=np.int64)
+    neck_offset = np.empty(n, dtype=np.float64)
+    counts = np.zeros(1, dtype=np.int64)
+    force = np.empty(n, dtype=np.float64)
+    bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, window), prow, state, mud, neck_index,
+                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK))
+    necks = int(counts[0])
+    necking_times = t[neck_index[:necks] - 1] + neck_offset[:necks]
+    return int(bad), force, state, mud, necking_times
+
+
 def simulate(
     time: Any,
     depth: Any,
@@ -332,24 +367,12 @@ def simulate(
     foot = Foot.paper() if foot is None else foot
     vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
-    n = t.size
-    state = np.empty(n, dtype=np.int8)
-    mud = np.empty(n, dtype=np.float64)
-    # written at neckings only (pages never touched cost nothing)
-    neck_index = np.empty(n, dtype=np.int64)
-    neck_offset = np.empty(n, dtype=np.float64)
-    counts = np.zeros(1, dtype=np.int64)
-    force = np.empty(n, dtype=np.float64)
-    bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, vf.window), prow, state, mud, neck_index,
-                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK))
+    bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window)
     if bad >= 0:
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
-    necks = int(counts[0])
-    at = neck_index[:necks]
-    necking_times = t[at - 1] + neck_offset[:necks]
     return SimulationResult(
         time=t,
         depth=z,

@@ -27,7 +27,7 @@ from mudforce.calibration.preprocess import PreparedTrial
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.parameters import PARAMETER_NAMES, PARAMETER_UNITS, TABLE_I, MudParameters
-from mudforce.simulation import SPRING_BLOCK, simulate
+from mudforce.simulation import run_compact, simulate
 
 __all__ = [
     "CHEN2024",
@@ -168,12 +168,7 @@ def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: F
     already validated, and only needs the force.
     """
     row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
-    n = time.size
-    force = np.empty(n, dtype=np.float64)
-    bad = K.run_batch_compact(time, depth, K.new_states(1), K.new_ring(1, 1), row, np.empty(n, dtype=np.int8),
-                              np.empty(n, dtype=np.float64), np.empty(n, dtype=np.int64),
-                              np.empty(n, dtype=np.float64), np.zeros(1, dtype=np.int64), force,
-                              *K.new_spring_scratch(SPRING_BLOCK))
+    bad, force, *_ = run_compact(time, depth, row, 1)
     if bad >= 0:  # numerically impossible parameters: a huge, finite residual
         force[bad:] = 1e6
     return force
