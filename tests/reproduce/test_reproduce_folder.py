@@ -42,7 +42,7 @@ def test_accepts_new_empty_and_earlier_report(tmp_path: Path) -> None:
 
 def test_refuses_a_folder_with_other_files_a_file_and_the_package(tmp_path: Path) -> None:
     _fill(tmp_path / "mixed", {**OLD, "notes.txt": "mine"})
-    with pytest.raises(InputError, match="'notes.txt', not part of a mudforce report"):
+    with pytest.raises(InputError, match=r"'notes\.txt', not part of a mudforce report"):
         check_report_dir(tmp_path / "mixed")
     (tmp_path / "mixed" / "notes.txt").unlink()
     (tmp_path / "mixed" / "sub").mkdir()

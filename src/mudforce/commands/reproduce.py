@@ -37,7 +37,9 @@ def _default_jobs() -> int:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``mudforce reproduce``."""
-    parser.add_argument("--out", required=True, metavar="DIR", help="folder for report.html, summary.json, PNGs")
+    parser.add_argument("--out", required=True, metavar="DIR",
+                        help="folder for report.html, summary.json, PNGs: new, empty or an earlier report's "
+                             "(replaced whole when the report is complete)")
     parser.add_argument("--quick", action="store_true", help="fewer trials and a smaller fit budget (about 10 s)")
     parser.add_argument("--seed", default="0", metavar="N",
                         help="seed of the synthetic data and the fits, an integer >= 0 (default 0)")
