@@ -22,6 +22,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -158,7 +159,7 @@ def _watchdog(parent: int, period: float) -> None:
     while True:
         if os.getppid() != parent:
             os._exit(1)
-        threading.Event().wait(period)
+        time.sleep(period)
 
 
 def _worker_init(parent: int) -> None:

@@ -28,9 +28,12 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+import signal
 import stat
 import sys
 import tempfile
+import threading
+from collections.abc import Iterator
 from pathlib import Path
 from types import TracebackType
 
@@ -108,7 +111,8 @@ def check_report_dir(out: str | os.PathLike[str], option: str = "--out") -> Path
         raise InputError(f"{option} {given}: cannot create its parent folder ({exc.strerror or exc})") from None
     try:
         probe = tempfile.mkdtemp(prefix=_sibling_prefix(path, "probe"), dir=path.parent)
-        os.rmdir(probe)
+        with contextlib.suppress(FileNotFoundError):  # a concurrent clean_stale may have taken it
+            os.rmdir(probe)
     except OSError as exc:
         raise InputError(f"{option} {given}: cannot write beside it in {path.parent} "
                          f"({exc.strerror or exc})") from None
@@ -156,7 +160,7 @@ def clean_stale(path: Path) -> list[Path]:
     done = []
     parent = path.parent
     with contextlib.suppress(OSError):
-        for kind in ("old", "new"):
+        for kind in ("old", "new", "probe"):
             for sibling in sorted(parent.glob(_sibling_prefix(path, kind) + "*")):
                 if not sibling.is_dir() or sibling.is_symlink() or not _unused(sibling):
                     continue
@@ -169,6 +173,20 @@ def clean_stale(path: Path) -> list[Path]:
 
 
 # ---------------------------------------------------------------------------- the swap
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGTERM and SIGINT back inside (main thread, POSIX); they are delivered on leaving."""
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held = {signal.SIGTERM, signal.SIGINT}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def _exchange(a: Path, b: Path) -> bool:
     """Swap folders ``a`` and ``b`` atomically (Linux ``renameat2``); False where that is not available."""
     if not sys.platform.startswith("linux"):
@@ -228,7 +246,17 @@ class StagedFolder:
             self._fd = None
 
     def commit(self) -> None:
-        """Put the staged folder in place of ``path`` (one atomic step where the system allows), drop the old."""
+        """Put the staged folder in place of ``path`` (one atomic step where the system allows), drop the old.
+
+        SIGTERM and SIGINT are held back meanwhile (where the system allows),
+        so that they act before the swap or after it, never between its steps.
+        """
+        with _signals_held():
+            self._swap()
+            self.committed = True
+            self._release()
+
+    def _swap(self) -> None:
         path = self.path
         if not path.exists():
             os.rename(self.staged, path)
@@ -249,5 +277,3 @@ class StagedFolder:
             finally:
                 if fd is not None:
                     os.close(fd)
-        self.committed = True
-        self._release()
