@@ -51,6 +51,9 @@ def test_refuses_a_folder_with_other_files_a_file_and_the_package(tmp_path: Path
     (tmp_path / "file").write_text("x")
     with pytest.raises(InputError, match="not a directory"):
         check_report_dir(tmp_path / "file")
+    if os.path.ismount("/proc"):
+        with pytest.raises(InputError, match="mount point"):
+            check_report_dir("/proc")
     package = Path(mudforce.__file__).resolve().parent
     for inside in (package, package / "reproduce" / "templates", package.parent):
         with pytest.raises(InputError, match="overlaps the mudforce package"):

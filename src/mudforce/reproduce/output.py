@@ -80,9 +80,9 @@ def check_report_dir(out: str | os.PathLike[str], option: str = "--out") -> Path
     Raises
     ------
     InputError
-        If ``out`` is a file, holds anything but an earlier report, overlaps
-        the mudforce package, or its parent folder cannot be created or
-        written.
+        If ``out`` is a file or a mount point, holds anything but an earlier
+        report, overlaps the mudforce package, or its parent folder cannot be
+        created or written.
     """
     given = str(out)
     if not given.strip():
@@ -96,6 +96,9 @@ def check_report_dir(out: str | os.PathLike[str], option: str = "--out") -> Path
     if path == package or package in path.parents or path in package.parents:
         raise InputError(f"{option} {given}: overlaps the mudforce package ({package}), whose files are the "
                          "report's inputs; expected a folder outside it")
+    if path.is_dir() and os.path.ismount(path):
+        raise InputError(f"{option} {given}: is a mount point, which cannot be replaced whole; expected a folder "
+                         "inside it")
     if path.is_dir():
         try:
             foreign = sorted(p.name for p in path.iterdir() if not (_is_report_entry(p.name) and p.is_file()))
