@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import io
 import os
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -28,7 +28,7 @@ from mudforce._optional import require
 if TYPE_CHECKING:
     from mudforce.simulation import SimulationResult
 
-__all__ = ["STATE_COLOURS", "figure_to_png", "plot_result", "save_png"]
+__all__ = ["STATE_COLOURS", "figure_to_png", "new_figure", "plot_result", "save_png"]
 
 #: Shading per contact state (FREE is left unshaded).
 STATE_COLOURS: dict[str, str | None] = {"FREE": None, "CONTACT": "#cfe3f7", "NECKED": "#fbd9b5"}
@@ -101,8 +101,6 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
         If matplotlib is not installed.
     """
     require("matplotlib", "plot", "plotting")
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
     t = np.asarray(result.time, dtype=np.float64)
@@ -111,8 +109,7 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     force = np.asarray(result.force, dtype=np.float64)
     necks = np.asarray(result.necking_times, dtype=np.float64)
 
-    fig = Figure(figsize=_FIGSIZE, dpi=_DPI, layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = new_figure(*_FIGSIZE)
     grid = fig.add_gridspec(2, 2, height_ratios=(1.1, 1.0))
     ax_ft = fig.add_subplot(grid[0, :])
     ax_fz = fig.add_subplot(grid[1, 0])
@@ -165,13 +162,54 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     return fig
 
 
-def figure_to_png(fig: Any) -> bytes:
+def new_figure(width: float, height: float, *, dpi: float = _DPI,
+               layout: Literal["constrained", "compressed", "tight"] | None = "constrained") -> Any:
+    """A matplotlib figure on its own Agg canvas, outside :mod:`matplotlib.pyplot`.
+
+    The one figure constructor of mudforce's plots: no global figure
+    registry, no GUI backend, so it works in worker processes and on
+    headless machines, and nothing is kept alive after the caller drops it.
+
+    Parameters
+    ----------
+    width, height : float
+        Figure size [in].
+    dpi : float
+        Resolution [dots per inch] of the figure and of its PNG (100 by default).
+    layout : str or None
+        matplotlib layout engine ("constrained" by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Add axes with ``fig.subplots(...)`` or ``fig.add_gridspec(...)``.
+
+    Raises
+    ------
+    mudforce._optional.MissingDependencyError
+        If matplotlib is not installed.
+    """
+    require("matplotlib", "plot", "plotting")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height), dpi=dpi, layout=layout)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def figure_to_png(fig: Any, *, dpi: float | None = None) -> bytes:
     """Render a matplotlib figure to PNG bytes with the Agg renderer, without metadata that varies.
+
+    The one way mudforce turns a figure into PNG bytes: the same figure
+    gives the same bytes (no software version, no timestamp).
 
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        The figure (its size and dpi are kept).
+        The figure (its size is kept).
+    dpi : float, optional
+        Resolution of the PNG [dots per inch]; the figure's own by default.
 
     Returns
     -------
@@ -184,18 +222,30 @@ def figure_to_png(fig: Any) -> bytes:
     if not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", metadata=dict(_PNG_METADATA))
+    if dpi is None:
+        fig.savefig(buffer, format="png", metadata=dict(_PNG_METADATA))
+    else:
+        fig.savefig(buffer, format="png", dpi=dpi, metadata=dict(_PNG_METADATA))
     return buffer.getvalue()
 
 
-def save_png(fig: Any, path: str | os.PathLike[str]) -> None:
+def save_png(fig: Any, path: str | os.PathLike[str], *, dpi: float | None = None) -> None:
     """Save a figure as PNG at ``path`` atomically (temporary file, then rename), reproducibly.
 
-    The figure is rendered in memory first, so a rendering error leaves an
-    existing file at ``path`` untouched.
+    The one way mudforce saves a PNG. The figure is rendered in memory
+    first (:func:`figure_to_png`), so a rendering error leaves an existing
+    file at ``path`` untouched.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    path : path-like
+        The PNG file to write (replaced whole or not at all).
+    dpi : float, optional
+        Resolution [dots per inch]; the figure's own by default.
     """
     from mudforce.io import atomic_open
 
-    data = figure_to_png(fig)
+    data = figure_to_png(fig, dpi=dpi)
     with atomic_open(path, "wb") as handle:
         handle.write(data)
