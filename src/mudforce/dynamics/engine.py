@@ -170,7 +170,7 @@ def _event(phase: int, t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, p: 
 
 @njit(cache=True, nogil=True)
 def _decide_at_rest(t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, mg: float, tp: np.ndarray,
-                    fp: np.ndarray, necked: bool) -> int:
+                    fp: np.ndarray, necked: bool) -> Phase:
     """Filippov's choice for a foot at rest: slide down, slide up, or stick. Sets ``y``, returns the phase."""
     y[1] = 0.0
     load = _load(t, mg, tp, fp)
@@ -190,8 +190,8 @@ def _decide_at_rest(t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, mg:
 
 
 @njit(cache=True, nogil=True)
-def _apply_event(code: int, phase: int, t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, mg: float,
-                 tp: np.ndarray, fp: np.ndarray) -> int:
+def _apply_event(code: int, phase: Phase, t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, mg: float,
+                 tp: np.ndarray, fp: np.ndarray) -> Phase:
     """The phase after an event located at ``(t, y)``."""
     if phase == Phase.FREE:  # touchdown: CONTACT from the crossing, with z_m = 0 there (docs/model.md)
         y[2] = y[0]

@@ -96,7 +96,7 @@ class FootResult:
         return int(self.phase[-1]) == Phase.STUCK and abs(float(self.velocity[-1])) <= REST_SPEED
 
     @property
-    def final_depth(self) -> float:
+    def end_depth(self) -> float:
         """Depth at the last sample [m], whether or not the foot is at rest there."""
         return float(self.depth[-1])
 
@@ -104,7 +104,7 @@ class FootResult:
     def rest_depth(self) -> float:
         """Depth where the foot rests at the last sample [m]; NaN if it is still moving there (:attr:`at_rest`).
 
-        Use :attr:`final_depth` for the last sample's depth in any case.
+        Use :attr:`end_depth` for the last sample's depth in any case.
         """
         return float(self.depth[-1]) if self.at_rest else float("nan")
 
