@@ -61,7 +61,7 @@ def test_no_chatter_and_no_ratchet(water: float, mass: float) -> None:
 
 
 def test_naive_coupling_chatters_and_ratchets() -> None:
-    """MODEL.md: the explicit coupling chatters every step and sinks far deeper."""
+    """docs/model.md: the explicit coupling chatters every step and sinks far deeper."""
     params = MudParameters.from_water_content(0.25)
     t, z, f = naive_drop(5.0, params)
     ref = exact_drop(5.0, params)
@@ -173,7 +173,7 @@ def test_bad_input() -> None:
 
 
 def test_stiffer_withdrawal_branch_can_pump_energy() -> None:
-    """MODEL.md keeps k_m_w >> k_m_i: at each reversal the stored strain meets an 11.5x stiffer
+    """docs/model.md keeps k_m_w >> k_m_i: at each reversal the stored strain meets an 11.5x stiffer
     spring (W = 30%), so a light foot bounces higher each time; both solvers agree on it."""
     params = MudParameters.from_water_content(0.30)
     res = simulate_foot(2.0, params, duration=1.0)
