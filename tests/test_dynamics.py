@@ -12,6 +12,7 @@ from mudforce import _kernel as K
 from mudforce.dynamics import (
     GRAVITY,
     ExactDrop,
+    Phase,
     branch_forces,
     exact_drop,
     naive_drop,
@@ -54,7 +55,7 @@ def test_no_chatter_and_no_ratchet(water: float, mass: float) -> None:
     names = set(np.array(res.phase_names)[late])
     assert names <= {"STUCK", "INTRUSION"}
     # ...and while stuck it does not move at all
-    stuck = res.phase == 3
+    stuck = res.phase == Phase.STUCK
     assert np.all(res.velocity[stuck] == 0.0)
     runs = np.split(res.depth[stuck], np.flatnonzero(np.diff(np.flatnonzero(stuck)) > 1) + 1)
     assert all(np.ptp(r) == 0.0 for r in runs if r.size)

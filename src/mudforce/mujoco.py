@@ -253,6 +253,15 @@ class MudAdapter:
     prefix : str
         As given to :func:`add_mud`.
 
+    Attributes
+    ----------
+    feet : tuple of str
+        The feet's names, in the order of every per-foot array.
+    patches : tuple of MudPatch
+        Each foot's patch.
+    states, params : ndarray
+        Read-only views of the feet's contact states and constants (kernel layout).
+
     Notes
     -----
     Call :meth:`step` instead of ``mujoco.mj_step``. The force on foot ``j``
@@ -269,7 +278,7 @@ class MudAdapter:
         self._mj = mj
         self.model = model
         self.data = data
-        self.feet = _name_list(feet)
+        self.feet: tuple[str, ...] = tuple(_name_list(feet))
         prefix = _check_prefix(prefix)
         n = len(self.feet)
         if isinstance(patches, MudPatch):
@@ -288,7 +297,7 @@ class MudAdapter:
             raise InputError(f"foot must be a Foot, a sequence of Foot or None, got {type(foot).__name__}")
         if len(flist) != n:
             raise InputError(f"got {len(flist)} feet's geometry (Foot) for {n} feet")
-        self.patches = plist
+        self.patches: tuple[MudPatch, ...] = tuple(plist)
         vf = VelocityFilter(1, STICK_VELOCITY)
         self._params = np.array([params_row(p.params, f, vf) for p, f in zip(plist, flist, strict=True)])
         big = 1e300

@@ -226,11 +226,17 @@ def plot_foot_result(result: FootResult, path: str | os.PathLike[str] | None = N
     -------
     matplotlib.figure.Figure
     """
+    from mudforce.dynamics.result import PHASE_NAMES, FootResult, check_path
+
+    if not isinstance(result, FootResult):
+        from mudforce.errors import InputError
+
+        raise InputError(f"result must be a FootResult, got {type(result).__name__}")
+    if path is not None:
+        check_path(path, "path")
     require("matplotlib", "plot", "plotting")
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
-
-    from mudforce.dynamics.result import PHASE_NAMES
 
     fig = Figure(figsize=(8.0, 7.0))
     axes = fig.subplots(3, 1, sharex=True)

@@ -149,3 +149,14 @@ def test_mujoco_entry_points_refuse() -> None:
     snapshot = states.copy()
     mud.step()
     assert states[0, K.S_TIME] > snapshot[0, K.S_TIME]  # a view: it follows the adapter
+
+
+def test_result_methods_refuse_bad_types(tmp_path: Any) -> None:
+    res = simulate_foot(5.0, W25, duration=0.01)
+    with pytest.raises(InputError, match="path must be a file path"):
+        res.to_csv(123)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="last must be a number"):
+        res.force_std("1")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="path must be a file path"):
+        res.plot(123)  # type: ignore[arg-type]
+    assert list(tmp_path.iterdir()) == []

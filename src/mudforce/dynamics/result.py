@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase"]
+__all__ = ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"]
 
 #: Standard gravity [m/s^2] (MuJoCo's default ``0 0 -9.81``).
 GRAVITY = 9.81
@@ -109,7 +109,10 @@ class FootResult:
         return float(self.depth[-1]) if self.at_rest else float("nan")
 
     def force_std(self, last: float = 1.0) -> float:
-        """Standard deviation of the force over the last ``last`` seconds [N]."""
+        """Standard deviation of the force over the last ``last`` seconds [N] (``last`` > 0 [s])."""
+        from mudforce.dynamics._checks import real
+
+        last = real("last", last, "s", positive=True)
         sel = self.time >= self.time[-1] - last - 1e-12
         return float(np.std(self.force[sel]))
 
@@ -117,6 +120,7 @@ class FootResult:
         """Write ``time_s, depth_m, velocity_m_s, force_N, state`` as CSV, atomically."""
         from mudforce.io import atomic_open
 
+        check_path(path, "path")
         names = self.phase_names
         with atomic_open(path, "w") as handle:
             handle.write("time_s,depth_m,velocity_m_s,force_N,state\n")
@@ -131,4 +135,14 @@ class FootResult:
         """
         from mudforce.plotting import plot_foot_result
 
+        if path is not None:
+            check_path(path, "path")
         return plot_foot_result(self, path, title=title)
+
+
+def check_path(path: Any, name: str) -> None:
+    """InputError unless ``path`` is a ``str`` or ``os.PathLike`` (a file to write)."""
+    if not isinstance(path, (str, os.PathLike)):
+        from mudforce.errors import InputError
+
+        raise InputError(f"{name} must be a file path (str or os.PathLike), got {type(path).__name__}")
