@@ -18,9 +18,10 @@ WITHDRAWAL, STUCK, NECKED), one row per millisecond. The summary line gives
 the rest depth only if the foot is at rest (STUCK) at the end; otherwise
 it says the foot is still moving, and how fast.
 
-Bounds: --mass from 0.1 kg (builtin) or 1 kg (mujoco: lighter feet sink
-less than its contact's ~20 um creep) to 10000 kg; --height 0 to 10 m;
---duration 2 ms to 600 s; --water-content within Table I (15%-35%).
+Bounds: --mass from 0.1 kg (builtin) or 1 kg (mujoco: its contact's
+~10-20 um creep is a large part of a lighter foot's rest depth) to 10000 kg;
+--height 0 to 10 m; --duration 2 ms to 600 s; --water-content within
+Table I (15%-35%).
 
 examples:
   mudforce drop --mass 5kg --water-content 25% --out drop.csv
