@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce.dynamics._checks import check_foot, check_params, max_samples, real
+from mudforce.dynamics._checks import check_finite_output, check_foot, check_params, max_samples, real
 from mudforce.dynamics.result import GRAVITY
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
@@ -63,6 +63,12 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
         Time step [s], > 0.
     gravity : float
         Gravitational acceleration [m/s^2].
+
+    Raises
+    ------
+    InputError
+        For inputs of the wrong type or out of bounds, and if the result is
+        not finite (a foot too light for the step diverges).
     """
     params = check_params(params)
     foot = check_foot(foot)
@@ -75,7 +81,9 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     n = round(duration / dt)
     depth = np.empty(n)
     force = np.empty(n)
-    _naive(K.new_states(1), p, float(mass), float(gravity), 0.0, float(dt), n, depth, force)
-    return (np.arange(1, n + 1) * dt, depth, force)
+    _naive(K.new_states(1), p, mass, gravity, 0.0, dt, n, depth, force)
+    time = np.arange(1, n + 1) * dt
+    check_finite_output("naive", time, depth, force)
+    return time, depth, force
 
 
