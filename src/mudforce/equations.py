@@ -23,6 +23,7 @@ __all__ = [
     "neck_filter_response",
     "necking_time",
     "nonlinear_spring_stress",
+    "rest_band_forces",
     "viscoelastic_stress",
 ]
 
@@ -216,3 +217,46 @@ def necking_time(
     if t > length:
         return length
     return t
+
+
+# ----------------------------------------------------------------------------- the foot at rest (dynamics)
+@njit(cache=True, nogil=True)
+def rest_band_forces(strain: float, spring_stress: float, k_m_i: float, k_m_w: float,
+                     area: float) -> tuple[float, float]:
+    """The rest band ``(F_up, F_down)`` [N]: the forces that hold a foot at rest below the surface.
+
+    With the foot at rest (``dz_i/dt = 0``) the model's force (Eq. (1)) is
+    set-valued: its two one-sided limits are the branch forces
+
+    * ``F_up = S k_m_w e``: the withdrawal branch as ``v -> 0-``, Eq. (2) with ``k_m_w``;
+    * ``F_down = S (k_m_i e + f_e2)``: the intrusion branch as ``v -> 0+``,
+      Eq. (2) with ``k_m_i`` plus the nonlinear spring, Eq. (4);
+
+    and the drag of Eq. (5) vanishes at ``v = 0``. A foot at rest sticks
+    while the load it carries (positive down) lies in ``[F_up, F_down]``
+    (``docs/model.md``, "Coupled with dynamics"). The caller applies the
+    state machine: above the surface ``F_down = 0`` (FREE), and after necking
+    ``F_up`` is the post-necking force of Eq. (7) instead.
+
+    Plain arithmetic (the spring stress comes in precomputed), so that
+    ``rest_band_forces.py_func`` also works on arrays (a JAX step).
+
+    Parameters
+    ----------
+    strain : float
+        Maxwell strain ``e = z_i - z_m`` [m], Eq. (2) (from :func:`maxwell_strain_step`, Eq. (3)).
+    spring_stress : float
+        Nonlinear spring stress ``f_e2`` [Pa] at the foot's depth, Eq. (4) (:func:`nonlinear_spring_stress`).
+    k_m_i : float
+        Intrusion-branch Maxwell stiffness [Pa/m].
+    k_m_w : float
+        Withdrawal-branch Maxwell stiffness [Pa/m].
+    area : float
+        Foot contact area ``S`` [m^2].
+
+    Returns
+    -------
+    (float, float)
+        ``F_up`` and ``F_down`` [N], positive up (resisting).
+    """
+    return area * k_m_w * strain, area * (k_m_i * strain + spring_stress)
