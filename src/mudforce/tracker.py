@@ -136,7 +136,7 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
 def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: np.ndarray, dt: float,
                 forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, depths: np.ndarray,
                 measured: np.ndarray, edges: np.ndarray, L: np.ndarray, P: np.ndarray, aux: np.ndarray,
-                cfg: np.ndarray, out: np.ndarray) -> int:
+                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
 
     ``depths``/``measured`` [m]/[N], shape (n,); the bank has ``n * G``
@@ -212,9 +212,15 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 total += v
             for g in range(G):
                 P[j, g] /= total
-        out[j, _O_W] = _quantile(P[j], edges, 0.5)
-        out[j, _O_LOW] = _quantile(P[j], edges, half)
-        out[j, _O_HIGH] = _quantile(P[j], edges, 1.0 - half)
+        # the reported posterior: the fit's, blurred by the model discrepancy (Q = blur @ P)
+        for g in range(G):
+            acc = 0.0
+            for h in range(G):
+                acc += blur[g, h] * P[j, h]
+            Q[g] = acc
+        out[j, _O_W] = _quantile(Q, edges, 0.5)
+        out[j, _O_LOW] = _quantile(Q, edges, half)
+        out[j, _O_HIGH] = _quantile(Q, edges, 1.0 - half)
         out[j, _O_BIAS] = aux[j, _A_BIAS]
         out[j, _O_NOISE] = math.sqrt(aux[j, _A_VAR])
         # change flag: a settled estimate that leaves the anchor behind
@@ -228,6 +234,21 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_ANCHOR] = out[j, _O_W]
         out[j, _O_CHANGED] = changed
     return -1
+
+
+def _blur_matrix(grid: np.ndarray, edges: np.ndarray, sd: float) -> np.ndarray:
+    """``B[g, h]``: the share of a normal of standard deviation ``sd`` [-] around ``grid[h]`` in cell ``g``.
+
+    Each column is renormalised to the grid's range (the mass beyond its ends
+    is put back in proportion); ``sd = 0`` gives the identity.
+    """
+    G = grid.size
+    if sd == 0.0:
+        return np.eye(G)
+    cdf = np.array([[0.5 * (1.0 + math.erf((e - w) / (sd * math.sqrt(2.0)))) for w in grid] for e in edges])
+    blur = np.diff(cdf, axis=0)
+    blur /= blur.sum(axis=0, keepdims=True)
+    return np.ascontiguousarray(blur)
 
 
 # ---------------------------------------------------------------------------- public API
@@ -349,6 +370,10 @@ class MudTrackers:
         (30 um depth noise at 100 Hz).
     level : float
         Probability of the credible interval [-], in (0, 1) (default 0.95).
+    discrepancy : float
+        Standard deviation [-] of the model's systematic error in water
+        content (default 0.005, half a point): the fit's posterior is
+        blurred by it before the estimate and interval are read (0: none).
 
     Notes
     -----
@@ -370,6 +395,7 @@ class MudTrackers:
         bias: float = 2.0,
         velocity_filter: VelocityFilter | str | None = None,
         level: float = 0.95,
+        discrepancy: float = 0.005,
     ) -> None:
         self.n = positive_int(n, "the number of feet n")
         if foot is not None and not isinstance(foot, Foot):
@@ -400,6 +426,12 @@ class MudTrackers:
         mids = 0.5 * (self.grid[1:] + self.grid[:-1])
         self._edges = np.concatenate(([self.grid[0] - (mids[0] - self.grid[0])], mids,
                                       [self.grid[-1] + (self.grid[-1] - mids[-1])]))
+        if isinstance(discrepancy, (int, float)) and not isinstance(discrepancy, bool) and discrepancy == 0.0:
+            self.discrepancy = 0.0
+        else:
+            self.discrepancy = _positive(discrepancy, "discrepancy", "-")
+        self._blur = _blur_matrix(self.grid, self._edges, self.discrepancy)
+        self._Q = np.zeros(G, dtype=np.float64)
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.vectorized import MudContacts
 
@@ -433,7 +465,7 @@ class MudTrackers:
         bank = self._bank
         bad = _track_step(bank.states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
                           bank._scratch[0], bank._index[0], self._depths, self._forces, self._edges, self._L,
-                          self._P, self._aux, self._cfg, self._out)
+                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{self._depths[bad]!r} and {self._forces[bad]!r}")
