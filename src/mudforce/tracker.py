@@ -127,9 +127,9 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
     G = p.shape[0]
     for g in range(G):
         if c + p[g] >= q and p[g] > 0.0:
-            return edges[g] + (q - c) / p[g] * (edges[g + 1] - edges[g])
+            return float(edges[g] + (q - c) / p[g] * (edges[g + 1] - edges[g]))
         c += p[g]
-    return edges[G]
+    return float(edges[G])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -501,7 +501,8 @@ class MudTrackers:
     @property
     def posterior(self) -> np.ndarray:
         """Each foot's posterior probability of each grid water content, shape (n, G) (a copy)."""
-        return self._P.copy()
+        p: np.ndarray = np.array(self._P, dtype=np.float64)
+        return p
 
     def __len__(self) -> int:
         return self.n
@@ -571,7 +572,8 @@ class MudTracker:
     @property
     def posterior(self) -> np.ndarray:
         """The posterior probability of each grid water content, shape (G,) (a copy)."""
-        return self._bank._P[0].copy()
+        p: np.ndarray = np.array(self._bank._P[0], dtype=np.float64)
+        return p
 
     def __repr__(self) -> str:
         g = self.grid

@@ -66,7 +66,7 @@ def _csv_text(result: object) -> str:
     assert isinstance(result, TrackResult)
     lines = [",".join(COLUMNS)]
     for row in zip(result.time.tolist(), result.water_content.tolist(), result.low.tolist(), result.high.tolist(),
-                   result.force_predicted.tolist(), result.force.tolist(), result.changed.tolist()):
+                   result.force_predicted.tolist(), result.force.tolist(), result.changed.tolist(), strict=True):
         *values, changed = row
         lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)}")
     return "\n".join(lines) + "\n"
