@@ -39,10 +39,12 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   The predicted force is the mean of the models' forces under the posterior
   *before* the sample (a one-step-ahead prediction) plus the offset, i.e. the
   expected sensor reading.
-* **Change flag.** Once the interval is narrower than ``settle_width``, its
-  median becomes the anchor; when a later interval that narrow excludes the
-  anchor by more than ``change_margin``, the flag is raised for that sample
-  and the new median becomes the anchor.
+* **Change flag.** Once the interval is narrower than a settling width (4
+  points, or 6 grid steps), its median becomes the anchor; when a later
+  interval that narrow excludes the anchor by more than a margin (1 point,
+  or 2 grid steps), the flag is raised for that sample. For the next ``tau``
+  seconds of contact the anchor follows the settling estimate without a
+  second flag.
 
 Speed plumbing: the whole update (bank step and posterior) is one compiled
 call, :func:`_track_step`, over arrays held by the object.
@@ -86,7 +88,8 @@ _A_NFREE = 2  # free samples seen (capped at the offset's memory)
 _A_VAR = 3  # force noise variance estimate [N^2]
 _A_CONTACT = 4  # seconds of contact seen (informative samples)
 _A_ANCHOR = 5  # water content of the last settled estimate [-], NaN before
-_N_AUX = 6
+_A_HOLD = 6  # seconds of contact left in which the anchor follows the estimate after a flag [s]
+_N_AUX = 7
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -195,6 +198,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             bias_var = cfg[_C_BIAS0] * cfg[_C_BIAS0] if nfree < 2.0 else var / nfree
             keep = math.exp(-dt / tau)
             aux[j, _A_CONTACT] += dt
+            aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
             best = -1e300
             for g in range(G):
                 fg = forces[base + g]
@@ -227,11 +231,13 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
         changed = 0.0
         if out[j, _O_HIGH] - out[j, _O_LOW] <= cfg[_C_SETTLE]:
             anchor = aux[j, _A_ANCHOR]
-            if math.isnan(anchor):
+            if math.isnan(anchor) or aux[j, _A_HOLD] > 0.0:
+                # the first settled estimate, or the estimate still settling after a flag: follow it
                 aux[j, _A_ANCHOR] = out[j, _O_W]
             elif anchor < out[j, _O_LOW] - cfg[_C_MARGIN] or anchor > out[j, _O_HIGH] + cfg[_C_MARGIN]:
                 changed = 1.0
                 aux[j, _A_ANCHOR] = out[j, _O_W]
+                aux[j, _A_HOLD] = tau
         out[j, _O_CHANGED] = changed
     return -1
 
@@ -372,7 +378,7 @@ class MudTrackers:
         Probability of the credible interval [-], in (0, 1) (default 0.95).
     discrepancy : float
         Standard deviation [-] of the model's systematic error in water
-        content (default 0.005, half a point): the fit's posterior is
+        content (default 0.0075, three quarters of a point): the fit's posterior is
         blurred by it before the estimate and interval are read (0: none).
 
     Notes
@@ -395,7 +401,7 @@ class MudTrackers:
         bias: float = 2.0,
         velocity_filter: VelocityFilter | str | None = None,
         level: float = 0.95,
-        discrepancy: float = 0.005,
+        discrepancy: float = 0.0075,
     ) -> None:
         self.n = positive_int(n, "the number of feet n")
         if foot is not None and not isinstance(foot, Foot):
