@@ -214,13 +214,12 @@ def main() -> None:
     ap.add_argument("--quiet", action="store_true", help="only the summary")
     ap.add_argument("--tolerance", type=float, default=TOLERANCE,
                     help="converged: the median within this of the truth for good [-] (default 0.01)")
-    for name in ("tau", "misfit", "floor", "dof", "temperature", "discrepancy"):
+    for name in ("tau", "misfit", "floor", "dof", "correlation_time", "discrepancy"):
         ap.add_argument(f"--{name}", type=float, default=None, help=f"tracker option {name} (default: the tracker's)")
     args = ap.parse_args()
-    global TOLERANCE
-    TOLERANCE = args.tolerance
+    globals()["TOLERANCE"] = args.tolerance  # read by settle() and the summary
     if args.acceptance:
-        options = {name: getattr(args, name) for name in ("tau", "misfit", "floor", "dof", "temperature", "discrepancy")
+        options = {name: getattr(args, name) for name in ("tau", "misfit", "floor", "dof", "correlation_time", "discrepancy")
                    if getattr(args, name) is not None}
         acceptance(args.seeds, args.pairs, options, not args.quiet)
     else:

@@ -22,12 +22,13 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
 * **Likelihood.** A Student-t (``dof`` degrees of freedom) of the measured
   force minus the offset around each model's force, with a scale of the
   noise, the offset's uncertainty, a ``floor`` and a relative misfit
-  ``misfit * |F|`` added in quadrature, and divided by a ``temperature``:
+  ``misfit * |F|`` added in quadrature, and weighted by
+  ``min(1, dt / correlation_time)``:
   the model is not exact for measured data (a reversal of the foot is seen a
   few samples late through the noise, so the nonlinear spring can be
   switched on the wrong branch for a few samples, errors of up to the whole
   spring force), and those errors are correlated from sample to sample. The
-  heavy tails make such a sample weak evidence; the temperature counts
+  heavy tails make such a sample weak evidence; the weight counts
   correlated samples as fewer.
 * **Forgetting.** The log-posterior decays by ``exp(-dt / tau)`` per sample
   in contact (samples where every model predicts zero force carry no
@@ -40,7 +41,8 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   *before* the sample (a one-step-ahead prediction) plus the offset, i.e. the
   expected sensor reading.
 * **Change flag.** Once the interval is narrower than a settling width (4
-  points, or 6 grid steps), its median becomes the anchor; when a later
+  points, or 6 grid steps) and the offset has been tared (10 free
+  samples), its median becomes the anchor; when a later
   interval that narrow excludes the anchor by more than a margin (1 point,
   or 2 grid steps), the flag is raised for that sample. For the next ``tau``
   seconds of contact the anchor follows the settling estimate without a
@@ -106,7 +108,7 @@ _C_TAU = 0
 _C_MISFIT = 1
 _C_FLOOR = 2
 _C_DOF = 3
-_C_TEMP = 4
+_C_TEMP = 4  # correlation time [s]
 _C_NOISE0 = 5
 _C_BIAS0 = 6
 _C_FREE_MEMORY = 7
@@ -159,7 +161,8 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
     misfit2 = cfg[_C_MISFIT] * cfg[_C_MISFIT]
     floor2 = cfg[_C_FLOOR] * cfg[_C_FLOOR]
     dof = cfg[_C_DOF]
-    inv_temp = 1.0 / cfg[_C_TEMP]
+    # each sample counts as dt / correlation_time independent ones (at most one)
+    weight = min(1.0, dt / cfg[_C_TEMP])
     half = 0.5 * (1.0 - cfg[_C_LEVEL])
     for j in range(n):
         base = j * G
@@ -205,7 +208,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 r = f - bias - fg
                 s2 = var + bias_var + floor2 + misfit2 * fg * fg
                 ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
-                v = keep * L[j, g] + ll * inv_temp
+                v = keep * L[j, g] + ll * weight
                 L[j, g] = v
                 if v > best:
                     best = v
@@ -229,7 +232,8 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
         out[j, _O_NOISE] = math.sqrt(aux[j, _A_VAR])
         # change flag: a settled estimate that leaves the anchor behind
         changed = 0.0
-        if out[j, _O_HIGH] - out[j, _O_LOW] <= cfg[_C_SETTLE]:
+        # (only once the offset has been tared: before, an estimate may still move with it)
+        if out[j, _O_HIGH] - out[j, _O_LOW] <= cfg[_C_SETTLE] and aux[j, _A_NFREE] >= 10.0:
             anchor = aux[j, _A_ANCHOR]
             if math.isnan(anchor) or aux[j, _A_HOLD] > 0.0:
                 # the first settled estimate, or the estimate still settling after a flag: follow it
@@ -363,8 +367,11 @@ class MudTrackers:
         Floor on the likelihood's scale [N] (default 0.2 N).
     dof : float
         Degrees of freedom of the Student-t likelihood [-] (default 2).
-    temperature : float
-        Divides the log-likelihood: counts correlated samples as fewer [-] (default 5).
+    correlation_time : float
+        Time over which the model's misfit stays correlated [s] (default
+        0.05 s): each sample's log-likelihood is weighted by
+        ``min(1, dt / correlation_time)`` (1/5 at 100 Hz), so the evidence
+        per second does not grow with the sampling rate.
     noise : float
         Prior force-noise standard deviation [N], until the foot has been
         free (default 0.5 N).
@@ -396,7 +403,7 @@ class MudTrackers:
         misfit: float = 0.05,
         floor: float = 0.2,
         dof: float = 2.0,
-        temperature: float = 5.0,
+        correlation_time: float = 0.05,
         noise: float = 0.5,
         bias: float = 2.0,
         velocity_filter: VelocityFilter | str | None = None,
@@ -419,7 +426,7 @@ class MudTrackers:
         cfg[_C_MISFIT] = _positive(misfit, "misfit", "-")
         cfg[_C_FLOOR] = _positive(floor, "floor", "N")
         cfg[_C_DOF] = _positive(dof, "dof", "-")
-        cfg[_C_TEMP] = _positive(temperature, "temperature", "-")
+        cfg[_C_TEMP] = _positive(correlation_time, "correlation_time", "s")
         cfg[_C_NOISE0] = _positive(noise, "noise", "N")
         cfg[_C_BIAS0] = _positive(bias, "bias", "N")
         cfg[_C_FREE_MEMORY] = 500.0  # samples: the offset and noise follow slow drift over ~5 s of swing at 100 Hz

@@ -123,7 +123,7 @@ def test_a_refused_sample_changes_nothing() -> None:
 
 
 @pytest.mark.parametrize("options", [
-    {"tau": 0.0}, {"tau": math.inf}, {"temperature": -1.0}, {"misfit": "a lot"}, {"level": 1.0},
+    {"tau": 0.0}, {"tau": math.inf}, {"correlation_time": -1.0}, {"misfit": "a lot"}, {"level": 1.0},
     {"water_contents": [0.3, 0.2]}, {"water_contents": [0.1, 0.2]}, {"water_contents": [0.25]},
     {"discrepancy": -0.01}, {"velocity_filter": "fast"},
 ])
