@@ -214,13 +214,13 @@ def main() -> None:
     ap.add_argument("--quiet", action="store_true", help="only the summary")
     ap.add_argument("--tolerance", type=float, default=TOLERANCE,
                     help="converged: the median within this of the truth for good [-] (default 0.01)")
-    for name in ("tau", "misfit", "floor", "dof", "correlation_time", "discrepancy"):
+    for name in ("tau", "misfit", "floor", "dof", "correlation_time", "discrepancy"):  # tracker options
         ap.add_argument(f"--{name}", type=float, default=None, help=f"tracker option {name} (default: the tracker's)")
     args = ap.parse_args()
     globals()["TOLERANCE"] = args.tolerance  # read by settle() and the summary
     if args.acceptance:
-        options = {name: getattr(args, name) for name in ("tau", "misfit", "floor", "dof", "correlation_time", "discrepancy")
-                   if getattr(args, name) is not None}
+        names = ("tau", "misfit", "floor", "dof", "correlation_time", "discrepancy")
+        options = {name: getattr(args, name) for name in names if getattr(args, name) is not None}
         acceptance(args.seeds, args.pairs, options, not args.quiet)
     else:
         cost(args.calls, args.feet)
