@@ -3,10 +3,11 @@
 FILE.csv has a header naming time_s (or time_ms), depth_m (or depth_mm,
 positive below the surface) and force_N (the measured force, + up, offset
 and all). Each sample goes through mudforce.MudTracker in turn, as a
-robot's control loop would feed it (no look-ahead): a bank of Table I models
-on a grid of water contents, Bayesian updating with forgetting, the sensor
-offset tared while the foot is free (see docs/tracking.md). The branch rule
-is chosen from the file's own depth noise, as `mudforce simulate` does.
+robot's control loop would feed it: a bank of Table I models on a grid of
+water contents, Bayesian updating with forgetting, the sensor offset tared
+while the foot is free (see docs/tracking.md). Only the branch rule looks at
+the whole file: it is chosen from the file's own depth noise, as `mudforce
+simulate` does.
 
 Output columns: time_s, water_content, water_content_low,
 water_content_high (the estimate and its 95 % interval, fractions: 0.25 is
