@@ -187,7 +187,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             if nfree <= 1.0:
                 aux[j, _A_BIAS] = f
             else:
-                clip = 16.0 * var
+                clip = 16.0 * max(var, floor2)  # 4 sigma, never below 4 floors (clean data: var -> 0)
                 e2 = min(e * e, clip)
                 e_c = math.copysign(math.sqrt(e2), e)
                 aux[j, _A_BIAS] += e_c / nfree

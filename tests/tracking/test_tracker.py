@@ -10,6 +10,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mudforce import InputError, MudTracker, MudTrackers, TrackEstimate
 from mudforce.gait import walk
@@ -162,3 +164,17 @@ def test_tracking_figure_is_deterministic(tmp_path: object) -> None:
     tracking_figure(p / "b.png", seed=3, duration=25.0, change_time=10.0)
     data = (p / "a.png").read_bytes()
     assert data.startswith(b"\x89PNG") and data == (p / "b.png").read_bytes()
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.floats(-0.02, 0.05), st.floats(-300.0, 300.0), st.floats(1e-4, 0.1)),
+                min_size=1, max_size=60))
+def test_estimate_invariants_on_any_finite_input(samples: list[tuple[float, float, float]]) -> None:
+    tracker = MudTracker()
+    for z, f, dt in samples:
+        e = tracker.update(z, f, dt)
+        low, high = e.interval
+        assert 0.1475 <= low <= e.water_content <= high <= 0.3525
+        assert math.isfinite(e.force_predicted) and math.isfinite(e.bias) and e.noise > 0.0
+    p = tracker.posterior
+    assert p.sum() == pytest.approx(1.0) and np.all(p >= 0.0)
