@@ -189,9 +189,9 @@ def acceptance(seeds: int, pairs: str, options: dict[str, float], verbose: bool)
     print(f"  converged (median within {100 * TOLERANCE:g} point(s) for good): {seeds - never}/{seeds}")
     print(f"  convergence [steps]: {q(conv_steps)}")
     print(f"  convergence [s]: {q(conv_time)}")
-    print(f"  95 % interval coverage after convergence: mean {np.mean(cov_after_conv):.3f}, "
+    print(f"  95 % interval coverage after convergence: mean {np.mean(cov_after_conv):.4f}, "
           f"runs >= 0.90: {sum(c >= 0.9 for c in cov_after_conv)}/{len(cov_after_conv)}")
-    print(f"  95 % interval coverage after the 3rd step: mean {np.mean(cov_after_3):.3f}, "
+    print(f"  95 % interval coverage after the 3rd step: mean {np.mean(cov_after_3):.4f}, "
           f"runs >= 0.90: {sum(c >= 0.9 for c in cov_after_3)}/{seeds}")
     print(f"  interval width after the 3rd step [points]: {q([100 * x for x in widths])}")
     print(f"  change flags raised (false alarms): {false_stationary} in {seeds * 40} s")
