@@ -29,6 +29,7 @@ COMMANDS: tuple[str, ...] = (
     "mudforce.commands.fit_drag",
     "mudforce.commands.identify",
     "mudforce.commands.drop",
+    "mudforce.commands.track",
     "mudforce.commands.reproduce",
 )
 
