@@ -51,10 +51,9 @@ class SimulationResult:
     again through the stepper's full-output loop, so they are the
     stepper's values bit for bit and cost nothing until asked for (three to
     four times the batch's own time when they are). They are read-only.
-    ``time`` and ``depth`` are the caller's arrays when they were already
-    contiguous float64 (not copied): changed in place before the other
-    arrays are read, they would no longer be the trajectory the force was
-    computed for, and reading those arrays then raises :class:`InputError`.
+    ``time`` and ``depth`` are the result's own read-only arrays (copies of
+    the caller's when they were the caller's), so the outputs computed on
+    access always belong to them.
 
     Attributes
     ----------
@@ -98,6 +97,15 @@ class SimulationResult:
     _params_row: np.ndarray = field(default_factory=lambda: np.empty((1, K.N_PARAMS)), repr=False)
     _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
+    def __post_init__(self) -> None:
+        # own time and depth read-only, so that nobody can change the trajectory under the results
+        for name in ("time", "depth"):
+            arr = getattr(self, name)
+            if not isinstance(arr, np.ndarray) or arr.flags.writeable or not arr.flags.owndata:
+                arr = np.array(arr, dtype=np.float64)
+                arr.setflags(write=False)
+                object.__setattr__(self, name, arr)
+
     def _derived(self, name: str) -> np.ndarray:
         """An output :func:`simulate` did not keep, computed with its siblings on first access.
 
@@ -107,16 +115,14 @@ class SimulationResult:
         fed them.
         """
         if not self._cache:
-            out = K.new_out(self.time.size)
+            block = K.new_out(self.time.size)
             K.run_batch(self.time, self.depth, K.new_states(1), K.new_ring(1, self.velocity_filter.window),
-                        self._params_row, out)
-            if not np.array_equal(out[K.O_FORCE], self.force, equal_nan=True):
-                raise InputError("time or depth was changed in place after simulate(), so the force no longer "
-                                 "belongs to them; simulate again (or pass copies)")
-            for row in out:
+                        self._params_row, block)
+            for row in block:
                 row.setflags(write=False)
-            self._cache.update(f_e1=out[K.O_F_E1], f_e2=out[K.O_F_E2], f_s=out[K.O_F_S],
-                               mud_velocity=out[K.O_MUD_VELOCITY], velocity=out[K.O_VELOCITY])
+            out = K.outputs(block)
+            self._cache.update(f_e1=out.f_e1, f_e2=out.f_e2, f_s=out.f_s, mud_velocity=out.mud_velocity,
+                               velocity=out.velocity)
         return self._cache[name]
 
     @property
@@ -326,7 +332,7 @@ def simulate(
 ) -> SimulationResult:
     """Simulate the mud force on a foot following a prescribed trajectory.
 
-    Exact for the first-order-hold input as ``../shared/MODEL.md`` defines
+    Exact for the first-order-hold input as docs/model.md defines
     it: closed-form Maxwell steps (Eq. (3)), the necking instant located
     inside the step (Eq. (9)), and the closed-form decay after necking
     (Eq. (7)).
@@ -360,6 +366,9 @@ def simulate(
     59.5
     """
     t, z = _as_arrays(time, depth)
+    for arr, given in ((t, time), (z, depth)):
+        if not (isinstance(given, np.ndarray) and np.may_share_memory(arr, given)):
+            arr.setflags(write=False)  # made here: the result owns it (the caller's arrays it copies)
     if t.size == 1 or not (isinstance(velocity_filter, VelocityFilter) or velocity_filter == "exact"):
         # the "auto" filter's noise estimate needs valid samples; the compiled
         # loop checks them all for the other filters, except one sample's time
