@@ -181,7 +181,7 @@ def _moved(s: State, mode: int, mud: float, strain: float) -> State:
 
 @_compiled(inline="always")
 def first_sample(s: State, depth: float) -> State:
-    """The state at the first sample ``depth`` [m]: CONTACT, relaxed (``z_m = z_i``), if below the surface, else FREE."""
+    """The state at the first sample ``depth`` [m]: CONTACT, relaxed (``z_m = z_i``), below the surface, else FREE."""
     mode = CONTACT if depth > 0.0 else FREE
     return State(1.0, mode, 0.0, depth, depth, 0.0, 0.0, 0.0, 0.0, 0.0, s.neck_g, s.neck_gi, 0.0)
 
