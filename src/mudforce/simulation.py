@@ -287,8 +287,11 @@ def params_row(params: MudParameters, foot: Foot, velocity_filter: VelocityFilte
     return K.make_params(params.as_array(), foot.area, foot.width, velocity_filter.window, velocity_filter.deadband)
 
 
-def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
-                ) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+_NO_COPY = np.empty(0, dtype=np.float64)
+
+
+def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int, time_out: np.ndarray = _NO_COPY,
+                depth_out: np.ndarray = _NO_COPY) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The compiled batch loop (``_kernel.run_batch_compact``) over a trajectory, on fresh arrays.
 
     Parameters
@@ -299,6 +302,9 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
         The stepper's constants, shape ``(1, N_PARAMS)`` (:func:`params_row`).
     window : int
         The velocity filter's window [steps].
+    time_out, depth_out : ndarray, optional
+        Of ``t``'s length: they receive copies of ``t`` and ``z``, made in
+        the loop that reads them anyway (cheaper than a copy of its own).
 
     Returns
     -------
@@ -316,7 +322,7 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
     counts = np.zeros(1, dtype=np.int64)
     force = np.empty(n, dtype=np.float64)
     bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, window), prow, state, mud, neck_index,
-                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK))
+                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK), time_out, depth_out)
     necks = int(counts[0])
     necking_times = t[neck_index[:necks] - 1] + neck_offset[:necks]
     return int(bad), force, state, mud, necking_times
@@ -366,9 +372,6 @@ def simulate(
     59.5
     """
     t, z = _as_arrays(time, depth)
-    for arr, given in ((t, time), (z, depth)):
-        if not (isinstance(given, np.ndarray) and np.may_share_memory(arr, given)):
-            arr.setflags(write=False)  # made here: the result owns it (the caller's arrays it copies)
     if t.size == 1 or not (isinstance(velocity_filter, VelocityFilter) or velocity_filter == "exact"):
         # the "auto" filter's noise estimate needs valid samples; the compiled
         # loop checks them all for the other filters, except one sample's time
@@ -376,15 +379,22 @@ def simulate(
     foot = Foot.paper() if foot is None else foot
     vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
-    bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window)
+    # the result owns its time and depth: the caller's arrays are copied (in the loop), new ones kept
+    callers = any(isinstance(given, np.ndarray) and np.may_share_memory(arr, given)
+                  for arr, given in ((t, time), (z, depth)))
+    own_t, own_z = (np.empty_like(t), np.empty_like(z)) if callers else (t, z)
+    copies = (own_t, own_z) if callers else (_NO_COPY, _NO_COPY)
+    bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window, *copies)
     if bad >= 0:
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
+    own_t.setflags(write=False)
+    own_z.setflags(write=False)
     return SimulationResult(
-        time=t,
-        depth=z,
+        time=own_t,
+        depth=own_z,
         mud_displacement=mud,
         force=force,
         state=state,

@@ -272,8 +272,8 @@ def defer_spring(scratch: np.ndarray, index: np.ndarray, m: int, k: int, depth: 
 
 @_compiled(inline="always")
 def glide(time: np.ndarray, depth: np.ndarray, k: int, s: State, c: Cache, p: Params, mode_out: np.ndarray,
-          mud_out: np.ndarray, force_out: np.ndarray, scratch: np.ndarray, index: np.ndarray, m: int
-          ) -> tuple[State, int, int]:
+          mud_out: np.ndarray, force_out: np.ndarray, scratch: np.ndarray, index: np.ndarray, m: int,
+          time_out: np.ndarray, depth_out: np.ndarray) -> tuple[State, int, int]:
     """:func:`quiet_step` over samples ``k, k+1, ...`` (``k >= 1``) while nothing happens; returns ``(s, k, m)``.
 
     Writes what :func:`run_batch_compact` writes for those samples and
@@ -284,18 +284,22 @@ def glide(time: np.ndarray, depth: np.ndarray, k: int, s: State, c: Cache, p: Pa
     state stays in (so the compiler drops the other states' code from it).
     """
     if s.mode == FREE:
-        return _glide_in(FREE, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
+        return _glide_in(FREE, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m,
+                         time_out, depth_out)
     if s.mode == CONTACT:
-        return _glide_in(CONTACT, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
-    return _glide_in(NECKED, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
+        return _glide_in(CONTACT, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m,
+                         time_out, depth_out)
+    return _glide_in(NECKED, time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m,
+                     time_out, depth_out)
 
 
 @_compiled(inline="always")
 def _glide_in(mode: int, time: np.ndarray, depth: np.ndarray, k: int, s: State, c: Cache, p: Params,
               mode_out: np.ndarray, mud_out: np.ndarray, force_out: np.ndarray, scratch: np.ndarray,
-              index: np.ndarray, m: int) -> tuple[State, int, int]:
+              index: np.ndarray, m: int, time_out: np.ndarray, depth_out: np.ndarray) -> tuple[State, int, int]:
     """:func:`glide` for a state in contact state ``mode`` (a constant at each call site)."""
     n = time.shape[0]
+    copy = time_out.shape[0] == n
     s = State(s.started, mode, s.time, s.depth, s.mud, s.neck_age, s.neck_v, s.neck_z, s.direction, s.velocity,
               s.neck_g, s.neck_gi, s.strain)  # the mode as the constant it is here
     while k < n:
@@ -303,6 +307,9 @@ def _glide_in(mode: int, time: np.ndarray, depth: np.ndarray, k: int, s: State, 
         if not r.ok:
             break
         s = r.state
+        if copy:
+            time_out[k] = time[k]
+            depth_out[k] = depth[k]
         mode_out[k] = mode
         mud_out[k] = s.mud
         fe1, fs, _, spring = stress_parts(p, s, r.velocity)
@@ -318,7 +325,7 @@ def _glide_in(mode: int, time: np.ndarray, depth: np.ndarray, k: int, s: State, 
 def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray,
                       params: np.ndarray, mode_out: np.ndarray, mud_out: np.ndarray, neck_index: np.ndarray,
                       neck_offset: np.ndarray, counts: np.ndarray, force_out: np.ndarray, scratch: np.ndarray,
-                      index: np.ndarray) -> int:
+                      index: np.ndarray, time_out: np.ndarray, depth_out: np.ndarray) -> int:
     """Run foot 0 over a whole trajectory: the force [N], the contact state (int8) and ``z_m`` [m] per sample.
 
     Neckings go to ``neck_index[:counts[0]]`` (sample) and ``neck_offset``
@@ -329,13 +336,16 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
     happens go through :func:`glide`, the others through :func:`advance`.
     The nonlinear spring's samples are collected in ``scratch``
     (:func:`new_spring_scratch`, any width >= 1) and their forces computed
-    a block at a time (:func:`spring_pass`). Returns the index of a bad
-    sample or -1.
+    a block at a time (:func:`spring_pass`). ``time_out`` and ``depth_out``
+    receive a copy of ``time`` and ``depth`` if they have their length
+    (reading them costs nothing more here than in a copy of its own;
+    pass empty arrays for none). Returns the index of a bad sample or -1.
     """
     s = load_state(states, 0)
     c = load_cache(states, 0)
     p = load_params(params, 0)
     n = time.shape[0]
+    copy = time_out.shape[0] == n
     exact = exact_rule(p)  # the rule glide() follows
     necks = 0
     bad = -1
@@ -350,7 +360,8 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
     while k < n:
         if exact and k > 0 and wait == 0:
             k0 = k
-            s, k, m = glide(time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m)
+            s, k, m = glide(time, depth, k, s, c, p, mode_out, mud_out, force_out, scratch, index, m, time_out,
+                            depth_out)
             if k == n:
                 break
             backoff = min(2 * backoff + 1, 64) if k == k0 else 0
@@ -364,6 +375,9 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
             break
         s = r.state
         c = r.cache
+        if copy:
+            time_out[k] = time[k]
+            depth_out[k] = depth[k]
         mode_out[k] = s.mode
         mud_out[k] = s.mud
         fe1, fs, _, spring = stress_parts(p, s, r.velocity)
