@@ -37,6 +37,8 @@ below the undisturbed surface; a positive stress pushes the foot up
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 from numba import njit
 
@@ -63,8 +65,14 @@ __all__ = [
     "yield_strain",
 ]
 
-#: numba options of the plain-arithmetic functions (see the module docstring)
-_ARITHMETIC = {"cache": True, "nogil": True, "inline": "always", "error_model": "numpy"}
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _arithmetic(function: _F) -> _F:
+    """``numba.njit`` for the plain-arithmetic functions (see the module): inlined, IEEE division; typed for mypy."""
+    options: dict[str, Any] = {"cache": True, "nogil": True, "inline": "always", "error_model": "numpy"}
+    decorator: Callable[[_F], _F] = njit(**options)
+    return decorator(function)
 
 
 @njit(cache=True, nogil=True)
@@ -259,7 +267,7 @@ def necking_time(
     return t
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def yield_strain(k_m_w: float, sigma_y: float, drag: float) -> float:
     """The extension ``z_i - z_m`` [m] at which the withdrawal stress is ``-sigma_y``, Eq. (9).
 
@@ -278,7 +286,7 @@ def yield_strain(k_m_w: float, sigma_y: float, drag: float) -> float:
     return (-sigma_y - drag) / k_m_w
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def necking_velocity(strain: float, tau_w: float) -> float:
     """``v_m0 = dz_m/dt = (z_i - z_m) / tau_w`` [m/s], the mud velocity at necking, Eqs. (3), (7).
 
@@ -294,7 +302,7 @@ def necking_velocity(strain: float, tau_w: float) -> float:
     return strain / tau_w
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def intrusion_stress(k_m_i: float, tau_i: float, strain: float) -> tuple[float, float]:
     """The intrusion (and hold) branch's visco-elastic stress and mud velocity, Eqs. (2), (3).
 
@@ -320,7 +328,7 @@ def intrusion_stress(k_m_i: float, tau_i: float, strain: float) -> tuple[float, 
     return k_m_i * strain, strain / tau_i
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def withdrawal_stress(k_m_w: float, tau_w: float, strain: float) -> tuple[float, float]:
     """The withdrawal branch's visco-elastic stress and mud velocity before necking, Eqs. (2), (3), (8).
 
@@ -337,7 +345,7 @@ def withdrawal_stress(k_m_w: float, tau_w: float, strain: float) -> tuple[float,
     return k_m_w * strain, strain / tau_w
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def necked_stress(b_m_w: float, mud_velocity: float) -> tuple[float, float]:
     """After necking the visco-elastic stress is the damper's, ``f_e1 = b_m_w dz_m/dt`` (Eq. (7) and docs/model.md).
 
@@ -361,7 +369,7 @@ def necked_stress(b_m_w: float, mud_velocity: float) -> tuple[float, float]:
     return b_m_w * mud_velocity, mud_velocity
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def total_stress(f_e1: float, f_e2: float, f_s: float) -> float:
     """The mud stress ``f_m = f_e1 + f_e2 + f_s`` [Pa], Eqs. (1), (8); times the area it is the force.
 
@@ -373,7 +381,7 @@ def total_stress(f_e1: float, f_e2: float, f_s: float) -> float:
     return f_e2 + (f_e1 + f_s)
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def necked_mud_motion(v_m0: float, z_n: float, g: float, gi: float) -> tuple[float, float]:
     """After necking the mud moves as ``dz_m/dt = v_m0 g(t - t_n)``, Eq. (7).
 
@@ -399,7 +407,7 @@ def necked_mud_motion(v_m0: float, z_n: float, g: float, gi: float) -> tuple[flo
     return v_m0 * g, z_n + v_m0 * gi
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def neck_filter_transition(zeta: float, omega_0: float, g_h: float, gi_h: float
                            ) -> tuple[float, float, float, float]:
     """The exact one-step transition matrix of Eq. (7)'s filter over a step ``h``.
@@ -428,7 +436,7 @@ def neck_filter_transition(zeta: float, omega_0: float, g_h: float, gi_h: float
     return g_h + 2.0 * zeta * omega_0 * gi_h, gi_h, -omega_0 * omega_0 * gi_h, g_h
 
 
-@njit(**_ARITHMETIC)
+@_arithmetic
 def neck_filter_update(phi0: float, phi1: float, phi2: float, phi3: float, gi: float, g: float
                        ) -> tuple[float, float]:
     """``(G, g)`` of Eq. (7)'s filter one step later: the matrix of :func:`neck_filter_transition` times ``(G, g)``.

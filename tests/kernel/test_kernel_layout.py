@@ -40,7 +40,13 @@ def test_params_row_as_values() -> None:
     prow = params_row(mf.MudParameters.from_water_content(0.25), mf.Foot.paper(), mf.VelocityFilter.exact())
     p = K.params_of(prow)
     assert p.k_i == prow[layout.P_K_I] and p.neck_flush == prow[layout.P_NECK_FLUSH]
-    assert p.tau_w == p.b_w / p.k_w and p == K.load_params(prow[None, :], 0)
+    assert p.tau_w == p.b_w / p.k_w and p == K.load_params(prow[None, :], 0) == K.params_from_row(prow)
+    states = K.new_states(2)
+    states[1, : K.N_CORE] = np.arange(K.N_CORE)
+    assert K.state_from_row(states[1]) == K.state_of(states[1]) == K.load_state(states, 1)
+    states[:, layout.S_CACHE_DT] = 0.5
+    K.forget_row_cache(states, 1)
+    assert states[:, layout.S_CACHE_DT].tolist() == [0.5, -1.0]
 
 
 def test_run_batch_from_a_later_sample_is_the_tail_of_a_whole_run() -> None:

@@ -27,9 +27,12 @@ carried whole, not rebuilt from ``z_m``, which is rounded.
 
 The columns
 -----------
-Callers outside the kernel use the functions and NamedTuples here
-(:func:`state_of`, :func:`state_column`, :func:`forget_cache`,
-:func:`outputs`, :func:`make_params`), not the column indices. The indices
+Callers outside the kernel use the functions and NamedTuples here, not
+the column indices: in Python :func:`state_of`, :func:`params_of`,
+:func:`state_column`, :func:`state_core`, :func:`forget_cache`,
+:func:`outputs`, :func:`make_params`; in compiled code :func:`load_state`,
+:func:`store_state`, :func:`load_params`, :func:`state_from_row`,
+:func:`params_from_row`, :func:`forget_row_cache`. The indices
 (``S_*`` state, ``P_*`` params, ``R_*`` ring, ``O_*`` outputs) are the
 kernel's own: the order of :class:`State`'s fields is the order of the
 ``S_*`` columns, :class:`Params`'s that of ``P_*``, :class:`Outputs`'s
@@ -68,6 +71,7 @@ __all__ = [
     "Params",
     "State",
     "forget_cache",
+    "forget_row_cache",
     "load_cache",
     "load_params",
     "load_state",
@@ -77,10 +81,12 @@ __all__ = [
     "new_ring",
     "new_states",
     "outputs",
+    "params_from_row",
     "params_of",
     "ring_width",
     "state_column",
     "state_core",
+    "state_from_row",
     "state_of",
     "store_cache",
     "store_state",
@@ -343,6 +349,25 @@ def load_state(states: np.ndarray, j: int) -> State:
     """Row ``j`` of ``states`` as a :class:`State`."""
     r = states[j]
     return State(r[0], int(r[1]), r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12])
+
+
+@_compiled(inline="always")
+def state_from_row(r: np.ndarray) -> State:
+    """One state row (1-D) as a :class:`State`, in compiled code (:func:`state_of` in Python)."""
+    return State(r[0], int(r[1]), r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12])
+
+
+@_compiled(inline="always")
+def params_from_row(r: np.ndarray) -> Params:
+    """One params row (1-D) as :class:`Params`, in compiled code (:func:`params_of` in Python)."""
+    return Params(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14],
+                  r[15], r[16], r[17])
+
+
+@_compiled(inline="always")
+def forget_row_cache(states: np.ndarray, j: int) -> None:
+    """:func:`forget_cache` of row ``j`` only, in compiled code."""
+    states[j, S_CACHE_DT] = -1.0
 
 
 @_compiled(inline="always")
