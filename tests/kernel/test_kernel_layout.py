@@ -13,7 +13,7 @@ from mudforce.simulation import params_row
 
 def test_contact_state_codes_are_pinned() -> None:
     """The codes are stored in state rows, snapshots and SimulationResult.state: they must never change."""
-    assert [(s.name, int(s)) for s in K.ContactState] == [("FREE", 0), ("CONTACT", 1), ("NECKED", 2)]
+    assert [(s.name, int(s)) for s in K.ContactMode] == [("FREE", 0), ("CONTACT", 1), ("NECKED", 2)]
     assert (K.FREE, K.CONTACT, K.NECKED) == (0, 1, 2)
     assert K.STATE_NAMES == ("FREE", "CONTACT", "NECKED") == mf.simulation.STATE_NAMES
 

@@ -21,7 +21,7 @@ reads a row into a :class:`State` value (a NamedTuple of floats), the step
 computes a new value, and :func:`store_state` writes it back. The batch
 loops keep the value in registers through a whole trajectory (array stores
 could alias the outputs, so the compiler would otherwise reload every field
-on every sample). The contact state (:class:`ContactState`) is an int in the
+on every sample). The contact state (:class:`ContactMode`) is an int in the
 value and a float only in the row. The Maxwell extension ``z_i - z_m`` is
 carried whole, not rebuilt from ``z_m``, which is rounded.
 
@@ -66,7 +66,7 @@ __all__ = [
     "N_STATE",
     "STATE_NAMES",
     "Cache",
-    "ContactState",
+    "ContactMode",
     "Outputs",
     "Params",
     "State",
@@ -114,8 +114,12 @@ def _compiled(inline: str = "never", **overrides: Any) -> Callable[[_F], _F]:
     return decorator
 
 
-class ContactState(IntEnum):
-    """The contact state machine's states (docs/model.md's table), as stored in a state row and in ``state`` outputs."""
+class ContactMode(IntEnum):
+    """The contact state machine's states (docs/model.md's table), as stored in a state row and in ``state`` outputs.
+
+    Named "mode" (the field :attr:`State.mode`) so as not to be confused with
+    :class:`mudforce.ContactState`, the public snapshot of a foot's whole state.
+    """
 
     FREE = 0  #: above the surface, no force; ``z_m`` follows ``z_i``
     CONTACT = 1  #: in the mud, on the intrusion or the withdrawal branch
@@ -123,10 +127,10 @@ class ContactState(IntEnum):
 
 
 # the same values as plain ints, for the compiled code (an int compares with no conversion)
-FREE = int(ContactState.FREE)
-CONTACT = int(ContactState.CONTACT)
-NECKED = int(ContactState.NECKED)
-STATE_NAMES: tuple[str, ...] = tuple(s.name for s in ContactState)
+FREE = int(ContactMode.FREE)
+CONTACT = int(ContactMode.CONTACT)
+NECKED = int(ContactMode.NECKED)
+STATE_NAMES: tuple[str, ...] = tuple(s.name for s in ContactMode)
 
 # params row
 P_K_I = 0
@@ -197,7 +201,7 @@ class State(NamedTuple):
     """A foot's state as values: columns ``0 .. N_CORE - 1`` of a state row, in the order of the ``S_*`` indices."""
 
     started: float  #: 0 before the first sample, 1 after
-    mode: int  #: :class:`ContactState`
+    mode: int  #: :class:`ContactMode`
     time: float  #: time since the first sample [s]
     depth: float  #: ``z_i`` at the last sample [m]
     mud: float  #: ``z_m`` at the last sample [m]
@@ -256,7 +260,7 @@ class Outputs(NamedTuple):
     mud: Any  #: ``z_m`` [m]
     mud_velocity: Any  #: ``dz_m/dt`` [m/s]
     velocity: Any  #: branch velocity estimate [m/s]
-    state: Any  #: :class:`ContactState` (as a float)
+    state: Any  #: :class:`ContactMode` (as a float)
     neck_offset: Any  #: time from the step's start to necking [s], NaN if none
 
 
