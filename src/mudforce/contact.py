@@ -62,37 +62,34 @@ class ContactState:
     @property
     def started(self) -> bool:
         """False before the first sample."""
-        return bool(self.data[K.S_STARTED])
+        return bool(K.state_column(self.data, "started"))
 
     @property
     def mode(self) -> str:
         """``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
-        return STATE_NAMES[int(self.data[K.S_MODE])]
+        return STATE_NAMES[int(K.state_column(self.data, "mode"))]
 
     @property
     def time(self) -> float:
         """Time since the first sample [s]."""
-        return float(self.data[K.S_TIME])
+        return float(K.state_column(self.data, "time"))
 
     @property
     def depth(self) -> float:
         """Foot depth at the last sample [m]."""
-        return float(self.data[K.S_DEPTH])
+        return float(K.state_column(self.data, "depth"))
 
     @property
     def mud_displacement(self) -> float:
         """Mud displacement ``z_m`` at the last sample [m]."""
-        return float(self.data[K.S_MUD])
+        return float(K.state_column(self.data, "mud"))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, ContactState):
             return NotImplemented
-        a, b = self.data.copy(), other.data.copy()
         # the step-length cache is not state
-        for arr in (a, b):
-            arr[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
-            arr[K.S_CACHE_PHI : K.S_CACHE_PHI + 4] = 0.0
-        return bool(np.array_equal(a, b)) and np.array_equal(self.ring, other.ring)
+        same = np.array_equal(K.state_core(self.data), K.state_core(other.data))
+        return bool(same) and np.array_equal(self.ring, other.ring)
 
     __hash__ = None  # type: ignore[assignment]
 
@@ -180,17 +177,17 @@ class MudContact:
     @property
     def last(self) -> ContactSample:
         """The components of the last step."""
-        row = self._out[:, 0]
+        out = K.outputs(self._out[:, 0])
         return ContactSample(
-            force=float(row[K.O_FORCE]),
-            f_e1=float(row[K.O_F_E1]),
-            f_e2=float(row[K.O_F_E2]),
-            f_s=float(row[K.O_F_S]),
-            mud_displacement=float(row[K.O_MUD]),
-            mud_velocity=float(row[K.O_MUD_VELOCITY]),
-            velocity=float(row[K.O_VELOCITY]),
-            state=STATE_NAMES[int(row[K.O_STATE])],
-            necked=bool(np.isfinite(row[K.O_NECK_OFFSET])),
+            force=float(out.force),
+            f_e1=float(out.f_e1),
+            f_e2=float(out.f_e2),
+            f_s=float(out.f_s),
+            mud_displacement=float(out.mud),
+            mud_velocity=float(out.mud_velocity),
+            velocity=float(out.velocity),
+            state=STATE_NAMES[int(out.state)],
+            necked=bool(np.isfinite(out.neck_offset)),
         )
 
     def reset(self) -> None:
@@ -213,7 +210,7 @@ class MudContact:
             self._ring[0] = value.ring
         self._states[0] = value.data
         if value.params_key != self._params.tobytes():
-            self._states[0, K.S_CACHE_DT] = -1.0  # other parameters: recompute the step-length cache
+            K.forget_cache(self._states)  # other parameters: recompute the step-length cache
 
     def __repr__(self) -> str:
         return f"MudContact({self.params.source!r}, foot={self.foot.shape!r}, state={self.state.mode})"

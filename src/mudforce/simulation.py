@@ -51,10 +51,9 @@ class SimulationResult:
     again through the stepper's full-output loop, so they are the
     stepper's values bit for bit and cost nothing until asked for (three to
     four times the batch's own time when they are). They are read-only.
-    ``time`` and ``depth`` are the caller's arrays when they were already
-    contiguous float64 (not copied): changed in place before the other
-    arrays are read, they would no longer be the trajectory the force was
-    computed for, and reading those arrays then raises :class:`InputError`.
+    ``time`` and ``depth`` are the result's own read-only arrays (copies of
+    the caller's when they were the caller's), so the outputs computed on
+    access always belong to them.
 
     Attributes
     ----------
@@ -98,6 +97,15 @@ class SimulationResult:
     _params_row: np.ndarray = field(default_factory=lambda: np.empty((1, K.N_PARAMS)), repr=False)
     _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
+    def __post_init__(self) -> None:
+        # own time and depth read-only, so that nobody can change the trajectory under the results
+        for name in ("time", "depth"):
+            arr = getattr(self, name)
+            if not isinstance(arr, np.ndarray) or arr.flags.writeable or not arr.flags.owndata:
+                arr = np.array(arr, dtype=np.float64)
+                arr.setflags(write=False)
+                object.__setattr__(self, name, arr)
+
     def _derived(self, name: str) -> np.ndarray:
         """An output :func:`simulate` did not keep, computed with its siblings on first access.
 
@@ -107,16 +115,14 @@ class SimulationResult:
         fed them.
         """
         if not self._cache:
-            out = K.new_out(self.time.size)
+            block = K.new_out(self.time.size)
             K.run_batch(self.time, self.depth, K.new_states(1), K.new_ring(1, self.velocity_filter.window),
-                        self._params_row, out)
-            if not np.array_equal(out[K.O_FORCE], self.force, equal_nan=True):
-                raise InputError("time or depth was changed in place after simulate(), so the force no longer "
-                                 "belongs to them; simulate again (or pass copies)")
-            for row in out:
+                        self._params_row, block)
+            for row in block:
                 row.setflags(write=False)
-            self._cache.update(f_e1=out[K.O_F_E1], f_e2=out[K.O_F_E2], f_s=out[K.O_F_S],
-                               mud_velocity=out[K.O_MUD_VELOCITY], velocity=out[K.O_VELOCITY])
+            out = K.outputs(block)
+            self._cache.update(f_e1=out.f_e1, f_e2=out.f_e2, f_s=out.f_s, mud_velocity=out.mud_velocity,
+                               velocity=out.velocity)
         return self._cache[name]
 
     @property
@@ -281,8 +287,11 @@ def params_row(params: MudParameters, foot: Foot, velocity_filter: VelocityFilte
     return K.make_params(params.as_array(), foot.area, foot.width, velocity_filter.window, velocity_filter.deadband)
 
 
-def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
-                ) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+_NO_COPY = np.empty(0, dtype=np.float64)
+
+
+def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int, time_out: np.ndarray = _NO_COPY,
+                depth_out: np.ndarray = _NO_COPY) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The compiled batch loop (``_kernel.run_batch_compact``) over a trajectory, on fresh arrays.
 
     Parameters
@@ -293,6 +302,9 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
         The stepper's constants, shape ``(1, N_PARAMS)`` (:func:`params_row`).
     window : int
         The velocity filter's window [steps].
+    time_out, depth_out : ndarray, optional
+        Of ``t``'s length: they receive copies of ``t`` and ``z``, made in
+        the loop that reads them anyway (cheaper than a copy of its own).
 
     Returns
     -------
@@ -310,7 +322,7 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
     counts = np.zeros(1, dtype=np.int64)
     force = np.empty(n, dtype=np.float64)
     bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, window), prow, state, mud, neck_index,
-                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK))
+                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK), time_out, depth_out)
     necks = int(counts[0])
     necking_times = t[neck_index[:necks] - 1] + neck_offset[:necks]
     return int(bad), force, state, mud, necking_times
@@ -326,7 +338,7 @@ def simulate(
 ) -> SimulationResult:
     """Simulate the mud force on a foot following a prescribed trajectory.
 
-    Exact for the first-order-hold input as ``../shared/MODEL.md`` defines
+    Exact for the first-order-hold input as docs/model.md defines
     it: closed-form Maxwell steps (Eq. (3)), the necking instant located
     inside the step (Eq. (9)), and the closed-form decay after necking
     (Eq. (7)).
@@ -367,15 +379,22 @@ def simulate(
     foot = Foot.paper() if foot is None else foot
     vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
-    bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window)
+    # the result owns its time and depth: the caller's arrays are copied (in the loop), new ones kept
+    callers = any(isinstance(given, np.ndarray) and np.may_share_memory(arr, given)
+                  for arr, given in ((t, time), (z, depth)))
+    own_t, own_z = (np.empty_like(t), np.empty_like(z)) if callers else (t, z)
+    copies = (own_t, own_z) if callers else (_NO_COPY, _NO_COPY)
+    bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window, *copies)
     if bad >= 0:
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
+    own_t.setflags(write=False)
+    own_z.setflags(write=False)
     return SimulationResult(
-        time=t,
-        depth=z,
+        time=own_t,
+        depth=own_z,
         mud_displacement=mud,
         force=force,
         state=state,

@@ -245,12 +245,12 @@ class MudContacts:
     @property
     def modes(self) -> list[str]:
         """Each foot's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
-        return [STATE_NAMES[int(m)] for m in self.states[:, K.S_MODE]]
+        return [STATE_NAMES[int(m)] for m in K.state_column(self.states, "mode")]
 
     @property
     def depths(self) -> np.ndarray:
         """Each foot's depth at its last sample [m] (a copy)."""
-        return np.array(self.states[:, K.S_DEPTH], dtype=np.float64)
+        return np.array(K.state_column(self.states, "depth"), dtype=np.float64)
 
     def snapshot(self) -> np.ndarray:
         """A copy of all feet's states, for :meth:`restore` (rollouts, resets).
@@ -268,7 +268,7 @@ class MudContacts:
             raise InputError(f"a snapshot of {self.n} feet has shape {shape}, got {arr.shape}")
         self.states[:] = arr[:, : K.N_STATE]
         self.ring[:] = arr[:, K.N_STATE :]
-        self.states[:, K.S_CACHE_DT] = -1.0  # recompute the step-length cache
+        K.forget_cache(self.states)  # recompute the step-length cache
 
     def __len__(self) -> int:
         return self.n
