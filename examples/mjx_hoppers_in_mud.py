@@ -57,7 +57,7 @@ HOPPER = """
 </mujoco>
 """
 STEP_HZ = 1.5  # stepping frequency [Hz]
-STROKE = 0.02  # leg stroke amplitude [m]
+STROKE = 0.04  # leg stroke amplitude [m]
 
 
 def build(worlds: int, water: np.ndarray) -> tuple[object, object, mud.Patch, object]:
