@@ -30,10 +30,10 @@ import os
 # keep JAX from taking most of the GPU's memory at start-up; must be set before jax is imported
 os.environ.setdefault("XLA_PYTHON_CLIENT_PREALLOCATE", "false")
 
-import argparse  # noqa: E402
-import time  # noqa: E402
+import argparse
+import time
 
-import jax  # noqa: E402
+import jax
 
 jax.config.update("jax_enable_x64", True)  # float64 available; every array below has an explicit dtype
 
@@ -48,7 +48,7 @@ WATER = (0.15, 0.20, 0.25, 0.30, 0.35)
 
 
 def per_foot_params(n: int, dtype: object, seed: int = 0) -> mj.Params:
-    """Per-foot parameters: Table I rows cycled over the feet, each value scaled by up to +-10 % (domain randomisation)."""
+    """Per-foot parameters: Table I rows cycled over the feet, each mud value scaled by up to +-10 % (randomised)."""
     base = mj.make_params([MudParameters.table_i(w) for w in WATER], dtype=jnp.float64)
     idx = np.arange(n) % len(WATER)
     rng = np.random.default_rng(seed)
@@ -153,7 +153,7 @@ def bench_n(n: int, dtype: object, steps: int, calls: int, repeats: int, cpu: bo
 
 def float32_error(seconds: float = 10.0, feet_per_row: int = 8) -> None:
     """Worst |F32 - F64| over a ``seconds`` gait at 1 kHz, relative to the peak force, per Table I row."""
-    steps = int(round(seconds / DT))
+    steps = round(seconds / DT)
     n = feet_per_row * len(WATER)
     muds = [MudParameters.table_i(w) for w in WATER for _ in range(feet_per_row)]
     rng = np.random.default_rng(7)

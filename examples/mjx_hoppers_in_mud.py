@@ -32,17 +32,17 @@ import os
 # keep JAX from taking most of the GPU's memory at start-up; set before jax is imported
 os.environ.setdefault("XLA_PYTHON_CLIENT_PREALLOCATE", "false")
 
-import argparse  # noqa: E402
-import time  # noqa: E402
+import argparse
+import time
 
-import jax  # noqa: E402
-import jax.numpy as jnp  # noqa: E402
-import mujoco  # noqa: E402
-import numpy as np  # noqa: E402
-from mujoco import mjx  # noqa: E402
+import jax
+import jax.numpy as jnp
+import mujoco
+import numpy as np
+from mujoco import mjx
 
-import mudforce.mjx as mud  # noqa: E402
-from mudforce import MudParameters  # noqa: E402
+import mudforce.mjx as mud
+from mudforce import MudParameters
 
 LEG = """
 <mujoco model="leg_in_mud">
@@ -117,12 +117,12 @@ def main(argv: list[str] | None = None) -> dict[str, np.ndarray]:
     args = ap.parse_args(argv)
     water = np.linspace(args.water[0], args.water[1], args.worlds)
     m, data, patch, _ = build(args.worlds, water)
-    steps = int(round(args.duration / 1e-3))
+    steps = round(args.duration / 1e-3)
     t0 = time.perf_counter()
     out = simulate(m, data, patch, steps)
     wall = time.perf_counter() - t0
     depth, work = out["depth"], out["work"]
-    per_cycle = int(round(1.0 / (STEP_HZ * 1e-3)))
+    per_cycle = round(1.0 / (STEP_HZ * 1e-3))
     cycles = steps // per_cycle
     lost = work[: cycles * per_cycle].reshape(cycles, per_cycle, -1).sum(axis=1)  # [J] per cycle and world
     print(f"{args.worlds} worlds x {steps} steps on {jax.default_backend()}: {wall:.1f} s with compilation "

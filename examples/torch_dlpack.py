@@ -23,16 +23,16 @@ import os
 # keep JAX from taking most of the GPU's memory, which torch needs too; set before jax is imported
 os.environ.setdefault("XLA_PYTHON_CLIENT_PREALLOCATE", "false")
 
-import argparse  # noqa: E402
-import time  # noqa: E402
+import argparse
+import time
 
-import jax  # noqa: E402
-import jax.numpy as jnp  # noqa: E402
-import numpy as np  # noqa: E402
-import torch  # noqa: E402
+import jax
+import jax.numpy as jnp
+import numpy as np
+import torch
 
-import mudforce.jax as mj  # noqa: E402
-from mudforce import MudParameters  # noqa: E402
+import mudforce.jax as mj
+from mudforce import MudParameters
 
 
 def main(argv: list[str] | None = None) -> dict[str, float]:

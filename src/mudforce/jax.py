@@ -1,4 +1,4 @@
-"""The mud force for thousands to millions of feet in JAX: jit, vmap, lax.scan and grad (``pip install 'mudforce[jax]'``).
+"""The mud force for thousands to millions of feet in JAX: jit, vmap, lax.scan, grad (``pip install mudforce[jax]``).
 
 Usage::
 
@@ -276,7 +276,9 @@ def nonlinear_spring_stress(alpha: Array, beta: Array, depth: Array, width: Arra
 
 
 def neck_filter_response(age: Array, zeta: Array, omega_0: Array) -> tuple[Array, Array]:
-    """Impulse response ``g`` [-] of Eq. (7)'s ``G_m(s) = s / (s^2 + 2 zeta omega_0 s + omega_0^2)`` and its integral ``G`` [s].
+    """Impulse response ``g`` [-] of Eq. (7)'s filter and its integral ``G`` [s].
+
+    The filter is ``G_m(s) = s / (s^2 + 2 zeta omega_0 s + omega_0^2)``.
 
     ``age`` ``t - t_n`` [s] >= 0, ``zeta`` [-] > 0, ``omega_0`` [rad/s].
     JAX port of :func:`mudforce.equations.neck_filter_response`: the
@@ -351,7 +353,10 @@ def neck_filter_transition(dt: Array, zeta: Array, omega_0: Array) -> tuple[Arra
 
 
 def neck_flush_age(zeta: Array, omega_0: Array) -> Array:
-    """Age after necking [s] past which Eq. (7)'s response is below 1e-250 and set to zero (:func:`mudforce._kernel.neck_flush_age`)."""
+    """Age after necking [s] past which Eq. (7)'s response is below 1e-250 and set to zero.
+
+    As :func:`mudforce._kernel.neck_flush_age`.
+    """
     over = zeta > 1.0
     rate = jnp.where(over, omega_0 / (zeta + jnp.sqrt(_safe(over, zeta * zeta - 1.0))), zeta * omega_0)
     return 250.0 * math.log(10.0) / rate
@@ -436,7 +441,10 @@ def touchdown(mode: Array, z0: Array, z1: Array, v: Array, zm: Array, strain: Ar
 
 
 def intrusion_step(strain: Array, v: Array, dt: Array, start: Array, k: _Derived) -> Array:
-    """The intrusion/hold branch (``v >= 0``) from ``start`` to the step's end: Eq. (3) with ``k_m_i, b_m_i``; the strain [m]."""
+    """The intrusion/hold branch (``v >= 0``) from ``start`` [s] to the step's end: Eq. (3) with ``k_m_i, b_m_i``.
+
+    Returns the strain [m].
+    """
     growth = jnp.where(start == 0.0, k.grow_i, -jnp.expm1(-(dt - start) / k.tau_i))
     return maxwell_strain_step(strain, v, k.tau_i, growth)
 

@@ -97,7 +97,7 @@ class Patch(NamedTuple):
 
 
 class Contact(NamedTuple):
-    """The mud's state in one world: every foot's :class:`mudforce.jax.State`, whether it is stuck, its last force [N]."""
+    """The mud's state in one world: every foot's :class:`mudforce.jax.State`, whether stuck, its last force [N]."""
 
     state: mj.State
     stuck: Array

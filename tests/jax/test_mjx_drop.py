@@ -14,8 +14,8 @@ import pytest
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 
-from mudforce.dynamics import exact_drop  # noqa: E402
-from mudforce.parameters import MudParameters  # noqa: E402
+from mudforce.dynamics import exact_drop
+from mudforce.parameters import MudParameters
 
 
 def test_drop_engine_mjx_rests_at_the_exact_depth(tmp_path: Path) -> None:
