@@ -56,6 +56,8 @@ supported (it calls the forward dynamics four times per step).
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 from collections.abc import Sequence
 from typing import Any, NamedTuple
@@ -77,7 +79,9 @@ _HOLD = 1e-7  # [m]: a stuck sole that moved less than this in a step is committ
 
 
 def _mjx() -> Any:
-    return require("mujoco.mjx", "mjx", "mud in MJX")
+    """``mujoco.mjx``, imported without the lines it prints about optional backends it did not find."""
+    with contextlib.redirect_stdout(io.StringIO()):  # "Failed to import warp: ..." on stdout
+        return require("mujoco.mjx", "mjx", "mud in MJX")
 
 
 class Patch(NamedTuple):
@@ -267,7 +271,7 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     from mudforce.dynamics import FREE as PH_FREE
     from mudforce.dynamics import INTRUSION, NECKED, STUCK, WITHDRAWAL, FootResult
 
-    mjx = _mjx()
+    mjx = _mjx()  # first: a clear error if MJX is missing
     foot = Foot.paper() if foot is None else foot
     model = drop_model(mass, foot, height=height, timestep=timestep)
     m = mjx.put_model(model)

@@ -89,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.engine == "mjx":
         from mudforce._optional import require
 
-        require("mujoco.mjx", "mjx", "--engine mjx")
+        require("jax", "mjx", "--engine mjx")  # mudforce.mjx checks for mujoco.mjx itself
         from mudforce.mjx import simulate_drop as simulate_drop_mjx
 
         result = simulate_drop_mjx(mass, params, duration=duration, height=height)
