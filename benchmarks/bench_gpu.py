@@ -139,15 +139,24 @@ def bench_n(n: int, dtype: object, steps: int, calls: int, repeats: int, cpu: bo
         from mudforce.vectorized import MudContacts
 
         values = np.column_stack([np.asarray(f) for f in per_foot_params(n, jnp.float64)[:11]])
-        feet = MudContacts(values, n)
-        zc = [np.asarray(z, dtype=np.float64) for z in zs]
-        feet.step(zc[0], DT)
+        mean_np = np.asarray(mean, dtype=np.float64)
+        amp_np = np.asarray(amp, dtype=np.float64)
         cpu_steps = max(20, min(200, 2_000_000 // n))
-        t0 = time.perf_counter()
-        for k in range(cpu_steps):
-            feet.step(zc[k % 8], DT)
-        t_cpu = (time.perf_counter() - t0) / cpu_steps
-        line += f"; MudContacts ({feet.threads} threads) {t_cpu * 1e6:9.1f} us/step ({t_cpu / n * 1e9:6.2f} ns/foot)"
+        for threads in (None, 1):
+            feet = MudContacts(values, n, threads=threads)
+            t_cpu = np.inf
+            k = 0
+            for _ in range(repeats + 1):  # the first repeat warms up (compiled code, numba's threads)
+                spent = 0.0
+                for _ in range(cpu_steps):
+                    z = mean_np + amp_np * np.sin(2.0 * np.pi * 1.5 * DT * k)  # the same gait, in sequence
+                    k += 1
+                    t0 = time.perf_counter()
+                    feet.step(z, DT)
+                    spent += time.perf_counter() - t0
+                t_cpu = min(t_cpu, spent / cpu_steps)
+            line += (f"; MudContacts ({feet.threads} thread{'s' if feet.threads > 1 else ''}) "
+                     f"{t_cpu * 1e6:.1f} us/step ({t_cpu / n * 1e9:.2f} ns/foot)")
     print(line, flush=True)
 
 
