@@ -77,22 +77,31 @@ __all__ = [
     "FREE",
     "NECKED",
     "UNSTARTED",
+    "Necking",
     "Params",
     "State",
+    "StepConstants",
     "branch_forces",
     "drag_stress",
     "init",
+    "intrusion_step",
+    "leave_necked",
     "make_params",
     "maxwell_strain_step",
     "mud_depth",
     "neck_filter_response",
     "neck_filter_transition",
+    "neck_flush_age",
+    "necked_step",
     "necking_time",
     "nonlinear_spring_stress",
     "reset",
     "rest_band",
     "step",
+    "step_constants",
     "stick_force",
+    "touchdown",
+    "withdrawal_step",
 ]
 
 # contact states (as in mudforce._kernel), and a foot whose first sample is still to come
@@ -395,7 +404,11 @@ def necking_time(strain: Array, velocity: Array, tau_w: Array, k_m_w: Array, dra
 # ----------------------------------------------------------------------------- the transitions
 
 
-class _Derived(NamedTuple):
+class StepConstants(NamedTuple):
+    """What a step of ``dt`` needs besides the state: ``tau_i``, ``tau_w`` [s] (``b / k``),
+    ``grow_i``, ``grow_w`` (``1 - exp(-dt / tau)`` [-]), ``phi`` (Eq. (7)'s one-step matrix
+    minus the identity, :func:`neck_filter_transition`) and ``flush`` [s] (:func:`neck_flush_age`)."""
+
     tau_i: Array
     tau_w: Array
     grow_i: Array
@@ -404,11 +417,11 @@ class _Derived(NamedTuple):
     flush: Array
 
 
-def _derived(p: Params, dt: Array) -> _Derived:
+def step_constants(p: Params, dt: Array) -> StepConstants:
     """Constants of a step of ``dt`` [s]: ``tau = b/k``, ``exp(-dt/tau)``, Eq. (7)'s one-step matrix, flush age."""
     tau_i = p.b_i / p.k_i
     tau_w = p.b_w / p.k_w
-    return _Derived(tau_i, tau_w, -jnp.expm1(-dt / tau_i), -jnp.expm1(-dt / tau_w),
+    return StepConstants(tau_i, tau_w, -jnp.expm1(-dt / tau_i), -jnp.expm1(-dt / tau_w),
                     neck_filter_transition(dt, p.zeta, p.omega_0), neck_flush_age(p.zeta, p.omega_0))
 
 
@@ -445,7 +458,7 @@ def touchdown(mode: Array, z0: Array, z1: Array, v: Array, zm: Array, strain: Ar
     return mode, start, z_start, zm, strain
 
 
-def intrusion_step(strain: Array, v: Array, dt: Array, start: Array, k: _Derived) -> Array:
+def intrusion_step(strain: Array, v: Array, dt: Array, start: Array, k: StepConstants) -> Array:
     """The intrusion/hold branch (``v >= 0``) from ``start`` [s] to the step's end: Eq. (3) with ``k_m_i, b_m_i``.
 
     Returns the strain [m].
@@ -459,7 +472,11 @@ def _piece_drag(p: Params, z_a: Array, v: Array, length: Array) -> Array:
     return jnp.where(z_a + 0.5 * v * length > 0.0, drag_stress(p.lam, p.rho_m, v), 0.0)
 
 
-class _Neck(NamedTuple):
+class Necking(NamedTuple):
+    """What :func:`withdrawal_step` returns: whether the neck broke in the step (bool), the strain [m]
+    at the step's end or at necking, and the necking data of :class:`State` (``neck_v`` [m/s],
+    ``neck_z`` [m], ``neck_age`` [s], ``neck_g`` [-], ``neck_gi`` [s])."""
+
     necked: Array  # bool: the neck broke in this step
     strain: Array
     neck_v: Array
@@ -469,8 +486,8 @@ class _Neck(NamedTuple):
     neck_gi: Array
 
 
-def withdrawal_step(p: Params, k: _Derived, strain: Array, v: Array, dt: Array, start: Array, z_start: Array,
-                    z1: Array) -> _Neck:
+def withdrawal_step(p: Params, k: StepConstants, strain: Array, v: Array, dt: Array, start: Array, z_start: Array,
+                    z1: Array) -> Necking:
     """The withdrawal branch (``v < 0``) with necking inside the step, Eqs. (3), (5), (9) and (7).
 
     The drag acts only below the surface, so the step is split where it
@@ -509,10 +526,10 @@ def withdrawal_step(p: Params, k: _Derived, strain: Array, v: Array, dt: Array, 
     age = jnp.where(necked, dt - offset, 0.0)
     g, gi = neck_filter_response(age, p.zeta, p.omega_0)
     z_n = z_a + v * tn
-    return _Neck(necked, jnp.where(necked, e_n, e2), e_n / k.tau_w, z_n - e_n, age, g, gi)
+    return Necking(necked, jnp.where(necked, e_n, e2), e_n / k.tau_w, z_n - e_n, age, g, gi)
 
 
-def necked_step(k: _Derived, age: Array, gi: Array, g: Array, dt: Array) -> tuple[Array, Array, Array]:
+def necked_step(k: StepConstants, age: Array, gi: Array, g: Array, dt: Array) -> tuple[Array, Array, Array]:
     """NECKED for a whole step: Eq. (7)'s filter advanced by its exact transition matrix; zero past the flush age.
 
     ``[G, g] += (Phi - I) [G, g]`` (:func:`neck_filter_transition`).
@@ -574,7 +591,7 @@ def step(state: State, params: Params, depths: Array, dt: Array) -> tuple[State,
     dt_ok = (dt > 0.0) & jnp.isfinite(dt)
     ok = jnp.isfinite(z1) & (first | dt_ok)
     dts = _safe(dt_ok, dt)
-    k = _derived(p, dts)
+    k = step_constants(p, dts)
 
     z0 = state.depth
     v = jnp.where(first, 0.0, (z1 - z0) / dts)  # first-order hold
