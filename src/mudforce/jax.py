@@ -418,11 +418,11 @@ class StepConstants(NamedTuple):
 
 
 def step_constants(p: Params, dt: Array) -> StepConstants:
-    """Constants of a step of ``dt`` [s]: ``tau = b/k``, ``exp(-dt/tau)``, Eq. (7)'s one-step matrix, flush age."""
+    """Constants of a step of ``dt`` [s]: ``tau = b/k``, ``1 - exp(-dt/tau)``, Eq. (7)'s one-step matrix, flush age."""
     tau_i = p.b_i / p.k_i
     tau_w = p.b_w / p.k_w
     return StepConstants(tau_i, tau_w, -jnp.expm1(-dt / tau_i), -jnp.expm1(-dt / tau_w),
-                    neck_filter_transition(dt, p.zeta, p.omega_0), neck_flush_age(p.zeta, p.omega_0))
+                         neck_filter_transition(dt, p.zeta, p.omega_0), neck_flush_age(p.zeta, p.omega_0))
 
 
 def leave_necked(mode: Array, z0: Array, zm: Array, strain: Array, d: Array
