@@ -10,7 +10,8 @@ intrusion-branch forces (README, "Dynamics").
 
 Engines: "builtin" integrates the one-degree-of-freedom foot event-driven
 (RK4 with event location, 0.1 ms sub-steps); "mujoco" runs MuJoCo (1 ms
-steps) with the mudforce.mujoco adapter (needs: pip install 'mudforce[mujoco]').
+steps) with the mudforce.mujoco adapter (needs: pip install 'mudforce[mujoco]'); "mjx" runs
+MuJoCo's JAX port MJX (1 ms steps, one jitted scan) with mudforce.mjx (needs: pip install 'mudforce[mjx]').
 
 Output CSV columns: time_s, depth_m (positive down), velocity_m_s
 (positive down), force_N (mud force, positive up), state (FREE, INTRUSION,
@@ -54,7 +55,7 @@ _MAX_HEIGHT = 10.0  # [m]
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Declare the options of ``mudforce drop``."""
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    parser.add_argument("--engine", choices=("builtin", "mujoco"), default="builtin",
+    parser.add_argument("--engine", choices=("builtin", "mujoco", "mjx"), default="builtin",
                         help="dynamics engine (default: builtin)")
     parser.add_argument("--mass", required=True, metavar="M",
                         help="foot mass with unit, e.g. 5kg: 0.1kg (builtin) or 1kg (mujoco) to 10000kg")
@@ -104,6 +105,13 @@ def run(args: argparse.Namespace) -> int:
         from mudforce.mujoco import simulate_drop
 
         result = simulate_drop(mass, params, duration=duration, height=height)
+    elif args.engine == "mjx":
+        from mudforce._optional import require
+
+        require("jax", "mjx", "--engine mjx")  # mudforce.mjx checks for mujoco.mjx itself
+        from mudforce.mjx import simulate_drop as simulate_drop_mjx
+
+        result = simulate_drop_mjx(mass, params, duration=duration, height=height)
     else:
         from mudforce.dynamics import simulate_foot
 
