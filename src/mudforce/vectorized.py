@@ -30,10 +30,10 @@ import numba.np.ufunc.parallel
 import numpy as np
 
 from mudforce import _kernel as K
+from mudforce.contact import check_states
 from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import PARAMETER_NAMES, MudParameters
-from mudforce.contact import check_states
 from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT, STATE_NAMES, resolve_velocity_filter
 from mudforce.velocity import VelocityFilter
 
@@ -253,7 +253,8 @@ class MudContacts:
         if bad >= 0:  # pragma: no cover - every input the kernel refuses was refused above
             raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
         if out is None:
-            return self.forces.copy()
+            forces: np.ndarray = self.forces.copy()
+            return forces
         out[:] = self.forces
         return out
 
