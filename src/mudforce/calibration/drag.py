@@ -137,7 +137,7 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = _RHO_M,
     scale = float(np.max(np.abs(x)))
     design = np.column_stack([x / scale, np.ones_like(x)]) if intercept else (x / scale)[:, None]
     try:
-        coef, _, rank, _ = np.linalg.lstsq(design, f, rcond=None)
+        coef, _, rank, _ = np.linalg.lstsq(design, f, rcond=None)  # the results are checked below
         if rank < p:
             raise np.linalg.LinAlgError
         residual = f - design @ coef
@@ -146,9 +146,10 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = _RHO_M,
     except np.linalg.LinAlgError:
         raise InputError("fit-drag: the speeds do not determine lambda (too few distinct non-zero speeds, "
                          "or speeds too far apart in magnitude)") from None
-    coef[0] /= scale
-    cov[0, :] /= scale
-    cov[:, 0] /= scale
+    with np.errstate(all="ignore"):  # an overflow here is caught as a non-finite result
+        coef[0] /= scale
+        cov[0, :] /= scale
+        cov[:, 0] /= scale
     values = [float(coef[0]), float(cov[0, 0]), float(s2), *(float(c) for c in np.ravel(cov))]
     if not all(math.isfinite(value) for value in values):
         raise InputError("fit-drag: lambda or its standard error is not finite; the speeds or forces are too "
