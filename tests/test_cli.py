@@ -242,7 +242,7 @@ BAD: list[tuple[str, list[str], dict[str, bytes], tuple[str, ...]]] = [
     ("params-not-an-object", sim_params(), {"mud.json": b"[1, 2, 3]"}, ("mud.json", "object")),
     ("params-beta-above-1", sim_params(), {"mud.json": _params_json(beta=1.5).encode()}, ("mud.json", "beta", "1.5")),
     ("params-negative-stiffness", sim_params(), {"mud.json": _params_json(k_m_i=-1e5).encode()},
-     ("mud.json", "k_m_i", "> 0")),
+     ("mud.json", "k_m_i", "within")),
     ("params-missing-key", sim_params(), {"mud.json": _params_json(sigma_y=None).encode()},
      ("mud.json", "missing", "sigma_y")),
     ("params-unknown-key", sim_params(), {"mud.json": _params_json(sigmay=6000.0).encode()},

@@ -155,7 +155,14 @@ def check_output_path(text: str | os.PathLike[str] | None, option: str, *, suffi
         raise InputError(f"{option}: {shown!r} must end in {suffix} (only {suffix[1:].upper()} is written)")
     if str(text).endswith(("/", os.sep)) or path.name in ("", ".", ".."):
         raise InputError(f"{option}: {shown!r} names a directory; expected a file name")
-    target = write_target(path)
+    given_parent = path.parent if str(path.parent) else Path(".")
+    if given_parent.is_dir() and len(os.fsencode(path.name)) > _name_max(given_parent):
+        raise InputError(f"{option}: the file name {path.name[:40]!r}... is longer than the file system "
+                         f"allows ({_name_max(given_parent)} bytes)")
+    try:
+        target = write_target(path)
+    except OSError as exc:
+        raise InputError(f"{option}: {shown[:80]!r}: {exc.strerror or exc}") from None
     _refuse_special(target, option, shown)
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():

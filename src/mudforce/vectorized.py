@@ -242,7 +242,7 @@ class MudContacts:
         if not np.abs(z).max() <= MAX_DEPTH:  # False for NaN: check every foot before any moves
             bad = int(np.flatnonzero(~(np.abs(z) <= MAX_DEPTH))[0])
             raise InputError(f"depth of foot {bad} must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, "
-                             f"got {z[bad]!r}; no foot was stepped")
+                             f"got {float(z[bad])!r}; no foot was stepped")
         if self.threads > 1 and not _forked:
             with _launch_lock:
                 bad = K.run_feet_threads(self.states, self.ring, self.params_array, z, dt, self.forces,
