@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import mudforce
 from mudforce import Foot, MudParameters, simulate
 from mudforce.commands.simulate import parse_foot
 from mudforce.errors import InputError
@@ -38,6 +39,9 @@ def run_cli(args: Sequence[str], cwd: Path, command: Sequence[str] = PYTHON_M) -
     """Run the command line in ``cwd`` with no stdin; returns the finished process."""
     env = dict(os.environ)
     env.pop("MPLBACKEND", None)
+    # the package under test first on the path: a relative PYTHONPATH ("src") does not resolve from cwd
+    here = str(Path(mudforce.__file__).resolve().parents[1])
+    env["PYTHONPATH"] = os.pathsep.join([here, *(p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)])
     return subprocess.run(
         [*command, *args],
         cwd=cwd,

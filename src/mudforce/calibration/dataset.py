@@ -253,7 +253,7 @@ def _load_manifest(path: Path) -> Dataset:
         if repeat is not None and (isinstance(repeat, bool) or not isinstance(repeat, int) or repeat < 0):
             raise InputError(f"{at}: repeat is {repeat!r}; expected a non-negative integer")
         if not file.is_file():
-            raise InputError(f"{at}: trial file {name!r} not found in {path.parent}")
+            raise InputError(f"{at}: trial file {path.parent / name} not found")
         trials.append(load_trial(file, w, velocity=velocity, repeat=repeat))
     extra = {k: data[k] for k in ("description", "synthetic") if k in data}
     inputs = (str(path.parent), where, *sorted(seen))
