@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import Run, assert_refused, run_batch, run_cli, snapshot
 
+from conftest import Run, assert_refused, run_batch, run_cli, snapshot
 from mudforce.calibration.synth import synthesize
 
 PREVIOUS = b"previous output, must survive any error\n"
