@@ -225,7 +225,11 @@ class MudContacts:
             z = depths
         else:
             try:
-                z = np.asarray(depths, dtype=np.float64)
+                raw = np.asarray(depths)
+                if raw.dtype.kind not in "iufO" or (raw.dtype.kind == "O" and any(
+                        isinstance(v, (str, bytes, bool)) for v in raw.ravel())):
+                    raise TypeError
+                z = np.asarray(raw, dtype=np.float64)
             except (TypeError, ValueError):
                 raise InputError(f"depths must be an array of {self.n} numbers [m], got {type(depths).__name__}"
                                  ) from None
