@@ -63,4 +63,4 @@ def test_table_i_and_the_fitters_box_lie_inside_the_bounds() -> None:
     for name, (lo, hi) in CHEN2024.bounds.items():
         plo, phi = PARAMETER_RANGES[name]
         # the fit works on logarithms: its bounds must survive exp(log(bound)) rounding
-        assert plo < lo * (1 - 1e-12) and hi * (1 + 1e-12) <= phi or (name == "beta" and hi == phi == 1.0), name
+        assert (plo < lo * (1 - 1e-12) and hi * (1 + 1e-12) <= phi) or (name == "beta" and hi == phi == 1.0), name
