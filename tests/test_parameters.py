@@ -75,7 +75,7 @@ def test_out_of_range_water_content_names_the_range(w: float) -> None:
     [
         ({"k_m_i": -1.0}, r"k_m_i must be within \[0.001, 1e\+12\]"),
         ({"b_m_w": 0.0}, "b_m_w must be within"),
-        ({"alpha": 0.0}, "alpha must be within"),
+        ({"alpha": -1.0}, "alpha must be within"),
         ({"sigma_y": -5.0}, "sigma_y must be within"),
         ({"omega_0": 0.0}, "omega_0 must be within"),
         ({"rho_m": 0.0}, "rho_m must be within"),

@@ -62,6 +62,9 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
             raise InputError(f"{where}: {message}; expected a state taken from a contact")
 
 
+assert (MAX_DEPTH, MIN_DT, MAX_DT) == (100.0, 1e-9, 1e3), "MudContact.step writes these bounds as literals"
+
+
 def _real(value: object, name: str) -> float:
     """``value`` as a float if it is a real number (Python or numpy, not ``bool``), else :class:`InputError`."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
@@ -237,7 +240,8 @@ class MudContact:
         """
         if type(depth) is not float or type(dt) is not float:
             depth, dt = _real(depth, "depth"), _real(dt, "dt")
-        if not (abs(depth) <= MAX_DEPTH and MIN_DT <= dt <= MAX_DT):  # False for NaN
+        # MAX_DEPTH, MIN_DT, MAX_DT as literals (no global look-ups on the 0.5 us path); False for NaN
+        if not (-100.0 <= depth <= 100.0 and 1e-9 <= dt <= 1e3):
             self._refuse(depth, dt)
         force: float = self._step(self._buf, depth, dt)
         return force

@@ -103,9 +103,9 @@ PARAMETER_RANGES: dict[str, tuple[float, float]] = {
     "b_m_i": (1e-3, 1e12),
     "k_m_w": (1e-3, 1e12),
     "b_m_w": (1e-3, 1e12),
-    "alpha": (1e-3, 1e12),
+    "alpha": (0.0, 1e12),  # 0: no spring (the Maxwell-only ablation uses 1e-24); alpha only scales (z/H)^beta
     "beta": (1e-3, 1.0),
-    "sigma_y": (1e-3, 1e9),
+    "sigma_y": (1e-3, 1e30),  # only compared with the suction (Eq. (9)): a huge value means "never necks"
     "zeta": (1e-4, 1e3),
     "omega_0": (1e-3, 1e4),
     "rho_m": (1.0, 1e5),
@@ -150,8 +150,9 @@ class MudParameters:
     Notes
     -----
     Every value must be finite and within :data:`PARAMETER_RANGES`
-    (stiffnesses, dampers and ``alpha`` within [1e-3, 1e12], ``beta``
-    within [1e-3, 1], ``sigma_y`` within [1e-3, 1e9] Pa, ``zeta`` within
+    (stiffnesses and dampers within [1e-3, 1e12], ``alpha`` within [0, 1e12] Pa,
+    ``beta`` within [1e-3, 1], ``sigma_y`` within [1e-3, 1e30] Pa (it is only
+    compared with the suction; 1e30 means the neck never breaks), ``zeta`` within
     [1e-4, 1e3], ``omega_0`` within [1e-3, 1e4] rad/s, ``rho_m`` within
     [1, 1e5] kg/m^3, ``lambda`` within [0, 1e3]).
     The instance is immutable and validated on construction; use

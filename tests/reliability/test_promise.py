@@ -36,8 +36,9 @@ def test_promise_states_the_bounds_in_force() -> None:
     assert f"{_f(SIZE_RANGE[0])} m to {_f(SIZE_RANGE[1])} m" in section
     assert f"{_f(AREA_RANGE[0])} m² to {_f(AREA_RANGE[1])} m²" in section
     rows = {
-        ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha"): "{lo} to {hi} (SI)",
-        ("beta",): "{lo} to {hi} /",
+        ("k_m_i", "b_m_i", "k_m_w", "b_m_w"): "{lo} to {hi} (SI)",
+        ("alpha",): "{lo} Pa to {hi} Pa /",
+        ("beta",): "/ {lo} to {hi} |",
         ("sigma_y",): "{lo} Pa to {hi} Pa",
         ("zeta",): "{lo} to {hi} /",
         ("omega_0",): "{lo} rad/s to {hi} rad/s",

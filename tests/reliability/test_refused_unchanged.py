@@ -147,8 +147,7 @@ def extreme_parameters(draw: st.DrawFn) -> mf.MudParameters:
     values = {}
     for name in PARAMETER_NAMES:
         lo, hi = PARAMETER_RANGES[name]
-        lo = max(lo, 1e-6)
-        values[name] = draw(st.one_of(st.sampled_from([lo, hi]), _log_uniform(lo, hi)))
+        values[name] = draw(st.one_of(st.sampled_from([lo, hi]), _log_uniform(max(lo, 1e-6), hi)))
     return mf.MudParameters.from_dict(values)
 
 
