@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -20,33 +19,20 @@ from mudforce.velocity import VelocityFilter, auto_velocity_filter
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "check_step", "simulate"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
 MAX_DEPTH = 100.0
 #: Shortest time step accepted [s]: 1 ns. Shorter steps sample nothing a sensor or a control
-#: loop can, are below the rounding of sample times of ~1e6 s, and would let ``dz/dt`` and the
-#: drag ``v^2`` of Eq. (5) overflow (a 1e-320 s step makes them infinite).
+#: loop can, approach the rounding of sample times (one ulp of 1e6 s is 1.2e-10 s), and, far
+#: enough down, let ``dz/dt`` and the drag ``v^2`` of Eq. (5) overflow (1e-320 s: infinite).
 MIN_DT = 1e-9
 #: Longest time step accepted [s]: 1000 s.
 MAX_DT = 1e3
-#: Largest |time| accepted [s] (~30 years): steps stay resolvable to MIN_DT's order.
+#: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
+#: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
 MAX_TIME = 1e9
-
-
-def check_step(depth: float, dt: float | None) -> None:
-    """Refuse a depth [m] outside ``|z| <= MAX_DEPTH`` or a step [s] outside ``[MIN_DT, MAX_DT]`` (``None``: no step).
-
-    Raises
-    ------
-    InputError
-        Naming the value and the accepted range.
-    """
-    if not (math.isfinite(depth) and abs(depth) <= MAX_DEPTH):
-        raise InputError(f"depth must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, got {depth!r}")
-    if dt is not None and not MIN_DT <= dt <= MAX_DT:
-        raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
 
 #: Contact state codes in :attr:`SimulationResult.state`: 0 FREE, 1 CONTACT, 2 NECKED.
 STATE_NAMES: tuple[str, ...] = K.STATE_NAMES
