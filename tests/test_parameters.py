@@ -82,7 +82,7 @@ def test_out_of_range_water_content_names_the_range(w: float) -> None:
         ({"zeta": 0.0}, "zeta must be within"),
         ({"beta": 0.0}, r"beta must be within \[0.001, 1\]"),
         ({"beta": 1.5}, r"beta must be within \[0.001, 1\]"),
-        ({"lambda": -0.1}, r"lambda must be within \[0, 1000\]"),
+        ({"lambda": -0.1}, r"lambda must be within \[0, 10000\]"),
         ({"k_m_i": 1e-320}, "k_m_i must be within"),
         ({"zeta": 1e160}, "zeta must be within"),
         ({"omega_0": 1e160}, "omega_0 must be within"),

@@ -109,7 +109,7 @@ PARAMETER_RANGES: dict[str, tuple[float, float]] = {
     "zeta": (1e-4, 1e3),
     "omega_0": (1e-3, 1e4),
     "rho_m": (1.0, 1e5),
-    "lambda": (0.0, 1e3),
+    "lambda": (0.0, 1e4),
 }
 
 _RHO_M = 1.84e3  # [kg/m^3], Section III-A of [1], common to all rows
@@ -154,7 +154,7 @@ class MudParameters:
     ``beta`` within [1e-3, 1], ``sigma_y`` within [1e-3, 1e30] Pa (it is only
     compared with the suction; 1e30 means the neck never breaks), ``zeta`` within
     [1e-4, 1e3], ``omega_0`` within [1e-3, 1e4] rad/s, ``rho_m`` within
-    [1, 1e5] kg/m^3, ``lambda`` within [0, 1e3]).
+    [1, 1e5] kg/m^3, ``lambda`` within [0, 1e4]).
     The instance is immutable and validated on construction; use
     :func:`dataclasses.replace` or :meth:`replace` to derive a changed copy.
     """
