@@ -91,12 +91,12 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     try:
         # mkstemp makes the file private (0600); keep an existing target's permissions, else 0666 & ~umask
         try:
-            mode = stat.S_IMODE(target.stat().st_mode)
+            permissions = stat.S_IMODE(target.stat().st_mode)
         except OSError:
             umask = os.umask(0)
             os.umask(umask)
-            mode = 0o666 & ~umask
-        os.chmod(tmp, mode)
+            permissions = 0o666 & ~umask
+        os.chmod(tmp, permissions)
         binary = "b" in mode
         with os.fdopen(fd, mode, encoding=None if binary else encoding, newline=None if binary else "") as handle:
             yield handle

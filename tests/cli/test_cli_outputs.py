@@ -88,6 +88,7 @@ def test_outputs_write_through_links_atomically(tmp_path: Path) -> None:
     """A link stays a link and its target gets the output; a dangling link creates its target; a long
     name works; no temporary file is left; a subprocess run exits 0."""
     (tmp_path / "target.csv").write_bytes(PREVIOUS)
+    (tmp_path / "target.csv").chmod(0o640)
     (tmp_path / "link.csv").symlink_to("target.csv")
     (tmp_path / "sub").mkdir()
     (tmp_path / "dangling.csv").symlink_to("sub/new.csv")
@@ -98,6 +99,7 @@ def test_outputs_write_through_links_atomically(tmp_path: Path) -> None:
         assert run.returncode == 0, run.stderr
     assert (tmp_path / "link.csv").is_symlink() and os.readlink(tmp_path / "link.csv") == "target.csv"
     assert (tmp_path / "target.csv").read_bytes().startswith(b"time_s,depth_m")
+    assert (tmp_path / "target.csv").stat().st_mode & 0o777 == 0o640  # its permissions kept
     assert (tmp_path / "dangling.csv").is_symlink() and (tmp_path / "sub" / "new.csv").is_file()
     assert (tmp_path / long_name).read_bytes() == (tmp_path / "target.csv").read_bytes()
     leftovers = [p.name for p in tmp_path.rglob(".*")]
