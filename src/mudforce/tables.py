@@ -39,7 +39,7 @@ COLUMN_LIMITS: dict[str, float] = {
 }
 
 #: Rows read into Python lists before they are packed into float64 arrays (memory stays ~8 bytes a value).
-_CHUNK = 65536
+_CHUNK = 8192
 
 # a plain ASCII decimal number: no "1_0", no non-ASCII digits, no hex, no nan/inf
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
