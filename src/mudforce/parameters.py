@@ -235,6 +235,9 @@ class MudParameters:
         would. The paper gives no law between its rows; this is a
         project choice.
         """
+        if isinstance(water_content, bool) or not isinstance(water_content, (int, float, np.integer, np.floating)):
+            raise InputError(f"water content must be a number (a fraction: 0.25 means 25%), "
+                             f"got {type(water_content).__name__}")
         w = float(water_content)
         lo, hi = WATER_CONTENT_RANGE
         if not math.isfinite(w) or w < lo - 1e-12 or w > hi + 1e-12:
@@ -289,6 +292,8 @@ class MudParameters:
         """
         from mudforce.io import load_json
 
+        if not isinstance(path, (str, os.PathLike)):
+            raise InputError(f"path must be a file name, got {type(path).__name__}")
         p = Path(path)
         data = load_json(p, "parameter file", 'an object like {"k_m_i": 260000.0, ...}')
         try:

@@ -107,6 +107,8 @@ def read_columns(
         (``depth_m`` beside ``depth_mm``); NaN, infinite values and values
         beyond :data:`COLUMN_LIMITS`; each with file, row and column.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"path must be a file name, got {type(path).__name__}")
     p = Path(path)
     if not p.exists():
         raise InputError(f"{p}: file not found")

@@ -16,10 +16,13 @@ from hypothesis import strategies as st
 
 import mudforce as mf
 from mudforce import _kernel as K
+from mudforce.calibration.dataset import load_dataset
 from mudforce.contact import ContactState
 from mudforce.errors import InputError
 from mudforce.parameters import PARAMETER_NAMES, PARAMETER_RANGES
 from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce.tables import read_trajectory
+from mudforce.units import parse_quantity
 from mudforce.vectorized import MudContacts
 
 W25 = mf.MudParameters.from_water_content(0.25)
@@ -129,7 +132,10 @@ def test_api_type_errors_are_input_errors() -> None:
                  lambda: mf.MudContact(W25, "disc"), lambda: mf.MudContact(W25).step(None, 0.01),
                  lambda: mf.Foot(None, 0.1), lambda: mf.Foot.disc("5cm"), lambda: MudContacts(W25, 2).step("ab", 0.1),
                  lambda: MudContacts(W25, 2, foot=[None, None]), lambda: MudContacts(W25, 2).restore(None),
-                 lambda: ContactState(None), lambda: mf.simulate(None, None, W25)):
+                 lambda: ContactState(None), lambda: mf.simulate(None, None, W25),
+                 lambda: mf.MudParameters.from_water_content("25%"), lambda: mf.MudParameters.load(None),
+                 lambda: load_dataset(None), lambda: read_trajectory(3.0), lambda: parse_quantity(None, "length"),
+                 lambda: mf.Foot.cuboid(None, 0.01)):
         try:
             call()
         except InputError:

@@ -336,6 +336,8 @@ def load_dataset(path: str | os.PathLike[str], *, foot: Foot | None = None) -> D
     InputError
         One line naming the file, row, column or key, the value, and what is expected.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"path must be a dataset folder or file name, got {type(path).__name__}")
     p = Path(path)
     if p.is_dir():
         manifest = p / MANIFEST_NAME
