@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -20,7 +19,20 @@ from mudforce.velocity import VelocityFilter, auto_velocity_filter
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["STATE_NAMES", "SimulationResult", "simulate"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"]
+
+#: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
+#: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
+MAX_DEPTH = 100.0
+#: Shortest time step accepted [s]: 1 ns. Shorter steps sample nothing a sensor or a control
+#: loop can, approach the rounding of sample times (one ulp of 1e6 s is 1.2e-10 s), and, far
+#: enough down, let ``dz/dt`` and the drag ``v^2`` of Eq. (5) overflow (1e-320 s: infinite).
+MIN_DT = 1e-9
+#: Longest time step accepted [s]: 1000 s.
+MAX_DT = 1e3
+#: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
+#: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
+MAX_TIME = 1e9
 
 #: Contact state codes in :attr:`SimulationResult.state`: 0 FREE, 1 CONTACT, 2 NECKED.
 STATE_NAMES: tuple[str, ...] = K.STATE_NAMES
@@ -238,17 +250,17 @@ def _as_arrays(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
 
 @njit(cache=True, nogil=True)
 def _values_ok(t: np.ndarray, z: np.ndarray) -> bool:
-    """True if all times and depths are finite and time strictly increases (one pass, no temporaries)."""
+    """True if all times and depths are finite and within bounds and every step within [MIN_DT, MAX_DT] (one pass)."""
     for k in range(t.shape[0]):
-        if not (math.isfinite(t[k]) and math.isfinite(z[k])):
+        if not (abs(t[k]) <= MAX_TIME and abs(z[k]) <= MAX_DEPTH):  # False for NaN too
             return False
-        if k > 0 and not t[k] > t[k - 1]:
+        if k > 0 and not MIN_DT <= t[k] - t[k - 1] <= MAX_DT:
             return False
     return True
 
 
 def _check_values(t: np.ndarray, z: np.ndarray) -> None:
-    """Raise :class:`InputError` naming the first non-finite time, depth or non-increasing time."""
+    """Raise :class:`InputError` naming the first bad time or depth, or the first step out of bounds."""
     if _values_ok(t, z):
         return
     bad = np.flatnonzero(~np.isfinite(t))
@@ -257,10 +269,21 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
         raise InputError(f"depth is not finite at sample {bad[0]} ({z[bad[0]]!r}); expected numbers [m]")
+    bad = np.flatnonzero(np.abs(t) > MAX_TIME)
+    if bad.size:
+        raise InputError(f"time at sample {bad[0]} ({t[bad[0]]!r} s) is beyond +-{MAX_TIME:g} s")
+    bad = np.flatnonzero(np.abs(z) > MAX_DEPTH)
+    if bad.size:
+        raise InputError(f"depth at sample {bad[0]} ({z[bad[0]]!r} m) is beyond +-{MAX_DEPTH:g} m; "
+                         "expected depths [m] within that")
     steps = np.diff(t)
-    i = int(np.flatnonzero(steps <= 0.0)[0]) + 1
-    what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
-    raise InputError(f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); expected strictly increasing time")
+    i = int(np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))[0]) + 1
+    if steps[i - 1] <= 0.0:
+        what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
+        raise InputError(f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); "
+                         "expected strictly increasing time")
+    raise InputError(f"the time step before sample {i} is {steps[i - 1]:g} s; expected steps within "
+                     f"[{MIN_DT:g}, {MAX_DT:g}] s")
 
 
 def resolve_velocity_filter(
@@ -346,9 +369,11 @@ def simulate(
     Parameters
     ----------
     time : array_like
-        Sample times [s], finite and strictly increasing (any spacing).
+        Sample times [s], within +-1e9 s, strictly increasing, each step
+        within [1e-9, 1e3] s (:data:`MIN_DT`, :data:`MAX_DT`).
     depth : array_like
-        Foot depth below the undisturbed surface [m], positive down.
+        Foot depth below the undisturbed surface [m], positive down, within
+        +-100 m (:data:`MAX_DEPTH`).
     params : MudParameters
         Mud parameters, e.g. ``MudParameters.from_water_content(0.25)``.
     foot : Foot, optional
@@ -372,10 +397,7 @@ def simulate(
     59.5
     """
     t, z = _as_arrays(time, depth)
-    if t.size == 1 or not (isinstance(velocity_filter, VelocityFilter) or velocity_filter == "exact"):
-        # the "auto" filter's noise estimate needs valid samples; the compiled
-        # loop checks them all for the other filters, except one sample's time
-        _check_values(t, z)
+    _check_values(t, z)  # bounds: one pass, before anything runs
     foot = Foot.paper() if foot is None else foot
     vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
@@ -390,6 +412,10 @@ def simulate(
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
+    if not np.isfinite(force).all():  # no bound can be stated for every path: check what leaves
+        k = int(np.flatnonzero(~np.isfinite(force))[0])
+        raise InputError(f"the force is not finite at sample {k} (t = {t[k]:g} s); the inputs are outside what "
+                         "the model can represent")
     own_t.setflags(write=False)
     own_z.setflags(write=False)
     return SimulationResult(

@@ -251,8 +251,10 @@ class FitResult:
         }
 
     def to_json(self, indent: int | None = 2) -> str:
-        """``fit.json`` as text (deterministic for a given dataset and seed)."""
-        return json.dumps(self.to_dict(), indent=indent)
+        """``fit.json`` as text (deterministic for a given dataset and seed); refuses NaN and infinities."""
+        from mudforce.io import dumps_json
+
+        return dumps_json(self.to_dict(), indent=indent)
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write :meth:`to_json` atomically."""

@@ -118,6 +118,9 @@ def identify_water_content(
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
     foot = Foot.paper() if foot is None else foot
     tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial)
+    if not np.any(tr.force != tr.force[0]):
+        raise InputError("the force is the same in every sample (all zero?): the trial carries no force to "
+                         "identify a water content from")
     lo, hi = bounds
 
     def residual(w: float) -> np.ndarray:
@@ -148,7 +151,9 @@ def identify_water_content(
         warnings.append(f"the estimate is at the edge of the searched range [{lo:g}, {hi:g}]: "
                         "the mud may be drier or wetter than the family covers")
     rmse = math.sqrt(c_best / n)
-    if math.isfinite(tr.force_noise) and rmse > 2.0 * tr.force_noise:
+    # noiseless data: "well above a noise of 0 N" is no finding; ask for 0.1 % of the force range too
+    floor = 1e-3 * float(np.max(np.abs(tr.force)))
+    if math.isfinite(tr.force_noise) and rmse > max(2.0 * tr.force_noise, floor):
         warnings.append(f"RMSE {rmse:.3g} N is well above the force noise {tr.force_noise:.3g} N: "
                         "the family does not describe this trial well; the interval allows for that")
     return Identification(
