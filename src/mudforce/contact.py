@@ -39,22 +39,7 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
         time or neck age, a depth beyond +-100 m, cached decays outside [0, 1],
         a filter history whose count or head is not a valid index.
     """
-    started, mode, direction = states[:, K.S_STARTED], states[:, K.S_MODE], states[:, K.S_DIRECTION]
-    decays = states[:, [K.S_CACHE_DECAY_I, K.S_CACHE_DECAY_W]]
-    checks = [
-        ("holds a value that is not finite", ~np.isfinite(states).all(axis=1) | ~np.isfinite(ring).all(axis=1)),
-        ("started is not 0 or 1", ~np.isin(started, (0.0, 1.0))),
-        ("mode is not 0 (FREE), 1 (CONTACT) or 2 (NECKED)", ~np.isin(mode, (0.0, 1.0, 2.0))),
-        ("direction is not -1, 0 or 1", ~np.isin(direction, (-1.0, 0.0, 1.0))),
-        ("time is negative", states[:, K.S_TIME] < 0.0),
-        (f"depth is beyond +-{MAX_DEPTH:g} m", np.abs(states[:, K.S_DEPTH]) > MAX_DEPTH),
-        ("neck age is negative", states[:, K.S_NECK_AGE] < 0.0),
-        ("cached decays are outside [0, 1]", ((decays < 0.0) | (decays > 1.0)).any(axis=1)),
-    ]
-    if ring.shape[1]:
-        count, head = ring[:, K.R_N], ring[:, K.R_HEAD]
-        checks.append(("filter history is corrupt", (count != np.round(count)) | (count < 0) | (count > K.RING)
-                       | (head != np.round(head)) | (head < 0) | (head >= K.RING)))
+    checks = K.invalid_rows(states, ring, MAX_DEPTH)
     for message, bad in checks:
         rows = np.flatnonzero(bad)
         if rows.size:
@@ -247,7 +232,7 @@ class MudContact:
         """Raise for a bad depth or step; a step's length is ignored on the first call."""
         if not (math.isfinite(depth) and abs(depth) <= MAX_DEPTH):
             raise InputError(f"depth must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, got {depth!r}")
-        if self._states[0, K.S_STARTED] != 0.0:
+        if K.state_column(self._states, "started")[0] != 0.0:
             raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
 
     @property

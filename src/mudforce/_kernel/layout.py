@@ -72,6 +72,7 @@ __all__ = [
     "State",
     "forget_cache",
     "forget_row_cache",
+    "invalid_rows",
     "load_cache",
     "load_params",
     "load_state",
@@ -336,6 +337,45 @@ def forget_cache(states: np.ndarray) -> None:
     For a state restored under other constants (the cached decays are the old ones').
     """
     states[..., S_CACHE_DT] = -1.0
+
+
+def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float) -> list[tuple[str, np.ndarray]]:
+    """Which rows of ``states`` (and of the filter histories ``ring``) the stepper could never have made.
+
+    For validating a restored state as strictly as a fresh one
+    (:func:`mudforce.contact.check_states` words the error).
+
+    Parameters
+    ----------
+    states : ndarray, shape (n, N_STATE)
+        State rows.
+    ring : ndarray, shape (n, 0 or N_RING)
+        The velocity filter's histories.
+    max_depth : float
+        Largest ``|z_i|`` a state may hold [m].
+
+    Returns
+    -------
+    list of (str, ndarray of bool)
+        Each check's message and its per-row failure mask, in the order they are checked.
+    """
+    started, mode, direction = states[:, S_STARTED], states[:, S_MODE], states[:, S_DIRECTION]
+    decays = states[:, [S_CACHE_DECAY_I, S_CACHE_DECAY_W]]
+    checks = [
+        ("holds a value that is not finite", ~np.isfinite(states).all(axis=1) | ~np.isfinite(ring).all(axis=1)),
+        ("started is not 0 or 1", ~np.isin(started, (0.0, 1.0))),
+        ("mode is not 0 (FREE), 1 (CONTACT) or 2 (NECKED)", ~np.isin(mode, (0.0, 1.0, 2.0))),
+        ("direction is not -1, 0 or 1", ~np.isin(direction, (-1.0, 0.0, 1.0))),
+        ("time is negative", states[:, S_TIME] < 0.0),
+        (f"depth is beyond +-{max_depth:g} m", np.abs(states[:, S_DEPTH]) > max_depth),
+        ("neck age is negative", states[:, S_NECK_AGE] < 0.0),
+        ("cached decays are outside [0, 1]", ((decays < 0.0) | (decays > 1.0)).any(axis=1)),
+    ]
+    if ring.shape[1]:
+        count, head = ring[:, R_N], ring[:, R_HEAD]
+        checks.append(("filter history is corrupt", (count != np.round(count)) | (count < 0) | (count > RING)
+                       | (head != np.round(head)) | (head < 0) | (head >= RING)))
+    return checks
 
 
 def state_of(row: np.ndarray) -> State:
