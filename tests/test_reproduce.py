@@ -38,7 +38,7 @@ def reports(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
 def test_report_files_and_keys(reports: tuple[Path, Path]) -> None:
     out = reports[0]
     pngs = sorted(p.name for p in out.glob("*.png"))
-    assert len(pngs) >= 8
+    assert len(pngs) == 10 and "tracking.png" in pngs  # nine of the paper's, and tracking across a change of mud
     summary = json.loads((out / "summary.json").read_text())
     assert summary["config"]["seed"] == int(SEED) and summary["config"]["quick"] is True
     rows = summary["table_i"]
