@@ -26,8 +26,9 @@ __all__ = ["naive_drop"]
 
 
 @njit(cache=True, nogil=True)
-def _naive(states: np.ndarray, ring: np.ndarray, params: np.ndarray, m: float, g: float, z0: float, dt: float,
-           n: int, out: np.ndarray, depth: np.ndarray, force: np.ndarray) -> None:
+def _naive(states: np.ndarray, params: np.ndarray, m: float, g: float, z0: float, dt: float, n: int,
+           out: np.ndarray, depth: np.ndarray, force: np.ndarray) -> None:
+    ring = states[:, :0]  # the exact velocity filter keeps no history
     z = z0
     v = 0.0
     f = K.step(states, ring, 0, params, z, dt, out, 0)
@@ -79,8 +80,7 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     n = round(duration / dt)
     depth = np.empty(n)
     force = np.empty(n)
-    ring = K.new_ring(1, 1)  # the exact velocity filter keeps no history
-    _naive(K.new_states(1), ring, p, mass, gravity, 0.0, dt, n, K.new_out(1), depth, force)
+    _naive(K.new_states(1), p, mass, gravity, 0.0, dt, n, K.new_out(1), depth, force)
     time = np.arange(1, n + 1) * dt
     check_finite_output("naive", time, depth, force)
     return time, depth, force
