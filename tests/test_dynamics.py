@@ -131,10 +131,10 @@ def test_band_is_a_trial_step_on_a_copy() -> None:
     up = K.step(trial, ring, 0, prow, 0.02 - 1e-9, dt, out, 0)
     assert abs(f_up[0] - up) < 1e-3 * abs(up)
     assert drag[0] == 0.0
-    lo, hi = rest_band(prow[0], K.CONTACT, 0.02, 1e-4, 0.0)
+    lo, hi = rest_band(prow[0], K.ContactMode.CONTACT, 0.02, 1e-4, 0.0)
     assert lo == pytest.approx(Foot.paper().area * params.k_m_w * 1e-4)
     assert hi > lo
-    assert rest_band(prow[0], K.FREE, 0.02, 1e-4, 0.0) == (0.0, 0.0)
+    assert rest_band(prow[0], K.ContactMode.FREE, 0.02, 1e-4, 0.0) == (0.0, 0.0)
 
 
 def test_applied_force_pulls_the_foot_out() -> None:

@@ -248,8 +248,8 @@ def test_stepper_refuses_a_window_without_a_ring() -> None:
     states = K.new_states(1)
     out = K.new_out(1)
     assert math.isnan(K.step(states, K.new_ring(1, 1), 0, prow, 0.01, 0.01, out, 0))
-    assert states[0, K.S_STARTED] == 0.0
-    assert K.step(states, K.new_ring(1, 4), 0, prow, 0.01, 0.01, out, 0) == out[K.O_FORCE, 0] > 0.0
+    assert K.state_of(states[0]).started == 0.0
+    assert K.step(states, K.new_ring(1, 4), 0, prow, 0.01, 0.01, out, 0) == K.outputs(out).force[0] > 0.0
 
 
 @pytest.mark.parametrize("window", [1, 6])
@@ -265,10 +265,11 @@ def test_full_output_loop_equals_simulate(window: int) -> None:
     out = K.new_out(t.size)
     assert K.run_batch(t, z, K.new_states(1), K.new_ring(1, window), params_row(W25, mf.Foot.paper(), vf)[None, :],
                        out) == -1
-    for row, name in ((K.O_FORCE, "force"), (K.O_F_E1, "f_e1"), (K.O_F_E2, "f_e2"), (K.O_F_S, "f_s"),
-                      (K.O_MUD, "mud_displacement"), (K.O_MUD_VELOCITY, "mud_velocity"), (K.O_VELOCITY, "velocity"),
-                      (K.O_STATE, "state")):
-        np.testing.assert_array_equal(out[row], getattr(res, name), err_msg=name)
+    rows = K.outputs(out)
+    for row, name in (("force", "force"), ("f_e1", "f_e1"), ("f_e2", "f_e2"), ("f_s", "f_s"),
+                      ("mud", "mud_displacement"), ("mud_velocity", "mud_velocity"), ("velocity", "velocity"),
+                      ("state", "state")):
+        np.testing.assert_array_equal(getattr(rows, row), getattr(res, name), err_msg=name)
     assert res.necking_times.size >= 1
 
 

@@ -5,9 +5,13 @@ and size, or its hash in recent numba). But compiled functions here take
 other files' code into their own machine code: ``inline="always"``
 functions and small callees of :mod:`mudforce.equations`,
 :mod:`mudforce._pow` and the :mod:`mudforce._kernel` package end up inside
-the loops of ``_kernel.loops``, ``dynamics``, ``mujoco``... So after an
-edit of ``equations.py`` alone, their cached code would silently be the
-old model.
+the loops of ``_kernel.loops``, ``dynamics``, ``mujoco``...;
+:mod:`mudforce.dynamics.rest_band` inside the built-in engine and the
+MuJoCo adapter's step (:mod:`mudforce._mujoco_step`), which is itself
+inside :mod:`mudforce._mujoco_fast`; and the engine's phase codes
+(:class:`mudforce.dynamics.result.Phase`) are constants in its code. So
+after an edit of ``equations.py`` alone, their cached code would silently
+be the old model.
 
 The fix is at the cache's key: :func:`install` puts, in front of numba's
 own cache locators, subclasses of them that serve mudforce's files only
@@ -37,7 +41,7 @@ __all__ = ["SOURCES", "install", "source_fingerprint"]
 
 _PACKAGE = Path(__file__).resolve().parent
 #: the sources compiled into other modules' code, relative to the package (globs)
-SOURCES = ("_pow.py", "equations.py", "_kernel/*.py")
+SOURCES = ("_pow.py", "equations.py", "_kernel/*.py", "dynamics/rest_band.py", "dynamics/result.py", "_mujoco_step.py")
 
 
 @functools.lru_cache(maxsize=1)

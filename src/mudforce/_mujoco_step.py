@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from mudforce import _kernel as K
+from mudforce._kernel import forget_row_cache, load_state
 from mudforce.dynamics.rest_band import branch_forces
 
 __all__ = [
@@ -83,9 +84,9 @@ def commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray, 
         inside = g[1] <= x <= g[2] and g[3] <= y <= g[4]
         depth = g[0] - site_xpos[site, 2]
         if not inside:
-            states[j, :] = 0.0
-            states[j, K.S_CACHE_DT] = -1.0
-        elif commit or states[j, K.S_STARTED] == 0.0:
+            states[j, :] = 0.0  # off its patch: a fresh state, as new_states gives (the next step inside starts it)
+            forget_row_cache(states, j)
+        elif commit or load_state(states, j).started == 0.0:
             K.step(states, ring, j, params, depth, dt, out, j)
     branch_forces(states, params, dt, conf[C_WEIGHT], work[W_UP], work[W_DOWN], work[W_DRAG])
     for j in range(n):
@@ -97,7 +98,7 @@ def commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray, 
         else:
             # an inverted band (large compressive strain, k_m_w > k_m_i): no sticking
             # is possible in between; use the branch of the current motion
-            mid = (hi if states[j, K.S_VELOCITY] >= 0.0 else lo) + work[W_DRAG, j]
+            mid = (hi if load_state(states, j).velocity >= 0.0 else lo) + work[W_DRAG, j]
             half = 0.0
         frictionloss[ints[I_TENDON, j]] = half
         body = ints[I_BODY, j]

@@ -319,7 +319,8 @@ class MudAdapter:
         self._ints = np.ascontiguousarray(np.array(ints, dtype=np.int64).T)
         self._tendons = self._ints[I_TENDON]
         self._states = K.new_states(n)
-        self._out = np.zeros((K.N_OUT, n))
+        self._out = K.new_out(n)  # the stepper's outputs: written by each step, read by nobody
+        self._out[:] = 0.0
         self._work = np.zeros((7, n))
         # views into MuJoCo's buffers (fixed for the life of model and data); holding them keeps
         # model and data alive. The table has the raw addresses of these and the arrays above,
@@ -393,12 +394,12 @@ class MudAdapter:
     @property
     def depths(self) -> np.ndarray:
         """Each foot's depth below its patch's surface at the last step [m] (positive down)."""
-        return np.array(self._states[:, K.S_DEPTH], dtype=np.float64)
+        return np.array(K.state_column(self._states, "depth"), dtype=np.float64)
 
     @property
     def modes(self) -> list[str]:
         """Each foot's contact state (FREE, CONTACT, NECKED)."""
-        return [K.STATE_NAMES[int(m)] for m in self._states[:, K.S_MODE]]
+        return [K.STATE_NAMES[int(m)] for m in K.state_column(self._states, "mode")]
 
     @property
     def band(self) -> tuple[np.ndarray, np.ndarray]:
@@ -513,6 +514,8 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     data = mj.MjData(model)
     adapter = MudAdapter(model, data, ["sole"], MudPatch(params), foot)
     state = adapter._states[0]  # the live row (this function only reads it)
+    live_depth = K.state_column(state, "depth")  # views of its fields, which follow the adapter
+    live_mode = K.state_column(state, "mode")
     time = np.arange(n) * timestep
     depth = np.empty(n)
     velocity = np.empty(n)
@@ -523,13 +526,13 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     phase[0] = Phase.FREE
     for k in range(1, n):
         adapter.step()
-        depth[k] = state[K.S_DEPTH]
+        depth[k] = live_depth
         velocity[k] = -float(data.qvel[0])
         force[k] = adapter.contact_forces[0]
-        mode = int(state[K.S_MODE])
-        if mode == K.FREE:
+        mode = int(live_mode)
+        if mode == K.ContactMode.FREE:
             phase[k] = Phase.FREE
-        elif mode == K.NECKED:
+        elif mode == K.ContactMode.NECKED:
             phase[k] = Phase.NECKED
         elif abs(velocity[k]) <= STICK_VELOCITY:
             phase[k] = Phase.STUCK

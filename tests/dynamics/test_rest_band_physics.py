@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from mudforce import Foot, MudParameters
 from mudforce import _kernel as K
+from mudforce._kernel import ContactMode
 from mudforce.dynamics import branch_forces, rest_band
 from mudforce.equations import maxwell_strain_step, nonlinear_spring_stress, rest_band_forces
 from mudforce.simulation import params_row
@@ -45,14 +46,15 @@ def test_rest_band_applies_the_state_machine() -> None:
     e = 1e-4
     z = 0.02
     spring = nonlinear_spring_stress(W20.alpha, W20.beta, z, FOOT.width)
-    assert rest_band(ROW, K.CONTACT, z, e, 0.0) == rest_band_forces(e, spring, W20.k_m_i, W20.k_m_w, FOOT.area)
-    assert rest_band(ROW, K.FREE, z, e, 0.0) == (0.0, 0.0)
+    both = rest_band_forces(e, spring, W20.k_m_i, W20.k_m_w, FOOT.area)
+    assert rest_band(ROW, ContactMode.CONTACT, z, e, 0.0) == both
+    assert rest_band(ROW, ContactMode.FREE, z, e, 0.0) == (0.0, 0.0)
     # above the surface the intrusion branch is FREE: no downward limit
-    lo, hi = rest_band(ROW, K.CONTACT, -1e-3, e, 0.0)
+    lo, hi = rest_band(ROW, ContactMode.CONTACT, -1e-3, e, 0.0)
     assert hi == 0.0 and lo == FOOT.area * W20.k_m_w * e
     # after necking the upward limit is the post-necking force (Eq. (7)), given
-    lo, hi = rest_band(ROW, K.NECKED, z, e, -3.5)
-    assert lo == -3.5 and hi == rest_band_forces(e, spring, W20.k_m_i, W20.k_m_w, FOOT.area)[1]
+    lo, hi = rest_band(ROW, ContactMode.NECKED, z, e, -3.5)
+    assert lo == -3.5 and hi == both[1]
 
 
 def _moving_state(velocity: float) -> tuple[np.ndarray, np.ndarray]:
@@ -74,29 +76,29 @@ def _moving_state(velocity: float) -> tuple[np.ndarray, np.ndarray]:
 def test_branch_forces_advance_eq3_with_maxwell_strain_step(velocity: float) -> None:
     """The predicted-end band is rest_band after Eq. (3)'s closed-form step, on each bound's own branch."""
     states, prow = _moving_state(velocity)
-    s = states[0]
-    assert s[K.S_MODE] == K.CONTACT
+    s = K.state_of(states[0])
+    assert s.mode == ContactMode.CONTACT
     dt = 1e-3
     f_up, f_down, drag = np.zeros(1), np.zeros(1), np.zeros(1)
     branch_forces(states, prow, dt, 1.0, f_up, f_down, drag)
-    v = s[K.S_VELOCITY]
-    z = s[K.S_DEPTH]
-    e0 = z - s[K.S_MUD]
+    v = s.velocity
+    z = s.depth
+    e0 = z - s.mud
     v_dn, v_up = max(v, 0.0), min(v, 0.0)
     e_dn = maxwell_strain_step(e0, v_dn, W20.b_m_i / W20.k_m_i, math.exp(-dt * W20.k_m_i / W20.b_m_i))
     e_up = maxwell_strain_step(e0, v_up, W20.b_m_w / W20.k_m_w, math.exp(-dt * W20.k_m_w / W20.b_m_w))
-    assert f_down[0] == pytest.approx(rest_band(ROW, K.CONTACT, z + v_dn * dt, e_dn, 0.0)[1], rel=1e-12)
-    assert f_up[0] == pytest.approx(rest_band(ROW, K.CONTACT, z + v_up * dt, e_up, 0.0)[0], rel=1e-12)
+    assert f_down[0] == pytest.approx(rest_band(ROW, ContactMode.CONTACT, z + v_dn * dt, e_dn, 0.0)[1], rel=1e-12)
+    assert f_up[0] == pytest.approx(rest_band(ROW, ContactMode.CONTACT, z + v_up * dt, e_up, 0.0)[0], rel=1e-12)
 
 
 def test_branch_forces_cached_decays_equal_computed_ones() -> None:
     """The decays the stepper cached for a step of dt are the ones branch_forces would compute: same bits."""
     states, prow = _moving_state(0.05)
-    assert states[0, K.S_CACHE_DT] == 1e-3
+    assert K.load_cache(states, 0).dt == 1e-3
     cached = [np.zeros(1) for _ in range(3)]
     branch_forces(states, prow, 1e-3, 1.0, *cached)
     fresh = states.copy()
-    fresh[0, K.S_CACHE_DT] = -1.0  # no cache: exp(-dt / tau) computed in place
+    K.forget_cache(fresh)  # no cache: exp(-dt / tau) computed in place
     computed = [np.zeros(1) for _ in range(3)]
     branch_forces(fresh, prow, 1e-3, 1.0, *computed)
     for a, b in zip(cached, computed, strict=True):

@@ -14,21 +14,21 @@ from mudforce.simulation import params_row
 def test_contact_state_codes_are_pinned() -> None:
     """The codes are stored in state rows, snapshots and SimulationResult.state: they must never change."""
     assert [(s.name, int(s)) for s in K.ContactMode] == [("FREE", 0), ("CONTACT", 1), ("NECKED", 2)]
-    assert (K.FREE, K.CONTACT, K.NECKED) == (0, 1, 2)
+    assert (layout.FREE, layout.CONTACT, layout.NECKED) == (0, 1, 2)
     assert K.STATE_NAMES == ("FREE", "CONTACT", "NECKED") == mf.simulation.STATE_NAMES
 
 
 def test_named_views_follow_the_columns() -> None:
     row = np.arange(K.N_STATE, dtype=np.float64)
     s = K.state_of(row)
-    assert s == K.State(*range(K.N_CORE)) and isinstance(s.mode, int)
+    assert s == K.State(*range(layout.N_CORE)) and isinstance(s.mode, int)
     for name in K.State._fields:
         assert K.state_column(row, name) == getattr(s, name) == row[getattr(layout, "S_" + name.upper())]
-    assert K.state_core(row).tolist() == list(range(K.N_CORE))
+    assert K.state_core(row).tolist() == list(range(layout.N_CORE))
     states = np.tile(row, (3, 1))
     K.forget_cache(states)
-    assert (states[:, layout.S_CACHE_DT] == -1.0).all() and (states[:, : K.N_CORE] == row[: K.N_CORE]).all()
-    out = np.arange(K.N_OUT * 2, dtype=np.float64).reshape(K.N_OUT, 2)
+    assert (states[:, layout.S_CACHE_DT] == -1.0).all() and (states[:, : layout.N_CORE] == row[: layout.N_CORE]).all()
+    out = np.arange(layout.N_OUT * 2, dtype=np.float64).reshape(layout.N_OUT, 2)
     o = K.outputs(out)
     for name in K.Outputs._fields:
         index = getattr(layout, "O_" + {"mud": "MUD", "state": "STATE"}.get(name, name.upper()))
@@ -42,7 +42,7 @@ def test_params_row_as_values() -> None:
     assert p.k_i == prow[layout.P_K_I] and p.neck_flush == prow[layout.P_NECK_FLUSH]
     assert p.tau_w == p.b_w / p.k_w and p == K.load_params(prow[None, :], 0) == K.params_from_row(prow)
     states = K.new_states(2)
-    states[1, : K.N_CORE] = np.arange(K.N_CORE)
+    states[1, : layout.N_CORE] = np.arange(layout.N_CORE)
     assert K.state_from_row(states[1]) == K.state_of(states[1]) == K.load_state(states, 1)
     states[:, layout.S_CACHE_DT] = 0.5
     K.forget_row_cache(states, 1)
@@ -68,4 +68,5 @@ def test_numba_cache_is_keyed_on_the_shared_sources() -> None:
     locator = K.run_batch._cache._impl._locator
     assert type(locator).__name__.startswith("Mudforce")
     assert locator.get_source_stamp()[1] == _cache.source_fingerprint()
+    assert all(any(_cache._PACKAGE.glob(pattern)) for pattern in _cache.SOURCES)  # none renamed away
     assert not hasattr(_cache, "refresh")

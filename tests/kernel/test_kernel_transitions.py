@@ -15,6 +15,7 @@ from scipy.optimize import brentq
 import mudforce as mf
 from mudforce import _kernel as K
 from mudforce import equations as eq
+from mudforce._kernel import layout
 from mudforce._kernel import transitions as T
 from mudforce.simulation import params_row
 
@@ -37,19 +38,19 @@ def maxwell(e0: float, v: float, tau: float, h: float) -> float:
 
 
 def test_touchdown_enters_contact_at_the_crossing() -> None:
-    s, start = T.touchdown.py_func(state(K.FREE, -0.002), 4.0)
-    assert start == pytest.approx(0.0005) and (s.mode, s.mud, s.strain) == (K.CONTACT, 0.0, 0.0)
+    s, start = T.touchdown.py_func(state(layout.FREE, -0.002), 4.0)
+    assert start == pytest.approx(0.0005) and (s.mode, s.mud, s.strain) == (layout.CONTACT, 0.0, 0.0)
 
 
 def test_intrusion_step_is_the_maxwell_closed_form() -> None:
-    s0 = state(K.CONTACT, 0.01, mud=0.009, strain=0.001)
+    s0 = state(layout.CONTACT, 0.01, mud=0.009, strain=0.001)
     s = T.intrusion_step.py_func(s0, C, P, 0.0101, 0.1, DT, 0.0)
-    assert s.mode == K.CONTACT and s.strain == pytest.approx(maxwell(0.001, 0.1, P.tau_i, DT), rel=1e-13)
+    assert s.mode == layout.CONTACT and s.strain == pytest.approx(maxwell(0.001, 0.1, P.tau_i, DT), rel=1e-13)
     assert s.mud == 0.0101 - s.strain
     later = T.intrusion_step.py_func(s0, C, P, 0.0101, 0.1, DT, 0.4 * DT)  # CONTACT from 40 % into the step
     assert later.strain == pytest.approx(maxwell(0.001, 0.1, P.tau_i, 0.6 * DT), rel=1e-13)
-    up = T.intrusion_step.py_func(state(K.CONTACT, 0.0, strain=0.0), C, P, -1e-4, 0.0, DT, 0.0)
-    assert (up.mode, up.mud) == (K.FREE, -1e-4)  # ends above the surface on the intrusion branch
+    up = T.intrusion_step.py_func(state(layout.CONTACT, 0.0, strain=0.0), C, P, -1e-4, 0.0, DT, 0.0)
+    assert (up.mode, up.mud) == (layout.FREE, -1e-4)  # ends above the surface on the intrusion branch
 
 
 def test_withdrawal_step_necks_where_the_suction_reaches_the_yield_stress() -> None:
@@ -64,20 +65,20 @@ def test_withdrawal_step_necks_where_the_suction_reaches_the_yield_stress() -> N
 
     assert suction(0.0) > 0.0 > suction(DT), "the case must neck inside the step"
     tn = brentq(suction, 0.0, DT, xtol=1e-16, rtol=1e-15)
-    s, offset = T.withdrawal_step.py_func(state(K.CONTACT, z0, strain=e0), C, P, z0, z1, v, DT, 0.0)
-    assert s.mode == K.NECKED and offset == pytest.approx(tn, rel=1e-9)
+    s, offset = T.withdrawal_step.py_func(state(layout.CONTACT, z0, strain=e0), C, P, z0, z1, v, DT, 0.0)
+    assert s.mode == layout.NECKED and offset == pytest.approx(tn, rel=1e-9)
     assert P.k_w * s.strain + fs == pytest.approx(-P.sigma_y, rel=1e-14)
     assert s.neck_v == s.strain / P.tau_w and s.neck_age == pytest.approx(DT - tn, rel=1e-9)
     g, gi = eq.neck_filter_response(s.neck_age, P.zeta, P.omega_0)
     assert (s.neck_g, s.neck_gi) == (g, gi) and s.mud == s.neck_z + s.neck_v * gi
-    held, none = T.withdrawal_step.py_func(state(K.CONTACT, z0, strain=-1e-5), C, P, z0, z1, v, DT, 0.0)
-    assert held.mode == K.CONTACT and math.isnan(none)
+    held, none = T.withdrawal_step.py_func(state(layout.CONTACT, z0, strain=-1e-5), C, P, z0, z1, v, DT, 0.0)
+    assert held.mode == layout.CONTACT and math.isnan(none)
     assert held.strain == pytest.approx(maxwell(-1e-5, v, P.tau_w, DT), rel=1e-13)
 
 
 def test_necked_step_follows_the_impulse_response() -> None:
     g0, gi0 = eq.neck_filter_response(2e-4, P.zeta, P.omega_0)
-    s = state(K.NECKED, 0.01, neck_age=2e-4, neck_v=-0.03, neck_z=0.012, neck_g=g0, neck_gi=gi0)
+    s = state(layout.NECKED, 0.01, neck_age=2e-4, neck_v=-0.03, neck_z=0.012, neck_g=g0, neck_gi=gi0)
     for _ in range(200):
         s = T.necked_step.py_func(s, C, P, DT)
     g, gi = eq.neck_filter_response(s.neck_age, P.zeta, P.omega_0)
@@ -86,10 +87,10 @@ def test_necked_step_follows_the_impulse_response() -> None:
 
 
 def test_leave_necked_follows_the_table() -> None:
-    below = T.leave_necked.py_func(state(K.NECKED, 0.01, mud=0.013, strain=-0.002))
-    assert (below.mode, below.mud, below.strain) == (K.CONTACT, 0.013, 0.01 - 0.013)  # keeps z_m
-    above = T.leave_necked.py_func(state(K.NECKED, -0.001, mud=0.013, strain=-0.002))
-    assert (above.mode, above.mud) == (K.FREE, -0.001)
+    below = T.leave_necked.py_func(state(layout.NECKED, 0.01, mud=0.013, strain=-0.002))
+    assert (below.mode, below.mud, below.strain) == (layout.CONTACT, 0.013, 0.01 - 0.013)  # keeps z_m
+    above = T.leave_necked.py_func(state(layout.NECKED, -0.001, mud=0.013, strain=-0.002))
+    assert (above.mode, above.mud) == (layout.FREE, -0.001)
 
 
 def composed(s: K.State, c: K.Cache, p: K.Params, z1: float, dt: float) -> tuple[K.State, float, float]:
@@ -97,19 +98,19 @@ def composed(s: K.State, c: K.Cache, p: K.Params, z1: float, dt: float) -> tuple
     v = (z1 - s.depth) / dt
     d = float(np.sign(v))
     c = T.step_cache.py_func(c, p, dt)
-    if s.mode == K.NECKED and d > 0.0:
+    if s.mode == layout.NECKED and d > 0.0:
         s = T.leave_necked.py_func(s)
     start, z_start, offset = 0.0, s.depth, math.nan
-    if s.mode == K.FREE and z1 > 0.0:
+    if s.mode == layout.FREE and z1 > 0.0:
         s, start = T.touchdown.py_func(s, v)
         z_start = 0.0
-    elif s.mode == K.FREE:
+    elif s.mode == layout.FREE:
         s = T.free_step.py_func(s, z1)
-    if s.mode == K.CONTACT and d >= 0.0:
+    if s.mode == layout.CONTACT and d >= 0.0:
         s = T.intrusion_step.py_func(s, c, p, z1, v, dt, start)
-    elif s.mode == K.CONTACT:
+    elif s.mode == layout.CONTACT:
         s, offset = T.withdrawal_step.py_func(s, c, p, z_start, z1, v, dt, start)
-    elif s.mode == K.NECKED:
+    elif s.mode == layout.NECKED:
         s = T.necked_step.py_func(s, c, p, dt)
     return s._replace(time=s.time + dt, depth=z1, direction=d, velocity=v), offset, v
 
@@ -133,7 +134,7 @@ def test_advance_is_the_composition_of_the_transitions() -> None:
         force, fe1, fe2, fs, mud_velocity = T.sample_outputs(P, s, v)
         assert (force, fe1, fe2, fs, mud_velocity) == (o.force, o.f_e1, o.f_e2, o.f_s, o.mud_velocity)
         seen.add(s.mode)
-    assert seen == {K.FREE, K.CONTACT, K.NECKED}
+    assert seen == {layout.FREE, layout.CONTACT, layout.NECKED}
 
 
 def test_plain_arithmetic_runs_on_arrays_with_the_compiled_bits() -> None:

@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mudforce as mf
-from mudforce import _kernel as K
+from mudforce._kernel import layout as K  # the state layout's columns, drawn to corrupt them
 from mudforce.calibration.dataset import load_dataset
 from mudforce.contact import ContactState
 from mudforce.errors import InputError

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from mudforce import _kernel as K
+from mudforce._kernel import ContactMode, params_from_row
 from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples, real
 from mudforce.dynamics.rest_band import rest_band
 from mudforce.dynamics.result import GRAVITY, FootResult, Phase
@@ -57,21 +57,22 @@ def _load(t: float, mg: float, tp: np.ndarray, fp: np.ndarray) -> float:
 @njit(cache=True, nogil=True)
 def _neck(p: np.ndarray, aux: np.ndarray, t: float) -> tuple[float, float]:
     """Post-necking force [N] (Eq. (7), damper stress times area) and ``z_m`` [m] at time ``t``."""
-    g, g_int = neck_filter_response(t - aux[A_TN], p[K.P_ZETA], p[K.P_OMEGA_0])
-    return p[K.P_AREA] * p[K.P_B_W] * aux[A_VM0] * g, aux[A_ZN] + aux[A_VM0] * g_int
+    q = params_from_row(p)
+    g, g_int = neck_filter_response(t - aux[A_TN], q.zeta, q.omega_0)
+    return q.area * q.b_w * aux[A_VM0] * g, aux[A_ZN] + aux[A_VM0] * g_int
 
 
 @njit(cache=True, nogil=True)
 def _mud_force(phase: int, t: float, z: float, v: float, e: float, p: np.ndarray, aux: np.ndarray,
                load: float) -> float:
     """Mud force on the foot [N], positive up, in each phase (STUCK: the reaction ``load``)."""
-    area = p[K.P_AREA]
-    fs = drag_stress(p[K.P_LAMBDA], p[K.P_RHO_M], v) if z > 0.0 else 0.0
+    q = params_from_row(p)
+    area = q.area
+    fs = drag_stress(q.lam, q.rho_m, v) if z > 0.0 else 0.0
     if phase == Phase.INTRUSION:
-        return float(area * (p[K.P_K_I] * e + nonlinear_spring_stress(p[K.P_ALPHA], p[K.P_BETA], z, p[K.P_WIDTH])
-                             + fs))
+        return float(area * (q.k_i * e + nonlinear_spring_stress(q.alpha, q.beta, z, q.width) + fs))
     if phase == Phase.WITHDRAWAL:
-        return float(area * (p[K.P_K_W] * e + fs))
+        return float(area * (q.k_w * e + fs))
     if phase == Phase.NECKED:
         f_neck, _ = _neck(p, aux, t)
         return float(f_neck + area * fs)
@@ -87,20 +88,21 @@ def _rhs(phase: int, t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, m:
     z = y[0]
     v = y[1]
     e = y[2]
+    q = params_from_row(p)
     if phase == Phase.STUCK:
         dy[0] = 0.0
         dy[1] = 0.0
         # Filippov: at rest the Maxwell element relaxes on the intrusion branch, Eq. (3)
-        dy[2] = 0.0 if aux[A_STUCK_NECKED] != 0.0 else -e / p[K.P_TAU_I]
+        dy[2] = 0.0 if aux[A_STUCK_NECKED] != 0.0 else -e / q.tau_i
         return
     load = _load(t, mg, tp, fp)
     force = _mud_force(phase, t, z, v, e, p, aux, load)
     dy[0] = v
     dy[1] = (load - force) / m
     if phase == Phase.INTRUSION:
-        dy[2] = v - e / p[K.P_TAU_I]
+        dy[2] = v - e / q.tau_i
     elif phase == Phase.WITHDRAWAL:
-        dy[2] = v - e / p[K.P_TAU_W]
+        dy[2] = v - e / q.tau_w
     else:
         dy[2] = 0.0
 
@@ -133,8 +135,8 @@ def _band(t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, necked: bool)
     """``(F_up, F_down)`` [N] of a foot at rest at time ``t`` (necked or in contact)."""
     if necked:
         f_neck, zm = _neck(p, aux, t)
-        return rest_band(p, K.NECKED, y[0], y[0] - zm, f_neck)
-    return rest_band(p, K.CONTACT, y[0], y[2], 0.0)
+        return rest_band(p, ContactMode.NECKED, y[0], y[0] - zm, f_neck)
+    return rest_band(p, ContactMode.CONTACT, y[0], y[2], 0.0)
 
 
 @njit(cache=True, nogil=True)
@@ -162,8 +164,9 @@ def _event(phase: int, t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, p: 
     if (y0[0] > 0.0) != (y1[0] > 0.0):
         return 2
     if phase == Phase.WITHDRAWAL:
-        fs = drag_stress(p[K.P_LAMBDA], p[K.P_RHO_M], y1[1]) if y1[0] > 0.0 else 0.0
-        if p[K.P_K_W] * y1[2] + fs < -p[K.P_SIGMA_Y]:
+        q = params_from_row(p)
+        fs = drag_stress(q.lam, q.rho_m, y1[1]) if y1[0] > 0.0 else 0.0
+        if q.k_w * y1[2] + fs < -q.sigma_y:
             return 3
     return 0
 
@@ -218,7 +221,7 @@ def _apply_event(code: int, phase: Phase, t: float, y: np.ndarray, p: np.ndarray
         return _decide_at_rest(t, y, p, aux, mg, tp, fp, phase == Phase.NECKED)
     if code == 3:  # necking inside the step, Eq. (9): v_m0 = dz_m/dt = e / tau_w
         aux[A_TN] = t
-        aux[A_VM0] = y[2] / p[K.P_TAU_W]
+        aux[A_VM0] = y[2] / params_from_row(p).tau_w
         aux[A_ZN] = y[0] - y[2]
         return Phase.NECKED
     return phase  # a surface crossing only restarts the step (the drag switches there)

@@ -27,8 +27,7 @@ __all__ = ["naive_drop"]
 
 @njit(cache=True, nogil=True)
 def _naive(states: np.ndarray, params: np.ndarray, m: float, g: float, z0: float, dt: float, n: int,
-           depth: np.ndarray, force: np.ndarray) -> None:
-    out = np.empty((K.N_OUT, 1))
+           out: np.ndarray, depth: np.ndarray, force: np.ndarray) -> None:
     ring = states[:, :0]  # the exact velocity filter keeps no history
     z = z0
     v = 0.0
@@ -81,7 +80,7 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     n = round(duration / dt)
     depth = np.empty(n)
     force = np.empty(n)
-    _naive(K.new_states(1), p, mass, gravity, 0.0, dt, n, depth, force)
+    _naive(K.new_states(1), p, mass, gravity, 0.0, dt, n, K.new_out(1), depth, force)
     time = np.arange(1, n + 1) * dt
     check_finite_output("naive", time, depth, force)
     return time, depth, force

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mudforce import _kernel as K
+from mudforce._kernel import ContactMode, load_cache, load_state, params_from_row
 from mudforce.equations import (
     drag_stress,
     maxwell_strain_step,
@@ -54,13 +54,14 @@ def rest_band(p: np.ndarray, mode: int, depth: float, strain: float, neck_force:
         branch, ``v -> 0+``) [N], positive up. Above the surface the
         intrusion branch is FREE (0 N); FREE gives ``(0, 0)``.
     """
-    if mode == K.FREE:
+    if mode == ContactMode.FREE:
         return 0.0, 0.0
-    spring = nonlinear_spring_stress(p[K.P_ALPHA], p[K.P_BETA], depth, p[K.P_WIDTH])  # 0 above the surface
-    f_up, f_down = rest_band_forces(strain, spring, p[K.P_K_I], p[K.P_K_W], p[K.P_AREA])
+    q = params_from_row(p)
+    spring = nonlinear_spring_stress(q.alpha, q.beta, depth, q.width)  # 0 above the surface
+    f_up, f_down = rest_band_forces(strain, spring, q.k_i, q.k_w, q.area)
     if depth <= 0.0:
         f_down = 0.0  # above the surface the intrusion branch is FREE (docs/model.md)
-    if mode == K.NECKED:
+    if mode == ContactMode.NECKED:
         return neck_force, f_down
     return f_up, f_down
 
@@ -93,20 +94,21 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
     adapter's case: a fixed time step), else computed here.
     """
     for j in range(states.shape[0]):
-        s = states[j]
+        s = load_state(states, j)
         p = params[j]
-        mode = int(s[K.S_MODE])
-        z = s[K.S_DEPTH]
-        v = s[K.S_VELOCITY]
-        area = p[K.P_AREA]
-        if s[K.S_STARTED] == 0.0 or mode == K.FREE:
+        q = params_from_row(p)
+        mode = s.mode
+        z = s.depth
+        v = s.velocity
+        area = q.area
+        if s.started == 0.0 or mode == ContactMode.FREE:
             f_up[j] = 0.0
             f_down[j] = 0.0
             drag[j] = 0.0
-            if s[K.S_STARTED] != 0.0 and z + v * dt > 0.0 and weight > 0.0:
+            if s.started != 0.0 and z + v * dt > 0.0 and weight > 0.0:
                 # touchdown within the step: the intrusion force at the predicted end, z_m = 0 at the surface
                 z1 = z + v * dt
-                lo, hi = rest_band(p, K.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
+                lo, hi = rest_band(p, ContactMode.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
                 f_down[j] = weight * hi
                 f_up[j] = weight * min(lo, hi)
             continue
@@ -116,22 +118,23 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
         v_up = min(v, 0.0)
         z_dn = z + v_dn * dt
         z_up = z + v_up * dt
-        if mode == K.NECKED:
-            g0, i0 = neck_filter_response(s[K.S_NECK_AGE], p[K.P_ZETA], p[K.P_OMEGA_0])
-            g1, i1 = neck_filter_response(s[K.S_NECK_AGE] + dt, p[K.P_ZETA], p[K.P_OMEGA_0])
-            vm = s[K.S_NECK_V]
-            lo0, hi0 = rest_band(p, mode, z, z - (s[K.S_NECK_Z] + vm * i0), area * p[K.P_B_W] * vm * g0)
-            zm1 = s[K.S_NECK_Z] + vm * i1
+        if mode == ContactMode.NECKED:
+            g0, i0 = neck_filter_response(s.neck_age, q.zeta, q.omega_0)
+            g1, i1 = neck_filter_response(s.neck_age + dt, q.zeta, q.omega_0)
+            vm = s.neck_v
+            lo0, hi0 = rest_band(p, mode, z, z - (s.neck_z + vm * i0), area * q.b_w * vm * g0)
+            zm1 = s.neck_z + vm * i1
             _, hi1 = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
-            lo1 = area * p[K.P_B_W] * vm * g1
+            lo1 = area * q.b_w * vm * g1
         else:
-            e0 = z - s[K.S_MUD]
+            e0 = z - s.mud
             lo0, hi0 = rest_band(p, mode, z, e0, 0.0)
-            tau_i = p[K.P_TAU_I]
-            tau_w = p[K.P_TAU_W]
-            if s[K.S_CACHE_DT] == dt:
-                decay_i = s[K.S_CACHE_DECAY_I]
-                decay_w = s[K.S_CACHE_DECAY_W]
+            tau_i = q.tau_i
+            tau_w = q.tau_w
+            cache = load_cache(states, j)
+            if cache.dt == dt:
+                decay_i = cache.decay_i
+                decay_w = cache.decay_w
             else:
                 decay_i = math.exp(-dt / tau_i)
                 decay_w = math.exp(-dt / tau_w)
@@ -141,4 +144,4 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
             lo1, _ = rest_band(p, mode, z_up, e_up, 0.0)
         f_up[j] = (1.0 - weight) * lo0 + weight * lo1
         f_down[j] = (1.0 - weight) * hi0 + weight * hi1
-        drag[j] = area * drag_stress(p[K.P_LAMBDA], p[K.P_RHO_M], v) if z > 0.0 else 0.0
+        drag[j] = area * drag_stress(q.lam, q.rho_m, v) if z > 0.0 else 0.0
