@@ -11,8 +11,8 @@ jax.config.update("jax_enable_x64", True)  # float64 comparisons; float32 is ask
 import jax.numpy as jnp  # noqa: E402
 
 import mudforce.jax as mj  # noqa: E402
-from mudforce._kernel import layout as K  # noqa: E402  (the state layout's columns, to compare states)
 from mudforce import dynamics  # noqa: E402
+from mudforce._kernel import layout as K  # noqa: E402  (the state layout's columns, to compare states)
 from mudforce.errors import InputError  # noqa: E402
 from mudforce.foot import Foot  # noqa: E402
 from mudforce.parameters import MudParameters  # noqa: E402
