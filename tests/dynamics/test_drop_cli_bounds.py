@@ -20,8 +20,10 @@ def run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
     ("args", "message"),
     [
         # were: 7,991 NaN cells and exit 0; a traceback from MuJoCo
-        (["--mass", "1e-8kg"], "--mass: '1e-8kg' is less than 0.1 kg"),
-        (["--engine", "mujoco", "--mass", "1e-300kg"], "--mass: '1e-300kg' is less than 1 kg"),
+        (["--mass", "1e-8kg"], "--mass: '1e-8kg' is too small"),  # the unit parser's bound on any mass
+        (["--mass", "0.01kg"], "--mass: '0.01kg' is less than 0.1 kg"),  # the engine's own
+        (["--engine", "mujoco", "--mass", "1e-300kg"], "--mass: '1e-300kg' is too small"),
+        (["--engine", "mujoco", "--mass", "0.5kg"], "--mass: '0.5kg' is less than 1 kg"),
     ],
 )
 def test_too_light_a_foot_is_refused(tmp_path: Path, args: list[str], message: str) -> None:
