@@ -384,7 +384,7 @@ def figure_specs(config: ReproduceConfig, dataset: Dataset, table: dict[float, C
          "Granular RFT, dynamic RFT and a Maxwell-only ablation fitted to the same synthetic mud data as the "
          f"mud model: (a) fitted forces at W = 25 %, {v * 1e3:g} mm/s; (b) RMSE per water content.",
          _fig_baselines, (table, baselines, v,)),
-        ("tracking.png", "Beyond the paper: online tracking (mudforce.MudTracker)",
+        ("tracking.png", "Paper Sec. I, telling mud conditions apart, online (no figure in the paper)",
          "A simulated robot foot walks on mud whose water content changes from 20 % to 30 % at the first swing "
          "after 20 s (gait: touchdowns, stances with sway, re-pushes, lift-offs; 0.3 N force noise, 0.03 mm depth "
          "noise, 0.5 N sensor offset). Top: measured force and the tracker's prediction; bottom: the tracker's "
