@@ -54,17 +54,51 @@ __all__ = [
     "ConditionFit",
     "FitOptions",
     "FitResult",
+    "MISFIT_WARNING_RATIO",
     "TrialFit",
+    "correlation_inflation",
     "fit_by_velocity",
     "fit_condition",
     "fit_dataset",
     "load_fit",
     "load_fit_parameters",
+    "misfit_ratio",
     "speed_key",
 ]
 
 #: Relative standard error above which a parameter is reported as poorly determined [-].
 POOR_RELATIVE_STDERR = 0.25
+#: RMSE / force noise above which the model is said to miss the data [-].
+MISFIT_WARNING_RATIO = 1.5
+
+
+def misfit_ratio(rmse: float, noise: float, scale: float) -> float:
+    """``rmse / noise`` [-], with the noise floored at ``1e-6 scale`` (noiseless data fitted exactly gives ~1, not 1e5).
+
+    Parameters
+    ----------
+    rmse : float
+        RMS residual [N].
+    noise : float
+        Force noise estimated independently of the fit [N].
+    scale : float
+        Typical force of the data [N] (its largest magnitude).
+    """
+    floor = max(noise if math.isfinite(noise) else 0.0, 1e-6 * scale, 1e-9)
+    return rmse / floor
+
+
+def correlation_inflation(residuals: Sequence[np.ndarray]) -> float:
+    """``n / n_eff`` >= 1 from the lag-1 autocorrelation of the residuals [-].
+
+    Residuals that the model leaves correlated (it misses a feature of the
+    data) carry less information than their count suggests; the
+    covariance is multiplied by this factor (``(1 + rho) / (1 - rho)``).
+    """
+    num = sum(float(r[1:] @ r[:-1]) for r in residuals if r.size > 2)
+    den = sum(float(r @ r) for r in residuals if r.size > 2)
+    rho = min(max(num / den, 0.0), 0.99) if den > 0 else 0.0
+    return (1.0 + rho) / (1.0 - rho)
 
 
 @dataclass(frozen=True)
@@ -121,6 +155,12 @@ class TrialFit:
         Start of the withdrawal [s].
     time, depth, force, fitted : ndarray
         Samples [s], fitted depth [m], tared measured force [N], model force [N].
+    bias_method : str
+        ``"tared"`` (from the samples before the first contact, refined within
+        their uncertainty) or ``"estimated"`` (the trial starts in the mud: the
+        bias is a free parameter of the fit).
+    bias_stderr : float
+        Standard error of ``bias`` [N].
     """
 
     name: str
@@ -136,6 +176,8 @@ class TrialFit:
     depth: np.ndarray
     force: np.ndarray
     fitted: np.ndarray
+    bias_method: str = "tared"
+    bias_stderr: float = math.nan
 
     @property
     def residual(self) -> np.ndarray:
@@ -150,8 +192,10 @@ class TrialFit:
             "rmse_N": self.rmse,
             "bias_N": self.bias,
             "force_noise_N": _finite_or_none(self.force_noise),
-            "velocity_m_s": self.velocity,
-            "reversal_time_s": self.reversal_time,
+            "velocity_m_s": _finite_or_none(self.velocity),
+            "reversal_time_s": _finite_or_none(self.reversal_time),
+            "bias_method": self.bias_method,
+            "bias_stderr_N": _finite_or_none(self.bias_stderr),
         }
 
 
@@ -182,6 +226,9 @@ class ConditionFit:
         Identifiability and fit-quality warnings.
     stage_rmse : dict
         Stage name -> RMSE [N] over that stage's samples when it ended.
+    misfit_ratio : float
+        ``rmse / force_noise`` [-] (see :func:`misfit_ratio`): about 1 when the
+        model reaches the noise floor.
     """
 
     water_content: float
@@ -195,6 +242,12 @@ class ConditionFit:
     correlation: np.ndarray
     warnings: tuple[str, ...] = ()
     stage_rmse: dict[str, float] = field(default_factory=dict)
+    misfit_ratio: float = math.nan
+
+    @property
+    def model_misses_data(self) -> bool:
+        """True when the RMSE is more than :data:`MISFIT_WARNING_RATIO` times the force noise."""
+        return self.misfit_ratio > MISFIT_WARNING_RATIO
 
     def mud_parameters(self) -> MudParameters:
         """The fitted values as :class:`MudParameters` (for the paper's model)."""
@@ -210,6 +263,8 @@ class ConditionFit:
             "stderr": {k: _finite_or_none(v) for k, v in self.stderr.items()},
             "rmse_N": self.rmse,
             "force_noise_N": _finite_or_none(self.force_noise),
+            "misfit_ratio": _finite_or_none(self.misfit_ratio),
+            "model_misses_data": self.model_misses_data,
             "trials": [t.to_dict() for t in self.trials],
             "correlation": {"parameters": list(self.free), "matrix": corr},
             "warnings": list(self.warnings),
@@ -274,7 +329,9 @@ def load_fit(path: str | os.PathLike[str]) -> list[dict[str, Any]]:
 
 def speed_key(nominal: float | None, measured: float) -> float:
     """The speed [m/s] a trial is grouped under: its nominal one, else the measured one to 0.5 mm/s."""
-    return nominal if nominal is not None else round(measured * 2000.0) / 2000.0
+    if nominal is not None:
+        return nominal
+    return round(measured * 2000.0) / 2000.0 if math.isfinite(measured) else 0.0
 
 
 def load_fit_parameters(path: str | os.PathLike[str]) -> dict[float, MudParameters]:
@@ -418,6 +475,9 @@ def _motion_sensitivity(model: ForceModel, foot: Foot, groups: Sequence[Sequence
     blocks = []
     row = 0
     for i, (tr, v) in enumerate(trials):
+        if tr.motion is None or tr.motion_covariance is None:  # general path: the depth is not a fitted motion
+            row += tr.time.size
+            continue
         m0 = tr.motion.vector()
         dt = float(np.median(np.diff(tr.time)))
         sens = np.empty((tr.time.size, 7))
@@ -526,7 +586,9 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     params = {n: float(v) for n, v in zip(names, values, strict=True)}
     stderr: dict[str, float | None] = {n: None for n in names}
     warnings: list[str] = []
-    sub = cov[np.ix_(list(free_cols), list(free_cols))]
+    residuals = [model.force(tr.time, tr.depth, values, foot) - tr.force for tr in prepared]
+    inflation = correlation_inflation(residuals)
+    sub = cov[np.ix_(list(free_cols), list(free_cols))] * inflation
     for k, (n, col) in enumerate(zip(free, free_cols, strict=True)):
         value = params[n]
         if not determined[col]:
@@ -545,27 +607,33 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     if model.diagnose is not None:
         warnings.extend(model.diagnose(values, prepared, foot))
     trial_fits = []
-    for tr in prepared:
-        fitted = model.force(tr.time, tr.depth, values, foot)
-        offset = tare_correction(fitted - tr.force, tr.precontact)
+    for tr, r in zip(prepared, residuals, strict=True):
+        fitted = r + tr.force
+        offset = tare_correction(r, tr.precontact)
         force = tr.force - offset
+        scatter = max(tr.force_noise, _rms(r + offset))
         trial_fits.append(TrialFit(
-            name=tr.trial.name, water_content=tr.trial.water_content, velocity=tr.motion.intrusion_velocity,
+            name=tr.trial.name, water_content=tr.trial.water_content, velocity=tr.velocity,
             nominal_velocity=tr.trial.velocity, repeat=tr.trial.repeat, rmse=_rms(fitted - force),
-            bias=tr.bias + offset, force_noise=tr.force_noise, reversal_time=tr.motion.reversal_time, time=tr.time,
-            depth=tr.depth, force=force, fitted=fitted))
+            bias=tr.bias + offset, force_noise=tr.force_noise, reversal_time=tr.reversal_time, time=tr.time,
+            depth=tr.depth, force=force, fitted=fitted,
+            bias_method="estimated" if tr.bias_estimated else "tared",
+            bias_stderr=scatter * math.sqrt(inflation / (tr.time.size + tr.precontact))))
     all_res = np.concatenate([t.residual for t in trial_fits])
     noise = [t.force_noise for t in trial_fits if math.isfinite(t.force_noise)]
     noise_floor = float(np.sqrt(np.mean(np.square(noise)))) if noise else math.nan
     rmse = _rms(all_res)
-    if math.isfinite(noise_floor) and rmse > 1.5 * noise_floor:
-        warnings.append(f"RMSE {rmse:.3g} N is well above the force noise {noise_floor:.3g} N: "
-                        "the model misses systematic features of the data (or the fit did not converge)")
+    scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
+    ratio = misfit_ratio(rmse, noise_floor, scale)
+    if ratio > MISFIT_WARNING_RATIO:
+        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the force noise {noise_floor:.3g} N: "
+                        "the model misses systematic features of the data (or the fit did not converge); "
+                        "the standard errors are widened for the residuals' correlation, but read them with care")
     ws = {tr.trial.water_content for tr in prepared}
     w = ws.pop() if len(ws) == 1 else math.nan
     return ConditionFit(water_content=w, model=model.name, parameters=params, stderr=stderr, free=tuple(free),
                         rmse=rmse, force_noise=noise_floor, trials=tuple(trial_fits), correlation=corr,
-                        warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse)
+                        warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse, misfit_ratio=ratio)
 
 
 def fit_condition(
@@ -714,7 +782,7 @@ def fit_by_velocity(
     groups: dict[tuple[float, float], list[PreparedTrial]] = {}
     for w, trials in dataset.conditions().items():
         for tr in _prepare(trials):
-            v = speed_key(tr.trial.velocity, tr.motion.intrusion_velocity)
+            v = speed_key(tr.trial.velocity, tr.velocity)
             groups.setdefault((w, v), []).append(tr)
     out = []
     with Progress(len(groups) * (len(m.stages) + 1), "fitting per speed", quiet=quiet) as progress:

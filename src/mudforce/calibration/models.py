@@ -219,7 +219,7 @@ def _chen_diagnose(values: np.ndarray, trials: Sequence[PreparedTrial], foot: Fo
         res = simulate(tr.time, tr.depth, params, foot, velocity_filter="exact")
         suction = min(suction, res.min_force)
         if res.necking_times.size:
-            necks.append(float(res.necking_times[0]) - tr.motion.reversal_time)
+            necks.append(float(res.necking_times[0]) - tr.reversal_time)
     warnings = []
     if not necks:
         warnings.append(
