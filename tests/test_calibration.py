@@ -253,11 +253,15 @@ def test_tare_removes_bias() -> None:
     assert_allclose(motion.contact_time, 0.5, atol=2e-3)
 
 
-def test_trial_starting_in_the_mud_is_refused() -> None:
+def test_trial_starting_in_the_mud_estimates_its_bias() -> None:
+    """The protocol refinement refuses it; the general path accepts it and leaves the bias to the fit."""
     time = np.arange(0, 5, 0.01)
     depth = np.interp(time, [0, 1, 3, 5], [0.005, 0.02, 0.02, -0.01])
+    force = np.random.default_rng(0).standard_normal(time.size)
     with pytest.raises(InputError, match="starts 5 mm below the surface"):
-        prepare_trial(Trial("x.csv", 0.25, time, depth, np.zeros_like(time)))
+        prepare_trial(Trial("x.csv", 0.25, time, depth, force), protocol=True)
+    prepared = prepare_trial(Trial("x.csv", 0.25, time, depth, force))
+    assert prepared.motion is None and prepared.bias_estimated and prepared.bias == 0.0
     with pytest.raises(InputError, match="never goes below the surface"):
         prepare_trial(Trial("y.csv", 0.25, time, -0.01 + 0 * time, np.zeros_like(time)))
 
