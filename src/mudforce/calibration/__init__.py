@@ -39,7 +39,7 @@ from mudforce.calibration.fit import (
 from mudforce.calibration.identify import Identification, identify_water_content
 from mudforce.calibration.models import CHEN2024, MODELS, FitStage, ForceModel, get_model, register_model
 from mudforce.calibration.preprocess import Motion, PreparedTrial, fit_motion, prepare_trial, tare
-from mudforce.calibration.synth import synthesize
+from mudforce.calibration.synth import synthesize, synthesize_gait
 
 __all__ = [
     "CHEN2024",
@@ -73,5 +73,6 @@ __all__ = [
     "register_model",
     "save_dataset",
     "synthesize",
+    "synthesize_gait",
     "tare",
 ]

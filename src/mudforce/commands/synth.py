@@ -18,12 +18,20 @@ from mudforce.foot import FOOT_EXAMPLES
 from mudforce.units import parse_list, parse_quantity
 
 NAME = "synth"
-HELP = "write a synthetic dataset (paper's protocol, noise, bias) for testing fits"
+HELP = "write a synthetic dataset (paper's protocol or robot-like gaits, noise, bias) for testing fits"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``mudforce synth``."""
     parser.add_argument("--out", required=True, metavar="DIR", help="folder to write (created)")
+    parser.add_argument("--motion", choices=("protocol", "gait"), default="protocol",
+                        help="the paper's intrude/hold/withdraw protocol (default), or robot-like walks: "
+                             "touchdowns, stances with sway, re-pushes, lift-offs (--repeats walks per water content)")
+    parser.add_argument("--duration", default="25s", help="gait: length of each walk (default 25s)")
+    parser.add_argument("--jitter", type=float, default=0.0, metavar="FRACTION",
+                        help="gait: time-stamp jitter, fraction of a sample period (default 0)")
+    parser.add_argument("--start-below", choices=("never", "always", "alternate"), default="never",
+                        help="gait: which walks start in the mud (default never)")
     parser.add_argument("--water-content", default="25%", metavar="LIST", help="e.g. 15%%,25%% (default 25%%)")
     parser.add_argument("--velocities", default="10mm/s,20mm/s,40mm/s", metavar="LIST",
                         help="intrusion/withdrawal speeds (default 10mm/s,20mm/s,40mm/s)")
@@ -53,6 +61,26 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--out {out}: already holds a {MANIFEST_NAME}; pass --force to overwrite it")
     if args.repeats < 1:
         raise InputError(f"--repeats: {args.repeats} must be at least 1")
+    if args.motion == "gait":
+        from mudforce.calibration.synth import synthesize_gait
+
+        dataset = synthesize_gait(
+            out,
+            water_contents=waters,
+            repeats=args.repeats,
+            duration=parse_quantity(args.duration, "time", name="--duration"),
+            rate=parse_quantity(args.rate, "frequency", name="--rate"),
+            jitter=args.jitter,
+            start_below=args.start_below,
+            force_noise=parse_quantity(args.force_noise, "force", name="--force-noise", allow_zero=True),
+            depth_noise=parse_quantity(args.depth_noise, "length", name="--depth-noise", allow_zero=True),
+            bias=parse_quantity(args.bias, "force", name="--bias", allow_zero=True, allow_negative=True),
+            seed=args.seed,
+            foot=parse_foot(args.foot),
+        )
+        if not args.quiet:
+            print(f"wrote {len(dataset.trials)} walks to {out / MANIFEST_NAME}")
+        return 0
     dataset = synthesize(
         out,
         water_contents=waters,
