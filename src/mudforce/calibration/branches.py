@@ -353,8 +353,9 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
 
     At rest (the paper's ``dz = 0``) the model keeps a broken neck's decay
     going, while any downward motion ends it (``docs/model.md``); the
-    isotonic depth would otherwise creep down through noise. A step is at
-    rest unless a straight line through the 7 samples that start with it,
+    isotonic depth would otherwise creep down through noise. Only steps
+    out of the mud are considered (in the mud rest and downward motion are
+    the same intrusion branch). A step is at rest unless a straight line through the 7 samples that start with it,
     or through the 7 that end with it, goes down by more than 3 of its
     standard errors.
     """
@@ -379,6 +380,34 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     moving[fwd] |= down[k[fwd]]  # the window starting at the step
     bwd = k - (width - 2) >= 0
     moving[bwd] |= down[k[bwd] - (width - 2)]  # the window ending with the step
-    still = ~moving
+    # rest matters only where a broken neck's decay can be running: out of the mud
+    above = (z[:-1] < 0.0) & (z[1:] < 0.0)
+    still = ~moving & above
     lab[(lab > 0) & still] = 0
+    _refine_starts(t, z, lab)
     return lab
+
+
+def _refine_starts(t: np.ndarray, z: np.ndarray, lab: np.ndarray, reach: int = 8) -> None:
+    """Move the start of each downward motion that follows a rest to its hinge (in place).
+
+    The windows of :func:`rest_steps` see a motion a few samples early; a
+    least-squares hinge (flat, then a straight line) over the samples
+    around the start places it to the sample.
+    """
+    moving = lab > 0
+    # after a rest, or straight after a withdrawal out of the mud (the apex of a swing)
+    starts = np.flatnonzero(moving[1:] & ((lab[:-1] == 0) | ((lab[:-1] < 0) & (z[1:-1] < 0.0)))) + 1
+    for a in starts:
+        run_end = a + int(np.argmin(moving[a:])) if not np.all(moving[a:]) else lab.size
+        lo, hi = max(a - 3, 0), min(a + reach + 6, z.size, run_end + 1)
+        tt, zz = t[lo:hi], z[lo:hi]
+        best, best_c = math.inf, a
+        for c in range(a, min(a + reach, hi - 3)):  # motion starts at sample c (step c moves)
+            ramp = np.maximum(tt - t[c], 0.0)
+            design = np.column_stack([np.ones_like(tt), ramp])
+            coef, *_ = np.linalg.lstsq(design, zz, rcond=None)
+            ssr = float(np.sum((zz - design @ coef) ** 2))
+            if ssr < best:
+                best, best_c = ssr, c
+        lab[a:best_c] = 0
