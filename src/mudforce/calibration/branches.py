@@ -50,6 +50,7 @@ from mudforce.velocity import NOISE_FLOOR_M
 __all__ = [
     "JUMP_REWARD_CAP",
     "SWITCH_COST",
+    "corner_preserving_smooth",
     "denoise_depth",
     "estimate_force_noise",
     "label_branches",
@@ -311,12 +312,51 @@ def _enforce(iso: np.ndarray, labels: np.ndarray, first: float, eps: float) -> n
     return out
 
 
-def denoise_depth(depth: np.ndarray, labels: np.ndarray) -> np.ndarray:
+def corner_preserving_smooth(time: np.ndarray, depth: np.ndarray, width: int = 9, degree: int = 2) -> np.ndarray:
+    """Local polynomial smoothing that does not round corners [m].
+
+    Every window of ``width`` consecutive samples gets a least-squares
+    polynomial of ``degree``; each sample takes the value, at its time, of
+    the window containing it whose fit has the smallest residual. A window
+    that straddles a corner (a touchdown, a stop, a reversal) fits badly and
+    is passed over in favour of one on a single side of it (the idea of
+    essentially non-oscillatory schemes). Returns ``depth`` itself when it
+    has fewer than ``width`` samples.
+    """
+    t = np.asarray(time, dtype=np.float64)
+    z = np.asarray(depth, dtype=np.float64)
+    n = z.size
+    if n < width:
+        return z.copy()
+    tw = np.lib.stride_tricks.sliding_window_view(t, width)
+    zw = np.lib.stride_tricks.sliding_window_view(z, width)
+    centre = tw.mean(axis=1, keepdims=True)
+    span = np.maximum(tw[:, -1:] - tw[:, :1], 1e-300)
+    x = (tw - centre) / span
+    basis = np.stack([x**p for p in range(degree + 1)], axis=2)  # windows x width x (degree+1)
+    q, r = np.linalg.qr(basis)
+    coef = np.linalg.solve(r, np.einsum("wkp,wk->wp", q, zw)[..., None])[..., 0]
+    fitted = np.einsum("wkp,wp->wk", basis, coef)
+    ssr = np.sum((zw - fitted) ** 2, axis=1)
+    windows = ssr.size
+    # for sample i, windows starting at i - width + 1 .. i (those that exist)
+    starts = np.arange(n)[:, None] - np.arange(width)[None, :]
+    valid = (starts >= 0) & (starts < windows)
+    cost = np.where(valid, ssr[np.clip(starts, 0, windows - 1)], np.inf)
+    pick = np.argmin(cost, axis=1)
+    w = starts[np.arange(n), pick]
+    pos = np.arange(n) - w
+    out: np.ndarray = fitted[w, pos]
+    return out
+
+
+def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None = None) -> np.ndarray:
     """The depth the model follows [m]: monotone within each run of equal branch, each step's sign its label.
 
     Within each run of steps with the same label, the least-squares
     nondecreasing (intrusion) or decreasing (withdrawal) fit to the measured
-    depth; then a forward pass keeps every step's sign (a withdrawal step
+    depth (first smoothed by :func:`corner_preserving_smooth` when ``time``
+    is given); then a forward pass keeps every step's sign (a withdrawal step
     moves up by at least 1e-12 m), so that the paper's exact branch rule
     reproduces ``labels``.
 
@@ -325,9 +365,14 @@ def denoise_depth(depth: np.ndarray, labels: np.ndarray) -> np.ndarray:
     depth : ndarray
         Measured depth [m] (``n`` samples).
     labels : ndarray
-        Branch of each step (``n - 1`` values of +1 or -1), from :func:`label_branches`.
+        Branch of each step (``n - 1`` values of +1, 0 (rest) or -1), from
+        :func:`label_branches` and :func:`rest_steps`.
+    time : ndarray, optional
+        Sample times [s]; given, the depth is smoothed first.
     """
     z = np.asarray(depth, dtype=np.float64)
+    if time is not None:
+        z = corner_preserving_smooth(time, z)
     given = np.asarray(labels, dtype=np.int8)
     lab = np.where(given < 0, -1, 1).astype(np.int8)  # rest steps (0) belong to the intrusion runs
     iso = np.empty_like(z)
