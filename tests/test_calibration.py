@@ -324,7 +324,7 @@ def test_public_api_is_pinned() -> None:
         "ForceModel", "Identification", "Motion", "PreparedTrial", "Trial", "TrialFit", "fit_by_velocity",
         "fit_condition", "fit_dataset", "fit_drag", "fit_motion", "get_model", "identify_water_content",
         "load_dataset", "load_fit", "load_fit_parameters", "load_trial", "parse_foot", "prepare_trial",
-        "read_sliding", "register_model", "save_dataset", "synthesize", "tare",
+        "read_sliding", "register_model", "save_dataset", "synthesize", "synthesize_gait", "tare",
     ])
     for name in cal.__all__:
         assert hasattr(cal, name), name

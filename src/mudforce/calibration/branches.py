@@ -40,6 +40,7 @@ model's jumps touch only a few of them, so a bad fit cannot inflate it.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numba import njit
@@ -154,10 +155,10 @@ def _level_change(time: np.ndarray, force: np.ndarray, noise: float) -> np.ndarr
     m = f.size - 1
     h = _TREND_HALF_WIDTH + 1
     if m < 2 * h:
-        return np.zeros(max(m, 0))
+        return np.full(max(m, 0), np.nan)
     tw = np.lib.stride_tricks.sliding_window_view(t, h)
     fw = np.lib.stride_tricks.sliding_window_view(f, h)
-    jump = np.zeros(m)
+    jump = np.full(m, np.nan)  # NaN: too near an end to tell
     var = np.ones(m)
     k = np.arange(h - 1, m - h + 1)  # steps with full windows on both sides
     mid = 0.5 * (t[k] + t[k + 1])
@@ -169,7 +170,9 @@ def _level_change(time: np.ndarray, force: np.ndarray, noise: float) -> np.ndarr
     wide = 4 * h
     padded = np.concatenate([np.full(wide, np.nan), np.abs(jump) / np.sqrt(var), np.full(wide, np.nan)])
     windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * wide + 1)
-    local = 1.4826 * np.nanmedian(np.delete(windows, wide, axis=1), axis=1) * np.sqrt(var)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN windows near the ends
+        local = 1.4826 * np.nanmedian(np.delete(windows, wide, axis=1), axis=1) * np.sqrt(var)
     scale = np.maximum(np.where(np.isfinite(local), local, 0.0), base)
     scale = np.maximum(scale, 1e-9 * max(1.0, float(np.max(np.abs(f)))))
     out: np.ndarray = jump / scale
@@ -243,6 +246,7 @@ def label_branches(time: np.ndarray, depth: np.ndarray, force: np.ndarray, *,
     reward = np.minimum(0.5 * jump**2, JUMP_REWARD_CAP)
     # ... and only where the force's level changes (a kink, where a fast descent stops, is no switch)
     level = np.abs(_level_change(np.asarray(time, dtype=np.float64), force, force_noise))
+    level[np.isnan(level)] = np.inf  # near the ends the level cannot be checked: the jump alone decides
     confirmed = level > _LEVEL_SIGMAS
     confirmed[1:] |= level[:-1] > _LEVEL_SIGMAS
     confirmed[:-1] |= level[1:] > _LEVEL_SIGMAS

@@ -43,7 +43,7 @@ from scipy.optimize import differential_evolution, least_squares
 
 from mudforce.calibration.dataset import Dataset, Trial
 from mudforce.calibration.models import FitStage, ForceModel, get_model
-from mudforce.calibration.preprocess import PreparedTrial, prepare_trial, tare_correction
+from mudforce.calibration.preprocess import PreparedTrial, noise_floor, prepare_trial, tare_correction
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.io import atomic_write_text
@@ -218,7 +218,8 @@ class ConditionFit:
     rmse : float
         Root mean square residual over all samples of all trials [N].
     force_noise : float
-        Mean pre-contact force noise of the trials [N]: the floor ``rmse`` can reach.
+        RMS over the trials of their force noise [N], measured without the
+        model (pre-contact samples, or the force's high-frequency content).
     trials : tuple of TrialFit
     correlation : ndarray
         Correlation matrix of the log-parameters in ``free`` order (NaN where not determined).
@@ -227,8 +228,12 @@ class ConditionFit:
     stage_rmse : dict
         Stage name -> RMSE [N] over that stage's samples when it ended.
     misfit_ratio : float
-        ``rmse / force_noise`` [-] (see :func:`misfit_ratio`): about 1 when the
-        model reaches the noise floor.
+        ``rmse / noise_floor`` [-] (see :func:`misfit_ratio`): about 1 when the
+        model explains the data to the sensors' noise.
+    noise_floor : float
+        The RMSE a perfect model would leave [N]: the force noise and the
+        depth noise carried through the model's sensitivity to the depth
+        (:func:`~mudforce.calibration.preprocess.noise_floor`).
     """
 
     water_content: float
@@ -243,6 +248,7 @@ class ConditionFit:
     warnings: tuple[str, ...] = ()
     stage_rmse: dict[str, float] = field(default_factory=dict)
     misfit_ratio: float = math.nan
+    noise_floor: float = math.nan
 
     @property
     def model_misses_data(self) -> bool:
@@ -263,6 +269,7 @@ class ConditionFit:
             "stderr": {k: _finite_or_none(v) for k, v in self.stderr.items()},
             "rmse_N": self.rmse,
             "force_noise_N": _finite_or_none(self.force_noise),
+            "noise_floor_N": _finite_or_none(self.noise_floor),
             "misfit_ratio": _finite_or_none(self.misfit_ratio),
             "model_misses_data": self.model_misses_data,
             "trials": [t.to_dict() for t in self.trials],
@@ -621,19 +628,25 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
             bias_stderr=scatter * math.sqrt(inflation / (tr.time.size + tr.precontact))))
     all_res = np.concatenate([t.residual for t in trial_fits])
     noise = [t.force_noise for t in trial_fits if math.isfinite(t.force_noise)]
-    noise_floor = float(np.sqrt(np.mean(np.square(noise)))) if noise else math.nan
+    force_noise = float(np.sqrt(np.mean(np.square(noise)))) if noise else math.nan
+    floor_var = np.concatenate([
+        noise_floor(tr, t.fitted, lambda z, tr=tr: model.force(tr.time, z, values, foot))
+        for tr, t in zip(prepared, trial_fits, strict=True)])
+    floor = float(np.sqrt(np.mean(floor_var))) if noise else math.nan
     rmse = _rms(all_res)
     scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
-    ratio = misfit_ratio(rmse, noise_floor, scale)
+    ratio = misfit_ratio(rmse, floor, scale)
     if ratio > MISFIT_WARNING_RATIO:
-        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the force noise {noise_floor:.3g} N: "
+        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
+                        f"(force noise {force_noise:.3g} N, with the depth noise carried through): "
                         "the model misses systematic features of the data (or the fit did not converge); "
                         "the standard errors are widened for the residuals' correlation, but read them with care")
     ws = {tr.trial.water_content for tr in prepared}
     w = ws.pop() if len(ws) == 1 else math.nan
     return ConditionFit(water_content=w, model=model.name, parameters=params, stderr=stderr, free=tuple(free),
-                        rmse=rmse, force_noise=noise_floor, trials=tuple(trial_fits), correlation=corr,
-                        warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse, misfit_ratio=ratio)
+                        rmse=rmse, force_noise=force_noise, trials=tuple(trial_fits), correlation=corr,
+                        warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse, misfit_ratio=ratio,
+                        noise_floor=floor)
 
 
 def fit_condition(

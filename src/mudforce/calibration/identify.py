@@ -38,7 +38,7 @@ from scipy.stats import chi2
 from mudforce.calibration.dataset import Trial
 from mudforce.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.calibration.models import CHEN2024
-from mudforce.calibration.preprocess import PreparedTrial, prepare_trial, tare_correction
+from mudforce.calibration.preprocess import PreparedTrial, noise_floor, prepare_trial, tare_correction
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -68,11 +68,14 @@ class Identification:
     warnings : tuple of str
     force_noise : float
         The trial's force noise, measured independently of the family [N].
+    noise_floor : float
+        The RMSE a member of the family that is right would leave [N]: the
+        force noise and the depth noise carried through.
     misfit_ratio : float
-        ``rmse / force_noise`` [-]: about 1 when the family explains the trial to the noise.
+        ``rmse / noise_floor`` [-]: about 1 when the family explains the trial to the noise.
     off_family : float
         How far the data are off the family [N]: the RMS of the residual in
-        excess of the noise, ``sqrt(max(rmse^2 - force_noise^2, 0))``.
+        excess of the noise, ``sqrt(max(rmse^2 - noise_floor^2, 0))``.
     bias : float
         The sensor bias removed [N].
     bias_method : str
@@ -87,6 +90,7 @@ class Identification:
     grid_rmse: np.ndarray
     warnings: tuple[str, ...] = ()
     force_noise: float = math.nan
+    noise_floor: float = math.nan
     misfit_ratio: float = math.nan
     off_family: float = math.nan
     bias: float = math.nan
@@ -103,7 +107,7 @@ class Identification:
         Keys: ``water_content`` (the nearest water content of the family),
         ``nearest_water_content`` (the same, named for what it is when the
         data are off the family), ``interval``, ``rmse_N``, ``level``,
-        ``force_noise_N``, ``misfit_ratio``, ``model_misses_data``,
+        ``force_noise_N``, ``noise_floor_N``, ``misfit_ratio``, ``model_misses_data``,
         ``off_family_N``, ``bias_N``, ``bias_method``, ``warnings``.
         """
 
@@ -117,6 +121,7 @@ class Identification:
             "rmse_N": self.rmse,
             "level": self.level,
             "force_noise_N": finite(self.force_noise),
+            "noise_floor_N": finite(self.noise_floor),
             "misfit_ratio": finite(self.misfit_ratio),
             "model_misses_data": self.model_misses_data,
             "off_family_N": finite(self.off_family),
@@ -208,10 +213,14 @@ def identify_water_content(
                         "the mud may be drier or wetter than the family covers")
     rmse = math.sqrt(c_best / n)
     scale = max(float(np.max(np.abs(tr.force))), 1.0)
-    ratio = misfit_ratio(rmse, tr.force_noise, scale)
-    off = math.sqrt(max(rmse**2 - tr.force_noise**2, 0.0))
+    best_values = family(w_best).as_array()
+    floor = math.sqrt(float(np.mean(noise_floor(
+        tr, raw, lambda z: CHEN2024.force(tr.time, z, best_values, foot)))))
+    ratio = misfit_ratio(rmse, floor, scale)
+    off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     if ratio > MISFIT_WARNING_RATIO:
-        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the force noise {tr.force_noise:.3g} N: "
+        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
+                        f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through): "
                         f"the data are {off:.3g} N (RMS) off the Table I family (another mud, another foot "
                         "than assumed, or a model error); the estimate is the nearest water content and "
                         "the interval is widened for the misfit")
@@ -224,6 +233,7 @@ def identify_water_content(
         grid_rmse=np.sqrt(costs / n),
         warnings=tuple(warnings),
         force_noise=tr.force_noise,
+        noise_floor=floor,
         misfit_ratio=ratio,
         off_family=off,
         bias=tr.bias + tare_correction(raw, tr.precontact),

@@ -22,6 +22,7 @@ surface (where the true force is zero).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -40,6 +41,7 @@ __all__ = [
     "fit_motion",
     "is_protocol",
     "motion_covariance",
+    "noise_floor",
     "prepare_trial",
     "snap_reversal",
     "tare",
@@ -310,6 +312,10 @@ class PreparedTrial:
     velocity : float
         Intrusion speed [m/s]: the protocol's descent, else the median
         downward speed while the foot moves down in the mud (NaN if it never does).
+    depth_noise : float
+        Noise left on :attr:`depth` [m]: the measured depth noise on the
+        general path (the denoised depth keeps most of it), 0 for a fitted
+        protocol motion (whose uncertainty enters through ``motion_covariance``).
     """
 
     trial: Trial
@@ -323,6 +329,7 @@ class PreparedTrial:
     reversal_index: int
     reversal_time: float = math.nan
     velocity: float = math.nan
+    depth_noise: float = 0.0
 
     @property
     def bias_estimated(self) -> bool:
@@ -449,6 +456,7 @@ def _prepare_general(trial: Trial) -> PreparedTrial:
         reversal_index=reversal_index,
         reversal_time=float(t[reversal_index - 1]) if withdrawing.size else math.nan,
         velocity=float(np.median(speeds)) if speeds.size else math.nan,
+        depth_noise=depth_noise,
     )
 
 
@@ -482,3 +490,22 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None) -> PreparedTria
         return _prepare_protocol(trial, motion)
     found = is_protocol(trial)
     return _prepare_protocol(trial, found) if found is not None else _prepare_general(trial)
+
+
+def noise_floor(prepared: PreparedTrial, force: np.ndarray, force_at: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """Per-sample variance [N^2] a perfect model would still leave: force noise plus depth noise carried through.
+
+    ``force_at(depth) -> force [N]`` is the fitted model on the trial's
+    time; its sensitivity to the depth (central difference over 1 um)
+    times :attr:`PreparedTrial.depth_noise` is the part of the residual
+    that the depth noise explains (``force`` is the model force at the
+    trial's depth, unused beyond its size). Its mean square root over all
+    samples is the floor that an RMSE can reach.
+    """
+    h = 1e-6
+    variance = np.full(force.size, prepared.force_noise**2 if math.isfinite(prepared.force_noise) else 0.0)
+    if prepared.depth_noise > 0.0:
+        sens = (force_at(prepared.depth + h) - force_at(prepared.depth - h)) / (2.0 * h)
+        variance = variance + (sens * prepared.depth_noise) ** 2
+    out: np.ndarray = variance
+    return out
