@@ -71,7 +71,7 @@ _TOUCHDOWN_SAMPLES = 5
 
 
 def estimate_force_noise(time: np.ndarray, force: np.ndarray) -> float:
-    """Standard deviation of white noise on a sampled force [N], independent of any model.
+    """Standard deviation of white noise on a sampled force [N] (or any signal), independent of any model.
 
     The third divided difference over four consecutive samples, scaled to
     unit norm, annihilates any quadratic in time and has the noise's

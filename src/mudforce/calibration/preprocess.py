@@ -35,6 +35,7 @@ from mudforce.errors import InputError
 from mudforce.velocity import estimate_depth_noise
 
 __all__ = [
+    "CLEAN_DEPTH_M",
     "MIN_PRECONTACT_SAMPLES",
     "Motion",
     "PreparedTrial",
@@ -50,6 +51,8 @@ __all__ = [
 
 #: Fewest samples before surface contact that :func:`tare` accepts [-].
 MIN_PRECONTACT_SAMPLES = 3
+#: Depth noise [m] below which a trial of any motion counts as noise-free (0.1 um; motion capture gives ~30 um).
+CLEAN_DEPTH_M = 1e-7
 
 
 @dataclass(frozen=True)
@@ -427,7 +430,10 @@ def _prepare_protocol(trial: Trial, motion: Motion) -> PreparedTrial:
 
 def _prepare_general(trial: Trial) -> PreparedTrial:
     t, z, f = trial.time, trial.depth, trial.force
-    depth_noise = estimate_depth_noise(t, z)
+    # third divided differences: blind to the stances' smooth sway, unlike a line through three samples
+    depth_noise = estimate_force_noise(t, z)
+    if depth_noise < CLEAN_DEPTH_M:  # a computed, noise-free trajectory: the paper's exact rule
+        depth_noise = 0.0
     force_noise = estimate_force_noise(t, f)
     labels = label_branches(t, z, f, depth_noise=depth_noise, force_noise=force_noise)
     labels = rest_steps(t, z, labels, depth_noise)
