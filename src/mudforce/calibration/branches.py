@@ -331,7 +331,8 @@ def corner_preserving_smooth(time: np.ndarray, depth: np.ndarray, width: int = 9
     z = np.asarray(depth, dtype=np.float64)
     n = z.size
     if n < width:
-        return z.copy()
+        same: np.ndarray = z.copy()
+        return same
     tw = np.lib.stride_tricks.sliding_window_view(t, width)
     zw = np.lib.stride_tricks.sliding_window_view(z, width)
     centre = tw.mean(axis=1, keepdims=True)
@@ -408,7 +409,7 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     or through the 7 that end with it, goes down by more than 3 of its
     standard errors.
     """
-    lab = np.asarray(labels, dtype=np.int8).copy()
+    lab: np.ndarray = np.asarray(labels, dtype=np.int8).copy()
     t = np.asarray(time, dtype=np.float64)
     z = np.asarray(depth, dtype=np.float64)
     h = 3
@@ -451,12 +452,12 @@ def _refine_starts(t: np.ndarray, z: np.ndarray, lab: np.ndarray, reach: int = 8
         run_end = a + int(np.argmin(moving[a:])) if not np.all(moving[a:]) else lab.size
         lo, hi = max(a - 3, 0), min(a + reach + 6, z.size, run_end + 1)
         tt, zz = t[lo:hi], z[lo:hi]
-        best, best_c = math.inf, a
-        for c in range(a, min(a + reach, hi - 3)):  # motion starts at sample c (step c moves)
+        best, best_c = math.inf, int(a)
+        for c in range(int(a), min(int(a) + reach, hi - 3)):  # motion starts at sample c (step c moves)
             ramp = np.maximum(tt - t[c], 0.0)
             design = np.column_stack([np.ones_like(tt), ramp])
             coef, *_ = np.linalg.lstsq(design, zz, rcond=None)
             ssr = float(np.sum((zz - design @ coef) ** 2))
             if ssr < best:
-                best, best_c = ssr, c
+                best, best_c = ssr, int(c)
         lab[a:best_c] = 0

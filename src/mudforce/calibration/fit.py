@@ -51,10 +51,10 @@ from mudforce.parameters import MudParameters
 from mudforce.progress import Progress
 
 __all__ = [
+    "MISFIT_WARNING_RATIO",
     "ConditionFit",
     "FitOptions",
     "FitResult",
-    "MISFIT_WARNING_RATIO",
     "TrialFit",
     "correlation_inflation",
     "fit_by_velocity",
@@ -69,7 +69,7 @@ __all__ = [
 #: Relative standard error above which a parameter is reported as poorly determined [-].
 POOR_RELATIVE_STDERR = 0.25
 #: RMSE / force noise above which the model is said to miss the data [-].
-MISFIT_WARNING_RATIO = 1.5
+MISFIT_WARNING_RATIO = 1.25
 
 
 def misfit_ratio(rmse: float, noise: float, scale: float) -> float:
@@ -629,9 +629,11 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     all_res = np.concatenate([t.residual for t in trial_fits])
     noise = [t.force_noise for t in trial_fits if math.isfinite(t.force_noise)]
     force_noise = float(np.sqrt(np.mean(np.square(noise)))) if noise else math.nan
-    floor_var = np.concatenate([
-        noise_floor(tr, t.fitted, lambda z, tr=tr: model.force(tr.time, z, values, foot))
-        for tr, t in zip(prepared, trial_fits, strict=True)])
+    def force_on(tr: PreparedTrial) -> Callable[[np.ndarray], np.ndarray]:
+        return lambda z: model.force(tr.time, z, values, foot)
+
+    floor_var = np.concatenate([noise_floor(tr, t.fitted, force_on(tr))
+                                for tr, t in zip(prepared, trial_fits, strict=True)])
     floor = float(np.sqrt(np.mean(floor_var))) if noise else math.nan
     rmse = _rms(all_res)
     scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
