@@ -398,66 +398,66 @@ def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None
     return out
 
 
-def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_noise: float) -> np.ndarray:
-    """``labels`` with the intrusion steps where the foot is at rest set to 0 [-].
+def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_noise: float,
+               force: np.ndarray | None = None, force_noise: float = 0.0) -> np.ndarray:
+    """``labels`` with the intrusion steps where the foot is at rest out of the mud set to 0 [-].
 
     At rest (the paper's ``dz = 0``) the model keeps a broken neck's decay
     going, while any downward motion ends it (``docs/model.md``); the
-    isotonic depth would otherwise creep down through noise. Only steps
-    out of the mud are considered (in the mud rest and downward motion are
-    the same intrusion branch). A step is at rest unless a straight line through the 7 samples that start with it,
-    or through the 7 that end with it, goes down by more than 3 of its
-    standard errors.
+    isotonic depth would otherwise creep down through noise. In the mud
+    rest and downward motion are the same intrusion branch, so only steps
+    out of the mud are considered. Each run of intrusion steps out of the
+    mud (a swing's apex, then its descent) gets a least-squares hinge: flat,
+    then a straight line down, with the corner at any instant (a grid of a
+    tenth of a step); the steps before the one that contains the corner
+    are at rest, unless the line does not go down significantly (then all
+    are). Given the force, a clear jump of it within a step of the corner
+    (a broken neck's decay cut off) places the start to the sample.
     """
     lab: np.ndarray = np.asarray(labels, dtype=np.int8).copy()
     t = np.asarray(time, dtype=np.float64)
     z = np.asarray(depth, dtype=np.float64)
-    h = 3
-    if depth_noise <= NOISE_FLOOR_M or z.size < 2 * h + 2:
-        lab[(lab > 0) & (np.diff(z) == 0.0)] = 0
+    if lab.size == 0:
         return lab
-    width = 2 * h + 1
-    tw = np.lib.stride_tricks.sliding_window_view(t, width)
-    zw = np.lib.stride_tricks.sliding_window_view(z, width)
-    tc = tw - tw.mean(axis=1, keepdims=True)
-    sxx = np.sum(tc**2, axis=1)
-    slope = np.sum(tc * (zw - zw.mean(axis=1, keepdims=True)), axis=1) / sxx
-    down = slope > 3.0 * depth_noise / np.sqrt(sxx)  # window starting at sample i
-    m = lab.size  # step k joins samples k and k + 1
-    moving = np.zeros(m, dtype=bool)
-    k = np.arange(m)
-    fwd = k <= down.size - 1
-    moving[fwd] |= down[k[fwd]]  # the window starting at the step
-    bwd = k - (width - 2) >= 0
-    moving[bwd] |= down[k[bwd] - (width - 2)]  # the window ending with the step
-    # rest matters only where a broken neck's decay can be running: out of the mud
-    above = (z[:-1] < 0.0) & (z[1:] < 0.0)
-    still = ~moving & above
-    lab[(lab > 0) & still] = 0
-    _refine_starts(t, z, lab)
+    out = (z[:-1] < 0.0) & (z[1:] < 0.0)
+    if depth_noise <= NOISE_FLOOR_M:
+        lab[(lab > 0) & out & (np.diff(z) == 0.0)] = 0
+        return lab
+    jump = None if force is None else _jump_statistic(t, np.asarray(force, dtype=np.float64), force_noise)
+    candidate = (lab > 0) & out
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], candidate.astype(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):  # steps a .. b-1, samples a .. b
+        first = _hinge_start(t[a:b + 1], z[a:b + 1], depth_noise)
+        if first is None:
+            lab[a:b] = 0
+            continue
+        first += a
+        if jump is not None:
+            near = np.arange(max(first - 1, a), min(first + 2, b))
+            if near.size:
+                k = int(near[np.argmax(np.abs(jump[near]))])
+                if abs(jump[k]) > 6.0:
+                    first = k
+        lab[a:first] = 0
     return lab
 
 
-def _refine_starts(t: np.ndarray, z: np.ndarray, lab: np.ndarray, reach: int = 8) -> None:
-    """Move the start of each downward motion that follows a rest to its hinge (in place).
-
-    The windows of :func:`rest_steps` see a motion a few samples early; a
-    least-squares hinge (flat, then a straight line) over the samples
-    around the start places it to the sample.
-    """
-    moving = lab > 0
-    # after a rest, or straight after a withdrawal out of the mud (the apex of a swing)
-    starts = np.flatnonzero(moving[1:] & ((lab[:-1] == 0) | ((lab[:-1] < 0) & (z[1:-1] < 0.0)))) + 1
-    for a in starts:
-        run_end = a + int(np.argmin(moving[a:])) if not np.all(moving[a:]) else lab.size
-        lo, hi = max(a - 3, 0), min(a + reach + 6, z.size, run_end + 1)
-        tt, zz = t[lo:hi], z[lo:hi]
-        best, best_c = math.inf, int(a)
-        for c in range(int(a), min(int(a) + reach, hi - 3)):  # motion starts at sample c (step c moves)
-            ramp = np.maximum(tt - t[c], 0.0)
-            design = np.column_stack([np.ones_like(tt), ramp])
-            coef, *_ = np.linalg.lstsq(design, zz, rcond=None)
-            ssr = float(np.sum((zz - design @ coef) ** 2))
-            if ssr < best:
-                best, best_c = ssr, int(c)
-        lab[a:best_c] = 0
+def _hinge_start(t: np.ndarray, z: np.ndarray, noise: float) -> int | None:
+    """The step where a flat-then-descending depth starts to descend (index into the steps); None if it never does."""
+    n = t.size
+    if n < 3:
+        return 0
+    taus = np.linspace(t[0], t[-1], 10 * (n - 1) + 1)
+    ramp = np.maximum(t[None, :] - taus[:, None], 0.0)  # taus x samples
+    r_mean = ramp.mean(axis=1, keepdims=True)
+    rc = ramp - r_mean
+    srr = np.sum(rc**2, axis=1)
+    zc = z - z.mean()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        slope = np.where(srr > 0, (rc @ zc) / np.where(srr > 0, srr, 1.0), 0.0)
+    ssr = np.sum(zc**2) - slope**2 * srr
+    i = int(np.argmin(ssr))
+    se = noise / math.sqrt(srr[i]) if srr[i] > 0 else math.inf
+    if not slope[i] > 3.0 * se:
+        return None
+    return min(max(int(np.searchsorted(t, taus[i], side="right")) - 1, 0), n - 2)

@@ -436,7 +436,7 @@ def _prepare_general(trial: Trial) -> PreparedTrial:
         depth_noise = 0.0
     force_noise = estimate_force_noise(t, f)
     labels = label_branches(t, z, f, depth_noise=depth_noise, force_noise=force_noise)
-    labels = rest_steps(t, z, labels, depth_noise)
+    labels = rest_steps(t, z, labels, depth_noise, f, force_noise)
     depth = denoise_depth(z, labels, t if depth_noise > 0.0 else None)
     inside = depth > 0.0
     if not np.any(inside):
