@@ -302,7 +302,7 @@ def _pava(y: np.ndarray) -> np.ndarray:
 
 @njit(cache=True)
 def _enforce(iso: np.ndarray, labels: np.ndarray, first: float, eps: float) -> np.ndarray:
-    """Follow ``iso`` while every step keeps its label's sign (``>= 0`` for +1, 0 for 0, ``<= -eps`` for -1)."""
+    """Follow ``iso`` while every step keeps its label's sign (``>= eps`` for +1, 0 for 0, ``<= -eps`` for -1)."""
     out = np.empty(iso.size)
     out[0] = first
     for k in range(1, iso.size):
@@ -310,7 +310,7 @@ def _enforce(iso: np.ndarray, labels: np.ndarray, first: float, eps: float) -> n
         if labels[k - 1] == 0:
             out[k] = out[k - 1]
         elif labels[k - 1] > 0:
-            out[k] = out[k - 1] + max(step, 0.0)
+            out[k] = out[k - 1] + max(step, eps)
         else:
             out[k] = out[k - 1] + min(step, -eps)
     return out
@@ -362,8 +362,9 @@ def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None
     nondecreasing (intrusion) or decreasing (withdrawal) fit to the measured
     depth (first smoothed by :func:`corner_preserving_smooth` when ``time``
     is given); then a forward pass keeps every step's sign (a withdrawal step
-    moves up by at least 1e-12 m), so that the paper's exact branch rule
-    reproduces ``labels``.
+    moves up, and an intrusion step down, by at least 1e-12 m; a rest step
+    not at all), so that the paper's exact branch rule reproduces
+    ``labels`` (rest matters: it keeps a broken neck's decay going).
 
     Parameters
     ----------
@@ -420,8 +421,8 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     if lab.size == 0:
         return lab
     out = (z[:-1] < 0.0) & (z[1:] < 0.0)
-    if depth_noise <= NOISE_FLOOR_M:
-        lab[(lab > 0) & out & (np.diff(z) == 0.0)] = 0
+    if depth_noise <= NOISE_FLOOR_M:  # noise-free: the steps' own signs, zero included
+        lab[(lab > 0) & (np.diff(z) == 0.0)] = 0
         return lab
     jump = None if force is None else _jump_statistic(t, np.asarray(force, dtype=np.float64), force_noise)
     candidate = (lab > 0) & out
