@@ -59,6 +59,7 @@ from mudforce.calibration.results import (
 from mudforce.calibration.uncertainty import (
     correlation_inflation,
     covariance,
+    jackknife_variance,
     jacobian,
     motion_sensitivity,
     profiled,
@@ -253,7 +254,7 @@ def _rms(r: np.ndarray) -> float:
 
 def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
                     free: Sequence[str], cov: np.ndarray, determined: np.ndarray, free_cols: Sequence[int],
-                    stage_rmse: dict[str, float]) -> ConditionFit:
+                    stage_rmse: dict[str, float], spread: np.ndarray | None = None) -> ConditionFit:
     names = model.parameter_names
     params = {n: float(v) for n, v in zip(names, values, strict=True)}
     stderr: dict[str, float | None] = {n: None for n in names}
@@ -261,6 +262,11 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     residuals = [model.force(tr.time, tr.depth, values, foot) - tr.force for tr in prepared]
     inflation = correlation_inflation(residuals)
     sub = cov[np.ix_(list(free_cols), list(free_cols))] * inflation
+    if spread is not None:  # trials that disagree more than the noise says: the jackknife's variance wins
+        var = np.diag(sub)
+        wider = np.sqrt(np.maximum(spread[list(free_cols)], var) / np.where(var > 0, var, 1.0))
+        wider = np.where(np.isfinite(wider) & (var > 0), wider, 1.0)
+        sub = sub * np.outer(wider, wider)
     for k, (n, col) in enumerate(zip(free, free_cols, strict=True)):
         value = params[n]
         if not determined[col]:
@@ -382,11 +388,16 @@ def fit_condition(
     x = np.log(values[idx_all])
     residual = obj(x)
     stage_rmse["joint"] = _rms(residual[: -len(prepared)])  # without the tare-prior rows
-    cov, determined = covariance(jacobian(obj, x), residual, motion_sensitivity(m, foot, [prepared], [values]))
+    jac = jacobian(obj, x)
+    cov, determined = covariance(jac, residual, motion_sensitivity(m, foot, [prepared], [values]))
+    n_data = residual.size - len(prepared)
+    starts = np.cumsum([0] + [tr.time.size for tr in prepared])
+    groups = [np.append(np.arange(starts[i], starts[i + 1]), n_data + i) for i in range(len(prepared))]
+    spread = jackknife_variance(jac, residual, groups)
     if progress is not None:
         progress.update(1, "joint polish")
     return _condition_from(m, foot, prepared, values, free_names, cov, determined, list(range(len(idx_all))),
-                           stage_rmse)
+                           stage_rmse, spread)
 
 
 # ---------------------------------------------------------------------------- a dataset

@@ -20,7 +20,7 @@ from mudforce.calibration.models import ForceModel
 from mudforce.calibration.preprocess import PreparedTrial, tare_correction
 from mudforce.foot import Foot
 
-__all__ = ["correlation_inflation", "covariance", "jacobian", "motion_sensitivity", "profiled"]
+__all__ = ["correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled"]
 
 
 def profiled(residual: np.ndarray, precontact: int) -> tuple[np.ndarray, float]:
@@ -124,3 +124,27 @@ def covariance(jac: np.ndarray, residual: np.ndarray,
     return cov, determined
 
 
+
+
+def jackknife_variance(jac: np.ndarray, residual: np.ndarray, groups: Sequence[np.ndarray]) -> np.ndarray | None:
+    """Delete-one-trial jackknife variance of the log-parameters, linearised at the optimum (``p`` values).
+
+    Leaving trial ``i`` out moves the optimum by one Gauss-Newton step,
+    ``(J^T J - J_i^T J_i)^+ J_i^T r_i`` (the full gradient vanishes at the
+    optimum); the spread of these moves, ``(n - 1)/n sum (d_i - mean)^2``,
+    is the jackknife variance. It sees what the noise model cannot: trials
+    that disagree systematically (a motion whose branch switches were
+    misread pulls the withdrawal parameters its own way). ``groups[i]``
+    are trial ``i``'s rows of ``jac`` and ``residual``. None for fewer than
+    three trials (too few to spread).
+    """
+    if len(groups) < 3:
+        return None
+    h = jac.T @ jac
+    moves = []
+    for rows in groups:
+        ji = jac[rows]
+        moves.append(np.linalg.pinv(h - ji.T @ ji, rcond=1e-10) @ (ji.T @ residual[rows]))
+    d = np.array(moves)
+    out: np.ndarray = (len(groups) - 1) / len(groups) * np.sum((d - d.mean(axis=0)) ** 2, axis=0)
+    return out
