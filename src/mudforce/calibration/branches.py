@@ -443,22 +443,37 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     return lab
 
 
+#: Longest stretch of samples a hinge is fitted to [-] (a longer run uses its last samples).
+_HINGE_SAMPLES = 1500
+
+
 def _hinge_start(t: np.ndarray, z: np.ndarray, noise: float) -> int | None:
     """The step where a flat-then-descending depth starts to descend (index into the steps); None if it never does."""
     n = t.size
     if n < 3:
         return 0
-    taus = np.linspace(t[0], t[-1], 10 * (n - 1) + 1)
-    ramp = np.maximum(t[None, :] - taus[:, None], 0.0)  # taus x samples
-    r_mean = ramp.mean(axis=1, keepdims=True)
-    rc = ramp - r_mean
-    srr = np.sum(rc**2, axis=1)
-    zc = z - z.mean()
-    with np.errstate(invalid="ignore", divide="ignore"):
-        slope = np.where(srr > 0, (rc @ zc) / np.where(srr > 0, srr, 1.0), 0.0)
-    ssr = np.sum(zc**2) - slope**2 * srr
+    offset = max(n - _HINGE_SAMPLES, 0)
+    if offset:  # a long run: the corner, if any, is near its end; a descent all along starts at the beginning
+        found = _hinge_start(t[offset:], z[offset:], noise)
+        return None if found is None else (0 if found == 0 else offset + found)
+    # coarse: a corner at each sample; fine: tenths of a step around the best
+    best = _hinge_fit(t, z, t[:-1])
+    k = int(np.argmin(best[0]))
+    taus = np.linspace(t[max(k - 1, 0)], t[min(k + 1, n - 1)], 21)
+    ssr, slope, srr = _hinge_fit(t, z, taus)
     i = int(np.argmin(ssr))
     se = noise / math.sqrt(srr[i]) if srr[i] > 0 else math.inf
     if not slope[i] > 3.0 * se:
         return None
     return min(max(int(np.searchsorted(t, taus[i], side="right")) - 1, 0), n - 2)
+
+
+def _hinge_fit(t: np.ndarray, z: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Residual sum of squares, slope and ramp spread of ``z ~ a + b max(t - tau, 0)`` for each ``tau``."""
+    ramp = np.maximum(t[None, :] - taus[:, None], 0.0)  # taus x samples
+    rc = ramp - ramp.mean(axis=1, keepdims=True)
+    srr = np.sum(rc**2, axis=1)
+    zc = z - z.mean()
+    slope = np.where(srr > 0, (rc @ zc) / np.where(srr > 0, srr, 1.0), 0.0)
+    ssr = np.sum(zc**2) - slope**2 * srr
+    return ssr, slope, srr
