@@ -63,7 +63,7 @@ JUMP_REWARD_CAP = 50.0
 #: Prior cost of one branch switch, in log-likelihood [-] (a 6-sigma jump pays for it).
 SWITCH_COST = 18.0
 #: Half-width of the neighbourhood whose median first difference is a step's force trend [samples].
-_TREND_HALF_WIDTH = 3
+_TREND_HALF_WIDTH = 2
 #: Level change [standard errors] that confirms a force jump as a switch [-].
 _LEVEL_SIGMAS = 4.0
 #: Steps after the foot enters the mud in which a force jump is the touchdown's onset, not a switch [-].
