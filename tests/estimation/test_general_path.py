@@ -116,6 +116,7 @@ def test_synth_gait_and_identify_cli(tmp_path: Path) -> None:
     result = json.loads(proc.stdout)
     assert abs(result["water_content"] - 0.22) < 0.01
     assert result["bias_method"] == "estimated" and isinstance(result["model_misses_data"], bool)
+    assert 0 < result["bias_stderr_N"] < 0.1
 
 
 def test_identify_refuses_a_constant_force() -> None:

@@ -80,6 +80,9 @@ class Identification:
         The sensor bias removed [N].
     bias_method : str
         ``"tared"`` (pre-contact samples, refined) or ``"estimated"`` (a free parameter).
+    bias_stderr : float
+        Standard error of ``bias`` [N]: the residual scatter over the samples
+        (and the pre-contact ones), widened for the residuals' correlation.
     """
 
     water_content: float
@@ -95,6 +98,7 @@ class Identification:
     off_family: float = math.nan
     bias: float = math.nan
     bias_method: str = "tared"
+    bias_stderr: float = math.nan
 
     @property
     def model_misses_data(self) -> bool:
@@ -108,7 +112,7 @@ class Identification:
         ``nearest_water_content`` (the same, named for what it is when the
         data are off the family), ``interval``, ``rmse_N``, ``level``,
         ``force_noise_N``, ``noise_floor_N``, ``misfit_ratio``, ``model_misses_data``,
-        ``off_family_N``, ``bias_N``, ``bias_method``, ``warnings``.
+        ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -127,6 +131,7 @@ class Identification:
             "off_family_N": finite(self.off_family),
             "bias_N": finite(self.bias),
             "bias_method": self.bias_method,
+            "bias_stderr_N": finite(self.bias_stderr),
             "warnings": list(self.warnings),
         }
 
@@ -238,4 +243,5 @@ def identify_water_content(
         off_family=off,
         bias=tr.bias + tare_correction(raw, tr.precontact),
         bias_method="estimated" if tr.bias_estimated else "tared",
+        bias_stderr=max(rmse, tr.force_noise) * math.sqrt((1.0 + rho) / (1.0 - rho) / (n + tr.precontact)),
     )

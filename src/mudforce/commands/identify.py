@@ -11,7 +11,7 @@ family misfits the trial. With --json: {"water_content": 0.23,
 "nearest_water_content": 0.23, "interval": [0.21, 0.25], "rmse_N": ...,
 "level": 0.95, "force_noise_N": ..., "noise_floor_N": ..., "misfit_ratio":
 ..., "model_misses_data": false, "off_family_N": ..., "bias_N": ...,
-"bias_method": "tared", "warnings": [...]}.
+"bias_method": "tared", "bias_stderr_N": ..., "warnings": [...]}.
 """
 
 from __future__ import annotations
