@@ -178,6 +178,8 @@ def main() -> None:
     parser.add_argument("--cycles", type=int, default=5, help="number of steps")
     parser.add_argument("--out", default="leg_in_mud.png", help="figure (PNG)")
     args = parser.parse_args()
+    if args.cycles < 1:
+        parser.error(f"--cycles must be at least 1, got {args.cycles}")
     params = MudParameters.from_water_content(parse_quantity(args.water_content, "fraction", name="--water-content"))
     mud = run("mud", params, args.cycles)
     sand = run("sand", params, args.cycles)

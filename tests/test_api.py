@@ -23,8 +23,12 @@ PUBLIC = {
     "MudContact",
     "MudContacts",
     "MudParameters",
+    "MudTracker",
+    "MudTrackers",
     "Protocol",
     "SimulationResult",
+    "TrackEstimate",
+    "TrackEstimates",
     "VelocityFilter",
     "Withdraw",
     "__version__",
@@ -46,7 +50,9 @@ def test_every_public_name_resolves() -> None:
 
 @pytest.mark.parametrize(
     "module",
-    ["parameters", "foot", "protocol", "simulation", "contact", "velocity", "equations", "units", "tables", "io"],
+    ["parameters", "foot", "protocol", "simulation", "contact", "velocity", "equations", "units", "tables", "io",
+     "plotting", "reproduce", "reproduce.experiments", "reproduce.jobs", "reproduce.summary", "reproduce.figures",
+     "reproduce.html", "reproduce.output", "reproduce.report"],
 )
 def test_modules_declare_all(module: str) -> None:
     mod = importlib.import_module(f"mudforce.{module}")

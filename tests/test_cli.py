@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import mudforce
 from mudforce import Foot, MudParameters, simulate
 from mudforce.commands.simulate import parse_foot
 from mudforce.errors import InputError
@@ -38,6 +39,9 @@ def run_cli(args: Sequence[str], cwd: Path, command: Sequence[str] = PYTHON_M) -
     """Run the command line in ``cwd`` with no stdin; returns the finished process."""
     env = dict(os.environ)
     env.pop("MPLBACKEND", None)
+    # the package under test first on the path: a relative PYTHONPATH ("src") does not resolve from cwd
+    here = str(Path(mudforce.__file__).resolve().parents[1])
+    env["PYTHONPATH"] = os.pathsep.join([here, *(p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)])
     return subprocess.run(
         [*command, *args],
         cwd=cwd,
@@ -242,7 +246,7 @@ BAD: list[tuple[str, list[str], dict[str, bytes], tuple[str, ...]]] = [
     ("params-not-an-object", sim_params(), {"mud.json": b"[1, 2, 3]"}, ("mud.json", "object")),
     ("params-beta-above-1", sim_params(), {"mud.json": _params_json(beta=1.5).encode()}, ("mud.json", "beta", "1.5")),
     ("params-negative-stiffness", sim_params(), {"mud.json": _params_json(k_m_i=-1e5).encode()},
-     ("mud.json", "k_m_i", "> 0")),
+     ("mud.json", "k_m_i", "within")),
     ("params-missing-key", sim_params(), {"mud.json": _params_json(sigma_y=None).encode()},
      ("mud.json", "missing", "sigma_y")),
     ("params-unknown-key", sim_params(), {"mud.json": _params_json(sigmay=6000.0).encode()},

@@ -12,6 +12,7 @@ from mudforce import _kernel as K
 from mudforce.dynamics import (
     GRAVITY,
     ExactDrop,
+    Phase,
     branch_forces,
     exact_drop,
     naive_drop,
@@ -37,7 +38,7 @@ def test_builtin_drop_rests_at_the_exact_depth(water: float, mass: float,
     res = simulate_foot(mass, params)
     ref = exact[(water, mass)]
     # the requirement is 2%; the event-driven RK4 engine is far closer
-    assert abs(res.rest_depth / ref.rest_depth - 1.0) < 1e-4
+    assert abs(res.end_depth / ref.rest_depth - 1.0) < 1e-4  # (W = 25%, 15-20 kg: still creeping at 8 s)
     # no chatter: the force over the last second is the weight
     assert res.force_std(1.0) <= 0.02 * mass * GRAVITY
     assert abs(np.mean(res.force[res.time >= 7.0]) - mass * GRAVITY) < 1e-3 * mass * GRAVITY
@@ -54,14 +55,14 @@ def test_no_chatter_and_no_ratchet(water: float, mass: float) -> None:
     names = set(np.array(res.phase_names)[late])
     assert names <= {"STUCK", "INTRUSION"}
     # ...and while stuck it does not move at all
-    stuck = res.phase == 3
+    stuck = res.phase == Phase.STUCK
     assert np.all(res.velocity[stuck] == 0.0)
     runs = np.split(res.depth[stuck], np.flatnonzero(np.diff(np.flatnonzero(stuck)) > 1) + 1)
     assert all(np.ptp(r) == 0.0 for r in runs if r.size)
 
 
 def test_naive_coupling_chatters_and_ratchets() -> None:
-    """MODEL.md: the explicit coupling chatters every step and sinks far deeper."""
+    """docs/model.md: the explicit coupling chatters every step and sinks far deeper."""
     params = MudParameters.from_water_content(0.25)
     t, z, f = naive_drop(5.0, params)
     ref = exact_drop(5.0, params)
@@ -173,7 +174,7 @@ def test_bad_input() -> None:
 
 
 def test_stiffer_withdrawal_branch_can_pump_energy() -> None:
-    """MODEL.md keeps k_m_w >> k_m_i: at each reversal the stored strain meets an 11.5x stiffer
+    """docs/model.md keeps k_m_w >> k_m_i: at each reversal the stored strain meets an 11.5x stiffer
     spring (W = 30%), so a light foot bounces higher each time; both solvers agree on it."""
     params = MudParameters.from_water_content(0.30)
     res = simulate_foot(2.0, params, duration=1.0)

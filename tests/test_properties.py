@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 import mudforce as mf
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
-from mudforce.simulation import STATE_NAMES, SimulationResult
+from mudforce.simulation import MIN_DT, STATE_NAMES, SimulationResult
 
 
 def _log_uniform(lo: float, hi: float) -> st.SearchStrategy[float]:
@@ -173,6 +173,8 @@ def test_force_is_continuous_at_the_necking_instant(
         if scale_t < 1e-10 * max(1.0, tn):
             continue
         for eps in (1e-3 * scale_t, 1e-5 * scale_t):
+            if eps < MIN_DT or room - eps < MIN_DT:
+                continue  # simulate refuses steps shorter than MIN_DT (1 ns)
             t2, z2 = _insert(time, depth, np.array([tn - eps, tn, tn + eps]))
             r2 = mf.simulate(t2, z2, params, foot, velocity_filter="exact")
             i = int(np.searchsorted(t2, tn))
@@ -181,7 +183,8 @@ def test_force_is_continuous_at_the_necking_instant(
             assert abs(at + params.sigma_y * foot.area) <= 1e-6 * scale
             jumps.append(max(abs(before - at), abs(after - at)))
         # continuous: the change across t_n shrinks with the gap (a jump would not)
-        assert jumps[1] <= 0.05 * jumps[0] + 1e-9 * scale
+        if len(jumps) == 2:
+            assert jumps[1] <= 0.05 * jumps[0] + 1e-9 * scale
         break
 
 

@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from mudforce.parameters import CHEN2024, PARAMETER_NAMES, TABLE_I, MudParameters
     from mudforce.protocol import Hold, Intrude, Protocol, Withdraw
     from mudforce.simulation import STATE_NAMES, SimulationResult, simulate
+    from mudforce.tracker import MudTracker, MudTrackers, TrackEstimate, TrackEstimates
     from mudforce.vectorized import MudContacts
     from mudforce.velocity import VelocityFilter, estimate_depth_noise
 
@@ -50,6 +51,10 @@ _LAZY = {
     "SimulationResult": "mudforce.simulation",
     "simulate": "mudforce.simulation",
     "MudContacts": "mudforce.vectorized",
+    "MudTracker": "mudforce.tracker",
+    "MudTrackers": "mudforce.tracker",
+    "TrackEstimate": "mudforce.tracker",
+    "TrackEstimates": "mudforce.tracker",
     "VelocityFilter": "mudforce.velocity",
     "estimate_depth_noise": "mudforce.velocity",
 }
@@ -84,8 +89,12 @@ __all__ = [
     "MudContact",
     "MudContacts",
     "MudParameters",
+    "MudTracker",
+    "MudTrackers",
     "Protocol",
     "SimulationResult",
+    "TrackEstimate",
+    "TrackEstimates",
     "VelocityFilter",
     "Withdraw",
     "__version__",

@@ -1,53 +1,95 @@
-"""Keep numba's on-disk cache honest when the stepper's source changes.
+"""numba's on-disk cache, keyed on the content of the stepper's sources as well as each file.
 
-numba keys a cached function on its own source file only. Functions in other
-modules compile the stepper ``_kernel.step`` (and the equations) into their own
-machine code (``dynamics``, ``mujoco``, ``calibration.models``, ``_kernel``'s own
-loops use ``equations``), so after an edit of ``_kernel.py`` or
-``equations.py`` alone their cached code would silently be the old model.
-:func:`refresh` fingerprints those two files and, when the fingerprint
-changes, deletes the package's numba cache files so that everything
-recompiles once. Installed packages never change, so this only ever acts in
-a development checkout. It does nothing when ``NUMBA_CACHE_DIR`` points
-elsewhere or the package folder is read-only.
+numba keys a cached function on its own source file only (its time stamp
+and size, or its hash in recent numba). But compiled functions here take
+other files' code into their own machine code: ``inline="always"``
+functions and small callees of :mod:`mudforce.equations`,
+:mod:`mudforce._pow` and the :mod:`mudforce._kernel` package end up inside
+the loops of ``_kernel.loops``, ``dynamics``, ``mujoco``... So after an
+edit of ``equations.py`` alone, their cached code would silently be the
+old model.
+
+The fix is at the cache's key: :func:`install` puts, in front of numba's
+own cache locators, subclasses of them that serve mudforce's files only
+and whose source stamp is numba's stamp for the file *plus* a hash of the
+content of those shared sources (:data:`SOURCES`). A cache made from other
+sources then simply does not match and is recompiled and overwritten, as
+numba does for an edited file; no file is ever deleted. Installed
+packages never change, so this only ever matters in a development
+checkout. It needs only numba's locator classes and their
+``get_source_stamp``; if a numba version lacks them, :func:`install` does
+nothing and the cache is numba's own (a compile after an edit then needs
+``NUMBA_CACHE_DIR`` pointed at a fresh folder, or the ``__pycache__``
+folders removed by hand).
+
+:func:`install` runs when ``mudforce`` is imported, before any of its
+compiled functions is defined (numba picks a function's locator then).
 """
 
 from __future__ import annotations
 
-import contextlib
+import functools
 import hashlib
-import os
 from pathlib import Path
+from typing import Any
 
-__all__ = ["refresh"]
+__all__ = ["SOURCES", "install", "source_fingerprint"]
 
 _PACKAGE = Path(__file__).resolve().parent
-_SOURCES = ("_kernel.py", "equations.py", "_pow.py")
-_STAMP = _PACKAGE / "__pycache__" / "numba-kernel.stamp"
+#: the sources compiled into other modules' code, relative to the package (globs)
+SOURCES = ("_pow.py", "equations.py", "_kernel/*.py")
 
 
-def _fingerprint() -> str:
+@functools.lru_cache(maxsize=1)
+def source_fingerprint() -> str:
+    """SHA-256 of the content of :data:`SOURCES` (read once per process)."""
     digest = hashlib.sha256()
-    for name in _SOURCES:
-        digest.update((_PACKAGE / name).read_bytes())
+    for pattern in SOURCES:
+        for path in sorted(_PACKAGE.glob(pattern)):
+            digest.update(path.relative_to(_PACKAGE).as_posix().encode())
+            digest.update(path.read_bytes())
     return digest.hexdigest()
 
 
-def refresh() -> None:
-    """Delete stale numba cache files if the stepper's source changed since they were made."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return
+def _ours(py_file: str) -> bool:
     try:
-        current = _fingerprint()
-        if _STAMP.exists() and _STAMP.read_text(encoding="ascii").strip() == current:
-            return
-        for pattern in ("*.nbi", "*.nbc"):
-            for path in _PACKAGE.rglob(f"__pycache__/{pattern}"):
-                with contextlib.suppress(OSError):
-                    path.unlink()
-        _STAMP.parent.mkdir(exist_ok=True)
-        tmp = _STAMP.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(current + "\n", encoding="ascii")
-        os.replace(tmp, _STAMP)
-    except OSError:
-        pass  # a read-only install: nothing is stale there
+        return Path(py_file).resolve().is_relative_to(_PACKAGE)
+    except (OSError, ValueError):
+        return False
+
+
+def _keyed(base: Any) -> Any:
+    """A subclass of numba's locator class ``base`` for mudforce's files, stamped with :func:`source_fingerprint`."""
+
+    class Locator(base):  # type: ignore[misc, valid-type]
+        def get_source_stamp(self) -> Any:
+            return (super().get_source_stamp(), source_fingerprint())
+
+        @classmethod
+        def from_function(cls, py_func: Any, py_file: str) -> Any:
+            if not _ours(py_file):
+                return None
+            return super().from_function(py_func, py_file)
+
+    Locator.__name__ = Locator.__qualname__ = f"Mudforce{base.__name__}"
+    return Locator
+
+
+_installed = False
+
+
+def install() -> None:
+    """Put the content-keyed locators in front of numba's (once; see the module)."""
+    global _installed
+    if _installed:
+        return
+    _installed = True
+    from numba.core import caching
+
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
+    mixin = getattr(caching, "_SourceFileBackedLocatorMixin", None)
+    classes = getattr(impl, "_locator_classes", None)
+    if mixin is None or not isinstance(classes, list):
+        return
+    ours = [_keyed(base) for base in classes if isinstance(base, type) and issubclass(base, mixin)]
+    classes[:0] = ours

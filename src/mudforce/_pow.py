@@ -46,6 +46,10 @@ from numba import njit, types
 from numba.core import cgutils, config
 from numba.extending import intrinsic
 
+from mudforce import _cache
+
+_cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._cache)
+
 __all__ = ["power"]
 
 

@@ -5,7 +5,11 @@ provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 
 Exit status: 0 on success, 2 for bad input (one line on stderr, no
 traceback, no output file touched), 1 when the system fails mid-way (an
-``OSError``: one line too), 130 when interrupted.
+``OSError``: one line too), 130 when interrupted. Bad input is refused at
+its root (units, bounds, strict readers: :mod:`mudforce.units`,
+:mod:`mudforce.tables`, :mod:`mudforce.io`); an ``OverflowError``,
+``RecursionError`` or ``ValueError`` that still escapes a command is
+reported the same way (one line, status 2), as a last line of defence.
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ COMMANDS: tuple[str, ...] = (
     "mudforce.commands.fit_drag",
     "mudforce.commands.identify",
     "mudforce.commands.drop",
+    "mudforce.commands.track",
     "mudforce.commands.reproduce",
 )
 
@@ -82,6 +87,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    except (OverflowError, RecursionError, ValueError, ZeroDivisionError, MemoryError) as exc:
+        # the last line of defence, after the checks at the roots (units, bounds, strict readers):
+        # input of a kind no check foresaw still gets one line and status 2, not a traceback
+        text = " ".join(str(exc).split())[:200] or exc.__class__.__name__
+        print(f"mudforce {args.command}: error: the input could not be processed "
+              f"({exc.__class__.__name__}: {text})", file=sys.stderr)
+        return 2
     except OSError as exc:
         # the system failed us mid-way (a full disk, a vanished folder): one line, not a traceback;
         # status 1, since the input itself was fine (paths are checked before any work)

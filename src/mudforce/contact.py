@@ -12,10 +12,66 @@ from mudforce import _kernel as K
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
-from mudforce.simulation import STATE_NAMES, params_row, resolve_velocity_filter
+from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT, STATE_NAMES, params_row, resolve_velocity_filter
 from mudforce.velocity import VelocityFilter
 
-__all__ = ["ContactSample", "ContactState", "MudContact"]
+__all__ = ["ContactSample", "ContactState", "MudContact", "check_states"]
+
+
+def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact state") -> None:
+    """Refuse state rows (and filter histories) that the stepper never makes: restored states are
+    validated as strictly as fresh ones.
+
+    Parameters
+    ----------
+    states : ndarray, shape (n, N_STATE)
+        Rows of :mod:`mudforce._kernel`'s state layout.
+    ring : ndarray, shape (n, 0 or N_RING)
+        The velocity filter's histories.
+    what : str
+        For the message.
+
+    Raises
+    ------
+    InputError
+        Naming the first bad row and field: a non-finite value, ``started``
+        not 0 or 1, a mode not 0, 1, 2, a direction not -1, 0, 1, a negative
+        time or neck age, a depth beyond +-100 m, cached decays outside [0, 1],
+        a filter history whose count or head is not a valid index.
+    """
+    started, mode, direction = states[:, K.S_STARTED], states[:, K.S_MODE], states[:, K.S_DIRECTION]
+    decays = states[:, [K.S_CACHE_DECAY_I, K.S_CACHE_DECAY_W]]
+    checks = [
+        ("holds a value that is not finite", ~np.isfinite(states).all(axis=1) | ~np.isfinite(ring).all(axis=1)),
+        ("started is not 0 or 1", ~np.isin(started, (0.0, 1.0))),
+        ("mode is not 0 (FREE), 1 (CONTACT) or 2 (NECKED)", ~np.isin(mode, (0.0, 1.0, 2.0))),
+        ("direction is not -1, 0 or 1", ~np.isin(direction, (-1.0, 0.0, 1.0))),
+        ("time is negative", states[:, K.S_TIME] < 0.0),
+        (f"depth is beyond +-{MAX_DEPTH:g} m", np.abs(states[:, K.S_DEPTH]) > MAX_DEPTH),
+        ("neck age is negative", states[:, K.S_NECK_AGE] < 0.0),
+        ("cached decays are outside [0, 1]", ((decays < 0.0) | (decays > 1.0)).any(axis=1)),
+    ]
+    if ring.shape[1]:
+        count, head = ring[:, K.R_N], ring[:, K.R_HEAD]
+        checks.append(("filter history is corrupt", (count != np.round(count)) | (count < 0) | (count > K.RING)
+                       | (head != np.round(head)) | (head < 0) | (head >= K.RING)))
+    for message, bad in checks:
+        rows = np.flatnonzero(bad)
+        if rows.size:
+            where = f"{what} (foot {rows[0]})" if states.shape[0] > 1 else what
+            raise InputError(f"{where}: {message}; expected a state taken from a contact")
+
+
+assert (MAX_DEPTH, MIN_DT, MAX_DT) == (100.0, 1e-9, 1e3), "MudContact.step writes these bounds as literals"
+
+
+def _real(value: object, name: str) -> float:
+    """``value`` as a float if it is a real number (Python or numpy, not ``bool``), else :class:`InputError`."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
+            return float(value)
+        raise InputError(f"{name} must be a real number, got {type(value).__name__}")
+    return float(value)
 
 
 class ContactSample(NamedTuple):
@@ -48,12 +104,18 @@ class ContactState:
     ring: np.ndarray = field(default_factory=lambda: np.empty(0))
 
     def __post_init__(self) -> None:
-        arr = np.array(self.data, dtype=np.float64)  # always private copies
+        try:
+            arr = np.array(self.data, dtype=np.float64)  # always private copies
+        except (TypeError, ValueError):
+            raise InputError(f"a contact state holds {K.N_STATE} numbers, got {type(self.data).__name__}") from None
         if arr.shape != (K.N_STATE,):
             raise InputError(f"a contact state has {K.N_STATE} values, got shape {arr.shape}")
         ring = np.array(self.ring, dtype=np.float64).ravel()
         if ring.size not in (0, K.N_RING):
             raise InputError(f"a contact state's filter history has 0 or {K.N_RING} values, got {ring.size}")
+        if not isinstance(self.params_key, bytes):
+            raise InputError(f"params_key must be bytes, got {type(self.params_key).__name__}")
+        check_states(arr[None, :], ring[None, :])
         arr.setflags(write=False)
         ring.setflags(write=False)
         object.__setattr__(self, "data", arr)
@@ -62,37 +124,34 @@ class ContactState:
     @property
     def started(self) -> bool:
         """False before the first sample."""
-        return bool(self.data[K.S_STARTED])
+        return bool(K.state_column(self.data, "started"))
 
     @property
     def mode(self) -> str:
         """``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
-        return STATE_NAMES[int(self.data[K.S_MODE])]
+        return STATE_NAMES[int(K.state_column(self.data, "mode"))]
 
     @property
     def time(self) -> float:
         """Time since the first sample [s]."""
-        return float(self.data[K.S_TIME])
+        return float(K.state_column(self.data, "time"))
 
     @property
     def depth(self) -> float:
         """Foot depth at the last sample [m]."""
-        return float(self.data[K.S_DEPTH])
+        return float(K.state_column(self.data, "depth"))
 
     @property
     def mud_displacement(self) -> float:
         """Mud displacement ``z_m`` at the last sample [m]."""
-        return float(self.data[K.S_MUD])
+        return float(K.state_column(self.data, "mud"))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, ContactState):
             return NotImplemented
-        a, b = self.data.copy(), other.data.copy()
         # the step-length cache is not state
-        for arr in (a, b):
-            arr[K.S_CACHE_DT : K.S_CACHE_DECAY_W + 1] = 0.0
-            arr[K.S_CACHE_PHI : K.S_CACHE_PHI + 4] = 0.0
-        return bool(np.array_equal(a, b)) and np.array_equal(self.ring, other.ring)
+        same = np.array_equal(K.state_core(self.data), K.state_core(other.data))
+        return bool(same) and np.array_equal(self.ring, other.ring)
 
     __hash__ = None  # type: ignore[assignment]
 
@@ -162,35 +221,49 @@ class MudContact:
         Parameters
         ----------
         depth : float
-            Foot depth below the surface [m], positive down.
+            Foot depth below the surface [m], positive down, within +-100 m
+            (:data:`mudforce.simulation.MAX_DEPTH`).
         dt : float
-            Time since the previous sample [s], > 0; ignored on the first call,
+            Time since the previous sample [s], within [1e-9, 1e3]
+            (:data:`~mudforce.simulation.MIN_DT`: shorter steps would let
+            ``dz/dt`` and the drag overflow); ignored on the first call,
             which sets the initial sample.
+
+        Raises
+        ------
+        InputError
+            For a depth or step out of range or not a number; the state
+            is then exactly as it was.
         """
-        force: float = self._step(self._buf, float(depth), float(dt))
-        if force != force:
+        if type(depth) is not float or type(dt) is not float:
+            depth, dt = _real(depth, "depth"), _real(dt, "dt")
+        # MAX_DEPTH, MIN_DT, MAX_DT as literals (no global look-ups on the 0.5 us path); False for NaN
+        if not (-100.0 <= depth <= 100.0 and 1e-9 <= dt <= 1e3):
             self._refuse(depth, dt)
+        force: float = self._step(self._buf, depth, dt)
         return force
 
     def _refuse(self, depth: float, dt: float) -> None:
-        if not math.isfinite(float(depth)):
-            raise InputError(f"depth must be finite [m], got {depth!r}")
-        raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        """Raise for a bad depth or step; a step's length is ignored on the first call."""
+        if not (math.isfinite(depth) and abs(depth) <= MAX_DEPTH):
+            raise InputError(f"depth must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, got {depth!r}")
+        if self._states[0, K.S_STARTED] != 0.0:
+            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
 
     @property
     def last(self) -> ContactSample:
         """The components of the last step."""
-        row = self._out[:, 0]
+        out = K.outputs(self._out[:, 0])
         return ContactSample(
-            force=float(row[K.O_FORCE]),
-            f_e1=float(row[K.O_F_E1]),
-            f_e2=float(row[K.O_F_E2]),
-            f_s=float(row[K.O_F_S]),
-            mud_displacement=float(row[K.O_MUD]),
-            mud_velocity=float(row[K.O_MUD_VELOCITY]),
-            velocity=float(row[K.O_VELOCITY]),
-            state=STATE_NAMES[int(row[K.O_STATE])],
-            necked=bool(np.isfinite(row[K.O_NECK_OFFSET])),
+            force=float(out.force),
+            f_e1=float(out.f_e1),
+            f_e2=float(out.f_e2),
+            f_s=float(out.f_s),
+            mud_displacement=float(out.mud),
+            mud_velocity=float(out.mud_velocity),
+            velocity=float(out.velocity),
+            state=STATE_NAMES[int(out.state)],
+            necked=bool(np.isfinite(out.neck_offset)),
         )
 
     def reset(self) -> None:
@@ -213,7 +286,7 @@ class MudContact:
             self._ring[0] = value.ring
         self._states[0] = value.data
         if value.params_key != self._params.tobytes():
-            self._states[0, K.S_CACHE_DT] = -1.0  # other parameters: recompute the step-length cache
+            K.forget_cache(self._states)  # other parameters: recompute the step-length cache
 
     def __repr__(self) -> str:
         return f"MudContact({self.params.source!r}, foot={self.foot.shape!r}, state={self.state.mode})"

@@ -1,30 +1,79 @@
-"""The paper's equations as small pure functions (compiled with numba).
+"""The paper's equations as small pure functions (compiled with numba): the model's one physics layer.
 
 Each function computes one equation of Chen, Yi & Shan (2024),
 arXiv:2403.02617, in SI. They are scalar, side-effect free and callable
-from Python as well as from the compiled stepper in :mod:`mudforce._kernel`.
+from Python as well as from the compiled stepper in :mod:`mudforce._kernel`,
+which assembles the force only through them: the branch stresses
+(:func:`intrusion_stress`, :func:`withdrawal_stress`, :func:`necked_stress`)
+summed by :func:`total_stress`, the Maxwell element's step
+(:func:`maxwell_strain_step`), the neck (:func:`yield_strain`,
+:func:`necking_time`, :func:`necking_velocity`) and Eq. (7)'s filter
+(:func:`neck_filter_response`, :func:`neck_filter_transition`,
+:func:`neck_filter_update`, :func:`necked_mud_motion`). To change the
+model, change it here.
 
-Sign conventions (``../shared/MODEL.md``): depth ``z_i`` is positive
-downward, below the undisturbed surface; a positive stress pushes the foot
-up (resistance), a negative one pulls it down (suction).
+Plain arithmetic, for other array libraries
+-------------------------------------------
+The functions marked *plain arithmetic* use only ``+ - * /``, ``abs`` and
+tuples: no ``math`` calls, no branches, no calls to other compiled
+functions. Exponentials and the impulse response come in as arguments
+(``decay = exp(-h / tau)``, ``(g, G)`` of :func:`neck_filter_response`),
+computed once by the caller. So the undecorated Python function, numba's
+``.py_func``, runs them on whole arrays of any library with those
+operators, e.g. ``maxwell_strain_step.py_func(e, v, tau, decay)`` on JAX
+arrays, giving the compiled stepper's arithmetic, operation for operation.
+They are compiled ``inline="always"`` with numba's IEEE division
+(``error_model="numpy"``), so in the stepper they cost what the expression
+costs. The nonlinear spring, Eq. (4), is the exception: its power goes
+through :func:`mudforce._pow.power`, which every compiled path calls (via
+:func:`nonlinear_spring_stress`) so that all paths agree bit for bit; other
+array libraries compute it themselves and pass ``f_e2`` in.
+
+Sign conventions (docs/model.md): depth ``z_i`` is positive downward,
+below the undisturbed surface; a positive stress pushes the foot up
+(resistance), a negative one pulls it down (suction).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 from numba import njit
 
+from mudforce import _cache
 from mudforce._pow import power
+
+_cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._cache)
 
 __all__ = [
     "drag_stress",
+    "intrusion_stress",
     "maxwell_strain_step",
     "neck_filter_response",
+    "neck_filter_transition",
+    "neck_filter_update",
+    "necked_mud_motion",
+    "necked_stress",
     "necking_time",
+    "necking_velocity",
     "nonlinear_spring_stress",
+    "rest_band_forces",
+    "total_stress",
     "viscoelastic_stress",
+    "withdrawal_stress",
+    "yield_strain",
 ]
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _arithmetic(function: _F) -> _F:
+    """``numba.njit`` for the plain-arithmetic functions (see the module): inlined, IEEE division; typed for mypy."""
+    options: dict[str, Any] = {"cache": True, "nogil": True, "inline": "always", "error_model": "numpy"}
+    decorator: Callable[[_F], _F] = njit(**options)
+    return decorator(function)
 
 
 @njit(cache=True, nogil=True)
@@ -48,7 +97,8 @@ def maxwell_strain_step(strain: float, velocity: float, tau: float, decay: float
     With ``e = z_i - z_m`` and ``b dz_m/dt + k z_m = k z_i`` (Eq. (3)), a
     foot moving at constant ``velocity`` over the step gives
     ``de/dt = v - e / tau``, so ``e(h) = v tau + (e(0) - v tau) exp(-h / tau)``.
-    This is MODEL.md's ``z_m(t+dt)`` formula written for ``e``.
+    This is docs/model.md's ``z_m(t+dt)`` formula written for ``e``.
+    Plain arithmetic (see the module).
 
     Parameters
     ----------
@@ -107,7 +157,7 @@ def drag_stress(lambda_: float, rho_m: float, velocity: float) -> float:
     Notes
     -----
     The paper's ``sign(0) = +1`` makes no difference here: ``v^2 = 0``.
-    The caller applies it only while the foot is below the surface (MODEL.md).
+    The caller applies it only while the foot is below the surface (docs/model.md).
     """
     return lambda_ * rho_m * velocity * abs(velocity)
 
@@ -172,7 +222,7 @@ def necking_time(
 
     The withdrawal stress is ``f(t) = k_m_w e(t) + f_s`` with ``e(t)`` from
     :func:`maxwell_strain_step`. The neck breaks when ``f < -sigma_y``
-    (suction only; MODEL.md). ``e(t)`` is monotone within the interval, so
+    (suction only; docs/model.md). ``e(t)`` is monotone within the interval, so
     the root is unique and has the closed form
     ``t* = -tau_w log((e* - v tau_w) / (e(0) - v tau_w))``,
     ``e* = (-sigma_y - f_s) / k_m_w``.
@@ -209,10 +259,232 @@ def necking_time(
     if k_m_w * end + drag >= -sigma_y:
         return -1.0
     vt = velocity * tau_w
-    target = (-sigma_y - drag) / k_m_w
+    target = yield_strain(k_m_w, sigma_y, drag)
     t = -tau_w * math.log1p((target - strain) / (strain - vt))
     if t < 0.0:
         return 0.0
     if t > length:
         return length
     return t
+
+
+@_arithmetic
+def yield_strain(k_m_w: float, sigma_y: float, drag: float) -> float:
+    """The extension ``z_i - z_m`` [m] at which the withdrawal stress is ``-sigma_y``, Eq. (9).
+
+    ``k_m_w e* + f_s = -sigma_y``: the neck breaks there (docs/model.md).
+    Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    k_m_w : float
+        Withdrawal stiffness [Pa/m].
+    sigma_y : float
+        Yield stress [Pa].
+    drag : float
+        Drag stress ``f_s`` [Pa], Eq. (5).
+    """
+    return (-sigma_y - drag) / k_m_w
+
+
+@_arithmetic
+def necking_velocity(strain: float, tau_w: float) -> float:
+    """``v_m0 = dz_m/dt = (z_i - z_m) / tau_w`` [m/s], the mud velocity at necking, Eqs. (3), (7).
+
+    Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    strain : float
+        ``z_i - z_m`` at necking [m].
+    tau_w : float
+        ``b_m_w / k_m_w`` [s].
+    """
+    return strain / tau_w
+
+
+@_arithmetic
+def intrusion_stress(k_m_i: float, tau_i: float, strain: float) -> tuple[float, float]:
+    """The intrusion (and hold) branch's visco-elastic stress and mud velocity, Eqs. (2), (3).
+
+    Plain arithmetic (see the module). The branch's force adds the spring,
+    Eq. (4), and the drag, Eq. (5): :func:`total_stress`.
+
+    Parameters
+    ----------
+    k_m_i : float
+        Intrusion stiffness [Pa/m].
+    tau_i : float
+        ``b_m_i / k_m_i`` [s].
+    strain : float
+        ``z_i - z_m`` [m].
+
+    Returns
+    -------
+    f_e1 : float
+        ``k_m_i (z_i - z_m)`` [Pa], Eq. (2).
+    mud_velocity : float
+        ``dz_m/dt = (z_i - z_m) / tau_i`` [m/s], Eq. (3).
+    """
+    return k_m_i * strain, strain / tau_i
+
+
+@_arithmetic
+def withdrawal_stress(k_m_w: float, tau_w: float, strain: float) -> tuple[float, float]:
+    """The withdrawal branch's visco-elastic stress and mud velocity before necking, Eqs. (2), (3), (8).
+
+    As :func:`intrusion_stress` with the withdrawal constants; the branch
+    has no spring (``f_e2 = 0``). Plain arithmetic (see the module).
+
+    Returns
+    -------
+    f_e1 : float
+        ``k_m_w (z_i - z_m)`` [Pa].
+    mud_velocity : float
+        ``dz_m/dt = (z_i - z_m) / tau_w`` [m/s].
+    """
+    return k_m_w * strain, strain / tau_w
+
+
+@_arithmetic
+def necked_stress(b_m_w: float, mud_velocity: float) -> tuple[float, float]:
+    """After necking the visco-elastic stress is the damper's, ``f_e1 = b_m_w dz_m/dt`` (Eq. (7) and docs/model.md).
+
+    This keeps the force continuous at necking (``b_m_w v_m0 = k_m_w (z_i -
+    z_m)`` there). No spring. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    b_m_w : float
+        Withdrawal damping [Pa s/m].
+    mud_velocity : float
+        ``dz_m/dt = v_m0 g(t - t_n)`` [m/s] (:func:`necked_mud_motion`).
+
+    Returns
+    -------
+    f_e1 : float
+        [Pa].
+    mud_velocity : float
+        ``dz_m/dt`` [m/s], as given.
+    """
+    return b_m_w * mud_velocity, mud_velocity
+
+
+@_arithmetic
+def total_stress(f_e1: float, f_e2: float, f_s: float) -> float:
+    """The mud stress ``f_m = f_e1 + f_e2 + f_s`` [Pa], Eqs. (1), (8); times the area it is the force.
+
+    Summed as ``f_e2 + (f_e1 + f_s)``: every path of the stepper sums in
+    this order (the spring's samples are set aside and added last), so
+    that they agree bit for bit. ``f_e2 = 0.0`` off the intrusion branch.
+    Plain arithmetic (see the module).
+    """
+    return f_e2 + (f_e1 + f_s)
+
+
+@_arithmetic
+def necked_mud_motion(v_m0: float, z_n: float, g: float, gi: float) -> tuple[float, float]:
+    """After necking the mud moves as ``dz_m/dt = v_m0 g(t - t_n)``, Eq. (7).
+
+    Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    v_m0 : float
+        Mud velocity at necking [m/s] (:func:`necking_velocity`).
+    z_n : float
+        ``z_m`` at necking [m].
+    g, gi : float
+        ``g(t - t_n)`` [-] and its integral ``G(t - t_n)`` [s]
+        (:func:`neck_filter_response` or :func:`neck_filter_update`).
+
+    Returns
+    -------
+    mud_velocity : float
+        ``dz_m/dt`` [m/s].
+    mud : float
+        ``z_m = z_n + v_m0 G`` [m].
+    """
+    return v_m0 * g, z_n + v_m0 * gi
+
+
+@_arithmetic
+def neck_filter_transition(zeta: float, omega_0: float, g_h: float, gi_h: float
+                           ) -> tuple[float, float, float, float]:
+    """The exact one-step transition matrix of Eq. (7)'s filter over a step ``h``.
+
+    ``g`` and ``G`` (:func:`neck_filter_response`) solve ``z'' + 2 zeta
+    omega_0 z' + omega_0^2 z = 0`` (``G = z``, ``g = z'``), so
+    ``[G, g](t + h) = [[g_h + 2 zeta omega_0 G_h, G_h], [-omega_0^2 G_h, g_h]] [G, g](t)``
+    with ``(g_h, G_h)`` the response at age ``h``. Plain arithmetic (see
+    the module).
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio [-].
+    omega_0 : float
+        Natural frequency [rad/s].
+    g_h, gi_h : float
+        ``neck_filter_response(h, zeta, omega_0)`` [-], [s].
+
+    Returns
+    -------
+    tuple of float
+        ``(phi0, phi1, phi2, phi3)``, the matrix by rows, for
+        :func:`neck_filter_update`.
+    """
+    return g_h + 2.0 * zeta * omega_0 * gi_h, gi_h, -omega_0 * omega_0 * gi_h, g_h
+
+
+@_arithmetic
+def neck_filter_update(phi0: float, phi1: float, phi2: float, phi3: float, gi: float, g: float
+                       ) -> tuple[float, float]:
+    """``(G, g)`` of Eq. (7)'s filter one step later: the matrix of :func:`neck_filter_transition` times ``(G, g)``.
+
+    Plain arithmetic (see the module).
+    """
+    return phi0 * gi + phi1 * g, phi2 * gi + phi3 * g
+
+
+# ----------------------------------------------------------------------------- the foot at rest (dynamics)
+@_arithmetic
+def rest_band_forces(strain: float, spring_stress: float, k_m_i: float, k_m_w: float,
+                     area: float) -> tuple[float, float]:
+    """The rest band ``(F_up, F_down)`` [N]: the forces that hold a foot at rest below the surface.
+
+    With the foot at rest (``dz_i/dt = 0``) the model's force (Eq. (1)) is
+    set-valued: its two one-sided limits are the branch forces
+
+    * ``F_up = S k_m_w e``: the withdrawal branch as ``v -> 0-``, Eq. (2) with ``k_m_w``;
+    * ``F_down = S (k_m_i e + f_e2)``: the intrusion branch as ``v -> 0+``,
+      Eq. (2) with ``k_m_i`` plus the nonlinear spring, Eq. (4);
+
+    and the drag of Eq. (5) vanishes at ``v = 0``. A foot at rest sticks
+    while the load it carries (positive down) lies in ``[F_up, F_down]``
+    (``docs/model.md``, "Coupled with dynamics"). The caller applies the
+    state machine: above the surface ``F_down = 0`` (FREE), and after necking
+    ``F_up`` is the post-necking force of Eq. (7) instead.
+
+    Plain arithmetic (the spring stress comes in precomputed), so that
+    ``rest_band_forces.py_func`` also works on arrays (a JAX step).
+
+    Parameters
+    ----------
+    strain : float
+        Maxwell strain ``e = z_i - z_m`` [m], Eq. (2) (from :func:`maxwell_strain_step`, Eq. (3)).
+    spring_stress : float
+        Nonlinear spring stress ``f_e2`` [Pa] at the foot's depth, Eq. (4) (:func:`nonlinear_spring_stress`).
+    k_m_i : float
+        Intrusion-branch Maxwell stiffness [Pa/m].
+    k_m_w : float
+        Withdrawal-branch Maxwell stiffness [Pa/m].
+    area : float
+        Foot contact area ``S`` [m^2].
+
+    Returns
+    -------
+    (float, float)
+        ``F_up`` and ``F_down`` [N], positive up (resisting).
+    """
+    return area * k_m_w * strain, area * (k_m_i * strain + spring_stress)

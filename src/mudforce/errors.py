@@ -6,7 +6,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["InputError", "positive_int"]
+__all__ = ["MAX_SEED", "InputError", "positive_int", "seed_int"]
+
+#: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
+MAX_SEED = 2**32 - 1
 
 
 class InputError(ValueError):
@@ -31,4 +34,11 @@ def positive_int(value: Any, name: str, alternative: str = "") -> int:
     """
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise InputError(f"{name} must be an integer >= 1{alternative}, got {value!r}")
+    return int(value)
+
+
+def seed_int(value: Any, name: str = "--seed") -> int:
+    """``value`` as a seed: an integer in [0, :data:`MAX_SEED`] (not bool), else :class:`InputError`."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= MAX_SEED:
+        raise InputError(f"{name} must be an integer in [0, {MAX_SEED}], got {value!r}")
     return int(value)

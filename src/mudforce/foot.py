@@ -6,17 +6,35 @@ import math
 import re
 from dataclasses import dataclass
 
+import numpy as np
+
 from mudforce.errors import InputError
 
-__all__ = ["FOOT_EXAMPLES", "Foot", "parse_foot"]
+__all__ = ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"]
 
 #: The foot specifications every ``--foot`` option accepts, for help and error messages.
 FOOT_EXAMPLES = "paper, cuboid:51mmx38mm, disc:50mm or area:19.38cm2,width:38mm"
 
 _SIDES = re.compile(r"\s*[x×*,]\s*", flags=re.IGNORECASE)
 
+#: Accepted foot sizes (length, width, diameter, ``H``) [m]: 0.1 mm to 10 m, a robot's toe to a
+#: vehicle's track; the bounds keep ``S``, ``(z/H)^beta`` and every force finite.
+SIZE_RANGE: tuple[float, float] = (1e-4, 10.0)
+#: Accepted contact areas ``S`` [m^2] (a 0.1 mm disc has 7.9e-9 m^2).
+AREA_RANGE: tuple[float, float] = (1e-9, 100.0)
+
 _PAPER_LENGTH = 0.051  # [m], the paper's 51 x 38 x 25 mm cuboid intruder
 _PAPER_WIDTH = 0.038  # [m]
+
+
+def _size(value: object, name: str, lo: float, hi: float, unit: str) -> float:
+    """``value`` as a float within ``[lo, hi]``, else :class:`InputError` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__}")
+    number = float(value)
+    if not (math.isfinite(number) and lo <= number <= hi):
+        raise InputError(f"{name} must be within [{lo:g}, {hi:g}] {unit}, got {value!r}")
+    return number
 
 
 @dataclass(frozen=True)
@@ -26,9 +44,9 @@ class Foot:
     Parameters
     ----------
     area : float
-        Contact area ``S`` of the bottom face [m^2]; force = stress x area, Eq. (1).
+        Contact area ``S`` of the bottom face [m^2], within [1e-9, 100]; force = stress x area, Eq. (1).
     width : float
-        Intruder width ``H`` in the nonlinear spring, Eq. (4) [m].
+        Intruder width ``H`` in the nonlinear spring, Eq. (4) [m], within [1e-4, 10].
     shape : str
         ``"cuboid"``, ``"disc"`` or ``"custom"``; for display only.
 
@@ -44,13 +62,11 @@ class Foot:
     shape: str = "custom"
 
     def __post_init__(self) -> None:
-        for name in ("area", "width"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise InputError(f"foot {name} must be a number, got {value!r}")
-            if not math.isfinite(value) or value <= 0.0:
-                raise InputError(f"foot {name} must be finite and > 0 [m^2 or m], got {value!r}")
-            object.__setattr__(self, name, float(value))
+        for name, (lo, hi), unit in (("area", AREA_RANGE, "m^2"), ("width", SIZE_RANGE, "m")):
+            value = _size(getattr(self, name), f"foot {name}", lo, hi, unit)
+            object.__setattr__(self, name, value)
+        if not isinstance(self.shape, str):
+            raise InputError(f"foot shape must be a str, got {type(self.shape).__name__}")
 
     @classmethod
     def cuboid(cls, length: float = _PAPER_LENGTH, width: float = _PAPER_WIDTH) -> Foot:
@@ -59,16 +75,14 @@ class Foot:
         The defaults are the paper's 51 x 38 mm intruder (``S = 1.938e-3 m^2``,
         ``H = 0.038 m``).
         """
-        for name, value in (("length", length), ("width", width)):
-            if not math.isfinite(value) or value <= 0.0:
-                raise InputError(f"cuboid {name} must be finite and > 0 [m], got {value!r}")
+        length = _size(length, "cuboid length", *SIZE_RANGE, "m")
+        width = _size(width, "cuboid width", *SIZE_RANGE, "m")
         return cls(area=length * width, width=min(length, width), shape=f"cuboid {length * 1e3:g}x{width * 1e3:g} mm")
 
     @classmethod
     def disc(cls, diameter: float) -> Foot:
         """A circular bottom face of ``diameter`` [m]; ``H`` is the diameter."""
-        if not math.isfinite(diameter) or diameter <= 0.0:
-            raise InputError(f"disc diameter must be finite and > 0 [m], got {diameter!r}")
+        diameter = _size(diameter, "disc diameter", *SIZE_RANGE, "m")
         return cls(area=math.pi * diameter**2 / 4.0, width=diameter, shape=f"disc {diameter * 1e3:g} mm")
 
     @classmethod

@@ -43,7 +43,7 @@ with the whole robot's dynamics, contacts and actuators in the same solve:
   :data:`STICK_VELOCITY`: MuJoCo's friction constraint is soft, so a stuck
   foot creeps by a few micrometres per second, and the deadband makes that
   count as rest, where the Maxwell element relaxes with the intrusion
-  parameters (MODEL.md). The band half-width keeps the solver's friction
+  parameters (docs/model.md). The band half-width keeps the solver's friction
   stiff (``solref_friction``, ``solimp_friction`` set by :func:`add_mud`).
 
 Why not ``mj_applyFT``/``xfrc_applied`` alone: an explicit force cannot
@@ -65,14 +65,14 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import typeof, types
-from numba.extending import intrinsic
-from numba.np.numpy_support import carray  # numba.carray
 
 from mudforce import _kernel as K
+from mudforce import _mujoco_fast as fast
+from mudforce._mujoco_step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce._optional import require
-from mudforce.dynamics import branch_forces
-from mudforce.errors import InputError
+from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples, real
+from mudforce.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
+from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
@@ -80,16 +80,21 @@ from mudforce.velocity import VelocityFilter
 
 __all__ = ["ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_spec", "simulate_drop"]
 
-#: Height of the tendon anchor above the foot [m].
-ANCHOR_HEIGHT = 1.0
-#: Foot speed below which a step counts as rest for the branch choice [m/s] (deadband of the kernel).
-STICK_VELOCITY = 1e-4
+#: Foot speed at or below which a step counts as rest for the branch choice [m/s] (deadband of the kernel).
+STICK_VELOCITY = REST_SPEED
 _SOLREF_FRICTION = (1e-9, 1.0)  # a tiny time constant: MuJoCo raises it to its minimum, 2 time steps
 _SOLIMP_FRICTION = (0.9999, 0.9999, 0.001, 0.5, 2.0)
 
 
 def _mujoco() -> Any:
     return require("mujoco", "mujoco", "the MuJoCo adapter")
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A view of ``array`` that cannot be written through."""
+    view: np.ndarray = array.view()
+    view.flags.writeable = False
+    return view
 
 
 @dataclass(frozen=True)
@@ -114,12 +119,31 @@ class MudPatch:
     def __post_init__(self) -> None:
         if not isinstance(self.params, MudParameters):
             raise InputError(f"a MudPatch needs MudParameters, got {type(self.params).__name__}")
-        if not math.isfinite(self.height):
-            raise InputError(f"patch height must be finite [m], got {self.height!r}")
+        real("patch height", self.height, "m")
         if self.extent is not None:
-            x0, x1, y0, y1 = (float(v) for v in self.extent)
+            try:
+                x0, x1, y0, y1 = (real("patch extent", v, "m") for v in self.extent)
+            except (TypeError, ValueError):  # not 4 values, or not a sequence
+                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {self.extent!r}") from None
             if not (x0 < x1 and y0 < y1):
                 raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got {self.extent}")
+
+
+def _name_list(feet: Any) -> list[str]:
+    """``feet`` (one name or a sequence of names) as a list of distinct strings, else InputError."""
+    if isinstance(feet, str):
+        return [feet]
+    if not isinstance(feet, Sequence) or not feet or not all(isinstance(f, str) for f in feet):
+        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {feet!r}")
+    if len(set(feet)) != len(feet):
+        raise InputError(f"feet must be distinct names, got {list(feet)}")
+    return list(feet)
+
+
+def _check_prefix(prefix: Any) -> str:
+    if not isinstance(prefix, str):
+        raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
+    return prefix
 
 
 def _names(prefix: str, foot: str) -> tuple[str, str, str]:
@@ -166,11 +190,21 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
     prefix : str
         Prefix of the names of the added sites and tendons.
     """
-    _mujoco()
-    if isinstance(feet, str):
-        feet = [feet]
-    if points is not None and len(points) != len(feet):
-        raise InputError(f"got {len(points)} contact points for {len(feet)} feet")
+    mj = _mujoco()
+    if not isinstance(spec, mj.MjSpec):
+        raise InputError(f"spec must be a mujoco.MjSpec (edited before compiling), got {type(spec).__name__}")
+    feet = _name_list(feet)
+    prefix = _check_prefix(prefix)
+    chosen: list[list[float]] | None = None
+    if points is not None:
+        try:
+            chosen = [[real("contact point", v, "m") for v in point] for point in points]
+        except TypeError:
+            raise InputError("points must be a sequence of (x, y, z) contact points [m]") from None
+        if len(chosen) != len(feet) or any(len(point) != 3 for point in chosen):
+            raise InputError(f"points must be one (x, y, z) [m] per foot: got {len(chosen)} for {len(feet)} feet")
+    # every foot is checked before the spec is changed: a refused call leaves it as it was
+    found = []
     for i, name in enumerate(feet):
         geom = spec.geom(name)
         body = spec.body(name)
@@ -181,8 +215,8 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
             point = [0.0, 0.0, 0.0]
         else:
             raise InputError(f"the model has no geom or body named {name!r}")
-        if points is not None:
-            point = [float(v) for v in points[i]]
+        found.append((name, body, point if chosen is None else chosen[i]))
+    for name, body, point in found:
         site_name, anchor_site, tendon_name = _names(prefix, name)
         body.add_site(name=site_name, pos=point, size=[0.002, 0.0, 0.0])
         # the anchor is a site of the world body that the adapter moves through model.site_pos:
@@ -195,172 +229,6 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         tendon.frictionloss = 0.0
         tendon.solref_friction = list(_SOLREF_FRICTION)
         tendon.solimp_friction = list(_SOLIMP_FRICTION)
-
-
-# The compiled functions here use the stepper's options (K._compiled) except that the per-step
-# ones keep the GIL (releasing and taking it back would cost more than it frees), and those that
-# build ``carray`` views need numba's reference counting (``_nrt=True``); the workers, which
-# allocate nothing, run without it (counting the array views they take costs ~25% of their time).
-
-
-# rows of the adapter's integer array (ints) and work array
-_I_SITE, _I_BODY, _I_TENDON, _I_ANCHOR = 0, 1, 2, 3
-_W_UP, _W_DOWN, _W_DRAG, _W_MID, _W_TX, _W_TY, _W_LAST = 0, 1, 2, 3, 4, 5, 6
-# conf: dt [s], band weight [-], commit flag, then per foot: surface [m], xmin, xmax, ymin, ymax [m]
-_C_DT, _C_WEIGHT, _C_COMMIT, _C_FOOT = 0, 1, 2, 3
-
-
-@K._compiled(nogil=False)
-def _commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray, ints: np.ndarray,
-                        conf: np.ndarray, work: np.ndarray, site_xpos: np.ndarray, xipos: np.ndarray,
-                        xfrc: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray) -> None:
-    """After a MuJoCo step: commit each foot's depth; before the next: band, forces, anchors.
-
-    Forces [N], torques [N m], positions [m], ``conf[_C_DT]`` [s]. Called
-    through :func:`_after_step` (one argument from Python, see there).
-    """
-    n = ints.shape[1]
-    dt = conf[_C_DT]
-    commit = conf[_C_COMMIT] != 0.0
-    ring = states[:, :0]  # the adapter's velocity filter has window 1: no history to keep
-    for j in range(n):
-        # take back the force applied for the step just taken (see _apply_mud)
-        body = ints[_I_BODY, j]
-        xfrc[body, 2] -= work[_W_MID, j]
-        xfrc[body, 3] -= work[_W_TX, j]
-        xfrc[body, 4] -= work[_W_TY, j]
-        work[_W_LAST, j] = work[_W_MID, j]
-        site = ints[_I_SITE, j]
-        g = conf[_C_FOOT + 5 * j: _C_FOOT + 5 * j + 5]
-        x = site_xpos[site, 0]
-        y = site_xpos[site, 1]
-        inside = g[1] <= x <= g[2] and g[3] <= y <= g[4]
-        depth = g[0] - site_xpos[site, 2]
-        if not inside:
-            states[j, :] = 0.0
-            states[j, K.S_CACHE_DT] = -1.0
-        elif commit or states[j, K.S_STARTED] == 0.0:
-            K.step(states, ring, j, params, depth, dt, out, j)
-    branch_forces(states, params, dt, conf[_C_WEIGHT], work[_W_UP], work[_W_DOWN], work[_W_DRAG])
-    for j in range(n):
-        lo = work[_W_UP, j]
-        hi = work[_W_DOWN, j]
-        if hi >= lo:
-            mid = 0.5 * (lo + hi) + work[_W_DRAG, j]
-            half = 0.5 * (hi - lo)
-        else:
-            # an inverted band (large compressive strain, k_m_w > k_m_i): no sticking
-            # is possible in between; use the branch of the current motion
-            mid = (hi if states[j, K.S_VELOCITY] >= 0.0 else lo) + work[_W_DRAG, j]
-            half = 0.0
-        frictionloss[ints[_I_TENDON, j]] = half
-        body = ints[_I_BODY, j]
-        site = ints[_I_SITE, j]
-        # the force for the next step, at the sole; torque about the centre of mass:
-        # r x (0, 0, F) = (r_y F, -r_x F, 0)
-        rx = site_xpos[site, 0] - xipos[body, 0]
-        ry = site_xpos[site, 1] - xipos[body, 1]
-        work[_W_MID, j] = mid
-        work[_W_TX, j] = ry * mid
-        work[_W_TY, j] = -rx * mid
-        a = ints[_I_ANCHOR, j]
-        site_pos[a, 0] = site_xpos[site, 0]
-        site_pos[a, 1] = site_xpos[site, 1]
-        site_pos[a, 2] = site_xpos[site, 2] + ANCHOR_HEIGHT
-
-
-@K._compiled(nogil=False)
-def _apply_mud(xfrc: np.ndarray, ints: np.ndarray, work: np.ndarray) -> None:
-    """Add the mud force [N] and torque [N m] to ``xfrc_applied`` for one step (taken back after it)."""
-    for j in range(ints.shape[1]):
-        body = ints[_I_BODY, j]
-        xfrc[body, 2] += work[_W_MID, j]
-        xfrc[body, 3] += work[_W_TX, j]
-        xfrc[body, 4] += work[_W_TY, j]
-
-
-# The per-step calls take a single argument, an int64 table of the addresses and shapes of the
-# arrays they work on, because from Python every argument costs: numba's dispatcher spends
-# ~0.15 us per array resolving types, and even its compiled entry point ~0.05 us per array
-# unboxing it; with one small argument a call costs ~0.1 us. Slot k of the table is
-# (address, rows, columns) of array k (columns 1 for 1-D arrays). All are C-contiguous
-# float64 except the int64 ``ints``. The adapter keeps every array alive and never replaces
-# one, and MuJoCo's buffers do not move for the life of the model and data.
-_T_STATES, _T_PARAMS, _T_OUT, _T_INTS, _T_CONF, _T_WORK = 0, 1, 2, 3, 4, 5
-_T_SITE_XPOS, _T_XIPOS, _T_XFRC, _T_SITE_POS, _T_FRICTIONLOSS = 6, 7, 8, 9, 10
-_N_TABLE = 11
-
-
-def _voidptr_typing(typingctx: Any, address: Any) -> Any:
-    """Typing and code of :data:`_voidptr`."""
-    if not isinstance(address, types.Integer):
-        return None
-
-    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
-
-    return types.voidptr(address), codegen
-
-
-#: In compiled code, the raw pointer at an integer address (numba has no public cast from an integer to a pointer).
-_voidptr: Any = intrinsic(_voidptr_typing)
-
-
-# views of the arrays in slot k of a table (no copies; carray builds an array on the memory as is)
-@K._compiled(inline="always", nogil=False, _nrt=True)
-def _f64_1d(table: np.ndarray, k: int) -> np.ndarray:
-    return carray(_voidptr(table[3 * k]), table[3 * k + 1], np.float64)
-
-
-@K._compiled(inline="always", nogil=False, _nrt=True)
-def _f64_2d(table: np.ndarray, k: int) -> np.ndarray:
-    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
-
-
-@K._compiled(inline="always", nogil=False, _nrt=True)
-def _i64_2d(table: np.ndarray, k: int) -> np.ndarray:
-    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.int64)
-
-
-@K._compiled(nogil=False, _nrt=True)
-def _before_step(table: np.ndarray) -> None:
-    """:func:`_apply_mud` on the arrays in ``table`` (slots ``_T_*``)."""
-    _apply_mud(_f64_2d(table, _T_XFRC), _i64_2d(table, _T_INTS), _f64_2d(table, _T_WORK))
-
-
-@K._compiled(nogil=False, _nrt=True)
-def _after_step(table: np.ndarray) -> None:
-    """:func:`_commit_and_prepare` on the arrays in ``table`` (slots ``_T_*``)."""
-    _commit_and_prepare(_f64_2d(table, _T_STATES), _f64_2d(table, _T_PARAMS), _f64_2d(table, _T_OUT),
-                        _i64_2d(table, _T_INTS), _f64_1d(table, _T_CONF), _f64_2d(table, _T_WORK),
-                        _f64_2d(table, _T_SITE_XPOS), _f64_2d(table, _T_XIPOS), _f64_2d(table, _T_XFRC),
-                        _f64_2d(table, _T_SITE_POS), _f64_1d(table, _T_FRICTIONLOSS))
-
-
-def _address_table(arrays: Sequence[np.ndarray]) -> np.ndarray:
-    """The table of :func:`_before_step`/:func:`_after_step` for ``arrays`` in slot order."""
-    table = np.zeros(3 * _N_TABLE, dtype=np.int64)
-    for k, a in enumerate(arrays):
-        # the compiled side trusts these (a wrong one would be read as garbage, or written over)
-        expected = np.int64 if k == _T_INTS else np.float64
-        if a.dtype != expected or not a.flags.c_contiguous or not a.flags.writeable or a.ndim not in (1, 2):
-            raise RuntimeError(f"array {k} of the MuJoCo adapter is not a writeable C-contiguous "
-                               f"{np.dtype(expected)} array of 1 or 2 dimensions")
-        table[3 * k] = a.ctypes.data
-        table[3 * k + 1] = a.shape[0]
-        table[3 * k + 2] = a.shape[1] if a.ndim == 2 else 1
-    return table
-
-
-def _direct(fn: Any, table: np.ndarray) -> Any:
-    """``fn``'s compiled code for a table, callable without numba's dispatcher (or ``fn`` itself).
-
-    ``Dispatcher.compile`` (which also loads from numba's cache) returns
-    the compiled entry point; calling it skips the dispatcher's type
-    resolution, ~0.2 us per call, most of the adapter's overhead per step.
-    """
-    entry = fn.compile((typeof(table),))
-    return entry if callable(entry) else fn
 
 
 class MudAdapter:
@@ -385,6 +253,15 @@ class MudAdapter:
     prefix : str
         As given to :func:`add_mud`.
 
+    Attributes
+    ----------
+    feet : tuple of str
+        The feet's names, in the order of every per-foot array.
+    patches : tuple of MudPatch
+        Each foot's patch.
+    states, params : ndarray
+        Read-only views of the feet's contact states and constants (kernel layout).
+
     Notes
     -----
     Call :meth:`step` instead of ``mujoco.mj_step``. The force on foot ``j``
@@ -395,18 +272,32 @@ class MudAdapter:
     def __init__(self, model: Any, data: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPatch],
                  foot: Foot | Sequence[Foot] | None = None, *, prefix: str = "mud_") -> None:
         mj = _mujoco()
+        if not isinstance(model, mj.MjModel) or not isinstance(data, mj.MjData):
+            raise InputError(f"model and data must be a mujoco.MjModel and its mujoco.MjData, got "
+                             f"{type(model).__name__} and {type(data).__name__}")
         self._mj = mj
         self.model = model
         self.data = data
-        if isinstance(feet, str):
-            feet = [feet]
-        self.feet = list(feet)
+        self.feet: tuple[str, ...] = tuple(_name_list(feet))
+        prefix = _check_prefix(prefix)
         n = len(self.feet)
-        plist = [patches] * n if isinstance(patches, MudPatch) else list(patches)
+        if isinstance(patches, MudPatch):
+            plist = [patches] * n
+        elif isinstance(patches, Sequence) and all(isinstance(p, MudPatch) for p in patches):
+            plist = list(patches)
+        else:
+            raise InputError(f"patches must be a MudPatch or a sequence of MudPatch, got {type(patches).__name__}")
         if len(plist) != n:
             raise InputError(f"got {len(plist)} patches for {n} feet")
-        flist = [foot or Foot.paper()] * n if foot is None or isinstance(foot, Foot) else list(foot)
-        self.patches = plist
+        if foot is None or isinstance(foot, Foot):
+            flist = [check_foot(foot)] * n
+        elif isinstance(foot, Sequence) and all(isinstance(f, Foot) for f in foot):
+            flist = list(foot)
+        else:
+            raise InputError(f"foot must be a Foot, a sequence of Foot or None, got {type(foot).__name__}")
+        if len(flist) != n:
+            raise InputError(f"got {len(flist)} feet's geometry (Foot) for {n} feet")
+        self.patches: tuple[MudPatch, ...] = tuple(plist)
         vf = VelocityFilter(1, STICK_VELOCITY)
         self._params = np.array([params_row(p.params, f, vf) for p, f in zip(plist, flist, strict=True)])
         big = 1e300
@@ -414,7 +305,7 @@ class MudAdapter:
         for p in plist:
             conf += [p.height, *(p.extent if p.extent is not None else (-big, big, -big, big))]
         self._conf = np.array(conf, dtype=np.float64)
-        self._conf[_C_DT] = float(model.opt.timestep)
+        self._conf[C_DT] = float(model.opt.timestep)
         ints = []
         for name in self.feet:
             site_name, anchor_site, tendon_name = _names(prefix, name)
@@ -426,7 +317,7 @@ class MudAdapter:
                                  "before compiling")
             ints.append((sid, int(model.site_bodyid[sid]), tid, aid))
         self._ints = np.ascontiguousarray(np.array(ints, dtype=np.int64).T)
-        self._tendons = self._ints[_I_TENDON]
+        self._tendons = self._ints[I_TENDON]
         self._states = K.new_states(n)
         self._out = np.zeros((K.N_OUT, n))
         self._work = np.zeros((7, n))
@@ -435,39 +326,50 @@ class MudAdapter:
         # which are therefore never replaced, only written in place.
         self._arrays = (self._states, self._params, self._out, self._ints, self._conf, self._work,
                         data.site_xpos, data.xipos, data.xfrc_applied, model.site_pos, model.tendon_frictionloss)
-        self._table = _address_table(self._arrays)
-        self._after = _direct(_after_step, self._table)
+        self._table = fast.address_table(self._arrays)
+        self._after = fast.direct(fast.after_step, self._table)
         # what step() needs, in one attribute: each lookup there is a measurable part of its cost
-        self._step_args = (_direct(_before_step, self._table), self._after, self._table, mj.mj_step, model, data)
+        before = fast.direct(fast.before_step, self._table)
+        self._step_args = (before, self._after, self._table, mj.mj_step, model, data)
         self.reset()
 
     @property
     def states(self) -> np.ndarray:
-        """The feet's contact states, one row each (layout of :mod:`mudforce._kernel`; the live array)."""
-        return self._states
+        """The feet's contact states, one row each (layout of :mod:`mudforce._kernel`).
+
+        A read-only view: it shows the state as the adapter steps on, but
+        cannot change it (copy it to keep a snapshot; :meth:`reset` to start over).
+        """
+        return _read_only(self._states)
 
     @property
     def params(self) -> np.ndarray:
-        """The feet's mud and foot constants, one row each (layout of :mod:`mudforce._kernel`; the live array)."""
-        return self._params
+        """The feet's mud and foot constants, one row each (layout of :mod:`mudforce._kernel`; a read-only view).
+
+        Set them through the patches given to the constructor (a new adapter).
+        """
+        return _read_only(self._params)
 
     def reset(self) -> None:
         """Forget all contact histories and prepare the next step from the current ``data`` (runs ``mj_forward``)."""
         self._work[:] = 0.0
         self._states[:] = K.new_states(len(self.feet))
         self._mj.mj_forward(self.model, self.data)
-        self._conf[_C_COMMIT] = 0.0
+        self._conf[C_COMMIT] = 0.0
         self._prepare()
-        self._conf[_C_COMMIT] = 1.0
+        self._conf[C_COMMIT] = 1.0
 
     @property
     def weight(self) -> float:
         """Weight of the predicted end-of-step band (:func:`mudforce.dynamics.branch_forces`); 1 by default."""
-        return float(self._conf[_C_WEIGHT])
+        return float(self._conf[C_WEIGHT])
 
     @weight.setter
     def weight(self, value: float) -> None:
-        self._conf[_C_WEIGHT] = float(value)
+        w = real("weight", value, "-")
+        if not 0.0 <= w <= 1.0:
+            raise InputError(f"weight must be in [0, 1] [-], got {value!r}")
+        self._conf[C_WEIGHT] = w
 
     def _prepare(self) -> None:
         self._after(self._table)
@@ -475,6 +377,8 @@ class MudAdapter:
     def step(self, nstep: int = 1) -> None:
         """Advance the simulation ``nstep`` MuJoCo steps with the mud forces."""
         before, after, table, mj_step, model, data = self._step_args
+        if nstep.__class__ is not int:  # (the check costs ~20 ns of a ~1 us step)
+            nstep = positive_int(nstep, "nstep")
         while nstep > 0:  # not range(): making one costs ~0.2 us, a few per cent of a small robot's step
             before(table)
             mj_step(model, data)
@@ -484,7 +388,7 @@ class MudAdapter:
     @property
     def forces(self) -> np.ndarray:
         """Mid-band force plus drag [N] that the coming step applies at each foot (a copy)."""
-        return np.array(self._work[_W_MID], dtype=np.float64)
+        return np.array(self._work[W_MID], dtype=np.float64)
 
     @property
     def depths(self) -> np.ndarray:
@@ -499,7 +403,7 @@ class MudAdapter:
     @property
     def band(self) -> tuple[np.ndarray, np.ndarray]:
         """The band ``(F_up, F_down)`` [N] applied in the coming step (copies)."""
-        return self._work[_W_UP].copy(), self._work[_W_DOWN].copy()
+        return self._work[W_UP].copy(), self._work[W_DOWN].copy()
 
     @property
     def contact_forces(self) -> np.ndarray:
@@ -510,7 +414,7 @@ class MudAdapter:
         foot sticks this is the load it carries; while it moves, the branch force.
         """
         mj = self._mj
-        total: np.ndarray = np.array(self._work[_W_LAST], dtype=np.float64)
+        total: np.ndarray = np.array(self._work[W_LAST], dtype=np.float64)
         d = self.data
         rows = np.flatnonzero(np.asarray(d.efc_type) == int(mj.mjtConstraint.mjCNSTR_FRICTION_TENDON))
         ids = np.asarray(d.efc_id)[rows]
@@ -530,19 +434,23 @@ def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, tim
     Parameters
     ----------
     mass : float
-        Foot mass [kg].
+        Foot mass [kg], > 0 (:func:`simulate_drop` states the least its time step resolves).
     foot : Foot, optional
         The foot; its bottom face is ``sqrt(area) x sqrt(area)`` unless it is
         the paper's 51 x 38 mm cuboid (the default), which is kept as is.
     height : float
-        Release height of the foot's bottom above the surface [m].
+        Release height of the foot's bottom above the surface [m], >= 0.
     timestep : float
-        MuJoCo time step [s].
+        MuJoCo time step [s], > 0.
     thickness : float
-        Foot height [m] (the paper's 25 mm); irrelevant to the vertical dynamics.
+        Foot height [m], > 0 (the paper's 25 mm); irrelevant to the vertical dynamics.
     """
     mj = _mujoco()
-    foot = Foot.paper() if foot is None else foot
+    mass = real("mass", mass, "kg", positive=True)
+    foot = check_foot(foot)
+    height = real("height", height, "m", nonnegative=True)
+    timestep = real("timestep", timestep, "s", positive=True)
+    thickness = real("thickness", thickness, "m", positive=True)
     if foot == Foot.paper():
         lx, ly = 0.051, 0.038
     else:
@@ -550,7 +458,7 @@ def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, tim
     spec = mj.MjSpec()
     spec.modelname = "mudforce_drop"
     spec.option.timestep = timestep
-    spec.option.gravity = [0.0, 0.0, -9.81]
+    spec.option.gravity = [0.0, 0.0, -GRAVITY]
     body = spec.worldbody.add_body(name="foot", pos=[0.0, 0.0, height + 0.5 * thickness])
     body.add_joint(name="drop", type=mj.mjtJoint.mjJNT_SLIDE, axis=[0.0, 0.0, 1.0])
     body.add_geom(name="sole", type=mj.mjtGeom.mjGEOM_BOX, size=[0.5 * lx, 0.5 * ly, 0.5 * thickness],
@@ -560,23 +468,51 @@ def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, tim
 
 
 def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
-                  height: float = 0.0, timestep: float = 1e-3) -> Any:
+                  height: float = 0.0, timestep: float = 1e-3) -> FootResult:
     """Drop a cuboid foot into mud in MuJoCo with :class:`MudAdapter`; returns a :class:`mudforce.dynamics.FootResult`.
 
     The phase of each sample is FREE or NECKED from the contact state, else
-    STUCK when the foot's speed is below :data:`STICK_VELOCITY`, else
+    STUCK when the foot's speed is at most :data:`STICK_VELOCITY`, else
     INTRUSION (moving down) or WITHDRAWAL (moving up). The force is the total
     the solver applied: mid-band force plus the tendon's friction [N].
-    """
-    from mudforce.dynamics import FREE as PH_FREE
-    from mudforce.dynamics import INTRUSION, NECKED, STUCK, WITHDRAWAL, FootResult
 
+    Parameters
+    ----------
+    mass : float
+        Foot mass [kg]; at least ``S max(k_m_i, k_m_w) timestep^2`` (about
+        3e-3 kg for Table I's muds, the paper's foot and 1 ms steps), so that
+        the step resolves the foot's oscillation on the mud. Lighter than
+        about 1 kg the result is rough: MuJoCo's soft friction lets the foot
+        creep some 10-20 um, a large part of a light foot's rest depth.
+    params : MudParameters
+        Mud parameters.
+    foot : Foot, optional
+        Foot geometry; the paper's 51 x 38 mm cuboid by default.
+    duration : float
+        Simulated time [s], > 0 (at most 1e8 steps).
+    height : float
+        Release height of the foot's bottom above the surface [m], >= 0.
+    timestep : float
+        MuJoCo time step [s], > 0; also the output sampling interval.
+
+    Raises
+    ------
+    InputError
+        For any input of the wrong type or outside the bounds above, and if
+        the solution is not finite anyway (the first such sample time is named).
+    """
     mj = _mujoco()
-    foot = Foot.paper() if foot is None else foot
+    params = check_params(params)
+    foot = check_foot(foot)
+    duration = real("duration", duration, "s", positive=True)
+    height = real("height", height, "m", nonnegative=True)
+    timestep = real("timestep", timestep, "s", positive=True)
+    mass = check_mass(mass, params, foot, timestep, "MuJoCo time step")
+    n = max_samples(duration, timestep)
     model = drop_spec(mass, foot, height=height, timestep=timestep).compile()
     data = mj.MjData(model)
     adapter = MudAdapter(model, data, ["sole"], MudPatch(params), foot)
-    n = math.floor(duration / timestep + 1e-9) + 1
+    state = adapter._states[0]  # the live row (this function only reads it)
     time = np.arange(n) * timestep
     depth = np.empty(n)
     velocity = np.empty(n)
@@ -584,19 +520,20 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     phase = np.empty(n, dtype=np.int8)
     depth[0] = -height
     velocity[0] = 0.0
-    phase[0] = PH_FREE
+    phase[0] = Phase.FREE
     for k in range(1, n):
         adapter.step()
-        depth[k] = adapter.states[0, K.S_DEPTH]
+        depth[k] = state[K.S_DEPTH]
         velocity[k] = -float(data.qvel[0])
         force[k] = adapter.contact_forces[0]
-        mode = int(adapter.states[0, K.S_MODE])
+        mode = int(state[K.S_MODE])
         if mode == K.FREE:
-            phase[k] = PH_FREE
+            phase[k] = Phase.FREE
         elif mode == K.NECKED:
-            phase[k] = NECKED
+            phase[k] = Phase.NECKED
         elif abs(velocity[k]) <= STICK_VELOCITY:
-            phase[k] = STUCK
+            phase[k] = Phase.STUCK
         else:
-            phase[k] = INTRUSION if velocity[k] > 0.0 else WITHDRAWAL
-    return FootResult(time, depth, velocity, force, phase, float(mass), 9.81, "mujoco", 0, np.full(n, np.nan))
+            phase[k] = Phase.INTRUSION if velocity[k] > 0.0 else Phase.WITHDRAWAL
+    check_finite_output("MuJoCo", time, depth, velocity, force)
+    return FootResult(time, depth, velocity, force, phase, mass, GRAVITY, "mujoco", 0, np.full(n, np.nan))

@@ -12,7 +12,6 @@ References
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import os
 from collections.abc import Mapping
@@ -27,6 +26,7 @@ from mudforce.errors import InputError
 __all__ = [
     "CHEN2024",
     "PARAMETER_NAMES",
+    "PARAMETER_RANGES",
     "TABLE_I",
     "TABLE_I_RMSE_N",
     "TABLE_I_WATER_CONTENTS",
@@ -92,6 +92,26 @@ _TABLE_I_SCALE = (1e6, 1e6, 1e6, 1e6, 1e6, 1.0, 1e3, 1.0, 1.0)
 #: The RMSE [N] the paper reports for each row of Table I (its own data; cited, not reproducible).
 TABLE_I_RMSE_N: dict[float, float] = {0.15: 2.57, 0.20: 1.52, 0.25: 0.84, 0.30: 0.36, 0.35: 0.32}
 
+#: Accepted range of each parameter [SI]. Each spans orders of magnitude beyond Table I and
+#: beyond every value ``mudforce fit`` explores (``calibration.models``: stiffnesses 1e3-1e9,
+#: dampers 1e2-1e9, zeta 1e-3-1e2, omega_0 1e-2-1e3, ...), yet keeps the stepper's arithmetic
+#: finite for every depth, step and foot within their own bounds: no denormal stiffness or damper
+#: (time constants b/k within [1e-15, 1e15] s), no filter so stiff or so damped that Eq. (7)'s
+#: response overflows. ``beta`` keeps the model's (0, 1] (Eq. (4) is concave), from 1e-3.
+PARAMETER_RANGES: dict[str, tuple[float, float]] = {
+    "k_m_i": (1e-3, 1e12),
+    "b_m_i": (1e-3, 1e12),
+    "k_m_w": (1e-3, 1e12),
+    "b_m_w": (1e-3, 1e12),
+    "alpha": (0.0, 1e12),  # 0: no spring (the Maxwell-only ablation uses 1e-24); alpha only scales (z/H)^beta
+    "beta": (1e-3, 1.0),
+    "sigma_y": (1e-3, 1e30),  # only compared with the suction (Eq. (9)): a huge value means "never necks"
+    "zeta": (1e-4, 1e3),
+    "omega_0": (1e-3, 1e4),
+    "rho_m": (1.0, 1e5),
+    "lambda": (0.0, 1e4),
+}
+
 _RHO_M = 1.84e3  # [kg/m^3], Section III-A of [1], common to all rows
 _LAMBDA = 0.013  # [-], Fig. 5 of [1], common to all rows
 
@@ -117,7 +137,7 @@ class MudParameters:
     sigma_y : float
         Yield stress at which the neck breaks [Pa], Eq. (9).
     zeta : float
-        Damping ratio of the post-necking filter [-], Eq. (7); any value > 0.
+        Damping ratio of the post-necking filter [-], Eq. (7); within [1e-4, 1e3].
     omega_0 : float
         Natural frequency of the post-necking filter [rad/s], Eq. (7).
     rho_m : float
@@ -129,6 +149,12 @@ class MudParameters:
 
     Notes
     -----
+    Every value must be finite and within :data:`PARAMETER_RANGES`
+    (stiffnesses and dampers within [1e-3, 1e12], ``alpha`` within [0, 1e12] Pa,
+    ``beta`` within [1e-3, 1], ``sigma_y`` within [1e-3, 1e30] Pa (it is only
+    compared with the suction; 1e30 means the neck never breaks), ``zeta`` within
+    [1e-4, 1e3], ``omega_0`` within [1e-3, 1e4] rad/s, ``rho_m`` within
+    [1, 1e5] kg/m^3, ``lambda`` within [0, 1e4]).
     The instance is immutable and validated on construction; use
     :func:`dataclasses.replace` or :meth:`replace` to derive a changed copy.
     """
@@ -156,15 +182,13 @@ class MudParameters:
             object.__setattr__(self, attr, value)
             if not math.isfinite(value):
                 raise InputError(f"parameter {name} must be finite, got {value!r}")
-        positive = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y", "zeta", "omega_0", "rho_m")
-        for name in positive:
+        for name in PARAMETER_NAMES:
             value = getattr(self, _PY_NAME[name])
-            if value <= 0.0:
-                raise InputError(f"parameter {name} must be > 0 [{_UNITS[name]}], got {value:g}")
-        if not 0.0 < self.beta <= 1.0:
-            raise InputError(f"parameter beta must be in (0, 1], got {self.beta:g}")
-        if self.lambda_ < 0.0:
-            raise InputError(f"parameter lambda must be >= 0, got {self.lambda_:g}")
+            lo, hi = PARAMETER_RANGES[name]
+            if not lo <= value <= hi:
+                raise InputError(f"parameter {name} must be within [{lo:g}, {hi:g}] [{_UNITS[name]}], got {value:g}")
+        if not isinstance(self.source, str):
+            raise InputError(f"source must be a str, got {type(self.source).__name__}")
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -211,6 +235,9 @@ class MudParameters:
         would. The paper gives no law between its rows; this is a
         project choice.
         """
+        if isinstance(water_content, bool) or not isinstance(water_content, (int, float, np.integer, np.floating)):
+            raise InputError(f"water content must be a number (a fraction: 0.25 means 25%), "
+                             f"got {type(water_content).__name__}")
         w = float(water_content)
         lo, hi = WATER_CONTENT_RANGE
         if not math.isfinite(w) or w < lo - 1e-12 or w > hi + 1e-12:
@@ -263,20 +290,12 @@ class MudParameters:
         path : path-like
             A JSON file holding a flat object with the 11 keys in SI.
         """
+        from mudforce.io import load_json
+
+        if not isinstance(path, (str, os.PathLike)):
+            raise InputError(f"path must be a file name, got {type(path).__name__}")
         p = Path(path)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise InputError(f"{p}: parameter file not found") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"{p}: cannot read parameter file ({exc.__class__.__name__})") from None
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise InputError(
-                f"{p}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}; "
-                f'expected an object like {{"k_m_i": 260000.0, ...}}'
-            ) from None
+        data = load_json(p, "parameter file", 'an object like {"k_m_i": 260000.0, ...}')
         try:
             return cls.from_dict(data, source=str(p))
         except InputError as exc:
@@ -289,7 +308,9 @@ class MudParameters:
 
     def to_json(self, indent: int | None = 2) -> str:
         """The flat JSON object of :meth:`to_dict`."""
-        return json.dumps(self.to_dict(), indent=indent)
+        from mudforce.io import dumps_json
+
+        return dumps_json(self.to_dict(), indent=indent)
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write :meth:`to_json` to ``path`` atomically (temporary file, then rename)."""

@@ -8,6 +8,9 @@
   withdrawal);
 * foot depth ``z_i`` and mud displacement ``z_m`` (Eq. (3)) [mm] over time [s].
 
+:func:`plot_foot_result` draws a simulated foot (:mod:`mudforce.dynamics`):
+depth, velocity and mud force over time, with its phases shaded.
+
 Values are SI inside; the depth axes are drawn in millimetres because that
 is the scale of the experiment. The figure is built without :mod:`pyplot`
 (no global figure registry, no GUI backend) on an Agg canvas, and saved as
@@ -19,19 +22,32 @@ from __future__ import annotations
 
 import io
 import os
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from mudforce._optional import require
 
 if TYPE_CHECKING:
+    from mudforce.dynamics.result import FootResult
     from mudforce.simulation import SimulationResult
 
-__all__ = ["STATE_COLOURS", "figure_to_png", "plot_result", "save_png"]
+__all__ = [
+    "PHASE_COLOURS",
+    "STATE_COLOURS",
+    "figure_to_png",
+    "new_figure",
+    "plot_foot_result",
+    "plot_result",
+    "save_png",
+]
 
 #: Shading per contact state (FREE is left unshaded).
 STATE_COLOURS: dict[str, str | None] = {"FREE": None, "CONTACT": "#cfe3f7", "NECKED": "#fbd9b5"}
+
+#: Shading per phase of a simulated foot (FREE is left unshaded).
+PHASE_COLOURS: dict[str, str] = {"INTRUSION": "#cfe3f7", "WITHDRAWAL": "#fbd9b5", "STUCK": "#d5efd0",
+                                 "NECKED": "#f3c6c6"}
 
 _NECK_COLOUR = "#c0392b"
 _FIGSIZE = (9.0, 7.0)  # [in]
@@ -101,8 +117,6 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
         If matplotlib is not installed.
     """
     require("matplotlib", "plot", "plotting")
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
     t = np.asarray(result.time, dtype=np.float64)
@@ -111,8 +125,7 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     force = np.asarray(result.force, dtype=np.float64)
     necks = np.asarray(result.necking_times, dtype=np.float64)
 
-    fig = Figure(figsize=_FIGSIZE, dpi=_DPI, layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = new_figure(*_FIGSIZE)
     grid = fig.add_gridspec(2, 2, height_ratios=(1.1, 1.0))
     ax_ft = fig.add_subplot(grid[0, :])
     ax_fz = fig.add_subplot(grid[1, 0])
@@ -165,13 +178,54 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     return fig
 
 
-def figure_to_png(fig: Any) -> bytes:
+def new_figure(width: float, height: float, *, dpi: float = _DPI,
+               layout: Literal["constrained", "compressed", "tight"] | None = "constrained") -> Any:
+    """A matplotlib figure on its own Agg canvas, outside :mod:`matplotlib.pyplot`.
+
+    The one figure constructor of mudforce's plots: no global figure
+    registry, no GUI backend, so it works in worker processes and on
+    headless machines, and nothing is kept alive after the caller drops it.
+
+    Parameters
+    ----------
+    width, height : float
+        Figure size [in].
+    dpi : float
+        Resolution [dots per inch] of the figure and of its PNG (100 by default).
+    layout : str or None
+        matplotlib layout engine ("constrained" by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Add axes with ``fig.subplots(...)`` or ``fig.add_gridspec(...)``.
+
+    Raises
+    ------
+    mudforce._optional.MissingDependencyError
+        If matplotlib is not installed.
+    """
+    require("matplotlib", "plot", "plotting")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height), dpi=dpi, layout=layout)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def figure_to_png(fig: Any, *, dpi: float | None = None) -> bytes:
     """Render a matplotlib figure to PNG bytes with the Agg renderer, without metadata that varies.
+
+    The one way mudforce turns a figure into PNG bytes: the same figure
+    gives the same bytes (no software version, no timestamp).
 
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        The figure (its size and dpi are kept).
+        The figure (its size is kept).
+    dpi : float, optional
+        Resolution of the PNG [dots per inch]; the figure's own by default.
 
     Returns
     -------
@@ -184,18 +238,86 @@ def figure_to_png(fig: Any) -> bytes:
     if not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", metadata=dict(_PNG_METADATA))
+    if dpi is None:
+        fig.savefig(buffer, format="png", metadata=dict(_PNG_METADATA))
+    else:
+        fig.savefig(buffer, format="png", dpi=dpi, metadata=dict(_PNG_METADATA))
     return buffer.getvalue()
 
 
-def save_png(fig: Any, path: str | os.PathLike[str]) -> None:
+def save_png(fig: Any, path: str | os.PathLike[str], *, dpi: float | None = None) -> None:
     """Save a figure as PNG at ``path`` atomically (temporary file, then rename), reproducibly.
 
-    The figure is rendered in memory first, so a rendering error leaves an
-    existing file at ``path`` untouched.
+    The one way mudforce saves a PNG. The figure is rendered in memory
+    first (:func:`figure_to_png`), so a rendering error leaves an existing
+    file at ``path`` untouched.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    path : path-like
+        The PNG file to write (replaced whole or not at all).
+    dpi : float, optional
+        Resolution [dots per inch]; the figure's own by default.
     """
     from mudforce.io import atomic_open
 
-    data = figure_to_png(fig)
+    data = figure_to_png(fig, dpi=dpi)
     with atomic_open(path, "wb") as handle:
         handle.write(data)
+
+
+def plot_foot_result(result: FootResult, path: str | os.PathLike[str] | None = None, *,
+                     title: str | None = None) -> Any:
+    """Depth [mm], velocity [mm/s] and mud force [N] of a simulated foot over time [s], phases shaded.
+
+    Parameters
+    ----------
+    result : FootResult
+        From :func:`mudforce.dynamics.simulate_foot` or :func:`mudforce.mujoco.simulate_drop`.
+    path : str or PathLike, optional
+        Where to save the figure as PNG (atomically, without metadata that varies).
+    title : str, optional
+        Figure title; by default the mass and the engine.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from mudforce.dynamics.result import PHASE_NAMES, FootResult, check_path
+
+    if not isinstance(result, FootResult):
+        from mudforce.errors import InputError
+
+        raise InputError(f"result must be a FootResult, got {type(result).__name__}")
+    if path is not None:
+        check_path(path, "path")
+    require("matplotlib", "plot", "plotting")
+    from matplotlib.patches import Patch
+
+    fig = new_figure(8.0, 7.0, layout=None)
+    axes = fig.subplots(3, 1, sharex=True)
+    series = ((result.depth * 1e3, "depth [mm]"), (result.velocity * 1e3, "velocity [mm/s]"),
+              (result.force, "mud force [N]"))
+    change = np.flatnonzero(np.diff(result.phase.astype(np.int64))) + 1
+    starts = np.concatenate(([0], change))
+    ends = np.concatenate((change, [result.phase.size - 1]))
+    for ax, (data, label) in zip(axes, series, strict=True):
+        for s, e in zip(starts, ends, strict=True):
+            colour = PHASE_COLOURS.get(PHASE_NAMES[int(result.phase[s])])
+            if colour is not None:
+                ax.axvspan(result.time[s], result.time[e], color=colour, lw=0)
+        ax.plot(result.time, data, color="k", lw=1.0)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    shown = {PHASE_NAMES[int(c)] for c in np.unique(result.phase)}
+    handles = [Patch(color=c, label=name) for name, c in PHASE_COLOURS.items() if name in shown]
+    if handles:
+        axes[0].legend(handles=handles, loc="lower right", fontsize="small")
+    axes[2].axhline(result.mass * result.gravity, color="#c0392b", lw=0.8, ls="--", label="m g")
+    axes[2].legend(loc="lower right")
+    axes[2].set_xlabel("time [s]")
+    fig.suptitle(title or f"{result.mass:g} kg foot dropped in mud ({result.engine} engine)")
+    if path is not None:
+        save_png(fig, path, dpi=100)
+    return fig

@@ -1,6 +1,6 @@
 """An independent, slow, high-accuracy solution of the model, for the tests.
 
-This module re-implements ``../shared/MODEL.md`` from its text, without
+This module re-implements ``docs/model.md`` from its text, without
 calling or copying the compiled stepper (:mod:`mudforce._kernel`) or the
 closed forms in :mod:`mudforce.equations`, so that the tests can catch bugs
 in either. Every ODE is integrated numerically with
@@ -10,7 +10,7 @@ inside a step (surface crossing, necking) is an integrator *event*:
 - Maxwell element, Eq. (3): ``b dz_m/dt + k z_m = k z_i`` with ``z_i``
   linear in time between two samples (first-order hold), on the intrusion
   (``k_m_i, b_m_i``) or withdrawal (``k_m_w, b_m_w``) branch.
-- Necking, Eq. (9) as MODEL.md reads it: the first instant of a withdrawal
+- Necking, Eq. (9) as docs/model.md reads it: the first instant of a withdrawal
   at which ``k_m_w (z_i - z_m) + f_s < -sigma_y`` (suction only). The drag
   ``f_s`` of Eq. (5) acts only while ``z_i > 0``, so the withdrawal step is
   cut at the surface crossing (a second event).
@@ -21,7 +21,7 @@ inside a step (surface crossing, necking) is an integrator *event*:
 
 The FREE / CONTACT / NECKED state machine, the branch rule (the step's
 velocity ``v = (z_k - z_{k-1}) / dt``, intrusion branch for ``v >= 0``) and
-the per-sample outputs follow MODEL.md's "Conventions" section. Only the
+the per-sample outputs follow docs/model.md's "Conventions" section. Only the
 exact (noise-free) branch rule is implemented.
 
 It is pure Python and slow (a few hundred microseconds per sample): use it on
@@ -161,7 +161,7 @@ def reference_simulate(
     params: MudParameters,
     foot: Foot | None = None,
 ) -> ReferenceResult:
-    """Reference solution of the model for a sampled trajectory (MODEL.md, exact branch rule).
+    """Reference solution of the model for a sampled trajectory (docs/model.md, exact branch rule).
 
     Parameters
     ----------
@@ -201,7 +201,7 @@ def reference_simulate(
         return p.alpha * (zi / width) ** p.beta if zi > 0.0 else 0.0
 
     def drag(v: float, zi: float) -> float:
-        """Eq. (5) with MODEL.md's rule: ``sign(v) lambda rho v^2`` [Pa] while ``z_i > 0``."""
+        """Eq. (5) with docs/model.md's rule: ``sign(v) lambda rho v^2`` [Pa] while ``z_i > 0``."""
         return lam_rho * v * abs(v) if zi > 0.0 else 0.0
 
     n = t.size
@@ -305,7 +305,7 @@ def reference_simulate(
             assert decay is not None
             zd, vd = decay.at(t1 - t_n)
             zm = zm_n + zd
-            fe1 = b_w * vd  # MODEL.md: after necking f_e1 = b_m_w dz_m/dt
+            fe1 = b_w * vd  # docs/model.md: after necking f_e1 = b_m_w dz_m/dt
 
         if mode == FREE:
             force[k] = 0.0

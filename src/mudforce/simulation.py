@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -20,7 +19,20 @@ from mudforce.velocity import VelocityFilter, auto_velocity_filter
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["STATE_NAMES", "SimulationResult", "simulate"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"]
+
+#: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
+#: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
+MAX_DEPTH = 100.0
+#: Shortest time step accepted [s]: 1 ns. Shorter steps sample nothing a sensor or a control
+#: loop can, approach the rounding of sample times (one ulp of 1e6 s is 1.2e-10 s), and, far
+#: enough down, let ``dz/dt`` and the drag ``v^2`` of Eq. (5) overflow (1e-320 s: infinite).
+MIN_DT = 1e-9
+#: Longest time step accepted [s]: 1000 s.
+MAX_DT = 1e3
+#: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
+#: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
+MAX_TIME = 1e9
 
 #: Contact state codes in :attr:`SimulationResult.state`: 0 FREE, 1 CONTACT, 2 NECKED.
 STATE_NAMES: tuple[str, ...] = K.STATE_NAMES
@@ -51,10 +63,9 @@ class SimulationResult:
     again through the stepper's full-output loop, so they are the
     stepper's values bit for bit and cost nothing until asked for (three to
     four times the batch's own time when they are). They are read-only.
-    ``time`` and ``depth`` are the caller's arrays when they were already
-    contiguous float64 (not copied): changed in place before the other
-    arrays are read, they would no longer be the trajectory the force was
-    computed for, and reading those arrays then raises :class:`InputError`.
+    ``time`` and ``depth`` are the result's own read-only arrays (copies of
+    the caller's when they were the caller's), so the outputs computed on
+    access always belong to them.
 
     Attributes
     ----------
@@ -98,6 +109,15 @@ class SimulationResult:
     _params_row: np.ndarray = field(default_factory=lambda: np.empty((1, K.N_PARAMS)), repr=False)
     _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
+    def __post_init__(self) -> None:
+        # own time and depth read-only, so that nobody can change the trajectory under the results
+        for name in ("time", "depth"):
+            arr = getattr(self, name)
+            if not isinstance(arr, np.ndarray) or arr.flags.writeable or not arr.flags.owndata:
+                arr = np.array(arr, dtype=np.float64)
+                arr.setflags(write=False)
+                object.__setattr__(self, name, arr)
+
     def _derived(self, name: str) -> np.ndarray:
         """An output :func:`simulate` did not keep, computed with its siblings on first access.
 
@@ -107,16 +127,14 @@ class SimulationResult:
         fed them.
         """
         if not self._cache:
-            out = K.new_out(self.time.size)
+            block = K.new_out(self.time.size)
             K.run_batch(self.time, self.depth, K.new_states(1), K.new_ring(1, self.velocity_filter.window),
-                        self._params_row, out)
-            if not np.array_equal(out[K.O_FORCE], self.force, equal_nan=True):
-                raise InputError("time or depth was changed in place after simulate(), so the force no longer "
-                                 "belongs to them; simulate again (or pass copies)")
-            for row in out:
+                        self._params_row, block)
+            for row in block:
                 row.setflags(write=False)
-            self._cache.update(f_e1=out[K.O_F_E1], f_e2=out[K.O_F_E2], f_s=out[K.O_F_S],
-                               mud_velocity=out[K.O_MUD_VELOCITY], velocity=out[K.O_VELOCITY])
+            out = K.outputs(block)
+            self._cache.update(f_e1=out.f_e1, f_e2=out.f_e2, f_s=out.f_s, mud_velocity=out.mud_velocity,
+                               velocity=out.velocity)
         return self._cache[name]
 
     @property
@@ -232,17 +250,17 @@ def _as_arrays(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
 
 @njit(cache=True, nogil=True)
 def _values_ok(t: np.ndarray, z: np.ndarray) -> bool:
-    """True if all times and depths are finite and time strictly increases (one pass, no temporaries)."""
+    """True if all times and depths are finite and within bounds and every step within [MIN_DT, MAX_DT] (one pass)."""
     for k in range(t.shape[0]):
-        if not (math.isfinite(t[k]) and math.isfinite(z[k])):
+        if not (abs(t[k]) <= MAX_TIME and abs(z[k]) <= MAX_DEPTH):  # False for NaN too
             return False
-        if k > 0 and not t[k] > t[k - 1]:
+        if k > 0 and not MIN_DT <= t[k] - t[k - 1] <= MAX_DT:
             return False
     return True
 
 
 def _check_values(t: np.ndarray, z: np.ndarray) -> None:
-    """Raise :class:`InputError` naming the first non-finite time, depth or non-increasing time."""
+    """Raise :class:`InputError` naming the first bad time or depth, or the first step out of bounds."""
     if _values_ok(t, z):
         return
     bad = np.flatnonzero(~np.isfinite(t))
@@ -251,10 +269,21 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
         raise InputError(f"depth is not finite at sample {bad[0]} ({z[bad[0]]!r}); expected numbers [m]")
+    bad = np.flatnonzero(np.abs(t) > MAX_TIME)
+    if bad.size:
+        raise InputError(f"time at sample {bad[0]} ({t[bad[0]]!r} s) is beyond +-{MAX_TIME:g} s")
+    bad = np.flatnonzero(np.abs(z) > MAX_DEPTH)
+    if bad.size:
+        raise InputError(f"depth at sample {bad[0]} ({z[bad[0]]!r} m) is beyond +-{MAX_DEPTH:g} m; "
+                         "expected depths [m] within that")
     steps = np.diff(t)
-    i = int(np.flatnonzero(steps <= 0.0)[0]) + 1
-    what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
-    raise InputError(f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); expected strictly increasing time")
+    i = int(np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))[0]) + 1
+    if steps[i - 1] <= 0.0:
+        what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
+        raise InputError(f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); "
+                         "expected strictly increasing time")
+    raise InputError(f"the time step before sample {i} is {steps[i - 1]:g} s; expected steps within "
+                     f"[{MIN_DT:g}, {MAX_DT:g}] s")
 
 
 def resolve_velocity_filter(
@@ -281,8 +310,11 @@ def params_row(params: MudParameters, foot: Foot, velocity_filter: VelocityFilte
     return K.make_params(params.as_array(), foot.area, foot.width, velocity_filter.window, velocity_filter.deadband)
 
 
-def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
-                ) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+_NO_COPY = np.empty(0, dtype=np.float64)
+
+
+def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int, time_out: np.ndarray = _NO_COPY,
+                depth_out: np.ndarray = _NO_COPY) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The compiled batch loop (``_kernel.run_batch_compact``) over a trajectory, on fresh arrays.
 
     Parameters
@@ -293,6 +325,9 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
         The stepper's constants, shape ``(1, N_PARAMS)`` (:func:`params_row`).
     window : int
         The velocity filter's window [steps].
+    time_out, depth_out : ndarray, optional
+        Of ``t``'s length: they receive copies of ``t`` and ``z``, made in
+        the loop that reads them anyway (cheaper than a copy of its own).
 
     Returns
     -------
@@ -310,7 +345,7 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int
     counts = np.zeros(1, dtype=np.int64)
     force = np.empty(n, dtype=np.float64)
     bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, window), prow, state, mud, neck_index,
-                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK))
+                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK), time_out, depth_out)
     necks = int(counts[0])
     necking_times = t[neck_index[:necks] - 1] + neck_offset[:necks]
     return int(bad), force, state, mud, necking_times
@@ -326,7 +361,7 @@ def simulate(
 ) -> SimulationResult:
     """Simulate the mud force on a foot following a prescribed trajectory.
 
-    Exact for the first-order-hold input as ``../shared/MODEL.md`` defines
+    Exact for the first-order-hold input as docs/model.md defines
     it: closed-form Maxwell steps (Eq. (3)), the necking instant located
     inside the step (Eq. (9)), and the closed-form decay after necking
     (Eq. (7)).
@@ -334,9 +369,11 @@ def simulate(
     Parameters
     ----------
     time : array_like
-        Sample times [s], finite and strictly increasing (any spacing).
+        Sample times [s], within +-1e9 s, strictly increasing, each step
+        within [1e-9, 1e3] s (:data:`MIN_DT`, :data:`MAX_DT`).
     depth : array_like
-        Foot depth below the undisturbed surface [m], positive down.
+        Foot depth below the undisturbed surface [m], positive down, within
+        +-100 m (:data:`MAX_DEPTH`).
     params : MudParameters
         Mud parameters, e.g. ``MudParameters.from_water_content(0.25)``.
     foot : Foot, optional
@@ -360,22 +397,30 @@ def simulate(
     59.5
     """
     t, z = _as_arrays(time, depth)
-    if t.size == 1 or not (isinstance(velocity_filter, VelocityFilter) or velocity_filter == "exact"):
-        # the "auto" filter's noise estimate needs valid samples; the compiled
-        # loop checks them all for the other filters, except one sample's time
-        _check_values(t, z)
+    _check_values(t, z)  # bounds: one pass, before anything runs
     foot = Foot.paper() if foot is None else foot
     vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
-    bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window)
+    # the result owns its time and depth: the caller's arrays are copied (in the loop), new ones kept
+    callers = any(isinstance(given, np.ndarray) and np.may_share_memory(arr, given)
+                  for arr, given in ((t, time), (z, depth)))
+    own_t, own_z = (np.empty_like(t), np.empty_like(z)) if callers else (t, z)
+    copies = (own_t, own_z) if callers else (_NO_COPY, _NO_COPY)
+    bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window, *copies)
     if bad >= 0:
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
+    if not np.isfinite(force).all():  # no bound can be stated for every path: check what leaves
+        k = int(np.flatnonzero(~np.isfinite(force))[0])
+        raise InputError(f"the force is not finite at sample {k} (t = {t[k]:g} s); the inputs are outside what "
+                         "the model can represent")
+    own_t.setflags(write=False)
+    own_z.setflags(write=False)
     return SimulationResult(
-        time=t,
-        depth=z,
+        time=own_t,
+        depth=own_z,
         mud_displacement=mud,
         force=force,
         state=state,

@@ -9,14 +9,15 @@ from __future__ import annotations
 import csv
 import math
 import os
-from collections.abc import Mapping, Sequence
+import re
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 
 from mudforce.errors import InputError
 
-__all__ = ["COLUMN_UNITS", "read_columns", "read_trajectory"]
+__all__ = ["COLUMN_LIMITS", "COLUMN_UNITS", "read_columns", "read_trajectory"]
 
 #: Accepted header spellings per quantity, with the factor to SI.
 COLUMN_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
@@ -27,6 +28,24 @@ COLUMN_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
 }
 
 
+#: Largest magnitude accepted per quantity [SI]: bounds of physical sense that keep every
+#: later product finite (a 1e300 N bias would otherwise reach a fit as ``inf``).
+COLUMN_LIMITS: dict[str, float] = {
+    "time": 1e9,  # [s], ~30 years
+    "depth": 100.0,  # [m], the model's depth bound (mudforce.simulation.MAX_DEPTH)
+    "force": 1e7,  # [N], ~1000 t
+    "velocity": 1e3,  # [m/s]
+    "water_content": 1.0,  # [-]
+}
+
+#: Rows read into Python lists before they are packed into float64 arrays (memory stays ~8 bytes a value).
+_CHUNK = 8192
+
+# a plain ASCII decimal number: no "1_0", no non-ASCII digits, no hex, no nan/inf
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_NONFINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", flags=re.IGNORECASE)
+
+
 def _clip(text: str, limit: int = 60) -> str:
     """``text`` cut to ``limit`` characters, so that a garbage file still gives a one-line, short message."""
     return text if len(text) <= limit else text[: limit - 3] + "..."
@@ -34,6 +53,16 @@ def _clip(text: str, limit: int = 60) -> str:
 
 def _expected(spellings: Sequence[tuple[str, float]]) -> str:
     return " or ".join(s for s, _ in spellings)
+
+
+def _number(p: Path, line: int, spelling: str, cell: str) -> float:
+    """The value of one cell, or :class:`InputError` naming file, row and column."""
+    if _NUMBER.fullmatch(cell) is None:
+        if _NONFINITE.fullmatch(cell):
+            raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not finite; expected a number")
+        raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not a number "
+                         "(plain ASCII decimal, e.g. 0.25 or 2.5e-1)")
+    return float(cell)
 
 
 def read_columns(
@@ -46,10 +75,13 @@ def read_columns(
 ) -> dict[str, np.ndarray]:
     """Read named numeric columns from a CSV file with a header row.
 
+    The file is read row by row and packed into float64 arrays in chunks,
+    so memory grows as the numbers do (8 bytes each), not as Python objects.
+
     Parameters
     ----------
     path : path-like
-        The CSV file.
+        The CSV file (UTF-8; a byte-order mark is accepted).
     columns : mapping
         Quantity name -> accepted ``(header, factor_to_SI)`` spellings; all required.
     optional : mapping, optional
@@ -70,77 +102,116 @@ def read_columns(
     Raises
     ------
     InputError
-        Missing, unreadable, empty, header-only, ragged or non-numeric files,
-        and NaN or infinite values, each with file, row and column.
+        Missing, unreadable, empty, header-only, ragged or non-numeric files;
+        a column named twice, or two spellings of one quantity
+        (``depth_m`` beside ``depth_mm``); NaN, infinite values and values
+        beyond :data:`COLUMN_LIMITS`; each with file, row and column.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"path must be a file name, got {type(path).__name__}")
     p = Path(path)
     if not p.exists():
         raise InputError(f"{p}: file not found")
     if p.is_dir():
         raise InputError(f"{p}: is a directory; expected a CSV file")
+    wanted = {**columns, **(optional or {})}
+    example = ",".join(spellings[0][0] for spellings in columns.values())
     try:
-        with p.open(newline="", encoding="utf-8") as handle:
-            rows = list(csv.reader(handle))
+        with p.open(newline="", encoding="utf-8-sig") as handle:
+            return _read(p, csv.reader(handle), columns, wanted, example, keep_text, matched)
     except UnicodeDecodeError:
         raise InputError(f"{p}: not a text CSV file (cannot decode as UTF-8)") from None
     except csv.Error as exc:
-        raise InputError(f"{p}: not a valid CSV file ({exc})") from None
+        raise InputError(f"{p}: not a valid CSV file ({_clip(str(exc))})") from None
     except OSError as exc:
         raise InputError(f"{p}: cannot read ({exc.strerror})") from None
-    # keep each row's 1-based line number in the file for messages (blank lines are skipped)
-    numbered = [(i + 1, r) for i, r in enumerate(rows) if r and any(c.strip() for c in r)]
-    lines = [n for n, _ in numbered]
-    rows = [r for _, r in numbered]
-    wanted = {**columns, **(optional or {})}
-    example = ",".join(spellings[0][0] for spellings in columns.values())
-    if not rows:
+
+
+def _read(
+    p: Path,
+    reader: Iterator[list[str]],
+    columns: Mapping[str, Sequence[tuple[str, float]]],
+    wanted: Mapping[str, Sequence[tuple[str, float]]],
+    example: str,
+    keep_text: Sequence[str],
+    matched: dict[str, str] | None,
+) -> dict[str, np.ndarray]:
+    header: list[str] | None = None
+    line = 0
+    for row in reader:
+        line = reader.line_num  # type: ignore[attr-defined]
+        if row and any(c.strip() for c in row):
+            header = [c.strip() for c in row]
+            break
+    if header is None:
         raise InputError(f"{p}: file is empty; expected a header row like {example} and data rows")
-    header = [c.strip().lstrip("\ufeff") for c in rows[0]]
+    named = [h for h in header if h]
+    duplicates = sorted({h for h in named if named.count(h) > 1})
+    if duplicates:
+        raise InputError(f"{p}: column {duplicates[0]} appears more than once in the header; "
+                         "each column must be named once")
     index: dict[str, tuple[int, float, str]] = {}
     for quantity, spellings in wanted.items():
-        for spelling, factor in spellings:
-            if spelling in header:
-                index[quantity] = (header.index(spelling), factor, spelling)
-                break
-        else:
-            if quantity in columns:
-                raise InputError(
-                    f"{p}: missing column {_expected(spellings)}; the header is {_clip(','.join(header))!r}, "
-                    f"expected e.g. {example}"
-                )
-    text_index = {name: header.index(name) for name in keep_text if name in header}
-    data = rows[1:]
-    if not data:
-        raise InputError(
-            f"{p}: has a header but no data rows; expected rows of numbers under {_clip(','.join(header))}"
-        )
-    out = {q: np.empty(len(data), dtype=np.float64) for q in index}
-    texts: dict[str, list[str]] = {name: [] for name in text_index}
-    for r, row in enumerate(data):
-        line = lines[r + 1]
-        if len(row) != len(header):
+        present = [(s, f) for s, f in spellings if s in header]
+        if len(present) > 1:
+            raise InputError(f"{p}: columns {' and '.join(s for s, _ in present)} both give the {quantity}; "
+                             "keep one of them")
+        if present:
+            spelling, factor = present[0]
+            index[quantity] = (header.index(spelling), factor, spelling)
+        elif quantity in columns:
             raise InputError(
-                f"{p}: row {line} has {len(row)} fields, the header has {len(header)}; rows must not be ragged"
+                f"{p}: missing column {_expected(spellings)}; the header is {_clip(','.join(header))!r}, "
+                f"expected e.g. {example}"
+            )
+    text_index = {name: header.index(name) for name in keep_text if name in header}
+    limits = {q: COLUMN_LIMITS.get(q, math.inf) for q in index}
+    chunks: dict[str, list[np.ndarray]] = {q: [] for q in index}
+    values: dict[str, list[float]] = {q: [] for q in index}
+    line_chunks: list[np.ndarray] = []
+    lines: list[int] = []
+    texts: dict[str, list[str]] = {name: [] for name in text_index}
+    width = len(header)
+
+    def pack() -> None:
+        for q in index:
+            chunks[q].append(np.array(values[q], dtype=np.float64))
+            values[q].clear()
+        line_chunks.append(np.array(lines, dtype=np.int64))
+        lines.clear()
+
+    for row in reader:
+        line = reader.line_num  # type: ignore[attr-defined]
+        if not row or not any(c.strip() for c in row):
+            continue
+        if len(row) != width:
+            raise InputError(
+                f"{p}: row {line} has {len(row)} fields, the header has {width}; rows must not be ragged"
             )
         for quantity, (col, factor, spelling) in index.items():
             cell = row[col].strip()
-            try:
-                value = float(cell)
-            except ValueError:
-                raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not a number") from None
-            if not math.isfinite(value):
-                raise InputError(
-                    f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not finite; expected a number"
-                )
-            out[quantity][r] = value * factor
+            value = _number(p, line, spelling, cell) * factor
+            if not abs(value) <= limits[quantity]:
+                raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is beyond the accepted "
+                                 f"magnitude {limits[quantity]:g} (SI) for a {quantity}")
+            values[quantity].append(value)
         for name, col in text_index.items():
             texts[name].append(row[col].strip())
+        lines.append(line)
+        if len(lines) >= _CHUNK:
+            pack()
+    pack()
+    line_numbers = np.concatenate(line_chunks)
+    if not line_numbers.size:
+        raise InputError(
+            f"{p}: has a header but no data rows; expected rows of numbers under {_clip(','.join(header))}"
+        )
     if matched is not None:
         matched.update({quantity: spelling for quantity, (_, _, spelling) in index.items()})
-    result: dict[str, np.ndarray] = dict(out)
-    result["line"] = np.array(lines[1:], dtype=np.int64)  # each data row's line number in the file
-    for name, values in texts.items():
-        result[name] = np.array(values, dtype=object)
+    result: dict[str, np.ndarray] = {q: np.concatenate(chunks[q]) for q in index}
+    result["line"] = line_numbers  # each data row's line number in the file
+    for name, texts_of in texts.items():
+        result[name] = np.array(texts_of, dtype=object)
     return result
 
 

@@ -11,7 +11,7 @@ import re
 
 from mudforce.errors import InputError
 
-__all__ = ["KINDS", "format_quantity", "parse_list", "parse_quantity"]
+__all__ = ["KINDS", "LIMITS", "format_quantity", "parse_list", "parse_quantity"]
 
 _LENGTH = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
 _TIME = {"s": 1.0, "ms": 1e-3, "min": 60.0}
@@ -40,7 +40,23 @@ _EXAMPLES = {
 #: The kinds of quantity :func:`parse_quantity` knows.
 KINDS = tuple(_UNITS)
 
-_NUMBER = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*([^\s\d.+-].*?)?\s*$")
+#: Magnitudes [SI] accepted per kind: (smallest non-zero, largest). Far beyond any mud
+#: experiment at both ends, and well inside float64, so that no product of them overflows
+#: or underflows into denormals; the model's own bounds (depth, foot size, ...) are narrower.
+LIMITS: dict[str, tuple[float, float]] = {
+    "length": (1e-9, 1e3),  # [m]
+    "velocity": (1e-9, 1e3),  # [m/s]
+    "time": (1e-9, 1e9),  # [s]
+    "frequency": (1e-6, 1e9),  # [Hz]
+    "fraction": (1e-9, 100.0),  # [-]
+    "force": (1e-9, 1e7),  # [N]
+    "mass": (1e-6, 1e6),  # [kg]
+    "pressure": (1e-6, 1e12),  # [Pa]
+    "area": (1e-12, 1e4),  # [m^2]
+}
+
+# ASCII digits only: "1_0" and non-ASCII digits are not numbers here
+_NUMBER = re.compile(r"^\s*([+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)\s*([^\s0-9.+_-].*?)?\s*$")
 
 
 def _case_key(kind: str, unit: str) -> str:
@@ -69,7 +85,7 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
     ------
     InputError
         For a bare number, an unknown unit, a non-finite or out-of-sign value,
-        with an example of what is expected.
+        a magnitude outside :data:`LIMITS`, with an example of what is expected.
     """
     if kind not in _UNITS:
         raise ValueError(f"unknown quantity kind {kind!r}")
@@ -88,8 +104,12 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         known = ", ".join(_UNITS[kind])
         raise InputError(f"{name}: unknown {kind} unit {unit!r} in {text!r}; use one of {known}, e.g. {example}")
     value = float(number) * factor
-    if not math.isfinite(value):
-        raise InputError(f"{name}: {text!r} is not finite; expected e.g. {example}")
+    tiny, huge = LIMITS[kind]
+    if not math.isfinite(value) or abs(value) > huge:
+        raise InputError(f"{name}: {text!r} is too large (at most {huge:g} in SI); expected e.g. {example}")
+    if 0.0 < abs(value) < tiny:
+        raise InputError(f"{name}: {text!r} is too small (at least {tiny:g} in SI, or 0 where allowed); "
+                         f"expected e.g. {example}")
     if value < 0.0 and not allow_negative:
         raise InputError(f"{name}: {text!r} must not be negative; expected e.g. {example}")
     if value == 0.0 and not allow_zero:

@@ -30,10 +30,11 @@ import numba.np.ufunc.parallel
 import numpy as np
 
 from mudforce import _kernel as K
+from mudforce.contact import check_states
 from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import PARAMETER_NAMES, MudParameters
-from mudforce.simulation import STATE_NAMES, resolve_velocity_filter
+from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT, STATE_NAMES, resolve_velocity_filter
 from mudforce.velocity import VelocityFilter
 
 __all__ = ["MudContacts"]
@@ -88,13 +89,22 @@ def _param_rows(
     elif isinstance(foot, Foot):
         feet = [foot] * n
     else:
-        feet = list(foot)
+        try:
+            feet = list(foot)
+        except TypeError:
+            raise InputError(f"foot must be a Foot or a sequence of Foot, got {type(foot).__name__}") from None
         if len(feet) != n:
             raise InputError(f"got {len(feet)} feet for {n} contacts; give one Foot or one per contact")
+        for f in feet:
+            if not isinstance(f, Foot):
+                raise InputError(f"foot must be a Foot or a sequence of Foot, got an element {type(f).__name__}")
     if isinstance(params, MudParameters):
         values = np.tile(params.as_array(), (n, 1))
     elif isinstance(params, np.ndarray):
-        values = np.array(params, dtype=np.float64)
+        try:
+            values = np.array(params, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"a parameter array must be numeric, got dtype {params.dtype}") from None
         if values.ndim == 1:
             values = np.tile(values, (n, 1))
         if values.shape != (n, len(PARAMETER_NAMES)):
@@ -105,6 +115,9 @@ def _param_rows(
         # validate every row through MudParameters (positivity, beta in (0, 1], ...)
         for row in values:
             MudParameters(*row.tolist())
+    elif isinstance(params, (str, bytes)) or not isinstance(params, Sequence):
+        raise InputError("params must be MudParameters, a sequence of them or an (n, 11) array, "
+                         f"got {type(params).__name__}")
     else:
         plist = list(params)
         if len(plist) != n:
@@ -145,9 +158,8 @@ class MudContacts:
     Foot ``j`` is row ``j`` of one state array and one parameter array, and
     every step runs the compiled stepper of :class:`mudforce.MudContact`
     over all rows in one compiled loop, so the result is exactly that of
-    ``n`` independent :class:`~mudforce.MudContact` objects. The force
-    array returned by :meth:`step` is a buffer that the next call
-    overwrites; copy it to keep it.
+    ``n`` independent :class:`~mudforce.MudContact` objects. :meth:`step`
+    returns a new force array (or fills ``out=``).
 
     Examples
     --------
@@ -184,30 +196,57 @@ class MudContacts:
         # where the feet on the nonlinear spring wait for their vectorised pass, one block per slice
         self._scratch, self._index = K.new_feet_scratch(self.n, self.threads)
 
-    def step(self, depths: Any, dt: float) -> np.ndarray:
+    def step(self, depths: Any, dt: float, *, out: np.ndarray | None = None) -> np.ndarray:
         """Advance every foot to its next depth sample; return the forces [N].
+
+        Every input is checked before any foot moves: a refused step leaves
+        every foot exactly as it was, so it can be retried.
 
         Parameters
         ----------
         depths : array_like, shape (n,)
-            Foot depths below the surface [m], positive down.
+            Foot depths below the surface [m], positive down, each within
+            +-100 m (:data:`mudforce.simulation.MAX_DEPTH`).
         dt : float
-            Time since the previous sample [s], finite and > 0 (ignored by a
-            foot's first step after creation or :meth:`reset`).
+            Time since the previous sample [s], within [1e-9, 1e3]
+            (:data:`~mudforce.simulation.MIN_DT`: shorter steps would let
+            ``dz/dt`` and the drag overflow; ignored by a foot's first step
+            after creation or :meth:`reset`).
+        out : ndarray, shape (n,), float64, optional
+            Write the forces here instead of into a new array (no allocation).
 
         Returns
         -------
         ndarray, shape (n,)
-            Vertical mud force on each foot [N], positive up. A buffer
-            reused by the next call.
+            Vertical mud force on each foot [N], positive up: a new array,
+            or ``out``.
         """
-        z = depths if isinstance(depths, np.ndarray) and depths.dtype == np.float64 else np.asarray(
-            depths, dtype=np.float64)
+        if isinstance(depths, np.ndarray) and depths.dtype == np.float64:
+            z = depths
+        else:
+            try:
+                raw = np.asarray(depths)
+                if raw.dtype.kind not in "iufO" or (raw.dtype.kind == "O" and any(
+                        isinstance(v, (str, bytes, bool)) for v in raw.ravel())):
+                    raise TypeError
+                z = np.asarray(raw, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise InputError(f"depths must be an array of {self.n} numbers [m], got {type(depths).__name__}"
+                                 ) from None
         if z.shape != (self.n,):
             raise InputError(f"depths must have shape ({self.n},), got {z.shape}")
+        if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)):
+            raise InputError(f"dt must be a real number [s], got {type(dt).__name__}")
         dt = float(dt)
-        if not (dt > 0.0 and dt < np.inf):
-            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        if not MIN_DT <= dt <= MAX_DT:
+            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+        if out is not None and not (isinstance(out, np.ndarray) and out.dtype == np.float64
+                                    and out.shape == (self.n,) and out.flags.writeable):
+            raise InputError(f"out must be a writable float64 array of shape ({self.n},)")
+        if not np.abs(z).max() <= MAX_DEPTH:  # False for NaN: check every foot before any moves
+            bad = int(np.flatnonzero(~(np.abs(z) <= MAX_DEPTH))[0])
+            raise InputError(f"depth of foot {bad} must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, "
+                             f"got {float(z[bad])!r}; no foot was stepped")
         if self.threads > 1 and not _forked:
             with _launch_lock:
                 bad = K.run_feet_threads(self.states, self.ring, self.params_array, z, dt, self.forces,
@@ -215,10 +254,13 @@ class MudContacts:
         else:
             bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.forces, self._scratch[0],
                              self._index[0])
-        if bad >= 0:
-            # the kernel refused foot `bad` without changing it; the others stepped
+        if bad >= 0:  # pragma: no cover - every input the kernel refuses was refused above
             raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
-        return self.forces
+        if out is None:
+            forces: np.ndarray = self.forces.copy()
+            return forces
+        out[:] = self.forces
+        return out
 
     def reset(self, feet: Any = None) -> None:
         """Forget the history of some feet (all by default).
@@ -245,12 +287,12 @@ class MudContacts:
     @property
     def modes(self) -> list[str]:
         """Each foot's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
-        return [STATE_NAMES[int(m)] for m in self.states[:, K.S_MODE]]
+        return [STATE_NAMES[int(m)] for m in K.state_column(self.states, "mode")]
 
     @property
     def depths(self) -> np.ndarray:
         """Each foot's depth at its last sample [m] (a copy)."""
-        return np.array(self.states[:, K.S_DEPTH], dtype=np.float64)
+        return np.array(K.state_column(self.states, "depth"), dtype=np.float64)
 
     def snapshot(self) -> np.ndarray:
         """A copy of all feet's states, for :meth:`restore` (rollouts, resets).
@@ -261,14 +303,25 @@ class MudContacts:
         return np.hstack((self.states, self.ring))
 
     def restore(self, snapshot: np.ndarray) -> None:
-        """Restore all feet's states from :meth:`snapshot`."""
-        arr = np.asarray(snapshot, dtype=np.float64)
+        """Restore all feet's states from :meth:`snapshot`, validated as strictly as fresh ones.
+
+        Raises
+        ------
+        InputError
+            For a wrong shape or a row the stepper never makes
+            (:func:`mudforce.contact.check_states`); no foot is then changed.
+        """
+        try:
+            arr = np.asarray(snapshot, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"a snapshot must be a numeric array, got {type(snapshot).__name__}") from None
         shape = (self.n, K.N_STATE + self.ring.shape[1])
         if arr.shape != shape:
             raise InputError(f"a snapshot of {self.n} feet has shape {shape}, got {arr.shape}")
+        check_states(arr[:, : K.N_STATE], arr[:, K.N_STATE :], "a snapshot")
         self.states[:] = arr[:, : K.N_STATE]
         self.ring[:] = arr[:, K.N_STATE :]
-        self.states[:, K.S_CACHE_DT] = -1.0  # recompute the step-length cache
+        K.forget_cache(self.states)  # recompute the step-length cache
 
     def __len__(self) -> int:
         return self.n

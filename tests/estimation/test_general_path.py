@@ -123,5 +123,5 @@ def test_identify_refuses_a_constant_force() -> None:
     path = walk(0.25, seed=1, duration=6.0)
     from mudforce.errors import InputError
 
-    with pytest.raises(InputError, match="force is constant"):
+    with pytest.raises(InputError, match="force is the same in every sample"):
         identify_water_content(Trial("zero.csv", 0.25, path.time, path.depth, np.zeros_like(path.time)))

@@ -22,7 +22,6 @@ volume fraction [-].
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from collections.abc import Mapping
@@ -34,7 +33,7 @@ import numpy as np
 
 from mudforce.errors import InputError
 from mudforce.foot import Foot, parse_foot
-from mudforce.io import atomic_write_text
+from mudforce.io import atomic_write_text, dumps_json, load_json
 from mudforce.tables import COLUMN_UNITS, check_time, read_columns
 
 __all__ = [
@@ -110,12 +109,16 @@ class Dataset:
         Where it was loaded from.
     extra : dict
         The manifest's ``description`` and ``synthetic`` entries, if any (kept verbatim).
+    inputs : tuple of str
+        Every file and folder it was read from (folder, manifest, trial
+        files), so that a command can refuse to write onto any of them.
     """
 
     foot: Foot
     trials: tuple[Trial, ...]
     source: str = ""
     extra: Mapping[str, Any] | None = None
+    inputs: tuple[str, ...] = ()
 
     @property
     def water_contents(self) -> list[float]:
@@ -212,14 +215,7 @@ def _number(value: Any, where: str, what: str, lo: float, hi: float, example: st
 
 def _load_manifest(path: Path) -> Dataset:
     where = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{where}: cannot read the manifest ({exc.__class__.__name__})") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{where}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    data = load_json(path, "manifest", '{"foot": {...}, "trials": [...]}')
     if not isinstance(data, dict):
         raise InputError(f'{where}: expected a JSON object with "foot" and "trials", got {type(data).__name__}')
     unknown = sorted(set(data) - set(_TOP_KEYS))
@@ -243,9 +239,10 @@ def _load_manifest(path: Path) -> Dataset:
         name = entry.get("file")
         if not isinstance(name, str) or not name.strip():
             raise InputError(f'{at}: "file" must be a CSV file name, got {name!r}')
-        if name in seen:
+        file = _inside_folder(path.parent, name, at)
+        if str(file) in seen:
             raise InputError(f"{at}: file {name!r} is listed twice")
-        seen.add(name)
+        seen.add(str(file))
         if "water_content" not in entry:
             raise InputError(f'{at}: missing "water_content" (a fraction, e.g. 0.25 for 25%)')
         w = _number(entry["water_content"], at, "water_content", 0.0, 1.0, "0.25 for 25%")
@@ -255,12 +252,32 @@ def _load_manifest(path: Path) -> Dataset:
         repeat = entry.get("repeat")
         if repeat is not None and (isinstance(repeat, bool) or not isinstance(repeat, int) or repeat < 0):
             raise InputError(f"{at}: repeat is {repeat!r}; expected a non-negative integer")
-        file = path.parent / name
         if not file.is_file():
-            raise InputError(f"{at}: trial file {file} not found")
+            raise InputError(f"{at}: trial file {path.parent / name} not found")
         trials.append(load_trial(file, w, velocity=velocity, repeat=repeat))
     extra = {k: data[k] for k in ("description", "synthetic") if k in data}
-    return Dataset(foot=foot, trials=tuple(trials), source=where, extra=extra or None)
+    inputs = (str(path.parent), where, *sorted(seen))
+    return Dataset(foot=foot, trials=tuple(trials), source=where, extra=extra or None, inputs=inputs)
+
+
+def _inside_folder(folder: Path, name: str, at: str) -> Path:
+    """The trial file ``name`` of a manifest in ``folder``; refused unless it lies inside that folder.
+
+    An absolute path, ``..`` or a link leading out of the folder is refused,
+    so a manifest cannot make a command read (and echo in its messages)
+    files elsewhere.
+    """
+    relative = Path(name)
+    if relative.is_absolute() or name.startswith(("/", "\\")) or ".." in relative.parts or "\x00" in name:
+        raise InputError(f'{at}: "file" must be a name relative to the dataset folder, without "..", '
+                         f"got {name[:80]!r}")
+    file = folder / relative
+    root = Path(os.path.realpath(folder))
+    real = Path(os.path.realpath(file))
+    if root not in real.parents:
+        raise InputError(f"{at}: trial file {name[:80]!r} leads outside the dataset folder; "
+                         "expected a file inside it")
+    return file
 
 
 def _load_tidy(path: Path, foot: Foot) -> Dataset:
@@ -298,7 +315,7 @@ def _load_tidy(path: Path, foot: Foot) -> Dataset:
         t = cols["time"][idx]
         _check_trial_arrays(f"{where} (trial {tid!r})", t, matched["time"], line[idx])
         trials.append(Trial(tid, w, t, cols["depth"][idx], cols["force"][idx]))
-    return Dataset(foot=foot, trials=tuple(trials), source=where)
+    return Dataset(foot=foot, trials=tuple(trials), source=where, inputs=(where,))
 
 
 def load_dataset(path: str | os.PathLike[str], *, foot: Foot | None = None) -> Dataset:
@@ -319,6 +336,8 @@ def load_dataset(path: str | os.PathLike[str], *, foot: Foot | None = None) -> D
     InputError
         One line naming the file, row, column or key, the value, and what is expected.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"path must be a dataset folder or file name, got {type(path).__name__}")
     p = Path(path)
     if p.is_dir():
         manifest = p / MANIFEST_NAME
@@ -349,6 +368,14 @@ def save_dataset(dataset: Dataset, directory: str | os.PathLike[str]) -> Path:
     out = Path(directory)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")
+    names = [trial.name for trial in dataset.trials]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise InputError(f"two trials are named {twice[0]!r}; each trial needs its own file "
+                         "(repeated water contents or velocities?)")
+    for name in names:
+        if Path(name).name != name or name == MANIFEST_NAME or not name.endswith(".csv"):
+            raise InputError(f"trial name {name!r} must be a plain file name ending in .csv")
     out.mkdir(parents=True, exist_ok=True)
     entries: list[dict[str, Any]] = []
     for trial in dataset.trials:
@@ -363,6 +390,6 @@ def save_dataset(dataset: Dataset, directory: str | os.PathLike[str]) -> Path:
     if dataset.extra:
         manifest.update(dataset.extra)
     path = out / MANIFEST_NAME
-    atomic_write_text(path, json.dumps(manifest, indent=2) + "\n")
+    atomic_write_text(path, dumps_json(manifest, indent=2) + "\n")
     return path
 

@@ -24,6 +24,8 @@ from typing import Any
 import numpy as np
 
 from mudforce.errors import InputError
+from mudforce.foot import AREA_RANGE
+from mudforce.parameters import PARAMETER_RANGES
 from mudforce.tables import COLUMN_UNITS, read_columns
 
 __all__ = ["DragFit", "fit_drag", "read_sliding"]
@@ -53,6 +55,8 @@ class DragFit:
         Fitted constant force ``F_0`` [N], if asked for.
     intercept_stderr : float or None
         Its standard error [N].
+    warnings : tuple of str
+        What the caller should know (a negative ``lambda``: the data contradict Eq. (5)).
     """
 
     lambda_: float
@@ -63,9 +67,10 @@ class DragFit:
     area: float
     intercept: float | None = None
     intercept_stderr: float | None = None
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
-        """``{"lambda", "stderr", "rmse_N", "n", "rho_m", "area_m2", "intercept_N", "intercept_stderr_N"}``."""
+        """The JSON object: ``lambda, stderr, rmse_N, n, rho_m, area_m2, intercept_N, intercept_stderr_N, warnings``."""
         return {
             "lambda": self.lambda_,
             "stderr": self.stderr,
@@ -75,6 +80,7 @@ class DragFit:
             "area_m2": self.area,
             "intercept_N": self.intercept,
             "intercept_stderr_N": self.intercept_stderr,
+            "warnings": list(self.warnings),
         }
 
 
@@ -108,13 +114,17 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = _RHO_M,
     -------
     DragFit
     """
-    v = np.asarray(velocity, dtype=np.float64)
-    f = np.asarray(force, dtype=np.float64)
+    try:
+        v = np.asarray(velocity, dtype=np.float64)
+        f = np.asarray(force, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("velocity and force must be numeric arrays [m/s], [N]") from None
     if v.shape != f.shape or v.ndim != 1:
         raise InputError(f"velocity and force must be 1-D arrays of equal length, got {v.shape} and {f.shape}")
-    for name, value in (("area", area), ("rho_m", rho_m)):
-        if not math.isfinite(value) or value <= 0.0:
-            raise InputError(f"{name} must be finite and > 0, got {value!r}")
+    for name, value, (lo, hi) in (("area", area, AREA_RANGE), ("rho_m", rho_m, PARAMETER_RANGES["rho_m"])):
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                or not lo <= value <= hi:
+            raise InputError(f"{name} must be within [{lo:g}, {hi:g}] (SI), got {value!r}")
     if not (np.all(np.isfinite(v)) and np.all(np.isfinite(f))):
         raise InputError("velocity and force must be finite")
     p = 2 if intercept else 1
@@ -123,11 +133,31 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = _RHO_M,
     x = rho_m * area * np.sign(v) * v**2  # [kg/m] ... force per unit lambda [N]
     if np.count_nonzero(x) == 0 or (intercept and np.ptp(x) == 0.0):
         raise InputError("fit-drag needs samples at more than one non-zero speed")
-    design = np.column_stack([x, np.ones_like(x)]) if intercept else x[:, None]
-    coef, *_ = np.linalg.lstsq(design, f, rcond=None)
-    residual = f - design @ coef
-    s2 = float(residual @ residual) / (v.size - p)
-    cov = s2 * np.linalg.inv(design.T @ design)
+    # solve in scaled columns (x / max|x|): the normal matrix then cannot overflow or underflow
+    scale = float(np.max(np.abs(x)))
+    design = np.column_stack([x / scale, np.ones_like(x)]) if intercept else (x / scale)[:, None]
+    try:
+        coef, _, rank, _ = np.linalg.lstsq(design, f, rcond=None)  # the results are checked below
+        if rank < p:
+            raise np.linalg.LinAlgError
+        residual = f - design @ coef
+        s2 = float(residual @ residual) / (v.size - p)
+        cov = s2 * np.linalg.inv(design.T @ design)
+    except np.linalg.LinAlgError:
+        raise InputError("fit-drag: the speeds do not determine lambda (too few distinct non-zero speeds, "
+                         "or speeds too far apart in magnitude)") from None
+    with np.errstate(all="ignore"):  # an overflow here is caught as a non-finite result
+        coef[0] /= scale
+        cov[0, :] /= scale
+        cov[:, 0] /= scale
+    values = [float(coef[0]), float(cov[0, 0]), float(s2), *(float(c) for c in np.ravel(cov))]
+    if not all(math.isfinite(value) for value in values):
+        raise InputError("fit-drag: lambda or its standard error is not finite; the speeds or forces are too "
+                         "extreme to fit")
+    warnings = []
+    if coef[0] < 0.0:
+        warnings.append(f"lambda = {coef[0]:.4g} is negative: the force falls as the speed grows, which Eq. (5) "
+                        "cannot describe (check the sign convention: force with the sign of the velocity)")
     return DragFit(
         lambda_=float(coef[0]),
         stderr=math.sqrt(float(cov[0, 0])),
@@ -137,4 +167,5 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = _RHO_M,
         area=float(area),
         intercept=float(coef[1]) if intercept else None,
         intercept_stderr=math.sqrt(float(cov[1, 1])) if intercept else None,
+        warnings=tuple(warnings),
     )

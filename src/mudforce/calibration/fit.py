@@ -71,6 +71,7 @@ from mudforce.progress import Progress
 # the results and the uncertainty live in their own modules; their names stay importable from here
 __all__ = [
     "MISFIT_WARNING_RATIO",
+    "POOR_RELATIVE_STDERR",
     "ConditionFit",
     "FitOptions",
     "FitResult",

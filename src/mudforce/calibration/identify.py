@@ -181,8 +181,8 @@ def identify_water_content(
     foot = Foot.paper() if foot is None else foot
     tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial)
     if not np.any(tr.trial.force != tr.trial.force[0]):
-        raise InputError(f"{tr.trial.name}: the force is constant ({float(tr.trial.force[0]):.3g} N) "
-                         "although the foot enters the mud; expected a measured force (is the column right?)")
+        raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
+                         "the trial carries no force to identify a water content from (is the column right?)")
     lo, hi = bounds
 
     def residual(w: float) -> np.ndarray:

@@ -22,7 +22,6 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
-from numba import njit
 
 from mudforce import _kernel as K
 from mudforce.baselines import DEFAULT_K_RFT, drft_force, granular_rft_force, maxwell_only_force
@@ -180,38 +179,26 @@ def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: F
     return force
 
 
-@njit(cache=True, nogil=True)
-def _run_from(time: np.ndarray, depth: np.ndarray, first: int, states: np.ndarray, params: np.ndarray,
-              out: np.ndarray) -> int:
-    """Continue foot 0 from sample ``first`` (the state holds sample ``first - 1``); like ``run_batch``.
-
-    The exact velocity filter (window 1) keeps no ring: ``states[:, :0]`` stands in for it.
-    """
-    ring = states[:, :0]
-    for k in range(first, time.shape[0]):
-        f = K.step(states, ring, 0, params, depth[k], time[k] - time[k - 1], out, k - first)
-        if f != f:
-            return k
-    return -1
-
-
 def _chen_resume(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot,
                  first: int) -> Callable[[np.ndarray], np.ndarray]:
     """Simulate samples ``[:first]`` once; the tail after it for withdrawal-only parameter changes."""
     row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
     head = K.new_out(first)
     snapshot = K.new_states(1)
-    K.run_batch(time[:first], depth[:first], snapshot, K.new_ring(1, 1), row, head)
-    snapshot[:, K.S_CACHE_DT] = -1.0  # cached decays belong to the old parameters
+    ring = K.new_ring(1, 1)  # the exact velocity rule keeps no history
+    K.run_batch(time[:first], depth[:first], snapshot, ring, row, head)
+    K.forget_cache(snapshot)  # cached decays belong to the old parameters
     out = K.new_out(time.size - first)
 
     def tail(new_values: np.ndarray) -> np.ndarray:
         states = snapshot.copy()
         prow = K.make_params(new_values, foot.area, foot.width, 1, 0.0)[None, :]
-        bad = _run_from(time, depth, first, states, prow, out)
-        force: np.ndarray = out[K.O_FORCE].copy()
-        if bad >= 0:
-            force[bad - first:] = 1e6
+        bad = K.run_batch(time, depth, states, ring, prow, out, first)
+        force: np.ndarray = K.outputs(out).force.copy()
+        # from the first sample refused or with a NaN force on: a huge, finite residual
+        end = bad - first if bad >= 0 else force.size
+        nan = np.flatnonzero(np.isnan(force[:end]))
+        force[int(nan[0]) if nan.size else end:] = 1e6
         return force
 
     return tail

@@ -42,7 +42,7 @@ MISFIT_WARNING_RATIO = 1.25
 
 
 def misfit_ratio(rmse: float, noise: float, scale: float) -> float:
-    """``rmse / noise`` [-], with the noise floored at ``1e-6 scale`` (noiseless data fitted exactly gives ~1, not 1e5).
+    """``rmse / noise`` [-], with the noise floored at ``1e-4 scale`` (noiseless data fitted exactly is no misfit).
 
     Parameters
     ----------
@@ -53,7 +53,7 @@ def misfit_ratio(rmse: float, noise: float, scale: float) -> float:
     scale : float
         Typical force of the data [N] (its largest magnitude).
     """
-    floor = max(noise if math.isfinite(noise) else 0.0, 1e-6 * scale, 1e-9)
+    floor = max(noise if math.isfinite(noise) else 0.0, 1e-4 * scale, 1e-9)
     return rmse / floor
 
 
@@ -278,8 +278,10 @@ class FitResult:
         }
 
     def to_json(self, indent: int | None = 2) -> str:
-        """``fit.json`` as text (deterministic for a given dataset and seed)."""
-        return json.dumps(self.to_dict(), indent=indent)
+        """``fit.json`` as text (deterministic for a given dataset and seed); refuses NaN and infinities."""
+        from mudforce.io import dumps_json
+
+        return dumps_json(self.to_dict(), indent=indent)
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write :meth:`to_json` atomically."""

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.calibration.dataset import Dataset, Trial, save_dataset
-from mudforce.errors import InputError, positive_int
+from mudforce.errors import InputError, positive_int, seed_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.protocol import Protocol
@@ -81,7 +81,7 @@ def synthesize(
     bias : float
         Constant force-sensor offset added to every sample [N].
     seed : int
-        Seed of the noise; the same seed gives the same files.
+        Seed of the noise, within [0, 2**32 - 1]; the same seed gives the same files.
     foot : Foot, optional
         The intruder; the paper's 51 x 38 mm cuboid by default.
     depth, hold, approach, rise : float
@@ -98,6 +98,10 @@ def synthesize(
         With the true parameters under ``extra["synthetic"]``.
     """
     repeats = positive_int(repeats, "repeats")
+    seed = seed_int(seed, "seed")
+    for name, values in (("water_contents", water_contents), ("velocities", velocities)):
+        if len(set(values)) != len(list(values)):
+            raise InputError(f"{name} repeats a value; give each once (each makes its own trials)")
     for name, value in (("force noise", force_noise), ("depth noise", depth_noise), ("bias", bias)):
         if not np.isfinite(value) or (value < 0 and name != "bias"):
             raise InputError(f"{name} must be finite and >= 0, got {value!r}")

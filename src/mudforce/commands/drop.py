@@ -10,11 +10,19 @@ intrusion-branch forces (README, "Dynamics").
 
 Engines: "builtin" integrates the one-degree-of-freedom foot event-driven
 (RK4 with event location, 0.1 ms sub-steps); "mujoco" runs MuJoCo (1 ms
-steps) with the mudforce.mujoco adapter (needs: pip install 'mudforce[mujoco]').
+steps) with the mudforce.mujoco adapter (needs: pip install 'mudforce[mujoco]'); "mjx" runs
+MuJoCo's JAX port MJX (1 ms steps, one jitted scan) with mudforce.mjx (needs: pip install 'mudforce[mjx]').
 
 Output CSV columns: time_s, depth_m (positive down), velocity_m_s
 (positive down), force_N (mud force, positive up), state (FREE, INTRUSION,
-WITHDRAWAL, STUCK, NECKED), one row per millisecond.
+WITHDRAWAL, STUCK, NECKED), one row per millisecond. The summary line gives
+the rest depth only if the foot is at rest (STUCK) at the end; otherwise
+it says the foot is still moving, and how fast.
+
+Bounds: --mass from 0.1 kg (builtin) or 1 kg (mujoco: its contact's
+~10-20 um creep is a large part of a lighter foot's rest depth) to 10000 kg;
+--height 0 to 10 m; --duration 2 ms to 600 s; --water-content within
+Table I (15%-35%).
 
 examples:
   mudforce drop --mass 5kg --water-content 25% --out drop.csv
@@ -36,19 +44,27 @@ NAME = "drop"
 HELP = "drop a cuboid foot into mud (built-in or MuJoCo engine) and write its depth and force (CSV)"
 
 _MAX_DURATION = 600.0  # [s]
+_MIN_DURATION = 2e-3  # [s]: two samples
+_MAX_MASS = 1e4  # [kg]
+#: Lightest foot per engine [kg]: the built-in engine is accurate far below (3e-5 kg is its stability
+#: limit), MuJoCo's soft friction lets a foot creep ~10-20 um, 10% of a 1 kg foot's rest depth at W = 15%
+_MIN_MASS = {"builtin": 0.1, "mujoco": 1.0}
+_MAX_HEIGHT = 10.0  # [m]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Declare the options of ``mudforce drop``."""
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    parser.add_argument("--engine", choices=("builtin", "mujoco"), default="builtin",
+    parser.add_argument("--engine", choices=("builtin", "mujoco", "mjx"), default="builtin",
                         help="dynamics engine (default: builtin)")
-    parser.add_argument("--mass", required=True, metavar="M", help="foot mass with unit, e.g. 5kg")
+    parser.add_argument("--mass", required=True, metavar="M",
+                        help="foot mass with unit, e.g. 5kg: 0.1kg (builtin) or 1kg (mujoco) to 10000kg")
     parser.add_argument("--water-content", required=True, metavar="W",
                         help="mud water content within 15%%-35%%, e.g. 25%%")
-    parser.add_argument("--duration", default="8s", metavar="T", help="simulated time with unit (default: 8s)")
+    parser.add_argument("--duration", default="8s", metavar="T",
+                        help="simulated time with unit, 2ms to 600s (default: 8s)")
     parser.add_argument("--height", default="0mm", metavar="H",
-                        help="release height of the foot's bottom above the surface (default: 0mm)")
+                        help="release height of the foot's bottom above the surface, 0 to 10m (default: 0mm)")
     parser.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write (atomically)")
     parser.add_argument("--plot", default=None, metavar="FILE.png", help="also save a PNG figure")
 
@@ -63,12 +79,16 @@ def run(args: argparse.Namespace) -> int:
     height = parse_quantity(args.height, "length", name="--height", allow_zero=True)
     if duration > _MAX_DURATION:
         raise InputError(f"--duration: {args.duration!r} is longer than {_MAX_DURATION:g} s")
-    if duration < 2e-3:
+    if duration < _MIN_DURATION:
         raise InputError(f"--duration: {args.duration!r} is shorter than 2 ms (two samples)")
-    if mass > 1e4:
-        raise InputError(f"--mass: {args.mass!r} is more than 10000 kg; expected e.g. 5kg")
-    if height > 10.0:
-        raise InputError(f"--height: {args.height!r} is more than 10 m; expected e.g. 20mm")
+    if mass > _MAX_MASS:
+        raise InputError(f"--mass: {args.mass!r} is more than {_MAX_MASS:g} kg; expected e.g. 5kg")
+    lightest = _MIN_MASS[args.engine]
+    if mass < lightest:
+        raise InputError(f"--mass: {args.mass!r} is less than {lightest:g} kg, the lightest foot the {args.engine} "
+                         f"engine simulates reliably; expected e.g. 5kg")
+    if height > _MAX_HEIGHT:
+        raise InputError(f"--height: {args.height!r} is more than {_MAX_HEIGHT:g} m; expected e.g. 20mm")
     params = MudParameters.from_water_content(water)
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
@@ -85,6 +105,13 @@ def run(args: argparse.Namespace) -> int:
         from mudforce.mujoco import simulate_drop
 
         result = simulate_drop(mass, params, duration=duration, height=height)
+    elif args.engine == "mjx":
+        from mudforce._optional import require
+
+        require("jax", "mjx", "--engine mjx")  # mudforce.mjx checks for mujoco.mjx itself
+        from mudforce.mjx import simulate_drop as simulate_drop_mjx
+
+        result = simulate_drop_mjx(mass, params, duration=duration, height=height)
     else:
         from mudforce.dynamics import simulate_foot
 
@@ -96,6 +123,12 @@ def run(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
     weight = mass * result.gravity
-    print(f"{args.engine}: rest depth {result.rest_depth * 1e3:.3f} mm after {duration:g} s; "
-          f"force std over the last second {100.0 * result.force_std(1.0) / weight:.3f}% of m g; wrote {out}")
+    if result.at_rest:
+        where = f"rest depth {result.rest_depth * 1e3:.3f} mm after {duration:g} s"
+    else:
+        where = (f"not at rest after {duration:g} s: depth {result.end_depth * 1e3:.3f} mm, "
+                 f"moving at {result.velocity[-1] * 1e3:.3f} mm/s ({result.phase_names[-1]})")
+    span = "second" if duration >= 1.0 else f"{duration:g} s"
+    print(f"{args.engine}: {where}; "
+          f"force std over the last {span} {100.0 * result.force_std(1.0) / weight:.3f}% of m g; wrote {out}")
     return 0

@@ -22,11 +22,11 @@ and for a model that misses the data.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
+import math
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, seed_int
 from mudforce.foot import FOOT_EXAMPLES
-from mudforce.io import check_output_dir, check_output_path
+from mudforce.io import check_output_dir, check_output_path, refuse_overwriting_inputs
 
 NAME = "fit"
 HELP = "fit the model to an intrusion dataset (per water content, staged, with standard errors)"
@@ -42,15 +42,23 @@ def _names(text: str | None, option: str) -> list[str]:
 
 
 def _fixed(text: str | None) -> dict[str, float]:
+    from mudforce.parameters import PARAMETER_RANGES
+    from mudforce.tables import _NUMBER
+
     out: dict[str, float] = {}
     for item in _names(text, "--fix"):
         name, sep, value = item.partition("=")
-        try:
-            out[name.strip()] = float(value)
-        except ValueError:
-            sep = ""
-        if not sep:
-            raise InputError(f"--fix: cannot read {item!r}; expected NAME=VALUE in SI, e.g. beta=0.5")
+        name = name.strip()
+        if not sep or _NUMBER.fullmatch(value.strip()) is None:
+            raise InputError(f"--fix: cannot read {item!r}; expected NAME=VALUE with a finite number in SI, "
+                             "e.g. beta=0.5")
+        number = float(value)
+        lo, hi = PARAMETER_RANGES.get(name, (-math.inf, math.inf))
+        if not (math.isfinite(number) and lo <= number <= hi):
+            raise InputError(f"--fix {name}: {value.strip()!r} is outside [{lo:g}, {hi:g}] (SI)")
+        if name in out:
+            raise InputError(f"--fix: {name} is given twice; give each parameter once")
+        out[name] = number
     return out
 
 
@@ -80,12 +88,16 @@ def run(args: argparse.Namespace) -> int:
         require("matplotlib", "plot", "--report")
     # refuse unusable outputs before the fit, not after it
     out = check_output_path(args.out, "--out")
-    if args.report:
-        if Path(args.report).resolve() == out.resolve():
-            raise InputError(f"--report {args.report}: the same path as --out; expected a folder for the report")
-        check_output_dir(args.report, "--report")
+    seed = seed_int(args.seed)
+    if args.report is not None:
+        refuse_overwriting_inputs([("--out", out)], [], [("--report", args.report)])
     model = get_model(args.model)
     dataset = load_dataset(args.dataset, foot=parse_foot(args.foot) if args.foot else None)
+    # every input the dataset was read from (a manifest's trial files too), before anything is written
+    inputs = [("DATASET", args.dataset), *(("file", p) for p in dataset.inputs)]
+    refuse_overwriting_inputs([("--out", out)], inputs, [("--report", args.report)])
+    if args.report is not None:
+        check_output_dir(args.report, "--report")
     extra = _names(args.free, "--free")
     for name in extra:
         if name not in model.parameter_names:
@@ -95,14 +107,16 @@ def run(args: argparse.Namespace) -> int:
     for name in fixed:
         if name not in model.parameter_names:
             raise InputError(f"--fix {name}: unknown parameter; expected one of {', '.join(model.parameter_names)}")
+        if name in extra:
+            raise InputError(f"--free {name} and --fix {name}=... conflict; give one of them")
     result = fit_dataset(dataset, model=model, free=free, fixed=fixed, shared=_names(args.shared, "--shared"),
-                         seed=args.seed, quiet=args.quiet)
+                         seed=seed, quiet=args.quiet)
     result.save(args.out)
     if args.report:
         from mudforce.calibration.report import write_report
 
         speeds = {speed_key(t.nominal_velocity, t.velocity) for c in result.conditions for t in c.trials}
-        per_speed = fit_by_velocity(dataset, model=model, free=free, fixed=fixed, seed=args.seed,
+        per_speed = fit_by_velocity(dataset, model=model, free=free, fixed=fixed, seed=seed,
                                     quiet=args.quiet) if len(speeds) > 1 else []
         write_report(result, args.report, velocity_fits=per_speed)
     if not args.quiet:

@@ -11,16 +11,18 @@ standard error (linear least squares), or JSON with --json.
 from __future__ import annotations
 
 import argparse
-import json
 import re
+import sys
 
 from mudforce.errors import InputError
 from mudforce.foot import FOOT_EXAMPLES
+from mudforce.io import dumps_json
 
 NAME = "fit-drag"
 HELP = "fit the drag factor lambda (Eq. 5) to sliding-experiment data"
 
-_DENSITY = re.compile(r"^\s*([0-9.eE+-]+)\s*(kg/m3|kg/m\^3|g/cm3|g/cm\^3)\s*$")
+_DENSITY = re.compile(r"^\s*([+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)\s*"
+                      r"(kg/m3|kg/m\^3|g/cm3|g/cm\^3)\s*$")
 
 
 def _density(text: str) -> float:
@@ -31,8 +33,11 @@ def _density(text: str) -> float:
         value = float(match.group(1)) * (1.0 if match.group(2).startswith("kg") else 1e3)
     except ValueError:
         raise InputError(f"--rho-m: cannot read {text!r} as a density; expected e.g. 1840kg/m3") from None
-    if not value > 0.0 or value == float("inf"):
-        raise InputError(f"--rho-m: {text!r} must be a positive density, e.g. 1840kg/m3")
+    from mudforce.parameters import PARAMETER_RANGES
+
+    lo, hi = PARAMETER_RANGES["rho_m"]
+    if not lo <= value <= hi:
+        raise InputError(f"--rho-m: {text!r} must be a density within [{lo:g}, {hi:g}] kg/m3, e.g. 1840kg/m3")
     return value
 
 
@@ -60,10 +65,12 @@ def run(args: argparse.Namespace) -> int:
     velocity, force = read_sliding(args.file)
     result = fit_drag(velocity, force, area, rho_m=_density(args.rho_m), intercept=args.intercept)
     if args.json:
-        print(json.dumps(result.to_dict(), indent=2))
+        print(dumps_json(result.to_dict(), indent=2))
     else:
         line = f"lambda = {result.lambda_:.5g} ± {result.stderr:.2g} (RMSE {result.rmse:.3g} N, {result.n} samples"
         if result.intercept is not None:
             line += f", offset {result.intercept:.3g} ± {result.intercept_stderr:.2g} N"
         print(line + ")")
+    for warning in result.warnings:
+        print(f"mudforce fit-drag: warning: {warning}", file=sys.stderr)
     return 0

@@ -12,6 +12,10 @@ baselines' errors. Each figure is captioned with the paper's figure it
 corresponds to. The output is byte-for-byte the same for the same seed.
 --quick makes fewer trials (two speeds, two repeats, 50 Hz) and fits with a
 smaller budget: about 10 s instead of 20-30 s on two cores.
+
+DIR is replaced whole when the report is complete (it must be new, empty or
+an earlier report's), so an interrupted run leaves the old report or the new
+one; the worker processes end with the command, even when it is killed.
 """
 
 from __future__ import annotations
@@ -37,7 +41,9 @@ def _default_jobs() -> int:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``mudforce reproduce``."""
-    parser.add_argument("--out", required=True, metavar="DIR", help="folder for report.html, summary.json, PNGs")
+    parser.add_argument("--out", required=True, metavar="DIR",
+                        help="folder for report.html, summary.json, PNGs: new, empty or an earlier report's "
+                             "(replaced whole when the report is complete)")
     parser.add_argument("--quick", action="store_true", help="fewer trials and a smaller fit budget (about 10 s)")
     parser.add_argument("--seed", default="0", metavar="N",
                         help="seed of the synthetic data and the fits, an integer >= 0 (default 0)")

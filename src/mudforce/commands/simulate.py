@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import re
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -35,7 +34,7 @@ import numpy as np
 
 from mudforce.errors import InputError
 from mudforce.foot import FOOT_EXAMPLES, parse_foot
-from mudforce.io import check_output_path
+from mudforce.io import check_output_path, refuse_overwriting_inputs
 from mudforce.units import format_quantity, parse_quantity
 
 if TYPE_CHECKING:
@@ -106,15 +105,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 # ---------------------------------------------------------------------------- checks
-
-def _same_file(a: Path, b: Path) -> bool:
-    try:
-        if a.exists() and b.exists():
-            return os.path.samefile(a, b)
-    except OSError:
-        return False
-    return a.resolve() == b.resolve()
-
 
 def _load_params(args: argparse.Namespace) -> tuple[MudParameters, str]:
     """The mud parameters and a short label for them."""
@@ -194,13 +184,8 @@ def run(args: argparse.Namespace) -> int:
     """Check all inputs, simulate, then write the CSV (and PNG) atomically; print a summary."""
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
-    if plot is not None and _same_file(out, plot):
-        raise InputError(f"--out and --plot are the same file {str(out)!r}; give two different names")
-    for option, source in (("--trajectory", args.trajectory), ("--params", args.params)):
-        if source is not None and _same_file(out, Path(source)):
-            raise InputError(f"--out {str(out)!r} is the {option} input file; choose another output name")
-        if source is not None and plot is not None and _same_file(plot, Path(source)):
-            raise InputError(f"--plot {str(plot)!r} is the {option} input file; choose another output name")
+    refuse_overwriting_inputs([("--out", out), ("--plot", plot)],
+                              [("--trajectory", args.trajectory), ("--params", args.params)])
     if plot is not None:
         from mudforce._optional import require
 

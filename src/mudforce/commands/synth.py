@@ -13,9 +13,15 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, seed_int
 from mudforce.foot import FOOT_EXAMPLES
+from mudforce.io import check_output_dir
 from mudforce.units import parse_list, parse_quantity
+
+#: Most trials one ``mudforce synth`` writes [-].
+MAX_TRIALS = 1000
+#: Most samples one ``mudforce synth`` writes, all trials together [-] (~30 MB a million).
+MAX_SAMPLES = 5_000_000
 
 NAME = "synth"
 HELP = "write a synthetic dataset (paper's protocol or robot-like gaits, noise, bias) for testing fits"
@@ -56,28 +62,49 @@ def run(args: argparse.Namespace) -> int:
 
     waters = parse_list(args.water_content, "fraction", name="--water-content")
     velocities = parse_list(args.velocities, "velocity", name="--velocities")
+    for option, values in (("--water-content", waters), ("--velocities", velocities)):
+        if len(set(values)) != len(values):
+            raise InputError(f"{option}: a value is repeated; give each once (each makes its own trials)")
+    seed = seed_int(args.seed)
+    if args.repeats < 1 or args.repeats > MAX_TRIALS:
+        raise InputError(f"--repeats: {args.repeats} must be within [1, {MAX_TRIALS}]")
+    gait = args.motion == "gait"
+    duration = parse_quantity(args.duration, "time", name="--duration") if gait else 0.0
+    trials = len(waters) * (1 if gait else len(velocities)) * args.repeats
+    if trials > MAX_TRIALS:
+        raise InputError(f"{trials} trials requested; at most {MAX_TRIALS} per command (fewer repeats, "
+                         "water contents or velocities)")
+    depth = parse_quantity(args.depth, "length", name="--depth")
+    hold = parse_quantity(args.hold, "time", name="--hold")
+    approach = parse_quantity(args.approach, "length", name="--approach")
+    rate = parse_quantity(args.rate, "frequency", name="--rate")
+    from mudforce.simulation import MAX_DEPTH
+
+    for option, value in (("--depth", depth), ("--approach", approach)):
+        if value > MAX_DEPTH:
+            raise InputError(f"{option}: {value:g} m is beyond the model's {MAX_DEPTH:g} m")
+    # the protocol's duration per speed: approach and intrude, hold, withdraw to 20 mm above
+    samples = args.repeats * len(waters) * sum(
+        ((approach + depth) / v + hold + (depth + 0.02) / v) * rate + 1 for v in velocities)
+    if gait:  # one walk of --duration per repeat and water content
+        samples = args.repeats * len(waters) * (duration * rate + 1)
+    if samples > MAX_SAMPLES:
+        raise InputError(f"the dataset would have {samples:.3g} samples, more than {MAX_SAMPLES:,} per command; "
+                         "lower --rate, --hold, --depth or the number of trials")
+    foot = parse_foot(args.foot)
+    force_noise = parse_quantity(args.force_noise, "force", name="--force-noise", allow_zero=True)
+    depth_noise = parse_quantity(args.depth_noise, "length", name="--depth-noise", allow_zero=True)
+    bias = parse_quantity(args.bias, "force", name="--bias", allow_zero=True, allow_negative=True)
     out = Path(args.out)
     if (out / MANIFEST_NAME).exists() and not args.force:
         raise InputError(f"--out {out}: already holds a {MANIFEST_NAME}; pass --force to overwrite it")
-    if args.repeats < 1:
-        raise InputError(f"--repeats: {args.repeats} must be at least 1")
-    if args.motion == "gait":
+    check_output_dir(args.out, "--out")
+    if gait:
         from mudforce.calibration.synth import synthesize_gait
 
-        dataset = synthesize_gait(
-            out,
-            water_contents=waters,
-            repeats=args.repeats,
-            duration=parse_quantity(args.duration, "time", name="--duration"),
-            rate=parse_quantity(args.rate, "frequency", name="--rate"),
-            jitter=args.jitter,
-            start_below=args.start_below,
-            force_noise=parse_quantity(args.force_noise, "force", name="--force-noise", allow_zero=True),
-            depth_noise=parse_quantity(args.depth_noise, "length", name="--depth-noise", allow_zero=True),
-            bias=parse_quantity(args.bias, "force", name="--bias", allow_zero=True, allow_negative=True),
-            seed=args.seed,
-            foot=parse_foot(args.foot),
-        )
+        dataset = synthesize_gait(out, water_contents=waters, repeats=args.repeats, duration=duration, rate=rate,
+                                  jitter=args.jitter, start_below=args.start_below, force_noise=force_noise,
+                                  depth_noise=depth_noise, bias=bias, seed=seed, foot=foot)
         if not args.quiet:
             print(f"wrote {len(dataset.trials)} walks to {out / MANIFEST_NAME}")
         return 0
@@ -86,15 +113,15 @@ def run(args: argparse.Namespace) -> int:
         water_contents=waters,
         velocities=velocities,
         repeats=args.repeats,
-        force_noise=parse_quantity(args.force_noise, "force", name="--force-noise", allow_zero=True),
-        depth_noise=parse_quantity(args.depth_noise, "length", name="--depth-noise", allow_zero=True),
-        bias=parse_quantity(args.bias, "force", name="--bias", allow_zero=True, allow_negative=True),
-        seed=args.seed,
-        foot=parse_foot(args.foot),
-        depth=parse_quantity(args.depth, "length", name="--depth"),
-        hold=parse_quantity(args.hold, "time", name="--hold"),
-        approach=parse_quantity(args.approach, "length", name="--approach"),
-        rate=parse_quantity(args.rate, "frequency", name="--rate"),
+        force_noise=force_noise,
+        depth_noise=depth_noise,
+        bias=bias,
+        seed=seed,
+        foot=foot,
+        depth=depth,
+        hold=hold,
+        approach=approach,
+        rate=rate,
     )
     if not args.quiet:
         print(f"wrote {len(dataset.trials)} trials to {out / MANIFEST_NAME}")

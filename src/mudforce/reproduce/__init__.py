@@ -20,16 +20,10 @@ from typing import TYPE_CHECKING, Any
 from mudforce.reproduce._checks import MAX_SEED, check_output_dir, check_seed
 
 if TYPE_CHECKING:
-    from mudforce.reproduce.report import (
-        POORLY_DETERMINED,
-        SCATTERED,
-        VELOCITY_FREE,
-        ReproduceConfig,
-        ReproduceResult,
-        determined,
-        make_experiments,
-        reproduce,
-    )
+    from mudforce.reproduce.experiments import SCATTERED, ReproduceConfig, make_experiments
+    from mudforce.reproduce.jobs import VELOCITY_FREE
+    from mudforce.reproduce.report import ReproduceResult, Terminated, reproduce
+    from mudforce.reproduce.summary import POORLY_DETERMINED, determined
 
 __all__ = [
     "MAX_SEED",
@@ -38,6 +32,7 @@ __all__ = [
     "VELOCITY_FREE",
     "ReproduceConfig",
     "ReproduceResult",
+    "Terminated",
     "check_output_dir",
     "check_seed",
     "determined",
@@ -45,13 +40,18 @@ __all__ = [
     "reproduce",
 ]
 
-_LAZY = frozenset(__all__) - {"MAX_SEED", "check_output_dir", "check_seed"}
+#: Where each heavy name lives (imported on first use).
+_LAZY = {
+    "POORLY_DETERMINED": "summary", "SCATTERED": "experiments", "VELOCITY_FREE": "jobs",
+    "ReproduceConfig": "experiments", "ReproduceResult": "report", "Terminated": "report",
+    "determined": "summary", "make_experiments": "experiments", "reproduce": "report",
+}
 
 
 def __getattr__(name: str) -> Any:
     if name not in _LAZY:
         raise AttributeError(f"module 'mudforce.reproduce' has no attribute {name!r}")
-    value = getattr(importlib.import_module("mudforce.reproduce.report"), name)
+    value = getattr(importlib.import_module(f"mudforce.reproduce.{_LAZY[name]}"), name)
     globals()[name] = value
     return value
 

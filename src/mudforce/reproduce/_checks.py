@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from mudforce.errors import InputError
-from mudforce.io import check_output_dir
+from mudforce.reproduce.output import check_report_dir as check_output_dir
 
 __all__ = ["MAX_SEED", "check_output_dir", "check_seed"]
 

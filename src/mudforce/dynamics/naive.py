@@ -1,0 +1,89 @@
+"""The naive explicit coupling of a foot with the mud, for comparison with the engine (:func:`naive_drop`).
+
+A simulator that takes the branch from the sign of the last velocity and
+applies the force explicitly puts the full intrusion force on a foot that
+has just stopped, throws it up onto the withdrawal branch, then drops it
+back: it chatters every step and, as the intrusion branch carries the
+weight only on the way down, ratchets the foot deeper. The built-in engine
+(:mod:`mudforce.dynamics.engine`) and the MuJoCo adapter avoid both with the
+rest band (:mod:`mudforce.dynamics.rest_band`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from mudforce import _kernel as K
+from mudforce.dynamics._checks import check_finite_output, check_foot, check_params, max_samples, real
+from mudforce.dynamics.result import GRAVITY
+from mudforce.foot import Foot
+from mudforce.parameters import MudParameters
+from mudforce.simulation import params_row
+from mudforce.velocity import VelocityFilter
+
+__all__ = ["naive_drop"]
+
+
+@njit(cache=True, nogil=True)
+def _naive(states: np.ndarray, params: np.ndarray, m: float, g: float, z0: float, dt: float, n: int,
+           depth: np.ndarray, force: np.ndarray) -> None:
+    out = np.empty((K.N_OUT, 1))
+    ring = states[:, :0]  # the exact velocity filter keeps no history
+    z = z0
+    v = 0.0
+    f = K.step(states, ring, 0, params, z, dt, out, 0)
+    for k in range(n):
+        v += dt * (g - f / m)  # semi-implicit Euler, force from the last sample's branch
+        z += dt * v
+        f = K.step(states, ring, 0, params, z, dt, out, 0)
+        depth[k] = z
+        force[k] = f
+
+
+def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
+               dt: float = 1e-3, gravity: float = GRAVITY) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The naive explicit coupling this module warns about: ``(time [s], depth [m], force [N])``.
+
+    Each step integrates ``m dv/dt = m g - F`` with the force the streaming
+    model returned for the previous sample; the branch follows the sign of
+    the last step's velocity. For comparison only: it chatters and ratchets.
+
+    Parameters
+    ----------
+    mass : float
+        Foot mass [kg], > 0.
+    params : MudParameters
+        Mud parameters.
+    foot : Foot, optional
+        Foot geometry; the paper's cuboid by default.
+    duration : float
+        Simulated time [s], > 0 (at most 1e8 steps).
+    dt : float
+        Time step [s], > 0.
+    gravity : float
+        Gravitational acceleration [m/s^2].
+
+    Raises
+    ------
+    InputError
+        For inputs of the wrong type or out of bounds, and if the result is
+        not finite (a foot too light for the step diverges).
+    """
+    params = check_params(params)
+    foot = check_foot(foot)
+    mass = real("mass", mass, "kg", positive=True)
+    duration = real("duration", duration, "s", positive=True)
+    dt = real("dt", dt, "s", positive=True)
+    gravity = real("gravity", gravity, "m/s^2")
+    max_samples(duration, dt)
+    p = params_row(params, foot, VelocityFilter.exact())[None, :]
+    n = round(duration / dt)
+    depth = np.empty(n)
+    force = np.empty(n)
+    _naive(K.new_states(1), p, mass, gravity, 0.0, dt, n, depth, force)
+    time = np.arange(1, n + 1) * dt
+    check_finite_output("naive", time, depth, force)
+    return time, depth, force
+
+

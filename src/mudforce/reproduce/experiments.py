@@ -1,0 +1,155 @@
+"""The synthetic experiments of :mod:`mudforce.reproduce`: what is made (:class:`ReproduceConfig`) and making it.
+
+No experimental data from Chen, Yi & Shan (arXiv:2403.02617) is public, so
+the report works on data the project can make. For each water content,
+speed and repeat, one trial of the paper's protocol (approach from 5 mm
+above the surface, intrude to 20 mm, hold 6 s, withdraw to 20 mm above the
+surface, 100 Hz) is made by :func:`mudforce.calibration.synthesize` from
+Table I (interpolated) with force noise, depth noise and a force-sensor
+bias. Each trial's mud is prepared afresh, so its parameters scatter about
+the Table I row (lognormal, ``repeat_scatter`` relative standard deviation
+on :data:`SCATTERED`): repeats differ as real repeats do, and the fit
+cannot reach the noise floor.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mudforce.calibration.dataset import Dataset, Trial
+from mudforce.calibration.fit import FitOptions
+from mudforce.calibration.synth import synthesize, trial_name
+from mudforce.errors import InputError
+from mudforce.foot import Foot
+from mudforce.parameters import MudParameters
+from mudforce.reproduce._checks import check_seed
+
+__all__ = ["SCATTERED", "ReproduceConfig", "make_experiments"]
+
+#: Parameters that scatter from repeat to repeat in the synthetic experiments.
+SCATTERED: tuple[str, ...] = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y")
+
+
+@dataclass(frozen=True)
+class ReproduceConfig:
+    """What :func:`reproduce` makes and how hard it fits.
+
+    Attributes
+    ----------
+    water_contents : tuple of float
+        Volume fractions [-]; must include the reference 0.25 (Figs. 2, 6, 11).
+    velocities : tuple of float
+        Intrusion and withdrawal speeds [m/s]; the first is the reference speed.
+    repeats : int
+        Trials per (water content, speed).
+    rate : float
+        Sampling rate [Hz].
+    repeat_scatter : float
+        Relative standard deviation of the trial-to-trial scatter of
+        :data:`SCATTERED` [-] (lognormal).
+    force_noise, depth_noise, bias : float
+        Sensor imperfections: white force noise [N], white depth noise [m], force bias [N].
+    fit_options : FitOptions
+        Optimiser budget of the per-water-content fits.
+    velocity_fit_options : FitOptions
+        Optimiser budget of the per-speed fits (Fig. 10).
+    seed : int
+        Seeds the synthetic data and the fits.
+    quick : bool
+        Whether this is the reduced ``--quick`` configuration (recorded in the outputs).
+    """
+
+    water_contents: tuple[float, ...] = (0.15, 0.20, 0.25, 0.30, 0.35)
+    velocities: tuple[float, ...] = (0.01, 0.02, 0.03, 0.04)
+    repeats: int = 3
+    rate: float = 100.0
+    repeat_scatter: float = 0.02
+    force_noise: float = 0.2
+    depth_noise: float = 3e-5
+    bias: float = 0.5
+    fit_options: FitOptions = field(default_factory=FitOptions)
+    velocity_fit_options: FitOptions = field(default_factory=FitOptions)
+    seed: int = 0
+    quick: bool = False
+
+    def __post_init__(self) -> None:
+        check_seed(self.seed)
+        if not any(abs(w - 0.25) < 1e-9 for w in self.water_contents):
+            raise InputError("the water contents must include 0.25 (the paper's Figs. 2, 6 and 11)")
+        if not self.velocities or self.repeats < 1:
+            raise InputError("reproduce needs at least one speed and one repeat")
+
+    @classmethod
+    def full(cls, seed: int = 0) -> ReproduceConfig:
+        """Five water contents x four speeds (10-40 mm/s) x three repeats at 100 Hz; default fit budget."""
+        return cls(seed=seed)
+
+    @classmethod
+    def quick_config(cls, seed: int = 0) -> ReproduceConfig:
+        """Five water contents x two speeds (10, 30 mm/s) x two repeats at 50 Hz, with a small optimiser budget."""
+        small = FitOptions(starts=1, popsize=5, maxiter=8, max_nfev=60)
+        return cls(velocities=(0.01, 0.03), repeats=2, rate=50.0, fit_options=small, velocity_fit_options=small,
+                   seed=seed, quick=True)
+
+    @property
+    def reference_velocity(self) -> float:
+        """The speed of the single-condition figures (Figs. 2, 6, 11) [m/s]."""
+        return self.velocities[0]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The configuration as JSON-ready values (SI)."""
+        def opts(o: FitOptions) -> dict[str, Any]:
+            return {"starts": o.starts, "popsize": o.popsize, "maxiter": o.maxiter, "tol": o.tol,
+                    "max_nfev": o.max_nfev}
+
+        return {
+            "quick": self.quick, "seed": self.seed, "water_contents": list(self.water_contents),
+            "velocities_m_s": list(self.velocities), "repeats": self.repeats,
+            "repeat_scatter": self.repeat_scatter, "force_noise_N": self.force_noise,
+            "depth_noise_m": self.depth_noise, "bias_N": self.bias,
+            "protocol": {"depth_m": 0.02, "hold_s": 6.0, "approach_m": 0.005, "rise_m": 0.02, "rate_Hz": self.rate},
+            "fit_options": opts(self.fit_options), "velocity_fit_options": opts(self.velocity_fit_options),
+        }
+
+
+# ---------------------------------------------------------------------------- making the trials
+def _scattered(params: MudParameters, rng: np.random.Generator, scatter: float) -> MudParameters:
+    if scatter <= 0.0:
+        return params
+    factors = np.exp(scatter * rng.standard_normal(len(SCATTERED)))
+    changes = {n: getattr(params, n) * float(f) for n, f in zip(SCATTERED, factors, strict=True)}
+    return params.replace(**changes, source=f"{params.source}, scattered {scatter:.0%} for one trial")
+
+
+def make_experiments(config: ReproduceConfig, foot: Foot | None = None) -> tuple[Dataset, dict[str, MudParameters]]:
+    """The synthetic dataset: one trial per (water content, speed, repeat), each from freshly scattered mud.
+
+    Returns
+    -------
+    dataset : Dataset
+        Trials ordered by water content, speed, repeat; named like ``w25_v10_r1.csv``.
+    truths : dict
+        Trial name -> the parameters that trial was simulated with.
+    """
+    foot = Foot.paper() if foot is None else foot
+    rng = np.random.default_rng([config.seed, 20240305])
+    trials: dict[tuple[float, float, int], Trial] = {}
+    truths: dict[str, MudParameters] = {}
+    for vi, v in enumerate(config.velocities):
+        for r in range(1, config.repeats + 1):
+            params = {w: _scattered(MudParameters.from_water_content(w), rng, config.repeat_scatter)
+                      for w in config.water_contents}
+            made = synthesize(water_contents=config.water_contents, velocities=(v,), repeats=1,
+                              force_noise=config.force_noise, depth_noise=config.depth_noise, bias=config.bias,
+                              seed=config.seed * 1000 + vi * 100 + r, foot=foot, parameters=params,
+                              rate=config.rate)
+            for tr in made.trials:
+                name = trial_name(tr.water_content, v, r)
+                trials[(tr.water_content, v, r)] = Trial(name, tr.water_content, tr.time, tr.depth, tr.force, v, r)
+                truths[name] = params[tr.water_content]
+    ordered = tuple(trials[k] for k in sorted(trials))
+    extra = {"synthetic": {"reproduce": config.to_dict()}}
+    return Dataset(foot=foot, trials=ordered, source="mudforce reproduce", extra=extra), truths

@@ -1,0 +1,102 @@
+"""The shared harness for command-line tests: subprocess runs, batches of runs in one process, snapshots.
+
+``run_cli`` runs ``python -m mudforce`` in a folder (the real thing: exit
+status, stderr, no traceback). ``run_batch`` runs many command lines in ONE
+subprocess (importing numba costs ~0.5 s a process): each case calls
+:func:`mudforce.cli.main` in its own folder, with stdout and stderr captured
+and any exception that escapes ``main`` recorded as a traceback, so a batch
+checks what a process would show at a fraction of the cost.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+PYTHON_M = [sys.executable, "-m", "mudforce"]
+
+_DRIVER = r"""
+import contextlib, io, json, os, sys, traceback
+from mudforce.cli import main
+cases = json.load(sys.stdin)
+results = []
+for case in cases:
+    os.chdir(case["cwd"])
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            rc = main(case["argv"])
+        except SystemExit as exc:
+            rc = exc.code if isinstance(exc.code, int) else 1
+        except BaseException:
+            rc = -1
+            err.write(traceback.format_exc())
+    results.append({"rc": rc, "stdout": out.getvalue(), "stderr": err.getvalue()})
+json.dump(results, sys.stdout)
+"""
+
+
+@dataclass
+class Run:
+    """What one command line did."""
+
+    returncode: int
+    stdout: str
+    stderr: str
+
+
+def _env() -> dict[str, str]:
+    """The environment, with the package under test first on the path (a relative PYTHONPATH such as
+    ``src`` would not resolve from the run's folder, and another installed copy would run instead)."""
+    import mudforce
+
+    env = dict(os.environ)
+    env.pop("MPLBACKEND", None)
+    here = str(Path(mudforce.__file__).resolve().parents[1])
+    env["PYTHONPATH"] = os.pathsep.join([here, *(p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)])
+    return env
+
+
+def run_cli(args: Sequence[str], cwd: Path, timeout: float = 180) -> subprocess.CompletedProcess[str]:
+    """Run ``python -m mudforce ARGS`` in ``cwd`` with no stdin; returns the finished process."""
+    return subprocess.run([*PYTHON_M, *args], cwd=cwd, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                          timeout=timeout, env=_env())
+
+
+def run_batch(cases: Sequence[tuple[Sequence[str], Path]], timeout: float = 300) -> list[Run]:
+    """Run each ``(argv, cwd)`` through ``mudforce.cli.main`` in one subprocess; one :class:`Run` per case."""
+    payload = json.dumps([{"argv": list(argv), "cwd": str(cwd)} for argv, cwd in cases])
+    proc = subprocess.run([sys.executable, "-c", _DRIVER], input=payload, capture_output=True, text=True,
+                          timeout=timeout, env=_env())
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return [Run(r["rc"], r["stdout"], r["stderr"]) for r in json.loads(proc.stdout)]
+
+
+def snapshot(directory: Path) -> dict[str, bytes | str]:
+    """Every entry under ``directory``: file content, or ``-> target`` for a symbolic link."""
+    out: dict[str, bytes | str] = {}
+    for p in sorted(directory.rglob("*")):
+        rel = str(p.relative_to(directory))
+        if p.is_symlink():
+            out[rel] = "-> " + os.readlink(p)
+        elif p.is_file():
+            out[rel] = p.read_bytes()
+    return out
+
+
+def assert_refused(run: Run, *words: str) -> None:
+    """Exit 2, one short line on stderr naming the problem, nothing on stdout, no traceback."""
+    err = run.stderr
+    assert run.returncode == 2, (run.returncode, err)
+    assert "Traceback" not in err, err
+    assert err.endswith("\n") and err.count("\n") == 1, err
+    assert len(err) < 400, err
+    assert err.startswith("mudforce") and ": error: " in err, err
+    for word in words:
+        assert word in err, (word, err)
+    assert run.stdout == ""

@@ -1,0 +1,199 @@
+"""One line and exit 2, never a traceback nor a non-finite output, whatever the values (issue 15, items 4-6).
+
+Every case runs through ``mudforce.cli.main`` in one subprocess
+(``run_batch``), each in its own folder; refused cases must leave that
+folder exactly as it was.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from conftest import Run, assert_refused, run_batch, snapshot
+from mudforce import Foot
+from mudforce.calibration.synth import synthesize
+
+GOOD_PARAMS = '{"k_m_i": 260000.0, "b_m_i": 290000.0, "k_m_w": 1210000.0, "b_m_w": 1350000.0, "alpha": 40000.0, ' \
+              '"beta": 0.54, "sigma_y": 6000.0, "zeta": 0.49, "omega_0": 2.23, "rho_m": 1840.0, "lambda": 0.013}'
+TRAJ = "time_s,depth_m\n" + "".join(f"{0.01 * k:.2f},{0.0005 * k:.4f}\n" for k in range(30))
+SLIDING = "velocity_m_s,force_N\n0.1,0.5\n0.2,1.9\n0.3,4.3\n-0.2,-1.8\n"
+FOOT = {"shape": "cuboid", "length_m": 0.051, "width_m": 0.038}
+
+
+def _manifest(trials: list[dict[str, object]], foot: object = FOOT) -> str:
+    return json.dumps({"foot": foot, "trials": trials})
+
+
+def _sim(*args: str) -> list[str]:
+    return ["simulate", "--water-content", "25%", *args, "--out", "out.csv"]
+
+
+def _traj(text: str) -> list[str]:
+    return ["simulate", "--water-content", "25%", "--trajectory", "traj.csv", "--out", "out.csv"]
+
+
+#: (id, argv, files, words); files: name -> text, "@trial" is replaced by a synthetic trial's CSV
+REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
+    # item 5: huge and odd values, one line each
+    ("foot-1e300m-simulate", _sim("--foot", "disc:1e300m"), {}, ("--foot", "too large")),
+    ("foot-1e300m-identify", ["identify", "t.csv", "--foot", "disc:1e300m"], {"t.csv": "@trial"}, ("--foot",)),
+    ("foot-1e300m-fit-drag", ["fit-drag", "s.csv", "--foot", "cuboid:1e300mx1mm"], {"s.csv": SLIDING}, ("--foot",)),
+    ("foot-too-small", _sim("--foot", "disc:10um"), {}, ("disc diameter", "within")),
+    ("params-400-digits", ["simulate", "--params", "p.json", "--out", "out.csv"],
+     {"p.json": GOOD_PARAMS.replace("260000.0", "1" + "0" * 400)}, ("p.json", "401 digits")),
+    ("params-5000-digits", ["simulate", "--params", "p.json", "--out", "out.csv"],
+     {"p.json": GOOD_PARAMS.replace("260000.0", "1" + "0" * 5000)}, ("p.json", "digits")),
+    ("params-1e400", ["simulate", "--params", "p.json", "--out", "out.csv"],
+     {"p.json": GOOD_PARAMS.replace("260000.0", "1e400")}, ("p.json", "overflows")),
+    ("params-NaN-token", ["simulate", "--params", "p.json", "--out", "out.csv"],
+     {"p.json": GOOD_PARAMS.replace("260000.0", "NaN")}, ("p.json", "NaN")),
+    ("params-nested", ["simulate", "--params", "p.json", "--out", "out.csv"],
+     {"p.json": "[" * 100_000 + "]" * 100_000}, ("p.json", "nested too deeply")),
+    ("params-denormal-stiffness", ["simulate", "--params", "p.json", "--out", "out.csv"],
+     {"p.json": GOOD_PARAMS.replace("260000.0", "1e-310")}, ("k_m_i", "within")),
+    ("params-zeta-1e160", ["simulate", "--params", "p.json", "--out", "out.csv"],
+     {"p.json": GOOD_PARAMS.replace('"zeta": 0.49', '"zeta": 1e160')}, ("zeta", "within")),
+    ("manifest-400-digits", ["fit", "ds", "--out", "f.json"],
+     {"ds/dataset.json": _manifest([{"file": "a.csv", "water_content": 0.25, "repeat": int("1" * 400)}])},
+     ("dataset.json", "digits")),
+    ("manifest-nested", ["fit", "ds", "--out", "f.json"], {"ds/dataset.json": "{" + '"a":[' * 50_000},
+     ("dataset.json",)),
+    ("fix-nan", ["fit", "ds", "--out", "f.json", "--fix", "beta=nan"], {}, ("--fix", "beta=nan")),
+    ("fix-twice", ["fit", "ds", "--out", "f.json", "--fix", "beta=0.5,beta=0.6"], {}, ("--fix", "twice")),
+    ("free-and-fix", ["fit", "ds", "--out", "f.json", "--free", "lambda", "--fix", "lambda=0.01"], {},
+     ("--free", "--fix", "conflict")),
+    ("fit-seed-negative", ["fit", "ds", "--out", "f.json", "--seed", "-1"], {}, ("--seed",)),
+    ("synth-seed-negative", ["synth", "--out", "new", "--seed", "-1"], {}, ("--seed",)),
+    ("synth-depth-1e300m", ["synth", "--out", "new", "--depth", "1e300m"], {}, ("--depth", "too large")),
+    ("synth-depth-beyond-model", ["synth", "--out", "new", "--depth", "500m"], {}, ("--depth", "100 m")),
+    ("synth-hold-1e300s", ["synth", "--out", "new", "--hold", "1e300s"], {}, ("--hold",)),
+    ("synth-rate-huge", ["synth", "--out", "new", "--rate", "1e8Hz"], {}, ("samples",)),
+    ("synth-repeats-100000", ["synth", "--out", "new", "--repeats", "100000"], {}, ("--repeats",)),
+    ("synth-repeated-water", ["synth", "--out", "new", "--water-content", "25%,25%"], {},
+     ("--water-content", "repeated")),
+    ("synth-repeated-velocity", ["synth", "--out", "new", "--velocities", "10mm/s,0.01m/s"], {},
+     ("--velocities", "repeated")),
+    ("simulate-hold-1e300s", _sim("--hold", "1e300s"), {}, ("--hold",)),
+    ("fit-drag-tiny-speeds", ["fit-drag", "s.csv"], {"s.csv": "velocity_m_s,force_N\n1e-160,1\n2e-160,2\n"},
+     ("fit-drag",)),
+    ("fit-drag-huge-force", ["fit-drag", "s.csv"], {"s.csv": "velocity_m_s,force_N\n0.1,1e300\n0.2,2\n"},
+     ("force_N", "magnitude")),
+    ("fit-drag-huge-density", ["fit-drag", "s.csv", "--rho-m", "1e300kg/m3"], {"s.csv": SLIDING}, ("--rho-m",)),
+    # item 4: finite input, non-finite output is refused at the source
+    ("trajectory-depth-1e307", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,-1e307\n0.02,0\n"},
+     ("traj.csv", "row 3", "depth_m")),
+    ("trajectory-step-1e-12", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n1e-12,0.001\n0.02,0\n"},
+     ("time step", "1e-09")),
+    ("fit-bias-1e300", ["fit", "big", "--out", "f.json"], {"big/dataset.json": "@manifest-big", "big/a.csv": "@big"},
+     ("a.csv", "force_N", "magnitude")),
+    # item 6: inputs mean one thing
+    ("csv-duplicate-column", _traj(""), {"traj.csv": "time_s,depth_m,depth_m\n0,0,0\n0.01,0.001,0\n"},
+     ("traj.csv", "depth_m", "more than once")),
+    ("csv-two-spellings", _traj(""), {"traj.csv": "time_s,depth_m,depth_mm\n0,0,0\n0.01,0.001,1\n"},
+     ("traj.csv", "depth_m", "depth_mm")),
+    ("csv-underscore-number", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,1_0\n"},
+     ("traj.csv", "row 3", "not a number")),
+    ("csv-arabic-digits", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,\u0661\n"},
+     ("traj.csv", "row 3", "not a number")),
+    ("unit-arabic-digits", _sim("--depth", "\u0662\u0660mm"), {}, ("--depth",)),
+    ("unit-underscore", _sim("--depth", "2_0mm"), {}, ("--depth",)),
+    ("manifest-dotdot", ["fit", "ds2", "--out", "f.json"],
+     {"ds2/dataset.json": _manifest([{"file": "../secret.csv", "water_content": 0.25}]),
+      "secret.csv": "root:x:0:0:secret\n"}, ("relative to the dataset folder",)),
+    ("manifest-absolute", ["fit", "ds2", "--out", "f.json"],
+     {"ds2/dataset.json": "@manifest-absolute", "secret.csv": "root:x:0:0:secret\n"},
+     ("relative to the dataset folder",)),
+    ("manifest-link-out", ["fit", "ds2", "--out", "f.json"],
+     {"ds2/dataset.json": _manifest([{"file": "link.csv", "water_content": 0.25}]),
+      "secret.csv": "root:x:0:0:secret\n", "ds2/link.csv": "@link:../secret.csv"}, ("outside the dataset folder",)),
+    ("identify-zero-force", ["identify", "t.csv"], {"t.csv": "@zero-force"}, ("force",)),
+    ("velocity-too-small", ["simulate", "--water-content", "25%", "--velocity", "1e-12m/s", "--out", "out.csv"], {},
+     ("--velocity",)),
+]
+
+
+def _materialise(root: Path, files: dict[str, str], trial: str) -> None:
+    for name, text in files.items():
+        path = root / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if text.startswith("@link:"):
+            path.symlink_to(text[len("@link:"):])
+            continue
+        if text == "@trial":
+            text = trial
+        elif text == "@zero-force":
+            lines = trial.splitlines()
+            text = "\n".join([lines[0], *(",".join([*line.split(",")[:2], "0"]) for line in lines[1:])]) + "\n"
+        elif text == "@big":
+            lines = trial.splitlines()
+            text = "\n".join([lines[0], *(",".join([*line.split(",")[:2], "1e300"]) for line in lines[1:])]) + "\n"
+        elif text == "@manifest-big":
+            text = _manifest([{"file": "a.csv", "water_content": 0.25}])
+        elif text == "@manifest-absolute":
+            text = _manifest([{"file": str(root / "secret.csv"), "water_content": 0.25}])
+        path.write_text(text, encoding="utf-8")
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[Run, Path, dict[str, bytes | str]]]:
+    source = tmp_path_factory.mktemp("source")
+    synthesize(source / "ds", velocities=(0.02,), repeats=1, seed=2)
+    trial = (source / "ds" / "w25_v20_r1.csv").read_text()
+    cases = []
+    for case_id, argv, files, _ in REFUSED:
+        root = tmp_path_factory.mktemp(case_id)
+        if argv[1:2] == ["ds"]:
+            synthesize(root / "ds", velocities=(0.02,), repeats=1, seed=2)
+        (root / "out.csv").write_text("previous output\n")
+        _materialise(root, files, trial)
+        cases.append((argv, root))
+    befores = [snapshot(root) for _, root in cases]
+    results = run_batch(cases)
+    return {c[0]: (r, root, b) for c, r, (_, root), b in zip(REFUSED, results, cases, befores, strict=True)}
+
+
+@pytest.mark.parametrize(("case_id", "words"), [(c[0], c[3]) for c in REFUSED], ids=[c[0] for c in REFUSED])
+def test_refused_in_one_line(runs: dict[str, tuple[Run, Path, dict[str, bytes | str]]], case_id: str,
+                             words: tuple[str, ...]) -> None:
+    """Exit 2, one line naming the problem, no traceback, no other file's content echoed, nothing changed."""
+    run, root, before = runs[case_id]
+    assert_refused(run, *words)
+    assert "root:x" not in run.stderr  # an error never echoes another file's content
+    assert snapshot(root) == before
+
+
+def test_accepted_meanings(tmp_path: Path) -> None:
+    """A BOM is accepted; fit-drag warns about a negative lambda; identify says when the manifest's foot
+    differs from the one assumed, and does not call 8e-5 N "well above" a noise of 0 N; fit.json is valid
+    JSON with finite numbers only."""
+    (tmp_path / "bom.csv").write_bytes(b"\xef\xbb\xbf" + TRAJ.encode())
+    (tmp_path / "neg.csv").write_text("velocity_m_s,force_N\n0.1,-0.5\n0.2,-1.9\n0.3,-4.3\n")
+    synthesize(tmp_path / "disc", velocities=(0.02,), repeats=1, seed=3, foot=Foot.disc(0.08))
+    synthesize(tmp_path / "clean", velocities=(0.02,), repeats=1, seed=3, force_noise=0.0, depth_noise=0.0, bias=0.0)
+    results = run_batch([
+        (["simulate", "--water-content", "25%", "--trajectory", "bom.csv", "--out", "o.csv", "--quiet"], tmp_path),
+        (["fit-drag", "neg.csv"], tmp_path),
+        (["identify", "disc/w25_v20_r1.csv", "--json"], tmp_path),
+        (["identify", "clean/w25_v20_r1.csv", "--foot", "paper", "--json"], tmp_path),
+    ])
+    for r in results:
+        assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+    assert "lambda" in results[1].stderr and "negative" in results[1].stderr
+    disc = json.loads(results[2].stdout)
+    assert any("manifest names the foot disc 80 mm" in w for w in disc["warnings"])
+    clean = json.loads(results[3].stdout)
+    assert abs(clean["water_content"] - 0.25) < 1e-3
+    assert not any("well above" in w for w in clean["warnings"]), clean["warnings"]
+
+
+def test_fit_json_is_strict_json() -> None:
+    """The JSON writer refuses non-finite numbers, so fit.json never holds an Infinity token."""
+    from mudforce.errors import InputError
+    from mudforce.io import dumps_json
+
+    with pytest.raises(InputError, match="not finite"):
+        dumps_json({"rmse_N": math.inf})

@@ -1,0 +1,42 @@
+"""``mudforce drop`` through a subprocess: masses out of bounds refused (exit 2, one line); "at rest" only at rest."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PREVIOUS = b"previous output, must survive any error\n"
+
+
+def run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "mudforce", "drop", *args], cwd=cwd, capture_output=True, text=True,
+                          timeout=120, check=False)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        # were: 7,991 NaN cells and exit 0; a traceback from MuJoCo
+        (["--mass", "1e-8kg"], "--mass: '1e-8kg' is less than 0.1 kg"),
+        (["--engine", "mujoco", "--mass", "1e-300kg"], "--mass: '1e-300kg' is less than 1 kg"),
+    ],
+)
+def test_too_light_a_foot_is_refused(tmp_path: Path, args: list[str], message: str) -> None:
+    out = tmp_path / "drop.csv"
+    out.write_bytes(PREVIOUS)
+    proc = run([*args, "--water-content", "25%", "--out", "drop.csv"], tmp_path)
+    assert proc.returncode == 2 and proc.stdout == ""
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0] and "Traceback" not in proc.stderr
+    assert out.read_bytes() == PREVIOUS
+
+
+def test_a_foot_still_moving_is_not_called_at_rest(tmp_path: Path) -> None:
+    proc = run(["--mass", "5kg", "--water-content", "25%", "--duration", "50ms", "--out", "drop.csv"], tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert "rest depth" not in proc.stdout
+    assert "not at rest after 0.05 s: depth 9.003 mm, moving at 292.003 mm/s (INTRUSION)" in proc.stdout
+    assert "force std over the last 0.05 s" in proc.stdout

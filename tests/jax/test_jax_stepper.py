@@ -1,0 +1,198 @@
+"""mudforce.jax against the CPU stepper (MudContacts, exact rule): every transition, all five Table I rows."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+jax = pytest.importorskip("jax")
+jax.config.update("jax_enable_x64", True)  # float64 comparisons; float32 is asked for explicitly below
+
+import jax.numpy as jnp  # noqa: E402
+
+import mudforce.jax as mj  # noqa: E402
+from mudforce import _kernel as K  # noqa: E402
+from mudforce import dynamics  # noqa: E402
+from mudforce.errors import InputError  # noqa: E402
+from mudforce.foot import Foot  # noqa: E402
+from mudforce.parameters import MudParameters  # noqa: E402
+from mudforce.vectorized import MudContacts  # noqa: E402
+
+WATER = (0.15, 0.20, 0.25, 0.30, 0.35)
+DT = 1e-3
+STEP = jax.jit(mj.step)  # shared: eager mode would dispatch every operation on its own
+BRANCH_FORCES = jax.jit(mj.branch_forces)
+
+
+def gait(n: int, steps: int, dt: float, seed: int) -> np.ndarray:
+    """Depths [m], shape (steps, n): two sines per foot, half of them capped (exact holds).
+
+    Means from 5 mm above to 18 mm below the surface and speeds up to
+    ~0.4 m/s, so every foot touches down, intrudes, holds, withdraws fast
+    enough to neck (inside a step) at every water content, and re-pushes
+    from NECKED both below the surface (to CONTACT) and above it (to FREE).
+    """
+    rng = np.random.default_rng(seed)
+    t = np.arange(steps)[:, None] * dt
+    c = rng.uniform(-5e-3, 18e-3, n)
+    a = rng.uniform(3e-3, 25e-3, n)
+    f = rng.uniform(0.4, 2.5, n)
+    ph = rng.uniform(0.0, 2.0 * np.pi, n)
+    a2 = rng.uniform(0.0, 4e-3, n)
+    f2 = rng.uniform(2.0, 6.0, n)
+    z = c + a * np.sin(2.0 * np.pi * f * t + ph) + a2 * np.sin(2.0 * np.pi * f2 * t)
+    cap = np.where(rng.random(n) < 0.5, rng.uniform(5e-3, 30e-3, n), np.inf)
+    z = np.minimum(z, cap)
+    # and two crafted feet: a shallow dip that leaves CONTACT for FREE on the intrusion branch
+    # (a hold above the surface before the neck breaks), and a deep push, fast pull (necks
+    # below the surface at every water content) and re-push into CONTACT
+    z[:, 0] = np.interp(t[:, 0], [0.0, 0.3, 0.6, 0.8], [-2e-3, 1e-3, -0.5e-3, -0.5e-3])
+    z[:, 1] = np.interp(t[:, 0], [0.0, 0.2, 0.4, 0.485, 0.9, 1.5], [0.0, 20e-3, 20e-3, 3e-3, 10e-3, -5e-3])
+    return z
+
+
+def cpu_run(muds: list[MudParameters], z: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Forces [N], contact states and neck offsets per step from MudContacts."""
+    steps, n = z.shape
+    feet = MudContacts(muds, n, threads=1)
+    forces = np.empty((steps, n))
+    modes = np.empty((steps, n), dtype=np.int64)
+    for k in range(steps):
+        forces[k] = feet.step(z[k], dt)
+        modes[k] = feet.states[:, K.S_MODE]
+    return forces, modes, feet.states.copy()
+
+
+@pytest.fixture(scope="module")
+def compared() -> dict[str, np.ndarray]:
+    per = 16
+    muds = [MudParameters.table_i(w) for w in WATER for _ in range(per)]
+    n = len(muds)
+    z = np.concatenate([gait(per, 1500, DT, seed=i) for i in range(len(WATER))], axis=1)
+    forces, modes, states = cpu_run(muds, z, DT)
+    params = mj.make_params(muds)
+
+    @jax.jit
+    def run(z: jax.Array) -> tuple[mj.State, tuple[jax.Array, jax.Array]]:
+        def body(s: mj.State, zk: jax.Array) -> tuple[mj.State, tuple[jax.Array, jax.Array]]:
+            s, f = mj.step(s, params, zk, DT)
+            return s, (f, s.mode)
+        return jax.lax.scan(body, mj.init(n), z)
+
+    final, (fj, mjm) = run(jnp.asarray(z))
+    return {"cpu": forces, "modes": modes, "states": states, "jax": np.asarray(fj), "jax_modes": np.asarray(mjm),
+            "final": final, "per": np.array(per)}
+
+
+def test_equal_to_cpu_at_every_water_content(compared: dict[str, np.ndarray]) -> None:
+    per = int(compared["per"])
+    for i, w in enumerate(WATER):
+        cols = slice(i * per, (i + 1) * per)
+        cpu = compared["cpu"][:, cols]
+        peak = np.abs(cpu).max()
+        err = np.abs(compared["jax"][:, cols] - cpu).max()
+        assert err <= 1e-12 * peak, (w, err / peak)
+        assert (compared["jax_modes"][:, cols] == compared["modes"][:, cols]).all()
+
+
+def test_gaits_pass_every_transition(compared: dict[str, np.ndarray]) -> None:
+    per = int(compared["per"])
+    for i in range(len(WATER)):
+        m = compared["modes"][:, i * per:(i + 1) * per]
+        pairs = {(int(a), int(b)) for a, b in zip(m[:-1].ravel(), m[1:].ravel(), strict=True) if a != b}
+        assert pairs == {(0, 1), (1, 0), (1, 2), (2, 0), (2, 1)}, (WATER[i], pairs)
+    assert (np.diff(gait(per, 1500, DT, seed=0), axis=0) == 0.0).any()  # exact holds
+
+
+def test_final_state_equals_cpu(compared: dict[str, np.ndarray]) -> None:
+    s = compared["final"]
+    cpu = compared["states"]
+    np.testing.assert_array_equal(np.asarray(s.mode), cpu[:, K.S_MODE])
+    np.testing.assert_array_equal(np.asarray(s.depth), cpu[:, K.S_DEPTH])
+    np.testing.assert_allclose(np.asarray(mj.mud_depth(s)), cpu[:, K.S_MUD], rtol=0, atol=1e-14)
+    contact = cpu[:, K.S_MODE] == K.CONTACT
+    np.testing.assert_allclose(np.asarray(s.strain)[contact], cpu[contact, K.S_STRAIN], rtol=0, atol=1e-14)
+
+
+def test_first_step_reset_and_bad_input() -> None:
+    params = mj.make_params(MudParameters.from_water_content(0.25))
+    s = mj.init(3)
+    s, f = STEP(s, params, jnp.array([-1e-3, 0.0, 5e-3]), 123.0)  # dt ignored by the first step
+    assert np.asarray(s.mode).tolist() == [mj.FREE, mj.FREE, mj.CONTACT]
+    cpu = MudContacts(MudParameters.from_water_content(0.25), 3)
+    np.testing.assert_allclose(np.asarray(f), cpu.step(np.array([-1e-3, 0.0, 5e-3]), 1.0), rtol=1e-14)
+    s2, f2 = STEP(s, params, jnp.array([jnp.nan, 1e-3, 6e-3]), DT)
+    assert np.isnan(np.asarray(f2)[0]) and np.isfinite(np.asarray(f2)[1:]).all()
+    assert float(s2.depth[0]) == -1e-3  # refused foot unchanged
+    s3, f3 = STEP(s, params, jnp.array([1e-3, 1e-3, 6e-3]), 0.0)
+    assert np.isnan(np.asarray(f3)).all() and (np.asarray(s3.depth) == np.asarray(s.depth)).all()
+    r = jax.jit(mj.reset)(s2, jnp.array([False, True, False]))
+    assert np.asarray(r.mode).tolist() == [mj.FREE, mj.UNSTARTED, mj.CONTACT]
+
+
+def test_vmap_per_foot_params_equals_batch() -> None:
+    muds = [MudParameters.table_i(w) for w in WATER]
+    params = mj.make_params(muds)
+    z = jnp.asarray(gait(5, 200, DT, seed=3))
+
+    def run(step_fn, s):  # type: ignore[no-untyped-def]
+        return jax.lax.scan(lambda s, zk: step_fn(s, params, zk, DT), s, z)[1]
+
+    batch = jax.jit(lambda: run(mj.step, mj.init(5)))()
+    single = jax.vmap(mj.step, in_axes=(0, 0, 0, None))
+    mapped = jax.jit(lambda: run(single, mj.init(5)))()
+    np.testing.assert_array_equal(np.asarray(batch), np.asarray(mapped))
+
+
+def test_make_params_shapes_and_errors() -> None:
+    mud = MudParameters.from_water_content(0.25)
+    assert mj.make_params(mud).k_i.shape == ()
+    assert mj.make_params(mud, n=7).alpha.shape == (7,)
+    p = mj.make_params([mud, mud], foot=Foot.disc(0.05))
+    assert p.area.shape == (2,) and float(p.area[0]) == pytest.approx(Foot.disc(0.05).area)
+    assert mj.make_params(mud, dtype=jnp.float32).k_w.dtype == jnp.float32
+    with pytest.raises(InputError, match="one per foot"):
+        mj.make_params([mud, mud, mud], foot=[Foot.paper(), Foot.paper()])
+    with pytest.raises(InputError, match="n = 4"):
+        mj.make_params([mud, mud], n=4)
+    with pytest.raises(InputError):
+        mj.make_params("mud")  # type: ignore[arg-type]
+
+
+def test_rest_band_and_branch_forces_equal_dynamics(compared: dict[str, np.ndarray]) -> None:
+    per = int(compared["per"])
+    muds = [MudParameters.table_i(w) for w in WATER for _ in range(per)]
+    states = compared["states"]
+    rows = MudContacts(muds, len(muds)).params_array
+    n = len(muds)
+    up, down, drag = np.empty(n), np.empty(n), np.empty(n)
+    for weight in (0.0, 1.0):
+        dynamics.branch_forces(states, rows, DT, weight, up, down, drag)
+        ju, jd, jdr = BRANCH_FORCES(compared["final"], mj.make_params(muds), DT, weight)
+        scale = np.abs(down).max()
+        np.testing.assert_allclose(np.asarray(ju), up, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(np.asarray(jd), down, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(np.asarray(jdr), drag, rtol=0, atol=1e-12 * scale)
+    lo, hi = mj.rest_band(mj.make_params(muds[0]), jnp.array(mj.CONTACT), jnp.array(0.01), jnp.array(1e-3),
+                          jnp.array(0.0))
+    ref = dynamics.rest_band(rows[0], K.CONTACT, 0.01, 1e-3, 0.0)
+    assert float(lo) == pytest.approx(ref[0], rel=1e-14) and float(hi) == pytest.approx(ref[1], rel=1e-14)
+    force, stuck = mj.stick_force(jnp.array(-5.0), jnp.array(20.0), jnp.array(0.0), jnp.array([3.0, 30.0]),
+                                  jnp.array(0.0))
+    assert np.asarray(force).tolist() == [3.0, 20.0] and np.asarray(stuck).tolist() == [True, False]
+
+
+def test_float32_tracks_float64() -> None:
+    """A short float32 run stays close to float64 (the 10 s measurement is in benchmarks/bench_gpu.py)."""
+    muds = [MudParameters.table_i(w) for w in WATER]
+    z = gait(5, 2000, DT, seed=5)
+
+    def run(dtype):  # type: ignore[no-untyped-def]
+        params = mj.make_params(muds, dtype=dtype)
+        body = lambda s, zk: mj.step(s, params, zk, jnp.asarray(DT, dtype))  # noqa: E731
+        return np.asarray(jax.jit(lambda z: jax.lax.scan(body, mj.init(5, dtype), z)[1])(jnp.asarray(z, dtype)),
+                          dtype=np.float64)
+
+    f64 = run(jnp.float64)
+    f32 = run(jnp.float32)
+    assert np.abs(f32 - f64).max() <= 1e-4 * np.abs(f64).max()

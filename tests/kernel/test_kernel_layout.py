@@ -1,0 +1,71 @@
+"""The kernel's layout API: contact states, rows and their named views, and numba's cache key."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import mudforce as mf
+from mudforce import _cache
+from mudforce import _kernel as K
+from mudforce._kernel import layout
+from mudforce.simulation import params_row
+
+
+def test_contact_state_codes_are_pinned() -> None:
+    """The codes are stored in state rows, snapshots and SimulationResult.state: they must never change."""
+    assert [(s.name, int(s)) for s in K.ContactMode] == [("FREE", 0), ("CONTACT", 1), ("NECKED", 2)]
+    assert (K.FREE, K.CONTACT, K.NECKED) == (0, 1, 2)
+    assert K.STATE_NAMES == ("FREE", "CONTACT", "NECKED") == mf.simulation.STATE_NAMES
+
+
+def test_named_views_follow_the_columns() -> None:
+    row = np.arange(K.N_STATE, dtype=np.float64)
+    s = K.state_of(row)
+    assert s == K.State(*range(K.N_CORE)) and isinstance(s.mode, int)
+    for name in K.State._fields:
+        assert K.state_column(row, name) == getattr(s, name) == row[getattr(layout, "S_" + name.upper())]
+    assert K.state_core(row).tolist() == list(range(K.N_CORE))
+    states = np.tile(row, (3, 1))
+    K.forget_cache(states)
+    assert (states[:, layout.S_CACHE_DT] == -1.0).all() and (states[:, : K.N_CORE] == row[: K.N_CORE]).all()
+    out = np.arange(K.N_OUT * 2, dtype=np.float64).reshape(K.N_OUT, 2)
+    o = K.outputs(out)
+    for name in K.Outputs._fields:
+        index = getattr(layout, "O_" + {"mud": "MUD", "state": "STATE"}.get(name, name.upper()))
+        np.testing.assert_array_equal(getattr(o, name), out[index])
+    assert K.outputs(out[:, 1]).f_s == out[layout.O_F_S, 1]
+
+
+def test_params_row_as_values() -> None:
+    prow = params_row(mf.MudParameters.from_water_content(0.25), mf.Foot.paper(), mf.VelocityFilter.exact())
+    p = K.params_of(prow)
+    assert p.k_i == prow[layout.P_K_I] and p.neck_flush == prow[layout.P_NECK_FLUSH]
+    assert p.tau_w == p.b_w / p.k_w and p == K.load_params(prow[None, :], 0) == K.params_from_row(prow)
+    states = K.new_states(2)
+    states[1, : K.N_CORE] = np.arange(K.N_CORE)
+    assert K.state_from_row(states[1]) == K.state_of(states[1]) == K.load_state(states, 1)
+    states[:, layout.S_CACHE_DT] = 0.5
+    K.forget_row_cache(states, 1)
+    assert states[:, layout.S_CACHE_DT].tolist() == [0.5, -1.0]
+
+
+def test_run_batch_from_a_later_sample_is_the_tail_of_a_whole_run() -> None:
+    t = np.arange(400) / 1000.0
+    z = 0.02 * np.sin(2 * np.pi * 2.0 * t)
+    prow = params_row(mf.MudParameters.from_water_content(0.25), mf.Foot.paper(), mf.VelocityFilter.exact())[None]
+    whole = K.new_out(t.size)
+    K.run_batch(t, z, K.new_states(1), K.new_ring(1, 1), prow, whole)
+    first = 150
+    states = K.new_states(1)
+    K.run_batch(t[:first], z[:first], states, K.new_ring(1, 1), prow, K.new_out(first))  # keeps its cache
+    tail = K.new_out(t.size - first)
+    assert K.run_batch(t, z, states, K.new_ring(1, 1), prow, tail, first) == -1
+    np.testing.assert_array_equal(tail, whole[:, first:])
+
+
+def test_numba_cache_is_keyed_on_the_shared_sources() -> None:
+    """A compiled function's cache stamp carries the hash of the sources inlined into it (no files deleted)."""
+    locator = K.run_batch._cache._impl._locator
+    assert type(locator).__name__.startswith("Mudforce")
+    assert locator.get_source_stamp()[1] == _cache.source_fingerprint()
+    assert not hasattr(_cache, "refresh")

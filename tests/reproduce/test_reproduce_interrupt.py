@@ -1,0 +1,126 @@
+"""``mudforce reproduce`` stopped partway: no worker survives it, and the folder holds the old report or the new.
+
+Linux only (processes are found through /proc). Each test runs one quick
+report in a subprocess and kills it as soon as it reaches the stage under
+test, so they cost a few seconds each.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
+
+OLD = {"report.html": "old report\n", "summary.json": "{}\n", "fig02_profile.png": "old png"}
+
+
+def _stat(pid: int) -> list[str] | None:
+    """Fields of /proc/PID/stat after the command name (state first), or None if gone."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return text[text.rindex(")") + 2:].split()
+
+
+def _children(pid: int) -> dict[int, str]:
+    """Child pid -> its start time (to tell it from a later process given the same pid)."""
+    out = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            fields = _stat(int(entry.name))
+            if fields is not None and int(fields[1]) == pid:
+                out[int(entry.name)] = fields[19]
+    return out
+
+
+def _alive(pid: int, start: str) -> bool:
+    fields = _stat(pid)
+    return fields is not None and fields[19] == start and fields[0] not in ("Z", "X")
+
+
+def _wait_for(condition, timeout: float) -> bool:  # type: ignore[no-untyped-def]
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if condition():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def _start(out: Path) -> subprocess.Popen[str]:
+    out.mkdir()
+    for name, text in OLD.items():
+        (out / name).write_text(text)
+    return subprocess.Popen([sys.executable, "-m", "mudforce", "reproduce", "--quick", "--jobs", "2", "--quiet",
+                             "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def _old_or_complete_new(out: Path) -> str:
+    names = {p.name for p in out.iterdir()}
+    if names == set(OLD) and all((out / n).read_text() == t for n, t in OLD.items()):
+        return "old"
+    summary = json.loads((out / "summary.json").read_text())
+    assert names == {"report.html", "summary.json"} | {f["file"] for f in summary["figures"]}
+    assert (out / "report.html").read_text().endswith("</html>\n")
+    return "new"
+
+
+def _staged(out: Path) -> list[Path]:
+    return sorted(out.parent.glob(f".{out.name}.mudforce-reproduce-new-*"))
+
+
+def _no_worker_survives(workers: dict[int, str]) -> None:
+    assert workers, "no worker process was seen"
+    assert _wait_for(lambda: not any(_alive(p, s) for p, s in workers.items()), 10.0), \
+        f"workers still running: {[p for p, s in workers.items() if _alive(p, s)]}"
+
+
+def test_sigterm_during_the_fits(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    proc = _start(out)
+    try:
+        assert _wait_for(lambda: len(_children(proc.pid)) >= 2 or proc.poll() is not None, 120.0)
+        workers = _children(proc.pid)
+        proc.send_signal(signal.SIGTERM)
+        _, stderr = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 128 + signal.SIGTERM, stderr
+    assert "Traceback" not in stderr
+    _no_worker_survives(workers)
+    assert _old_or_complete_new(out) == "old"
+    assert _staged(out) == []  # its unfinished folder removed
+
+
+def test_sigkill_during_the_figures(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    proc = _start(out)
+    try:
+        # the figures are being written once the staged folder holds a PNG
+        assert _wait_for(lambda: any(any(p.glob("*.png")) for p in _staged(out)) or proc.poll() is not None, 240.0)
+        workers = _children(proc.pid)
+        proc.kill()
+        proc.wait(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    _no_worker_survives(workers)
+    assert _old_or_complete_new(out) == "old"
+    # the next run's clean-up removes the killed run's folder (nobody holds its lock any more)
+    from mudforce.reproduce.output import clean_stale
+
+    left = _staged(out)
+    assert len(left) == 1
+    assert clean_stale(out) == left and _staged(out) == []
+    assert _old_or_complete_new(out) == "old"
+    assert os.listdir(tmp_path) == ["out"]
