@@ -166,8 +166,8 @@ def test_time_errors_name_the_files_own_row_and_column(tmp_path: Path) -> None:
     ("extra", "words"),
     [
         (["--out", "no/such/dir/fit.json"], "--out: directory 'no/such/dir' does not exist"),
-        (["--out", "."], "is a directory"),
-        (["--out", "same", "--report", "same"], "--report same: the same path as --out"),
+        (["--out", "."], "names a directory"),
+        (["--out", "same", "--report", "same"], "is the --report folder"),
     ],
 )
 def test_fit_refuses_unusable_outputs_before_fitting(small: Path, tmp_path: Path, extra: list[str],
