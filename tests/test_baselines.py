@@ -11,17 +11,14 @@ import pytest
 from mudforce import Foot, Protocol
 from mudforce.baselines import (
     BASELINE_NAMES,
-    DRFT,
-    GRANULAR_RFT,
-    MAXWELL_ONLY,
     branch_velocity,
     drft_force,
     granular_rft_force,
     maxwell_only_force,
-    register_baselines,
 )
 from mudforce.calibration import Trial, fit_condition, get_model, save_dataset
 from mudforce.calibration.dataset import Dataset
+from mudforce.calibration.models import DRFT, GRANULAR_RFT, MAXWELL_ONLY, MODELS
 from mudforce.errors import InputError
 
 FOOT = Foot.paper()
@@ -89,10 +86,36 @@ def test_bad_trajectories_are_refused() -> None:
         drft_force([0.0, 1.0], [0.0, float("nan")], K_RFT)
 
 
-def test_registered_for_fit_model_name() -> None:
-    register_baselines()
+def test_listed_for_fit_model_name() -> None:
+    """Every built-in model is listed in one place, with no registration at import time."""
+    assert list(MODELS)[:4] == ["chen2024", *BASELINE_NAMES]
     for name, model in zip(BASELINE_NAMES, (GRANULAR_RFT, DRFT, MAXWELL_ONLY), strict=True):
         assert get_model(name) is model
+
+
+def test_baselines_module_is_pure() -> None:
+    """mudforce.baselines holds force laws only: it imports nothing from the calibration."""
+    import subprocess
+    import sys
+
+    code = "import sys, mudforce.baselines; print(any(m.startswith('mudforce.calibration') for m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
+
+
+def test_maxwell_only_matches_the_stepper_without_spring_and_neck() -> None:
+    """The Maxwell-only loop is the paper's stepper with f_e2 = 0 and no yield, on a walk with every contact state."""
+    from mudforce import simulate
+    from mudforce.gait import gait
+    from mudforce.parameters import TABLE_I, MudParameters
+
+    for seed, below in ((1, False), (2, True)):
+        g = gait(seed, duration=12.0, jitter=0.3, start_below=below)
+        p = TABLE_I[0.25]
+        ablated = MudParameters(p.k_m_i, p.b_m_i, p.k_m_w, p.b_m_w, 1e-24, 1.0, 1e30, 1.0, 1.0, p.rho_m, p.lambda_)
+        reference = simulate(g.time, g.depth, ablated, FOOT, velocity_filter="exact").force
+        ours = maxwell_only_force(g.time, g.depth, p.k_m_i, p.b_m_i, p.k_m_w, p.b_m_w, foot=FOOT)
+        np.testing.assert_allclose(ours, reference, rtol=1e-9, atol=1e-9 * np.max(np.abs(reference)))
 
 
 def _trials(force_fn, velocities: tuple[float, ...], rate: float = 100.0, hold: float = 6.0,
@@ -134,7 +157,7 @@ def test_maxwell_only_fit_recovers_its_parameters() -> None:
 
 
 def test_fit_cli_accepts_a_baseline_model(tmp_path) -> None:
-    """What ``mudforce fit --model granular_rft`` does once mudforce.baselines is imported."""
+    """What ``mudforce fit --model granular_rft`` does."""
     from mudforce.cli import main
 
     trials = _trials(lambda t, z: granular_rft_force(t, z, K_RFT, FOOT), (0.01,))

@@ -166,8 +166,8 @@ def test_time_errors_name_the_files_own_row_and_column(tmp_path: Path) -> None:
     ("extra", "words"),
     [
         (["--out", "no/such/dir/fit.json"], "--out: directory 'no/such/dir' does not exist"),
-        (["--out", "."], "is a directory"),
-        (["--out", "same", "--report", "same"], "--report same: the same path as --out"),
+        (["--out", "."], "names a directory"),
+        (["--out", "same", "--report", "same"], "is the --report folder"),
     ],
 )
 def test_fit_refuses_unusable_outputs_before_fitting(small: Path, tmp_path: Path, extra: list[str],
@@ -253,11 +253,15 @@ def test_tare_removes_bias() -> None:
     assert_allclose(motion.contact_time, 0.5, atol=2e-3)
 
 
-def test_trial_starting_in_the_mud_is_refused() -> None:
+def test_trial_starting_in_the_mud_estimates_its_bias() -> None:
+    """The protocol refinement refuses it; the general path accepts it and leaves the bias to the fit."""
     time = np.arange(0, 5, 0.01)
     depth = np.interp(time, [0, 1, 3, 5], [0.005, 0.02, 0.02, -0.01])
+    force = np.random.default_rng(0).standard_normal(time.size)
     with pytest.raises(InputError, match="starts 5 mm below the surface"):
-        prepare_trial(Trial("x.csv", 0.25, time, depth, np.zeros_like(time)))
+        prepare_trial(Trial("x.csv", 0.25, time, depth, force), protocol=True)
+    prepared = prepare_trial(Trial("x.csv", 0.25, time, depth, force))
+    assert prepared.motion is None and prepared.bias_estimated and prepared.bias == 0.0
     with pytest.raises(InputError, match="never goes below the surface"):
         prepare_trial(Trial("y.csv", 0.25, time, -0.01 + 0 * time, np.zeros_like(time)))
 
@@ -320,7 +324,7 @@ def test_public_api_is_pinned() -> None:
         "ForceModel", "Identification", "Motion", "PreparedTrial", "Trial", "TrialFit", "fit_by_velocity",
         "fit_condition", "fit_dataset", "fit_drag", "fit_motion", "get_model", "identify_water_content",
         "load_dataset", "load_fit", "load_fit_parameters", "load_trial", "parse_foot", "prepare_trial",
-        "read_sliding", "register_model", "save_dataset", "synthesize", "tare",
+        "read_sliding", "register_model", "save_dataset", "synthesize", "synthesize_gait", "tare",
     ])
     for name in cal.__all__:
         assert hasattr(cal, name), name

@@ -3,7 +3,8 @@
 Each baseline is a closed-form (or compiled) force law for a flat foot of
 area ``S`` moved vertically along a prescribed depth ``z_i(t)`` (positive
 down, SI throughout), and a :class:`~mudforce.calibration.models.ForceModel`
-so that the calibration can fit it (``mudforce fit --model NAME``):
+which the calibration fits (``mudforce fit --model NAME``, see
+:mod:`mudforce.calibration.models`):
 
 ``granular_rft``
     Granular resistive force theory for a horizontal plate in vertical
@@ -28,35 +29,32 @@ The branch rule is the exact one of ``MODEL.md``: the step from sample
 ``k-1`` to ``k`` has the velocity ``v_k = (z_k - z_{k-1}) / (t_k - t_{k-1})``
 (``v_0 = 0``), and ``v_k >= 0`` (down or at rest) is the intrusion branch.
 
-Importing this module registers the three models with
-:func:`mudforce.calibration.models.register_model`; :func:`register_baselines`
-does it explicitly (idempotent).
+This module holds the force laws only and imports nothing from the
+calibration; the fittable models built on them (``GRANULAR_RFT``, ``DRFT``,
+``MAXWELL_ONLY``) are listed with the paper's model in
+:mod:`mudforce.calibration.models`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
 from typing import Any
 
 import numpy as np
+from numba import njit
 
-from mudforce.calibration.models import FitStage, ForceModel, register_model
+from mudforce.equations import maxwell_strain_step
 from mudforce.errors import InputError
 from mudforce.foot import Foot
-from mudforce.parameters import TABLE_I, TABLE_I_WATER_CONTENTS, MudParameters
+from mudforce.parameters import TABLE_I
 
 __all__ = [
     "BASELINE_NAMES",
     "DEFAULT_K_RFT",
-    "DRFT",
-    "GRANULAR_RFT",
-    "MAXWELL_ONLY",
-    "baseline_models",
     "branch_velocity",
     "drft_force",
     "granular_rft_force",
     "maxwell_only_force",
-    "register_baselines",
 ]
 
 #: Registry names of the baselines, in the order reports list them.
@@ -67,11 +65,6 @@ DEFAULT_K_RFT = 1.4e6
 
 _RHO_M = TABLE_I[0.25].rho_m  # [kg/m^3], Section III-A of Chen, Yi & Shan
 _LAMBDA = TABLE_I[0.25].lambda_  # [-], Fig. 5 of Chen, Yi & Shan
-
-# Maxwell-only as the paper's stepper with the spring and the neck switched off:
-# f_e2 = alpha (z/H)^beta with alpha this small is below 1e-20 Pa, and suction never reaches sigma_y.
-_NO_SPRING_ALPHA = 1e-24  # [Pa]
-_NEVER_YIELD = 1e30  # [Pa]
 
 
 def _trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -151,99 +144,80 @@ def drft_force(time: Any, depth: Any, k_rft: float, lambda_: float = _LAMBDA, rh
     return force
 
 
+@njit(cache=True, nogil=True)
+def _maxwell_only_loop(t: np.ndarray, z: np.ndarray, k_i: float, tau_i: float, k_w: float, tau_w: float,
+                       drag: float, area: float) -> np.ndarray:
+    """The Maxwell-only force [N] per sample: the contact state machine of ``docs/model.md`` without necking.
+
+    FREE until the foot crosses the surface (CONTACT from the crossing
+    instant, ``z_m = 0`` there); in CONTACT the extension ``e = z_i - z_m``
+    follows Eq. (3) in closed form on the branch of the step's velocity
+    (intrusion for ``v >= 0``); a step that ends on the intrusion branch at
+    or above the surface returns to FREE; on the withdrawal branch the mud
+    clings (no yield). Force ``(k e + lambda rho v |v| [z_i > 0]) S``.
+    """
+    n = t.size
+    out = np.zeros(n)
+    contact = z[0] > 0.0  # a start below the surface: CONTACT with relaxed mud (e = 0)
+    strain = 0.0
+    for k in range(1, n):
+        dt = t[k] - t[k - 1]
+        z0 = z[k - 1]
+        z1 = z[k]
+        v = (z1 - z0) / dt
+        start = 0.0
+        if not contact and z1 > 0.0:
+            start = -z0 / v if z0 < 0.0 else 0.0  # touchdown inside the step
+            contact = True
+            strain = 0.0
+        if not contact:
+            continue
+        if v >= 0.0:
+            strain = maxwell_strain_step(strain, v, tau_i, math.exp(-(dt - start) / tau_i))
+            if z1 <= 0.0:
+                contact = False  # on the intrusion branch at or above the surface
+                continue
+            stress = k_i * strain
+        else:
+            strain = maxwell_strain_step(strain, v, tau_w, math.exp(-(dt - start) / tau_w))
+            stress = k_w * strain
+        if z1 > 0.0:
+            stress += drag * v * abs(v)
+        out[k] = stress * area
+    return out
+
+
 def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w: float, b_m_w: float,
                        rho_m: float = _RHO_M, lambda_: float = _LAMBDA, foot: Foot | None = None) -> np.ndarray:
     """The mud model without its nonlinear spring and without necking [N], positive up.
 
     Eqs. (2), (3) and (5) of Chen, Yi & Shan with the intrusion parameters
     ``k_m_i`` [Pa/m], ``b_m_i`` [Pa s/m] and the withdrawal ones ``k_m_w``,
-    ``b_m_w``; ``f_e2 = 0`` and the neck never breaks. Runs the exact
-    compiled stepper of :func:`mudforce.simulate`.
+    ``b_m_w``; ``f_e2 = 0`` and the neck never breaks. The contact states,
+    the surface-crossing instant and the closed-form Maxwell step are those
+    of :func:`mudforce.simulate` (``docs/model.md``), written out here for
+    this model alone (a compiled loop of its own).
+
+    Parameters
+    ----------
+    time, depth : array_like
+        Sample times [s] and foot depth [m], positive down.
+    k_m_i, b_m_i, k_m_w, b_m_w : float
+        Maxwell stiffness [Pa/m] and damping [Pa s/m] per branch, > 0.
+    rho_m : float
+        Mud density [kg/m^3], >= 0.
+    lambda_ : float
+        Drag scaling factor [-], >= 0.
+    foot : Foot, optional
+        Gives the area ``S`` [m^2]; the paper's cuboid by default.
     """
-    from mudforce.simulation import simulate
-
     t, z = _trajectory(time, depth)
-    params = MudParameters(k_m_i, b_m_i, k_m_w, b_m_w, _NO_SPRING_ALPHA, 1.0, _NEVER_YIELD, 1.0, 1.0,
-                           rho_m, lambda_, source="maxwell_only ablation")
-    force: np.ndarray = simulate(t, z, params, foot, velocity_filter="exact").force
+    values = {"k_m_i": k_m_i, "b_m_i": b_m_i, "k_m_w": k_m_w, "b_m_w": b_m_w, "rho_m": rho_m, "lambda": lambda_}
+    for name, value in values.items():
+        positive = name not in ("rho_m", "lambda")
+        if not math.isfinite(float(value)) or float(value) < 0.0 or (positive and float(value) == 0.0):
+            raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
+                             f"got {value!r}")
+    force: np.ndarray = _maxwell_only_loop(t, z, float(k_m_i), float(b_m_i) / float(k_m_i), float(k_m_w),
+                                           float(b_m_w) / float(k_m_w), float(lambda_) * float(rho_m), _area(foot))
     return force
-
-
-# ---------------------------------------------------------------------------- fitting
-def _rft_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
-    return granular_rft_force(time, depth, float(values[0]), foot)
-
-
-def _drft_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
-    return drft_force(time, depth, float(values[0]), float(values[1]), float(values[2]), foot)
-
-
-def _maxwell_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
-    k_i, b_i, k_w, b_w, rho, lam = (float(x) for x in values)
-    try:
-        return maxwell_only_force(time, depth, k_i, b_i, k_w, b_w, rho, lam, foot)
-    except InputError:  # numerically impossible values: a huge, finite residual
-        return np.full(np.shape(time), 1e6)
-
-
-_K_STARTS = (1e5, 1e6, 1e7)
-
-
-def baseline_models() -> dict[str, ForceModel]:
-    """The three baselines as :class:`~mudforce.calibration.models.ForceModel` objects, by name."""
-    rft = ForceModel(
-        name="granular_rft",
-        parameter_names=("k_rft",),
-        force=_rft_fit,
-        bounds={"k_rft": (1e2, 1e10)},
-        defaults={"k_rft": DEFAULT_K_RFT},
-        starts=tuple({"k_rft": k} for k in _K_STARTS),
-        units={"k_rft": "Pa/m"},
-    )
-    drft = ForceModel(
-        name="drft",
-        parameter_names=("k_rft", "lambda", "rho_m"),
-        force=_drft_fit,
-        bounds={"k_rft": (1e2, 1e10), "lambda": (1e-6, 1e4), "rho_m": (1e2, 2e4)},
-        defaults={"k_rft": DEFAULT_K_RFT, "lambda": _LAMBDA, "rho_m": _RHO_M},
-        fixed=("rho_m",),
-        starts=tuple({"k_rft": k, "lambda": lam} for k in _K_STARTS for lam in (_LAMBDA, 10.0)),
-        units={"k_rft": "Pa/m", "lambda": "-", "rho_m": "kg/m^3"},
-    )
-    rows: tuple[Mapping[str, float], ...] = tuple(
-        {n: TABLE_I[w].to_dict()[n] for n in ("k_m_i", "b_m_i", "k_m_w", "b_m_w")} for w in TABLE_I_WATER_CONTENTS
-    )
-    mx = ForceModel(
-        name="maxwell_only",
-        parameter_names=("k_m_i", "b_m_i", "k_m_w", "b_m_w", "rho_m", "lambda"),
-        force=_maxwell_fit,
-        bounds={"k_m_i": (1e3, 1e9), "b_m_i": (1e2, 1e9), "k_m_w": (1e3, 1e9), "b_m_w": (1e2, 1e9),
-                "rho_m": (1e2, 2e4), "lambda": (1e-6, 1e2)},
-        defaults={**rows[2], "rho_m": _RHO_M, "lambda": _LAMBDA},
-        fixed=("rho_m", "lambda"),
-        starts=rows,
-        stages=(
-            FitStage("intrusion and hold", ("k_m_i", "b_m_i"), "intrusion", "local"),
-            FitStage("withdrawal", ("k_m_w", "b_m_w"), "withdrawal", "local"),
-        ),
-        units={"k_m_i": "Pa/m", "b_m_i": "Pa s/m", "k_m_w": "Pa/m", "b_m_w": "Pa s/m", "rho_m": "kg/m^3",
-               "lambda": "-"},
-    )
-    return {m.name: m for m in (rft, drft, mx)}
-
-
-def register_baselines() -> None:
-    """Register ``granular_rft``, ``drft`` and ``maxwell_only`` for ``mudforce fit --model NAME`` (idempotent)."""
-    for model in _MODELS.values():
-        register_model(model)
-
-
-_MODELS = baseline_models()
-#: Granular RFT (Li, Zhang & Goldman 2013) as a fittable model; parameter ``k_rft`` [Pa/m].
-GRANULAR_RFT = _MODELS["granular_rft"]
-#: Dynamic RFT as a fittable model; parameters ``k_rft`` [Pa/m], ``lambda`` [-], ``rho_m`` [kg/m^3] (fixed).
-DRFT = _MODELS["drft"]
-#: The Maxwell-only ablation as a fittable model; ``k_m_i, b_m_i, k_m_w, b_m_w`` (+ fixed ``rho_m``, ``lambda``).
-MAXWELL_ONLY = _MODELS["maxwell_only"]
-
-register_baselines()

@@ -4,14 +4,20 @@ Modules, in the order data flows through them:
 
 * :mod:`~mudforce.calibration.dataset` -- the dataset format (``dataset.json``
   plus one CSV per trial, or one tidy CSV), :func:`load_dataset`, :func:`save_dataset`;
-* :mod:`~mudforce.calibration.synth` -- :func:`synthesize`: datasets from the
-  model with noise and sensor bias (``mudforce synth``);
-* :mod:`~mudforce.calibration.preprocess` -- each trial's motion fitted
-  (reversal located precisely) and force tared;
-* :mod:`~mudforce.calibration.models` -- the models a fit can use
-  (:data:`CHEN2024`; add others with :func:`register_model`);
+* :mod:`~mudforce.calibration.synth` -- :func:`synthesize`, :func:`synthesize_gait`:
+  datasets from the model (the lab protocol, or robot-like walks) with noise
+  and sensor bias (``mudforce synth [--motion gait]``);
+* :mod:`~mudforce.calibration.branches` -- trials of any motion: each step's
+  branch from the depth and the force's jumps, the denoised depth, the noise;
+* :mod:`~mudforce.calibration.preprocess` -- each trial readied: the protocol
+  refinement (motion fitted, reversal located precisely) or the general path;
+  force tared or its bias left to the fit;
+* :mod:`~mudforce.calibration.models` -- every model a fit can use, listed in
+  one place (:data:`CHEN2024` and the baselines; add others with :func:`register_model`);
 * :mod:`~mudforce.calibration.fit` -- :func:`fit_condition`, :func:`fit_dataset`
-  (``mudforce fit``);
+  (``mudforce fit``); its results in :mod:`~mudforce.calibration.results`
+  (:class:`FitResult`, :func:`load_fit`) and its standard errors in
+  :mod:`~mudforce.calibration.uncertainty`;
 * :mod:`~mudforce.calibration.drag` -- :func:`fit_drag`, lambda from sliding
   experiments (``mudforce fit-drag``);
 * :mod:`~mudforce.calibration.identify` -- :func:`identify_water_content`
@@ -39,7 +45,7 @@ from mudforce.calibration.fit import (
 from mudforce.calibration.identify import Identification, identify_water_content
 from mudforce.calibration.models import CHEN2024, MODELS, FitStage, ForceModel, get_model, register_model
 from mudforce.calibration.preprocess import Motion, PreparedTrial, fit_motion, prepare_trial, tare
-from mudforce.calibration.synth import synthesize
+from mudforce.calibration.synth import synthesize, synthesize_gait
 
 __all__ = [
     "CHEN2024",
@@ -73,5 +79,6 @@ __all__ = [
     "register_model",
     "save_dataset",
     "synthesize",
+    "synthesize_gait",
     "tare",
 ]

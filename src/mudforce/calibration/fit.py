@@ -24,18 +24,19 @@ SI by the delta method. Directions the data does not constrain (a zero
 singular value: e.g. ``sigma_y`` when no trial necks) get no standard error
 (``null``) and a warning, rather than a meaningless number.
 
+The results (:mod:`mudforce.calibration.results`) and the standard errors
+(:mod:`mudforce.calibration.uncertainty`) live in their own modules; this
+one is the driver.
+
 .. [1] X. Chen, J. Yi, J. Shan, arXiv:2403.02617 (2024).
 """
 
 from __future__ import annotations
 
 import inspect
-import json
 import math
-import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
-from pathlib import Path
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -43,29 +44,47 @@ from scipy.optimize import differential_evolution, least_squares
 
 from mudforce.calibration.dataset import Dataset, Trial
 from mudforce.calibration.models import FitStage, ForceModel, get_model
-from mudforce.calibration.preprocess import PreparedTrial, prepare_trial, tare_correction
+from mudforce.calibration.preprocess import PreparedTrial, noise_floor, prepare_trial, tare_correction
+from mudforce.calibration.results import (
+    MISFIT_WARNING_RATIO,
+    POOR_RELATIVE_STDERR,
+    ConditionFit,
+    FitResult,
+    TrialFit,
+    load_fit,
+    load_fit_parameters,
+    misfit_ratio,
+    speed_key,
+)
+from mudforce.calibration.uncertainty import (
+    correlation_inflation,
+    covariance,
+    jackknife_variance,
+    jacobian,
+    motion_sensitivity,
+    profiled,
+)
 from mudforce.errors import InputError
 from mudforce.foot import Foot
-from mudforce.io import atomic_write_text
-from mudforce.parameters import MudParameters
 from mudforce.progress import Progress
 
+# the results and the uncertainty live in their own modules; their names stay importable from here
 __all__ = [
+    "MISFIT_WARNING_RATIO",
+    "POOR_RELATIVE_STDERR",
     "ConditionFit",
     "FitOptions",
     "FitResult",
     "TrialFit",
+    "correlation_inflation",
     "fit_by_velocity",
     "fit_condition",
     "fit_dataset",
     "load_fit",
     "load_fit_parameters",
+    "misfit_ratio",
     "speed_key",
 ]
-
-#: Relative standard error above which a parameter is reported as poorly determined [-].
-POOR_RELATIVE_STDERR = 0.25
-
 
 @dataclass(frozen=True)
 class FitOptions:
@@ -91,208 +110,6 @@ class FitOptions:
     maxiter: int = 60
     tol: float = 1e-4
     max_nfev: int = 400
-
-
-# ---------------------------------------------------------------------------- results
-@dataclass(frozen=True, eq=False)
-class TrialFit:
-    """One trial's data and fitted force.
-
-    Attributes
-    ----------
-    name : str
-        The trial's file name or id.
-    water_content : float
-        [-].
-    velocity : float
-        Intrusion speed measured from the fitted motion [m/s].
-    nominal_velocity : float or None
-        The manifest's speed [m/s].
-    repeat : int or None
-        Repeat number.
-    rmse : float
-        Root mean square of ``fitted - force`` over all samples [N].
-    bias : float
-        Force-sensor bias removed [N]: the pre-contact tare, refined by the fit
-        within its uncertainty (see :func:`~mudforce.calibration.preprocess.tare_correction`).
-    force_noise : float
-        Force noise before contact [N].
-    reversal_time : float
-        Start of the withdrawal [s].
-    time, depth, force, fitted : ndarray
-        Samples [s], fitted depth [m], tared measured force [N], model force [N].
-    """
-
-    name: str
-    water_content: float
-    velocity: float
-    nominal_velocity: float | None
-    repeat: int | None
-    rmse: float
-    bias: float
-    force_noise: float
-    reversal_time: float
-    time: np.ndarray
-    depth: np.ndarray
-    force: np.ndarray
-    fitted: np.ndarray
-
-    @property
-    def residual(self) -> np.ndarray:
-        """``fitted - force`` [N]."""
-        out: np.ndarray = self.fitted - self.force
-        return out
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON entry: ``file, rmse_N, bias_N, force_noise_N, velocity_m_s, reversal_time_s``."""
-        return {
-            "file": self.name,
-            "rmse_N": self.rmse,
-            "bias_N": self.bias,
-            "force_noise_N": _finite_or_none(self.force_noise),
-            "velocity_m_s": self.velocity,
-            "reversal_time_s": self.reversal_time,
-        }
-
-
-@dataclass(frozen=True, eq=False)
-class ConditionFit:
-    """The fit of one condition (one water content).
-
-    Attributes
-    ----------
-    water_content : float
-        [-] (NaN if unknown).
-    model : str
-        The fitted model's name.
-    parameters : dict
-        Name -> value [SI], every parameter of the model.
-    stderr : dict
-        Name -> standard error [SI]; None where fixed or not determined by the data.
-    free : tuple of str
-        The fitted parameters.
-    rmse : float
-        Root mean square residual over all samples of all trials [N].
-    force_noise : float
-        Mean pre-contact force noise of the trials [N]: the floor ``rmse`` can reach.
-    trials : tuple of TrialFit
-    correlation : ndarray
-        Correlation matrix of the log-parameters in ``free`` order (NaN where not determined).
-    warnings : tuple of str
-        Identifiability and fit-quality warnings.
-    stage_rmse : dict
-        Stage name -> RMSE [N] over that stage's samples when it ended.
-    """
-
-    water_content: float
-    model: str
-    parameters: dict[str, float]
-    stderr: dict[str, float | None]
-    free: tuple[str, ...]
-    rmse: float
-    force_noise: float
-    trials: tuple[TrialFit, ...]
-    correlation: np.ndarray
-    warnings: tuple[str, ...] = ()
-    stage_rmse: dict[str, float] = field(default_factory=dict)
-
-    def mud_parameters(self) -> MudParameters:
-        """The fitted values as :class:`MudParameters` (for the paper's model)."""
-        return MudParameters.from_dict(self.parameters, source=f"mudforce fit, W = {self.water_content:g}")
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON object of one condition in ``fit.json``."""
-        corr = [[_finite_or_none(x) for x in row] for row in self.correlation]
-        return {
-            "water_content": _finite_or_none(self.water_content),
-            "model": self.model,
-            "parameters": dict(self.parameters),
-            "stderr": {k: _finite_or_none(v) for k, v in self.stderr.items()},
-            "rmse_N": self.rmse,
-            "force_noise_N": _finite_or_none(self.force_noise),
-            "trials": [t.to_dict() for t in self.trials],
-            "correlation": {"parameters": list(self.free), "matrix": corr},
-            "warnings": list(self.warnings),
-        }
-
-
-@dataclass(frozen=True, eq=False)
-class FitResult:
-    """The fit of a whole dataset.
-
-    Attributes
-    ----------
-    conditions : tuple of ConditionFit
-        One per water content, ascending.
-    model : str
-        The model's name.
-    shared : tuple of str
-        Parameters shared across water contents (empty: independent fits).
-    seed : int
-        The seed used.
-    foot : Foot
-        The foot of the dataset.
-    """
-
-    conditions: tuple[ConditionFit, ...]
-    model: str
-    shared: tuple[str, ...]
-    seed: int
-    foot: Foot
-
-    def to_dict(self) -> dict[str, Any]:
-        """The ``fit.json`` object."""
-        return {
-            "model": self.model,
-            "seed": self.seed,
-            "shared": list(self.shared),
-            "foot": {"area_m2": self.foot.area, "width_m": self.foot.width},
-            "conditions": [c.to_dict() for c in self.conditions],
-        }
-
-    def to_json(self, indent: int | None = 2) -> str:
-        """``fit.json`` as text (deterministic for a given dataset and seed); refuses NaN and infinities."""
-        from mudforce.io import dumps_json
-
-        return dumps_json(self.to_dict(), indent=indent)
-
-    def save(self, path: str | os.PathLike[str]) -> None:
-        """Write :meth:`to_json` atomically."""
-        atomic_write_text(path, self.to_json() + "\n")
-
-
-def load_fit(path: str | os.PathLike[str]) -> list[dict[str, Any]]:
-    """Read the conditions of a ``fit.json`` (plain dicts: ``water_content``, ``parameters``, ``stderr`` ...)."""
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{path}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
-    if not isinstance(data, dict) or not isinstance(data.get("conditions"), list):
-        raise InputError(f'{path}: expected a fit.json object with "conditions"')
-    return list(data["conditions"])
-
-
-def speed_key(nominal: float | None, measured: float) -> float:
-    """The speed [m/s] a trial is grouped under: its nominal one, else the measured one to 0.5 mm/s."""
-    return nominal if nominal is not None else round(measured * 2000.0) / 2000.0
-
-
-def load_fit_parameters(path: str | os.PathLike[str]) -> dict[float, MudParameters]:
-    """The fitted parameter sets of a ``fit.json`` (paper's model), keyed by water content [-]."""
-    out = {}
-    for i, cond in enumerate(load_fit(path)):
-        try:
-            w = float(cond["water_content"])
-            out[w] = MudParameters.from_dict(cond["parameters"], source=f"{path}, W = {w:g}")
-        except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"{path}: conditions[{i}] is not a fit of the paper's model ({exc})") from None
-    return out
-
-
-def _finite_or_none(x: float | None) -> float | None:
-    return None if x is None or not math.isfinite(x) else float(x)
 
 
 # ---------------------------------------------------------------------------- the objective
@@ -335,7 +152,7 @@ class _Objective:
                     r = self.tails[g][i](values) - tr.force[tr.reversal_index:]
                 else:
                     r = _trial_residual(self.model, self.foot, tr, values, self.window)
-                data, prior = _profiled(r, tr.precontact)
+                data, prior = profiled(r, tr.precontact)
                 parts.append(data)
                 priors.append(prior)
         return np.concatenate([*parts, np.array(priors)])
@@ -343,12 +160,6 @@ class _Objective:
     def cost(self, x: np.ndarray) -> float:
         r = self(x)
         return float(r @ r)
-
-
-def _profiled(residual: np.ndarray, precontact: int) -> tuple[np.ndarray, float]:
-    """A trial's residual with its tare offset profiled out, and the offset's prior row (see ``tare_correction``)."""
-    offset = tare_correction(residual, precontact)
-    return residual + offset, offset * math.sqrt(precontact)
 
 
 def _trial_residual(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray, window: str) -> np.ndarray:
@@ -389,85 +200,6 @@ def _global_search(obj: _Objective, x0: np.ndarray, lo: np.ndarray, hi: np.ndarr
                                  maxiter=options.maxiter, tol=options.tol, polish=False, workers=1,
                                  updating="immediate", init="latinhypercube", x0=np.clip(x0, lo, hi), **seeding)
     return np.asarray(sol.x)
-
-
-def _jacobian(fun: Callable[[np.ndarray], np.ndarray], x: np.ndarray, step: float = 1e-5) -> np.ndarray:
-    """Central-difference Jacobian of ``fun`` at ``x`` (log-parameters)."""
-    cols = []
-    for j in range(x.size):
-        e = np.zeros_like(x)
-        e[j] = step
-        cols.append((fun(x + e) - fun(x - e)) / (2.0 * step))
-    return np.column_stack(cols)
-
-
-@dataclass(frozen=True)
-class _MotionBlock:
-    """One trial's share of the errors-in-variables term: where its rows are, how they move, and C_m."""
-
-    rows: slice
-    prior_row: int
-    sensitivity: np.ndarray  # d(data rows)/d(motion), n_i x 7
-    prior_sensitivity: np.ndarray  # d(prior row)/d(motion), 7
-    covariance: np.ndarray  # 7 x 7
-
-
-def _motion_sensitivity(model: ForceModel, foot: Foot, groups: Sequence[Sequence[PreparedTrial]],
-                        values: Sequence[np.ndarray]) -> list[_MotionBlock]:
-    """How the residual vector of :class:`_Objective` (window "all") moves with each trial's fitted motion."""
-    trials = [(tr, v) for group, v in zip(groups, values, strict=True) for tr in group]
-    n_data = sum(tr.time.size for tr, _ in trials)
-    blocks = []
-    row = 0
-    for i, (tr, v) in enumerate(trials):
-        m0 = tr.motion.vector()
-        dt = float(np.median(np.diff(tr.time)))
-        sens = np.empty((tr.time.size, 7))
-        prior = np.empty(7)
-        for j, h in enumerate([1e-4 * dt] * 4 + [1e-6] * 3):
-            e = np.zeros(7)
-            e[j] = h
-            parts = []
-            for sign in (1.0, -1.0):
-                depth = tr.motion.from_vector(m0 + sign * e).depth_at(tr.time)
-                parts.append(_profiled(model.force(tr.time, depth, v, foot) - tr.force, tr.precontact))
-            sens[:, j] = (parts[0][0] - parts[1][0]) / (2 * h)
-            prior[j] = (parts[0][1] - parts[1][1]) / (2 * h)
-        blocks.append(_MotionBlock(slice(row, row + tr.time.size), n_data + i, sens, prior, tr.motion_covariance))
-        row += tr.time.size
-    return blocks
-
-
-def _covariance(jac: np.ndarray, residual: np.ndarray,
-                motion: Sequence[_MotionBlock] = ()) -> tuple[np.ndarray, np.ndarray]:
-    """Covariance of the log-parameters, and a mask of the ones the data determines.
-
-    ``cov = s^2 (J^T J)^+ + A G C_m G^T A^T`` with ``s^2 = SSR / (n - p)``,
-    ``A = J^+``: the first term is the force noise; the second (errors in
-    variables) carries the uncertainty ``C_m`` of the motions fitted to the
-    measured depth through the residual's sensitivity ``G`` to them
-    (``motion``, from :func:`_motion_sensitivity`; block diagonal over trials). A
-    parameter with a noticeable share in a (numerically) zero singular
-    direction is undetermined.
-    """
-    n, p = jac.shape
-    s2 = float(residual @ residual) / max(n - p, 1)
-    u, sv, vt = np.linalg.svd(jac, full_matrices=False)
-    tol = sv[0] * 1e-7 if sv.size and sv[0] > 0 else 1.0
-    null = sv <= tol
-    inv = np.where(null, 0.0, 1.0 / np.where(null, 1.0, sv))
-    cov = (vt.T * inv**2) @ vt * s2
-    ut = u.T
-    for block in motion:
-        projected = ut[:, block.rows] @ block.sensitivity + np.outer(ut[:, block.prior_row], block.prior_sensitivity)
-        b = (vt.T * inv) @ projected
-        cov = cov + b @ block.covariance @ b.T
-    determined = np.ones(p, dtype=bool)
-    if np.any(null):
-        determined = np.sum(vt[null] ** 2, axis=0) < 1e-3
-    cov[~determined, :] = np.nan
-    cov[:, ~determined] = np.nan
-    return cov, determined
 
 
 # ---------------------------------------------------------------------------- one condition
@@ -523,12 +255,19 @@ def _rms(r: np.ndarray) -> float:
 
 def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
                     free: Sequence[str], cov: np.ndarray, determined: np.ndarray, free_cols: Sequence[int],
-                    stage_rmse: dict[str, float]) -> ConditionFit:
+                    stage_rmse: dict[str, float], spread: np.ndarray | None = None) -> ConditionFit:
     names = model.parameter_names
     params = {n: float(v) for n, v in zip(names, values, strict=True)}
     stderr: dict[str, float | None] = {n: None for n in names}
     warnings: list[str] = []
-    sub = cov[np.ix_(list(free_cols), list(free_cols))]
+    residuals = [model.force(tr.time, tr.depth, values, foot) - tr.force for tr in prepared]
+    inflation = correlation_inflation(residuals)
+    sub = cov[np.ix_(list(free_cols), list(free_cols))] * inflation
+    if spread is not None:  # trials that disagree more than the noise says: the jackknife's variance wins
+        var = np.diag(sub)
+        wider = np.sqrt(np.maximum(spread[list(free_cols)], var) / np.where(var > 0, var, 1.0))
+        wider = np.where(np.isfinite(wider) & (var > 0), wider, 1.0)
+        sub = sub * np.outer(wider, wider)
     for k, (n, col) in enumerate(zip(free, free_cols, strict=True)):
         value = params[n]
         if not determined[col]:
@@ -547,27 +286,41 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     if model.diagnose is not None:
         warnings.extend(model.diagnose(values, prepared, foot))
     trial_fits = []
-    for tr in prepared:
-        fitted = model.force(tr.time, tr.depth, values, foot)
-        offset = tare_correction(fitted - tr.force, tr.precontact)
+    for tr, r in zip(prepared, residuals, strict=True):
+        fitted = r + tr.force
+        offset = tare_correction(r, tr.precontact)
         force = tr.force - offset
+        scatter = max(tr.force_noise, _rms(r + offset))
         trial_fits.append(TrialFit(
-            name=tr.trial.name, water_content=tr.trial.water_content, velocity=tr.motion.intrusion_velocity,
+            name=tr.trial.name, water_content=tr.trial.water_content, velocity=tr.velocity,
             nominal_velocity=tr.trial.velocity, repeat=tr.trial.repeat, rmse=_rms(fitted - force),
-            bias=tr.bias + offset, force_noise=tr.force_noise, reversal_time=tr.motion.reversal_time, time=tr.time,
-            depth=tr.depth, force=force, fitted=fitted))
+            bias=tr.bias + offset, force_noise=tr.force_noise, reversal_time=tr.reversal_time, time=tr.time,
+            depth=tr.depth, force=force, fitted=fitted,
+            bias_method="estimated" if tr.bias_estimated else "tared",
+            bias_stderr=scatter * math.sqrt(inflation / (tr.time.size + tr.precontact))))
     all_res = np.concatenate([t.residual for t in trial_fits])
     noise = [t.force_noise for t in trial_fits if math.isfinite(t.force_noise)]
-    noise_floor = float(np.sqrt(np.mean(np.square(noise)))) if noise else math.nan
+    force_noise = float(np.sqrt(np.mean(np.square(noise)))) if noise else math.nan
+    def force_on(tr: PreparedTrial) -> Callable[[np.ndarray], np.ndarray]:
+        return lambda z: model.force(tr.time, z, values, foot)
+
+    floor_var = np.concatenate([noise_floor(tr, t.fitted, force_on(tr))
+                                for tr, t in zip(prepared, trial_fits, strict=True)])
+    floor = float(np.sqrt(np.mean(floor_var))) if noise else math.nan
     rmse = _rms(all_res)
-    if math.isfinite(noise_floor) and rmse > 1.5 * noise_floor:
-        warnings.append(f"RMSE {rmse:.3g} N is well above the force noise {noise_floor:.3g} N: "
-                        "the model misses systematic features of the data (or the fit did not converge)")
+    scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
+    ratio = misfit_ratio(rmse, floor, scale)
+    if ratio > MISFIT_WARNING_RATIO:
+        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
+                        f"(force noise {force_noise:.3g} N, with the depth noise carried through): "
+                        "the model misses systematic features of the data (or the fit did not converge); "
+                        "the standard errors are widened for the residuals' correlation, but read them with care")
     ws = {tr.trial.water_content for tr in prepared}
     w = ws.pop() if len(ws) == 1 else math.nan
     return ConditionFit(water_content=w, model=model.name, parameters=params, stderr=stderr, free=tuple(free),
-                        rmse=rmse, force_noise=noise_floor, trials=tuple(trial_fits), correlation=corr,
-                        warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse)
+                        rmse=rmse, force_noise=force_noise, trials=tuple(trial_fits), correlation=corr,
+                        warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse, misfit_ratio=ratio,
+                        noise_floor=floor)
 
 
 def fit_condition(
@@ -636,11 +389,16 @@ def fit_condition(
     x = np.log(values[idx_all])
     residual = obj(x)
     stage_rmse["joint"] = _rms(residual[: -len(prepared)])  # without the tare-prior rows
-    cov, determined = _covariance(_jacobian(obj, x), residual, _motion_sensitivity(m, foot, [prepared], [values]))
+    jac = jacobian(obj, x)
+    cov, determined = covariance(jac, residual, motion_sensitivity(m, foot, [prepared], [values]))
+    n_data = residual.size - len(prepared)
+    starts = np.cumsum([0] + [tr.time.size for tr in prepared])
+    groups = [np.append(np.arange(starts[i], starts[i + 1]), n_data + i) for i in range(len(prepared))]
+    spread = jackknife_variance(jac, residual, groups)
     if progress is not None:
         progress.update(1, "joint polish")
     return _condition_from(m, foot, prepared, values, free_names, cov, determined, list(range(len(idx_all))),
-                           stage_rmse)
+                           stage_rmse, spread)
 
 
 # ---------------------------------------------------------------------------- a dataset
@@ -716,7 +474,7 @@ def fit_by_velocity(
     groups: dict[tuple[float, float], list[PreparedTrial]] = {}
     for w, trials in dataset.conditions().items():
         for tr in _prepare(trials):
-            v = speed_key(tr.trial.velocity, tr.motion.intrusion_velocity)
+            v = speed_key(tr.trial.velocity, tr.velocity)
             groups.setdefault((w, v), []).append(tr)
     out = []
     with Progress(len(groups) * (len(m.stages) + 1), "fitting per speed", quiet=quiet) as progress:
@@ -751,7 +509,7 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
     x = _least_squares(obj, np.array(x0), lo, hi, options.max_nfev * 2)
     residual = obj(x)
     values = obj.values(x)
-    cov, determined = _covariance(_jacobian(obj, x), residual, _motion_sensitivity(model, foot, groups, values))
+    cov, determined = covariance(jacobian(obj, x), residual, motion_sensitivity(model, foot, groups, values))
     out = []
     for g, prepared in enumerate(groups):
         cols = [j for j, (owner, _) in enumerate(labels) if owner is None or owner == g]

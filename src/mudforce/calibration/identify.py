@@ -13,7 +13,16 @@ The interval is a likelihood-ratio interval that allows for model error:
 ``s^2 = SSR_min / (n - 1)`` and ``n_eff`` the effective number of
 independent residuals from their lag-1 autocorrelation. A trial that the
 family fits to the noise floor gets a narrow interval; a trial it misfits
-(correlated residuals, large ``s``) a wide one.
+(correlated residuals, large ``s``) a wide one. The interval is never
+narrower than +-:data:`MIN_HALF_WIDTH` (0.25 points): below that the
+family's interpolation and the branch labels of a general motion, not the
+noise, limit what one trial can tell.
+
+A trial of any motion is accepted (:func:`~mudforce.calibration.preprocess.prepare_trial`).
+The result says how well the family explains it: ``misfit_ratio`` (RMSE
+over the force noise measured independently of the family),
+``model_misses_data`` and ``off_family`` (the RMS residual in excess of
+the noise [N]); ``water_content`` is then the nearest member of the family.
 """
 
 from __future__ import annotations
@@ -27,13 +36,17 @@ from scipy.optimize import brentq, minimize_scalar
 from scipy.stats import chi2
 
 from mudforce.calibration.dataset import Trial
+from mudforce.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.calibration.models import CHEN2024
-from mudforce.calibration.preprocess import PreparedTrial, prepare_trial, tare_correction
+from mudforce.calibration.preprocess import PreparedTrial, noise_floor, prepare_trial, tare_correction
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.parameters import WATER_CONTENT_RANGE, MudParameters
 
-__all__ = ["Identification", "identify_water_content"]
+__all__ = ["MIN_HALF_WIDTH", "Identification", "identify_water_content"]
+
+#: Smallest half-width of the interval [-] (0.25 percentage points of water content).
+MIN_HALF_WIDTH = 0.0025
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,6 +66,23 @@ class Identification:
     grid, grid_rmse : ndarray
         Water contents scanned [-] and the RMS residual at each [N].
     warnings : tuple of str
+    force_noise : float
+        The trial's force noise, measured independently of the family [N].
+    noise_floor : float
+        The RMSE a member of the family that is right would leave [N]: the
+        force noise and the depth noise carried through.
+    misfit_ratio : float
+        ``rmse / noise_floor`` [-]: about 1 when the family explains the trial to the noise.
+    off_family : float
+        How far the data are off the family [N]: the RMS of the residual in
+        excess of the noise, ``sqrt(max(rmse^2 - noise_floor^2, 0))``.
+    bias : float
+        The sensor bias removed [N].
+    bias_method : str
+        ``"tared"`` (pre-contact samples, refined) or ``"estimated"`` (a free parameter).
+    bias_stderr : float
+        Standard error of ``bias`` [N]: the residual scatter over the samples
+        (and the pre-contact ones), widened for the residuals' correlation.
     """
 
     water_content: float
@@ -62,14 +92,46 @@ class Identification:
     grid: np.ndarray
     grid_rmse: np.ndarray
     warnings: tuple[str, ...] = ()
+    force_noise: float = math.nan
+    noise_floor: float = math.nan
+    misfit_ratio: float = math.nan
+    off_family: float = math.nan
+    bias: float = math.nan
+    bias_method: str = "tared"
+    bias_stderr: float = math.nan
+
+    @property
+    def model_misses_data(self) -> bool:
+        """True when the RMSE exceeds the force noise by more than :data:`MISFIT_WARNING_RATIO`."""
+        return self.misfit_ratio > MISFIT_WARNING_RATIO
 
     def to_dict(self) -> dict[str, object]:
-        """``{"water_content", "interval", "rmse_N", "level", "warnings"}``."""
+        """The JSON object of ``mudforce identify --json``.
+
+        Keys: ``water_content`` (the nearest water content of the family),
+        ``nearest_water_content`` (the same, named for what it is when the
+        data are off the family), ``interval``, ``rmse_N``, ``level``,
+        ``force_noise_N``, ``noise_floor_N``, ``misfit_ratio``, ``model_misses_data``,
+        ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``, ``warnings``.
+        """
+
+        def finite(x: float) -> float | None:
+            return float(x) if math.isfinite(x) else None
+
         return {
             "water_content": self.water_content,
+            "nearest_water_content": self.water_content,
             "interval": [self.interval[0], self.interval[1]],
             "rmse_N": self.rmse,
             "level": self.level,
+            "force_noise_N": finite(self.force_noise),
+            "noise_floor_N": finite(self.noise_floor),
+            "misfit_ratio": finite(self.misfit_ratio),
+            "model_misses_data": self.model_misses_data,
+            "off_family_N": finite(self.off_family),
+            "bias_N": finite(self.bias),
+            "bias_method": self.bias_method,
+            "bias_stderr_N": finite(self.bias_stderr),
             "warnings": list(self.warnings),
         }
 
@@ -118,9 +180,9 @@ def identify_water_content(
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
     foot = Foot.paper() if foot is None else foot
     tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial)
-    if not np.any(tr.force != tr.force[0]):
-        raise InputError("the force is the same in every sample (all zero?): the trial carries no force to "
-                         "identify a water content from")
+    if not np.any(tr.trial.force != tr.trial.force[0]):
+        raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
+                         "the trial carries no force to identify a water content from (is the column right?)")
     lo, hi = bounds
 
     def residual(w: float) -> np.ndarray:
@@ -139,6 +201,7 @@ def identify_water_content(
     sol = minimize_scalar(ssr, bounds=(a, b), method="bounded", options={"xatol": 1e-6})
     w_best, c_best = (float(sol.x), float(sol.fun)) if sol.fun < costs[k] else (float(grid[k]), float(costs[k]))
     r = residual(w_best)
+    raw = CHEN2024.force(tr.time, tr.depth, family(w_best).as_array(), foot) - tr.force
     n = r.size
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 2 and np.std(r) > 0 else 0.0
     rho = min(max(rho, 0.0), 0.99)
@@ -146,16 +209,26 @@ def identify_water_content(
     threshold = float(chi2.ppf(level, 1)) * c_best / max(n - 1, 1) * n / max(n_eff, 1.0)
     low = _edge(ssr, c_best + threshold, w_best, grid[grid < w_best][::-1], lo)
     high = _edge(ssr, c_best + threshold, w_best, grid[grid > w_best], hi)
+    # resolution floor: the family is interpolated between rows 5 points apart, and the branch
+    # labels of a general motion leave small systematic errors that the likelihood does not see
+    low, high = min(low, max(w_best - MIN_HALF_WIDTH, lo)), max(high, min(w_best + MIN_HALF_WIDTH, hi))
     warnings = []
     if w_best - lo < 1e-3 or hi - w_best < 1e-3:
         warnings.append(f"the estimate is at the edge of the searched range [{lo:g}, {hi:g}]: "
                         "the mud may be drier or wetter than the family covers")
     rmse = math.sqrt(c_best / n)
-    # noiseless data: "well above a noise of 0 N" is no finding; ask for 0.1 % of the force range too
-    floor = 1e-3 * float(np.max(np.abs(tr.force)))
-    if math.isfinite(tr.force_noise) and rmse > max(2.0 * tr.force_noise, floor):
-        warnings.append(f"RMSE {rmse:.3g} N is well above the force noise {tr.force_noise:.3g} N: "
-                        "the family does not describe this trial well; the interval allows for that")
+    scale = max(float(np.max(np.abs(tr.force))), 1.0)
+    best_values = family(w_best).as_array()
+    floor = math.sqrt(float(np.mean(noise_floor(
+        tr, raw, lambda z: CHEN2024.force(tr.time, z, best_values, foot)))))
+    ratio = misfit_ratio(rmse, floor, scale)
+    off = math.sqrt(max(rmse**2 - floor**2, 0.0))
+    if ratio > MISFIT_WARNING_RATIO:
+        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
+                        f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through): "
+                        f"the data are {off:.3g} N (RMS) off the Table I family (another mud, another foot "
+                        "than assumed, or a model error); the estimate is the nearest water content and "
+                        "the interval is widened for the misfit")
     return Identification(
         water_content=w_best,
         interval=(low, high),
@@ -164,4 +237,11 @@ def identify_water_content(
         grid=grid,
         grid_rmse=np.sqrt(costs / n),
         warnings=tuple(warnings),
+        force_noise=tr.force_noise,
+        noise_floor=floor,
+        misfit_ratio=ratio,
+        off_family=off,
+        bias=tr.bias + tare_correction(raw, tr.precontact),
+        bias_method="estimated" if tr.bias_estimated else "tared",
+        bias_stderr=max(rmse, tr.force_noise) * math.sqrt((1.0 + rho) / (1.0 - rho) / (n + tr.precontact)),
     )

@@ -8,9 +8,11 @@ default, starting points, and the fit stages. Every parameter must be
 positive: the fitter works on their logarithms.
 
 :data:`CHEN2024` is the paper's model (the compiled stepper of
-:func:`mudforce.simulate`, exact branch rule). Another model (a baseline,
-a variant) is added with :func:`register_model` and chosen with
-``mudforce fit --model NAME``.
+:func:`mudforce.simulate`, exact branch rule). The baselines of
+:mod:`mudforce.baselines` are :data:`GRANULAR_RFT`, :data:`DRFT` and
+:data:`MAXWELL_ONLY`. :data:`MODELS` lists every built-in model, here, in
+one place; another model (a variant of your own) is added with
+:func:`register_model`, and any is chosen with ``mudforce fit --model NAME``.
 """
 
 from __future__ import annotations
@@ -22,14 +24,18 @@ from typing import Literal
 import numpy as np
 
 from mudforce import _kernel as K
+from mudforce.baselines import DEFAULT_K_RFT, drft_force, granular_rft_force, maxwell_only_force
 from mudforce.calibration.preprocess import PreparedTrial
 from mudforce.errors import InputError
 from mudforce.foot import Foot
-from mudforce.parameters import PARAMETER_NAMES, PARAMETER_UNITS, TABLE_I, MudParameters
+from mudforce.parameters import PARAMETER_NAMES, PARAMETER_UNITS, TABLE_I, TABLE_I_WATER_CONTENTS, MudParameters
 from mudforce.simulation import run_compact, simulate
 
 __all__ = [
     "CHEN2024",
+    "DRFT",
+    "GRANULAR_RFT",
+    "MAXWELL_ONLY",
     "MODELS",
     "FitStage",
     "ForceFunction",
@@ -206,7 +212,7 @@ def _chen_diagnose(values: np.ndarray, trials: Sequence[PreparedTrial], foot: Fo
         res = simulate(tr.time, tr.depth, params, foot, velocity_filter="exact")
         suction = min(suction, res.min_force)
         if res.necking_times.size:
-            necks.append(float(res.necking_times[0]) - tr.motion.reversal_time)
+            necks.append(float(res.necking_times[0]) - tr.reversal_time)
     warnings = []
     if not necks:
         warnings.append(
@@ -244,8 +250,72 @@ CHEN2024 = ForceModel(
     units=PARAMETER_UNITS,
 )
 
-#: Registered models by name.
-MODELS: dict[str, ForceModel] = {CHEN2024.name: CHEN2024}
+# ---------------------------------------------------------------------------- the baselines
+_RHO_M = TABLE_I[0.25].rho_m  # [kg/m^3]
+_LAMBDA = TABLE_I[0.25].lambda_  # [-]
+_K_STARTS = (1e5, 1e6, 1e7)
+
+
+def _rft_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
+    return granular_rft_force(time, depth, float(values[0]), foot)
+
+
+def _drft_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
+    return drft_force(time, depth, float(values[0]), float(values[1]), float(values[2]), foot)
+
+
+def _maxwell_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
+    k_i, b_i, k_w, b_w, rho, lam = (float(x) for x in values)
+    return maxwell_only_force(time, depth, k_i, b_i, k_w, b_w, rho, lam, foot)
+
+
+#: Granular RFT (Li, Zhang & Goldman 2013) as a fittable model; parameter ``k_rft`` [Pa/m].
+GRANULAR_RFT = ForceModel(
+    name="granular_rft",
+    parameter_names=("k_rft",),
+    force=_rft_fit,
+    bounds={"k_rft": (1e2, 1e10)},
+    defaults={"k_rft": DEFAULT_K_RFT},
+    starts=tuple({"k_rft": k} for k in _K_STARTS),
+    units={"k_rft": "Pa/m"},
+)
+
+#: Dynamic RFT as a fittable model; parameters ``k_rft`` [Pa/m], ``lambda`` [-], ``rho_m`` [kg/m^3] (fixed).
+DRFT = ForceModel(
+    name="drft",
+    parameter_names=("k_rft", "lambda", "rho_m"),
+    force=_drft_fit,
+    bounds={"k_rft": (1e2, 1e10), "lambda": (1e-6, 1e4), "rho_m": (1e2, 2e4)},
+    defaults={"k_rft": DEFAULT_K_RFT, "lambda": _LAMBDA, "rho_m": _RHO_M},
+    fixed=("rho_m",),
+    starts=tuple({"k_rft": k, "lambda": lam} for k in _K_STARTS for lam in (_LAMBDA, 10.0)),
+    units={"k_rft": "Pa/m", "lambda": "-", "rho_m": "kg/m^3"},
+)
+
+_MAXWELL_ROWS: tuple[Mapping[str, float], ...] = tuple(
+    {n: TABLE_I[w].to_dict()[n] for n in ("k_m_i", "b_m_i", "k_m_w", "b_m_w")} for w in TABLE_I_WATER_CONTENTS
+)
+
+#: The Maxwell-only ablation as a fittable model; ``k_m_i, b_m_i, k_m_w, b_m_w`` (+ fixed ``rho_m``, ``lambda``).
+MAXWELL_ONLY = ForceModel(
+    name="maxwell_only",
+    parameter_names=("k_m_i", "b_m_i", "k_m_w", "b_m_w", "rho_m", "lambda"),
+    force=_maxwell_fit,
+    bounds={"k_m_i": (1e3, 1e9), "b_m_i": (1e2, 1e9), "k_m_w": (1e3, 1e9), "b_m_w": (1e2, 1e9),
+            "rho_m": (1e2, 2e4), "lambda": (1e-6, 1e2)},
+    defaults={**_MAXWELL_ROWS[2], "rho_m": _RHO_M, "lambda": _LAMBDA},
+    fixed=("rho_m", "lambda"),
+    starts=_MAXWELL_ROWS,
+    stages=(
+        FitStage("intrusion and hold", ("k_m_i", "b_m_i"), "intrusion", "local"),
+        FitStage("withdrawal", ("k_m_w", "b_m_w"), "withdrawal", "local"),
+    ),
+    units={"k_m_i": "Pa/m", "b_m_i": "Pa s/m", "k_m_w": "Pa/m", "b_m_w": "Pa s/m", "rho_m": "kg/m^3",
+           "lambda": "-"},
+)
+
+#: Every built-in model by name: the paper's, then the baselines; :func:`register_model` adds more.
+MODELS: dict[str, ForceModel] = {m.name: m for m in (CHEN2024, GRANULAR_RFT, DRFT, MAXWELL_ONLY)}
 
 
 def register_model(model: ForceModel) -> None:
@@ -254,16 +324,9 @@ def register_model(model: ForceModel) -> None:
 
 
 def get_model(model: str | ForceModel) -> ForceModel:
-    """A registered model by name (or the model itself).
-
-    The built-in baselines of :mod:`mudforce.baselines` (``granular_rft``,
-    ``drft``, ``maxwell_only``) are registered on first use, so that every
-    caller, the command line's ``--model`` included, sees them.
-    """
+    """A model by name (one of :data:`MODELS`), or the model itself."""
     if isinstance(model, ForceModel):
         return model
-    import mudforce.baselines  # noqa: F401  (registers the baselines; imported late: it imports this module)
-
     try:
         return MODELS[model]
     except KeyError:

@@ -22,22 +22,27 @@ surface (where the true force is zero).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.ndimage import median_filter
 from scipy.optimize import least_squares
 
+from mudforce.calibration.branches import denoise_depth, estimate_force_noise, label_branches, rest_steps
 from mudforce.calibration.dataset import Trial
 from mudforce.errors import InputError
 from mudforce.velocity import estimate_depth_noise
 
 __all__ = [
+    "CLEAN_DEPTH_M",
     "MIN_PRECONTACT_SAMPLES",
     "Motion",
     "PreparedTrial",
     "fit_motion",
+    "is_protocol",
     "motion_covariance",
+    "noise_floor",
     "prepare_trial",
     "snap_reversal",
     "tare",
@@ -46,6 +51,8 @@ __all__ = [
 
 #: Fewest samples before surface contact that :func:`tare` accepts [-].
 MIN_PRECONTACT_SAMPLES = 3
+#: Depth noise [m] below which a trial of any motion counts as noise-free (0.1 um; motion capture gives ~30 um).
+CLEAN_DEPTH_M = 1e-7
 
 
 @dataclass(frozen=True)
@@ -280,34 +287,57 @@ class PreparedTrial:
     ----------
     trial : Trial
         The measured trial.
-    motion : Motion
-        Its fitted motion.
+    motion : Motion or None
+        Its fitted intrude/hold/withdraw motion (protocol trials); None for
+        a trial of any other motion (the general path).
     depth : ndarray
-        ``motion.depth_at(trial.time)`` [m]: the depth the model follows.
+        The depth the model follows [m]: ``motion.depth_at(trial.time)``,
+        or the branch-consistent denoised depth of
+        :func:`~mudforce.calibration.branches.denoise_depth`.
     force : ndarray
         Measured force minus the bias [N].
     bias : float
-        The sensor bias removed [N].
+        The sensor bias removed [N] (0 when it is estimated by the fit instead).
     force_noise : float
-        Force noise estimated before contact [N].
+        Force noise [N]: from the pre-contact samples (protocol), else from
+        the force's high-frequency content
+        (:func:`~mudforce.calibration.branches.estimate_force_noise`).
     precontact : int
-        Number of samples the bias was tared from [-].
-    motion_covariance : ndarray
+        Number of samples the bias was tared from [-]; 0 when the trial
+        starts in the mud and the fit estimates the bias as a free parameter.
+    motion_covariance : ndarray or None
         Covariance of ``motion.vector()`` (7 x 7) [s, m], see :func:`motion_covariance`.
     reversal_index : int
-        Number of samples at or before the reversal instant (samples
+        Number of samples before the first withdrawal (samples
         ``[:reversal_index]`` are approach, intrusion and hold).
+    reversal_time : float
+        The first reversal (start of the first withdrawal in the mud) [s]; NaN if none.
+    velocity : float
+        Intrusion speed [m/s]: the protocol's descent, else the median
+        downward speed while the foot moves down in the mud (NaN if it never does).
+    depth_noise : float
+        Noise left on :attr:`depth` [m]: the measured depth noise on the
+        general path (the denoised depth keeps most of it), 0 for a fitted
+        protocol motion (whose uncertainty enters through ``motion_covariance``).
     """
 
     trial: Trial
-    motion: Motion
+    motion: Motion | None
     depth: np.ndarray
     force: np.ndarray
     bias: float
     force_noise: float
     precontact: int
-    motion_covariance: np.ndarray
+    motion_covariance: np.ndarray | None
     reversal_index: int
+    reversal_time: float = math.nan
+    velocity: float = math.nan
+    depth_noise: float = 0.0
+
+    @property
+    def bias_estimated(self) -> bool:
+        """True when the bias is a free parameter of the fit (no pre-contact samples to tare from)."""
+        return self.precontact == 0
 
     @property
     def time(self) -> np.ndarray:
@@ -316,8 +346,8 @@ class PreparedTrial:
 
     @property
     def bias_stderr(self) -> float:
-        """Standard error of :attr:`bias` [N]."""
-        return self.force_noise / math.sqrt(self.precontact)
+        """Standard error of the tare :attr:`bias` [N] (infinite when the bias is estimated by the fit)."""
+        return self.force_noise / math.sqrt(self.precontact) if self.precontact else math.inf
 
 
 def snap_reversal(time: np.ndarray, force: np.ndarray, motion: Motion, *, ambiguity: float = 0.25) -> Motion:
@@ -363,9 +393,24 @@ def snap_reversal(time: np.ndarray, force: np.ndarray, motion: Motion, *, ambigu
     return replace(motion, corner_time=(ta, tb, float(new), td))
 
 
-def prepare_trial(trial: Trial) -> PreparedTrial:
-    """Fit the motion, settle the reversal sample, tare the force, and keep what the fit needs."""
-    motion = fit_motion(trial.time, trial.depth, name=trial.name)
+def is_protocol(trial: Trial) -> Motion | None:
+    """The trial's fitted motion if it is an intrude/hold/withdraw protocol starting above the surface, else None.
+
+    A protocol is recognised when :func:`fit_motion` succeeds and the depth
+    lies on the fitted piecewise-linear motion to within 1.5 times the
+    depth noise (a sway, a second step or a re-push leaves far more).
+    """
+    try:
+        motion = fit_motion(trial.time, trial.depth, name=trial.name)
+    except InputError:
+        return None
+    noise = estimate_depth_noise(trial.time, trial.depth)
+    if motion.depth_noise > 1.5 * noise + 1e-7:
+        return None
+    return motion
+
+
+def _prepare_protocol(trial: Trial, motion: Motion) -> PreparedTrial:
     motion = snap_reversal(trial.time, trial.force, motion)
     bias, noise, count = tare(trial.time, trial.force, motion, name=trial.name)
     return PreparedTrial(
@@ -378,4 +423,95 @@ def prepare_trial(trial: Trial) -> PreparedTrial:
         precontact=count,
         motion_covariance=motion_covariance(trial.time, motion),
         reversal_index=int(np.searchsorted(trial.time, motion.reversal_time, side="right")),
+        reversal_time=motion.reversal_time,
+        velocity=motion.intrusion_velocity,
     )
+
+
+def _prepare_general(trial: Trial) -> PreparedTrial:
+    t, z, f = trial.time, trial.depth, trial.force
+    # third divided differences: blind to the stances' smooth sway, unlike a line through three samples
+    depth_noise = estimate_force_noise(t, z)
+    if depth_noise < CLEAN_DEPTH_M:  # a computed, noise-free trajectory: the paper's exact rule
+        depth_noise = 0.0
+    force_noise = estimate_force_noise(t, f)
+    labels = label_branches(t, z, f, depth_noise=depth_noise, force_noise=force_noise)
+    labels = rest_steps(t, z, labels, depth_noise, f, force_noise)
+    depth = denoise_depth(z, labels, t if depth_noise > 0.0 else None)
+    inside = depth > 0.0
+    if not np.any(inside):
+        raise InputError(f"{trial.name}: the foot never goes below the surface (deepest "
+                         f"{float(np.max(depth)) * 1e3:.3g} mm); nothing to fit")
+    first_in = int(np.argmax(inside))
+    bias, count = 0.0, 0
+    if first_in >= MIN_PRECONTACT_SAMPLES:  # tare from the samples before the first contact
+        bias, count = float(np.mean(f[:first_in])), first_in
+    withdrawing = np.flatnonzero((labels < 0) & inside[:-1])
+    reversal_index = int(withdrawing[0]) + 1 if withdrawing.size else t.size
+    down = (labels > 0) & inside[:-1] & (np.diff(depth) > 0)
+    speeds = np.diff(depth)[down] / np.diff(t)[down]
+    return PreparedTrial(
+        trial=trial,
+        motion=None,
+        depth=depth,
+        force=f - bias,
+        bias=bias,
+        force_noise=force_noise,
+        precontact=count,
+        motion_covariance=None,
+        reversal_index=reversal_index,
+        reversal_time=float(t[reversal_index - 1]) if withdrawing.size else math.nan,
+        velocity=float(np.median(speeds)) if speeds.size else math.nan,
+        depth_noise=depth_noise,
+    )
+
+
+def prepare_trial(trial: Trial, *, protocol: bool | None = None) -> PreparedTrial:
+    """Ready a trial for fitting: the depth the model follows, the branch at every step, the force tared.
+
+    Parameters
+    ----------
+    trial : Trial
+        A trial of any motion.
+    protocol : bool, optional
+        None (default): use the protocol refinement when the trial is an
+        intrude/hold/withdraw protocol (:func:`is_protocol`), else the general
+        path. True: require a protocol. False: always the general path.
+
+    Notes
+    -----
+    The general path (:mod:`mudforce.calibration.branches`) labels each
+    step's branch from the depth and the force's jumps, follows a denoised
+    depth consistent with those labels, tares the force from the samples
+    before the first contact when the trial starts above the surface
+    (otherwise the fit estimates the bias), and measures the force noise
+    from the force's high-frequency content. The protocol refinement fits
+    the four corners of the motion and carries their uncertainty into the
+    standard errors (``docs/calibration.md``).
+    """
+    if protocol is False:
+        return _prepare_general(trial)
+    if protocol:
+        motion = fit_motion(trial.time, trial.depth, name=trial.name)
+        return _prepare_protocol(trial, motion)
+    found = is_protocol(trial)
+    return _prepare_protocol(trial, found) if found is not None else _prepare_general(trial)
+
+
+def noise_floor(prepared: PreparedTrial, force: np.ndarray, force_at: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """Per-sample variance [N^2] a perfect model would still leave: force noise plus depth noise carried through.
+
+    ``force_at(depth) -> force [N]`` is the fitted model on the trial's
+    time; its sensitivity to the depth (central difference over 1 um)
+    times :attr:`PreparedTrial.depth_noise` is the part of the residual
+    that the depth noise explains (``force`` is the model force at the
+    trial's depth, unused beyond its size). Its mean square root over all
+    samples is the floor that an RMSE can reach.
+    """
+    h = 1e-6
+    variance = np.full(force.size, prepared.force_noise**2 if math.isfinite(prepared.force_noise) else 0.0)
+    if prepared.depth_noise > 0.0:
+        sens = (force_at(prepared.depth + h) - force_at(prepared.depth - h)) / (2.0 * h)
+        variance = variance + (sens * prepared.depth_noise) ** 2
+    out: np.ndarray = variance
+    return out

@@ -25,7 +25,11 @@ from mudforce.parameters import MudParameters
 from mudforce.protocol import Protocol
 from mudforce.simulation import simulate
 
-__all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "synthesize", "trial_name"]
+__all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "START_BELOW", "synthesize", "synthesize_gait",
+           "trial_name"]
+
+#: How ``synthesize_gait`` chooses where each walk starts: above the surface, in the mud, or every other one.
+START_BELOW = ("never", "always", "alternate")
 
 #: Water contents [-] that ``mudforce synth`` makes by default.
 DEFAULT_WATER_CONTENTS: tuple[float, ...] = (0.25,)
@@ -130,4 +134,90 @@ def synthesize(
     if out is not None:
         path = save_dataset(dataset, out)
         dataset = Dataset(foot=foot, trials=dataset.trials, source=str(path), extra=dataset.extra)
+    return dataset
+
+
+def synthesize_gait(
+    out: str | os.PathLike[str] | None = None,
+    *,
+    water_contents: Sequence[float] = DEFAULT_WATER_CONTENTS,
+    repeats: int = 3,
+    duration: float = 25.0,
+    rate: float = 100.0,
+    jitter: float = 0.0,
+    start_below: str = "never",
+    force_noise: float = 0.2,
+    depth_noise: float = 3e-5,
+    bias: float = 0.5,
+    seed: int = 0,
+    foot: Foot | None = None,
+) -> Dataset:
+    """Make (and optionally write) a dataset of robot-like foot motions: one walk per trial.
+
+    Each trial is :func:`mudforce.gait.walk` with its own seed (drawn from
+    ``seed``): several steps, each a touchdown at some speed to some depth,
+    a stance with sway, sometimes a partial withdrawal and a re-push, and a
+    lift-off. The manifest has no ``velocity_m_s`` (there is no one speed).
+
+    Parameters
+    ----------
+    out : path-like, optional
+        Folder to write ``dataset.json`` and the trial CSVs into.
+    water_contents : sequence of float
+        Volume fractions [-] (Table I, interpolated), within 15% to 35%.
+    repeats : int
+        Walks per water content.
+    duration : float
+        Length of each walk [s].
+    rate : float
+        Mean sampling rate [Hz].
+    jitter : float
+        Time-stamp jitter as a fraction of the sample period [-], within [0, 0.4].
+    start_below : {"never", "always", "alternate"}
+        Which walks start in stance, below the surface (their bias cannot be tared).
+    force_noise, depth_noise, bias : float
+        White force noise [N], white depth noise [m], constant force offset [N].
+    seed : int
+        Seed of the gaits and the noise; the same seed gives the same files.
+    foot : Foot, optional
+        The foot; the paper's 51 x 38 mm cuboid by default.
+
+    Returns
+    -------
+    Dataset
+        With the true parameters under ``extra["synthetic"]``.
+    """
+    from mudforce.gait import walk
+
+    repeats = positive_int(repeats, "repeats")
+    if start_below not in START_BELOW:
+        raise InputError(f"start_below must be one of {', '.join(START_BELOW)}, got {start_below!r}")
+    if not water_contents:
+        raise InputError("synthesize_gait needs at least one water content")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
+    foot = Foot.paper() if foot is None else foot
+    truths: dict[str, Any] = {}
+    trials: list[Trial] = []
+    seeds = np.random.default_rng(seed).integers(0, 2**31 - 1, size=(len(water_contents), repeats))
+    for i, w in enumerate(water_contents):
+        truths[f"{w:g}"] = MudParameters.from_water_content(w).to_dict()
+        for r in range(1, repeats + 1):
+            below = start_below == "always" or (start_below == "alternate" and r % 2 == 0)
+            path = walk(float(w), seed=int(seeds[i, r - 1]), duration=duration, rate=rate, jitter=jitter,
+                        start_below=below, foot=foot, force_noise=force_noise, depth_noise=depth_noise, bias=bias)
+            name = (f"w{w * 100:g}_gait_r{r}").replace(".", "p") + ".csv"
+            trials.append(Trial(name, float(w), path.time, path.depth, path.force, None, r))
+    synthetic = {
+        "seed": seed,
+        "force_noise_N": force_noise,
+        "depth_noise_m": depth_noise,
+        "bias_N": bias,
+        "gait": {"duration_s": duration, "rate_Hz": rate, "jitter": jitter, "start_below": start_below},
+        "parameters": truths,
+    }
+    dataset = Dataset(foot=foot, trials=tuple(trials), source="synthesize_gait()", extra={"synthetic": synthetic})
+    if out is not None:
+        written = save_dataset(dataset, out)
+        dataset = Dataset(foot=foot, trials=dataset.trials, source=str(written), extra=dataset.extra)
     return dataset

@@ -2,15 +2,21 @@
 
 DATASET is a folder with dataset.json and one CSV per trial (or the
 dataset.json itself, or a tidy CSV with the columns trial, water_content,
-time_s, depth_m, force_N); see docs/calibration.md. Each trial's motion is
-fitted (reversal located to a fraction of a sample) and its force tared
-from the samples before contact. The fit is staged: intrusion and hold
+time_s, depth_m, force_N); see docs/calibration.md. Trials may be of any
+motion (docs/estimation.md): each step's branch comes from the depth and
+the force's jumps, the force is tared from the samples before the first
+contact (or its bias estimated when the trial starts in the mud), and the
+force noise is measured from the force's high-frequency content; a lab
+protocol trial has its corners fitted to a fraction of a sample instead.
+The fit is staged: intrusion and hold
 (k_m_i, b_m_i, alpha, beta); withdrawal (k_m_w, b_m_w, sigma_y, zeta,
 omega_0) with a seeded global search; then all jointly. rho_m and lambda
 stay fixed unless --free names them. fit.json holds, per water content,
 the 11 parameters in SI, their standard errors (null where fixed or not
-determined), the RMSE over all samples and per trial, the parameter
-correlation matrix, and warnings for parameters the data cannot determine.
+determined), the RMSE over all samples and per trial, the noise floor and
+misfit_ratio (RMSE / floor; model_misses_data above 1.25), the parameter
+correlation matrix, and warnings for parameters the data cannot determine
+and for a model that misses the data.
 """
 
 from __future__ import annotations
@@ -115,7 +121,8 @@ def run(args: argparse.Namespace) -> int:
         write_report(result, args.report, velocity_fits=per_speed)
     if not args.quiet:
         for c in result.conditions:
-            print(f"W = {c.water_content:.1%}: RMSE {c.rmse:.3f} N (force noise {c.force_noise:.3f} N), "
+            print(f"W = {c.water_content:.1%}: RMSE {c.rmse:.3f} N (force noise {c.force_noise:.3f} N, "
+                  f"noise floor {c.noise_floor:.3f} N), "
                   f"{len(c.trials)} trials, {len(c.warnings)} warning(s)")
             for w in c.warnings:
                 print(f"  warning: {w}")

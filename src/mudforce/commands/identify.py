@@ -1,12 +1,17 @@
-"""Estimate the water content of one intrusion trial from the Table I family, with an interval.
+"""Estimate the water content of one trial of any motion from the Table I family, with an interval.
 
 TRIAL.csv has the columns time_s, depth_m (or depth_mm), force_N of one
-intrude/hold/withdraw trial starting above the surface. The trial is
-prepared as for a fit (motion fitted, force tared) and compared with the
-model for Table I's parameters, interpolated between its rows (15% to
+trial: the lab protocol or any foot motion (steps, stances with sway,
+re-pushes; starting above or below the surface). The trial is prepared as
+for a fit (branch of every step from the depth and the force's jumps,
+force tared or its bias estimated; docs/estimation.md) and compared with
+the model for Table I's parameters, interpolated between its rows (15% to
 35%). The interval is a likelihood-ratio interval that widens when the
 family misfits the trial. With --json: {"water_content": 0.23,
-"interval": [0.21, 0.25], "rmse_N": ..., "level": 0.95, "warnings": [...]}.
+"nearest_water_content": 0.23, "interval": [0.21, 0.25], "rmse_N": ...,
+"level": 0.95, "force_noise_N": ..., "noise_floor_N": ..., "misfit_ratio":
+..., "model_misses_data": false, "off_family_N": ..., "bias_N": ...,
+"bias_method": "tared", "bias_stderr_N": ..., "warnings": [...]}.
 """
 
 from __future__ import annotations

@@ -24,12 +24,20 @@ MAX_TRIALS = 1000
 MAX_SAMPLES = 5_000_000
 
 NAME = "synth"
-HELP = "write a synthetic dataset (paper's protocol, noise, bias) for testing fits"
+HELP = "write a synthetic dataset (paper's protocol or robot-like gaits, noise, bias) for testing fits"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``mudforce synth``."""
     parser.add_argument("--out", required=True, metavar="DIR", help="folder to write (created)")
+    parser.add_argument("--motion", choices=("protocol", "gait"), default="protocol",
+                        help="the paper's intrude/hold/withdraw protocol (default), or robot-like walks: "
+                             "touchdowns, stances with sway, re-pushes, lift-offs (--repeats walks per water content)")
+    parser.add_argument("--duration", default="25s", help="gait: length of each walk (default 25s)")
+    parser.add_argument("--jitter", type=float, default=0.0, metavar="FRACTION",
+                        help="gait: time-stamp jitter, fraction of a sample period (default 0)")
+    parser.add_argument("--start-below", choices=("never", "always", "alternate"), default="never",
+                        help="gait: which walks start in the mud (default never)")
     parser.add_argument("--water-content", default="25%", metavar="LIST", help="e.g. 15%%,25%% (default 25%%)")
     parser.add_argument("--velocities", default="10mm/s,20mm/s,40mm/s", metavar="LIST",
                         help="intrusion/withdrawal speeds (default 10mm/s,20mm/s,40mm/s)")
@@ -60,7 +68,9 @@ def run(args: argparse.Namespace) -> int:
     seed = seed_int(args.seed)
     if args.repeats < 1 or args.repeats > MAX_TRIALS:
         raise InputError(f"--repeats: {args.repeats} must be within [1, {MAX_TRIALS}]")
-    trials = len(waters) * len(velocities) * args.repeats
+    gait = args.motion == "gait"
+    duration = parse_quantity(args.duration, "time", name="--duration") if gait else 0.0
+    trials = len(waters) * (1 if gait else len(velocities)) * args.repeats
     if trials > MAX_TRIALS:
         raise InputError(f"{trials} trials requested; at most {MAX_TRIALS} per command (fewer repeats, "
                          "water contents or velocities)")
@@ -76,6 +86,8 @@ def run(args: argparse.Namespace) -> int:
     # the protocol's duration per speed: approach and intrude, hold, withdraw to 20 mm above
     samples = args.repeats * len(waters) * sum(
         ((approach + depth) / v + hold + (depth + 0.02) / v) * rate + 1 for v in velocities)
+    if gait:  # one walk of --duration per repeat and water content
+        samples = args.repeats * len(waters) * (duration * rate + 1)
     if samples > MAX_SAMPLES:
         raise InputError(f"the dataset would have {samples:.3g} samples, more than {MAX_SAMPLES:,} per command; "
                          "lower --rate, --hold, --depth or the number of trials")
@@ -87,6 +99,15 @@ def run(args: argparse.Namespace) -> int:
     if (out / MANIFEST_NAME).exists() and not args.force:
         raise InputError(f"--out {out}: already holds a {MANIFEST_NAME}; pass --force to overwrite it")
     check_output_dir(args.out, "--out")
+    if gait:
+        from mudforce.calibration.synth import synthesize_gait
+
+        dataset = synthesize_gait(out, water_contents=waters, repeats=args.repeats, duration=duration, rate=rate,
+                                  jitter=args.jitter, start_below=args.start_below, force_noise=force_noise,
+                                  depth_noise=depth_noise, bias=bias, seed=seed, foot=foot)
+        if not args.quiet:
+            print(f"wrote {len(dataset.trials)} walks to {out / MANIFEST_NAME}")
+        return 0
     dataset = synthesize(
         out,
         water_contents=waters,

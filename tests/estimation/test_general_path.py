@@ -1,0 +1,127 @@
+"""Estimation from trials of any motion: branch labels, denoised depth, noise, bias, fit and identify on gaits."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mudforce.calibration import fit_condition, identify_water_content, prepare_trial, synthesize_gait
+from mudforce.calibration.branches import estimate_force_noise
+from mudforce.calibration.dataset import Trial
+from mudforce.calibration.models import CHEN2024
+from mudforce.foot import Foot
+from mudforce.gait import walk
+from mudforce.parameters import MudParameters
+
+
+def _trial(w: float, seed: int, **kw: object) -> tuple[Trial, object]:
+    path = walk(w, seed=seed, **kw)  # type: ignore[arg-type]
+    return Trial(f"walk{seed}.csv", w, path.time, path.depth, path.force), path
+
+
+@pytest.mark.parametrize("jitter", [0.0, 0.3])
+def test_force_noise_is_measured_without_the_model(jitter: float) -> None:
+    path = walk(0.2, seed=4, duration=15.0, force_noise=0.3, jitter=jitter)
+    assert abs(estimate_force_noise(path.time, path.force) / 0.3 - 1.0) < 0.1
+    # a constant offset and the model's jumps do not move it
+    assert abs(estimate_force_noise(path.time, path.force + 50.0) / 0.3 - 1.0) < 0.1
+
+
+@pytest.mark.parametrize(("w", "seed", "start_below", "jitter"),
+                         [(0.18, 1, False, 0.0), (0.25, 2, True, 0.3), (0.33, 3, False, 0.3)])
+def test_denoised_depth_drives_the_model_to_the_true_force(w: float, seed: int, start_below: bool,
+                                                           jitter: float) -> None:
+    """Reversals and necking at the right samples: the force on the denoised depth is the true force within noise."""
+    trial, path = _trial(w, seed, duration=15.0, force_noise=0.2, bias=0.5, start_below=start_below, jitter=jitter)
+    prepared = prepare_trial(trial)
+    assert prepared.motion is None  # a gait is not a protocol
+    force = CHEN2024.force(trial.time, prepared.depth, MudParameters.from_water_content(w).as_array(), Foot.paper())
+    error = force - path.force_true  # type: ignore[attr-defined]
+    assert np.sqrt(np.mean(error**2)) < 0.25
+    assert prepared.bias_estimated == start_below
+    if not start_below:
+        assert abs(prepared.bias - 0.5) < 0.2
+
+
+def test_noiseless_gait_is_followed_exactly() -> None:
+    trial, path = _trial(0.25, 5, duration=10.0, force_noise=0.0, depth_noise=0.0, start_below=True)
+    prepared = prepare_trial(trial)
+    assert np.array_equal(prepared.depth, trial.depth)
+    force = CHEN2024.force(trial.time, prepared.depth, MudParameters.from_water_content(0.25).as_array(), Foot.paper())
+    assert np.max(np.abs(force - path.force_true)) < 1e-9  # type: ignore[attr-defined]
+    result = identify_water_content(trial)
+    assert abs(result.water_content - 0.25) < 1e-4
+    assert not result.model_misses_data and not result.warnings
+
+
+def test_identify_on_a_stepping_trajectory() -> None:
+    """The issue's example: 13 s of stepping at W = 22%, force noise 0.2 N, bias 0.5 N."""
+    trial, _ = _trial(0.22, 1, duration=13.0, force_noise=0.2, bias=0.5)
+    result = identify_water_content(trial)
+    assert abs(result.water_content - 0.22) < 0.005
+    assert result.interval[0] <= 0.22 <= result.interval[1]
+    d = result.to_dict()
+    assert {"nearest_water_content", "misfit_ratio", "model_misses_data", "off_family_N", "noise_floor_N",
+            "force_noise_N", "bias_N", "bias_method"} <= set(d)
+    assert abs(d["force_noise_N"] - 0.2) < 0.03  # type: ignore[operator]
+
+
+def test_identify_says_when_the_data_are_off_the_family() -> None:
+    """A foot twice as large as assumed: the force is off the family, and identify says so."""
+    big = Foot.cuboid(0.072, 0.054)
+    path = walk(0.25, seed=2, duration=10.0, force_noise=0.2, foot=big)
+    result = identify_water_content(Trial("big.csv", 0.25, path.time, path.depth, path.force), Foot.paper())
+    assert result.model_misses_data and result.off_family > 1.0
+    assert any("off the Table I family" in w for w in result.warnings)
+
+
+def test_fit_two_gaits_reaches_the_noise_and_the_parameters() -> None:
+    trials = [_trial(0.25, s, duration=12.0, force_noise=0.2, bias=0.5, start_below=s == 12)[0] for s in (11, 12)]
+    fit = fit_condition(trials, seed=0)
+    truth = MudParameters.from_water_content(0.25).to_dict()
+    for name in ("alpha", "beta", "k_m_w", "sigma_y", "k_m_i"):
+        assert abs(fit.parameters[name] / truth[name] - 1.0) < 0.1, name
+    assert abs(fit.force_noise - 0.2) < 0.03
+    assert fit.misfit_ratio < 1.5 and not fit.model_misses_data
+    assert not any("no trial necked" in w for w in fit.warnings)
+    assert [t.bias_method for t in fit.trials] == ["tared", "estimated"]
+    for t in fit.trials:
+        assert abs(t.bias - 0.5) < 0.1 and 0 < t.bias_stderr < 0.1
+
+
+def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "mudforce", *args], capture_output=True, text=True,
+                          env=os.environ.copy(), timeout=300)
+
+
+def test_synth_gait_and_identify_cli(tmp_path: Path) -> None:
+    out = tmp_path / "walks"
+    proc = _run_cli("synth", "--motion", "gait", "--out", str(out), "--water-content", "22%", "--repeats", "2",
+                    "--duration", "8s", "--seed", "3", "--start-below", "alternate", "--quiet")
+    assert proc.returncode == 0, proc.stderr
+    manifest = json.loads((out / "dataset.json").read_text())
+    assert [t.get("velocity_m_s") for t in manifest["trials"]] == [None, None]
+    assert manifest["synthetic"]["gait"]["start_below"] == "alternate"
+    again = synthesize_gait(water_contents=[0.22], repeats=2, duration=8.0, seed=3, start_below="alternate")
+    written = np.loadtxt(out / "w22_gait_r2.csv", delimiter=",", skiprows=1)[:, 2]
+    np.testing.assert_allclose(written, again.trials[1].force, rtol=1e-8, atol=1e-8)
+    proc = _run_cli("identify", str(out / "w22_gait_r2.csv"), "--json")
+    assert proc.returncode == 0, proc.stderr
+    result = json.loads(proc.stdout)
+    assert abs(result["water_content"] - 0.22) < 0.01
+    assert result["bias_method"] == "estimated" and isinstance(result["model_misses_data"], bool)
+    assert 0 < result["bias_stderr_N"] < 0.1
+
+
+def test_identify_refuses_a_constant_force() -> None:
+    path = walk(0.25, seed=1, duration=6.0)
+    from mudforce.errors import InputError
+
+    with pytest.raises(InputError, match="force is the same in every sample"):
+        identify_water_content(Trial("zero.csv", 0.25, path.time, path.depth, np.zeros_like(path.time)))
