@@ -68,7 +68,7 @@ def read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
 
 
 def test_simulate_paper_protocol_with_plot(tmp_path: Path) -> None:
-    """Defaults at W = 25%: 1201 samples at 100 Hz, peak about 59.5 N (MODEL.md), a PNG, old files replaced."""
+    """Defaults at W = 25%: 1201 samples at 100 Hz, peak about 59.5 N (docs/model.md), a PNG, old files replaced."""
     (tmp_path / "out.csv").write_bytes(PREVIOUS_CSV)
     (tmp_path / "out.png").write_bytes(PREVIOUS_PNG)
     proc = run_cli(["simulate", "--water-content", "25%", "--out", "out.csv", "--plot", "out.png"], tmp_path)

@@ -5,7 +5,7 @@ integrate the defining ODE numerically (``scipy.integrate.solve_ivp``), find
 roots with ``scipy.optimize.brentq``, or evaluate the inverse Laplace
 transform by residues in 50-digit arithmetic (``mpmath``). Equation numbers
 are those of Chen, Yi & Shan (2024), arXiv:2403.02617; conventions are
-``../shared/MODEL.md``'s.
+``docs/model.md``'s.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from mudforce.equations import (
 from mudforce.parameters import MudParameters
 
 W25 = MudParameters.table_i(0.25)  # Table I, W = 25 %, in SI
-H = 0.038  # the paper's intruder width [m] (MODEL.md)
+H = 0.038  # the paper's intruder width [m] (docs/model.md)
 
 
 # --------------------------------------------------------------------- Eq. (2)
@@ -72,7 +72,7 @@ def test_nonlinear_spring_stress_closed_form() -> None:
         got = np.array([nonlinear_spring_stress(alpha, beta, d, H) for d in depths])
         # Eq. (4): alpha * (z_i / H)^beta, via numpy's power
         assert_allclose(got, alpha * np.power(depths / H, beta), rtol=1e-14)
-        # MODEL.md: zero at and above the surface
+        # docs/model.md: zero at and above the surface
         for d in (0.0, -1e-12, -0.01):
             assert nonlinear_spring_stress(alpha, beta, d, H) == 0.0
     # at z_i = H the stress is alpha whatever beta (Eq. (4))
@@ -168,7 +168,7 @@ def test_neck_filter_response_matches_residues(zeta: float) -> None:
 @pytest.mark.parametrize("zeta", ZETAS)
 def test_neck_filter_response_initial_values_and_decay(zeta: float) -> None:
     omega = 2.23
-    # MODEL.md: g(0) = 1 (the mud starts at v_m0), G(0) = 0 (displacement since necking)
+    # docs/model.md: g(0) = 1 (the mud starts at v_m0), G(0) = 0 (displacement since necking)
     g0, big_g0 = neck_filter_response(0.0, zeta, omega)
     assert g0 == 1.0
     assert big_g0 == 0.0

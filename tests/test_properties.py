@@ -201,7 +201,7 @@ def test_inserting_samples_on_the_input_line_changes_nothing(
     extra = (time[:-1, None] + np.diff(time)[:, None] * fracs[None, :]).ravel()
     t2, z2 = _insert(time, depth, extra)
     r1 = mf.simulate(time, depth, params, velocity_filter="exact")
-    # MODEL.md frees clinging mud at the end of a step on the intrusion branch
+    # docs/model.md frees clinging mud at the end of a step on the intrusion branch
     # above the surface; a step that pushes clinging mud back through the
     # surface therefore depends on whether a sample falls at z = 0. That case
     # is a documented property of the specification, not of the discretisation.

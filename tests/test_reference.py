@@ -1,4 +1,4 @@
-"""Batch, streaming and the independent reference solution agree (MODEL.md's "Discretisation").
+"""Batch, streaming and the independent reference solution agree (docs/model.md's "Discretisation").
 
 :func:`mudforce.reference.reference_simulate` integrates the model's ODEs
 with ``solve_ivp`` and locates surface crossings and necking as integrator
@@ -24,7 +24,7 @@ from mudforce.foot import Foot
 from mudforce.parameters import TABLE_I_WATER_CONTENTS, MudParameters
 from mudforce.reference import CONTACT, FREE, NECKED, ReferenceResult, reference_simulate
 
-FORCE_RTOL = 1e-6  # of the peak |force| (MODEL.md: ~1e-7 is achievable)
+FORCE_RTOL = 1e-6  # of the peak |force| (seen: ~1e-11; docs/model.md)
 NECK_ATOL = 1e-6  # [s]
 CODES = {"FREE": FREE, "CONTACT": CONTACT, "NECKED": NECKED}
 
@@ -82,10 +82,10 @@ VELOCITIES = (0.005, 0.01, 0.02, 0.04)  # [m/s]
 @pytest.mark.parametrize("water", TABLE_I_WATER_CONTENTS)
 def test_paper_protocol_agrees_with_reference(water: float, velocity: float) -> None:
     params = MudParameters.table_i(water)
-    # 20 mm deep, 6 s hold, out to 20 mm above the surface, 100 Hz (MODEL.md's protocol)
+    # 20 mm deep, 6 s hold, out to 20 mm above the surface, 100 Hz (docs/model.md's protocol)
     time, depth = mf.Protocol.paper(depth=0.02, velocity=velocity, hold=6.0).sample()
     ref, _, _ = _agree(time, depth, params)
-    # Here the criterion v > sigma_y / b_m_w of MODEL.md decides whether the neck breaks
+    # Here the criterion v > sigma_y / b_m_w of docs/model.md decides whether the neck breaks
     # (40 mm of withdrawal is several tau_w at these speeds); W = 15 % at 10 mm/s does not neck.
     expect_neck = velocity > params.critical_withdrawal_velocity
     assert (ref.necking_times.size == 1) == expect_neck
@@ -105,11 +105,11 @@ def test_paper_protocol_cases_include_both_outcomes() -> None:
         for v in VELOCITIES
     }
     assert any(necks.values()) and not all(necks.values())
-    assert not necks[(0.15, 0.01)]  # MODEL.md: W = 15 % at 10 mm/s never reaches sigma_y
+    assert not necks[(0.15, 0.01)]  # docs/model.md: W = 15 % at 10 mm/s never reaches sigma_y
 
 
 def test_sanity_numbers_w25() -> None:
-    """MODEL.md's sanity check: W = 25 %, 20 mm, 10 mm/s, cuboid foot."""
+    """docs/model.md's sanity check: W = 25 %, 20 mm, 10 mm/s, cuboid foot."""
     params = MudParameters.table_i(0.25)
     protocol = mf.Protocol.paper()
     time, depth = protocol.sample()
@@ -140,7 +140,7 @@ MM = 1e-3
 
 
 def _hand_trajectory(rate: float = 100.0, jitter: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """A piecewise-linear motion [s], [m] that crosses every transition of MODEL.md's state machine.
+    """A piecewise-linear motion [s], [m] that crosses every transition of docs/model.md's state machine.
 
     Corners are off the sample grid, so crossings and necking fall inside steps.
     """
@@ -221,7 +221,7 @@ def test_hand_trajectory_strong_drag_jittered_time(lambda_: float, foot: Foot | 
 
 
 def test_reference_starts_below_the_surface_relaxed() -> None:
-    """MODEL.md: a trajectory starting below the surface starts in CONTACT with z_m = z_i.
+    """docs/model.md: a trajectory starting below the surface starts in CONTACT with z_m = z_i.
 
     Withdrawing at constant speed from relaxed mud also has a closed form
     (written out here, independent of both implementations): the strain

@@ -39,7 +39,7 @@ def test_protocol_with_approach_and_custom_steps() -> None:
 
 
 def test_model_md_sanity_values_at_25_percent() -> None:
-    """MODEL.md: peak ~59.5 N, ~54.8 N at the end of the hold, suction minimum -sigma_y*S = -11.63 N."""
+    """docs/model.md: peak ~59.5 N, ~54.8 N at the end of the hold, suction minimum -sigma_y*S = -11.63 N."""
     res = Protocol.paper().simulate(W25)
     assert res.peak_force == pytest.approx(59.5, abs=0.05)
     assert int(np.argmax(res.force)) == 200  # end of intrusion, t = 2 s
@@ -54,7 +54,7 @@ def test_model_md_sanity_values_at_25_percent() -> None:
 
 
 def test_no_necking_at_15_percent_and_10_mm_s() -> None:
-    """MODEL.md: at W = 15 % the steady suction b_m_w v = 13.5 kPa stays below sigma_y = 17 kPa."""
+    """docs/model.md: at W = 15 % the steady suction b_m_w v = 13.5 kPa stays below sigma_y = 17 kPa."""
     res = Protocol.paper().simulate(TABLE_I[0.15])
     assert res.necking_times.size == 0
     assert not np.any(res.state == 2)
@@ -211,7 +211,7 @@ def test_velocity_filter_for_noise_and_validation() -> None:
 
 
 def test_rate_independence_of_the_exact_discretisation() -> None:
-    """MODEL.md: the result depends on the sampling only through the input's interpolation."""
+    """docs/model.md: the result depends on the sampling only through the input's interpolation."""
     r100 = Protocol.paper(rate=100.0).simulate(W25)
     r1k = Protocol.paper(rate=1000.0).simulate(W25)
     np.testing.assert_allclose(r1k.force[::10], r100.force, atol=1e-9 * r100.peak_force)

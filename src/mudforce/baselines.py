@@ -25,7 +25,7 @@ which the calibration fits (``mudforce fit --model NAME``, see
     ``f_e2`` (Eq. (4)) and no yield or necking (Eqs. (7), (9)). Held, its
     force relaxes to zero; pulled out, the suction never breaks.
 
-The branch rule is the exact one of ``MODEL.md``: the step from sample
+The branch rule is the exact one of ``docs/model.md``: the step from sample
 ``k-1`` to ``k`` has the velocity ``v_k = (z_k - z_{k-1}) / (t_k - t_{k-1})``
 (``v_0 = 0``), and ``v_k >= 0`` (down or at rest) is the intrusion branch.
 
