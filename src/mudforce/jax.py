@@ -374,7 +374,8 @@ def neck_filter_transition(dt: Array, zeta: Array, omega_0: Array) -> tuple[Arra
     from ``expm1`` and ``cos x - 1 = -2 sin^2(x/2)``
     (:func:`mudforce.equations.neck_filter_response_increment`) so that it
     keeps its digits in float32 (``1 - g_d`` from a rounded ``g_d`` would
-    keep three or four at 1 kHz). The elementary functions (``expm1``,
+    keep three or four at 1 kHz); on long steps, where ``|g_d - 1| >= 1/4``,
+    ``g_d - 1`` itself. The elementary functions (``expm1``,
     ``sin``, ``sinh``) are computed here, the arithmetic is the shared layer's.
     """
     a = zeta * omega_0
@@ -395,7 +396,10 @@ def neck_filter_transition(dt: Array, zeta: Array, omega_0: Array) -> tuple[Arra
     cm1 = jnp.where(under, cm1_u, jnp.where(over, cm1_o, 0.0))
     # g_d - 1 = decay (c - a s) - 1 = em (c - a s) + (c - 1) - a s, c = cos x, cosh y or 1
     d3 = _neck_filter_response_increment(em, cm1, s_over, a)
-    d3 = jnp.where(over & ~mid, g_d - 1.0, d3)  # far from the identity there
+    # a long step (g_d - 1 not small: zeta omega_0 dt or the overdamped mu dt large): the
+    # increment form's terms cancel there, and g_d - 1 keeps its digits
+    direct = g_d - 1.0
+    d3 = jnp.where((over & ~mid) | (jnp.abs(direct) >= 0.25), direct, d3)
     phi: tuple[Array, Array, Array, Array] = _neck_filter_transition_increment(zeta, omega_0, d3, gi_d)
     return phi
 
