@@ -209,7 +209,7 @@ def test_neck_filter_transition_is_the_cpu_matrix_on_short_and_long_steps() -> N
     got[0] += 1.0
     got[3] += 1.0
     ref = np.array([eq.neck_filter_transition(z, o, *eq.neck_filter_response(h, z, o))
-                    for h, z, o in zip(dt, zeta, omega)]).T
+                    for h, z, o in zip(dt, zeta, omega, strict=True)]).T
     assert np.isfinite(got).all()
     np.testing.assert_allclose(got[[0, 3]], ref[[0, 3]], rtol=0, atol=1e-13)
     np.testing.assert_allclose(got[[1, 2]], ref[[1, 2]], rtol=1e-12, atol=0)
