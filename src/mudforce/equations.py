@@ -29,6 +29,16 @@ through :func:`mudforce._pow.power`, which every compiled path calls (via
 :func:`nonlinear_spring_stress`) so that all paths agree bit for bit; other
 array libraries compute it themselves and pass ``f_e2`` in.
 
+A few plain-arithmetic functions at the end of the module are other
+forms of the stepper's, equal in exact arithmetic, that keep their
+digits in float32: :func:`maxwell_strain_increment`,
+:func:`neck_filter_response_increment`,
+:func:`neck_filter_transition_increment`,
+:func:`neck_filter_update_increment`, and :func:`neck_filter_closed_form`
+(the arithmetic of :func:`neck_filter_response`). The JAX step
+(:mod:`mudforce.jax`) calls them; the compiled stepper keeps its own
+forms, whose bits the tests pin.
+
 Sign conventions (docs/model.md): depth ``z_i`` is positive downward,
 below the undisturbed surface; a positive stress pushes the foot up
 (resistance), a negative one pulls it down (suction).
@@ -50,10 +60,15 @@ _cache.install()  # numba's cache keyed on the shared sources' content (see mudf
 __all__ = [
     "drag_stress",
     "intrusion_stress",
+    "maxwell_strain_increment",
     "maxwell_strain_step",
+    "neck_filter_closed_form",
     "neck_filter_response",
+    "neck_filter_response_increment",
     "neck_filter_transition",
+    "neck_filter_transition_increment",
     "neck_filter_update",
+    "neck_filter_update_increment",
     "necked_mud_motion",
     "necked_stress",
     "necking_time",
@@ -488,3 +503,167 @@ def rest_band_forces(strain: float, spring_stress: float, k_m_i: float, k_m_w: f
         ``F_up`` and ``F_down`` [N], positive up (resisting).
     """
     return area * k_m_w * strain, area * (k_m_i * strain + spring_stress)
+
+
+# ----------------------------------------------------------------------------- forms for float32 (the JAX step)
+# Plain-arithmetic forms of Eqs. (3) and (7) that hold their digits in float32. The
+# compiled CPU stepper keeps its own forms above (its bits must not move); the JAX step
+# (mudforce.jax) calls these through .py_func, in float32 and float64 alike. Each equals
+# its CPU counterpart in exact arithmetic; tests/kernel/test_float32_forms.py checks that
+# they agree to a few ulp in float64 and that these are the more accurate in float32.
+@_arithmetic
+def maxwell_strain_increment(strain: float, velocity: float, tau: float, growth: float) -> float:
+    """:func:`maxwell_strain_step` (Eq. (3) in closed form) in increment form: ``e(h) = e(0) + (v tau - e(0)) growth``.
+
+    ``growth = 1 - exp(-h / tau)``, which the caller computes as
+    ``-expm1(-h / tau)``. In exact arithmetic this is
+    ``maxwell_strain_step(e, v, tau, 1 - growth)``. Used by the JAX step
+    (:mod:`mudforce.jax`) because of float32: there ``1 - exp(-h/tau)``
+    formed from a rounded ``exp(-h/tau)`` at ``h/tau ~ 1e-3`` keeps only
+    about four digits, which biases the element's relaxation rate by up to
+    3e-5 (2.8e-5 of the peak force over a 10 s gait at 1 kHz), while
+    ``expm1`` keeps them all. In float64 the two forms agree to a few ulp.
+    Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    strain : float
+        ``e(0) = z_i - z_m`` at the start of the step [m].
+    velocity : float
+        Foot velocity ``dz_i/dt`` over the step [m/s] (positive down).
+    tau : float
+        Relaxation time ``b_m / k_m`` of the active branch [s].
+    growth : float
+        ``1 - exp(-h / tau) = -expm1(-h / tau)`` for the step length ``h`` [-].
+
+    Returns
+    -------
+    float
+        ``e(h)`` [m].
+    """
+    return strain + (velocity * tau - strain) * growth
+
+
+@_arithmetic
+def neck_filter_closed_form(decay: float, c: float, s_over: float, rate: float) -> tuple[float, float]:
+    """Eq. (7)'s impulse response ``g`` and its integral ``G`` from the elementary functions of the age.
+
+    With ``a = zeta omega_0`` (``rate``) the response of
+    :func:`neck_filter_response` at age ``t`` is, in each damping regime,
+    ``g = exp(-a t) (c - a s)``, ``G = exp(-a t) s`` with
+    ``(c, s) = (cos x, sin(x) / w_d)`` (``x = w_d t``, underdamped),
+    ``(1, t)`` (critical) or ``(cosh y, sinh(y) / mu)`` (``y = mu t``,
+    overdamped). This is the arithmetic that combines them, the same
+    operations as :func:`neck_filter_response`'s; the caller computes
+    ``decay = exp(-a t)``, ``c`` and ``s``. Used by the JAX step
+    (:mod:`mudforce.jax`), whose response computes every regime and
+    selects (no branches); the compiled one keeps its own (``math``
+    calls and branches cannot be plain arithmetic). Plain arithmetic
+    (see the module).
+
+    Parameters
+    ----------
+    decay : float
+        ``exp(-zeta omega_0 t)`` [-].
+    c : float
+        ``cos x``, ``1`` or ``cosh y`` [-].
+    s_over : float
+        ``sin(x) / w_d``, ``t`` or ``sinh(y) / mu`` [s].
+    rate : float
+        ``a = zeta omega_0`` [1/s].
+
+    Returns
+    -------
+    g : float
+        ``g(t)`` [-].
+    G : float
+        ``G(t)`` [s].
+    """
+    return decay * (c - rate * s_over), decay * s_over
+
+
+@_arithmetic
+def neck_filter_response_increment(decay_m1: float, c_m1: float, s_over: float, rate: float) -> float:
+    """``g(h) - 1`` of Eq. (7)'s response over a step ``h``, from ``exp(-a h) - 1`` and ``c - 1``.
+
+    ``g(h) = exp(-a h) (c - a s)`` (:func:`neck_filter_closed_form`), so
+    ``g(h) - 1 = (e - 1)(c - a s) + (c - 1) - a s``, with ``e - 1 = expm1(-a h)``
+    and ``c - 1 = -2 sin^2(x/2)`` (underdamped), ``0`` (critical) or
+    ``2 sinh^2(y/2)`` (overdamped) passed in. At a short step ``g(h)`` is
+    within ``~omega_0 h`` of 1, and ``g(h) - 1`` formed from a rounded
+    ``g(h)`` keeps only three or four digits in float32 at 1 kHz; this form
+    keeps them all. Used by the JAX step (:mod:`mudforce.jax`) for
+    :func:`neck_filter_transition_increment`. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    decay_m1 : float
+        ``exp(-zeta omega_0 h) - 1`` [-].
+    c_m1 : float
+        ``cos x - 1``, ``0`` or ``cosh y - 1`` [-].
+    s_over : float
+        ``sin(x) / w_d``, ``h`` or ``sinh(y) / mu`` [s].
+    rate : float
+        ``a = zeta omega_0`` [1/s].
+
+    Returns
+    -------
+    float
+        ``g(h) - 1`` [-].
+    """
+    return decay_m1 * (c_m1 + 1.0 - rate * s_over) + c_m1 - rate * s_over
+
+
+@_arithmetic
+def neck_filter_transition_increment(zeta: float, omega_0: float, g_h_m1: float, gi_h: float
+                                     ) -> tuple[float, float, float, float]:
+    """Eq. (7)'s one-step transition matrix minus the identity: :func:`neck_filter_transition` less ``I``.
+
+    ``Phi - I = [[g_h - 1 + 2 zeta omega_0 G_h, G_h], [-omega_0^2 G_h, g_h - 1]]``,
+    taking ``g_h - 1`` (:func:`neck_filter_response_increment`) rather than
+    ``g_h``: the diagonal of ``Phi`` is within ``~omega_0 h`` of 1, so in
+    float32 ``Phi`` itself would keep only its first few digits of the
+    step's change. Used, with :func:`neck_filter_update_increment`, by the
+    JAX step (:mod:`mudforce.jax`); equal to ``neck_filter_transition``
+    minus the identity in exact arithmetic. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio [-].
+    omega_0 : float
+        Natural frequency [rad/s].
+    g_h_m1, gi_h : float
+        ``g(h) - 1`` [-] and ``G(h)`` [s] of :func:`neck_filter_response`.
+
+    Returns
+    -------
+    tuple of float
+        ``(phi0 - 1, phi1, phi2, phi3 - 1)``, the rows of ``Phi - I``.
+    """
+    return g_h_m1 + 2.0 * zeta * omega_0 * gi_h, gi_h, -omega_0 * omega_0 * gi_h, g_h_m1
+
+
+@_arithmetic
+def neck_filter_update_increment(d0: float, phi1: float, phi2: float, d3: float, gi: float, g: float
+                                 ) -> tuple[float, float]:
+    """``(G, g)`` of Eq. (7)'s filter one step later as ``x + (Phi - I) x``: :func:`neck_filter_update`, increment form.
+
+    ``(d0, phi1, phi2, d3)`` is :func:`neck_filter_transition_increment`.
+    Used by the JAX step (:mod:`mudforce.jax`), for float32 (see there);
+    equal to :func:`neck_filter_update` in exact arithmetic. Plain
+    arithmetic (see the module).
+
+    Parameters
+    ----------
+    d0, phi1, phi2, d3 : float
+        ``Phi - I`` by rows [-], [s], [1/s], [-].
+    gi, g : float
+        ``G`` [s] and ``g`` [-] now.
+
+    Returns
+    -------
+    (float, float)
+        ``G`` [s] and ``g`` [-] one step later.
+    """
+    return gi + (d0 * gi + phi1 * g), g + (phi2 * gi + d3 * g)

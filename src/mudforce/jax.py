@@ -33,6 +33,17 @@ Every foot computes every branch and ``jnp.where`` picks (array form);
 guards keep the branches not taken free of NaN, also in gradients (the
 "double where").
 
+The physics is the shared layer's, :mod:`mudforce.equations`, the one that
+the CPU stepper and the dynamics call: its plain-arithmetic functions run
+here on jax arrays as numba's ``.py_func`` (the branch stresses, Eqs. (2),
+(3), (7), (8), summed by ``total_stress``; the drag, Eq. (5); the yield
+strain and the mud's motion at and after necking, Eqs. (9), (7); the rest
+band). Three functions of the model are not plain arithmetic (numba's own
+``pow``; ``math`` calls and branches) and have JAX-native versions here
+under the same names, built on the shared arithmetic where they can be:
+:func:`nonlinear_spring_stress` (Eq. (4)), :func:`neck_filter_response`
+(Eq. (7)) and :func:`necking_time` (Eq. (9)).
+
 Differences from the CPU stepper, all below 1e-12 of the peak force in
 float64 (``tests/jax``): the step-length constants (``exp(-dt/tau)``,
 Eq. (7)'s transition matrix) are computed from each step's ``dt`` rather
@@ -40,11 +51,14 @@ than cached while ``dt`` stays within 1e-9 relative (so with a jittering
 ``dt`` this is the more exact of the two); the nonlinear spring uses
 ``jnp.power`` instead of the CPU's branch-free power (both within an ulp
 or so); XLA's ``exp``/``sin``/``log1p`` instead of libm's; and the Maxwell
-step and Eq. (7)'s filter are written in increment form with ``expm1``
-(:func:`maxwell_strain_step`, :func:`neck_filter_transition`), which keeps
-float32 within about 1e-6 of float64 over a 10 s gait at 1 kHz (the CPU's
-form lost 2.8e-5 there) and changes float64 only by rounding. Measured:
-float64 equals ``MudContacts`` to 9.1e-14 of the peak force.
+step and Eq. (7)'s filter use the shared layer's increment forms with
+``expm1`` (:func:`mudforce.equations.maxwell_strain_increment`,
+:func:`~mudforce.equations.neck_filter_transition_increment`,
+:func:`~mudforce.equations.neck_filter_update_increment`), equal to the
+CPU's forms in exact arithmetic, which keep float32 within about 1e-6 of
+float64 over a 10 s gait at 1 kHz (the CPU's forms lost 2.8e-5 there) and
+change float64 only by rounding. Measured: float64 equals ``MudContacts``
+to 6.3e-14 of the peak force (``tests/jax``'s gaits).
 
 dtype follows the parameters: :func:`make_params` makes JAX's default float
 (float32 unless ``jax_enable_x64`` is on). This module never changes JAX's
@@ -87,7 +101,7 @@ __all__ = [
     "intrusion_step",
     "leave_necked",
     "make_params",
-    "maxwell_strain_step",
+    "maxwell_strain_increment",
     "mud_depth",
     "neck_filter_response",
     "neck_filter_transition",
@@ -245,30 +259,43 @@ def reset(state: State, mask: Array) -> State:
 
 def mud_depth(state: State) -> Array:
     """``z_m`` [m], the mud's displacement under the foot (Eq. (3); Eq. (7) after necking); ``z_i`` when FREE."""
-    necked = state.neck_z + state.neck_v * state.neck_gi
+    _, necked = _necked_mud_motion(state.neck_v, state.neck_z, state.neck_g, state.neck_gi)
     return jnp.where(state.mode == NECKED, necked,
                      jnp.where(state.mode == CONTACT, state.depth - state.strain, state.depth))
 
 
 # ----------------------------------------------------------------------------- the paper's equations
-# Plain arithmetic, shared with the CPU stepper through numba's .py_func (works on jax arrays).
-#: Eq. (5): ``f_s = lambda rho_m v |v|`` [Pa].
-drag_stress = _eq.drag_stress.py_func
+# The model's physics is mudforce.equations, the one layer that the CPU stepper
+# (mudforce._kernel), the dynamics and this step all call. Its plain-arithmetic
+# functions (+ - * /, abs, tuples) run here on jax arrays as numba's .py_func,
+# operation for operation the arithmetic the CPU stepper compiles. Three of the
+# model's functions are not plain arithmetic and have JAX-native versions below,
+# under the same names: nonlinear_spring_stress (Eq. (4)), neck_filter_response
+# (Eq. (7)) and necking_time (Eq. (9)).
 
 
-def maxwell_strain_step(strain: Array, velocity: Array, tau: Array, growth: Array) -> Array:
-    """Eq. (3) in closed form under first-order hold: ``e(h) = e(0) + (v tau - e(0)) (1 - exp(-h / tau))`` [m].
+def _shared(function: Any) -> Any:
+    """A plain-arithmetic function of :mod:`mudforce.equations` as Python (numba's ``.py_func``): runs on jax arrays."""
+    return function.py_func
 
-    ``strain`` ``e(0) = z_i - z_m`` [m], ``velocity`` [m/s], ``tau`` ``b/k``
-    [s], ``growth`` ``1 - exp(-h / tau) = -expm1(-h / tau)`` [-].
-    :func:`mudforce.equations.maxwell_strain_step` in a form that takes
-    ``1 - decay`` computed by ``expm1``: in float32, ``1 - exp(-h/tau)``
-    at ``h/tau ~ 1e-3`` keeps only four digits, which biases the Maxwell
-    element's relaxation rate by up to 3e-5 and the force by about as much
-    (measured: 2.8e-5 of the peak over a 10 s gait); in float64 the two
-    forms agree to rounding.
-    """
-    return strain + (velocity * tau - strain) * growth
+
+#: Eq. (5): ``f_s = lambda rho_m v |v|`` [Pa] (:func:`mudforce.equations.drag_stress`).
+drag_stress = _shared(_eq.drag_stress)
+#: Eq. (3) in closed form, in increment form for float32: ``e(h) = e(0) + (v tau - e(0)) growth`` [m],
+#: ``growth = -expm1(-h / tau)`` (:func:`mudforce.equations.maxwell_strain_increment`).
+maxwell_strain_increment = _shared(_eq.maxwell_strain_increment)
+_intrusion_stress = _shared(_eq.intrusion_stress)  # Eqs. (2), (3): (k_m_i e, e / tau_i)
+_withdrawal_stress = _shared(_eq.withdrawal_stress)  # Eqs. (2), (3), (8): (k_m_w e, e / tau_w)
+_necked_stress = _shared(_eq.necked_stress)  # Eq. (7): (b_m_w dz_m/dt, dz_m/dt)
+_total_stress = _shared(_eq.total_stress)  # Eqs. (1), (8): f_e2 + (f_e1 + f_s), the one place the force is summed
+_yield_strain = _shared(_eq.yield_strain)  # Eq. (9): e* = (-sigma_y - f_s) / k_m_w
+_necking_velocity = _shared(_eq.necking_velocity)  # Eqs. (3), (7): v_m0 = e / tau_w
+_necked_mud_motion = _shared(_eq.necked_mud_motion)  # Eq. (7): (v_m0 g, z_n + v_m0 G)
+_neck_filter_closed_form = _shared(_eq.neck_filter_closed_form)  # Eq. (7): (decay (c - a s), decay s)
+_neck_filter_response_increment = _shared(_eq.neck_filter_response_increment)  # Eq. (7): g(h) - 1
+_neck_filter_transition_increment = _shared(_eq.neck_filter_transition_increment)  # Eq. (7): Phi - I
+_neck_filter_update_increment = _shared(_eq.neck_filter_update_increment)  # Eq. (7): x + (Phi - I) x
+_rest_band_forces = _shared(_eq.rest_band_forces)  # Eqs. (1)-(5) at rest: (S k_m_w e, S (k_m_i e + f_e2))
 
 
 def _safe(cond: Array, x: Array, fill: float = 1.0) -> Array:
@@ -280,10 +307,12 @@ def nonlinear_spring_stress(alpha: Array, beta: Array, depth: Array, width: Arra
     """Nonlinear spring stress ``f_e2 = alpha (max(z_i, 0) / H)^beta`` [Pa], Eq. (4).
 
     ``alpha`` [Pa], ``beta`` [-], ``depth`` ``z_i`` [m], ``width`` ``H`` [m].
-    JAX port of :func:`mudforce.equations.nonlinear_spring_stress` with
-    ``jnp.power`` (the CPU's branch-free power agrees to within an ulp or
-    so); the base is guarded at and above the surface so that the gradient
-    there is 0, not NaN.
+    JAX-native version of :func:`mudforce.equations.nonlinear_spring_stress`
+    with ``jnp.power``: the shared function cannot run on jax arrays, as
+    its power is :func:`mudforce._pow.power`, a branch-free ``pow`` built
+    from numba intrinsics (bit casts, ``llvm.fma``) that only numba
+    compiles (the two agree to within an ulp or so). The base is guarded
+    at and above the surface so that the gradient there is 0, not NaN.
     """
     inside = depth > 0.0
     return jnp.where(inside, alpha * jnp.power(_safe(inside, depth / width), beta), 0.0)
@@ -295,10 +324,13 @@ def neck_filter_response(age: Array, zeta: Array, omega_0: Array) -> tuple[Array
     The filter is ``G_m(s) = s / (s^2 + 2 zeta omega_0 s + omega_0^2)``.
 
     ``age`` ``t - t_n`` [s] >= 0, ``zeta`` [-] > 0, ``omega_0`` [rad/s].
-    JAX port of :func:`mudforce.equations.neck_filter_response`: the
-    underdamped, critical and overdamped forms are all computed and
-    selected, each guarded so that the others' NaN or overflow stays out
-    of the result and its gradient. Returns ``(g, G)``.
+    JAX-native version of :func:`mudforce.equations.neck_filter_response`,
+    which cannot run on jax arrays (``math.exp``/``sin``/``sqrt`` calls and
+    branches on the damping regime): here the underdamped, critical and
+    overdamped forms are all computed and selected, each guarded so that
+    the others' NaN or overflow stays out of the result and its gradient.
+    The arithmetic that combines the elementary functions is the shared
+    :func:`mudforce.equations.neck_filter_closed_form`. Returns ``(g, G)``.
     """
     a = zeta * omega_0
     decay = jnp.exp(-a * age)
@@ -309,11 +341,9 @@ def neck_filter_response(age: Array, zeta: Array, omega_0: Array) -> tuple[Array
     x = wd * age
     small = x <= 1e-6
     s_over = jnp.where(small, age * (1.0 - x * x / 6.0), jnp.sin(x) / _safe(~small, wd))
-    g_u = decay * (jnp.cos(x) - a * s_over)
-    i_u = decay * s_over
+    g_u, i_u = _neck_filter_closed_form(decay, jnp.cos(x), s_over, a)
     # critically damped
-    g_c = decay * (1.0 - a * age)
-    i_c = decay * age
+    g_c, i_c = _neck_filter_closed_form(decay, 1.0, age, a)
     # overdamped: sinh and cosh overflow long before the product does: past mu age = 30 keep the slow mode
     mu = omega_0 * jnp.sqrt(_safe(over, zeta * zeta - 1.0))
     y = mu * age
@@ -321,8 +351,8 @@ def neck_filter_response(age: Array, zeta: Array, omega_0: Array) -> tuple[Array
     y_mid = _safe(mid, y, 0.0)
     y_small = y_mid <= 1e-6
     sh_over = jnp.where(y_small, age * (1.0 + y_mid * y_mid / 6.0), jnp.sinh(y_mid) / _safe(~y_small, mu))
-    g_o_mid = decay * (jnp.cosh(y_mid) - a * sh_over)
-    i_o_mid = decay * sh_over
+    g_o_mid, i_o_mid = _neck_filter_closed_form(decay, jnp.cosh(y_mid), sh_over, a)
+    # (the slow mode alone, written as the CPU's: slow (1 - a / mu), slow / mu)
     slow = 0.5 * jnp.exp(_safe(~mid, (mu - a) * age, 0.0))
     g_o = jnp.where(mid, g_o_mid, slow * (1.0 - a / mu))
     i_o = jnp.where(mid, i_o_mid, slow / mu)
@@ -337,12 +367,16 @@ def neck_filter_transition(dt: Array, zeta: Array, omega_0: Array) -> tuple[Arra
     The filter is ``z'' + 2 zeta omega_0 z' + omega_0^2 z = 0``; with
     ``(g_d, G_d) = neck_filter_response(dt)`` its transition matrix is
     ``Phi = [[g_d + 2 zeta omega_0 G_d, G_d], [-omega_0^2 G_d, g_d]]``
-    (the CPU stepper's cache, :func:`mudforce._kernel.advance`):
-    ``[G, g](t + dt) = Phi [G, g](t)``. Returns ``(Phi00 - 1, Phi01,
-    Phi10, Phi11 - 1)``: the diagonal is within ``~omega_0 dt`` of 1, and
-    ``g_d - 1`` is formed from ``expm1`` and ``cos x - 1 = -2 sin^2(x/2)``
-    so that it keeps its digits in float32 (``1 - g_d`` from a rounded
-    ``g_d`` would keep three or four at 1 kHz).
+    (:func:`mudforce.equations.neck_filter_transition`, the CPU stepper's
+    cache): ``[G, g](t + dt) = Phi [G, g](t)``. Returns ``(Phi00 - 1, Phi01,
+    Phi10, Phi11 - 1)`` (:func:`mudforce.equations.neck_filter_transition_increment`):
+    the diagonal is within ``~omega_0 dt`` of 1, and ``g_d - 1`` is formed
+    from ``expm1`` and ``cos x - 1 = -2 sin^2(x/2)``
+    (:func:`mudforce.equations.neck_filter_response_increment`) so that it
+    keeps its digits in float32 (``1 - g_d`` from a rounded ``g_d`` would
+    keep three or four at 1 kHz); on long steps, where ``|g_d - 1| >= 1/4``,
+    ``g_d - 1`` itself. The elementary functions (``expm1``,
+    ``sin``, ``sinh``) are computed here, the arithmetic is the shared layer's.
     """
     a = zeta * omega_0
     em = jnp.expm1(-a * dt)
@@ -361,15 +395,21 @@ def neck_filter_transition(dt: Array, zeta: Array, omega_0: Array) -> tuple[Arra
     cm1_o = 2.0 * jnp.sinh(0.5 * y_mid) ** 2
     cm1 = jnp.where(under, cm1_u, jnp.where(over, cm1_o, 0.0))
     # g_d - 1 = decay (c - a s) - 1 = em (c - a s) + (c - 1) - a s, c = cos x, cosh y or 1
-    d3 = em * (cm1 + 1.0 - a * s_over) + cm1 - a * s_over
-    d3 = jnp.where(over & ~mid, g_d - 1.0, d3)  # far from the identity there
-    return d3 + 2.0 * a * gi_d, gi_d, -omega_0 * omega_0 * gi_d, d3
+    d3 = _neck_filter_response_increment(em, cm1, s_over, a)
+    # a long step (g_d - 1 not small: zeta omega_0 dt or the overdamped mu dt large): the
+    # increment form's terms cancel there, and g_d - 1 keeps its digits
+    direct = g_d - 1.0
+    d3 = jnp.where((over & ~mid) | (jnp.abs(direct) >= 0.25), direct, d3)
+    phi: tuple[Array, Array, Array, Array] = _neck_filter_transition_increment(zeta, omega_0, d3, gi_d)
+    return phi
 
 
 def neck_flush_age(zeta: Array, omega_0: Array) -> Array:
     """Age after necking [s] past which Eq. (7)'s response is below 1e-250 and set to zero.
 
-    As :func:`mudforce._kernel.neck_flush_age`.
+    As :func:`mudforce._kernel.neck_flush_age` (speed plumbing of the
+    stepper's, not an equation of the paper; a ``sqrt`` and a branch, so a
+    JAX-native version).
     """
     over = zeta > 1.0
     rate = jnp.where(over, omega_0 / (zeta + jnp.sqrt(_safe(over, zeta * zeta - 1.0))), zeta * omega_0)
@@ -380,21 +420,25 @@ def necking_time(strain: Array, velocity: Array, tau_w: Array, k_m_w: Array, dra
                  length: Array, growth: Array) -> Array:
     """First instant [s] in a withdrawal interval at which the neck breaks, Eq. (9); ``-1`` if it does not.
 
-    JAX port of :func:`mudforce.equations.necking_time`: the withdrawal
+    JAX-native version of :func:`mudforce.equations.necking_time`, which
+    cannot run on jax arrays (branches, ``math.log1p``): the withdrawal
     stress ``k_m_w e(t) + f_s`` falls below ``-sigma_y`` at
     ``t* = -tau_w log1p((e* - e(0)) / (e(0) - v tau_w))``,
-    ``e* = (-sigma_y - f_s) / k_m_w``, clipped to ``[0, length]``.
-    ``strain`` ``e(0)`` [m], ``velocity`` [m/s], ``tau_w`` [s], ``k_m_w``
-    [Pa/m], ``drag`` [Pa], ``sigma_y`` [Pa], ``length`` [s], ``growth``
-    ``1 - exp(-length / tau_w)`` [-] (see :func:`maxwell_strain_step`). The root is differentiable in all of
-    them (the event time moves with the parameters).
+    ``e* = (-sigma_y - f_s) / k_m_w`` (the shared
+    :func:`mudforce.equations.yield_strain`), clipped to ``[0, length]``;
+    the strain at the interval's end is the shared
+    :func:`mudforce.equations.maxwell_strain_increment`. ``strain`` ``e(0)``
+    [m], ``velocity`` [m/s], ``tau_w`` [s], ``k_m_w`` [Pa/m], ``drag``
+    [Pa], ``sigma_y`` [Pa], ``length`` [s], ``growth`` ``1 - exp(-length /
+    tau_w)`` [-]. The root is differentiable in all of them (the event time
+    moves with the parameters).
     """
     already = k_m_w * strain + drag < -sigma_y
-    end = maxwell_strain_step(strain, velocity, tau_w, growth)
+    end = maxwell_strain_increment(strain, velocity, tau_w, growth)
     never = k_m_w * end + drag >= -sigma_y
     root = ~already & ~never
     vt = velocity * tau_w
-    target = (-sigma_y - drag) / k_m_w
+    target = _yield_strain(k_m_w, sigma_y, drag)
     ratio = (target - strain) / _safe(root, strain - vt)
     t = -tau_w * jnp.log1p(_safe(root, jnp.maximum(ratio, -1.0), 0.0))
     t = jnp.clip(t, 0.0, length)
@@ -464,7 +508,7 @@ def intrusion_step(strain: Array, v: Array, dt: Array, start: Array, k: StepCons
     Returns the strain [m].
     """
     growth = jnp.where(start == 0.0, k.grow_i, -jnp.expm1(-(dt - start) / k.tau_i))
-    return maxwell_strain_step(strain, v, k.tau_i, growth)
+    return maxwell_strain_increment(strain, v, k.tau_i, growth)
 
 
 def _piece_drag(p: Params, z_a: Array, v: Array, length: Array) -> Array:
@@ -505,14 +549,14 @@ def withdrawal_step(p: Params, k: StepConstants, strain: Array, v: Array, dt: Ar
     fs1 = _piece_drag(p, z_start, v, len1)
     grow1 = jnp.where((start == 0.0) & ~two, k.grow_w, -jnp.expm1(-len1 / k.tau_w))
     tn1 = necking_time(strain, v, k.tau_w, p.k_w, fs1, p.sigma_y, len1, grow1)
-    e1 = maxwell_strain_step(strain, v, k.tau_w, grow1)
+    e1 = maxwell_strain_increment(strain, v, k.tau_w, grow1)
     # piece 2: [split, dt], from the surface (only when the step crosses it)
     len2 = dt - split
     z_a2 = jnp.where(two, 0.0, z1)
     fs2 = _piece_drag(p, z_a2, v, len2)
     grow2 = -jnp.expm1(-len2 / k.tau_w)
     tn2 = jnp.where(two, necking_time(e1, v, k.tau_w, p.k_w, fs2, p.sigma_y, len2, grow2), -1.0)
-    e2 = jnp.where(two, maxwell_strain_step(e1, v, k.tau_w, grow2), e1)
+    e2 = jnp.where(two, maxwell_strain_increment(e1, v, k.tau_w, grow2), e1)
     neck1 = tn1 >= 0.0
     neck2 = ~neck1 & (tn2 >= 0.0)
     necked = neck1 | neck2
@@ -521,18 +565,19 @@ def withdrawal_step(p: Params, k: StepConstants, strain: Array, v: Array, dt: Ar
     e_at = jnp.where(neck1, strain, e1)  # strain at the piece's start
     t_a = jnp.where(neck1, start, split)
     z_a = jnp.where(neck1, z_start, z_a2)
-    e_n = jnp.where(tn > 0.0, (-p.sigma_y - fs) / p.k_w, e_at)  # exactly on the yield surface
+    e_n = jnp.where(tn > 0.0, _yield_strain(p.k_w, p.sigma_y, fs), e_at)  # exactly on the yield surface
     offset = t_a + tn
     age = jnp.where(necked, dt - offset, 0.0)
     g, gi = neck_filter_response(age, p.zeta, p.omega_0)
     z_n = z_a + v * tn
-    return Necking(necked, jnp.where(necked, e_n, e2), e_n / k.tau_w, z_n - e_n, age, g, gi)
+    return Necking(necked, jnp.where(necked, e_n, e2), _necking_velocity(e_n, k.tau_w), z_n - e_n, age, g, gi)
 
 
 def necked_step(k: StepConstants, age: Array, gi: Array, g: Array, dt: Array) -> tuple[Array, Array, Array]:
     """NECKED for a whole step: Eq. (7)'s filter advanced by its exact transition matrix; zero past the flush age.
 
-    ``[G, g] += (Phi - I) [G, g]`` (:func:`neck_filter_transition`).
+    ``[G, g] += (Phi - I) [G, g]`` (:func:`neck_filter_transition`;
+    :func:`mudforce.equations.neck_filter_update_increment`).
 
     Returns ``(age [s], G [s], g [-])``.
     """
@@ -540,20 +585,29 @@ def necked_step(k: StepConstants, age: Array, gi: Array, g: Array, dt: Array) ->
     flushed = age > k.flush
     gi = jnp.where(flushed, 0.0, gi)
     g = jnp.where(flushed, 0.0, g)
-    d0, p1, p2, d3 = k.phi
-    return age, gi + (d0 * gi + p1 * g), g + (p2 * gi + d3 * g)
+    gi, g = _neck_filter_update_increment(*k.phi, gi, g)
+    return age, gi, g
 
 
-def _force(p: Params, mode: Array, d: Array, x: Array, z1: Array, v: Array) -> Array:
-    """The force [N], Eqs. (1)-(8): ``(f_e2 + (f_e1 + f_s)) S``, summed in the CPU stepper's order.
+def _force(p: Params, k: StepConstants, mode: Array, d: Array, strain: Array, mud_velocity: Array, z1: Array,
+           v: Array) -> Array:
+    """The force [N] at a sample, Eqs. (1)-(8), as the CPU stepper's :func:`mudforce._kernel.sample_outputs`.
 
-    ``x`` is the strain [m] in CONTACT and the mud velocity ``v_m0 g`` [m/s] in NECKED.
+    The branch's stress (the shared :func:`mudforce.equations.intrusion_stress`,
+    :func:`~mudforce.equations.withdrawal_stress` or
+    :func:`~mudforce.equations.necked_stress`), the spring on the
+    intrusion branch, the drag below the surface, summed by
+    :func:`mudforce.equations.total_stress` and times the area. ``strain``
+    ``z_i - z_m`` [m] (CONTACT), ``mud_velocity`` ``v_m0 g`` [m/s] (NECKED).
     """
     fs = jnp.where(z1 > 0.0, drag_stress(p.lam, p.rho_m, v), 0.0)
     intr = (mode == CONTACT) & (d >= 0.0)
-    fe1 = jnp.where(mode == CONTACT, jnp.where(d >= 0.0, p.k_i, p.k_w) * x, p.b_w * x)
+    fe1_i, _ = _intrusion_stress(p.k_i, k.tau_i, strain)
+    fe1_w, _ = _withdrawal_stress(p.k_w, k.tau_w, strain)
+    fe1_n, _ = _necked_stress(p.b_w, mud_velocity)
+    fe1 = jnp.where(mode == CONTACT, jnp.where(d >= 0.0, fe1_i, fe1_w), fe1_n)
     fe2 = jnp.where(intr, nonlinear_spring_stress(p.alpha, p.beta, z1, p.width), 0.0)
-    return jnp.where(mode == FREE, 0.0, (fe2 + (fe1 + fs)) * p.area)
+    return jnp.where(mode == FREE, 0.0, _total_stress(fe1, fe2, fs) * p.area)
 
 
 def step(state: State, params: Params, depths: Array, dt: Array) -> tuple[State, Array]:
@@ -620,15 +674,16 @@ def step(state: State, params: Params, depths: Array, dt: Array) -> tuple[State,
     neck_v = jnp.where(necks, neck.neck_v, state.neck_v)
     neck_z = jnp.where(necks, neck.neck_z, state.neck_z)
 
-    x = jnp.where(mode1 == NECKED, neck_v * neck_g, strain1)
-    force = _force(p, mode1, d, x, z1, v)
+    mud_velocity, _ = _necked_mud_motion(neck_v, neck_z, neck_g, neck_gi)
+    force = _force(p, k, mode1, d, strain1, mud_velocity, z1, v)
 
     # a foot's first sample: FREE at or above the surface, else CONTACT with relaxed mud
     first_mode = jnp.where(z1 > 0.0, CONTACT, FREE)
     mode1 = jnp.where(first, first_mode, mode1)
     zero = jnp.zeros_like(z1)
     strain1 = jnp.where(first, zero, strain1)
-    first_force = jnp.where(z1 > 0.0, nonlinear_spring_stress(p.alpha, p.beta, z1, p.width) * p.area, 0.0)
+    first_spring = nonlinear_spring_stress(p.alpha, p.beta, z1, p.width)  # relaxed: f_e1 = 0, and v = 0: f_s = 0
+    first_force = jnp.where(z1 > 0.0, _total_stress(0.0, first_spring, 0.0) * p.area, 0.0)
     force = jnp.where(first, first_force, force)
     new = State(mode1.astype(jnp.int8), z1, strain1, v,
                 jnp.where(first, zero, neck_age), jnp.where(first, zero, neck_v), jnp.where(first, zero, neck_z),
@@ -649,12 +704,14 @@ def rest_band(params: Params, mode: Array, depth: Array, strain: Array, neck_for
     ``neck_force`` [N] (Eq. (7)) when NECKED; ``(0, 0)`` when FREE or not
     started. ``depth`` ``z_i`` [m], ``strain`` ``e = z_i - z_m`` [m].
     A foot at rest sticks while the load it carries (positive down) lies
-    in the band (docs/model.md, "Coupled with dynamics").
+    in the band (docs/model.md, "Coupled with dynamics"). The two branch
+    forces are the shared :func:`mudforce.equations.rest_band_forces`.
     """
     p = params
-    f_down = jnp.where(depth > 0.0, p.area * (p.k_i * strain + nonlinear_spring_stress(p.alpha, p.beta, depth,
-                                                                                        p.width)), 0.0)
-    f_up = jnp.where(mode == NECKED, neck_force, p.area * p.k_w * strain)
+    spring = nonlinear_spring_stress(p.alpha, p.beta, depth, p.width)
+    f_up_contact, f_down = _rest_band_forces(strain, spring, p.k_i, p.k_w, p.area)
+    f_down = jnp.where(depth > 0.0, f_down, 0.0)
+    f_up = jnp.where(mode == NECKED, neck_force, f_up_contact)
     active = (mode == CONTACT) | (mode == NECKED)
     return jnp.where(active, f_up, 0.0), jnp.where(active, f_down, 0.0)
 
@@ -697,15 +754,17 @@ def branch_forces(state: State, params: Params, dt: Array, weight: Array = 1.0) 
     g0, i0 = neck_filter_response(s.neck_age, p.zeta, p.omega_0)
     g1, i1 = neck_filter_response(s.neck_age + dt, p.zeta, p.omega_0)
     vm = s.neck_v
-    lo0_n, hi0_n = rest_band(p, mode, z, z - (s.neck_z + vm * i0), p.area * p.b_w * vm * g0)
-    _, hi1_n = rest_band(p, mode, z_dn, z_dn - (s.neck_z + vm * i1), 0.0)
-    lo1_n = p.area * p.b_w * vm * g1
+    mv0, zm0 = _necked_mud_motion(vm, s.neck_z, g0, i0)  # Eq. (7) now and at the step's end
+    mv1, zm1 = _necked_mud_motion(vm, s.neck_z, g1, i1)
+    lo0_n, hi0_n = rest_band(p, mode, z, z - zm0, p.area * _necked_stress(p.b_w, mv0)[0])
+    _, hi1_n = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
+    lo1_n = p.area * _necked_stress(p.b_w, mv1)[0]
     tau_i = p.b_i / p.k_i
     tau_w = p.b_w / p.k_w
     e0 = z - mud_depth(s)
     lo0_c, hi0_c = rest_band(p, mode, z, e0, 0.0)
-    e_dn = v_dn * tau_i + (e0 - v_dn * tau_i) * jnp.exp(-dt / tau_i)
-    e_up = v_up * tau_w + (e0 - v_up * tau_w) * jnp.exp(-dt / tau_w)
+    e_dn = maxwell_strain_increment(e0, v_dn, tau_i, -jnp.expm1(-dt / tau_i))  # Eq. (3), each branch's trial step
+    e_up = maxwell_strain_increment(e0, v_up, tau_w, -jnp.expm1(-dt / tau_w))
     _, hi1_c = rest_band(p, mode, z_dn, e_dn, 0.0)
     lo1_c, _ = rest_band(p, mode, z_up, e_up, 0.0)
     necked = mode == NECKED

@@ -268,8 +268,10 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     the band, else INTRUSION (moving down) or WITHDRAWAL (moving up). The
     force is the mud force applied during the step that ends at the sample [N].
     """
-    from mudforce.dynamics import FREE as PH_FREE
-    from mudforce.dynamics import INTRUSION, NECKED, STUCK, WITHDRAWAL, FootResult
+    from mudforce.dynamics.result import FootResult, Phase
+
+    PH_FREE, INTRUSION, WITHDRAWAL, STUCK, NECKED = (Phase.FREE, Phase.INTRUSION, Phase.WITHDRAWAL, Phase.STUCK,
+                                                     Phase.NECKED)
 
     mjx = _mjx()  # first: a clear error if MJX is missing
     foot = Foot.paper() if foot is None else foot

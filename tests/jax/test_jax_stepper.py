@@ -196,3 +196,20 @@ def test_float32_tracks_float64() -> None:
     f64 = run(jnp.float64)
     f32 = run(jnp.float32)
     assert np.abs(f32 - f64).max() <= 1e-4 * np.abs(f64).max()
+
+
+def test_neck_filter_transition_is_the_cpu_matrix_on_short_and_long_steps() -> None:
+    """Eq. (7)'s one-step matrix minus I (shared increment forms) against the CPU's matrix, 0.1 ms to 50 ms steps."""
+    from mudforce import equations as eq
+
+    grid = np.meshgrid([1e-4, 1e-3, 4e-3, 0.05], [0.05, 0.4, 0.99, 1.0, 1.01, 1.8, 6.0], [2.0, 60.0, 400.0, 2000.0],
+                       indexing="ij")
+    dt, zeta, omega = (g.ravel() for g in grid)
+    got = np.array(jax.jit(mj.neck_filter_transition)(jnp.asarray(dt), jnp.asarray(zeta), jnp.asarray(omega)))
+    got[0] += 1.0
+    got[3] += 1.0
+    ref = np.array([eq.neck_filter_transition(z, o, *eq.neck_filter_response(h, z, o))
+                    for h, z, o in zip(dt, zeta, omega, strict=True)]).T
+    assert np.isfinite(got).all()
+    np.testing.assert_allclose(got[[0, 3]], ref[[0, 3]], rtol=0, atol=1e-13)
+    np.testing.assert_allclose(got[[1, 2]], ref[[1, 2]], rtol=1e-12, atol=0)
