@@ -19,7 +19,7 @@ WITHDRAWAL, STUCK, NECKED), one row per millisecond. The summary line gives
 the rest depth only if the foot is at rest (STUCK) at the end; otherwise
 it says the foot is still moving, and how fast.
 
-Bounds: --mass from 0.1 kg (builtin) or 1 kg (mujoco: its contact's
+Bounds: --mass from 0.1 kg (builtin) or 1 kg (mujoco and mjx: MuJoCo's contact's
 ~10-20 um creep is a large part of a lighter foot's rest depth) to 10000 kg;
 --height 0 to 10 m; --duration 2 ms to 600 s; --water-content within
 Table I (15%-35%).
@@ -47,8 +47,9 @@ _MAX_DURATION = 600.0  # [s]
 _MIN_DURATION = 2e-3  # [s]: two samples
 _MAX_MASS = 1e4  # [kg]
 #: Lightest foot per engine [kg]: the built-in engine is accurate far below (3e-5 kg is its stability
-#: limit), MuJoCo's soft friction lets a foot creep ~10-20 um, 10% of a 1 kg foot's rest depth at W = 15%
-_MIN_MASS = {"builtin": 0.1, "mujoco": 1.0}
+#: limit), MuJoCo's soft friction lets a foot creep ~10-20 um, 10% of a 1 kg foot's rest depth at W = 15%;
+#: MJX's limit is MuJoCo's (the same model, stepped at 1 ms)
+_MIN_MASS = {"builtin": 0.1, "mujoco": 1.0, "mjx": 1.0}
 _MAX_HEIGHT = 10.0  # [m]
 
 
