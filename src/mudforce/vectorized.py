@@ -132,6 +132,19 @@ def _param_rows(
     return rows
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _depths_ok(z: np.ndarray) -> bool:
+    """True if every depth is finite and within +-MAX_DEPTH [m] (one pass over the feet).
+
+    Speed plumbing: the failures are or-ed without an early exit, so the loop
+    vectorises (a comparison is False for NaN, so a NaN fails).
+    """
+    bad = False
+    for k in range(z.shape[0]):
+        bad |= not abs(z[k]) <= MAX_DEPTH
+    return not bad
+
+
 class MudContacts:
     """The mud force on ``n`` feet, all stepped together, one sample at a time.
 
@@ -243,7 +256,7 @@ class MudContacts:
         if out is not None and not (isinstance(out, np.ndarray) and out.dtype == np.float64
                                     and out.shape == (self.n,) and out.flags.writeable):
             raise InputError(f"out must be a writable float64 array of shape ({self.n},)")
-        if not np.abs(z).max() <= MAX_DEPTH:  # False for NaN: check every foot before any moves
+        if not _depths_ok(z):  # check every foot before any moves
             bad = int(np.flatnonzero(~(np.abs(z) <= MAX_DEPTH))[0])
             raise InputError(f"depth of foot {bad} must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, "
                              f"got {float(z[bad])!r}; no foot was stepped")
