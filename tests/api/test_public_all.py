@@ -16,6 +16,7 @@ import importlib
 import pkgutil
 from collections.abc import Iterator
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 
@@ -169,7 +170,7 @@ def public_modules() -> list[str]:
                   and not any(n == i or n.startswith(i + ".") for i in INTERNAL))
 
 
-def _import(name: str) -> object:
+def _import(name: str) -> ModuleType:
     for package in OPTIONAL.get(name, ()):
         pytest.importorskip(package)
     return importlib.import_module(name)
