@@ -13,9 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from conftest import Run, assert_refused, run_batch, snapshot
 from mudforce import Foot
 from mudforce.calibration.synth import synthesize
+from mudforce_cli_harness import Run, assert_refused, run_batch, snapshot
 
 GOOD_PARAMS = '{"k_m_i": 260000.0, "b_m_i": 290000.0, "k_m_w": 1210000.0, "b_m_w": 1350000.0, "alpha": 40000.0, ' \
               '"beta": 0.54, "sigma_y": 6000.0, "zeta": 0.49, "omega_0": 2.23, "rho_m": 1840.0, "lambda": 0.013}'

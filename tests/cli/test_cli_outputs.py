@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import Run, assert_refused, run_batch, run_cli, snapshot
 from mudforce.calibration.synth import synthesize
+from mudforce_cli_harness import Run, assert_refused, run_batch, run_cli, snapshot
 
 PREVIOUS = b"previous output, must survive any error\n"
 TRAJECTORY = "time_s,depth_m\n" + "".join(f"{0.01 * k:.2f},{0.0005 * k:.4f}\n" for k in range(30))

@@ -3,17 +3,17 @@
 from __future__ import annotations
 
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from mudforce_cli_harness import run_cli
 
 PREVIOUS = b"previous output, must survive any error\n"
 
 
 def run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "mudforce", "drop", *args], cwd=cwd, capture_output=True, text=True,
-                          timeout=120, check=False)
+    return run_cli(["drop", *args], cwd, timeout=120)
 
 
 @pytest.mark.parametrize(

@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import json
-import os
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +16,7 @@ from mudforce.calibration.models import CHEN2024
 from mudforce.foot import Foot
 from mudforce.gait import walk
 from mudforce.parameters import MudParameters
+from mudforce_cli_harness import run_cli
 
 
 def _trial(w: float, seed: int, **kw: object) -> tuple[Trial, object]:
@@ -96,8 +95,7 @@ def test_fit_two_gaits_reaches_the_noise_and_the_parameters() -> None:
 
 
 def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "mudforce", *args], capture_output=True, text=True,
-                          env=os.environ.copy(), timeout=300)
+    return run_cli(args, timeout=300)
 
 
 def test_synth_gait_and_identify_cli(tmp_path: Path) -> None:

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -13,6 +11,7 @@ import mudforce
 from mudforce.errors import InputError
 from mudforce.reproduce import output
 from mudforce.reproduce.output import StagedFolder, check_report_dir, clean_stale
+from mudforce_cli_harness import run_cli
 
 OLD = {"report.html": "old report\n", "summary.json": "{}\n", "fig02_profile.png": "old png"}
 
@@ -63,8 +62,7 @@ def test_refuses_a_folder_with_other_files_a_file_and_the_package(tmp_path: Path
 def test_cli_refuses_the_package_templates_folder(tmp_path: Path) -> None:
     templates = Path(mudforce.__file__).resolve().parent / "reproduce" / "templates"
     before = sorted(p.name for p in templates.iterdir())
-    proc = subprocess.run([sys.executable, "-m", "mudforce", "reproduce", "--quick", "--out", str(templates)],
-                          capture_output=True, text=True, timeout=60)
+    proc = run_cli(["reproduce", "--quick", "--out", str(templates)], timeout=60)
     assert proc.returncode == 2
     assert proc.stderr.count("\n") == 1 and "overlaps the mudforce package" in proc.stderr
     assert sorted(p.name for p in templates.iterdir()) == before

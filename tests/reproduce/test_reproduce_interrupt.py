@@ -11,11 +11,12 @@ import json
 import os
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
+
+from mudforce_cli_harness import start_cli
 
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 
@@ -60,8 +61,7 @@ def _start(out: Path) -> subprocess.Popen[str]:
     out.mkdir()
     for name, text in OLD.items():
         (out / name).write_text(text)
-    return subprocess.Popen([sys.executable, "-m", "mudforce", "reproduce", "--quick", "--jobs", "2", "--quiet",
-                             "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return start_cli(["reproduce", "--quick", "--jobs", "2", "--quiet", "--out", str(out)])
 
 
 def _old_or_complete_new(out: Path) -> str:

@@ -3,10 +3,6 @@
 from __future__ import annotations
 
 import csv
-import os
-import subprocess
-import sys
-from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -14,20 +10,10 @@ import pytest
 
 from mudforce.gait import walk
 from mudforce.tracker import track
+from mudforce_cli_harness import run_cli, snapshot
 
 EXPECTED = ["time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
             "changed"]
-
-
-def run_cli(args: Sequence[str], cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = dict(os.environ)
-    env.pop("MPLBACKEND", None)
-    return subprocess.run([sys.executable, "-m", "mudforce", *args], cwd=cwd, stdin=subprocess.DEVNULL,
-                          capture_output=True, text=True, timeout=180, env=env)
-
-
-def snapshot(directory: Path) -> dict[str, bytes]:
-    return {str(p.relative_to(directory)): p.read_bytes() for p in sorted(directory.rglob("*")) if p.is_file()}
 
 
 @pytest.fixture(scope="module")

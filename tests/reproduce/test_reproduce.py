@@ -3,24 +3,21 @@
 from __future__ import annotations
 
 import json
-import os
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from mudforce.errors import InputError
 from mudforce.reproduce import ReproduceConfig
+from mudforce_cli_harness import run_cli
 
 SEED = "7"
 
 
 def _run(*args: str) -> subprocess.CompletedProcess[str]:
-    env = {**os.environ, "PYTHONHASHSEED": "0"}
-    return subprocess.run([sys.executable, "-m", "mudforce", "reproduce", *args], capture_output=True, text=True,
-                          env=env, timeout=240)
+    return run_cli(["reproduce", *args], env={"PYTHONHASHSEED": "0"}, timeout=240)
 
 
 @pytest.fixture(scope="module")

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +27,7 @@ from mudforce.calibration import (
 from mudforce.calibration.report import write_report
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
+from mudforce_cli_harness import run_cli
 
 FAST = FitOptions(popsize=10, maxiter=40)
 
@@ -99,8 +98,7 @@ def test_cli_fit_is_deterministic_and_reports(tmp_path: Path) -> None:
     outs = []
     for i in range(2):
         out = tmp_path / f"fit{i}.json"
-        proc = subprocess.run([sys.executable, "-m", "mudforce", "fit", str(data), "--out", str(out), "--quiet",
-                               "--seed", "3"], capture_output=True, text=True, timeout=300)
+        proc = run_cli(["fit", str(data), "--out", str(out), "--quiet", "--seed", "3"], timeout=300)
         assert proc.returncode == 0, proc.stderr
         assert proc.stdout == ""
         outs.append(out.read_bytes())

@@ -19,43 +19,19 @@ import os
 import shutil
 import subprocess
 import sys
-from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import mudforce
 from mudforce import Foot, MudParameters, simulate
 from mudforce.commands.simulate import parse_foot
 from mudforce.errors import InputError
+from mudforce_cli_harness import run_cli, snapshot
 
-PYTHON_M = [sys.executable, "-m", "mudforce"]
 PREVIOUS_CSV = b"previous output, must survive any error\n"
 PREVIOUS_PNG = b"not really a PNG, must survive any error\n"
 
-
-def run_cli(args: Sequence[str], cwd: Path, command: Sequence[str] = PYTHON_M) -> subprocess.CompletedProcess[str]:
-    """Run the command line in ``cwd`` with no stdin; returns the finished process."""
-    env = dict(os.environ)
-    env.pop("MPLBACKEND", None)
-    # the package under test first on the path: a relative PYTHONPATH ("src") does not resolve from cwd
-    here = str(Path(mudforce.__file__).resolve().parents[1])
-    env["PYTHONPATH"] = os.pathsep.join([here, *(p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)])
-    return subprocess.run(
-        [*command, *args],
-        cwd=cwd,
-        stdin=subprocess.DEVNULL,
-        capture_output=True,
-        text=True,
-        timeout=180,
-        env=env,
-    )
-
-
-def snapshot(directory: Path) -> dict[str, bytes]:
-    """Every file under ``directory`` (relative name -> content)."""
-    return {str(p.relative_to(directory)): p.read_bytes() for p in sorted(directory.rglob("*")) if p.is_file()}
 
 
 def read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
@@ -317,12 +293,8 @@ def test_plot_needs_matplotlib(tmp_path: Path) -> None:
     blocker.mkdir()
     (blocker / "matplotlib.py").write_text("raise ImportError('matplotlib is hidden for this test')\n")
     before = snapshot(tmp_path)
-    env_path = os.pathsep.join([str(blocker), os.environ.get("PYTHONPATH", "")]).rstrip(os.pathsep)
-    proc = subprocess.run(
-        [*PYTHON_M, "simulate", "--water-content", "25%", "--out", "out.csv", "--plot", "out.png"],
-        cwd=tmp_path, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=180,
-        env={**os.environ, "PYTHONPATH": env_path},
-    )
+    proc = run_cli(["simulate", "--water-content", "25%", "--out", "out.csv", "--plot", "out.png"], tmp_path,
+                   path_first=[blocker])
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
     assert "matplotlib" in proc.stderr and "mudforce[plot]" in proc.stderr

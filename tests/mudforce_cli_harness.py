@@ -1,11 +1,18 @@
-"""The shared harness for command-line tests: subprocess runs, batches of runs in one process, snapshots.
+"""The one subprocess harness for every command-line test (any folder): ``from mudforce_cli_harness import run_cli``.
 
 ``run_cli`` runs ``python -m mudforce`` in a folder (the real thing: exit
-status, stderr, no traceback). ``run_batch`` runs many command lines in ONE
-subprocess (importing numba costs ~0.5 s a process): each case calls
+status, stderr, no traceback); ``start_cli`` starts one without waiting (to
+interrupt it). ``run_batch`` runs many command lines in ONE subprocess
+(importing numba costs ~0.5 s a process): each case calls
 :func:`mudforce.cli.main` in its own folder, with stdout and stderr captured
 and any exception that escapes ``main`` recorded as a traceback, so a batch
 checks what a process would show at a fraction of the cost.
+
+Every subprocess gets the package under test first on ``PYTHONPATH`` as an
+absolute path (tests run from temporary folders, where a relative ``src``
+would not resolve and another installed copy would run instead). The
+top-level ``tests/conftest.py`` puts ``tests/`` on ``sys.path`` so this module
+imports from any test folder (there are no ``__init__.py`` files).
 """
 
 from __future__ import annotations
@@ -14,7 +21,7 @@ import json
 import os
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -50,29 +57,42 @@ class Run:
     stderr: str
 
 
-def _env() -> dict[str, str]:
-    """The environment, with the package under test first on the path (a relative PYTHONPATH such as
-    ``src`` would not resolve from the run's folder, and another installed copy would run instead)."""
+def cli_env(path_first: Sequence[Path | str] = (), extra: Mapping[str, str] | None = None) -> dict[str, str]:
+    """The environment for a run: the package under test first on the path (after ``path_first``, for a
+    test that shadows a module), ``MPLBACKEND`` unset, and ``extra`` variables set."""
     import mudforce
 
     env = dict(os.environ)
     env.pop("MPLBACKEND", None)
     here = str(Path(mudforce.__file__).resolve().parents[1])
-    env["PYTHONPATH"] = os.pathsep.join([here, *(p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)])
+    rest = [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]
+    env["PYTHONPATH"] = os.pathsep.join([*(str(Path(p).resolve()) for p in path_first), here, *rest])
+    env.update(extra or {})
     return env
 
 
-def run_cli(args: Sequence[str], cwd: Path, timeout: float = 180) -> subprocess.CompletedProcess[str]:
-    """Run ``python -m mudforce ARGS`` in ``cwd`` with no stdin; returns the finished process."""
-    return subprocess.run([*PYTHON_M, *args], cwd=cwd, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                          timeout=timeout, env=_env())
+
+def run_cli(args: Sequence[str], cwd: Path | None = None, timeout: float = 180, *,
+            command: Sequence[str] = PYTHON_M, path_first: Sequence[Path | str] = (),
+            env: Mapping[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``python -m mudforce ARGS`` (or ``command ARGS``) in ``cwd`` with no stdin; returns the finished
+    process. ``env`` adds variables; ``path_first`` goes before the package on ``PYTHONPATH``."""
+    return subprocess.run([*command, *args], cwd=cwd, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                          timeout=timeout, env=cli_env(path_first, env))
+
+
+def start_cli(args: Sequence[str], cwd: Path | None = None, *,
+              env: Mapping[str, str] | None = None) -> subprocess.Popen[str]:
+    """Start ``python -m mudforce ARGS`` in ``cwd`` without waiting, stdout and stderr piped, no stdin."""
+    return subprocess.Popen([*PYTHON_M, *args], cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=cli_env((), env))
 
 
 def run_batch(cases: Sequence[tuple[Sequence[str], Path]], timeout: float = 300) -> list[Run]:
     """Run each ``(argv, cwd)`` through ``mudforce.cli.main`` in one subprocess; one :class:`Run` per case."""
     payload = json.dumps([{"argv": list(argv), "cwd": str(cwd)} for argv, cwd in cases])
     proc = subprocess.run([sys.executable, "-c", _DRIVER], input=payload, capture_output=True, text=True,
-                          timeout=timeout, env=_env())
+                          timeout=timeout, env=cli_env())
     assert proc.returncode == 0, proc.stderr[-3000:]
     return [Run(r["rc"], r["stdout"], r["stderr"]) for r in json.loads(proc.stdout)]
 

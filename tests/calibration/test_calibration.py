@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +26,7 @@ from mudforce.calibration.preprocess import snap_reversal
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.protocol import Protocol
+from mudforce_cli_harness import run_cli
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +38,7 @@ def small(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "mudforce", *args], capture_output=True, text=True, timeout=120)
+    return run_cli(args, timeout=120)
 
 
 # ------------------------------------------------------------------------ dataset loading
@@ -172,8 +172,7 @@ def test_time_errors_name_the_files_own_row_and_column(tmp_path: Path) -> None:
 )
 def test_fit_refuses_unusable_outputs_before_fitting(small: Path, tmp_path: Path, extra: list[str],
                                                      words: str) -> None:
-    proc = subprocess.run([sys.executable, "-m", "mudforce", "fit", str(small), *extra, "--quiet"],
-                          cwd=tmp_path, capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=120)
+    proc = run_cli(["fit", str(small), *extra, "--quiet"], tmp_path, timeout=120)
     assert proc.returncode == 2, proc.stderr
     assert words in proc.stderr and "Traceback" not in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1

@@ -5,20 +5,19 @@ from __future__ import annotations
 import csv
 import importlib.util
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from mudforce import MudParameters
 from mudforce.dynamics import exact_drop
+from mudforce_cli_harness import run_cli
 
-PYTHON_M = [sys.executable, "-m", "mudforce", "drop"]
 PREVIOUS = b"previous output, must survive any error\n"
 
 
 def run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([*PYTHON_M, *args], cwd=cwd, capture_output=True, text=True, timeout=120, check=False)
+    return run_cli(["drop", *args], cwd, timeout=120)
 
 
 def read(path: Path) -> list[dict[str, str]]:

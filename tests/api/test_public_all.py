@@ -1,0 +1,204 @@
+"""Every public module's ``__all__`` is pinned: a change to the API (a name added, removed or renamed, a new
+public module) must be deliberate, made here with it.
+
+A public module is one under ``src/mudforce`` whose dotted name has no part starting with ``_`` (found on
+disk with :mod:`pkgutil`, without importing anything). ``mudforce.commands`` and its modules are left out on
+purpose: they are the command line's implementation, whose interface is the command line itself (tested
+through a subprocess in ``tests/cli/``), not Python names; ``mudforce.cli.main`` is the entry point that is
+pinned. Modules that need an optional package are checked only where it is installed.
+
+The lists were generated once from the code and written out literally; review them as the API.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from collections.abc import Iterator
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+import mudforce
+
+# not public API: the command line's own modules (see the docstring)
+INTERNAL = ("mudforce.commands",)
+
+# module -> the optional packages it needs (skipped where one is missing)
+OPTIONAL: dict[str, tuple[str, ...]] = {
+    "mudforce.jax": ("jax",),
+    "mudforce.mjx": ("jax", "mujoco", "mujoco.mjx"),
+    "mudforce.mujoco": ("mujoco",),
+}
+
+PINNED: dict[str, list[str]] = {
+    "mudforce": [
+        "CHEN2024", "PARAMETER_NAMES", "STATE_NAMES", "TABLE_I", "ContactSample", "ContactState", "Foot", "Hold",
+        "InputError", "Intrude", "MudContact", "MudContacts", "MudParameters", "MudTracker", "MudTrackers", "Protocol",
+        "SimulationResult", "TrackEstimate", "TrackEstimates", "VelocityFilter", "Withdraw", "__version__",
+        "estimate_depth_noise", "simulate",
+    ],
+    "mudforce.baselines": [
+        "BASELINE_NAMES", "DEFAULT_K_RFT", "branch_velocity", "drft_force", "granular_rft_force", "maxwell_only_force",
+    ],
+    "mudforce.calibration": [
+        "CHEN2024", "MODELS", "ConditionFit", "Dataset", "DragFit", "FitOptions", "FitResult", "FitStage",
+        "ForceModel", "Identification", "Motion", "PreparedTrial", "Trial", "TrialFit", "fit_by_velocity",
+        "fit_condition", "fit_dataset", "fit_drag", "fit_motion", "get_model", "identify_water_content",
+        "load_dataset", "load_fit", "load_fit_parameters", "load_trial", "parse_foot", "prepare_trial", "read_sliding",
+        "register_model", "save_dataset", "synthesize", "synthesize_gait", "tare",
+    ],
+    "mudforce.calibration.branches": [
+        "JUMP_REWARD_CAP", "SWITCH_COST", "corner_preserving_smooth", "denoise_depth", "estimate_force_noise",
+        "label_branches", "rest_steps",
+    ],
+    "mudforce.calibration.dataset": [
+        "MANIFEST_NAME", "MIN_SAMPLES", "Dataset", "Trial", "foot_from_json", "foot_to_json", "load_dataset",
+        "load_trial", "parse_foot", "save_dataset",
+    ],
+    "mudforce.calibration.drag": ["DragFit", "fit_drag", "read_sliding"],
+    "mudforce.calibration.fit": [
+        "MISFIT_WARNING_RATIO", "POOR_RELATIVE_STDERR", "ConditionFit", "FitOptions", "FitResult", "TrialFit",
+        "correlation_inflation", "fit_by_velocity", "fit_condition", "fit_dataset", "load_fit", "load_fit_parameters",
+        "misfit_ratio", "speed_key",
+    ],
+    "mudforce.calibration.identify": ["MIN_HALF_WIDTH", "Identification", "identify_water_content"],
+    "mudforce.calibration.models": [
+        "CHEN2024", "DRFT", "GRANULAR_RFT", "MAXWELL_ONLY", "MODELS", "FitStage", "ForceFunction", "ForceModel",
+        "get_model", "register_model",
+    ],
+    "mudforce.calibration.preprocess": [
+        "CLEAN_DEPTH_M", "MIN_PRECONTACT_SAMPLES", "Motion", "PreparedTrial", "fit_motion", "is_protocol",
+        "motion_covariance", "noise_floor", "prepare_trial", "snap_reversal", "tare", "tare_correction",
+    ],
+    "mudforce.calibration.report": ["ERROR_PROFILE_POINTS", "error_profile", "write_report"],
+    "mudforce.calibration.results": [
+        "MISFIT_WARNING_RATIO", "POOR_RELATIVE_STDERR", "ConditionFit", "FitResult", "TrialFit", "load_fit",
+        "load_fit_parameters", "misfit_ratio", "speed_key",
+    ],
+    "mudforce.calibration.synth": [
+        "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "START_BELOW", "synthesize", "synthesize_gait", "trial_name",
+    ],
+    "mudforce.calibration.uncertainty": [
+        "correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled",
+    ],
+    "mudforce.cli": ["COMMANDS", "main"],
+    "mudforce.contact": ["ContactSample", "ContactState", "MudContact", "check_states"],
+    "mudforce.dynamics": [
+        "GRAVITY", "PHASE_NAMES", "REST_SPEED", "ExactDrop", "FootResult", "Phase", "branch_forces", "exact_drop",
+        "naive_drop", "rest_band", "simulate_foot",
+    ],
+    "mudforce.dynamics.engine": ["simulate_foot"],
+    "mudforce.dynamics.naive": ["naive_drop"],
+    "mudforce.dynamics.rest_band": ["branch_forces", "rest_band"],
+    "mudforce.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
+    "mudforce.equations": [
+        "drag_stress", "intrusion_stress", "maxwell_strain_step", "neck_filter_response", "neck_filter_transition",
+        "neck_filter_update", "necked_mud_motion", "necked_stress", "necking_time", "necking_velocity",
+        "nonlinear_spring_stress", "rest_band_forces", "total_stress", "viscoelastic_stress", "withdrawal_stress",
+        "yield_strain",
+    ],
+    "mudforce.errors": ["MAX_SEED", "InputError", "positive_int", "seed_int"],
+    "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
+    "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
+    "mudforce.io": [
+        "MAX_JSON_BYTES", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path", "dumps_json",
+        "load_json", "refuse_overwriting_inputs", "write_target",
+    ],
+    "mudforce.jax": [
+        "CONTACT", "FREE", "NECKED", "UNSTARTED", "Necking", "Params", "State", "StepConstants", "branch_forces",
+        "drag_stress", "init", "intrusion_step", "leave_necked", "make_params", "maxwell_strain_step", "mud_depth",
+        "neck_filter_response", "neck_filter_transition", "neck_flush_age", "necked_step", "necking_time",
+        "nonlinear_spring_stress", "reset", "rest_band", "step", "step_constants", "stick_force", "touchdown",
+        "withdrawal_step",
+    ],
+    "mudforce.mjx": ["Contact", "Patch", "drop_model", "init", "make_patch", "simulate_drop", "step"],
+    "mudforce.mujoco": [
+        "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_spec", "simulate_drop",
+    ],
+    "mudforce.parameters": [
+        "CHEN2024", "PARAMETER_NAMES", "PARAMETER_RANGES", "TABLE_I", "TABLE_I_RMSE_N", "TABLE_I_WATER_CONTENTS",
+        "WATER_CONTENT_RANGE", "MudParameters",
+    ],
+    "mudforce.plotting": [
+        "PHASE_COLOURS", "STATE_COLOURS", "figure_to_png", "new_figure", "plot_foot_result", "plot_result", "save_png",
+    ],
+    "mudforce.progress": ["Progress"],
+    "mudforce.protocol": ["Hold", "Intrude", "Protocol", "Step", "Withdraw"],
+    "mudforce.reference": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
+    "mudforce.reference_drop": ["GRAVITY", "ExactDrop", "exact_drop"],
+    "mudforce.reproduce": [
+        "MAX_SEED", "POORLY_DETERMINED", "SCATTERED", "VELOCITY_FREE", "ReproduceConfig", "ReproduceResult",
+        "Terminated", "check_output_dir", "check_seed", "determined", "make_experiments", "reproduce",
+    ],
+    "mudforce.reproduce.experiments": ["SCATTERED", "ReproduceConfig", "make_experiments"],
+    "mudforce.reproduce.figures": ["N_FIGURES", "Spec", "figure_specs", "warm_up_matplotlib", "write_figures"],
+    "mudforce.reproduce.html": ["TEMPLATE", "render_html"],
+    "mudforce.reproduce.jobs": ["VELOCITY_FREE", "Job", "count_fits", "executor", "run_fits", "sort_fits", "terminate"],
+    "mudforce.reproduce.output": ["REPORT_FILES", "StagedFolder", "check_report_dir", "clean_stale"],
+    "mudforce.reproduce.report": ["ReproduceResult", "Terminated", "reproduce"],
+    "mudforce.reproduce.summary": [
+        "MODEL_LABELS", "NINE", "PAPER_UNITS", "POORLY_DETERMINED", "determined", "in_paper_units", "make_summary",
+        "summary_json",
+    ],
+    "mudforce.simulation": ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"],
+    "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "read_columns", "read_trajectory"],
+    "mudforce.tracker": [
+        "DEFAULT_GRID", "MudTracker", "MudTrackers", "TrackEstimate", "TrackEstimates", "TrackResult",
+        "default_velocity_filter", "track",
+    ],
+    "mudforce.tracking_plots": ["plot_track", "tracking_figure"],
+    "mudforce.units": ["KINDS", "LIMITS", "format_quantity", "parse_list", "parse_quantity"],
+    "mudforce.vectorized": ["MudContacts"],
+    "mudforce.velocity": ["NOISE_FLOOR_M", "VelocityFilter", "auto_velocity_filter", "estimate_depth_noise"],
+}
+
+
+def _walk(path: Path, prefix: str) -> Iterator[str]:
+    for info in sorted(pkgutil.iter_modules([str(path)]), key=lambda m: m.name):
+        yield prefix + info.name
+        if info.ispkg:
+            yield from _walk(path / info.name, f"{prefix}{info.name}.")
+
+
+def public_modules() -> list[str]:
+    """Every public module's dotted name, found on disk (nothing is imported)."""
+    names = ["mudforce", *_walk(Path(mudforce.__file__).parent, "mudforce.")]
+    return sorted(n for n in names
+                  if not any(part.startswith("_") for part in n.split("."))
+                  and not any(n == i or n.startswith(i + ".") for i in INTERNAL))
+
+
+def _import(name: str) -> ModuleType:
+    for package in OPTIONAL.get(name, ()):
+        pytest.importorskip(package)
+    return importlib.import_module(name)
+
+
+def test_every_public_module_is_pinned() -> None:
+    """A new public module must be pinned deliberately; a module gone must leave the list."""
+    found = public_modules()
+    assert sorted(set(found) - set(PINNED)) == [], "public modules not pinned"
+    assert sorted(set(PINNED) - set(found)) == [], "pinned modules that no longer exist"
+
+
+def test_optional_modules_are_pinned_modules() -> None:
+    assert set(OPTIONAL) <= set(PINNED)
+
+
+@pytest.mark.parametrize("name", sorted(PINNED))
+def test_all_is_pinned(name: str) -> None:
+    """The module's ``__all__`` is exactly its pinned list (same names, same order, no repeats)."""
+    module = _import(name)
+    assert hasattr(module, "__all__"), f"{name} has no __all__"
+    declared = list(module.__all__)
+    assert len(declared) == len(set(declared)), f"{name}.__all__ repeats a name"
+    assert declared == PINNED[name]
+
+
+@pytest.mark.parametrize("name", sorted(PINNED))
+def test_every_name_in_all_resolves(name: str) -> None:
+    module = _import(name)
+    missing = [n for n in module.__all__ if not hasattr(module, n)]
+    assert missing == [], f"{name}: {missing}"
