@@ -94,10 +94,11 @@ PINNED: dict[str, list[str]] = {
     "mudforce.dynamics.rest_band": ["branch_forces", "rest_band"],
     "mudforce.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
     "mudforce.equations": [
-        "drag_stress", "intrusion_stress", "maxwell_strain_step", "neck_filter_response", "neck_filter_transition",
-        "neck_filter_update", "necked_mud_motion", "necked_stress", "necking_time", "necking_velocity",
-        "nonlinear_spring_stress", "rest_band_forces", "total_stress", "viscoelastic_stress", "withdrawal_stress",
-        "yield_strain",
+        "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_step", "neck_filter_closed_form",
+        "neck_filter_response", "neck_filter_response_increment", "neck_filter_transition",
+        "neck_filter_transition_increment", "neck_filter_update", "neck_filter_update_increment", "necked_mud_motion",
+        "necked_stress", "necking_time", "necking_velocity", "nonlinear_spring_stress", "rest_band_forces",
+        "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": ["MAX_SEED", "InputError", "positive_int", "seed_int"],
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
@@ -108,10 +109,10 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.jax": [
         "CONTACT", "FREE", "NECKED", "UNSTARTED", "Necking", "Params", "State", "StepConstants", "branch_forces",
-        "drag_stress", "init", "intrusion_step", "leave_necked", "make_params", "maxwell_strain_step", "mud_depth",
+        "drag_stress", "init", "intrusion_step", "leave_necked", "make_params", "maxwell_strain_increment", "mud_depth",
         "neck_filter_response", "neck_filter_transition", "neck_flush_age", "necked_step", "necking_time",
         "nonlinear_spring_stress", "reset", "rest_band", "step", "step_constants", "stick_force", "touchdown",
-        "withdrawal_step",
+        "withdrawal_step"
     ],
     "mudforce.mjx": ["Contact", "Patch", "drop_model", "init", "make_patch", "simulate_drop", "step"],
     "mudforce.mujoco": [
