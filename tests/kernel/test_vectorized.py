@@ -196,26 +196,40 @@ def test_threads_argument() -> None:
 
 
 def test_a_forked_child_steps_on_one_thread() -> None:
-    """GNU OpenMP is not fork-safe: a child forked after threads ran steps its feet on its own thread."""
+    """GNU OpenMP is not fork-safe: a child forked after threads ran steps its feet on its own thread.
+
+    Run in a fresh interpreter: this test process may hold other libraries' threads (JAX's), and a fork
+    with those alive is itself unsafe, which is not what this test is about.
+    """
     import os
+    import subprocess
+    import sys
 
     if not hasattr(os, "fork"):
         pytest.skip("no fork on this platform")
-    from mudforce import vectorized
-
-    parent = MudContacts(W25, 8, threads=2)
-    parent.step(np.zeros(8), 0.01)
-    r, w = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # pragma: no cover - the child reports through the pipe
-        try:
-            child = MudContacts(W25, 4 * vectorized.FEET_PER_THREAD)
-            f = parent.step(np.full(8, 0.003), 0.01)
-            ok = vectorized._forked and child.threads == 1 and bool(np.all(f > 0))
-            os.write(w, b"1" if ok else b"0")
-        finally:
-            os._exit(0)
-    os.close(w)
-    answer = os.read(r, 1)
-    os.waitpid(pid, 0)
-    assert answer == b"1"
+    script = """
+import os, numpy as np
+from mudforce import MudContacts, MudParameters, vectorized
+W25 = MudParameters.from_water_content(0.25)
+parent = MudContacts(W25, 8, threads=2)
+parent.step(np.zeros(8), 0.01)
+r, w = os.pipe()
+pid = os.fork()
+if pid == 0:
+    try:
+        child = MudContacts(W25, 4 * vectorized.FEET_PER_THREAD)
+        f = parent.step(np.full(8, 0.003), 0.01)
+        ok = vectorized._forked and child.threads == 1 and bool(np.all(f > 0))
+        os.write(w, b"1" if ok else b"0")
+    finally:
+        os._exit(0)
+os.close(w)
+answer = os.read(r, 1)
+os.waitpid(pid, 0)
+print(answer.decode())
+"""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120, env=env,
+                          check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "1"
