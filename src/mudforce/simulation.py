@@ -273,16 +273,16 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
         return
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
-        raise InputError(f"time is not finite at sample {bad[0]} ({t[bad[0]]!r}); expected numbers [s]")
+        raise InputError(f"time is not finite at sample {bad[0]} ({float(t[bad[0]])!r}); expected numbers [s]")
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
-        raise InputError(f"depth is not finite at sample {bad[0]} ({z[bad[0]]!r}); expected numbers [m]")
+        raise InputError(f"depth is not finite at sample {bad[0]} ({float(z[bad[0]])!r}); expected numbers [m]")
     bad = np.flatnonzero(np.abs(t) > MAX_TIME)
     if bad.size:
-        raise InputError(f"time at sample {bad[0]} ({t[bad[0]]!r} s) is beyond +-{MAX_TIME:g} s")
+        raise InputError(f"time at sample {bad[0]} ({float(t[bad[0]])!r} s) is beyond +-{MAX_TIME:g} s")
     bad = np.flatnonzero(np.abs(z) > MAX_DEPTH)
     if bad.size:
-        raise InputError(f"depth at sample {bad[0]} ({z[bad[0]]!r} m) is beyond +-{MAX_DEPTH:g} m; "
+        raise InputError(f"depth at sample {bad[0]} ({float(z[bad[0]])!r} m) is beyond +-{MAX_DEPTH:g} m; "
                          "expected depths [m] within that")
     steps = np.diff(t)
     i = int(np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))[0]) + 1
@@ -419,7 +419,7 @@ def simulate(
         # the step refuses a non-finite depth and a time step that is not finite
         # and > 0, so a non-finite time or one that does not increase too
         _check_values(t, z)
-        raise InputError(f"sample {bad} could not be stepped (time {t[bad]!r}, depth {z[bad]!r})")
+        raise InputError(f"sample {bad} could not be stepped (time {float(t[bad])!r}, depth {float(z[bad])!r})")
     # no bound can be stated for every path: check what leaves (the sum is finite only if every force is,
     # barring an overflow of the sum itself, which then takes the slow path and passes)
     if not np.isfinite(np.add.reduce(force)) and not np.isfinite(force).all():
