@@ -25,8 +25,10 @@ from mudforce.errors import InputError
 
 __all__ = [
     "CHEN2024",
+    "PAPER_UNITS",
     "PARAMETER_NAMES",
     "PARAMETER_RANGES",
+    "RHO_M",
     "TABLE_I",
     "TABLE_I_RMSE_N",
     "TABLE_I_WATER_CONTENTS",
@@ -87,7 +89,14 @@ _TABLE_I_PAPER_UNITS = (
     (0.11, 0.06, 1.27, 1.40, 0.01, 0.46, 2.0, 0.36, 1.44),
     (0.28, 0.07, 1.16, 1.36, 0.01, 0.38, 2.0, 0.81, 2.21),
 )
-_TABLE_I_SCALE = (1e6, 1e6, 1e6, 1e6, 1e6, 1.0, 1e3, 1.0, 1.0)
+#: The paper's units of Table I: name -> (SI value of one paper unit, unit); the one table of them
+#: (Table I below, the reproduce report and the calibration report all convert with it).
+PAPER_UNITS: dict[str, tuple[float, str]] = {
+    "k_m_i": (1e6, "MPa/m"), "b_m_i": (1e6, "MPa s/m"), "k_m_w": (1e6, "MPa/m"), "b_m_w": (1e6, "MPa s/m"),
+    "alpha": (1e6, "MPa"), "beta": (1.0, "-"), "sigma_y": (1e3, "kPa"), "zeta": (1.0, "-"),
+    "omega_0": (1.0, "rad/s"),
+}
+_TABLE_I_SCALE = tuple(scale for scale, _ in PAPER_UNITS.values())
 
 #: The RMSE [N] the paper reports for each row of Table I (its own data; cited, not reproducible).
 TABLE_I_RMSE_N: dict[float, float] = {0.15: 2.57, 0.20: 1.52, 0.25: 0.84, 0.30: 0.36, 0.35: 0.32}
@@ -112,7 +121,8 @@ PARAMETER_RANGES: dict[str, tuple[float, float]] = {
     "lambda": (0.0, 1e4),
 }
 
-_RHO_M = 1.84e3  # [kg/m^3], Section III-A of [1], common to all rows
+#: Mud density [kg/m^3], Section III-A of [1], common to all rows of Table I.
+RHO_M = 1.84e3
 _LAMBDA = 0.013  # [-], Fig. 5 of [1], common to all rows
 
 
@@ -168,7 +178,7 @@ class MudParameters:
     sigma_y: float
     zeta: float
     omega_0: float
-    rho_m: float = _RHO_M
+    rho_m: float = RHO_M
     lambda_: float = _LAMBDA
     source: str = field(default="user", compare=False)
 
@@ -257,7 +267,7 @@ class MudParameters:
     def _from_nine(cls, values: list[float], source: str) -> MudParameters:
         """The nine calibrated values of a Table I row [SI], with the paper's rho_m and lambda."""
         k_i, b_i, k_w, b_w, alpha, beta, sigma_y, zeta, omega_0 = values
-        return cls(k_i, b_i, k_w, b_w, alpha, beta, sigma_y, zeta, omega_0, _RHO_M, _LAMBDA, source)
+        return cls(k_i, b_i, k_w, b_w, alpha, beta, sigma_y, zeta, omega_0, RHO_M, _LAMBDA, source)
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "user") -> MudParameters:

@@ -119,8 +119,8 @@ PINNED: dict[str, list[str]] = {
         "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_spec", "simulate_drop",
     ],
     "mudforce.parameters": [
-        "CHEN2024", "PARAMETER_NAMES", "PARAMETER_RANGES", "TABLE_I", "TABLE_I_RMSE_N", "TABLE_I_WATER_CONTENTS",
-        "WATER_CONTENT_RANGE", "MudParameters",
+        "CHEN2024", "PAPER_UNITS", "PARAMETER_NAMES", "PARAMETER_RANGES", "RHO_M", "TABLE_I", "TABLE_I_RMSE_N",
+        "TABLE_I_WATER_CONTENTS", "WATER_CONTENT_RANGE", "MudParameters"
     ],
     "mudforce.plotting": [
         "PHASE_COLOURS", "STATE_COLOURS", "figure_to_png", "new_figure", "plot_foot_result", "plot_result", "save_png",

@@ -25,12 +25,11 @@ import numpy as np
 
 from mudforce.errors import InputError
 from mudforce.foot import AREA_RANGE
-from mudforce.parameters import PARAMETER_RANGES
+from mudforce.parameters import PARAMETER_RANGES, RHO_M
 from mudforce.tables import COLUMN_UNITS, read_columns
 
 __all__ = ["DragFit", "fit_drag", "read_sliding"]
 
-_RHO_M = 1.84e3  # [kg/m^3], Section III-A of [1]
 
 
 @dataclass(frozen=True)
@@ -93,7 +92,7 @@ def read_sliding(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
     return cols["velocity"], cols["force"]
 
 
-def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = _RHO_M,
+def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = RHO_M,
              intercept: bool = False) -> DragFit:
     """Fit ``lambda`` of Eq. (5) to sliding data.
 

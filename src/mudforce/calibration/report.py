@@ -16,7 +16,6 @@ timestamps, no software version in the PNGs).
 
 from __future__ import annotations
 
-import io
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -28,15 +27,17 @@ import numpy as np
 from mudforce._optional import require
 from mudforce.calibration.fit import ConditionFit, FitResult, TrialFit, speed_key
 from mudforce.calibration.models import get_model
-from mudforce.io import atomic_open, atomic_write_text
+from mudforce.io import atomic_write_text
+from mudforce.parameters import PAPER_UNITS
+from mudforce.plotting import new_figure, save_png
 
 __all__ = ["ERROR_PROFILE_POINTS", "error_profile", "write_report"]
 
 #: Points of normalised process time in an error profile [-].
 ERROR_PROFILE_POINTS = 200
 
-_SCALE = {"k_m_i": (1e-6, "MPa/m"), "b_m_i": (1e-6, "MPa s/m"), "k_m_w": (1e-6, "MPa/m"),
-          "b_m_w": (1e-6, "MPa s/m"), "alpha": (1e-6, "MPa"), "sigma_y": (1e-3, "kPa")}
+# shown in the paper's units where Table I has one other than SI (MPa, kPa); the rest in SI
+_SCALE = {name: (1.0 / si, unit) for name, (si, unit) in PAPER_UNITS.items() if si != 1.0}
 
 
 def error_profile(trials: Sequence[TrialFit], points: int = ERROR_PROFILE_POINTS) -> tuple[np.ndarray, ...]:
@@ -63,19 +64,14 @@ def error_profile(trials: Sequence[TrialFit], points: int = ERROR_PROFILE_POINTS
     return s, block.mean(axis=0), std
 
 
-def _save(fig: Any, path: Path) -> None:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=90, metadata={"Software": None})
-    with atomic_open(path, "wb", encoding=None) as handle:
-        handle.write(buffer.getvalue())
-
-
 def _figure(ncols: int, nrows: int = 1, width: float = 4.0, height: float = 3.0) -> tuple[Any, np.ndarray]:
-    figure_mod = require("matplotlib.figure", "plot", "the calibration report")
-    require("matplotlib.backends.backend_agg", "plot", "the calibration report")
-    fig = figure_mod.Figure(figsize=(width * ncols, height * nrows), layout="constrained")
+    fig = new_figure(width * ncols, height * nrows)
     axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False)).ravel()
     return fig, axes
+
+
+def _save(fig: Any, path: Path) -> None:
+    save_png(fig, path, dpi=90)
 
 
 def _groups(cond: ConditionFit) -> dict[float, list[TrialFit]]:

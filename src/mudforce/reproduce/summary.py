@@ -18,7 +18,13 @@ import numpy as np
 from mudforce.calibration.dataset import Dataset
 from mudforce.calibration.fit import POOR_RELATIVE_STDERR, ConditionFit
 from mudforce.foot import Foot
-from mudforce.parameters import CHEN2024, TABLE_I, TABLE_I_RMSE_N, MudParameters
+from mudforce.parameters import (
+    CHEN2024,
+    PAPER_UNITS,  # the one table of the paper's units (re-exported here)
+    TABLE_I,
+    TABLE_I_RMSE_N,
+    MudParameters,
+)
 from mudforce.reproduce.experiments import ReproduceConfig
 from mudforce.simulation import simulate
 
@@ -33,12 +39,6 @@ __all__ = [
     "summary_json",
 ]
 
-#: The paper's units for display: name -> (SI value of one paper unit, unit). Table I's units.
-PAPER_UNITS: dict[str, tuple[float, str]] = {
-    "k_m_i": (1e6, "MPa/m"), "b_m_i": (1e6, "MPa s/m"), "k_m_w": (1e6, "MPa/m"), "b_m_w": (1e6, "MPa s/m"),
-    "alpha": (1e6, "MPa"), "beta": (1.0, "-"), "sigma_y": (1e3, "kPa"), "zeta": (1.0, "-"),
-    "omega_0": (1.0, "rad/s"),
-}
 #: The nine parameters of Table I, in its order.
 NINE: tuple[str, ...] = tuple(PAPER_UNITS)
 #: Display names of the models in the summary (the paper's model, then the baselines).
