@@ -157,7 +157,7 @@ def fit_motion(time: np.ndarray, depth: np.ndarray, *, name: str = "trial") -> M
     trial of the corners (variable projection); the four corner times are
     found by bounded nonlinear least squares started from a median-filtered
     guess. The corners come out to a few hundredths of a sample for
-    0.03 mm depth noise at 10 mm/s and 100 Hz (``tests/test_calibration.py``).
+    0.03 mm depth noise at 10 mm/s and 100 Hz (``tests/calibration/test_calibration.py``).
     """
     t = np.asarray(time, dtype=np.float64)
     z = np.asarray(depth, dtype=np.float64)
