@@ -1,12 +1,13 @@
-"""The package's exception for bad input, and the one check that several modules share."""
+"""The package's exception for bad input, and the checks of single values that several modules share."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_SEED", "InputError", "positive_int", "seed_int"]
+__all__ = ["MAX_SEED", "InputError", "number_within", "positive_int", "positive_number", "seed_int"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
@@ -42,3 +43,49 @@ def seed_int(value: Any, name: str = "--seed") -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= MAX_SEED:
         raise InputError(f"{name} must be an integer in [0, {MAX_SEED}], got {value!r}")
     return int(value)
+
+
+def _real(value: Any) -> bool:
+    return not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+
+
+def number_within(value: Any, name: str, lo: float, hi: float, unit: str) -> float:
+    """``value`` as a ``float`` in ``[lo, hi]`` (a Python or numpy real number, not ``bool``), else InputError.
+
+    Parameters
+    ----------
+    value : Any
+        The value to check.
+    name : str
+        What it is, for the message (``"cuboid length"``).
+    lo, hi : float
+        The accepted range, in ``unit``.
+    unit : str
+        Its unit, for the message (``"m"``).
+    """
+    if not _real(value):
+        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__}")
+    number = float(value)
+    if not (math.isfinite(number) and lo <= number <= hi):
+        raise InputError(f"{name} must be within [{lo:g}, {hi:g}] {unit}, got {value!r}")
+    return number
+
+
+def positive_number(value: Any, name: str, unit: str) -> float:
+    """``value`` as a finite ``float`` > 0 (a Python or numpy real number, not ``bool``), else :class:`InputError`.
+
+    Parameters
+    ----------
+    value : Any
+        The value to check.
+    name : str
+        What it is, for the message (``"hold duration"``).
+    unit : str
+        Its unit, for the message (``"s"``).
+    """
+    if not _real(value):
+        raise InputError(f"{name} must be a number [{unit}], got {value!r}")
+    number = float(value)
+    if not (math.isfinite(number) and number > 0.0):
+        raise InputError(f"{name} must be finite and > 0 [{unit}], got {value!r}")
+    return number

@@ -6,9 +6,7 @@ import math
 import re
 from dataclasses import dataclass
 
-import numpy as np
-
-from mudforce.errors import InputError
+from mudforce.errors import InputError, number_within
 
 __all__ = ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"]
 
@@ -25,16 +23,6 @@ AREA_RANGE: tuple[float, float] = (1e-9, 100.0)
 
 _PAPER_LENGTH = 0.051  # [m], the paper's 51 x 38 x 25 mm cuboid intruder
 _PAPER_WIDTH = 0.038  # [m]
-
-
-def _size(value: object, name: str, lo: float, hi: float, unit: str) -> float:
-    """``value`` as a float within ``[lo, hi]``, else :class:`InputError` naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__}")
-    number = float(value)
-    if not (math.isfinite(number) and lo <= number <= hi):
-        raise InputError(f"{name} must be within [{lo:g}, {hi:g}] {unit}, got {value!r}")
-    return number
 
 
 @dataclass(frozen=True)
@@ -63,7 +51,7 @@ class Foot:
 
     def __post_init__(self) -> None:
         for name, (lo, hi), unit in (("area", AREA_RANGE, "m^2"), ("width", SIZE_RANGE, "m")):
-            value = _size(getattr(self, name), f"foot {name}", lo, hi, unit)
+            value = number_within(getattr(self, name), f"foot {name}", lo, hi, unit)
             object.__setattr__(self, name, value)
         if not isinstance(self.shape, str):
             raise InputError(f"foot shape must be a str, got {type(self.shape).__name__}")
@@ -75,14 +63,14 @@ class Foot:
         The defaults are the paper's 51 x 38 mm intruder (``S = 1.938e-3 m^2``,
         ``H = 0.038 m``).
         """
-        length = _size(length, "cuboid length", *SIZE_RANGE, "m")
-        width = _size(width, "cuboid width", *SIZE_RANGE, "m")
+        length = number_within(length, "cuboid length", *SIZE_RANGE, "m")
+        width = number_within(width, "cuboid width", *SIZE_RANGE, "m")
         return cls(area=length * width, width=min(length, width), shape=f"cuboid {length * 1e3:g}x{width * 1e3:g} mm")
 
     @classmethod
     def disc(cls, diameter: float) -> Foot:
         """A circular bottom face of ``diameter`` [m]; ``H`` is the diameter."""
-        diameter = _size(diameter, "disc diameter", *SIZE_RANGE, "m")
+        diameter = number_within(diameter, "disc diameter", *SIZE_RANGE, "m")
         return cls(area=math.pi * diameter**2 / 4.0, width=diameter, shape=f"disc {diameter * 1e3:g} mm")
 
     @classmethod

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, number_within
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 
@@ -70,15 +70,6 @@ class Gait:
     swings: tuple[float, ...]
 
 
-def _check_range(name: str, value: float, low: float, high: float, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"{name} must be a number [{unit}], got {value!r}")
-    value = float(value)
-    if not (math.isfinite(value) and low <= value <= high):
-        raise InputError(f"{name} must be within [{low:g}, {high:g}] {unit}, got {value!r}")
-    return value
-
-
 def gait(
     seed: int = 0,
     *,
@@ -111,9 +102,9 @@ def gait(
     """
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be an integer >= 0, got {seed!r}")
-    duration = _check_range("duration", duration, 1.0, 3600.0, "s")
-    rate = _check_range("rate", rate, 10.0, 1e5, "Hz")
-    jitter = _check_range("jitter", jitter, 0.0, 0.4, "of a sample period")
+    duration = number_within(duration, "duration", 1.0, 3600.0, "s")
+    rate = number_within(rate, "rate", 10.0, 1e5, "Hz")
+    jitter = number_within(jitter, "jitter", 0.0, 0.4, "of a sample period")
     rng = np.random.default_rng(seed)
 
     def draw(bounds: tuple[float, float]) -> float:
@@ -271,8 +262,8 @@ def walk(
     if any(not math.isfinite(c) for c in changes) or any(b <= a for a, b in itertools.pairwise(changes)):
         raise InputError(f"change times must be finite and increasing [s], got {changes!r}")
     for name, value in (("force noise", force_noise), ("depth noise", depth_noise)):
-        _check_range(name, value, 0.0, 1e3, "N" if name == "force noise" else "m")
-    _check_range("bias", bias, -1e4, 1e4, "N")
+        number_within(value, name, 0.0, 1e3, "N" if name == "force noise" else "m")
+    number_within(bias, "bias", -1e4, 1e4, "N")
     foot = Foot.paper() if foot is None else foot
     params = tuple(MudParameters.from_water_content(float(w)) for w in contents)
     path = gait(seed, duration=duration, rate=rate, jitter=jitter, start_below=start_below)

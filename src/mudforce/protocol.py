@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, positive_number
 
 if TYPE_CHECKING:
     from mudforce.foot import Foot
@@ -21,15 +21,6 @@ if TYPE_CHECKING:
     from mudforce.simulation import SimulationResult
 
 __all__ = ["Hold", "Intrude", "Protocol", "Step", "Withdraw"]
-
-
-def _positive(name: str, value: float, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise InputError(f"{name} must be a number [{unit}], got {value!r}")
-    value = float(value)
-    if not math.isfinite(value) or value <= 0.0:
-        raise InputError(f"{name} must be finite and > 0 [{unit}], got {value!r}")
-    return value
 
 
 @dataclass(frozen=True)
@@ -48,7 +39,7 @@ class Intrude:
     depth: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "velocity", _positive("intrusion velocity", self.velocity, "m/s"))
+        object.__setattr__(self, "velocity", positive_number(self.velocity, "intrusion velocity", "m/s"))
         if not math.isfinite(self.depth):
             raise InputError(f"intrusion depth must be finite [m], got {self.depth!r}")
 
@@ -66,7 +57,7 @@ class Hold:
     duration: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "duration", _positive("hold duration", self.duration, "s"))
+        object.__setattr__(self, "duration", positive_number(self.duration, "hold duration", "s"))
 
 
 @dataclass(frozen=True)
@@ -86,7 +77,7 @@ class Withdraw:
     rise: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "velocity", _positive("withdrawal velocity", self.velocity, "m/s"))
+        object.__setattr__(self, "velocity", positive_number(self.velocity, "withdrawal velocity", "m/s"))
         if not math.isfinite(self.rise) or self.rise < 0.0:
             raise InputError(f"withdrawal rise must be finite and >= 0 [m], got {self.rise!r}")
 
@@ -114,7 +105,7 @@ class Protocol:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "steps", tuple(self.steps))
-        object.__setattr__(self, "rate", _positive("sampling rate", self.rate, "Hz"))
+        object.__setattr__(self, "rate", positive_number(self.rate, "sampling rate", "Hz"))
         if not math.isfinite(self.start_depth):
             raise InputError(f"start depth must be finite [m], got {self.start_depth!r}")
         if not self.steps:

@@ -63,7 +63,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce.errors import InputError, positive_int
+from mudforce.errors import InputError, positive_int, positive_number
 from mudforce.foot import Foot
 from mudforce.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.simulation import resolve_velocity_filter
@@ -318,15 +318,6 @@ class TrackEstimates:
     noise: np.ndarray
 
 
-def _positive(value: Any, name: str, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"{name} must be a number [{unit}], got {value!r}")
-    v = float(value)
-    if not (math.isfinite(v) and v > 0.0):
-        raise InputError(f"{name} must be finite and > 0 [{unit}], got {value!r}")
-    return v
-
-
 def _grid(water_contents: Sequence[float] | None) -> np.ndarray:
     if water_contents is None:
         return np.array(DEFAULT_GRID, dtype=np.float64)
@@ -415,20 +406,20 @@ class MudTrackers:
             raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")
         self.foot = Foot.paper() if foot is None else foot
         self.grid = _grid(water_contents)
-        level = _positive(level, "level", "-")
+        level = positive_number(level, "level", "-")
         if not level < 1.0:
             raise InputError(f"level must be within (0, 1), got {level!r}")
         self.level = level
         self.velocity_filter = (default_velocity_filter() if velocity_filter is None
                                 else resolve_velocity_filter(velocity_filter))
         cfg = np.empty(_N_CFG, dtype=np.float64)
-        cfg[_C_TAU] = _positive(tau, "tau", "s")
-        cfg[_C_MISFIT] = _positive(misfit, "misfit", "-")
-        cfg[_C_FLOOR] = _positive(floor, "floor", "N")
-        cfg[_C_DOF] = _positive(dof, "dof", "-")
-        cfg[_C_TEMP] = _positive(correlation_time, "correlation_time", "s")
-        cfg[_C_NOISE0] = _positive(noise, "noise", "N")
-        cfg[_C_BIAS0] = _positive(bias, "bias", "N")
+        cfg[_C_TAU] = positive_number(tau, "tau", "s")
+        cfg[_C_MISFIT] = positive_number(misfit, "misfit", "-")
+        cfg[_C_FLOOR] = positive_number(floor, "floor", "N")
+        cfg[_C_DOF] = positive_number(dof, "dof", "-")
+        cfg[_C_TEMP] = positive_number(correlation_time, "correlation_time", "s")
+        cfg[_C_NOISE0] = positive_number(noise, "noise", "N")
+        cfg[_C_BIAS0] = positive_number(bias, "bias", "N")
         cfg[_C_FREE_MEMORY] = 500.0  # samples: the offset and noise follow slow drift over ~5 s of swing at 100 Hz
         step = float(np.max(np.diff(self.grid)))
         cfg[_C_SETTLE] = max(0.04, 6.0 * step)  # [-] interval width under which an estimate counts as settled
@@ -442,7 +433,7 @@ class MudTrackers:
         if isinstance(discrepancy, (int, float)) and not isinstance(discrepancy, bool) and discrepancy == 0.0:
             self.discrepancy = 0.0
         else:
-            self.discrepancy = _positive(discrepancy, "discrepancy", "-")
+            self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
         self._blur = _blur_matrix(self.grid, self._edges, self.discrepancy)
         self._Q = np.zeros(G, dtype=np.float64)
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]

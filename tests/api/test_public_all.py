@@ -100,7 +100,9 @@ PINNED: dict[str, list[str]] = {
         "necked_stress", "necking_time", "necking_velocity", "nonlinear_spring_stress", "rest_band_forces",
         "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
-    "mudforce.errors": ["MAX_SEED", "InputError", "positive_int", "seed_int"],
+    "mudforce.errors": [
+        "MAX_SEED", "InputError", "number_within", "positive_int", "positive_number", "seed_int"
+    ],
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.io": [
