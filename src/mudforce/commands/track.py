@@ -22,12 +22,11 @@ example: mudforce track walk.csv --out track.csv --plot track.png
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 from mudforce.errors import InputError
 from mudforce.foot import FOOT_EXAMPLES, parse_foot
-from mudforce.io import check_output_path
+from mudforce.io import check_output_path, refuse_overwriting_inputs
 
 __all__ = ["COLUMNS", "HELP", "NAME", "add_arguments", "run"]
 
@@ -52,15 +51,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
 
 
-def _same_file(a: Path, b: Path) -> bool:
-    try:
-        if a.exists() and b.exists():
-            return os.path.samefile(a, b)
-    except OSError:
-        return False
-    return a.resolve() == b.resolve()
-
-
 def _csv_text(result: object) -> str:
     from mudforce.tracker import TrackResult
 
@@ -78,12 +68,7 @@ def run(args: argparse.Namespace) -> int:
     source = Path(args.file)
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
-    if plot is not None and _same_file(out, plot):
-        raise InputError(f"--out and --plot are the same file {str(out)!r}; give two different names")
-    if _same_file(out, source):
-        raise InputError(f"--out {str(out)!r} is the input file; choose another output name")
-    if plot is not None and _same_file(plot, source):
-        raise InputError(f"--plot {str(plot)!r} is the input file; choose another output name")
+    refuse_overwriting_inputs([("--out", out), ("--plot", plot)], [("file", source)])
     if plot is not None:
         from mudforce._optional import require
 
