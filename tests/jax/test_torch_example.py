@@ -20,3 +20,4 @@ def test_torch_dlpack_example_runs() -> None:
     spec.loader.exec_module(module)
     stats = module.main(["--n", "256", "--calls", "5"])
     assert math.isfinite(stats["per_call_s"]) and stats["max_force_N"] > 0.0
+    assert stats["zero_copy"] == 1.0  # torch -> JAX and JAX -> torch share memory: no host copy
