@@ -47,9 +47,6 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
             raise InputError(f"{where}: {message}; expected a state taken from a contact")
 
 
-assert (MAX_DEPTH, MIN_DT, MAX_DT) == (100.0, 1e-9, 1e3), "MudContact.step writes these bounds as literals"
-
-
 def _real(value: object, name: str) -> float:
     """``value`` as a float if it is a real number (Python or numpy, not ``bool``), else :class:`InputError`."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
@@ -222,17 +219,18 @@ class MudContact:
         """
         if type(depth) is not float or type(dt) is not float:
             depth, dt = _real(depth, "depth"), _real(dt, "dt")
-        # MAX_DEPTH, MIN_DT, MAX_DT as literals (no global look-ups on the 0.5 us path); False for NaN
-        if not (-100.0 <= depth <= 100.0 and 1e-9 <= dt <= 1e3):
-            self._refuse(depth, dt)
+        # the compiled step refuses (NaN, state unchanged) a depth or a step out of bounds: no check here
+        # on the 0.2 us path; a NaN force is then told apart from a refusal below
         force: float = self._step(self._buf, depth, dt)
+        if force != force:
+            self._refuse(depth, dt)
         return force
 
     def _refuse(self, depth: float, dt: float) -> None:
-        """Raise for a bad depth or step; a step's length is ignored on the first call."""
+        """Raise for a bad depth or step (a step's length is ignored on the first call); else return."""
         if not (math.isfinite(depth) and abs(depth) <= MAX_DEPTH):
             raise InputError(f"depth must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, got {depth!r}")
-        if K.state_column(self._states, "started")[0] != 0.0:
+        if K.state_column(self._states, "started")[0] != 0.0 and not MIN_DT <= dt <= MAX_DT:
             raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
 
     @property

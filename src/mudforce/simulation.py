@@ -11,6 +11,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
@@ -21,18 +22,8 @@ if TYPE_CHECKING:
 
 __all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"]
 
-#: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
-#: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
-MAX_DEPTH = 100.0
-#: Shortest time step accepted [s]: 1 ns. Shorter steps sample nothing a sensor or a control
-#: loop can, approach the rounding of sample times (one ulp of 1e6 s is 1.2e-10 s), and, far
-#: enough down, let ``dz/dt`` and the drag ``v^2`` of Eq. (5) overflow (1e-320 s: infinite).
-MIN_DT = 1e-9
-#: Longest time step accepted [s]: 1000 s.
-MAX_DT = 1e3
-#: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
-#: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
-MAX_TIME = 1e9
+# MAX_DEPTH [m], MIN_DT and MAX_DT [s] and MAX_TIME [s], the bounds on the inputs, are public here and
+# defined (and documented) in mudforce._kernel.bounds, because the compiled stepper takes them in too
 
 #: Contact state codes in :attr:`SimulationResult.state`: 0 FREE, 1 CONTACT, 2 NECKED.
 STATE_NAMES: tuple[str, ...] = K.STATE_NAMES
@@ -405,19 +396,21 @@ def simulate(
     59.5
     """
     t, z = _as_arrays(time, depth)
-    _check_values(t, z)  # bounds: one pass, before anything runs
-    foot = Foot.paper() if foot is None else foot
-    vf = resolve_velocity_filter(velocity_filter, t, z)
-    prow = params_row(params, foot, vf)[None, :]
     # the result owns its time and depth: the caller's arrays are copied (in the loop), new ones kept
     callers = any(isinstance(given, np.ndarray) and np.may_share_memory(arr, given)
                   for arr, given in ((t, time), (z, depth)))
+    if not (callers and (isinstance(velocity_filter, VelocityFilter) or velocity_filter == "exact")):
+        # bounds, in a pass of their own: "auto" estimates the noise from valid samples only, and
+        # arrays of our own are not copied; the compiled loop holds every sample it copies to them
+        _check_values(t, z)
+    foot = Foot.paper() if foot is None else foot
+    vf = resolve_velocity_filter(velocity_filter, t, z)
+    prow = params_row(params, foot, vf)[None, :]
     own_t, own_z = (np.empty_like(t), np.empty_like(z)) if callers else (t, z)
     copies = (own_t, own_z) if callers else (_NO_COPY, _NO_COPY)
     bad, force, state, mud, necking_times = run_compact(t, z, prow, vf.window, *copies)
     if bad >= 0:
-        # the step refuses a non-finite depth and a time step that is not finite
-        # and > 0, so a non-finite time or one that does not increase too
+        # the loop refuses a sample out of bounds (checking copies) or one the step cannot take: name why
         _check_values(t, z)
         raise InputError(f"sample {bad} could not be stepped (time {float(t[bad])!r}, depth {float(z[bad])!r})")
     # no bound can be stated for every path: check what leaves (the sum is finite only if every force is,

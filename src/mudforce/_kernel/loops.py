@@ -29,6 +29,7 @@ import math
 import numpy as np
 from numba import prange
 
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
 from mudforce._kernel.layout import (
     CONTACT,
     FREE,
@@ -47,6 +48,7 @@ from mudforce._kernel.layout import (
     O_STATE,
     O_VELOCITY,
     P_WINDOW,
+    S_STARTED,
     Cache,
     Params,
     State,
@@ -213,8 +215,19 @@ _stream_parts = _compiled(inline="always")(stream_parts)
 
 @_compiled()
 def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
-    """:func:`step` for one foot packed by :func:`new_stream_buffer` (one argument: less call overhead)."""
+    """:func:`step` for one foot packed by :func:`new_stream_buffer` (one argument: less call overhead).
+
+    Also returns NaN, changing nothing, for a depth beyond +-``MAX_DEPTH``
+    and, once started, a ``dt`` outside [``MIN_DT``, ``MAX_DT``]
+    (:mod:`~mudforce._kernel.bounds`): ``MudContact.step`` refuses those,
+    and checking them here costs nothing, where Python would pay for it on
+    every call.
+    """
     states, params, out, ring = _stream_parts(buf)
+    if not -MAX_DEPTH <= depth <= MAX_DEPTH:  # False for NaN
+        return math.nan
+    if states[0, S_STARTED] != 0.0 and not MIN_DT <= dt <= MAX_DT:
+        return math.nan
     force: float = step(states, ring, 0, params, depth, dt, out, 0)
     return force
 
@@ -271,6 +284,14 @@ def defer_spring(scratch: np.ndarray, index: np.ndarray, m: int, k: int, depth: 
 
 
 @_compiled(inline="always")
+def _within_bounds(time: np.ndarray, depth: np.ndarray, k: int) -> bool:
+    """Sample ``k``'s time and depth, and the step before it, within :mod:`~mudforce._kernel.bounds` (False for NaN)."""
+    if not (abs(time[k]) <= MAX_TIME and abs(depth[k]) <= MAX_DEPTH):
+        return False
+    return k == 0 or MIN_DT <= time[k] - time[k - 1] <= MAX_DT
+
+
+@_compiled(inline="always")
 def glide(time: np.ndarray, depth: np.ndarray, k: int, s: State, c: Cache, p: Params, mode_out: np.ndarray,
           mud_out: np.ndarray, force_out: np.ndarray, scratch: np.ndarray, index: np.ndarray, m: int,
           time_out: np.ndarray, depth_out: np.ndarray) -> tuple[State, int, int]:
@@ -303,6 +324,8 @@ def _glide_in(mode: int, time: np.ndarray, depth: np.ndarray, k: int, s: State, 
     s = State(s.started, mode, s.time, s.depth, s.mud, s.neck_age, s.neck_v, s.neck_z, s.direction, s.velocity,
               s.neck_g, s.neck_gi, s.strain)  # the mode as the constant it is here
     while k < n:
+        if copy and not _within_bounds(time, depth, k):
+            break  # run_batch_compact refuses it
         r = quiet_step(s, c, p, depth[k], time[k] - time[k - 1])
         if not r.ok:
             break
@@ -339,7 +362,11 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
     a block at a time (:func:`spring_pass`). ``time_out`` and ``depth_out``
     receive a copy of ``time`` and ``depth`` if they have their length
     (reading them costs nothing more here than in a copy of its own;
-    pass empty arrays for none). Returns the index of a bad sample or -1.
+    pass empty arrays for none); the samples are then also held to the
+    bounds of :mod:`~mudforce._kernel.bounds` (``simulate``'s promise,
+    checked here rather than in a pass of its own), a sample out of bounds
+    ending the loop as a refused one does. Returns the index of a bad
+    sample or -1.
     """
     s = load_state(states, 0)
     c = load_cache(states, 0)
@@ -368,6 +395,9 @@ def run_batch_compact(time: np.ndarray, depth: np.ndarray, states: np.ndarray, r
             wait = backoff
         elif wait > 0:
             wait -= 1
+        if copy and not _within_bounds(time, depth, k):
+            bad = k
+            break
         dt = time[k] - time[k - 1] if k > 0 else 0.0
         r = advance(s, c, p, ring, 0, depth[k], dt)
         if not r.ok:

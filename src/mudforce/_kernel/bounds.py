@@ -1,0 +1,26 @@
+"""The inputs the stepper accepts: bounds on depth, time step and time.
+
+Written once here so that the compiled loops (which take module constants
+into their machine code) and the Python checks in front of them use the
+same numbers; :mod:`mudforce.simulation` re-exports them as the public
+:data:`~mudforce.simulation.MAX_DEPTH`, :data:`~mudforce.simulation.MIN_DT`,
+:data:`~mudforce.simulation.MAX_DT` and :data:`~mudforce.simulation.MAX_TIME`.
+Inside these bounds every output is finite (``tests/reliability/test_promise.py``).
+"""
+
+from __future__ import annotations
+
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT"]
+
+#: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
+#: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
+MAX_DEPTH = 100.0
+#: Shortest time step accepted [s]: 1 ns. Shorter steps sample nothing a sensor or a control
+#: loop can, approach the rounding of sample times (one ulp of 1e6 s is 1.2e-10 s), and, far
+#: enough down, let ``dz/dt`` and the drag ``v^2`` of Eq. (5) overflow (1e-320 s: infinite).
+MIN_DT = 1e-9
+#: Longest time step accepted [s]: 1000 s.
+MAX_DT = 1e3
+#: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
+#: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
+MAX_TIME = 1e9
