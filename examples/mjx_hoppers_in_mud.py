@@ -91,7 +91,8 @@ def simulate(m: object, data: object, patch: mud.Patch, steps: int) -> dict[str,
     batched = jax.vmap(one_world, in_axes=(0, 0, 0, None))
 
     @jax.jit
-    def run(data: object) -> tuple[jax.Array, jax.Array]:
+    def run(data: object, patch: mud.Patch) -> tuple[jax.Array, jax.Array]:
+        # the per-world mud is an argument, not a constant closed over (see docs/gpu.md)
         def body(carry, k):  # type: ignore[no-untyped-def]
             d, c = carry
             d, c, depth, force = batched(d, c, patch, k)
@@ -100,7 +101,7 @@ def simulate(m: object, data: object, patch: mud.Patch, steps: int) -> dict[str,
         _, (depth, force) = jax.lax.scan(body, (data, contacts), jnp.arange(steps))
         return depth, force
 
-    depth, force = (np.asarray(a, dtype=np.float64) for a in run(data))
+    depth, force = (np.asarray(a, dtype=np.float64) for a in run(data, patch))
     # work the mud takes from the foot in each step: force up times the distance moved down [J]
     work = np.zeros_like(force)
     work[:-1] = force[:-1] * np.diff(depth, axis=0)
