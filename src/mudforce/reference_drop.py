@@ -117,12 +117,10 @@ def exact_drop(
         raise InputError(f"foot must be a Foot (or None for the paper's cuboid), got {type(foot).__name__}")
     mass = finite_number(mass, "mass", "kg", positive=True)
     duration = finite_number(duration, "duration", "s", positive=True)
-    height = finite_number(height, "height", "m")
+    height = finite_number(height, "height", "m", nonnegative=True)
     dt = finite_number(dt, "dt", "s", positive=True)
     gravity = finite_number(gravity, "gravity", "m/s^2", positive=True)
     rtol = finite_number(rtol, "rtol", "-", positive=True)
-    if height < 0.0:
-        raise InputError(f"height must be >= 0 [m], got {height!r}")
     if not duration / dt < 1e8:
         raise InputError(f"duration / dt = {duration / dt:.3g} is too many output points (at most 1e8)")
     q = params
