@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_number
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT, STATE_NAMES, params_row, resolve_velocity_filter
@@ -45,15 +45,6 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
         if rows.size:
             where = f"{what} (foot {rows[0]})" if states.shape[0] > 1 else what
             raise InputError(f"{where}: {message}; expected a state taken from a contact")
-
-
-def _real(value: object, name: str) -> float:
-    """``value`` as a float if it is a real number (Python or numpy, not ``bool``), else :class:`InputError`."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
-            return float(value)
-        raise InputError(f"{name} must be a real number, got {type(value).__name__}")
-    return float(value)
 
 
 class ContactSample(NamedTuple):
@@ -218,7 +209,7 @@ class MudContact:
             is then exactly as it was.
         """
         if type(depth) is not float or type(dt) is not float:
-            depth, dt = _real(depth, "depth"), _real(dt, "dt")
+            depth, dt = real_number(depth, "depth"), real_number(dt, "dt")
         # the compiled step refuses (NaN, state unchanged) a depth or a step out of bounds: no check here
         # on the 0.2 us path; a NaN force is then told apart from a refusal below
         force: float = self._step(self._buf, depth, dt)

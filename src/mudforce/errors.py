@@ -7,7 +7,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_SEED", "InputError", "number_within", "positive_int", "positive_number", "seed_int"]
+__all__ = ["MAX_SEED", "InputError", "finite_number", "number_within", "positive_int", "positive_number",
+           "real_number", "seed_int"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
@@ -46,7 +47,67 @@ def seed_int(value: Any, name: str = "--seed") -> int:
 
 
 def _real(value: Any) -> bool:
+    """Whether ``value`` is a Python or numpy real number (not ``bool``): the one type test of the checks here."""
     return not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+
+
+def real_number(value: Any, name: str) -> float:
+    """``value`` as a ``float`` if it is a real number, else :class:`InputError`; no check of its range.
+
+    A real number is a Python or numpy integer or float (not ``bool``), or
+    a 0-d numpy array of an integer or float dtype. NaN and infinities
+    pass: the caller checks the bounds.
+
+    Parameters
+    ----------
+    value : Any
+        The value to check, in the caller's unit.
+    name : str
+        What it is, for the message (``"depth"``).
+
+    Returns
+    -------
+    float
+        ``value`` in the caller's unit.
+    """
+    if not _real(value):
+        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
+            return float(value)
+        raise InputError(f"{name} must be a real number, got {type(value).__name__}")
+    return float(value)
+
+
+def finite_number(value: Any, name: str, unit: str, *, positive: bool = False, nonnegative: bool = False) -> float:
+    """``value`` as a finite ``float`` (a Python or numpy real number, not ``bool`` or ``str``), else InputError.
+
+    Parameters
+    ----------
+    value : Any
+        The value to check, in ``unit``.
+    name : str
+        What it is, for the message (``"mass"``).
+    unit : str
+        Its unit, for the message (``"kg"``).
+    positive : bool
+        Also require ``value > 0``.
+    nonnegative : bool
+        Also require ``value >= 0``.
+
+    Returns
+    -------
+    float
+        ``value`` [``unit``].
+    """
+    if not _real(value):
+        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__} {value!r}")
+    number = float(value)
+    if not math.isfinite(number):
+        raise InputError(f"{name} must be finite [{unit}], got {value!r}")
+    if positive and number <= 0.0:
+        raise InputError(f"{name} must be > 0 [{unit}], got {value!r}")
+    if nonnegative and number < 0.0:
+        raise InputError(f"{name} must be >= 0 [{unit}], got {value!r}")
+    return number
 
 
 def number_within(value: Any, name: str, lo: float, hi: float, unit: str) -> float:

@@ -70,9 +70,9 @@ from mudforce import _kernel as K
 from mudforce import _mujoco_fast as fast
 from mudforce._mujoco_step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce._optional import require
-from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples, real
+from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
-from mudforce.errors import InputError, positive_int
+from mudforce.errors import InputError, finite_number, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
@@ -119,10 +119,10 @@ class MudPatch:
     def __post_init__(self) -> None:
         if not isinstance(self.params, MudParameters):
             raise InputError(f"a MudPatch needs MudParameters, got {type(self.params).__name__}")
-        real("patch height", self.height, "m")
+        finite_number(self.height, "patch height", "m")
         if self.extent is not None:
             try:
-                x0, x1, y0, y1 = (real("patch extent", v, "m") for v in self.extent)
+                x0, x1, y0, y1 = (finite_number(v, "patch extent", "m") for v in self.extent)
             except (TypeError, ValueError):  # not 4 values, or not a sequence
                 raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {self.extent!r}") from None
             if not (x0 < x1 and y0 < y1):
@@ -198,7 +198,7 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
     chosen: list[list[float]] | None = None
     if points is not None:
         try:
-            chosen = [[real("contact point", v, "m") for v in point] for point in points]
+            chosen = [[finite_number(v, "contact point", "m") for v in point] for point in points]
         except TypeError:
             raise InputError("points must be a sequence of (x, y, z) contact points [m]") from None
         if len(chosen) != len(feet) or any(len(point) != 3 for point in chosen):
@@ -367,7 +367,7 @@ class MudAdapter:
 
     @weight.setter
     def weight(self, value: float) -> None:
-        w = real("weight", value, "-")
+        w = finite_number(value, "weight", "-")
         if not 0.0 <= w <= 1.0:
             raise InputError(f"weight must be in [0, 1] [-], got {value!r}")
         self._conf[C_WEIGHT] = w
@@ -447,11 +447,11 @@ def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, tim
         Foot height [m], > 0 (the paper's 25 mm); irrelevant to the vertical dynamics.
     """
     mj = _mujoco()
-    mass = real("mass", mass, "kg", positive=True)
+    mass = finite_number(mass, "mass", "kg", positive=True)
     foot = check_foot(foot)
-    height = real("height", height, "m", nonnegative=True)
-    timestep = real("timestep", timestep, "s", positive=True)
-    thickness = real("thickness", thickness, "m", positive=True)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    timestep = finite_number(timestep, "timestep", "s", positive=True)
+    thickness = finite_number(thickness, "thickness", "m", positive=True)
     if foot == Foot.paper():
         lx, ly = 0.051, 0.038
     else:
@@ -505,9 +505,9 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     mj = _mujoco()
     params = check_params(params)
     foot = check_foot(foot)
-    duration = real("duration", duration, "s", positive=True)
-    height = real("height", height, "m", nonnegative=True)
-    timestep = real("timestep", timestep, "s", positive=True)
+    duration = finite_number(duration, "duration", "s", positive=True)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    timestep = finite_number(timestep, "timestep", "s", positive=True)
     mass = check_mass(mass, params, foot, timestep, "MuJoCo time step")
     n = max_samples(duration, timestep)
     model = drop_spec(mass, foot, height=height, timestep=timestep).compile()

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.equations import neck_filter_response
-from mudforce.errors import InputError
+from mudforce.errors import InputError, finite_number
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 
@@ -30,17 +30,6 @@ __all__ = ["GRAVITY", "ExactDrop", "exact_drop"]
 
 #: Standard gravity [m/s^2] (the same value as :data:`mudforce.dynamics.GRAVITY`).
 GRAVITY = 9.81
-
-
-def _number(name: str, value: Any, unit: str, above: float | None) -> float:
-    """``value`` as a finite float (``> above`` unless None), else InputError."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__} {value!r}")
-    number = float(value)
-    if not math.isfinite(number) or (above is not None and number <= above):
-        raise InputError(f"{name} must be finite{'' if above is None else f' and > {above:g}'} [{unit}], "
-                         f"got {value!r}")
-    return number
 
 
 @dataclass(frozen=True)
@@ -126,14 +115,12 @@ def exact_drop(
         foot = Foot.paper()
     elif not isinstance(foot, Foot):
         raise InputError(f"foot must be a Foot (or None for the paper's cuboid), got {type(foot).__name__}")
-    mass = _number("mass", mass, "kg", 0.0)
-    duration = _number("duration", duration, "s", 0.0)
-    height = _number("height", height, "m", None)
-    dt = _number("dt", dt, "s", 0.0)
-    gravity = _number("gravity", gravity, "m/s^2", 0.0)
-    rtol = _number("rtol", rtol, "-", 0.0)
-    if height < 0.0:
-        raise InputError(f"height must be >= 0 [m], got {height!r}")
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    duration = finite_number(duration, "duration", "s", positive=True)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    gravity = finite_number(gravity, "gravity", "m/s^2", positive=True)
+    rtol = finite_number(rtol, "rtol", "-", positive=True)
     if not duration / dt < 1e8:
         raise InputError(f"duration / dt = {duration / dt:.3g} is too many output points (at most 1e8)")
     q = params

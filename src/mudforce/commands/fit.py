@@ -28,6 +28,8 @@ from mudforce.errors import InputError, seed_int
 from mudforce.foot import FOOT_EXAMPLES
 from mudforce.io import check_output_dir, check_output_path, refuse_overwriting_inputs
 
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
 NAME = "fit"
 HELP = "fit the model to an intrusion dataset (per water content, staged, with standard errors)"
 

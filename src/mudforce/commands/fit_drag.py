@@ -18,6 +18,8 @@ from mudforce.errors import InputError
 from mudforce.foot import FOOT_EXAMPLES
 from mudforce.io import dumps_json
 
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
 NAME = "fit-drag"
 HELP = "fit the drag factor lambda (Eq. 5) to sliding-experiment data"
 

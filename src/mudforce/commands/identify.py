@@ -23,6 +23,8 @@ from pathlib import Path
 from mudforce.foot import FOOT_EXAMPLES, Foot
 from mudforce.io import dumps_json
 
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
 NAME = "identify"
 HELP = "estimate the water content of one trial (Table I family, with an interval)"
 

@@ -18,6 +18,8 @@ from mudforce.foot import FOOT_EXAMPLES
 from mudforce.io import check_output_dir
 from mudforce.units import parse_list, parse_quantity
 
+__all__ = ["HELP", "MAX_SAMPLES", "MAX_TRIALS", "NAME", "add_arguments", "run"]
+
 #: Most trials one ``mudforce synth`` writes [-].
 MAX_TRIALS = 1000
 #: Most samples one ``mudforce synth`` writes, all trials together [-] (~30 MB a million).

@@ -11,32 +11,15 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, finite_number
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 
 __all__ = ["MAX_SAMPLES", "check_finite_output", "check_foot", "check_mass", "check_params", "max_samples",
-           "min_stable_mass", "real"]
+           "min_stable_mass"]
 
 #: Most output samples one simulation may produce (``duration / dt + 1``): 8 bytes x 6 arrays x 1e8 = 4.8 GB.
 MAX_SAMPLES = 100_000_000
-
-
-def real(name: str, value: Any, unit: str, *, positive: bool = False, nonnegative: bool = False) -> float:
-    """``value`` as a finite ``float`` (a Python or numpy real number, not ``bool`` or ``str``), else InputError.
-
-    ``positive`` also requires ``> 0``, ``nonnegative`` ``>= 0``; ``unit`` is for the message.
-    """
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__} {value!r}")
-    number = float(value)
-    if not math.isfinite(number):
-        raise InputError(f"{name} must be finite [{unit}], got {value!r}")
-    if positive and number <= 0.0:
-        raise InputError(f"{name} must be > 0 [{unit}], got {value!r}")
-    if nonnegative and number < 0.0:
-        raise InputError(f"{name} must be >= 0 [{unit}], got {value!r}")
-    return number
 
 
 def check_params(params: Any) -> MudParameters:
@@ -71,7 +54,7 @@ def check_mass(mass: Any, params: MudParameters, foot: Foot, step: float, what: 
 
     ``what`` names the step in the message (``"RK4 sub-step"``, ``"MuJoCo time step"``).
     """
-    m = real("mass", mass, "kg", positive=True)
+    m = finite_number(mass, "mass", "kg", positive=True)
     lightest = min_stable_mass(params, foot, step)
     if m < lightest:
         raise InputError(f"mass {m:g} kg is too light for a {what} of {step:g} s in this mud: the step resolves "

@@ -21,11 +21,11 @@ import numpy as np
 from numba import njit
 
 from mudforce._kernel import ContactMode, params_from_row
-from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples, real
+from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.dynamics.rest_band import rest_band
 from mudforce.dynamics.result import GRAVITY, FootResult, Phase
 from mudforce.equations import drag_stress, neck_filter_response, nonlinear_spring_stress
-from mudforce.errors import InputError, positive_int
+from mudforce.errors import InputError, _real, finite_number, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
@@ -361,11 +361,11 @@ def simulate_foot(
     """
     params = check_params(params)
     foot = check_foot(foot)
-    duration = real("duration", duration, "s", positive=True)
-    dt = real("dt", dt, "s", positive=True)
-    gravity = real("gravity", gravity, "m/s^2")
-    depth0 = real("depth0", depth0, "m")
-    velocity0 = real("velocity0", velocity0, "m/s")
+    duration = finite_number(duration, "duration", "s", positive=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    gravity = finite_number(gravity, "gravity", "m/s^2")
+    depth0 = finite_number(depth0, "depth0", "m")
+    velocity0 = finite_number(velocity0, "velocity0", "m/s")
     substeps = positive_int(substeps, "substeps")
     mass = check_mass(mass, params, foot, dt / substeps, "RK4 sub-step")
     n = max_samples(duration, dt)
@@ -386,7 +386,7 @@ def simulate_foot(
 def _profile(applied_force: Any) -> tuple[np.ndarray, np.ndarray]:
     if applied_force is None:
         return np.empty(0), np.empty(0)
-    if isinstance(applied_force, (int, float, np.floating, np.integer)) and not isinstance(applied_force, bool):
+    if _real(applied_force):
         value = float(applied_force)
         if not math.isfinite(value):
             raise InputError(f"applied force must be finite [N], got {applied_force!r}")

@@ -15,8 +15,9 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce.dynamics._checks import check_finite_output, check_foot, check_params, max_samples, real
+from mudforce.dynamics._checks import check_finite_output, check_foot, check_params, max_samples
 from mudforce.dynamics.result import GRAVITY
+from mudforce.errors import finite_number
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
@@ -71,10 +72,10 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     """
     params = check_params(params)
     foot = check_foot(foot)
-    mass = real("mass", mass, "kg", positive=True)
-    duration = real("duration", duration, "s", positive=True)
-    dt = real("dt", dt, "s", positive=True)
-    gravity = real("gravity", gravity, "m/s^2")
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    duration = finite_number(duration, "duration", "s", positive=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    gravity = finite_number(gravity, "gravity", "m/s^2")
     max_samples(duration, dt)
     p = params_row(params, foot, VelocityFilter.exact())[None, :]
     n = round(duration / dt)

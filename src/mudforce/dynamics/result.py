@@ -17,6 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from mudforce.errors import finite_number
+
 __all__ = ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"]
 
 #: Standard gravity [m/s^2] (MuJoCo's default ``0 0 -9.81``).
@@ -110,9 +112,7 @@ class FootResult:
 
     def force_std(self, last: float = 1.0) -> float:
         """Standard deviation of the force over the last ``last`` seconds [N] (``last`` > 0 [s])."""
-        from mudforce.dynamics._checks import real
-
-        last = real("last", last, "s", positive=True)
+        last = finite_number(last, "last", "s", positive=True)
         sel = self.time >= self.time[-1] - last - 1e-12
         return float(np.std(self.force[sel]))
 

@@ -1,0 +1,102 @@
+"""The shared checks of single values in :mod:`mudforce.errors`: what they accept, what they refuse, their messages."""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+import numpy as np
+import pytest
+
+from mudforce.errors import InputError, finite_number, number_within, positive_number, real_number
+
+
+@pytest.mark.parametrize(
+    ("value", "expected"),
+    [
+        (3, 3.0),
+        (-2.5, -2.5),
+        (np.float64(0.25), 0.25),
+        (np.float32(0.5), 0.5),
+        (np.int64(7), 7.0),
+        (np.uint8(255), 255.0),
+        (np.array(1.5), 1.5),  # a 0-d array
+        (np.array(4, dtype=np.int32), 4.0),
+    ],
+)
+def test_real_number_accepts_python_and_numpy_reals(value: Any, expected: float) -> None:
+    got = real_number(value, "depth")
+    assert type(got) is float and got == expected
+
+
+def test_real_number_lets_non_finite_values_through() -> None:
+    """No bounds: the caller checks them."""
+    assert real_number(float("inf"), "depth") == float("inf")
+    assert np.isnan(real_number(float("nan"), "depth"))
+
+
+@pytest.mark.parametrize(
+    ("value", "type_name"),
+    [
+        (True, "bool"),
+        (np.bool_(False), "bool"),  # numpy's bool is no real number either
+        ("0.1", "str"),
+        (None, "NoneType"),
+        ([0.1], "list"),
+        (np.array([0.1]), "ndarray"),  # not 0-d
+        (np.array(True), "ndarray"),  # 0-d of kind b
+        (1j, "complex"),
+    ],
+)
+def test_real_number_refuses_with_the_type_named(value: Any, type_name: str) -> None:
+    with pytest.raises(InputError) as info:
+        real_number(value, "depth")
+    assert str(info.value) == f"depth must be a real number, got {type_name}"
+
+
+def test_finite_number_accepts_reals_and_returns_a_float() -> None:
+    assert finite_number(np.int64(2), "mass", "kg") == 2.0
+    assert type(finite_number(np.float32(0.5), "mass", "kg")) is float
+    assert finite_number(-1.0, "gravity", "m/s^2") == -1.0
+
+
+@pytest.mark.parametrize(
+    ("value", "kwargs", "message"),
+    [
+        (True, {}, "mass must be a number [kg], got bool True"),
+        ("5", {}, "mass must be a number [kg], got str '5'"),
+        (None, {}, "mass must be a number [kg], got NoneType None"),
+        (np.array(5.0), {}, "mass must be a number [kg], got ndarray array(5.)"),  # 0-d arrays: not here
+        (float("nan"), {}, "mass must be finite [kg], got nan"),
+        (float("inf"), {"positive": True}, "mass must be finite [kg], got inf"),
+        (-float("inf"), {"nonnegative": True}, "mass must be finite [kg], got -inf"),
+        (0.0, {"positive": True}, "mass must be > 0 [kg], got 0.0"),
+        (-1e-300, {"positive": True}, "mass must be > 0 [kg], got -1e-300"),
+        (-1e-300, {"nonnegative": True}, "mass must be >= 0 [kg], got -1e-300"),
+        (-3, {"nonnegative": True}, "mass must be >= 0 [kg], got -3"),
+    ],
+)
+def test_finite_number_refuses_with_exact_messages(value: Any, kwargs: dict[str, bool], message: str) -> None:
+    with pytest.raises(InputError, match=f"^{re.escape(message)}$"):
+        finite_number(value, "mass", "kg", **kwargs)
+
+
+def test_finite_number_boundaries() -> None:
+    """``positive`` excludes 0, ``nonnegative`` includes it (and -0.0); neither bounds from above."""
+    assert finite_number(0.0, "height", "m", nonnegative=True) == 0.0
+    assert finite_number(-0.0, "height", "m", nonnegative=True) == 0.0
+    assert finite_number(5e-324, "mass", "kg", positive=True) == 5e-324
+    assert finite_number(1.7e308, "mass", "kg", positive=True) == 1.7e308
+    assert finite_number(-1.7e308, "gravity", "m/s^2") == -1.7e308
+
+
+def test_the_checks_share_one_type_test() -> None:
+    """What ``finite_number`` refuses as a type, ``number_within`` and ``positive_number`` refuse too."""
+    for bad in (True, "1", None, np.bool_(True)):
+        for check in (lambda v: finite_number(v, "x", "m"), lambda v: number_within(v, "x", 0.0, 2.0, "m"),
+                      lambda v: positive_number(v, "x", "m")):
+            with pytest.raises(InputError, match="x must be a number"):
+                check(bad)
+    for good in (1, 1.0, np.int16(1), np.float32(1.0)):
+        assert finite_number(good, "x", "m") == number_within(good, "x", 0.0, 2.0, "m") \
+            == positive_number(good, "x", "m") == 1.0
