@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_SEED", "InputError", "finite_number", "number_within", "positive_int", "positive_number",
+__all__ = ["MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
            "real_number", "seed_int"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
@@ -46,7 +46,7 @@ def seed_int(value: Any, name: str = "--seed") -> int:
     return int(value)
 
 
-def _real(value: Any) -> bool:
+def is_real(value: Any) -> bool:
     """Whether ``value`` is a Python or numpy real number (not ``bool``): the one type test of the checks here."""
     return not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
 
@@ -70,7 +70,7 @@ def real_number(value: Any, name: str) -> float:
     float
         ``value`` in the caller's unit.
     """
-    if not _real(value):
+    if not is_real(value):
         if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
             return float(value)
         raise InputError(f"{name} must be a real number, got {type(value).__name__}")
@@ -98,7 +98,7 @@ def finite_number(value: Any, name: str, unit: str, *, positive: bool = False, n
     float
         ``value`` [``unit``].
     """
-    if not _real(value):
+    if not is_real(value):
         raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__} {value!r}")
     number = float(value)
     if not math.isfinite(number):
@@ -124,7 +124,7 @@ def number_within(value: Any, name: str, lo: float, hi: float, unit: str) -> flo
     unit : str
         Its unit, for the message (``"m"``).
     """
-    if not _real(value):
+    if not is_real(value):
         raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__}")
     number = float(value)
     if not (math.isfinite(number) and lo <= number <= hi):
@@ -144,7 +144,7 @@ def positive_number(value: Any, name: str, unit: str) -> float:
     unit : str
         Its unit, for the message (``"s"``).
     """
-    if not _real(value):
+    if not is_real(value):
         raise InputError(f"{name} must be a number [{unit}], got {value!r}")
     number = float(value)
     if not (math.isfinite(number) and number > 0.0):

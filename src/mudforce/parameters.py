@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, _real
+from mudforce.errors import InputError, is_real
 
 __all__ = [
     "CHEN2024",
@@ -186,7 +186,7 @@ class MudParameters:
         for name in PARAMETER_NAMES:
             attr = _PY_NAME[name]
             value = getattr(self, attr)
-            if not _real(value):
+            if not is_real(value):
                 raise InputError(f"parameter {name} must be a number, got {value!r}")
             value = float(value)
             object.__setattr__(self, attr, value)
@@ -245,7 +245,7 @@ class MudParameters:
         would. The paper gives no law between its rows; this is a
         project choice.
         """
-        if not _real(water_content):
+        if not is_real(water_content):
             raise InputError(f"water content must be a number (a fraction: 0.25 means 25%), "
                              f"got {type(water_content).__name__}")
         w = float(water_content)

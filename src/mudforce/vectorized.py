@@ -31,7 +31,7 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce.contact import check_states
-from mudforce.errors import InputError, _real, positive_int
+from mudforce.errors import InputError, is_real, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import PARAMETER_NAMES, MudParameters
 from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT, STATE_NAMES, resolve_velocity_filter
@@ -248,7 +248,7 @@ class MudContacts:
                                  ) from None
         if z.shape != (self.n,):
             raise InputError(f"depths must have shape ({self.n},), got {z.shape}")
-        if type(dt) is not float and not _real(dt):
+        if type(dt) is not float and not is_real(dt):
             raise InputError(f"dt must be a real number [s], got {type(dt).__name__}")
         dt = float(dt)
         if not MIN_DT <= dt <= MAX_DT:

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mudforce._kernel import MAX_WINDOW
-from mudforce.errors import InputError
+from mudforce.errors import InputError, is_real
 
 __all__ = [
     "NOISE_FLOOR_M",
@@ -72,7 +72,7 @@ class VelocityFilter:
             raise InputError(f"velocity filter window must be an integer number of steps, got {self.window!r}")
         if not 1 <= int(self.window) <= MAX_WINDOW:
             raise InputError(f"velocity filter window must be 1..{MAX_WINDOW} steps, got {self.window}")
-        if not math.isfinite(self.deadband) or self.deadband < 0.0:
+        if not is_real(self.deadband) or not math.isfinite(self.deadband) or self.deadband < 0.0:
             raise InputError(f"velocity filter deadband must be finite and >= 0 [m/s], got {self.deadband!r}")
         object.__setattr__(self, "window", int(self.window))
         object.__setattr__(self, "deadband", float(self.deadband))
@@ -91,9 +91,9 @@ class VelocityFilter:
         ``5 sqrt(2) noise_std / (window dt)`` [m/s]. ``noise_std <= 1 nm``
         gives :meth:`exact`.
         """
-        if not math.isfinite(noise_std) or noise_std < 0.0:
+        if not is_real(noise_std) or not math.isfinite(noise_std) or noise_std < 0.0:
             raise InputError(f"noise level must be finite and >= 0 [m], got {noise_std!r}")
-        if not math.isfinite(dt) or dt <= 0.0:
+        if not is_real(dt) or not math.isfinite(dt) or dt <= 0.0:
             raise InputError(f"time step must be finite and > 0 [s], got {dt!r}")
         if noise_std <= NOISE_FLOOR_M:
             return cls.exact()

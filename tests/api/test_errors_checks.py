@@ -100,3 +100,13 @@ def test_the_checks_share_one_type_test() -> None:
     for good in (1, 1.0, np.int16(1), np.float32(1.0)):
         assert finite_number(good, "x", "m") == number_within(good, "x", 0.0, 2.0, "m") \
             == positive_number(good, "x", "m") == 1.0
+
+
+@pytest.mark.parametrize("bad", ["x", None, True, float("nan"), -1.0])
+def test_velocity_filter_refuses_a_deadband_that_is_not_a_number(bad: object) -> None:
+    from mudforce import VelocityFilter
+
+    with pytest.raises(InputError, match="deadband must be finite and >= 0"):
+        VelocityFilter(3, bad)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="noise level must be finite and >= 0"):
+        VelocityFilter.for_noise(bad, 0.01)  # type: ignore[arg-type]

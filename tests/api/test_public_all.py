@@ -112,8 +112,8 @@ PINNED: dict[str, list[str]] = {
         "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [
-        "MAX_SEED", "InputError", "finite_number", "number_within", "positive_int", "positive_number", "real_number",
-        "seed_int",
+        "MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
+        "real_number", "seed_int",
     ],
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],

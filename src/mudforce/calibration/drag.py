@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, _real
+from mudforce.errors import InputError, is_real
 from mudforce.foot import AREA_RANGE
 from mudforce.parameters import PARAMETER_RANGES, RHO_M
 from mudforce.tables import COLUMN_UNITS, read_columns
@@ -121,7 +121,7 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = RHO_M,
     if v.shape != f.shape or v.ndim != 1:
         raise InputError(f"velocity and force must be 1-D arrays of equal length, got {v.shape} and {f.shape}")
     for name, value, (lo, hi) in (("area", area, AREA_RANGE), ("rho_m", rho_m, PARAMETER_RANGES["rho_m"])):
-        if not _real(value) or not lo <= value <= hi:
+        if not is_real(value) or not lo <= value <= hi:
             raise InputError(f"{name} must be within [{lo:g}, {hi:g}] (SI), got {value!r}")
     if not (np.all(np.isfinite(v)) and np.all(np.isfinite(f))):
         raise InputError("velocity and force must be finite")

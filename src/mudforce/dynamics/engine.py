@@ -25,7 +25,7 @@ from mudforce.dynamics._checks import check_finite_output, check_foot, check_mas
 from mudforce.dynamics.rest_band import rest_band
 from mudforce.dynamics.result import GRAVITY, FootResult, Phase
 from mudforce.equations import drag_stress, neck_filter_response, nonlinear_spring_stress
-from mudforce.errors import InputError, _real, finite_number, positive_int
+from mudforce.errors import InputError, finite_number, is_real, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
@@ -386,7 +386,7 @@ def simulate_foot(
 def _profile(applied_force: Any) -> tuple[np.ndarray, np.ndarray]:
     if applied_force is None:
         return np.empty(0), np.empty(0)
-    if _real(applied_force):
+    if is_real(applied_force):
         value = float(applied_force)
         if not math.isfinite(value):
             raise InputError(f"applied force must be finite [N], got {applied_force!r}")
