@@ -95,6 +95,8 @@ class VelocityFilter:
             raise InputError(f"noise level must be finite and >= 0 [m], got {noise_std!r}")
         if not is_real(dt) or not math.isfinite(dt) or dt <= 0.0:
             raise InputError(f"time step must be finite and > 0 [s], got {dt!r}")
+        if not is_real(window_s) or not math.isfinite(window_s) or window_s <= 0.0:
+            raise InputError(f"velocity window must be finite and > 0 [s], got {window_s!r}")
         if noise_std <= NOISE_FLOOR_M:
             return cls.exact()
         window = int(min(MAX_WINDOW, max(2, round(window_s / dt))))

@@ -110,3 +110,5 @@ def test_velocity_filter_refuses_a_deadband_that_is_not_a_number(bad: object) ->
         VelocityFilter(3, bad)  # type: ignore[arg-type]
     with pytest.raises(InputError, match="noise level must be finite and >= 0"):
         VelocityFilter.for_noise(bad, 0.01)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="velocity window must be finite and > 0"):
+        VelocityFilter.for_noise(1e-4, 0.01, bad)  # type: ignore[arg-type]
