@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, out_of_bounds
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
@@ -250,11 +250,9 @@ def _values_ok(t: np.ndarray, z: np.ndarray) -> bool:
     n = t.shape[0]
     if n == 0:
         return True
-    bad = not (abs(t[0]) <= MAX_TIME and abs(z[0]) <= MAX_DEPTH)
+    bad = out_of_bounds(t[0], z[0], MIN_DT)
     for k in range(1, n):
-        step = t[k] - t[k - 1]
-        bad |= ((not abs(t[k]) <= MAX_TIME) | (not abs(z[k]) <= MAX_DEPTH) | (not step >= MIN_DT)
-                | (not step <= MAX_DT))
+        bad |= out_of_bounds(t[k], z[k], t[k] - t[k - 1])
     return not bad
 
 

@@ -6,11 +6,15 @@ same numbers; :mod:`mudforce.simulation` re-exports them as the public
 :data:`~mudforce.simulation.MAX_DEPTH`, :data:`~mudforce.simulation.MIN_DT`,
 :data:`~mudforce.simulation.MAX_DT` and :data:`~mudforce.simulation.MAX_TIME`.
 Inside these bounds every output is finite (``tests/reliability/test_promise.py``).
+:func:`out_of_bounds` is the one test of a sample against them, for the
+compiled loops and for ``simulation``'s pass over a whole trajectory.
 """
 
 from __future__ import annotations
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT"]
+from mudforce._kernel.layout import _compiled
+
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "out_of_bounds"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -24,3 +28,14 @@ MAX_DT = 1e3
 #: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
 #: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
 MAX_TIME = 1e9
+
+
+@_compiled(inline="always")
+def out_of_bounds(time: float, depth: float, step: float) -> bool:
+    """Whether a sample's time [s] or depth [m], or the step before it [s], is outside the bounds (True for NaN).
+
+    Branch-free (``|``, not ``or``), so that a loop or-ing it over samples
+    vectorises; pass ``MIN_DT`` as the step of a first sample, which has none.
+    """
+    return ((not abs(time) <= MAX_TIME) | (not abs(depth) <= MAX_DEPTH) | (not step >= MIN_DT)
+            | (not step <= MAX_DT))

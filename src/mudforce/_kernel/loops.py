@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import prange
 
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT, out_of_bounds
 from mudforce._kernel.layout import (
     CONTACT,
     FREE,
@@ -286,9 +286,7 @@ def defer_spring(scratch: np.ndarray, index: np.ndarray, m: int, k: int, depth: 
 @_compiled(inline="always")
 def _within_bounds(time: np.ndarray, depth: np.ndarray, k: int) -> bool:
     """Sample ``k``'s time and depth, and the step before it, within :mod:`~mudforce._kernel.bounds` (False for NaN)."""
-    if not (abs(time[k]) <= MAX_TIME and abs(depth[k]) <= MAX_DEPTH):
-        return False
-    return k == 0 or MIN_DT <= time[k] - time[k - 1] <= MAX_DT
+    return not out_of_bounds(time[k], depth[k], time[k] - time[k - 1] if k > 0 else MIN_DT)
 
 
 @_compiled(inline="always")
