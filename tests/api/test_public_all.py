@@ -166,7 +166,9 @@ PINNED: dict[str, list[str]] = {
     "mudforce.tracking_plots": ["plot_track", "tracking_figure"],
     "mudforce.units": ["KINDS", "LIMITS", "format_quantity", "parse_list", "parse_quantity"],
     "mudforce.vectorized": ["MudContacts"],
-    "mudforce.velocity": ["NOISE_FLOOR_M", "VelocityFilter", "auto_velocity_filter", "estimate_depth_noise"],
+    "mudforce.velocity": ["MAX_NOISE_ORDER", "MIN_NOISE_SAMPLES", "NOISE_FLOOR_M", "SLOWEST_MOTION", "DepthNoise",
+                          "VelocityFilter", "analyse_depth_noise", "auto_velocity_filter", "choose_velocity_filter",
+                          "describe_velocity_rule", "estimate_depth_noise"],
 }
 
 

@@ -97,7 +97,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"foot geometry: {FOOT_EXAMPLES} (default: the paper's cuboid:51mmx38mm)")
     parser.add_argument("--velocity-filter", choices=("auto", "exact"), default="auto",
                         help="how the intrusion/withdrawal branch is chosen from the depth: auto "
-                             "(exact for clean input, noise-robust for measured data; default) or exact")
+                             "(exact for clean input of any shape, noise-robust when white noise is found in "
+                             "the depth; default; the summary says which) or exact")
     parser.add_argument("--out", metavar="FILE.csv", required=True, help="write the samples here (CSV)")
     parser.add_argument("--plot", metavar="FILE.png", default=None,
                         help="also draw force over time and depth as PNG (needs matplotlib)")
@@ -157,6 +158,8 @@ def _motion(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, str]:
 
 
 def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: Path | None) -> str:
+    from mudforce.velocity import describe_velocity_rule
+
     k_max = int(np.argmax(result.force))
     k_min = int(np.argmin(result.force))
     necks = [f"{t:.4g} s" for t in result.necking_times[:5]]
@@ -171,6 +174,7 @@ def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: P
         f"peak force: {result.force[k_max]:.4g} N at {result.time[k_max]:.4g} s",
         f"min force: {result.force[k_min]:.4g} N at {result.time[k_min]:.4g} s",
         f"necking: {', '.join(necks)}",
+        f"branch rule: {describe_velocity_rule(result.velocity_filter, result.depth_noise)}",
         f"wrote {len(result)} rows to {out}",
     ]
     if plot is not None:
