@@ -102,14 +102,15 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.dynamics.engine": ["simulate_foot"],
     "mudforce.dynamics.naive": ["naive_drop"],
-    "mudforce.dynamics.rest_band": ["branch_forces", "rest_band"],
+    "mudforce.dynamics.rest_band": ["branch_forces", "necked_force", "rest_band"],
     "mudforce.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
     "mudforce.equations": [
-        "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_step", "neck_filter_closed_form",
+        "drag_acts", "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_rate",
+        "maxwell_strain_step", "neck_breaks", "neck_filter_closed_form",
         "neck_filter_response", "neck_filter_response_increment", "neck_filter_transition",
         "neck_filter_transition_increment", "neck_filter_update", "neck_filter_update_increment", "necked_mud_motion",
         "necked_stress", "necking_time", "necking_velocity", "nonlinear_spring_stress", "rest_band_forces",
-        "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
+        "submerged_drag_stress", "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [
         "MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
