@@ -136,7 +136,8 @@ def foot_from_json(data: Any, where: str) -> Foot:
 
     Accepted: ``{"shape": "cuboid", "length_m", "width_m"}``,
     ``{"shape": "disc", "diameter_m"}``, ``{"shape": "custom", "area_m2", "width_m"}``;
-    lengths may be given in mm instead (``length_mm`` ...).
+    lengths may be given in mm instead (``length_mm`` ...), but each quantity in one
+    unit only (``length_m`` beside ``length_mm`` is refused).
     """
     example = '{"shape": "cuboid", "length_m": 0.051, "width_m": 0.038}'
     if not isinstance(data, Mapping):
@@ -154,6 +155,9 @@ def foot_from_json(data: Any, where: str) -> Foot:
         found = [(s, f) for s, f in spellings if s in data]
         if not found:
             raise InputError(f"{where}: foot needs {spellings[0][0]} (or {spellings[1][0]}) for shape {shape!r}")
+        if len(found) > 1:  # as the CSV readers refuse depth_m beside depth_mm: which would count?
+            raise InputError(f"{where}: foot gives both {found[0][0]} and {found[1][0]} for its {quantity}; "
+                             "keep one of them")
         key, factor = found[0]
         value = data[key]
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
