@@ -16,9 +16,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from mudforce.errors import InputError
 
@@ -38,8 +39,20 @@ COMMANDS: tuple[str, ...] = (
 )
 
 
+#: A word that is a value, not an option, though it starts with "-": a signed number with or without
+#: its unit (``-0.5N``, ``-5mm``, ``-1e-3``, ``-.5``), or a signed infinity or NaN (which the value's own
+#: check then refuses with its message). No option of any command starts with "-<digit>", "-inf" or "-nan".
+_NEGATIVE_VALUE = re.compile(r"^-(?:\.?\d|inf|nan)", re.IGNORECASE)
+
+
 class _Parser(argparse.ArgumentParser):
-    """An argparse parser whose errors are one line and exit status 2."""
+    """An argparse parser whose errors are one line and exit status 2, and which reads ``--bias -0.5N`` as
+    an option and its value (argparse's own rule only takes plain numbers like ``-1`` for values, so it
+    reported "expected one argument"); a value that must not be negative is refused by its own check."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_VALUE
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")

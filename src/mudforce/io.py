@@ -283,12 +283,27 @@ def _parse_constant(text: str) -> Any:
     raise InputError(f"{text} is not a JSON number; expected a finite number")
 
 
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object's members as a dict; a key given twice is refused (``json`` would keep the last)."""
+    obj: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in obj:
+            raise InputError(f"the key {key[:60]!r} appears twice in one object (JSON readers disagree on which "
+                             "one counts); expected each key once")
+        obj[key] = value
+    return obj
+
+
 def load_json(path: str | os.PathLike[str], what: str, example: str = "") -> Any:
-    """Read a JSON file strictly: UTF-8 (a BOM accepted), at most :data:`MAX_JSON_BYTES`, finite numbers only.
+    """Read a JSON file strictly: UTF-8 (a BOM accepted), at most :data:`MAX_JSON_BYTES`, finite numbers only,
+    each key once per object.
 
     ``NaN``/``Infinity`` tokens, integers of more than 20 digits, floats
-    that overflow and nesting too deep for the parser are refused with one
-    line, as are missing, unreadable and malformed files.
+    that overflow, a key repeated in one object (``{"alpha": 3e4, "alpha": 1.0}``:
+    the ``json`` module would silently keep the last) and nesting too deep
+    for the parser are refused with one line naming the file, as are
+    missing, unreadable and malformed files. Every JSON file the package
+    reads goes through here (parameter files, dataset manifests, ``fit.json``).
 
     Parameters
     ----------
@@ -313,7 +328,8 @@ def load_json(path: str | os.PathLike[str], what: str, example: str = "") -> Any
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"{p}: cannot read the {what} ({exc.__class__.__name__})") from None
     try:
-        return json.loads(text, parse_int=_parse_int, parse_float=_parse_float, parse_constant=_parse_constant)
+        return json.loads(text, parse_int=_parse_int, parse_float=_parse_float, parse_constant=_parse_constant,
+                          object_pairs_hook=_unique_keys)
     except json.JSONDecodeError as exc:
         raise InputError(f"{p}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}{hint}") from None
     except InputError as exc:

@@ -93,7 +93,10 @@ PINNED: dict[str, list[str]] = {
     "mudforce.commands.simulate": [
         "FOOT_EXAMPLES", "HELP", "MAX_SAMPLES", "NAME", "add_arguments", "check_output_path", "parse_foot", "run",
     ],
-    "mudforce.commands.synth": ["HELP", "MAX_SAMPLES", "MAX_TRIALS", "NAME", "add_arguments", "run"],
+    "mudforce.commands.synth": [
+        "DEPTH_NOISE_SIGMAS", "HELP", "MAX_BIAS", "MAX_FORCE_NOISE", "MAX_SAMPLES", "MAX_TRIALS", "NAME",
+        "add_arguments", "run",
+    ],
     "mudforce.commands.track": ["COLUMNS", "HELP", "NAME", "add_arguments", "run"],
     "mudforce.contact": ["ContactSample", "ContactState", "MudContact", "check_states"],
     "mudforce.dynamics": [

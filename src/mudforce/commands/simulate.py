@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -64,10 +63,6 @@ _PROTOCOL_OPTIONS: tuple[tuple[str, str, str, str, bool], ...] = (
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Declare the options of ``mudforce simulate``."""
     parser.formatter_class = argparse.RawDescriptionHelpFormatter  # keep the docstring's paragraphs
-    # argparse reads "--depth -5mm" as a missing value followed by an option "-5mm"; no option of this
-    # command starts with "-<digit>", so take such words as values and let parse_quantity refuse the sign
-    if isinstance(getattr(parser, "_negative_number_matcher", None), re.Pattern):
-        parser._negative_number_matcher = re.compile(r"^-\.?\d")
     mud = parser.add_argument_group("mud (exactly one)")
     which = mud.add_mutually_exclusive_group(required=True)
     which.add_argument("--water-content", metavar="W",

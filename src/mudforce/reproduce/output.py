@@ -20,6 +20,10 @@ Each run first removes the siblings that earlier killed runs left (those
 whose lock nobody holds); an old report left renamed aside between the two
 renames of step 3 is put back if ``DIR`` is missing.
 
+``mudforce synth --out DIR`` replaces its dataset folder the same way
+(``check_report_dir(..., foreign=..., what="synth dataset")``, ``StagedFolder(...,
+tag="mudforce-synth")``): one mechanism for every command that writes a folder.
+
 File-system plumbing (no physics).
 """
 
@@ -33,7 +37,7 @@ import stat
 import sys
 import tempfile
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from types import TracebackType
 
@@ -49,8 +53,8 @@ _RENAME_EXCHANGE = 2  # renameat2(2) flag
 _AT_FDCWD = -100
 
 
-def _sibling_prefix(path: Path, kind: str) -> str:
-    return f".{path.name}.{_TAG}-{kind}-"
+def _sibling_prefix(path: Path, kind: str, tag: str = _TAG) -> str:
+    return f".{path.name}.{tag}-{kind}-"
 
 
 def _is_report_entry(name: str) -> bool:
@@ -62,7 +66,14 @@ def _package_dir() -> Path:
     return Path(__file__).resolve().parent.parent
 
 
-def check_report_dir(out: str | os.PathLike[str], option: str = "--out") -> Path:
+def _foreign_to_report(path: Path) -> list[str]:
+    """The entries of folder ``path`` that an earlier report did not write, sorted by name."""
+    return sorted(p.name for p in path.iterdir() if not (_is_report_entry(p.name) and p.is_file()))
+
+
+def check_report_dir(out: str | os.PathLike[str], option: str = "--out", *,
+                     foreign: Callable[[Path], list[str]] = _foreign_to_report, what: str = "report",
+                     tag: str = _TAG) -> Path:
     """The report folder ``out`` as an absolute path, after checking that it can be replaced whole.
 
     Parameters
@@ -71,6 +82,14 @@ def check_report_dir(out: str | os.PathLike[str], option: str = "--out") -> Path
         The folder (need not exist; its parent is created if needed).
     option : str
         The option's name, for the message.
+    foreign : callable, optional
+        Folder -> the names of its entries that an earlier output of the
+        command did not write (sorted); any makes the folder refused. By
+        default, anything but ``report.html``, ``summary.json`` and PNGs.
+    what : str
+        What the folder holds, for the messages (``"report"``, ``"synth dataset"``).
+    tag : str
+        Names the hidden sibling that probes the parent folder, as :class:`StagedFolder`'s ``tag``.
 
     Returns
     -------
@@ -81,39 +100,39 @@ def check_report_dir(out: str | os.PathLike[str], option: str = "--out") -> Path
     ------
     InputError
         If ``out`` is a file or a mount point, holds anything but an earlier
-        report, overlaps the mudforce package, or its parent folder cannot be
-        created or written.
+        output (``foreign``), overlaps the mudforce package, or its parent
+        folder cannot be created or written.
     """
     given = str(out)
     if not given.strip():
-        raise InputError(f"{option}: empty folder name; expected a folder for the report")
+        raise InputError(f"{option}: empty folder name; expected a folder for the {what}")
     path = Path(out).resolve()
     if path.exists() and not path.is_dir():
         raise InputError(f"{option} {given}: exists and is not a directory")
     if path.parent == path:
-        raise InputError(f"{option} {given}: the root folder cannot hold a report; expected a folder below it")
+        raise InputError(f"{option} {given}: the root folder cannot hold a {what}; expected a folder below it")
     package = _package_dir()
     if path == package or package in path.parents or path in package.parents:
         raise InputError(f"{option} {given}: overlaps the mudforce package ({package}), whose files are the "
-                         "report's inputs; expected a folder outside it")
+                         f"{what}'s inputs; expected a folder outside it")
     if path.is_dir() and os.path.ismount(path):
         raise InputError(f"{option} {given}: is a mount point, which cannot be replaced whole; expected a folder "
                          "inside it")
     if path.is_dir():
         try:
-            foreign = sorted(p.name for p in path.iterdir() if not (_is_report_entry(p.name) and p.is_file()))
+            others = foreign(path)
         except OSError as exc:
             raise InputError(f"{option} {given}: cannot list the folder ({exc.strerror or exc})") from None
-        if foreign:
-            more = f" and {len(foreign) - 1} more" if len(foreign) > 1 else ""
-            raise InputError(f"{option} {given}: holds {foreign[0]!r}{more}, not part of a mudforce report (the "
-                             "folder is replaced whole); expected a new or empty folder, or an earlier report's")
+        if others:
+            more = f" and {len(others) - 1} more" if len(others) > 1 else ""
+            raise InputError(f"{option} {given}: holds {others[0][:80]!r}{more}, not part of a mudforce {what} (the "
+                             f"folder is replaced whole); expected a new or empty folder, or an earlier {what}'s")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"{option} {given}: cannot create its parent folder ({exc.strerror or exc})") from None
     try:
-        probe = tempfile.mkdtemp(prefix=_sibling_prefix(path, "probe"), dir=path.parent)
+        probe = tempfile.mkdtemp(prefix=_sibling_prefix(path, "probe", tag), dir=path.parent)
         with contextlib.suppress(FileNotFoundError):  # a concurrent clean_stale may have taken it
             os.rmdir(probe)
     except OSError as exc:
@@ -150,10 +169,11 @@ def _unused(path: Path) -> bool:
     return True
 
 
-def clean_stale(path: Path) -> list[Path]:
+def clean_stale(path: Path, tag: str = _TAG) -> list[Path]:
     """Remove what killed runs left beside report folder ``path``; put back an old report left aside.
 
-    Only siblings named by this module and locked by nobody are touched.
+    Only siblings named by this module (with ``tag``: ``"mudforce-reproduce"``,
+    ``"mudforce-synth"``) and locked by nobody are touched.
 
     Returns
     -------
@@ -164,7 +184,7 @@ def clean_stale(path: Path) -> list[Path]:
     parent = path.parent
     with contextlib.suppress(OSError):
         for kind in ("old", "new", "probe"):
-            for sibling in sorted(parent.glob(_sibling_prefix(path, kind) + "*")):
+            for sibling in sorted(parent.glob(_sibling_prefix(path, kind, tag) + "*")):
                 if not sibling.is_dir() or sibling.is_symlink() or not _unused(sibling):
                     continue
                 if kind == "old" and not path.exists():
@@ -220,12 +240,15 @@ class StagedFolder:
     ----------
     path : Path
         The report folder, as :func:`check_report_dir` returns it.
+    tag : str
+        Names the hidden siblings (``.DIR.TAG-new-XXXXXXXX``): the command's, e.g. ``"mudforce-synth"``.
     """
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, tag: str = _TAG) -> None:
         self.path = path
-        clean_stale(path)
-        self.staged = Path(tempfile.mkdtemp(prefix=_sibling_prefix(path, "new"), dir=path.parent))
+        self.tag = tag
+        clean_stale(path, tag)
+        self.staged = Path(tempfile.mkdtemp(prefix=_sibling_prefix(path, "new", tag), dir=path.parent))
         umask = os.umask(0)
         os.umask(umask)
         with contextlib.suppress(OSError):
@@ -266,7 +289,7 @@ class StagedFolder:
         elif _exchange(self.staged, path):
             shutil.rmtree(self.staged, ignore_errors=True)  # now the old report
         else:
-            aside = Path(tempfile.mkdtemp(prefix=_sibling_prefix(path, "old"), dir=path.parent))
+            aside = Path(tempfile.mkdtemp(prefix=_sibling_prefix(path, "old", self.tag), dir=path.parent))
             os.rmdir(aside)
             fd = _lock(path)  # the old report, aside, stays recognisably in use until deleted
             try:
