@@ -58,6 +58,7 @@ from mudforce._pow import power
 _cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._cache)
 
 __all__ = [
+    "array_form",
     "drag_acts",
     "drag_stress",
     "intrusion_stress",
@@ -93,6 +94,16 @@ def _arithmetic(function: _F) -> _F:
     options: dict[str, Any] = {"cache": True, "nogil": True, "inline": "always", "error_model": "numpy"}
     decorator: Callable[[_F], _F] = njit(**options)
     return decorator(function)
+
+
+def array_form(function: Callable[..., Any]) -> Callable[..., Any]:
+    """A plain-arithmetic function of this module as Python (numba's ``.py_func``), for whole arrays.
+
+    The same operations on numpy or JAX arrays as the compiled function on
+    scalars (see the module), e.g. ``array_form(drag_stress)(lam, rho, v)``.
+    """
+    python: Callable[..., Any] = getattr(function, "py_func", function)
+    return python
 
 
 @njit(cache=True, nogil=True)

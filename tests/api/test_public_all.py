@@ -108,7 +108,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.dynamics.rest_band": ["branch_forces", "necked_force", "rest_band"],
     "mudforce.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
     "mudforce.equations": [
-        "drag_acts", "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_rate",
+        "array_form", "drag_acts", "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_rate",
         "maxwell_strain_step", "neck_breaks", "neck_filter_closed_form",
         "neck_filter_response", "neck_filter_response_increment", "neck_filter_transition",
         "neck_filter_transition_increment", "neck_filter_update", "neck_filter_update_increment", "necked_mud_motion",
