@@ -10,8 +10,9 @@ the world frame (z up, SI units):
 medium's free surface ``surface_height`` [m].
 
 An element below the surface at depth ``|z| = surface_height - z_c`` [m] is
-loaded by ``F = scale * alpha * |z| * dA`` [N] (Li et al. 2013, Eq. 1;
-Agarwal et al. 2023, Eq. 1), ``alpha`` the dimensionless generic stress
+loaded by ``F = scale * alpha * |z| * dA`` [N] (the RFT element force of
+Li et al. 2013 and Agarwal et al. 2023; equation numbers are not cited
+here, the papers were not at hand), ``alpha`` the dimensionless generic stress
 vector of the law and ``scale`` [N/m^3] the medium's magnitude (Li's
 ``zeta``, Agarwal's ``xi_n``, :func:`medium_scale`).
 
@@ -53,7 +54,7 @@ Laws
     ``x3 = cos(psi) cos(gamma) sin(beta) + sin(gamma) cos(beta)`` with
     coefficients :data:`RFT3D_C1`, :data:`RFT3D_C2`, :data:`RFT3D_C3`
     (basis :func:`rft3d_basis`). :func:`rft3d_angles` builds the paper's
-    local frame (supplement S7): ``z`` up, ``r`` the horizontal direction of
+    local frame (its supplement, S7 as the public ports cite it): ``z`` up, ``r`` the horizontal direction of
     the velocity (the normal's horizontal direction when the velocity is
     vertical, ``+x`` when both are), ``theta = z x r``, ``beta`` the tilt,
     ``gamma`` the velocity angle, ``psi`` the twist.
@@ -163,7 +164,7 @@ _NORMAL_TOLERANCE = 1e-6  # accepted deviation of |n| from 1 [-]
 
 
 class LiCoefficients(NamedTuple):
-    """Fourier coefficients of Li, Zhang & Goldman's RFT fit (Science 2013, Eq. 2, Fig. 2) [-].
+    """Fourier coefficients of Li, Zhang & Goldman's RFT fit (Science 2013, generic fit) [-].
 
     ``alpha_z = A00 + A10 cos 2b + B01 sin g + B11 sin(2b + g) + Bm11 sin(-2b + g)``;
     ``alpha_x = C01 cos g + C11 cos(2b + g) + Cm11 cos(-2b + g) + D10 sin 2b``
@@ -211,12 +212,12 @@ RFT3D_C3 = _frozen([-0.02634, -0.03436, 0.45256, 0.00835, 0.02553, -1.31290, -0.
 def rft_alpha(beta: Any, gamma: Any, coefficients: LiCoefficients = LI2013_GENERIC) -> tuple[np.ndarray, np.ndarray]:
     """Li et al.'s stresses per depth ``(alpha_x, alpha_z)`` of a plate at angle ``beta`` moving along ``gamma``.
 
-    Li, Zhang & Goldman, Science 339, 1408 (2013), Eq. 2 with the generic
+    Li, Zhang & Goldman, Science 339, 1408 (2013): their Fourier fit, with the generic
     coefficients by default. The fit holds for ``beta, gamma`` in
     ``[-pi/2, pi/2]``; other values are mapped there: ``beta`` by its period
     ``pi`` (a plate has no side; the form is already ``pi``-periodic), and a
     velocity with a backward component (``|gamma| > pi/2`` after wrapping to
-    ``(-pi, pi]``) by mirroring ``x -> -x``: ``gamma -> pi - gamma`` (or
+    ``[-pi, pi)``) by mirroring ``x -> -x``: ``gamma -> pi - gamma`` (or
     ``-pi - gamma``), ``beta -> -beta``, and ``alpha_x`` changes sign.
 
     Parameters
@@ -433,8 +434,8 @@ def rft_element_forces(centroids: Any, normals: Any, areas: Any, velocities: Any
 
     ``F = scale * alpha * |z| * dA`` on leading elements below the surface
     (depth ``|z| = surface_height - z_c > 0``), zero elsewhere, with
-    ``alpha`` of :func:`rft_element_alpha` (Li et al. 2013 Eq. 1; Agarwal et
-    al. 2023 Eq. 1); plus, if ``inertial_drag > 0``, dynamic RFT's inertial
+    ``alpha`` of :func:`rft_element_alpha` (Li et al. 2013; Agarwal et
+    al. 2023); plus, if ``inertial_drag > 0``, dynamic RFT's inertial
     drag ``inertial_drag (v . n)^2 dA`` along ``-n`` on the same elements
     (Agarwal et al. 2021), which always opposes the motion.
 
@@ -523,7 +524,7 @@ def rft_wrench(centroids: Any, forces: Any, point: Any = (0.0, 0.0, 0.0)) -> tup
 def medium_scale(rho_c: float, mu_int: float, gravity: float = _GRAVITY) -> float:
     """3D-RFT's medium scale ``xi_n = rho_c g (894 mu^3 - 386 mu^2 + 89 mu)`` [N/m^3].
 
-    Agarwal, Goldman & Kamrin, PNAS 120, e2214017120 (2023), Eq. 3: a cubic
+    Agarwal, Goldman & Kamrin, PNAS 120, e2214017120 (2023): a cubic
     fitted to their simulated media; far outside their range of internal
     friction it is an extrapolation (it stays positive for all ``mu > 0``).
 
