@@ -121,6 +121,11 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
+    "mudforce.granular": [
+        "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",
+        "medium_scale", "rft3d_alpha", "rft3d_angles", "rft3d_basis", "rft_alpha", "rft_element_alpha",
+        "rft_element_forces", "rft_wrench",
+    ],
     "mudforce.io": [
         "MAX_JSON_BYTES", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path", "dumps_json",
         "load_json", "refuse_overwriting_inputs", "write_target",
