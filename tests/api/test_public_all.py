@@ -118,8 +118,8 @@ PINNED: dict[str, list[str]] = {
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.io": [
-        "MAX_JSON_BYTES", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path", "dumps_json",
-        "load_json", "refuse_overwriting_inputs", "write_target",
+        "MAX_JSON_BYTES", "StagedOutputs", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path",
+        "check_replaceable_dir", "clean_stale", "dumps_json", "load_json", "refuse_overwriting_inputs", "write_target",
     ],
     "mudforce.jax": [
         "CONTACT", "FREE", "NECKED", "UNSTARTED", "Necking", "Params", "State", "StepConstants", "branch_forces",
