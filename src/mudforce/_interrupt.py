@@ -63,7 +63,8 @@ def watch() -> Iterator[None]:
     """Inside, SIGINT is recorded as well as raised, and one lost where Python cannot raise it is raised again.
 
     Only in the main thread and where SIGINT has Python's default handler;
-    the previous handler and ``sys.unraisablehook`` come back on leaving.
+    the previous handler and ``sys.unraisablehook`` come back on leaving,
+    and what was recorded is forgotten (it belonged to this command).
     """
     global _pending
     _pending = False
@@ -94,3 +95,4 @@ def watch() -> Iterator[None]:
             timer.cancel()
         sys.unraisablehook = previous_hook
         signal.signal(signal.SIGINT, signal.default_int_handler)
+        _pending = False
