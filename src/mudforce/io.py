@@ -315,7 +315,7 @@ def _sibling_prefix(path: Path, tag: str, kind: str) -> str:
     name = path.name
     if len(os.fsencode(name)) > _SIBLING_NAME_MAX:
         digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:12]
-        name = os.fsdecode(os.fsencode(name)[:_SIBLING_NAME_MAX // 2]).rstrip("\ufffd") + "~" + digest
+        name = os.fsdecode(os.fsencode(name)[:_SIBLING_NAME_MAX // 2]) + "~" + digest
     return f".{name}.{tag}-{kind}-"
 
 
