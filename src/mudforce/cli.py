@@ -5,7 +5,9 @@ provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 
 Exit status: 0 on success, 2 for bad input (one line on stderr, no
 traceback, no output file touched), 1 when the system fails mid-way (an
-``OSError``: one line too), 130 when interrupted. Bad input is refused at
+``OSError``: one line too), 130 when interrupted (Ctrl-C, SIGINT: one line,
+``mudforce: interrupted``, even when the interrupt came inside a callback
+where Python cannot raise it; see :mod:`mudforce._interrupt`). Bad input is refused at
 its root (units, bounds, strict readers: :mod:`mudforce.units`,
 :mod:`mudforce.tables`, :mod:`mudforce.io`); an ``OverflowError``,
 ``RecursionError`` or ``ValueError`` that still escapes a command is
@@ -21,6 +23,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
+from mudforce import _interrupt
 from mudforce.errors import InputError
 
 __all__ = ["COMMANDS", "main"]
@@ -86,7 +89,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     try:
-        return int(args._run(args) or 0)
+        with _interrupt.watch():  # Ctrl-C always stops the command, even where Python would lose it
+            status = int(args._run(args) or 0)
+            _interrupt.check()  # an interrupt lost along the way: not a success
+        return status
     except InputError as exc:
         print(f"mudforce {args.command}: error: {exc}", file=sys.stderr)
         return 2

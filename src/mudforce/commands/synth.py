@@ -164,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
     """Make the dataset and print where it went."""
     from mudforce.calibration.dataset import MANIFEST_NAME, parse_foot, save_dataset
     from mudforce.calibration.synth import synthesize
-    from mudforce.reproduce.output import StagedFolder, check_report_dir
+    from mudforce.io import StagedOutputs, check_replaceable_dir
 
     waters = parse_list(args.water_content, "fraction", name="--water-content")
     velocities = parse_list(args.velocities, "velocity", name="--velocities")
@@ -204,7 +204,7 @@ def run(args: argparse.Namespace) -> int:
     _check_bounds(args, velocities, depth=depth, hold=hold, approach=approach, rate=rate,
                   force_noise=force_noise, depth_noise=depth_noise, bias=bias)
     out = Path(args.out)
-    path = check_report_dir(args.out, "--out", foreign=_foreign, what="synth dataset", tag=_TAG)
+    path = check_replaceable_dir(args.out, "--out", (), _TAG, foreign=_foreign, what="synth dataset")
     if (path / MANIFEST_NAME).exists() and not args.force:
         raise InputError(f"--out {out}: already holds a mudforce synth dataset; pass --force to replace it")
     if gait:
@@ -218,8 +218,8 @@ def run(args: argparse.Namespace) -> int:
                              force_noise=force_noise, depth_noise=depth_noise, bias=bias, seed=seed, foot=foot,
                              depth=depth, hold=hold, approach=approach, rise=_RISE, rate=rate)
     # built aside and swapped in whole: an interrupt leaves the old folder or the new one, never a mix
-    with StagedFolder(path, tag=_TAG) as staged:
-        save_dataset(dataset, staged.staged)  # refuses, before writing, a trial the readers would refuse
+    with StagedOutputs(_TAG, folders=[path]) as staged:
+        save_dataset(dataset, staged.staged_path(path))  # refuses, before writing, a trial the readers would refuse
         staged.commit()
     if not args.quiet:
         print(f"wrote {len(dataset.trials)} {'walks' if gait else 'trials'} to {out / MANIFEST_NAME}")
