@@ -335,8 +335,8 @@ def test_bad_meshes_get_one_line_errors_naming_the_problem() -> None:
     assert _one_line(lambda: shapes.mesh(v, f[:-1])) == (
         "mesh edge (1, 3) belongs to face 0 only: the mesh is open; expected a closed surface "
         "(every edge shared by two faces)")
-    assert "faces point inward" in _one_line(lambda: shapes.mesh(v, f[:, ::-1]))
-    assert _one_line(lambda: shapes.mesh(v, f[:, ::-1])).endswith("reverse their winding")
+    assert _one_line(lambda: shapes.mesh(v, f[:, ::-1])) == (
+        "the mesh's faces point inward; reverse their winding (its signed volume is -8e-06 m^3 < 0)")
     flipped = f.copy()
     flipped[5] = flipped[5, ::-1]
     assert "inconsistent winding" in _one_line(lambda: shapes.mesh(v, flipped))
@@ -413,3 +413,111 @@ def test_convex_hulls_are_closed_outward_meshes_with_their_volume(cloud: np.ndar
     assert np.all(np.einsum("ij,ij->i", m.centroids - inside, m.normals) > 0)
     with pytest.raises(InputError, match="faces point inward"):
         shapes.mesh(points, faces[:, ::-1])
+
+
+# ------------------------------------------------------------------------------------------------------- MuJoCo
+
+def _mjcf(faces: np.ndarray | None = None) -> str:
+    v, f = cube_mesh(0.02, offset=(0.1, 0.0, -0.2))
+    f = f if faces is None else faces
+    vertex, face = " ".join(f"{x:.17g}" for x in v.ravel()), " ".join(str(i) for i in f.ravel())
+    return f"""<mujoco>
+  <asset>
+    <mesh name="cube" vertex="{vertex}" face="{face}"/>
+    <hfield name="terrain" nrow="2" ncol="2" size="1 1 0.1 0.1"/>
+  </asset>
+  <worldbody>
+    <geom name="floor" type="plane" size="1 1 0.1"/>
+    <geom name="ground" type="hfield" hfield="terrain"/>
+    <body name="leg" pos="0.1 0.2 0.3" euler="10 20 30">
+      <geom name="ball" type="sphere" size="0.02"/>
+      <geom name="pill" type="capsule" size="0.02 0.03" pos="0 0 0.1"/>
+      <geom name="rod" type="capsule" size="0.01" fromto="0 0 0 0 0.05 0"/>
+      <geom name="can" type="cylinder" size="0.02 0.03"/>
+      <geom name="brick" type="box" size="0.0255 0.019 0.0125"/>
+      <geom name="egg" type="ellipsoid" size="0.03 0.02 0.015"/>
+      <geom name="foot" type="mesh" mesh="cube" pos="0.01 0 0" euler="0 0 30"/>
+      <geom type="sphere" size="0.01"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+
+@pytest.fixture(scope="module")
+def mj_model() -> object:
+    mujoco = pytest.importorskip("mujoco")
+    return mujoco.MjModel.from_xml_string(_mjcf())
+
+
+@pytest.mark.parametrize(("geom", "expected"), [
+    ("ball", lambda: shapes.sphere(0.04)),
+    ("pill", lambda: shapes.capsule(0.04, 0.06)),
+    ("rod", lambda: shapes.capsule(0.02, 0.05)),  # fromto: the hemisphere centres 50 mm apart
+    ("can", lambda: shapes.cylinder(0.04, 0.06)),
+    ("brick", lambda: shapes.box(0.051, 0.038, 0.025)),
+    ("egg", lambda: shapes.ellipsoid(0.06, 0.04, 0.03)),
+])
+def test_mujoco_primitives_are_the_constructors(mj_model: object, geom: str,
+                                                expected: Callable[[], Shape]) -> None:
+    got, want = shapes.from_mujoco_geom(mj_model, geom), expected()
+    np.testing.assert_allclose(got.centroids, want.centroids, rtol=0, atol=1e-17)
+    np.testing.assert_allclose(got.normals, want.normals, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(got.areas, want.areas, rtol=1e-14)
+    assert got.name == f"MuJoCo geom {geom!r}: {want.name}" and got.closed
+
+
+def test_mujoco_geom_by_id_and_resolution(mj_model: object) -> None:
+    import mujoco
+
+    gid = mujoco.mj_name2id(mj_model, mujoco.mjtObj.mjOBJ_GEOM, "ball")
+    by_id = shapes.from_mujoco_geom(mj_model, np.int64(gid), resolution=0.005)
+    assert by_id.areas.tobytes() == shapes.sphere(0.04, resolution=0.005).areas.tobytes()
+    unnamed = shapes.from_mujoco_geom(mj_model, mj_model.ngeom - 1)  # type: ignore[attr-defined]
+    assert unnamed.name.startswith(f"MuJoCo geom {mj_model.ngeom - 1}: sphere 20 mm")  # type: ignore[attr-defined]
+
+
+def test_mujoco_mesh_is_in_the_geom_frame(mj_model: object) -> None:
+    """MuJoCo re-centres a mesh on its inertial frame; placed by geom_xpos/xmat, the elements land where the
+    file's cube is: the body's pose, then the geom's pos and euler, applied to the file's vertices."""
+    import mujoco
+
+    data = mujoco.MjData(mj_model)
+    mujoco.mj_forward(mj_model, data)
+    gid = mujoco.mj_name2id(mj_model, mujoco.mjtObj.mjOBJ_GEOM, "foot")
+    got = shapes.from_mujoco_geom(mj_model, "foot", resolution=0.01)
+    assert got.name == "MuJoCo geom 'foot': mesh of 12 triangles, 108 elements"
+    assert got.volume == pytest.approx(0.02**3, rel=1e-6)  # float32 vertices
+    assert got.total_area == pytest.approx(6 * 0.02**2, rel=1e-6)
+    # the mesh's frame is centred on the cube's centre, so the element centroids average to 0
+    np.testing.assert_allclose(got.areas @ got.centroids, 0.0, atol=1e-10)
+    world = data.geom_xpos[gid] + got.centroids @ data.geom_xmat[gid].reshape(3, 3).T
+    v, f = cube_mesh(0.02, offset=(0.1, 0.0, -0.2))
+    file_frame = shapes.mesh(v, f, resolution=0.01)
+    body = data.xmat[mujoco.mj_name2id(mj_model, mujoco.mjtObj.mjOBJ_BODY, "leg")].reshape(3, 3)
+    quat = np.zeros(4)
+    mujoco.mju_euler2Quat(quat, np.radians([0.0, 0.0, 30.0]), "xyz")
+    turn = np.zeros(9)
+    mujoco.mju_quat2Mat(turn, quat)
+    in_body = np.array([0.01, 0.0, 0.0]) + file_frame.centroids @ turn.reshape(3, 3).T
+    expected = data.xpos[mujoco.mj_name2id(mj_model, mujoco.mjtObj.mjOBJ_BODY, "leg")] + in_body @ body.T
+    np.testing.assert_allclose(world, expected, rtol=0, atol=1e-8)
+
+
+def test_mujoco_errors_name_the_geom(mj_model: object) -> None:
+    mujoco = pytest.importorskip("mujoco")
+    n = mj_model.ngeom  # type: ignore[attr-defined]
+    assert _one_line(lambda: shapes.from_mujoco_geom(mj_model, "floor")) == (
+        "MuJoCo geom 'floor' is a plane; from_mujoco_geom supports sphere, capsule, cylinder, box, ellipsoid and mesh")
+    assert "MuJoCo geom 'ground' is a hfield;" in _one_line(lambda: shapes.from_mujoco_geom(mj_model, "ground"))
+    assert _one_line(lambda: shapes.from_mujoco_geom(mj_model, "toe")) == (
+        f"the model has no geom named 'toe'; expected a geom's name or an id 0 to {n - 1}")
+    assert f"geom id {n} is out of range" in _one_line(lambda: shapes.from_mujoco_geom(mj_model, n))
+    assert "got bool" in _one_line(lambda: shapes.from_mujoco_geom(mj_model, True))
+    assert "needs a compiled mujoco.MjModel, got str" in _one_line(lambda: shapes.from_mujoco_geom("model", 0))
+    assert _one_line(lambda: shapes.from_mujoco_geom(mj_model, "ball", resolution=-1.0)).startswith(
+        "MuJoCo geom 'ball': sphere 40 mm resolution must be within [0.0001, 10] m")
+    _, f = cube_mesh()
+    for faces, message in ((f[:-1], "the mesh is open"), (f[:, ::-1], "faces point inward; reverse their winding")):
+        bad = mujoco.MjModel.from_xml_string(_mjcf(faces))  # MuJoCo compiles both
+        text = _one_line(lambda bad=bad: shapes.from_mujoco_geom(bad, "foot"))
+        assert text.startswith("MuJoCo geom 'foot': ") and message in text
