@@ -368,6 +368,11 @@ def test_bad_meshes_get_one_line_errors_naming_the_problem() -> None:
     both = np.vstack([tf, tf[:, ::-1]])
     assert "is shared by 4 faces" in _one_line(lambda: shapes.mesh(tv, both))
     assert "more than the 100000 allowed" in _one_line(lambda: shapes.mesh(v, f, resolution=0.0001))
+    # a flat pillow: a square's two sides, triangulated along different diagonals; closed, consistent, no volume
+    square = np.array([[0.0, 0.0, 0.0], [0.02, 0.0, 0.0], [0.02, 0.02, 0.0], [0.0, 0.02, 0.0]])
+    pillow = np.array([[0, 1, 2], [0, 2, 3], [1, 0, 3], [1, 3, 2]])
+    assert _one_line(lambda: shapes.mesh(square, pillow)) == (
+        "the mesh encloses no volume (0 m^3); expected a closed solid's surface")
 
 
 def test_refused_mesh_inputs_are_left_unchanged() -> None:
