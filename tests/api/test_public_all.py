@@ -166,6 +166,10 @@ PINNED: dict[str, list[str]] = {
         "MODEL_LABELS", "NINE", "PAPER_UNITS", "POORLY_DETERMINED", "determined", "in_paper_units", "make_summary",
         "summary_json",
     ],
+    "mudforce.shapes": [
+        "DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
+        "from_mujoco_geom", "mesh", "sole", "sphere",
+    ],
     "mudforce.simulation": ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"],
     "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "read_columns", "read_trajectory"],
     "mudforce.tracker": [
