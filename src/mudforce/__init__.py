@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from mudforce.contact import ContactSample, ContactState, MudContact
+    from mudforce.contact3d import MudContact3D, Wrench, simulate_3d
     from mudforce.errors import InputError
     from mudforce.foot import Foot
     from mudforce.parameters import CHEN2024, PARAMETER_NAMES, TABLE_I, MudParameters
@@ -37,6 +38,9 @@ _LAZY = {
     "ContactSample": "mudforce.contact",
     "ContactState": "mudforce.contact",
     "MudContact": "mudforce.contact",
+    "MudContact3D": "mudforce.contact3d",
+    "Wrench": "mudforce.contact3d",
+    "simulate_3d": "mudforce.contact3d",
     "InputError": "mudforce.errors",
     "Foot": "mudforce.foot",
     "CHEN2024": "mudforce.parameters",
@@ -87,6 +91,7 @@ __all__ = [
     "InputError",
     "Intrude",
     "MudContact",
+    "MudContact3D",
     "MudContacts",
     "MudParameters",
     "MudTracker",
@@ -97,7 +102,9 @@ __all__ = [
     "TrackEstimates",
     "VelocityFilter",
     "Withdraw",
+    "Wrench",
     "__version__",
     "estimate_depth_noise",
     "simulate",
+    "simulate_3d",
 ]

@@ -164,6 +164,13 @@ class Shape:
     closed : bool
         Whether the elements tile a closed surface (then ``|Σ areas·normals|``
         must be below 1e-9 of the total area); the sole is open.
+    width : float or None
+        The intruder width ``H`` of Eq. (4) [m] that the 3-D law uses for
+        this foot, within :data:`mudforce.foot.SIZE_RANGE`: the constructors
+        set the shorter horizontal side of the body frame (a sole's ``H``, a
+        box's shorter of length and width, a sphere's, capsule's,
+        cylinder's or disc's diameter, a mesh's shorter x or y extent);
+        None for a shape built from arrays (give it, or give the contact one).
 
     The arrays are stored as read-only float64 copies; ``1 <= n <=``
     :data:`MAX_ELEMENTS`. Two shapes compare equal only if they are the
@@ -175,6 +182,7 @@ class Shape:
     areas: Float
     name: str = "custom"
     closed: bool = field(default=False)
+    width: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str):
@@ -211,6 +219,8 @@ class Shape:
         object.__setattr__(self, "centroids", centroids)
         object.__setattr__(self, "normals", normals)
         object.__setattr__(self, "closed", closed)
+        if self.width is not None:
+            object.__setattr__(self, "width", number_within(self.width, "shape width", *SIZE_RANGE, "m"))
 
     def __repr__(self) -> str:
         return f"Shape({self.name!r}, n={self.n}, {'closed' if self.closed else 'open'})"
@@ -296,9 +306,9 @@ def _mm(value: float) -> str:
     return f"{value * 1e3:g}"
 
 
-def _shape(elements: Elements, name: str, closed: bool) -> Shape:
+def _shape(elements: Elements, name: str, closed: bool, width: float) -> Shape:
     centroids, normals, areas = elements
-    return Shape(centroids, normals, areas, name=f"{name}, {areas.shape[0]} elements", closed=closed)
+    return Shape(centroids, normals, areas, name=f"{name}, {areas.shape[0]} elements", closed=closed, width=width)
 
 
 def _join(*parts: Elements) -> Elements:
@@ -534,7 +544,7 @@ def sole(foot: Foot, *, resolution: float | None = None) -> Shape:
         _check_count(_count(length / res) * _count(width / res), f"the sole of {foot.shape}", res, area)
         centroids, normals, areas = _rectangle(length, width, res, (0, 1, 2), 0.0, -1.0)
     areas = areas * (area / math.fsum(areas.tolist()))
-    return _shape((centroids, normals, areas), f"sole of {foot.shape}", closed=False)
+    return _shape((centroids, normals, areas), f"sole of {foot.shape}", closed=False, width=width)
 
 
 def box(length: float, width: float, height: float, *, resolution: float | None = None) -> Shape:
@@ -558,7 +568,7 @@ def box(length: float, width: float, height: float, *, resolution: float | None 
     for u, v, axes, offset in ((y, z, (1, 2, 0), 0.5 * x), (x, z, (0, 2, 1), 0.5 * y), (x, y, (0, 1, 2), 0.5 * z)):
         faces.append(_rectangle(u, v, res, axes, offset, 1.0))
         faces.append(_rectangle(u, v, res, axes, -offset, -1.0))
-    return _shape(_join(*faces), label, closed=True)
+    return _shape(_join(*faces), label, closed=True, width=min(x, y))
 
 
 def sphere(diameter: float, *, resolution: float | None = None) -> Shape:
@@ -582,7 +592,7 @@ def sphere(diameter: float, *, resolution: float | None = None) -> Shape:
     theta, sectors = _bands(r, r, res)
     _check_count(2 * int(sectors.sum()), label, res, total)
     north, south = _mirror_z(_sphere_north(r, theta, sectors))
-    return _shape(_join(north, south), label, closed=True)
+    return _shape(_join(north, south), label, closed=True, width=d)
 
 
 def ellipsoid(length: float, width: float, height: float, *, resolution: float | None = None) -> Shape:
@@ -619,7 +629,7 @@ def ellipsoid(length: float, width: float, height: float, *, resolution: float |
     north, south = _mirror_z(_ellipsoid_north(semi[0], semi[1], semi[2], theta, sectors))
     centroids, normals, areas = _join(north, south)
     back = np.argsort(order)  # column j of the body frame is local column back[j]
-    return _shape((centroids[:, back], normals[:, back], areas), label, closed=True)
+    return _shape((centroids[:, back], normals[:, back], areas), label, closed=True, width=min(x, y))
 
 
 def _ellipsoid_area(a: float, b: float, c: float) -> float:
@@ -657,7 +667,7 @@ def capsule(diameter: float, length: float, *, resolution: float | None = None) 
     _check_count(2 * int(sectors.sum()) + side_count, label, res, total)
     north, south = _mirror_z(_sphere_north(r, theta, sectors), 0.5 * span)
     parts = (north, _side(r, span, res), south) if span > 0.0 else (north, south)
-    return _shape(_join(*parts), label, closed=True)
+    return _shape(_join(*parts), label, closed=True, width=d)
 
 
 def _cylinder(d: float, height: float, res: float | None, label: str) -> Shape:
@@ -668,7 +678,7 @@ def _cylinder(d: float, height: float, res: float | None, label: str) -> Shape:
                  label, step, total)
     top = _polar(r, 0.5 * height, True, step)
     bottom = _polar(r, -0.5 * height, False, step)
-    return _shape(_join(top, _side(r, height, step), bottom), label, closed=True)
+    return _shape(_join(top, _side(r, height, step), bottom), label, closed=True, width=d)
 
 
 def cylinder(diameter: float, length: float, *, resolution: float | None = None) -> Shape:
@@ -854,7 +864,9 @@ def mesh(vertices: Any, faces: Any, *, resolution: float | None = None) -> Shape
     centroids, normal_rows, areas = _join(*parts)
     face_of = np.concatenate(order)
     keep = np.argsort(face_of, kind="stable")  # elements in face order whatever the levels
-    return _shape((centroids[keep], normal_rows[keep], areas[keep]), label, closed=True)
+    horizontal = np.ptp(verts[used], axis=0)[:2]
+    width = float(np.clip(np.min(horizontal), *SIZE_RANGE))
+    return _shape((centroids[keep], normal_rows[keep], areas[keep]), label, closed=True, width=width)
 
 
 def _subdivision(k: int) -> Float:

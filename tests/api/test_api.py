@@ -21,6 +21,7 @@ PUBLIC = {
     "InputError",
     "Intrude",
     "MudContact",
+    "MudContact3D",
     "MudContacts",
     "MudParameters",
     "MudTracker",
@@ -31,9 +32,11 @@ PUBLIC = {
     "TrackEstimates",
     "VelocityFilter",
     "Withdraw",
+    "Wrench",
     "__version__",
     "estimate_depth_noise",
     "simulate",
+    "simulate_3d",
 }
 
 

@@ -32,9 +32,9 @@ OPTIONAL: dict[str, tuple[str, ...]] = {
 PINNED: dict[str, list[str]] = {
     "mudforce": [
         "CHEN2024", "PARAMETER_NAMES", "STATE_NAMES", "TABLE_I", "ContactSample", "ContactState", "Foot", "Hold",
-        "InputError", "Intrude", "MudContact", "MudContacts", "MudParameters", "MudTracker", "MudTrackers", "Protocol",
-        "SimulationResult", "TrackEstimate", "TrackEstimates", "VelocityFilter", "Withdraw", "__version__",
-        "estimate_depth_noise", "simulate",
+        "InputError", "Intrude", "MudContact", "MudContact3D", "MudContacts", "MudParameters", "MudTracker",
+        "MudTrackers", "Protocol", "SimulationResult", "TrackEstimate", "TrackEstimates", "VelocityFilter", "Withdraw",
+        "Wrench", "__version__", "estimate_depth_noise", "simulate", "simulate_3d",
     ],
     "mudforce.baselines": [
         "BASELINE_NAMES", "DEFAULT_K_RFT", "branch_velocity", "drft_force", "granular_rft_force", "maxwell_only_force",
@@ -99,6 +99,7 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.commands.track": ["COLUMNS", "HELP", "NAME", "add_arguments", "run"],
     "mudforce.contact": ["ContactSample", "ContactState", "MudContact", "check_states"],
+    "mudforce.contact3d": ["ContactState3D", "MudContact3D", "Result3D", "Wrench", "simulate_3d"],
     "mudforce.dynamics": [
         "GRAVITY", "PHASE_NAMES", "REST_SPEED", "ExactDrop", "FootResult", "Phase", "branch_forces", "exact_drop",
         "naive_drop", "rest_band", "simulate_foot",
@@ -121,6 +122,10 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
+    "mudforce.law3d": [
+        "FLAT_PLATE_ALPHA", "bearing_factor", "horizontal_drag", "lateral_capacity", "lateral_return_map",
+        "rotation_matrix", "shear_fraction", "spring_stress", "vertical_weight",
+    ],
     "mudforce.granular": [
         "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",
         "medium_scale", "rft3d_alpha", "rft3d_angles", "rft3d_basis", "rft_alpha", "rft_element_alpha",
