@@ -12,7 +12,7 @@ from numba import njit
 
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, out_of_bounds
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.velocity import VelocityFilter, auto_velocity_filter
@@ -225,11 +225,8 @@ class SimulationResult:
 
 def _as_arrays(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
     """The trajectory as contiguous float64 arrays of one shape (values are checked by :func:`_check_values`)."""
-    try:
-        t = np.asarray(time, dtype=np.float64)
-        z = np.asarray(depth, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("time and depth must be numeric arrays [s], [m]") from None
+    t = real_array(time, "time", "s")  # refuses complex, boolean, string and object arrays
+    z = real_array(depth, "depth", "m")
     if t.ndim != 1 or z.ndim != 1:
         raise InputError(f"time and depth must be 1-D arrays, got shapes {t.shape} and {z.shape}")
     if t.shape != z.shape:
@@ -277,9 +274,10 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
     i = int(np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))[0]) + 1
     if steps[i - 1] <= 0.0:
         what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
-        raise InputError(f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); "
+        raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
                          "expected strictly increasing time")
-    raise InputError(f"the time step before sample {i} is {steps[i - 1]:g} s; expected steps within "
+    # repr: a step just outside a bound must not print as the bound
+    raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
                      f"[{MIN_DT:g}, {MAX_DT:g}] s")
 
 

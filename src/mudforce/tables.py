@@ -226,7 +226,7 @@ def check_time(
         what = "repeats" if steps[i] == 0.0 else "goes backwards"
         row = int(lines[i + 1]) if lines is not None else i + 3
         raise InputError(
-            f"{path}: row {row}, column {column}: time {what} ({time[i]:g} then {time[i + 1]:g}); "
+            f"{path}: row {row}, column {column}: time {what} ({float(time[i])!r} then {float(time[i + 1])!r}); "
             f"expected strictly increasing time"
         )
 
