@@ -188,21 +188,17 @@ class SimulationResult:
         pd = require("pandas", "pandas", "to_pandas()")
         return pd.DataFrame(self.columns())
 
-    def to_csv(self, path: str | os.PathLike[str]) -> None:
-        """Write the samples as CSV, atomically.
+    def to_csv(self, path: str | os.PathLike[str], *, quiet: bool = False) -> None:
+        """Write the samples as CSV, atomically (:func:`mudforce.tables.write_csv`: ``.12g``, numpy speed).
 
         Columns: ``time_s, depth_m, velocity_m_s, mud_displacement_m,
         mud_velocity_m_s, f_e1_Pa, f_e2_Pa, f_s_Pa, force_N, state``.
+        A long write shows progress on a terminal (stderr) unless ``quiet``.
         """
-        from mudforce.io import atomic_open
+        from mudforce.tables import write_csv
 
-        names = [name for name, _ in _CSV_COLUMNS]
-        block = np.column_stack([getattr(self, attr) for _, attr in _CSV_COLUMNS])
-        states = self.state_names
-        with atomic_open(path, "w") as handle:
-            handle.write(",".join([*names, "state"]) + "\n")
-            for row, st in zip(block, states, strict=True):
-                handle.write(",".join(f"{x:.12g}" for x in row) + f",{st}\n")
+        write_csv(path, {name: getattr(self, attr) for name, attr in _CSV_COLUMNS},
+                  ("state", self.state, STATE_NAMES), quiet=quiet)
 
     def plot(self, path: str | os.PathLike[str] | None = None, *, title: str | None = None) -> Any:
         """Plot force over time and over depth, with the contact states (needs matplotlib).

@@ -158,7 +158,7 @@ PINNED: dict[str, list[str]] = {
         "summary_json",
     ],
     "mudforce.simulation": ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"],
-    "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "read_columns", "read_trajectory"],
+    "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv"],
     "mudforce.tracker": [
         "DEFAULT_GRID", "MudTracker", "MudTrackers", "TrackEstimate", "TrackEstimates", "TrackResult",
         "default_velocity_filter", "track",

@@ -205,7 +205,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.io import atomic_open
 
     try:
-        result.to_csv(out)
+        result.to_csv(out, quiet=args.quiet)
         if plot is not None and png is not None:
             with atomic_open(plot, "wb") as handle:
                 handle.write(png)
