@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
 from collections.abc import Mapping, Sequence
@@ -81,11 +82,18 @@ def run_cli(args: Sequence[str], cwd: Path | None = None, timeout: float = 180, 
                           timeout=timeout, env=cli_env(path_first, env))
 
 
-def start_cli(args: Sequence[str], cwd: Path | None = None, *,
+def start_cli(args: Sequence[str], cwd: Path | None = None, *, path_first: Sequence[Path | str] = (),
               env: Mapping[str, str] | None = None) -> subprocess.Popen[str]:
-    """Start ``python -m mudforce ARGS`` in ``cwd`` without waiting, stdout and stderr piped, no stdin."""
+    """Start ``python -m mudforce ARGS`` in ``cwd`` without waiting, stdout and stderr piped, no stdin, and
+    SIGINT at its default (a test run in the background of a shell would otherwise pass it on ignored).
+    ``path_first`` goes before the package on ``PYTHONPATH`` (a ``sitecustomize`` that stops at a chosen point)."""
     return subprocess.Popen([*PYTHON_M, *args], cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=cli_env((), env))
+                            stderr=subprocess.PIPE, text=True, env=cli_env(path_first, env),
+                            preexec_fn=_default_sigint if os.name == "posix" else None)
+
+
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def run_batch(cases: Sequence[tuple[Sequence[str], Path]], timeout: float = 300) -> list[Run]:

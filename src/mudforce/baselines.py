@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from mudforce.equations import maxwell_strain_step
+from mudforce.equations import array_form, drag_acts, drag_stress, maxwell_strain_step
 from mudforce.errors import InputError, real_array
 from mudforce.foot import Foot
 from mudforce.parameters import TABLE_I
@@ -139,14 +139,14 @@ def drft_force(time: Any, depth: Any, k_rft: float, lambda_: float = _LAMBDA, rh
     """
     v = branch_velocity(time, depth)
     z = np.asarray(depth, dtype=np.float64)
-    drag = np.where(z > 0.0, float(lambda_) * float(rho) * v * np.abs(v), 0.0) * _area(foot)
+    drag = np.where(array_form(drag_acts)(z), array_form(drag_stress)(float(lambda_), float(rho), v), 0.0) * _area(foot)
     force: np.ndarray = granular_rft_force(time, depth, k_rft, foot) + drag
     return force
 
 
 @njit(cache=True, nogil=True)
 def _maxwell_only_loop(t: np.ndarray, z: np.ndarray, k_i: float, tau_i: float, k_w: float, tau_w: float,
-                       drag: float, area: float) -> np.ndarray:
+                       lam: float, rho_m: float, area: float) -> np.ndarray:
     """The Maxwell-only force [N] per sample: the contact state machine of ``docs/model.md`` without necking.
 
     FREE until the foot crosses the surface (CONTACT from the crossing
@@ -181,8 +181,8 @@ def _maxwell_only_loop(t: np.ndarray, z: np.ndarray, k_i: float, tau_i: float, k
         else:
             strain = maxwell_strain_step(strain, v, tau_w, math.exp(-(dt - start) / tau_w))
             stress = k_w * strain
-        if z1 > 0.0:
-            stress += drag * v * abs(v)
+        if drag_acts(z1):
+            stress += drag_stress(lam, rho_m, v)
         out[k] = stress * area
     return out
 
@@ -219,5 +219,5 @@ def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w:
             raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
                              f"got {value!r}")
     force: np.ndarray = _maxwell_only_loop(t, z, float(k_m_i), float(b_m_i) / float(k_m_i), float(k_m_w),
-                                           float(b_m_w) / float(k_m_w), float(lambda_) * float(rho_m), _area(foot))
+                                           float(b_m_w) / float(k_m_w), float(lambda_), float(rho_m), _area(foot))
     return force

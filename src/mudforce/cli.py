@@ -5,7 +5,9 @@ provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 
 Exit status: 0 on success, 2 for bad input (one line on stderr, no
 traceback, no output file touched), 1 when the system fails mid-way (an
-``OSError``: one line too), 130 when interrupted. Bad input is refused at
+``OSError``: one line too), 130 when interrupted (Ctrl-C, SIGINT: one line,
+``mudforce: interrupted``, even when the interrupt came inside a callback
+where Python cannot raise it; see :mod:`mudforce._interrupt`). Bad input is refused at
 its root (units, bounds, strict readers: :mod:`mudforce.units`,
 :mod:`mudforce.tables`, :mod:`mudforce.io`); an ``OverflowError``,
 ``RecursionError`` or ``ValueError`` that still escapes a command is
@@ -16,10 +18,12 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
+from mudforce import _interrupt
 from mudforce.errors import InputError
 
 __all__ = ["COMMANDS", "main"]
@@ -38,8 +42,20 @@ COMMANDS: tuple[str, ...] = (
 )
 
 
+#: A word that is a value, not an option, though it starts with "-": a signed number with or without
+#: its unit (``-0.5N``, ``-5mm``, ``-1e-3``, ``-.5``), or a signed infinity or NaN (which the value's own
+#: check then refuses with its message). No option of any command starts with "-<digit>", "-inf" or "-nan".
+_NEGATIVE_VALUE = re.compile(r"^-(?:\.?\d|inf|nan)", re.IGNORECASE)
+
+
 class _Parser(argparse.ArgumentParser):
-    """An argparse parser whose errors are one line and exit status 2."""
+    """An argparse parser whose errors are one line and exit status 2, and which reads ``--bias -0.5N`` as
+    an option and its value (argparse's own rule only takes plain numbers like ``-1`` for values, so it
+    reported "expected one argument"); a value that must not be negative is refused by its own check."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_VALUE
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
@@ -73,7 +89,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     try:
-        return int(args._run(args) or 0)
+        with _interrupt.watch():  # Ctrl-C always stops the command, even where Python would lose it
+            status = int(args._run(args) or 0)
+            _interrupt.check()  # an interrupt lost along the way: not a success
+        return status
     except InputError as exc:
         print(f"mudforce {args.command}: error: {exc}", file=sys.stderr)
         return 2

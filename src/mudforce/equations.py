@@ -58,10 +58,14 @@ from mudforce._pow import power
 _cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._cache)
 
 __all__ = [
+    "array_form",
+    "drag_acts",
     "drag_stress",
     "intrusion_stress",
     "maxwell_strain_increment",
+    "maxwell_strain_rate",
     "maxwell_strain_step",
+    "neck_breaks",
     "neck_filter_closed_form",
     "neck_filter_response",
     "neck_filter_response_increment",
@@ -75,6 +79,7 @@ __all__ = [
     "necking_velocity",
     "nonlinear_spring_stress",
     "rest_band_forces",
+    "submerged_drag_stress",
     "total_stress",
     "viscoelastic_stress",
     "withdrawal_stress",
@@ -91,6 +96,16 @@ def _arithmetic(function: _F) -> _F:
     return decorator(function)
 
 
+def array_form(function: Callable[..., Any]) -> Callable[..., Any]:
+    """A plain-arithmetic function of this module as Python (numba's ``.py_func``), for whole arrays.
+
+    The same operations on numpy or JAX arrays as the compiled function on
+    scalars (see the module), e.g. ``array_form(drag_stress)(lam, rho, v)``.
+    """
+    python: Callable[..., Any] = getattr(function, "py_func", function)
+    return python
+
+
 @njit(cache=True, nogil=True)
 def viscoelastic_stress(k_m: float, strain: float) -> float:
     """Visco-elastic (Maxwell) stress ``f_e1 = k_m (z_i - z_m)`` [Pa], Eq. (2).
@@ -103,6 +118,25 @@ def viscoelastic_stress(k_m: float, strain: float) -> float:
         Element extension ``z_i - z_m`` [m].
     """
     return k_m * strain
+
+
+@_arithmetic
+def maxwell_strain_rate(velocity: float, mud_velocity: float) -> float:
+    """Eq. (3) as a rate: ``de/dt = dz_i/dt - dz_m/dt`` [m/s], with ``dz_m/dt = e / tau`` on a branch.
+
+    For an integrator of the coupled dynamics (the built-in engine); the
+    sampled paths step Eq. (3) in closed form (:func:`maxwell_strain_step`).
+    Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    velocity : float
+        Foot velocity ``dz_i/dt`` [m/s].
+    mud_velocity : float
+        Mud velocity ``dz_m/dt`` [m/s] (the second value of :func:`intrusion_stress` or
+        :func:`withdrawal_stress`).
+    """
+    return velocity - mud_velocity
 
 
 @njit(cache=True, nogil=True)
@@ -175,6 +209,40 @@ def drag_stress(lambda_: float, rho_m: float, velocity: float) -> float:
     The caller applies it only while the foot is below the surface (docs/model.md).
     """
     return lambda_ * rho_m * velocity * abs(velocity)
+
+
+@_arithmetic
+def drag_acts(depth: float) -> bool:
+    """Whether the drag of Eq. (5) acts: only while the foot is below the surface, ``z_i > 0`` (docs/model.md).
+
+    The one statement of the drag's gate; :func:`submerged_drag_stress`
+    applies it in the compiled paths, ``where(drag_acts(z), ...)`` on
+    arrays. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    depth : float
+        Depth ``z_i`` [m] at which the drag is evaluated, positive down.
+    """
+    return depth > 0.0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def submerged_drag_stress(lambda_: float, rho_m: float, velocity: float, depth: float) -> float:
+    """The drag stress [Pa] of Eq. (5) where it acts (:func:`drag_acts`), else 0.
+
+    Parameters
+    ----------
+    lambda_ : float
+        Drag scaling factor [-].
+    rho_m : float
+        Mud density [kg/m^3].
+    velocity : float
+        Foot velocity ``dz_i/dt`` [m/s] (positive down).
+    depth : float
+        Depth ``z_i`` [m] at which the drag is evaluated, positive down.
+    """
+    return drag_stress(lambda_, rho_m, velocity) if drag_acts(depth) else 0.0
 
 
 @njit(cache=True, nogil=True)
@@ -267,11 +335,11 @@ def necking_time(
         Time from the interval's start to necking [s], in ``[0, length]``,
         or ``-1.0`` if the neck does not break within the interval.
     """
-    if k_m_w * strain + drag < -sigma_y:
+    if neck_breaks(k_m_w, strain, drag, sigma_y):
         return 0.0
     # the strain at the interval's end exactly as the stepper computes it
     end = maxwell_strain_step(strain, velocity, tau_w, decay)
-    if k_m_w * end + drag >= -sigma_y:
+    if not neck_breaks(k_m_w, end, drag, sigma_y):
         return -1.0
     vt = velocity * tau_w
     target = yield_strain(k_m_w, sigma_y, drag)
@@ -281,6 +349,27 @@ def necking_time(
     if t > length:
         return length
     return t
+
+
+@_arithmetic
+def neck_breaks(k_m_w: float, strain: float, drag: float, sigma_y: float) -> bool:
+    """Whether the neck yields, Eq. (9): the withdrawal stress ``k_m_w e + f_s`` is below ``-sigma_y``.
+
+    Suction only (docs/model.md); the one statement of the necking test.
+    Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    k_m_w : float
+        Withdrawal stiffness [Pa/m].
+    strain : float
+        Maxwell strain ``e = z_i - z_m`` [m].
+    drag : float
+        Drag stress ``f_s`` [Pa], Eq. (5) (0 above the surface).
+    sigma_y : float
+        Yield stress [Pa].
+    """
+    return k_m_w * strain + drag < -sigma_y
 
 
 @_arithmetic

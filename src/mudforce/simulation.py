@@ -15,7 +15,7 @@ from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, out_of_
 from mudforce.errors import InputError, real_array
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
-from mudforce.velocity import VelocityFilter, auto_velocity_filter
+from mudforce.velocity import DepthNoise, VelocityFilter, auto_velocity_filter, choose_velocity_filter
 
 if TYPE_CHECKING:
     import pandas
@@ -85,6 +85,10 @@ class SimulationResult:
         The foot used.
     velocity_filter : VelocityFilter
         The branch-velocity filter used (resolved from ``"auto"``).
+    depth_noise : DepthNoise or None
+        The depth noise ``"auto"`` found and chose the filter by
+        (:func:`~mudforce.velocity.analyse_depth_noise`); None when the
+        filter was given.
     """
 
     time: np.ndarray
@@ -96,6 +100,7 @@ class SimulationResult:
     params: MudParameters
     foot: Foot
     velocity_filter: VelocityFilter = field(default_factory=VelocityFilter.exact)
+    depth_noise: DepthNoise | None = None
     # the stepper's constants, for the outputs computed on access (see _derived)
     _params_row: np.ndarray = field(default_factory=lambda: np.empty((1, K.N_PARAMS)), repr=False)
     _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
@@ -371,9 +376,10 @@ def simulate(
         Foot geometry; the paper's 51 x 38 mm cuboid by default.
     velocity_filter : {"auto", "exact"} or VelocityFilter
         How the intrusion/withdrawal branch is chosen. ``"auto"`` (default)
-        estimates the depth noise: clean input gets the paper's exact rule,
-        noisy input a smoothing secant with a deadband
-        (:mod:`mudforce.velocity`).
+        tells the depth's white noise from its motion: clean input, smooth
+        or not, gets the paper's exact rule, noisy input a smoothing secant
+        with a deadband (:mod:`mudforce.velocity`); the result's
+        ``velocity_filter`` and ``depth_noise`` say what was chosen and why.
 
     Returns
     -------
@@ -396,7 +402,11 @@ def simulate(
         # arrays of our own are not copied; the compiled loop holds every sample it copies to them
         _check_values(t, z)
     foot = Foot.paper() if foot is None else foot
-    vf = resolve_velocity_filter(velocity_filter, t, z)
+    noise: DepthNoise | None = None
+    if isinstance(velocity_filter, str) and velocity_filter == "auto":
+        vf, noise = choose_velocity_filter(t, z)
+    else:
+        vf = resolve_velocity_filter(velocity_filter, t, z)
     prow = params_row(params, foot, vf)[None, :]
     own_t, own_z = (np.empty_like(t), np.empty_like(z)) if callers else (t, z)
     copies = (own_t, own_z) if callers else (_NO_COPY, _NO_COPY)
@@ -423,5 +433,6 @@ def simulate(
         params=params,
         foot=foot,
         velocity_filter=vf,
+        depth_noise=noise,
         _params_row=prow,
     )

@@ -93,7 +93,10 @@ PINNED: dict[str, list[str]] = {
     "mudforce.commands.simulate": [
         "FOOT_EXAMPLES", "HELP", "MAX_SAMPLES", "NAME", "add_arguments", "check_output_path", "parse_foot", "run",
     ],
-    "mudforce.commands.synth": ["HELP", "MAX_SAMPLES", "MAX_TRIALS", "NAME", "add_arguments", "run"],
+    "mudforce.commands.synth": [
+        "DEPTH_NOISE_SIGMAS", "HELP", "MAX_BIAS", "MAX_FORCE_NOISE", "MAX_SAMPLES", "MAX_TRIALS", "NAME",
+        "add_arguments", "run",
+    ],
     "mudforce.commands.track": ["COLUMNS", "HELP", "NAME", "add_arguments", "run"],
     "mudforce.contact": ["ContactSample", "ContactState", "MudContact", "check_states"],
     "mudforce.dynamics": [
@@ -102,14 +105,15 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.dynamics.engine": ["simulate_foot"],
     "mudforce.dynamics.naive": ["naive_drop"],
-    "mudforce.dynamics.rest_band": ["branch_forces", "rest_band"],
+    "mudforce.dynamics.rest_band": ["branch_forces", "necked_force", "rest_band"],
     "mudforce.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
     "mudforce.equations": [
-        "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_step", "neck_filter_closed_form",
+        "array_form", "drag_acts", "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_rate",
+        "maxwell_strain_step", "neck_breaks", "neck_filter_closed_form",
         "neck_filter_response", "neck_filter_response_increment", "neck_filter_transition",
         "neck_filter_transition_increment", "neck_filter_update", "neck_filter_update_increment", "necked_mud_motion",
         "necked_stress", "necking_time", "necking_velocity", "nonlinear_spring_stress", "rest_band_forces",
-        "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
+        "submerged_drag_stress", "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [
         "MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
@@ -117,9 +121,14 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
+    "mudforce.granular": [
+        "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",
+        "medium_scale", "rft3d_alpha", "rft3d_angles", "rft3d_basis", "rft_alpha", "rft_element_alpha",
+        "rft_element_forces", "rft_wrench",
+    ],
     "mudforce.io": [
-        "MAX_JSON_BYTES", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path", "dumps_json",
-        "load_json", "refuse_overwriting_inputs", "write_target",
+        "MAX_JSON_BYTES", "StagedOutputs", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path",
+        "check_replaceable_dir", "clean_stale", "dumps_json", "load_json", "refuse_overwriting_inputs", "write_target",
     ],
     "mudforce.jax": [
         "CONTACT", "FREE", "NECKED", "UNSTARTED", "Necking", "Params", "State", "StepConstants", "branch_forces",
@@ -157,6 +166,10 @@ PINNED: dict[str, list[str]] = {
         "MODEL_LABELS", "NINE", "PAPER_UNITS", "POORLY_DETERMINED", "determined", "in_paper_units", "make_summary",
         "summary_json",
     ],
+    "mudforce.shapes": [
+        "DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
+        "from_mujoco_geom", "mesh", "sole", "sphere",
+    ],
     "mudforce.simulation": ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"],
     "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv"],
     "mudforce.tracker": [
@@ -166,7 +179,9 @@ PINNED: dict[str, list[str]] = {
     "mudforce.tracking_plots": ["plot_track", "tracking_figure"],
     "mudforce.units": ["KINDS", "LIMITS", "format_quantity", "parse_list", "parse_quantity"],
     "mudforce.vectorized": ["MudContacts"],
-    "mudforce.velocity": ["NOISE_FLOOR_M", "VelocityFilter", "auto_velocity_filter", "estimate_depth_noise"],
+    "mudforce.velocity": ["MAX_NOISE_ORDER", "MIN_NOISE_SAMPLES", "NOISE_FLOOR_M", "SLOWEST_MOTION", "DepthNoise",
+                          "VelocityFilter", "analyse_depth_noise", "auto_velocity_filter", "choose_velocity_filter",
+                          "describe_velocity_rule", "estimate_depth_noise"],
 }
 
 

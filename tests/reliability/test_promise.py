@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 from mudforce.calibration.models import CHEN2024
-from mudforce.commands.synth import MAX_SAMPLES, MAX_TRIALS
+from mudforce.commands.synth import DEPTH_NOISE_SIGMAS, MAX_BIAS, MAX_FORCE_NOISE, MAX_SAMPLES, MAX_TRIALS
 from mudforce.foot import AREA_RANGE, SIZE_RANGE
 from mudforce.parameters import PARAMETER_RANGES, TABLE_I
 from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT
@@ -53,6 +53,9 @@ def test_promise_states_the_bounds_in_force() -> None:
     for quantity, unit in (("time", "s"), ("depth", "m"), ("force", "N"), ("velocity", "m/s")):
         assert re.search(rf"\\\|{quantity}\\\| <= {_f(COLUMN_LIMITS[quantity])} {re.escape(unit)}\b", section), quantity
     assert f"{MAX_TRIALS}" in section and f"{MAX_SAMPLES // 1_000_000} million samples" in section
+    words = " ".join(section.split())  # the prose, line breaks aside
+    assert f"force noise at most {_f(MAX_FORCE_NOISE)} N, a bias within ±{_f(MAX_BIAS)} N" in words
+    assert f"depths plus {DEPTH_NOISE_SIGMAS} standard deviations" in words
 
 
 def test_table_i_and_the_fitters_box_lie_inside_the_bounds() -> None:

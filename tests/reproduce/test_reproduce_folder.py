@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 import mudforce
+import mudforce.io
 from mudforce.errors import InputError
-from mudforce.reproduce import output
 from mudforce.reproduce.output import StagedFolder, check_report_dir, clean_stale
 from mudforce_cli_harness import run_cli
 
@@ -71,7 +71,7 @@ def test_cli_refuses_the_package_templates_folder(tmp_path: Path) -> None:
 @pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "two-renames"])
 def test_commit_replaces_the_folder_whole(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, exchange: bool) -> None:
     if not exchange:
-        monkeypatch.setattr(output, "_exchange", lambda a, b: False)
+        monkeypatch.setattr(mudforce.io, "_exchange", lambda a, b: False)
     out = tmp_path / "out"
     _fill(out, OLD)
     with StagedFolder(check_report_dir(out)) as staged:

@@ -96,7 +96,8 @@ def _old_or_complete_new(out: Path) -> str:
 
 
 def _staged(out: Path) -> list[Path]:
-    return sorted(out.parent.glob(f".{out.name}.mudforce-reproduce-new-*"))
+    prefix = f".{out.name}.mudforce-reproduce-new-"  # compared, not a glob pattern: names may hold [ or *
+    return sorted(p for p in out.parent.iterdir() if p.name.startswith(prefix))
 
 
 def _no_worker_survives(workers: dict[int, str]) -> None:
@@ -124,7 +125,7 @@ def test_sigterm_during_the_fits(tmp_path: Path) -> None:
 
 
 def test_sigkill_during_the_figures(tmp_path: Path) -> None:
-    out = tmp_path / "out"
+    out = tmp_path / "out[1]"  # a name a glob pattern would not match (its staged folder was never removed)
     proc = _start(out)
     try:
         # the figures are being written once the staged folder holds a PNG
@@ -147,4 +148,4 @@ def test_sigkill_during_the_figures(tmp_path: Path) -> None:
     assert _wait_for(lambda: bool(removed.extend(clean_stale(out)) or removed), 10.0), "the staged folder stays locked"
     assert removed == left and _staged(out) == []
     assert _old_or_complete_new(out) == "old"
-    assert os.listdir(tmp_path) == ["out"]
+    assert os.listdir(tmp_path) == ["out[1]"]

@@ -49,7 +49,6 @@ from mudforce._kernel.layout import (
     _compiled,
 )
 from mudforce.equations import (
-    drag_stress,
     intrusion_stress,
     maxwell_strain_step,
     neck_filter_response,
@@ -60,6 +59,7 @@ from mudforce.equations import (
     necking_time,
     necking_velocity,
     nonlinear_spring_stress,
+    submerged_drag_stress,
     total_stress,
     withdrawal_stress,
     yield_strain,
@@ -299,8 +299,7 @@ def piece_drag(p: Params, z_a: float, v: float, length: float) -> float:
     The drag acts while the foot is below the surface; a piece does not
     cross it, so its midpoint decides.
     """
-    z_mid = z_a + 0.5 * v * length
-    return drag_stress(p.lam, p.rho_m, v) if z_mid > 0.0 else 0.0
+    return submerged_drag_stress(p.lam, p.rho_m, v, z_a + 0.5 * v * length)
 
 
 @_compiled(inline="always")
@@ -464,7 +463,7 @@ def stress_parts(p: Params, s: State, v: float) -> tuple[float, float, float, bo
     """
     if s.mode == FREE:
         return 0.0, 0.0, v, False
-    fs = drag_stress(p.lam, p.rho_m, v) if s.depth > 0.0 else 0.0
+    fs = submerged_drag_stress(p.lam, p.rho_m, v, s.depth)
     if s.mode == CONTACT:
         if s.direction >= 0.0:
             fe1, mud_velocity = intrusion_stress(p.k_i, p.tau_i, s.strain)

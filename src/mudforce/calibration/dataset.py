@@ -34,7 +34,7 @@ import numpy as np
 from mudforce.errors import InputError, real_array
 from mudforce.foot import Foot, parse_foot
 from mudforce.io import atomic_write_text, dumps_json, load_json
-from mudforce.tables import COLUMN_UNITS, check_time, read_columns
+from mudforce.tables import COLUMN_LIMITS, COLUMN_UNITS, check_time, read_columns
 
 __all__ = [
     "MANIFEST_NAME",
@@ -141,7 +141,8 @@ def foot_from_json(data: Any, where: str) -> Foot:
 
     Accepted: ``{"shape": "cuboid", "length_m", "width_m"}``,
     ``{"shape": "disc", "diameter_m"}``, ``{"shape": "custom", "area_m2", "width_m"}``;
-    lengths may be given in mm instead (``length_mm`` ...).
+    lengths may be given in mm instead (``length_mm`` ...), but each quantity in one
+    unit only (``length_m`` beside ``length_mm`` is refused).
     """
     example = '{"shape": "cuboid", "length_m": 0.051, "width_m": 0.038}'
     if not isinstance(data, Mapping):
@@ -159,6 +160,9 @@ def foot_from_json(data: Any, where: str) -> Foot:
         found = [(s, f) for s, f in spellings if s in data]
         if not found:
             raise InputError(f"{where}: foot needs {spellings[0][0]} (or {spellings[1][0]}) for shape {shape!r}")
+        if len(found) > 1:  # as the CSV readers refuse depth_m beside depth_mm: which would count?
+            raise InputError(f"{where}: foot gives both {found[0][0]} and {found[1][0]} for its {quantity}; "
+                             "keep one of them")
         key, factor = found[0]
         value = data[key]
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
@@ -365,10 +369,40 @@ def _trial_csv(trial: Trial) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: Significant digits of the time column that :func:`_trial_csv` writes (its ``.10g``).
+_TIME_DIGITS = 10
+
+
+def _check_readable(trial: Trial) -> None:
+    """Refuse a trial that :func:`load_trial` would refuse once written: too few samples, a value beyond
+    :data:`mudforce.tables.COLUMN_LIMITS`, time that does not increase as written (10 significant digits)."""
+    where = f"trial {trial.name}"
+    if trial.time.size < MIN_SAMPLES:
+        raise InputError(f"{where}: only {trial.time.size} samples; the readers need at least {MIN_SAMPLES} "
+                         "per trial (a higher rate or a longer motion)")
+    for quantity, unit, values in (("time", "s", trial.time), ("depth", "m", trial.depth),
+                                   ("force", "N", trial.force)):
+        limit = COLUMN_LIMITS[quantity]
+        worst = float(np.max(np.abs(values)))
+        if not worst <= limit:  # NaN too
+            raise InputError(f"{where}: the {quantity} reaches {worst:.6g} {unit}, beyond the +-{limit:g} {unit} "
+                             f"that the readers accept (lower the noise, bias, depth or size that made it)")
+    time = np.asarray(trial.time, dtype=np.float64)
+    # written with 10 significant digits, two times stay distinct if they differ by more than 1e-9 of either
+    close = np.diff(time) <= 10.0 ** (1 - _TIME_DIGITS) * np.maximum(np.abs(time[:-1]), np.abs(time[1:]))
+    if np.any(close):
+        i = int(np.argmax(close))
+        raise InputError(f"{where}: the times {time[i]:.17g} s and {time[i + 1]:.17g} s would not increase as "
+                         f"written ({_TIME_DIGITS} digits); expected steps of more than 1e-9 of the time")
+
+
 def save_dataset(dataset: Dataset, directory: str | os.PathLike[str]) -> Path:
     """Write ``dataset`` as a folder: one CSV per trial, then ``dataset.json`` (each atomically).
 
     Returns the manifest's path. Trial names must be distinct file names ending in ``.csv``.
+    Nothing is written unless every trial can be read back by :func:`load_dataset`
+    (at least :data:`MIN_SAMPLES` samples, values within :data:`mudforce.tables.COLUMN_LIMITS`,
+    times that increase as written): no file that ``mudforce fit`` cannot read.
     """
     out = Path(directory)
     if out.exists() and not out.is_dir():
@@ -381,6 +415,8 @@ def save_dataset(dataset: Dataset, directory: str | os.PathLike[str]) -> Path:
     for name in names:
         if Path(name).name != name or name == MANIFEST_NAME or not name.endswith(".csv"):
             raise InputError(f"trial name {name!r} must be a plain file name ending in .csv")
+    for trial in dataset.trials:
+        _check_readable(trial)
     out.mkdir(parents=True, exist_ok=True)
     entries: list[dict[str, Any]] = []
     for trial in dataset.trials:

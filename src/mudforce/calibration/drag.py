@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from mudforce.equations import array_form, drag_stress
 from mudforce.errors import InputError, is_real, real_array
 from mudforce.foot import AREA_RANGE
 from mudforce.parameters import PARAMETER_RANGES, RHO_M
@@ -125,7 +126,7 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = RHO_M,
     p = 2 if intercept else 1
     if v.size < p + 1:
         raise InputError(f"fit-drag needs at least {p + 1} samples, got {v.size}")
-    x = rho_m * area * np.sign(v) * v**2  # [kg/m] ... force per unit lambda [N]
+    x: np.ndarray = array_form(drag_stress)(1.0, rho_m, v) * area  # Eq. (5) with lambda = 1, times S [N]
     if np.count_nonzero(x) == 0 or (intercept and np.ptp(x) == 0.0):
         raise InputError("fit-drag needs samples at more than one non-zero speed")
     # solve in scaled columns (x / max|x|): the normal matrix then cannot overflow or underflow

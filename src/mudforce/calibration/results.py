@@ -9,18 +9,16 @@ samples, which the file does not hold).
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from mudforce.errors import InputError
 from mudforce.foot import Foot
-from mudforce.io import atomic_write_text
+from mudforce.io import atomic_write_text, load_json
 from mudforce.parameters import MudParameters
 
 __all__ = [
@@ -294,14 +292,10 @@ def load_fit(path: str | os.PathLike[str]) -> FitResult:
     Everything the file holds comes back (parameters, standard errors,
     correlations, RMSEs, noise, warnings, per-trial summaries); the trials'
     samples are not in the file, so each :class:`TrialFit` has empty arrays.
+    The file is read strictly (:func:`mudforce.io.load_json`: no NaN, no key twice).
     ``load_fit(p).to_dict()`` equals the file's object.
     """
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{path}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    data = load_json(path, "fit result", 'a fit.json object with "conditions"')
     if not isinstance(data, dict) or not isinstance(data.get("conditions"), list):
         raise InputError(f'{path}: expected a fit.json object with "conditions"')
     try:

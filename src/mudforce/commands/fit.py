@@ -17,6 +17,11 @@ determined), the RMSE over all samples and per trial, the noise floor and
 misfit_ratio (RMSE / floor; model_misses_data above 1.25), the parameter
 correlation matrix, and warnings for parameters the data cannot determine
 and for a model that misses the data.
+
+With --report DIR, the fit and its report are built aside and swapped in
+together once both are complete (DIR must be new, empty or an earlier
+report's: it is replaced whole), so an interrupted run leaves the old pair
+or the new one; the next run removes what a killed one left beside them.
 """
 
 from __future__ import annotations
@@ -26,12 +31,17 @@ import math
 
 from mudforce.errors import InputError, seed_int
 from mudforce.foot import FOOT_EXAMPLES
-from mudforce.io import check_output_dir, check_output_path, refuse_overwriting_inputs
+from mudforce.io import StagedOutputs, check_output_path, check_replaceable_dir, refuse_overwriting_inputs
 
 __all__ = ["HELP", "NAME", "add_arguments", "run"]
 
 NAME = "fit"
 HELP = "fit the model to an intrusion dataset (per water content, staged, with standard errors)"
+
+#: What a report folder may hold besides its PNG figures (it is replaced whole).
+_REPORT_FILES = frozenset({"report.md"})
+#: The tag in the names of the staged siblings of --out and --report.
+_TAG = "mudforce-fit"
 
 
 def _names(text: str | None, option: str) -> list[str]:
@@ -68,7 +78,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``mudforce fit``."""
     parser.add_argument("dataset", metavar="DATASET", help="dataset folder, its dataset.json, or a tidy CSV")
     parser.add_argument("--out", required=True, metavar="FIT.json", help="where to write the fit (JSON)")
-    parser.add_argument("--report", metavar="DIR", help="also write a markdown + PNG report there (needs matplotlib)")
+    parser.add_argument("--report", metavar="DIR",
+                        help="also write a markdown + PNG report there (needs matplotlib): a new or empty folder, "
+                             "or an earlier report's, replaced whole with FIT.json when both are complete")
     parser.add_argument("--shared", metavar="NAMES", help="parameters shared across water contents, e.g. k_m_w,b_m_w")
     parser.add_argument("--free", metavar="NAMES", help="also fit these normally fixed parameters, e.g. lambda")
     parser.add_argument("--fix", metavar="NAME=VALUE,...", help="hold parameters at values in SI, e.g. beta=0.5")
@@ -98,8 +110,7 @@ def run(args: argparse.Namespace) -> int:
     # every input the dataset was read from (a manifest's trial files too), before anything is written
     inputs = [("DATASET", args.dataset), *(("file", p) for p in dataset.inputs)]
     refuse_overwriting_inputs([("--out", out)], inputs, [("--report", args.report)])
-    if args.report is not None:
-        check_output_dir(args.report, "--report")
+    report = check_replaceable_dir(args.report, "--report", _REPORT_FILES, _TAG) if args.report is not None else None
     extra = _names(args.free, "--free")
     for name in extra:
         if name not in model.parameter_names:
@@ -111,16 +122,24 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--fix {name}: unknown parameter; expected one of {', '.join(model.parameter_names)}")
         if name in extra:
             raise InputError(f"--free {name} and --fix {name}=... conflict; give one of them")
-    result = fit_dataset(dataset, model=model, free=free, fixed=fixed, shared=_names(args.shared, "--shared"),
-                         seed=seed, quiet=args.quiet)
-    result.save(args.out)
-    if args.report:
+    if report is None:
+        result = fit_dataset(dataset, model=model, free=free, fixed=fixed, shared=_names(args.shared, "--shared"),
+                             seed=seed, quiet=args.quiet)
+        result.save(out)
+    else:
         from mudforce.calibration.report import write_report
 
-        speeds = {speed_key(t.nominal_velocity, t.velocity) for c in result.conditions for t in c.trials}
-        per_speed = fit_by_velocity(dataset, model=model, free=free, fixed=fixed, seed=seed,
-                                    quiet=args.quiet) if len(speeds) > 1 else []
-        write_report(result, args.report, velocity_fits=per_speed)
+        # the fit and its report are built aside and swapped in together at the end: an interrupted run
+        # leaves the old pair (or, once swapped, the new one), and the next run removes what a killed one left
+        with StagedOutputs(_TAG, folders=[report], files=[out]) as staged:
+            result = fit_dataset(dataset, model=model, free=free, fixed=fixed,
+                                 shared=_names(args.shared, "--shared"), seed=seed, quiet=args.quiet)
+            speeds = {speed_key(t.nominal_velocity, t.velocity) for c in result.conditions for t in c.trials}
+            per_speed = fit_by_velocity(dataset, model=model, free=free, fixed=fixed, seed=seed,
+                                        quiet=args.quiet) if len(speeds) > 1 else []
+            result.save(staged.staged_path(out))
+            write_report(result, staged.staged_path(report), velocity_fits=per_speed)
+            staged.commit()
     if not args.quiet:
         for c in result.conditions:
             print(f"W = {c.water_content:.1%}: RMSE {c.rmse:.3f} N (force noise {c.force_noise:.3f} N, "

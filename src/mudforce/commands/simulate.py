@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -63,10 +62,6 @@ _PROTOCOL_OPTIONS: tuple[tuple[str, str, str, str, bool], ...] = (
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Declare the options of ``mudforce simulate``."""
     parser.formatter_class = argparse.RawDescriptionHelpFormatter  # keep the docstring's paragraphs
-    # argparse reads "--depth -5mm" as a missing value followed by an option "-5mm"; no option of this
-    # command starts with "-<digit>", so take such words as values and let parse_quantity refuse the sign
-    if isinstance(getattr(parser, "_negative_number_matcher", None), re.Pattern):
-        parser._negative_number_matcher = re.compile(r"^-\.?\d")
     mud = parser.add_argument_group("mud (exactly one)")
     which = mud.add_mutually_exclusive_group(required=True)
     which.add_argument("--water-content", metavar="W",
@@ -96,7 +91,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"foot geometry: {FOOT_EXAMPLES} (default: the paper's cuboid:51mmx38mm)")
     parser.add_argument("--velocity-filter", choices=("auto", "exact"), default="auto",
                         help="how the intrusion/withdrawal branch is chosen from the depth: auto "
-                             "(exact for clean input, noise-robust for measured data; default) or exact")
+                             "(exact for clean input of any shape, noise-robust when white noise is found in "
+                             "the depth; default; the summary says which) or exact")
     parser.add_argument("--out", metavar="FILE.csv", required=True, help="write the samples here (CSV)")
     parser.add_argument("--plot", metavar="FILE.png", default=None,
                         help="also draw force over time and depth as PNG (needs matplotlib)")
@@ -156,6 +152,8 @@ def _motion(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, str]:
 
 
 def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: Path | None) -> str:
+    from mudforce.velocity import describe_velocity_rule
+
     k_max = int(np.argmax(result.force))
     k_min = int(np.argmin(result.force))
     necks = [f"{t:.4g} s" for t in result.necking_times[:5]]
@@ -170,6 +168,7 @@ def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: P
         f"peak force: {result.force[k_max]:.4g} N at {result.time[k_max]:.4g} s",
         f"min force: {result.force[k_min]:.4g} N at {result.time[k_min]:.4g} s",
         f"necking: {', '.join(necks)}",
+        f"branch rule: {describe_velocity_rule(result.velocity_filter, result.depth_noise)}",
         f"wrote {len(result)} rows to {out}",
     ]
     if plot is not None:

@@ -6,24 +6,47 @@ holds, and withdraws at the same speed (Section II-A of Chen, Yi & Shan
 folder gets a dataset.json and one CSV per trial (time_s, depth_m,
 force_N), the format `mudforce fit` reads; the true parameters are kept
 under "synthetic" in dataset.json.
+
+DIR is replaced whole when the dataset is complete, so an interrupted run
+leaves the old folder or the new one. It must be new, empty, or an earlier
+`mudforce synth` dataset (a dataset.json with a "synthetic" entry and only
+the CSV files it lists), which --force replaces; a folder holding anything
+else (your own files, a measured dataset) is refused, never overwritten.
+
+Every option is bounded by what `fit` and `identify` read back: force
+noise at most 1000 N, bias within +-10000 N, the depths (with 7 standard
+deviations of depth noise) within +-100 m, trials of at least 20 samples
+and at most 1e9 s; no file is written that they cannot read.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from mudforce.errors import InputError, seed_int
 from mudforce.foot import FOOT_EXAMPLES
-from mudforce.io import check_output_dir
 from mudforce.units import parse_list, parse_quantity
 
-__all__ = ["HELP", "MAX_SAMPLES", "MAX_TRIALS", "NAME", "add_arguments", "run"]
+__all__ = ["DEPTH_NOISE_SIGMAS", "HELP", "MAX_BIAS", "MAX_FORCE_NOISE", "MAX_SAMPLES", "MAX_TRIALS", "NAME",
+           "add_arguments", "run"]
 
 #: Most trials one ``mudforce synth`` writes [-].
 MAX_TRIALS = 1000
 #: Most samples one ``mudforce synth`` writes, all trials together [-] (~30 MB a million).
 MAX_SAMPLES = 5_000_000
+#: Largest white force noise, standard deviation [N] (as :func:`mudforce.gait.walk` takes).
+MAX_FORCE_NOISE = 1e3
+#: Largest force-sensor offset, either sign [N] (as :func:`mudforce.gait.walk` takes).
+MAX_BIAS = 1e4
+#: Standard deviations of depth noise [-] that must stay, added to the motion's depths, within the
+#: readers' +-100 m (``mudforce.tables.COLUMN_LIMITS["depth"]``): a sample beyond 7 is a 1e-12 event.
+DEPTH_NOISE_SIGMAS = 7
+#: Final height of the protocol's withdrawal above the surface [m] (:func:`mudforce.calibration.synthesize`'s rise).
+_RISE = 0.02
+#: The hidden folders beside DIR while it is written: ``.DIR.mudforce-synth-new-XXXXXXXX``.
+_TAG = "mudforce-synth"
 
 NAME = "synth"
 HELP = "write a synthetic dataset (paper's protocol or robot-like gaits, noise, bias) for testing fits"
@@ -31,7 +54,8 @@ HELP = "write a synthetic dataset (paper's protocol or robot-like gaits, noise, 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``mudforce synth``."""
-    parser.add_argument("--out", required=True, metavar="DIR", help="folder to write (created)")
+    parser.add_argument("--out", required=True, metavar="DIR",
+                        help="folder to write: new, empty or an earlier synth dataset (replaced whole when done)")
     parser.add_argument("--motion", choices=("protocol", "gait"), default="protocol",
                         help="the paper's intrude/hold/withdraw protocol (default), or robot-like walks: "
                              "touchdowns, stances with sway, re-pushes, lift-offs (--repeats walks per water content)")
@@ -44,23 +68,106 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--velocities", default="10mm/s,20mm/s,40mm/s", metavar="LIST",
                         help="intrusion/withdrawal speeds (default 10mm/s,20mm/s,40mm/s)")
     parser.add_argument("--repeats", type=int, default=3, metavar="N", help="trials per condition (default 3)")
-    parser.add_argument("--force-noise", default="0.2N", metavar="F", help="white force noise, std (default 0.2N)")
+    parser.add_argument("--force-noise", default="0.2N", metavar="F",
+                        help=f"white force noise, std, at most {MAX_FORCE_NOISE:g}N (default 0.2N)")
     parser.add_argument("--depth-noise", default="0.03mm", metavar="Z", help="white depth noise, std (default 0.03mm)")
-    parser.add_argument("--bias", default="0.5N", metavar="F", help="force-sensor offset (default 0.5N)")
+    parser.add_argument("--bias", default="0.5N", metavar="F",
+                        help=f"force-sensor offset, within +-{MAX_BIAS:g}N, e.g. -0.5N (default 0.5N)")
     parser.add_argument("--depth", default="20mm", help="hold depth (default 20mm)")
     parser.add_argument("--hold", default="6s", help="hold time (default 6s)")
     parser.add_argument("--approach", default="5mm", help="start height above the surface (default 5mm)")
     parser.add_argument("--rate", default="100Hz", help="sampling rate (default 100Hz)")
     parser.add_argument("--foot", default="paper", help=f"{FOOT_EXAMPLES} (default paper)")
     parser.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
-    parser.add_argument("--force", action="store_true", help="overwrite an existing dataset in DIR")
+    parser.add_argument("--force", action="store_true", help="replace an earlier synth dataset in DIR")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+
+
+def _foreign(folder: Path) -> list[str]:
+    """The entries of ``folder`` that an earlier ``mudforce synth`` did not write, sorted.
+
+    An earlier synth dataset is a ``dataset.json`` (read strictly) with a
+    ``"synthetic"`` entry, and the plain CSV files its trials list; atomic
+    writers' leftovers (``.mf-*.tmp``) are its own too. Anything else (a
+    link, a folder, a file it does not list, a measured dataset's manifest)
+    is the user's.
+    """
+    from mudforce.calibration.dataset import MANIFEST_NAME
+    from mudforce.io import load_json
+
+    listed: set[str] = set()
+    manifest = folder / MANIFEST_NAME
+    if manifest.is_file() and not manifest.is_symlink():
+        try:
+            data = load_json(manifest, "manifest")
+        except InputError:
+            data = None
+        if isinstance(data, dict) and isinstance(data.get("synthetic"), dict) and isinstance(data.get("trials"), list):
+            listed = {MANIFEST_NAME} | {e["file"] for e in data["trials"]
+                                        if isinstance(e, dict) and isinstance(e.get("file"), str)}
+    ours = [p.name for p in folder.iterdir()
+            if not p.is_symlink() and p.is_file()
+            and (p.name in listed or (p.name.startswith(".mf-") and p.name.endswith(".tmp")))]
+    return sorted({p.name for p in folder.iterdir()} - set(ours))
+
+
+def _check_bounds(args: argparse.Namespace, velocities: list[float], *, depth: float,
+                  hold: float, approach: float, rate: float, force_noise: float, depth_noise: float,
+                  bias: float) -> None:
+    """Refuse options whose dataset ``fit`` and ``identify`` would not read, each naming its bound."""
+    from mudforce.calibration.dataset import MIN_SAMPLES
+    from mudforce.commands.params import parse_water_content
+    from mudforce.simulation import MAX_DT
+    from mudforce.tables import COLUMN_LIMITS
+
+    for item in str(args.water_content).split(","):
+        if item.strip():
+            parse_water_content(item.strip())  # within Table I's 15% to 35%, naming --water-content
+    if force_noise > MAX_FORCE_NOISE:
+        raise InputError(f"--force-noise: {args.force_noise!r} is more than {MAX_FORCE_NOISE:g} N; "
+                         "expected e.g. 0.2N")
+    if abs(bias) > MAX_BIAS:
+        raise InputError(f"--bias: {args.bias!r} is beyond +-{MAX_BIAS:g} N; expected e.g. 0.5N or -0.5N")
+    limit = COLUMN_LIMITS["depth"]
+    reach = 0.0 if args.motion == "gait" else max(depth, approach + _RISE)
+    if reach + DEPTH_NOISE_SIGMAS * depth_noise > limit:
+        most = (limit - reach) / DEPTH_NOISE_SIGMAS
+        gait = args.motion == "gait"
+        motion = "" if gait else f"--depth {args.depth} or --approach {args.approach} with "
+        made = f"{DEPTH_NOISE_SIGMAS} standard deviations" if gait else \
+            f"the motion's {reach:g} m plus {DEPTH_NOISE_SIGMAS} standard deviations"
+        room = f"at most {most:.4g} m of noise here" if most > 0 else "no room left for noise"
+        raise InputError(f"{motion}--depth-noise {args.depth_noise}: depths would reach "
+                         f"{reach + DEPTH_NOISE_SIGMAS * depth_noise:.7g} m ({made}), past the +-{limit:g} m that "
+                         f"fit and identify read ({room})")
+    if args.motion == "gait":
+        return  # mudforce.gait.walk bounds its own duration (1 s to 1 h) and rate (10 Hz to 100 kHz)
+    if rate < 1.0 / MAX_DT:
+        raise InputError(f"--rate: {args.rate!r} is below {1.0 / MAX_DT:g} Hz (the model's longest time step is "
+                         f"{MAX_DT:g} s); expected e.g. 100Hz")
+    from mudforce.protocol import Protocol
+
+    for v in velocities:
+        try:
+            duration = Protocol.paper(depth=depth, velocity=v, hold=hold, rise=_RISE, rate=rate,
+                                      approach=approach).duration
+        except InputError as exc:  # the protocol's own bounds (simulate()'s): name the options that set them
+            raise InputError(f"--depth, --hold, --velocities, --rate: a trial at {v * 1e3:g} mm/s: {exc}") from None
+        if duration > COLUMN_LIMITS["time"]:
+            raise InputError(f"a trial at {v * 1e3:g} mm/s would last {duration:.12g} s, beyond the "
+                             f"{COLUMN_LIMITS['time']:g} s that fit and identify read; lower --hold or raise "
+                             "--velocities")
+        samples = math.ceil(duration * rate - 1e-9) + 1
+        if samples < MIN_SAMPLES:
+            raise InputError(f"--rate {args.rate}: a trial at {v * 1e3:g} mm/s would have {samples} samples, fewer "
+                             f"than the {MIN_SAMPLES} that fit and identify read; raise --rate or --hold")
 
 
 def run(args: argparse.Namespace) -> int:
     """Make the dataset and print where it went."""
-    from mudforce.calibration.dataset import MANIFEST_NAME, parse_foot
+    from mudforce.calibration.dataset import MANIFEST_NAME, parse_foot, save_dataset
     from mudforce.calibration.synth import synthesize
+    from mudforce.io import StagedOutputs, check_replaceable_dir
 
     waters = parse_list(args.water_content, "fraction", name="--water-content")
     velocities = parse_list(args.velocities, "velocity", name="--velocities")
@@ -97,34 +204,26 @@ def run(args: argparse.Namespace) -> int:
     force_noise = parse_quantity(args.force_noise, "force", name="--force-noise", allow_zero=True)
     depth_noise = parse_quantity(args.depth_noise, "length", name="--depth-noise", allow_zero=True)
     bias = parse_quantity(args.bias, "force", name="--bias", allow_zero=True, allow_negative=True)
+    _check_bounds(args, velocities, depth=depth, hold=hold, approach=approach, rate=rate,
+                  force_noise=force_noise, depth_noise=depth_noise, bias=bias)
     out = Path(args.out)
-    if (out / MANIFEST_NAME).exists() and not args.force:
-        raise InputError(f"--out {out}: already holds a {MANIFEST_NAME}; pass --force to overwrite it")
-    check_output_dir(args.out, "--out")
+    path = check_replaceable_dir(args.out, "--out", (), _TAG, foreign=_foreign, what="synth dataset")
+    if (path / MANIFEST_NAME).exists() and not args.force:
+        raise InputError(f"--out {out}: already holds a mudforce synth dataset; pass --force to replace it")
     if gait:
         from mudforce.calibration.synth import synthesize_gait
 
-        dataset = synthesize_gait(out, water_contents=waters, repeats=args.repeats, duration=duration, rate=rate,
+        dataset = synthesize_gait(None, water_contents=waters, repeats=args.repeats, duration=duration, rate=rate,
                                   jitter=args.jitter, start_below=args.start_below, force_noise=force_noise,
                                   depth_noise=depth_noise, bias=bias, seed=seed, foot=foot)
-        if not args.quiet:
-            print(f"wrote {len(dataset.trials)} walks to {out / MANIFEST_NAME}")
-        return 0
-    dataset = synthesize(
-        out,
-        water_contents=waters,
-        velocities=velocities,
-        repeats=args.repeats,
-        force_noise=force_noise,
-        depth_noise=depth_noise,
-        bias=bias,
-        seed=seed,
-        foot=foot,
-        depth=depth,
-        hold=hold,
-        approach=approach,
-        rate=rate,
-    )
+    else:
+        dataset = synthesize(None, water_contents=waters, velocities=velocities, repeats=args.repeats,
+                             force_noise=force_noise, depth_noise=depth_noise, bias=bias, seed=seed, foot=foot,
+                             depth=depth, hold=hold, approach=approach, rise=_RISE, rate=rate)
+    # built aside and swapped in whole: an interrupt leaves the old folder or the new one, never a mix
+    with StagedOutputs(_TAG, folders=[path]) as staged:
+        save_dataset(dataset, staged.staged_path(path))  # refuses, before writing, a trial the readers would refuse
+        staged.commit()
     if not args.quiet:
-        print(f"wrote {len(dataset.trials)} trials to {out / MANIFEST_NAME}")
+        print(f"wrote {len(dataset.trials)} {'walks' if gait else 'trials'} to {out / MANIFEST_NAME}")
     return 0

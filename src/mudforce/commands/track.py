@@ -85,9 +85,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{source}: has {time.size} data row; expected at least 2 samples to track")
 
     from mudforce.tracker import track
-    from mudforce.velocity import auto_velocity_filter
+    from mudforce.velocity import choose_velocity_filter, describe_velocity_rule
 
-    result = track(time, depth, force, foot, velocity_filter=auto_velocity_filter(time, depth))
+    velocity_filter, noise = choose_velocity_filter(time, depth)
+    result = track(time, depth, force, foot, velocity_filter=velocity_filter)
     png: bytes | None = None
     if plot is not None:
         from mudforce.plotting import figure_to_png
@@ -114,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
             f"final water content: {100 * result.water_content[k]:.3g} % "
             f"(95 % interval {100 * result.low[k]:.3g}-{100 * result.high[k]:.3g} %)",
             f"force offset {result.bias[k]:.3g} N, noise {result.noise[k]:.3g} N (estimated while the foot was free)",
+            f"branch rule: {describe_velocity_rule(velocity_filter, noise)}",
             "change of mud flagged at: " + (", ".join(f"{x:.4g} s" for x in flags[:10]) or "none")
             + (f" and {flags.size - 10} more" if flags.size > 10 else ""),
             f"wrote {time.size} rows to {out}",

@@ -22,9 +22,17 @@ from numba import njit
 
 from mudforce._kernel import ContactMode, params_from_row
 from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
-from mudforce.dynamics.rest_band import rest_band
+from mudforce.dynamics.rest_band import necked_force, rest_band
 from mudforce.dynamics.result import GRAVITY, FootResult, Phase
-from mudforce.equations import drag_stress, neck_filter_response, nonlinear_spring_stress
+from mudforce.equations import (
+    intrusion_stress,
+    maxwell_strain_rate,
+    neck_breaks,
+    nonlinear_spring_stress,
+    submerged_drag_stress,
+    total_stress,
+    withdrawal_stress,
+)
 from mudforce.errors import InputError, finite_number, is_real, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
@@ -57,22 +65,25 @@ def _load(t: float, mg: float, tp: np.ndarray, fp: np.ndarray) -> float:
 @njit(cache=True, nogil=True)
 def _neck(p: np.ndarray, aux: np.ndarray, t: float) -> tuple[float, float]:
     """Post-necking force [N] (Eq. (7), damper stress times area) and ``z_m`` [m] at time ``t``."""
-    q = params_from_row(p)
-    g, g_int = neck_filter_response(t - aux[A_TN], q.zeta, q.omega_0)
-    return q.area * q.b_w * aux[A_VM0] * g, aux[A_ZN] + aux[A_VM0] * g_int
+    return necked_force(p, aux[A_VM0], aux[A_ZN], t - aux[A_TN])
 
 
 @njit(cache=True, nogil=True)
 def _mud_force(phase: int, t: float, z: float, v: float, e: float, p: np.ndarray, aux: np.ndarray,
                load: float) -> float:
-    """Mud force on the foot [N], positive up, in each phase (STUCK: the reaction ``load``)."""
+    """Mud force on the foot [N], positive up, in each phase (STUCK: the reaction ``load``).
+
+    The branch stresses and their sum are the equations' (:func:`mudforce.equations.total_stress`).
+    """
     q = params_from_row(p)
     area = q.area
-    fs = drag_stress(q.lam, q.rho_m, v) if z > 0.0 else 0.0
+    fs = submerged_drag_stress(q.lam, q.rho_m, v, z)
     if phase == Phase.INTRUSION:
-        return float(area * (q.k_i * e + nonlinear_spring_stress(q.alpha, q.beta, z, q.width) + fs))
+        fe1, _ = intrusion_stress(q.k_i, q.tau_i, e)
+        return float(area * total_stress(fe1, nonlinear_spring_stress(q.alpha, q.beta, z, q.width), fs))
     if phase == Phase.WITHDRAWAL:
-        return float(area * (q.k_w * e + fs))
+        fe1, _ = withdrawal_stress(q.k_w, q.tau_w, e)
+        return float(area * total_stress(fe1, 0.0, fs))
     if phase == Phase.NECKED:
         f_neck, _ = _neck(p, aux, t)
         return float(f_neck + area * fs)
@@ -93,16 +104,16 @@ def _rhs(phase: int, t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, m:
         dy[0] = 0.0
         dy[1] = 0.0
         # Filippov: at rest the Maxwell element relaxes on the intrusion branch, Eq. (3)
-        dy[2] = 0.0 if aux[A_STUCK_NECKED] != 0.0 else -e / q.tau_i
+        dy[2] = 0.0 if aux[A_STUCK_NECKED] != 0.0 else maxwell_strain_rate(0.0, intrusion_stress(q.k_i, q.tau_i, e)[1])
         return
     load = _load(t, mg, tp, fp)
     force = _mud_force(phase, t, z, v, e, p, aux, load)
     dy[0] = v
     dy[1] = (load - force) / m
     if phase == Phase.INTRUSION:
-        dy[2] = v - e / q.tau_i
+        dy[2] = maxwell_strain_rate(v, intrusion_stress(q.k_i, q.tau_i, e)[1])
     elif phase == Phase.WITHDRAWAL:
-        dy[2] = v - e / q.tau_w
+        dy[2] = maxwell_strain_rate(v, withdrawal_stress(q.k_w, q.tau_w, e)[1])
     else:
         dy[2] = 0.0
 
@@ -165,8 +176,7 @@ def _event(phase: int, t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, p: 
         return 2
     if phase == Phase.WITHDRAWAL:
         q = params_from_row(p)
-        fs = drag_stress(q.lam, q.rho_m, y1[1]) if y1[0] > 0.0 else 0.0
-        if q.k_w * y1[2] + fs < -q.sigma_y:
+        if neck_breaks(q.k_w, y1[2], submerged_drag_stress(q.lam, q.rho_m, y1[1], y1[0]), q.sigma_y):
             return 3
     return 0
 

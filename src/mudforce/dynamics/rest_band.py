@@ -20,14 +20,40 @@ from numba import njit
 
 from mudforce._kernel import ContactMode, load_cache, load_state, params_from_row
 from mudforce.equations import (
-    drag_stress,
     maxwell_strain_step,
     neck_filter_response,
+    necked_mud_motion,
+    necked_stress,
     nonlinear_spring_stress,
     rest_band_forces,
+    submerged_drag_stress,
 )
 
-__all__ = ["branch_forces", "rest_band"]
+__all__ = ["branch_forces", "necked_force", "rest_band"]
+
+
+@njit(cache=True, nogil=True)
+def necked_force(p: np.ndarray, v_m0: float, z_n: float, age: float) -> tuple[float, float]:
+    """The post-necking force [N] and the mud's position ``z_m`` [m] at ``age`` [s] after necking, Eq. (7).
+
+    ``S f_e1`` with ``f_e1 = b_m_w dz_m/dt`` (:func:`mudforce.equations.necked_stress`), the mud moving
+    as ``dz_m/dt = v_m0 g``, ``z_m = z_n + v_m0 G`` (:func:`mudforce.equations.necked_mud_motion`).
+
+    Parameters
+    ----------
+    p : ndarray
+        One params row of :mod:`mudforce._kernel`.
+    v_m0 : float
+        Mud velocity at necking [m/s].
+    z_n : float
+        ``z_m`` at necking [m].
+    age : float
+        Time since necking ``t - t_n`` [s].
+    """
+    q = params_from_row(p)
+    g, g_int = neck_filter_response(age, q.zeta, q.omega_0)
+    mud_velocity, mud = necked_mud_motion(v_m0, z_n, g, g_int)
+    return q.area * necked_stress(q.b_w, mud_velocity)[0], mud
 
 
 @njit(cache=True, nogil=True)
@@ -119,13 +145,10 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
         z_dn = z + v_dn * dt
         z_up = z + v_up * dt
         if mode == ContactMode.NECKED:
-            g0, i0 = neck_filter_response(s.neck_age, q.zeta, q.omega_0)
-            g1, i1 = neck_filter_response(s.neck_age + dt, q.zeta, q.omega_0)
-            vm = s.neck_v
-            lo0, hi0 = rest_band(p, mode, z, z - (s.neck_z + vm * i0), area * q.b_w * vm * g0)
-            zm1 = s.neck_z + vm * i1
+            force0, zm0 = necked_force(p, s.neck_v, s.neck_z, s.neck_age)
+            lo1, zm1 = necked_force(p, s.neck_v, s.neck_z, s.neck_age + dt)
+            lo0, hi0 = rest_band(p, mode, z, z - zm0, force0)
             _, hi1 = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
-            lo1 = area * q.b_w * vm * g1
         else:
             e0 = z - s.mud
             lo0, hi0 = rest_band(p, mode, z, e0, 0.0)
@@ -144,4 +167,4 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
             lo1, _ = rest_band(p, mode, z_up, e_up, 0.0)
         f_up[j] = (1.0 - weight) * lo0 + weight * lo1
         f_down[j] = (1.0 - weight) * hi0 + weight * hi1
-        drag[j] = area * drag_stress(q.lam, q.rho_m, v) if z > 0.0 else 0.0
+        drag[j] = area * submerged_drag_stress(q.lam, q.rho_m, v, z)

@@ -1,0 +1,98 @@
+"""Ctrl-C (SIGINT) that always stops a command: never swallowed where Python cannot raise it.
+
+Python turns SIGINT into :class:`KeyboardInterrupt` at the next bytecode of
+the main thread. When that bytecode belongs to a weak-reference callback or
+a finaliser run by the garbage collector (matplotlib frees its figures'
+caches that way while a report is drawn), the exception cannot propagate:
+Python prints ``Exception ignored in: ...`` with a traceback, drops it, and
+the command carries on to finish and exit 0.
+
+:func:`watch`, around a command (:func:`mudforce.cli.main`), closes that gap:
+
+* a SIGINT handler that records the interrupt before raising it, so that
+  it is known even where the exception is lost;
+* an ``unraisablehook`` that, for a lost :class:`KeyboardInterrupt`, prints
+  nothing and raises the interrupt again a moment later (from a timer
+  thread, once the main thread is out of the callback), where it can act;
+* :func:`check`, which raises :class:`KeyboardInterrupt` if an interrupt
+  came and was lost: a staged output is not swapped in after it
+  (:meth:`mudforce.io.StagedOutputs.commit`), and the command line exits
+  with status 130 after a command that ends normally despite it.
+
+Where SIGINT is ignored (a background job of a non-interactive shell), it
+stays ignored. Plumbing; no physics, no units.
+"""
+
+from __future__ import annotations
+
+import _thread
+import contextlib
+import signal
+import sys
+import threading
+from collections.abc import Iterator
+from typing import Any
+
+__all__ = ["check", "pending", "watch"]
+
+#: Delay before an interrupt lost in a callback is raised again [s].
+_RETRY_S = 0.01
+
+_pending = False
+
+
+def pending() -> bool:
+    """Whether an interrupt came during the current :func:`watch` (raised or lost)."""
+    return _pending
+
+
+def check() -> None:
+    """Raise :class:`KeyboardInterrupt` if an interrupt came during the current :func:`watch`."""
+    if _pending:
+        raise KeyboardInterrupt
+
+
+def _handler(signum: int, frame: Any) -> None:
+    global _pending
+    _pending = True
+    raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def watch() -> Iterator[None]:
+    """Inside, SIGINT is recorded as well as raised, and one lost where Python cannot raise it is raised again.
+
+    Only in the main thread and where SIGINT has Python's default handler;
+    the previous handler and ``sys.unraisablehook`` come back on leaving,
+    and what was recorded is forgotten (it belonged to this command).
+    """
+    global _pending
+    _pending = False
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield
+        return
+    previous_hook = sys.unraisablehook
+    timers: list[threading.Timer] = []
+
+    def hook(unraisable: Any) -> None:
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            # lost in a callback or finaliser: raise it again once the main thread is out of it (not from
+            # here: the main thread would act on it at once, inside this hook, and lose it again)
+            timer = threading.Timer(_RETRY_S, _thread.interrupt_main)
+            timer.daemon = True
+            timers.append(timer)
+            timer.start()
+        else:
+            previous_hook(unraisable)
+
+    signal.signal(signal.SIGINT, _handler)
+    sys.unraisablehook = hook
+    try:
+        yield
+    finally:
+        for timer in timers:
+            timer.cancel()
+        sys.unraisablehook = previous_hook
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        _pending = False
