@@ -44,7 +44,7 @@ import numpy as np
 from numba import njit
 
 from mudforce.equations import array_form, drag_acts, drag_stress, maxwell_strain_step
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.foot import Foot
 from mudforce.parameters import TABLE_I
 
@@ -68,8 +68,8 @@ _LAMBDA = TABLE_I[0.25].lambda_  # [-], Fig. 5 of Chen, Yi & Shan
 
 
 def _trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
-    t = np.asarray(time, dtype=np.float64)
-    z = np.asarray(depth, dtype=np.float64)
+    t = real_array(time, "time", "s")
+    z = real_array(depth, "depth", "m")
     if t.ndim != 1 or t.shape != z.shape or t.size == 0:
         raise InputError(f"time and depth must be 1-D arrays of the same non-zero length, got {t.shape}, {z.shape}")
     if not (np.all(np.isfinite(t)) and np.all(np.isfinite(z))):

@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce.errors import InputError, real_number
+from mudforce.errors import InputError, real_array, real_number
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT, STATE_NAMES, params_row, resolve_velocity_filter
@@ -77,13 +77,10 @@ class ContactState:
     ring: np.ndarray = field(default_factory=lambda: np.empty(0))
 
     def __post_init__(self) -> None:
-        try:
-            arr = np.array(self.data, dtype=np.float64)  # always private copies
-        except (TypeError, ValueError):
-            raise InputError(f"a contact state holds {K.N_STATE} numbers, got {type(self.data).__name__}") from None
+        arr = np.array(real_array(self.data, "a contact state", "SI"))  # always private copies
         if arr.shape != (K.N_STATE,):
             raise InputError(f"a contact state has {K.N_STATE} values, got shape {arr.shape}")
-        ring = np.array(self.ring, dtype=np.float64).ravel()
+        ring = np.array(real_array(self.ring, "a contact state's filter history", "SI")).ravel()
         if ring.size not in (0, K.N_RING):
             raise InputError(f"a contact state's filter history has 0 or {K.N_RING} values, got {ring.size}")
         if not isinstance(self.params_key, bytes):

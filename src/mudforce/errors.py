@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
-           "real_number", "seed_int"]
+           "real_array", "real_number", "seed_int"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
@@ -75,6 +75,43 @@ def real_number(value: Any, name: str) -> float:
             return float(value)
         raise InputError(f"{name} must be a real number, got {type(value).__name__}")
     return float(value)
+
+
+def real_array(value: Any, name: str, unit: str) -> np.ndarray:
+    """``value`` as a float64 array if it holds real numbers, else :class:`InputError`; no check of shape or range.
+
+    The one conversion of the API's array inputs (time, depths, forces, ...):
+    a sequence or array of Python or numpy integers or floats. Complex
+    numbers (whose imaginary part ``float64`` would drop with only a
+    warning), booleans, strings (which numpy would parse) and objects are
+    refused with one line naming the dtype. NaN and infinities pass: the
+    caller checks the bounds.
+
+    Parameters
+    ----------
+    value : Any
+        The array, in ``unit``.
+    name : str
+        What it is, for the message (``"time"``).
+    unit : str
+        Its unit, for the message (``"s"``).
+
+    Returns
+    -------
+    ndarray of float64
+        ``value`` [``unit``]: ``value`` itself if it is already a float64 array.
+    """
+    if isinstance(value, np.ndarray) and value.dtype == np.float64:
+        return value
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nesting, objects numpy cannot hold
+        raise InputError(f"{name} must be an array of real numbers [{unit}], got {type(value).__name__}") from None
+    if arr.dtype.kind not in "iuf":
+        kind = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes", "O": "object"}.get(arr.dtype.kind, "")
+        what = f"{kind} values (dtype {arr.dtype})" if kind else f"dtype {arr.dtype}"
+        raise InputError(f"{name} must be an array of real numbers [{unit}], got {what}")
+    return np.asarray(arr, dtype=np.float64)
 
 
 def finite_number(value: Any, name: str, unit: str, *, positive: bool = False, nonnegative: bool = False) -> float:

@@ -45,7 +45,7 @@ under the same names, built on the shared arithmetic where they can be:
 (Eq. (7)) and :func:`necking_time` (Eq. (9)).
 
 Differences from the CPU stepper, all below 1e-12 of the peak force in
-float64 (``tests/jax``): the step-length constants (``exp(-dt/tau)``,
+float64 for steps ``dt >= 1e-4`` s (``tests/jax``): the step-length constants (``exp(-dt/tau)``,
 Eq. (7)'s transition matrix) are computed from each step's ``dt`` rather
 than cached while ``dt`` stays within 1e-9 relative (so with a jittering
 ``dt`` this is the more exact of the two); the nonlinear spring uses
@@ -58,7 +58,14 @@ step and Eq. (7)'s filter use the shared layer's increment forms with
 CPU's forms in exact arithmetic, which keep float32 within about 1e-6 of
 float64 over a 10 s gait at 1 kHz (the CPU's forms lost 2.8e-5 there) and
 change float64 only by rounding. Measured: float64 equals ``MudContacts``
-to 6.3e-14 of the peak force (``tests/jax``'s gaits).
+to 6.3e-14 of the peak force (``tests/jax``'s gaits at 1 ms), 2.8e-13 at
+0.1 ms. At shorter steps the two drift apart (1e-12 at 10 us, 1.6e-12 to
+2.5e-11 at 2 ns), and the CPU is the one that is off: its Maxwell step
+forms ``1 - exp(-dt/tau)`` from a rounded ``exp``, accurate only to
+~``1e-16 tau/dt`` relative (the element's relaxation rate, and its strain
+by that fraction of its swing), where ``expm1`` here keeps every digit
+(JAX made to form it as the CPU does equals the CPU to 2.5e-16 at 2 ns;
+docs/gpu.md).
 
 dtype follows the parameters: :func:`make_params` makes JAX's default float
 (float32 unless ``jax_enable_x64`` is on). This module never changes JAX's

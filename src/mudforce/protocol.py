@@ -2,7 +2,12 @@
 
 A :class:`Protocol` is a start depth, a list of steps and a sampling rate.
 Its samples are at exactly ``t_k = k / rate`` and its depth is piecewise
-linear between the steps' breakpoints.
+linear between the steps' breakpoints. A protocol is bounded by what
+:func:`mudforce.simulate` accepts, so that its samples are always
+simulated: depths within +-100 m (:data:`~mudforce.simulation.MAX_DEPTH`),
+a rate within [:data:`MIN_RATE`, :data:`MAX_RATE`], at most
+:data:`MAX_SAMPLES` samples, none after 1e9 s
+(:data:`~mudforce.simulation.MAX_TIME`).
 """
 
 from __future__ import annotations
@@ -13,14 +18,34 @@ from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
-from mudforce.errors import InputError, positive_number
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME
+from mudforce.errors import InputError, is_real, positive_number
 
 if TYPE_CHECKING:
     from mudforce.foot import Foot
     from mudforce.parameters import MudParameters
     from mudforce.simulation import SimulationResult
 
-__all__ = ["Hold", "Intrude", "Protocol", "Step", "Withdraw"]
+__all__ = ["MAX_RATE", "MAX_SAMPLES", "MIN_RATE", "Hold", "Intrude", "Protocol", "Step", "Withdraw"]
+
+#: Largest number of samples a protocol may produce [-] (memory guard: ~1 GB of a simulation's arrays).
+MAX_SAMPLES = 10_000_000
+#: Lowest sampling rate [Hz]: one sample per :data:`~mudforce.simulation.MAX_DT` (1000 s).
+MIN_RATE = 1.0 / MAX_DT
+#: Highest sampling rate [Hz]: 100 MHz. Not 1 GHz (1 / ``MIN_DT``): samples at ``k / rate`` carry rounding
+#: of ~1e-9 relative in their steps, which at 1 GHz would fall just under simulate()'s 1 ns.
+MAX_RATE = 1e8
+
+
+def _depth_within(value: float, name: str) -> float:
+    """``value`` [m] if it is a finite number within +-MAX_DEPTH, else InputError naming it."""
+    if not is_real(value):
+        raise InputError(f"{name} must be a number [m], got {type(value).__name__}")
+    number = float(value)
+    if not (math.isfinite(number) and abs(number) <= MAX_DEPTH):
+        raise InputError(f"{name} must be finite and within +-{MAX_DEPTH:g} m (what simulate() accepts), "
+                         f"got {value!r}")
+    return number
 
 
 @dataclass(frozen=True)
@@ -40,8 +65,7 @@ class Intrude:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "velocity", positive_number(self.velocity, "intrusion velocity", "m/s"))
-        if not math.isfinite(self.depth):
-            raise InputError(f"intrusion depth must be finite [m], got {self.depth!r}")
+        object.__setattr__(self, "depth", _depth_within(self.depth, "intrusion depth"))
 
 
 @dataclass(frozen=True)
@@ -78,8 +102,9 @@ class Withdraw:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "velocity", positive_number(self.velocity, "withdrawal velocity", "m/s"))
-        if not math.isfinite(self.rise) or self.rise < 0.0:
-            raise InputError(f"withdrawal rise must be finite and >= 0 [m], got {self.rise!r}")
+        object.__setattr__(self, "rise", _depth_within(self.rise, "withdrawal rise"))
+        if self.rise < 0.0:
+            raise InputError(f"withdrawal rise must be >= 0 [m], got {self.rise!r}")
 
 
 Step = Union[Intrude, Hold, Withdraw]
@@ -94,9 +119,17 @@ class Protocol:
     steps : tuple of Intrude, Hold, Withdraw
         The motion, in order.
     rate : float
-        Sampling rate [Hz]; samples are at ``k / rate`` [s].
+        Sampling rate [Hz]; samples are at ``k / rate`` [s]; within
+        [:data:`MIN_RATE`, :data:`MAX_RATE`] (1e-3 Hz to 1e8 Hz).
     start_depth : float
-        Depth at ``t = 0`` [m]; negative is above the surface.
+        Depth at ``t = 0`` [m]; negative is above the surface; within +-100 m.
+
+    Raises
+    ------
+    InputError
+        For a motion :func:`mudforce.simulate` would refuse (a depth beyond
+        +-100 m, a rate outside the range, a sample after 1e9 s) or more
+        than :data:`MAX_SAMPLES` samples.
     """
 
     steps: tuple[Step, ...]
@@ -105,12 +138,26 @@ class Protocol:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "steps", tuple(self.steps))
-        object.__setattr__(self, "rate", positive_number(self.rate, "sampling rate", "Hz"))
-        if not math.isfinite(self.start_depth):
-            raise InputError(f"start depth must be finite [m], got {self.start_depth!r}")
+        rate = positive_number(self.rate, "sampling rate", "Hz")
+        if not MIN_RATE <= rate <= MAX_RATE:
+            raise InputError(f"sampling rate must be within [{MIN_RATE:g}, {MAX_RATE:g}] Hz (steps simulate() "
+                             f"accepts), got {self.rate!r}")
+        object.__setattr__(self, "rate", rate)
+        object.__setattr__(self, "start_depth", _depth_within(self.start_depth, "start depth"))
         if not self.steps:
             raise InputError("a protocol needs at least one step (Intrude, Hold or Withdraw)")
-        self.breakpoints()  # validates the sequence
+        bt, _ = self.breakpoints()  # validates the sequence
+        n = self._samples(float(bt[-1]))
+        if not n <= MAX_SAMPLES:
+            raise InputError(f"sampling rate: {self.rate:g} Hz over the {float(bt[-1]):.4g} s motion is {n:.3g} "
+                             f"samples, more than {MAX_SAMPLES:,}; lower the rate or shorten the motion")
+        if not (n - 1) / self.rate <= MAX_TIME:
+            raise InputError(f"the motion lasts {float(bt[-1]):.4g} s, its last sample beyond simulate()'s "
+                             f"{MAX_TIME:g} s; shorten the holds or raise the speeds")
+
+    def _samples(self, duration: float) -> float:
+        """Number of samples covering ``duration`` [s] (a float: it may be huge or infinite before the check)."""
+        return float(math.ceil(duration * self.rate - 1e-9) + 1) if math.isfinite(duration * self.rate) else math.inf
 
     @classmethod
     def paper(
@@ -177,7 +224,7 @@ class Protocol:
         motion (the foot stays at its final depth).
         """
         bt, bz = self.breakpoints()
-        n = math.ceil(bt[-1] * self.rate - 1e-9) + 1
+        n = int(self._samples(float(bt[-1])))  # at most MAX_SAMPLES (checked on construction)
         time = np.arange(n, dtype=np.float64) / self.rate
         depth = np.interp(time, bt, bz)
         return time, depth

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
+from mudforce.errors import real_array
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 
@@ -180,8 +181,8 @@ def reference_simulate(
     -------
     ReferenceResult
     """
-    t = np.asarray(time, dtype=np.float64)
-    z = np.asarray(depth, dtype=np.float64)
+    t = real_array(time, "time", "s")
+    z = real_array(depth, "depth", "m")
     if t.ndim != 1 or t.shape != z.shape or t.size == 0:
         raise ValueError("time and depth must be non-empty 1-D arrays of the same length")
     if not (np.all(np.isfinite(t)) and np.all(np.isfinite(z))):

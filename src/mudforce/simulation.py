@@ -12,7 +12,7 @@ from numba import njit
 
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, out_of_bounds
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.velocity import DepthNoise, VelocityFilter, auto_velocity_filter, choose_velocity_filter
@@ -193,21 +193,17 @@ class SimulationResult:
         pd = require("pandas", "pandas", "to_pandas()")
         return pd.DataFrame(self.columns())
 
-    def to_csv(self, path: str | os.PathLike[str]) -> None:
-        """Write the samples as CSV, atomically.
+    def to_csv(self, path: str | os.PathLike[str], *, quiet: bool = False) -> None:
+        """Write the samples as CSV, atomically (:func:`mudforce.tables.write_csv`: ``.12g``, numpy speed).
 
         Columns: ``time_s, depth_m, velocity_m_s, mud_displacement_m,
         mud_velocity_m_s, f_e1_Pa, f_e2_Pa, f_s_Pa, force_N, state``.
+        A long write shows progress on a terminal (stderr) unless ``quiet``.
         """
-        from mudforce.io import atomic_open
+        from mudforce.tables import write_csv
 
-        names = [name for name, _ in _CSV_COLUMNS]
-        block = np.column_stack([getattr(self, attr) for _, attr in _CSV_COLUMNS])
-        states = self.state_names
-        with atomic_open(path, "w") as handle:
-            handle.write(",".join([*names, "state"]) + "\n")
-            for row, st in zip(block, states, strict=True):
-                handle.write(",".join(f"{x:.12g}" for x in row) + f",{st}\n")
+        write_csv(path, {name: getattr(self, attr) for name, attr in _CSV_COLUMNS},
+                  ("state", self.state, STATE_NAMES), quiet=quiet)
 
     def plot(self, path: str | os.PathLike[str] | None = None, *, title: str | None = None) -> Any:
         """Plot force over time and over depth, with the contact states (needs matplotlib).
@@ -230,11 +226,8 @@ class SimulationResult:
 
 def _as_arrays(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
     """The trajectory as contiguous float64 arrays of one shape (values are checked by :func:`_check_values`)."""
-    try:
-        t = np.asarray(time, dtype=np.float64)
-        z = np.asarray(depth, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("time and depth must be numeric arrays [s], [m]") from None
+    t = real_array(time, "time", "s")  # refuses complex, boolean, string and object arrays
+    z = real_array(depth, "depth", "m")
     if t.ndim != 1 or z.ndim != 1:
         raise InputError(f"time and depth must be 1-D arrays, got shapes {t.shape} and {z.shape}")
     if t.shape != z.shape:
@@ -282,9 +275,10 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
     i = int(np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))[0]) + 1
     if steps[i - 1] <= 0.0:
         what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
-        raise InputError(f"time {what} at sample {i} ({t[i - 1]:g} s then {t[i]:g} s); "
+        raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
                          "expected strictly increasing time")
-    raise InputError(f"the time step before sample {i} is {steps[i - 1]:g} s; expected steps within "
+    # repr: a step just outside a bound must not print as the bound
+    raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
                      f"[{MIN_DT:g}, {MAX_DT:g}] s")
 
 

@@ -63,7 +63,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce.errors import InputError, positive_int, positive_number
+from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
 from mudforce.foot import Foot
 from mudforce.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.simulation import resolve_velocity_filter
@@ -321,10 +321,7 @@ class TrackEstimates:
 def _grid(water_contents: Sequence[float] | None) -> np.ndarray:
     if water_contents is None:
         return np.array(DEFAULT_GRID, dtype=np.float64)
-    try:
-        grid = np.array(water_contents, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"water_contents must be a sequence of numbers [-], got {water_contents!r}") from None
+    grid = np.array(real_array(water_contents, "water_contents", "-"))
     lo, hi = WATER_CONTENT_RANGE
     if grid.ndim != 1 or grid.size < 2:
         raise InputError(f"water_contents must list at least 2 water contents [-], got shape {grid.shape}")
@@ -491,13 +488,13 @@ class MudTrackers:
         -------
         TrackEstimates
         """
-        z = np.asarray(depths, dtype=np.float64)
-        f = np.asarray(forces, dtype=np.float64)
+        z = real_array(depths, "depths", "m")
+        f = real_array(forces, "forces", "N")
         if z.shape != (self.n,) or f.shape != (self.n,):
             raise InputError(f"depths and forces must have shape ({self.n},), got {z.shape} and {f.shape}")
         self._depths[:] = z
         self._forces[:] = f
-        self._step(float(dt))
+        self._step(real_number(dt, "dt [s]"))
         o = self._out
         return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
                               o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy())
@@ -557,14 +554,13 @@ class MudTracker:
         TrackEstimate
         """
         b = self._bank
-        try:
-            b._depths[0] = depth_m
-            b._forces[0] = force_N
-            dt = float(dt_s)
-        except (TypeError, ValueError):
-            raise InputError(f"depth, force and dt must be numbers [m, N, s], got {depth_m!r}, {force_N!r}, "
-                             f"{dt_s!r}") from None
-        b._step(dt)
+        # real numbers only: numpy would parse a string, drop an imaginary part, take a bool as 0 or 1
+        if type(depth_m) is not float or type(force_N) is not float or type(dt_s) is not float:
+            depth_m, force_N = real_number(depth_m, "depth [m]"), real_number(force_N, "force [N]")
+            dt_s = real_number(dt_s, "dt [s]")
+        b._depths[0] = depth_m
+        b._forces[0] = force_N
+        b._step(dt_s)
         o = b._out[0]
         return TrackEstimate(float(o[_O_W]), (float(o[_O_LOW]), float(o[_O_HIGH])), float(o[_O_PRED]),
                              bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]))
@@ -630,9 +626,9 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     **options
         As for :class:`MudTrackers`.
     """
-    t = np.asarray(time, dtype=np.float64)
-    z = np.asarray(depth, dtype=np.float64)
-    f = np.asarray(force, dtype=np.float64)
+    t = real_array(time, "time", "s")
+    z = real_array(depth, "depth", "m")
+    f = real_array(force, "force", "N")
     if t.ndim != 1 or t.shape != z.shape or t.shape != f.shape or t.size < 1:
         raise InputError(f"time, depth and force must be 1-D of one length >= 1, got {t.shape}, {z.shape}, {f.shape}")
     if t.size > 1 and not np.all(np.diff(t) > 0.0):

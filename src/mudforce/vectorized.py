@@ -31,7 +31,7 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce.contact import check_states
-from mudforce.errors import InputError, is_real, positive_int
+from mudforce.errors import InputError, positive_int, real_array, real_number
 from mudforce.foot import Foot
 from mudforce.parameters import PARAMETER_NAMES, MudParameters
 from mudforce.simulation import MAX_DEPTH, MAX_DT, MIN_DT, STATE_NAMES, resolve_velocity_filter
@@ -234,24 +234,15 @@ class MudContacts:
             Vertical mud force on each foot [N], positive up: a new array,
             or ``out``.
         """
-        if isinstance(depths, np.ndarray) and depths.dtype == np.float64:
-            z = depths
-        else:
-            try:
-                raw = np.asarray(depths)
-                if raw.dtype.kind not in "iufO" or (raw.dtype.kind == "O" and any(
-                        isinstance(v, (str, bytes, bool)) for v in raw.ravel())):
-                    raise TypeError
-                z = np.asarray(raw, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise InputError(f"depths must be an array of {self.n} numbers [m], got {type(depths).__name__}"
-                                 ) from None
+        # refuses complex, boolean, string and object arrays (a float64 array passes as it is)
+        z = depths if isinstance(depths, np.ndarray) and depths.dtype == np.float64 else real_array(
+            depths, "depths", "m")
         if z.shape != (self.n,):
             raise InputError(f"depths must have shape ({self.n},), got {z.shape}")
-        if type(dt) is not float and not is_real(dt):
-            raise InputError(f"dt must be a real number [s], got {type(dt).__name__}")
-        dt = float(dt)
-        if not MIN_DT <= dt <= MAX_DT:
+        if type(dt) is not float:
+            dt = real_number(dt, "dt")
+        # dt is ignored by a foot's first step (as MudContact.step ignores it): refused only if a foot has started
+        if not MIN_DT <= dt <= MAX_DT and K.state_column(self.states, "started").any():
             raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
         if out is not None and not (isinstance(out, np.ndarray) and out.dtype == np.float64
                                     and out.shape == (self.n,) and out.flags.writeable):
@@ -324,10 +315,7 @@ class MudContacts:
             For a wrong shape or a row the stepper never makes
             (:func:`mudforce.contact.check_states`); no foot is then changed.
         """
-        try:
-            arr = np.asarray(snapshot, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputError(f"a snapshot must be a numeric array, got {type(snapshot).__name__}") from None
+        arr = real_array(snapshot, "a snapshot", "SI")
         shape = (self.n, K.N_STATE + self.ring.shape[1])
         if arr.shape != shape:
             raise InputError(f"a snapshot of {self.n} feet has shape {shape}, got {arr.shape}")

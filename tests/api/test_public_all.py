@@ -118,7 +118,7 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.errors": [
         "MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
-        "real_number", "seed_int",
+        "real_array", "real_number", "seed_int",
     ],
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
@@ -154,7 +154,7 @@ PINNED: dict[str, list[str]] = {
         "PHASE_COLOURS", "STATE_COLOURS", "figure_to_png", "new_figure", "plot_foot_result", "plot_result", "save_png",
     ],
     "mudforce.progress": ["Progress"],
-    "mudforce.protocol": ["Hold", "Intrude", "Protocol", "Step", "Withdraw"],
+    "mudforce.protocol": ["MAX_RATE", "MAX_SAMPLES", "MIN_RATE", "Hold", "Intrude", "Protocol", "Step", "Withdraw"],
     "mudforce.reference": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
     "mudforce.reference_drop": ["GRAVITY", "ExactDrop", "exact_drop"],
     "mudforce.reproduce": [
@@ -176,7 +176,7 @@ PINNED: dict[str, list[str]] = {
         "from_mujoco_geom", "mesh", "sole", "sphere",
     ],
     "mudforce.simulation": ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"],
-    "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "read_columns", "read_trajectory"],
+    "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv"],
     "mudforce.tracker": [
         "DEFAULT_GRID", "MudTracker", "MudTrackers", "TrackEstimate", "TrackEstimates", "TrackResult",
         "default_velocity_filter", "track",

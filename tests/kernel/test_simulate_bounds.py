@@ -36,8 +36,11 @@ CASES: dict[str, tuple[tuple[np.ndarray, np.ndarray], str]] = {
     "time beyond 1e9 s": ((T + 2e9, Z.copy()), "time at sample 0 (2000000000.0 s) is beyond +-1e+09 s"),
     "repeated time": (_set(5, "t", T[4]), "time repeats at sample 5"),
     "backward time": (_set(5, "t", T[3]), "time goes backwards at sample 5"),
-    "step below 1 ns": (_set(5, "t", T[4] + 1e-10), "the time step before sample 5 is 1e-10 s"),
-    "step above 1000 s": (_set(slice(5, None), "t", T[5:] + 2000.0), "the time step before sample 5 is 2000.01 s"),
+    # the step as it is (repr), not rounded: a step just outside a bound must not print as the bound
+    "step below 1 ns": (_set(5, "t", T[4] + 1e-10),
+                        f"the time step before sample 5 is {float((T[4] + 1e-10) - T[4])!r} s"),
+    "step above 1000 s": (_set(slice(5, None), "t", T[5:] + 2000.0),
+                          f"the time step before sample 5 is {float((T[5] + 2000.0) - T[4])!r} s"),
 }
 
 PATHS: dict[str, tuple[str, Callable[[np.ndarray], object]]] = {

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.foot import Foot, parse_foot
 from mudforce.io import atomic_write_text, dumps_json, load_json
 from mudforce.tables import COLUMN_LIMITS, COLUMN_UNITS, check_time, read_columns
@@ -90,6 +90,11 @@ class Trial:
     force: np.ndarray
     velocity: float | None = None
     repeat: int | None = None
+
+    def __post_init__(self) -> None:
+        # the calibration's entry: real numbers only (complex, boolean, string and object arrays refused)
+        for attr, unit in (("time", "s"), ("depth", "m"), ("force", "N")):
+            object.__setattr__(self, attr, real_array(getattr(self, attr), f"{self.name}: {attr}", unit))
 
     def __len__(self) -> int:
         return int(self.time.shape[0])

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.equations import array_form, drag_stress
-from mudforce.errors import InputError, is_real
+from mudforce.errors import InputError, is_real, real_array
 from mudforce.foot import AREA_RANGE
 from mudforce.parameters import PARAMETER_RANGES, RHO_M
 from mudforce.tables import COLUMN_UNITS, read_columns
@@ -114,11 +114,8 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = RHO_M,
     -------
     DragFit
     """
-    try:
-        v = np.asarray(velocity, dtype=np.float64)
-        f = np.asarray(force, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("velocity and force must be numeric arrays [m/s], [N]") from None
+    v = real_array(velocity, "velocity", "m/s")
+    f = real_array(force, "force", "N")
     if v.shape != f.shape or v.ndim != 1:
         raise InputError(f"velocity and force must be 1-D arrays of equal length, got {v.shape} and {f.shape}")
     for name, value, (lo, hi) in (("area", area, AREA_RANGE), ("rho_m", rho_m, PARAMETER_RANGES["rho_m"])):

@@ -31,7 +31,7 @@ from scipy.optimize import least_squares
 
 from mudforce.calibration.branches import denoise_depth, estimate_force_noise, label_branches, rest_steps
 from mudforce.calibration.dataset import Trial
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.velocity import estimate_depth_noise
 
 __all__ = [
@@ -159,8 +159,8 @@ def fit_motion(time: np.ndarray, depth: np.ndarray, *, name: str = "trial") -> M
     guess. The corners come out to a few hundredths of a sample for
     0.03 mm depth noise at 10 mm/s and 100 Hz (``tests/calibration/test_calibration.py``).
     """
-    t = np.asarray(time, dtype=np.float64)
-    z = np.asarray(depth, dtype=np.float64)
+    t = real_array(time, "time", "s")
+    z = real_array(depth, "depth", "m")
     smooth = median_filter(z, size=5, mode="nearest")
     deepest = float(np.max(smooth))
     if deepest <= 0.0:
@@ -215,7 +215,7 @@ def motion_covariance(time: np.ndarray, motion: Motion) -> np.ndarray:
     to the seven motion parameters and ``sigma_z`` the RMS depth residual.
     Zero for a noise-free depth.
     """
-    t = np.asarray(time, dtype=np.float64)
+    t = real_array(time, "time", "s")
     dt = float(np.median(np.diff(t)))
     v0 = motion.vector()
     steps = np.array([1e-4 * dt] * 4 + [1e-6] * 3)
@@ -252,7 +252,7 @@ def tare(time: np.ndarray, force: np.ndarray, motion: Motion, *, name: str = "tr
     count : int
         Number of pre-contact samples [-]; ``bias`` has the standard error ``noise / sqrt(count)``.
     """
-    t = np.asarray(time, dtype=np.float64)
+    t = real_array(time, "time", "s")
     dt = float(np.median(np.diff(t)))
     pre = t < motion.contact_time - 0.5 * dt
     n = int(np.count_nonzero(pre))
@@ -260,7 +260,7 @@ def tare(time: np.ndarray, force: np.ndarray, motion: Motion, *, name: str = "tr
         raise InputError(f"{name}: only {n} samples before the foot reaches the surface at "
                          f"{motion.contact_time:.3f} s; the force bias is tared from at least "
                          f"{MIN_PRECONTACT_SAMPLES} pre-contact samples: start with the foot above the surface")
-    f = np.asarray(force, dtype=np.float64)[pre]
+    f = real_array(force, "force", "N")[pre]
     return float(np.mean(f)), float(np.std(f, ddof=1)), n
 
 

@@ -34,6 +34,7 @@ import numpy as np
 from mudforce.errors import InputError
 from mudforce.foot import FOOT_EXAMPLES, parse_foot
 from mudforce.io import check_output_path, refuse_overwriting_inputs
+from mudforce.protocol import MAX_SAMPLES  # the bound's home: the protocol (here checked first, to name --rate)
 from mudforce.units import format_quantity, parse_quantity
 
 if TYPE_CHECKING:
@@ -47,8 +48,6 @@ HELP = "simulate the force for the paper's protocol or a trajectory CSV, write C
 
 #: The accepted --foot forms, for help and error messages.
 
-#: Largest number of samples a protocol may produce (memory guard; ~1 GB of output arrays).
-MAX_SAMPLES = 10_000_000
 
 #: The paper-protocol options: (attribute, option, kind, default text, zero allowed).
 _PROTOCOL_OPTIONS: tuple[tuple[str, str, str, str, bool], ...] = (
@@ -205,7 +204,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.io import atomic_open
 
     try:
-        result.to_csv(out)
+        result.to_csv(out, quiet=args.quiet)
         if plot is not None and png is not None:
             with atomic_open(plot, "wb") as handle:
                 handle.write(png)

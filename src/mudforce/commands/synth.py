@@ -148,8 +148,11 @@ def _check_bounds(args: argparse.Namespace, velocities: list[float], *, depth: f
     from mudforce.protocol import Protocol
 
     for v in velocities:
-        duration = Protocol.paper(depth=depth, velocity=v, hold=hold, rise=_RISE, rate=rate,
-                                  approach=approach).duration
+        try:
+            duration = Protocol.paper(depth=depth, velocity=v, hold=hold, rise=_RISE, rate=rate,
+                                      approach=approach).duration
+        except InputError as exc:  # the protocol's own bounds (simulate()'s): name the options that set them
+            raise InputError(f"--depth, --hold, --velocities, --rate: a trial at {v * 1e3:g} mm/s: {exc}") from None
         if duration > COLUMN_LIMITS["time"]:
             raise InputError(f"a trial at {v * 1e3:g} mm/s would last {duration:.12g} s, beyond the "
                              f"{COLUMN_LIMITS['time']:g} s that fit and identify read; lower --hold or raise "
