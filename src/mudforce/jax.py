@@ -89,6 +89,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mudforce import equations as _eq
+from mudforce._kernel.layout import ContactMode
 from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
@@ -125,11 +126,12 @@ __all__ = [
     "withdrawal_step",
 ]
 
-# contact states (as in mudforce._kernel), and a foot whose first sample is still to come
+# contact states: the stepper's own codes (mudforce._kernel.layout.ContactMode, defined once), and a foot
+# whose first sample is still to come
 UNSTARTED = -1
-FREE = 0
-CONTACT = 1
-NECKED = 2
+FREE = int(ContactMode.FREE)
+CONTACT = int(ContactMode.CONTACT)
+NECKED = int(ContactMode.NECKED)
 
 Array = Any  # a jax.Array (or anything jnp.asarray takes)
 
@@ -282,12 +284,13 @@ def mud_depth(state: State) -> Array:
 
 
 def _shared(function: Any) -> Any:
-    """A plain-arithmetic function of :mod:`mudforce.equations` as Python (numba's ``.py_func``): runs on jax arrays."""
-    return function.py_func
+    """A plain-arithmetic function of :mod:`mudforce.equations` on jax arrays (``equations.array_form``)."""
+    return _eq.array_form(function)
 
 
 #: Eq. (5): ``f_s = lambda rho_m v |v|`` [Pa] (:func:`mudforce.equations.drag_stress`).
 drag_stress = _shared(_eq.drag_stress)
+_drag_acts = _shared(_eq.drag_acts)  # Eq. (5)'s gate: below the surface, z_i > 0
 #: Eq. (3) in closed form, in increment form for float32: ``e(h) = e(0) + (v tau - e(0)) growth`` [m],
 #: ``growth = -expm1(-h / tau)`` (:func:`mudforce.equations.maxwell_strain_increment`).
 maxwell_strain_increment = _shared(_eq.maxwell_strain_increment)
@@ -520,7 +523,7 @@ def intrusion_step(strain: Array, v: Array, dt: Array, start: Array, k: StepCons
 
 def _piece_drag(p: Params, z_a: Array, v: Array, length: Array) -> Array:
     """Drag stress [Pa], Eq. (5), over a withdrawal piece from depth ``z_a`` [m]; its midpoint decides if below."""
-    return jnp.where(z_a + 0.5 * v * length > 0.0, drag_stress(p.lam, p.rho_m, v), 0.0)
+    return jnp.where(_drag_acts(z_a + 0.5 * v * length), drag_stress(p.lam, p.rho_m, v), 0.0)
 
 
 class Necking(NamedTuple):
@@ -607,7 +610,7 @@ def _force(p: Params, k: StepConstants, mode: Array, d: Array, strain: Array, mu
     :func:`mudforce.equations.total_stress` and times the area. ``strain``
     ``z_i - z_m`` [m] (CONTACT), ``mud_velocity`` ``v_m0 g`` [m/s] (NECKED).
     """
-    fs = jnp.where(z1 > 0.0, drag_stress(p.lam, p.rho_m, v), 0.0)
+    fs = jnp.where(_drag_acts(z1), drag_stress(p.lam, p.rho_m, v), 0.0)
     intr = (mode == CONTACT) & (d >= 0.0)
     fe1_i, _ = _intrusion_stress(p.k_i, k.tau_i, strain)
     fe1_w, _ = _withdrawal_stress(p.k_w, k.tau_w, strain)
@@ -781,7 +784,7 @@ def branch_forces(state: State, params: Params, dt: Array, weight: Array = 1.0) 
     hi1 = jnp.where(necked, hi1_n, hi1_c)
     f_up = (1.0 - weight) * lo0 + weight * lo1
     f_down = (1.0 - weight) * hi0 + weight * hi1
-    drag = jnp.where(z > 0.0, p.area * drag_stress(p.lam, p.rho_m, v), 0.0)
+    drag = jnp.where(_drag_acts(z), p.area * drag_stress(p.lam, p.rho_m, v), 0.0)
     inactive = ~started | free
     return (jnp.where(inactive, jnp.where(started, fu_free, 0.0), f_up),
             jnp.where(inactive, jnp.where(started, fd_free, 0.0), f_down),

@@ -38,18 +38,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
+from mudforce._kernel.layout import ContactMode
 from mudforce.errors import real_array
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 
 __all__ = ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"]
 
+# The contact state codes are the stepper's (mudforce._kernel.layout.ContactMode, defined once): labels only,
+# so that results compare; nothing of the stepper's arithmetic is used here.
 #: Contact state code: foot out of the mud, no force.
-FREE = 0
+FREE = int(ContactMode.FREE)
 #: Contact state code: Maxwell element attached (intrusion, hold or withdrawal branch).
-CONTACT = 1
+CONTACT = int(ContactMode.CONTACT)
 #: Contact state code: the neck has broken, the mud rings down, Eq. (7).
-NECKED = 2
+NECKED = int(ContactMode.NECKED)
 
 _RTOL = 1e-12  # relative tolerance of every integration [-]
 _ATOL = 1e-15  # absolute tolerance of every integration [m] or [m/s]
