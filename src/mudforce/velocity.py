@@ -208,10 +208,11 @@ def _check_record(time: np.ndarray, depth: np.ndarray) -> tuple[np.ndarray, np.n
     finite = np.isfinite(t) & np.isfinite(z)
     if not finite.all():
         k = int(np.flatnonzero(~finite)[0])
-        raise InputError(f"time and depth must be finite, got {t[k]!r} s and {z[k]!r} m at sample {k}")
+        raise InputError(f"time and depth must be finite, got {float(t[k])!r} s and {float(z[k])!r} m at sample {k}")
     if t.size > 1 and not (np.diff(t) > 0.0).all():
         k = int(np.flatnonzero(~(np.diff(t) > 0.0))[0]) + 1
-        raise InputError(f"time must be strictly increasing, got {t[k - 1]!r} s then {t[k]!r} s at sample {k}")
+        raise InputError(f"time must be strictly increasing, got {float(t[k - 1])!r} s then {float(t[k])!r} s at "
+                         f"sample {k}")
     return t, z
 
 
