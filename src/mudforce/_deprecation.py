@@ -59,14 +59,18 @@ def renamed_keywords(**renamed: str) -> Callable[[Callable[P, R]], Callable[P, R
         @functools.wraps(func)
         def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
             if kwargs:
-                for old, new in renamed.items():
-                    if old in kwargs:
-                        from mudforce.errors import InputError
+                used = [old for old in renamed if old in kwargs]
+                if used:
+                    from mudforce.errors import InputError
 
-                        if new in kwargs:
-                            raise InputError(f"{qualname}: give {new}= only ({old}= is its deprecated name)")
-                        warn_renamed(f"{qualname}({old}=...)", f"{new}=")
-                        kwargs[new] = kwargs.pop(old)
+                    for old in used:
+                        if renamed[old] in kwargs:
+                            raise InputError(f"{qualname}: give {renamed[old]}= only ({old}= is its deprecated name)")
+                    olds = "=, ".join(used) + "="
+                    news = "=, ".join(renamed[old] for old in used) + "="
+                    warn_renamed(f"{qualname}({olds})" if len(used) > 1 else f"{qualname}({olds}...)", news)
+                    for old in used:
+                        kwargs[renamed[old]] = kwargs.pop(old)
             return func(*args, **kwargs)
 
         return wrapper
