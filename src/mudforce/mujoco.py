@@ -68,6 +68,7 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce import _mujoco_fast as fast
+from mudforce._deprecation import renamed_keywords, warn_renamed
 from mudforce._mujoco_step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce._optional import require
 from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
@@ -78,7 +79,7 @@ from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
 from mudforce.velocity import VelocityFilter
 
-__all__ = ["ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_spec", "simulate_drop"]
+__all__ = ["ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "simulate_drop"]
 
 #: Foot speed at or below which a step counts as rest for the branch choice [m/s] (deadband of the kernel).
 STICK_VELOCITY = REST_SPEED
@@ -259,8 +260,10 @@ class MudAdapter:
         The feet's names, in the order of every per-foot array.
     patches : tuple of MudPatch
         Each foot's patch.
-    states, params : ndarray
-        Read-only views of the feet's contact states and constants (kernel layout).
+    state : ndarray
+        A snapshot of the feet's contact states (kernel layout); assign one to restore.
+    params : ndarray
+        A read-only view of the feet's constants (kernel layout).
 
     Notes
     -----
@@ -335,12 +338,44 @@ class MudAdapter:
         self.reset()
 
     @property
-    def states(self) -> np.ndarray:
-        """The feet's contact states, one row each (layout of :mod:`mudforce._kernel`).
+    def state(self) -> np.ndarray:
+        """A snapshot of the feet's contact states (a read-only copy), one row each; assign one back to restore.
 
-        A read-only view: it shows the state as the adapter steps on, but
-        cannot change it (copy it to keep a snapshot; :meth:`reset` to start over).
+        Rows in the layout of :mod:`mudforce._kernel`, as :attr:`mudforce.MudContacts.state`
+        (the adapter's filter keeps no history). Restoring validates the rows as
+        strictly as fresh ones (a refused one changes nothing) and prepares the
+        next step's band from the current ``data`` (runs ``mj_forward``), as
+        :meth:`reset` does; save and restore MuJoCo's own state
+        (``mujoco.mj_getState``/``mj_setState``) with it.
         """
+        snapshot: np.ndarray = self._states.copy()
+        snapshot.setflags(write=False)
+        return snapshot
+
+    @state.setter
+    def state(self, value: np.ndarray) -> None:
+        from mudforce.contact import check_states
+
+        n = len(self.feet)
+        try:
+            arr = np.asarray(value, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"a state of {n} feet must be a numeric array (from MudAdapter.state), got "
+                             f"{type(value).__name__}") from None
+        if arr.shape != self._states.shape:
+            raise InputError(f"a state of {n} feet has shape {self._states.shape}, got {arr.shape}")
+        check_states(arr, np.empty((n, 0)), "a state")
+        self._states[:] = arr
+        K.forget_cache(self._states)
+        self._mj.mj_forward(self.model, self.data)
+        self._conf[C_COMMIT] = 0.0
+        self._prepare()
+        self._conf[C_COMMIT] = 1.0
+
+    @property
+    def states(self) -> np.ndarray:
+        """Deprecated: a read-only view of the live state rows; use :attr:`state`."""
+        warn_renamed("MudAdapter.states", "MudAdapter.state")
         return _read_only(self._states)
 
     @property
@@ -428,9 +463,36 @@ class MudAdapter:
         return total
 
 
-def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, timestep: float = 1e-3,
-              thickness: float = 0.025) -> Any:
-    """A MuJoCo model (spec) of the drop: a cuboid foot on a vertical slide joint above mud at ``z = 0``.
+def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickness: float) -> Any:
+    mj = _mujoco()
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    foot = check_foot(foot)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    thickness = finite_number(thickness, "thickness", "m", positive=True)
+    if foot == Foot.paper():
+        lx, ly = 0.051, 0.038
+    else:
+        lx = ly = math.sqrt(foot.area)
+    spec = mj.MjSpec()
+    spec.modelname = "mudforce_drop"
+    spec.option.timestep = dt
+    spec.option.gravity = [0.0, 0.0, -GRAVITY]
+    body = spec.worldbody.add_body(name="foot", pos=[0.0, 0.0, height + 0.5 * thickness])
+    body.add_joint(name="drop", type=mj.mjtJoint.mjJNT_SLIDE, axis=[0.0, 0.0, 1.0])
+    body.add_geom(name="sole", type=mj.mjtGeom.mjGEOM_BOX, size=[0.5 * lx, 0.5 * ly, 0.5 * thickness],
+                  mass=mass, contype=0, conaffinity=0)
+    add_mud(spec, ["sole"])
+    return spec
+
+
+@renamed_keywords(timestep="dt")
+def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt: float = 1e-3,
+               thickness: float = 0.025) -> Any:
+    """A compiled ``mujoco.MjModel`` of the drop: a cuboid foot on a vertical slide joint above mud at ``z = 0``.
+
+    The foot's geom ``sole`` is prepared with :func:`add_mud` (feet ``["sole"]``).
+    The same model as :func:`mudforce.mjx.drop_model`, with the same arguments.
 
     Parameters
     ----------
@@ -441,35 +503,24 @@ def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, tim
         the paper's 51 x 38 mm cuboid (the default), which is kept as is.
     height : float
         Release height of the foot's bottom above the surface [m], >= 0.
-    timestep : float
-        MuJoCo time step [s], > 0.
+    dt : float
+        Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here).
     thickness : float
         Foot height [m], > 0 (the paper's 25 mm); irrelevant to the vertical dynamics.
     """
-    mj = _mujoco()
-    mass = finite_number(mass, "mass", "kg", positive=True)
-    foot = check_foot(foot)
-    height = finite_number(height, "height", "m", nonnegative=True)
-    timestep = finite_number(timestep, "timestep", "s", positive=True)
-    thickness = finite_number(thickness, "thickness", "m", positive=True)
-    if foot == Foot.paper():
-        lx, ly = 0.051, 0.038
-    else:
-        lx = ly = math.sqrt(foot.area)
-    spec = mj.MjSpec()
-    spec.modelname = "mudforce_drop"
-    spec.option.timestep = timestep
-    spec.option.gravity = [0.0, 0.0, -GRAVITY]
-    body = spec.worldbody.add_body(name="foot", pos=[0.0, 0.0, height + 0.5 * thickness])
-    body.add_joint(name="drop", type=mj.mjtJoint.mjJNT_SLIDE, axis=[0.0, 0.0, 1.0])
-    body.add_geom(name="sole", type=mj.mjtGeom.mjGEOM_BOX, size=[0.5 * lx, 0.5 * ly, 0.5 * thickness],
-                  mass=mass, contype=0, conaffinity=0)
-    add_mud(spec, ["sole"])
-    return spec
+    return _drop_spec(mass, foot, height, dt, thickness).compile()
 
 
+def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, timestep: float = 1e-3,
+              thickness: float = 0.025) -> Any:
+    """Deprecated: the ``mujoco.MjSpec`` of :func:`drop_model` (which returns the compiled model)."""
+    warn_renamed("mudforce.mujoco.drop_spec", "mudforce.mujoco.drop_model (compiled; dt= for timestep=)")
+    return _drop_spec(mass, foot, height, timestep, thickness)
+
+
+@renamed_keywords(timestep="dt")
 def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
-                  height: float = 0.0, timestep: float = 1e-3) -> FootResult:
+                  height: float = 0.0, dt: float = 1e-3) -> FootResult:
     """Drop a cuboid foot into mud in MuJoCo with :class:`MudAdapter`; returns a :class:`mudforce.dynamics.FootResult`.
 
     The phase of each sample is FREE or NECKED from the contact state, else
@@ -480,7 +531,7 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     Parameters
     ----------
     mass : float
-        Foot mass [kg]; at least ``S max(k_m_i, k_m_w) timestep^2`` (about
+        Foot mass [kg]; at least ``S max(k_m_i, k_m_w) dt^2`` (about
         3e-3 kg for Table I's muds, the paper's foot and 1 ms steps), so that
         the step resolves the foot's oscillation on the mud. Lighter than
         about 1 kg the result is rough: MuJoCo's soft friction lets the foot
@@ -493,8 +544,9 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
         Simulated time [s], > 0 (at most 1e8 steps).
     height : float
         Release height of the foot's bottom above the surface [m], >= 0.
-    timestep : float
-        MuJoCo time step [s], > 0; also the output sampling interval.
+    dt : float
+        Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here); also the
+        output sampling interval.
 
     Raises
     ------
@@ -507,16 +559,16 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     foot = check_foot(foot)
     duration = finite_number(duration, "duration", "s", positive=True)
     height = finite_number(height, "height", "m", nonnegative=True)
-    timestep = finite_number(timestep, "timestep", "s", positive=True)
-    mass = check_mass(mass, params, foot, timestep, "MuJoCo time step")
-    n = max_samples(duration, timestep)
-    model = drop_spec(mass, foot, height=height, timestep=timestep).compile()
+    dt = finite_number(dt, "dt", "s", positive=True)
+    mass = check_mass(mass, params, foot, dt, "MuJoCo time step")
+    n = max_samples(duration, dt)
+    model = _drop_spec(mass, foot, height, dt, 0.025).compile()
     data = mj.MjData(model)
     adapter = MudAdapter(model, data, ["sole"], MudPatch(params), foot)
     state = adapter._states[0]  # the live row (this function only reads it)
     live_depth = K.state_column(state, "depth")  # views of its fields, which follow the adapter
     live_mode = K.state_column(state, "mode")
-    time = np.arange(n) * timestep
+    time = np.arange(n) * dt
     depth = np.empty(n)
     velocity = np.empty(n)
     force = np.zeros(n)

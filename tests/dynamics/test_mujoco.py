@@ -32,7 +32,7 @@ def test_mujoco_and_builtin_agree_from_a_height() -> None:
 
     params = MudParameters.from_water_content(0.20)
     a = simulate_drop(10.0, params, duration=2.0, height=0.03)
-    b = simulate_foot(10.0, params, duration=2.0, depth0=-0.03)
+    b = simulate_foot(10.0, params, duration=2.0, height=0.03)
     assert a.at_rest and b.at_rest
     assert a.rest_depth == pytest.approx(b.rest_depth, rel=0.02)
     assert np.max(np.abs(a.depth - b.depth)) < 0.05 * b.rest_depth
@@ -92,7 +92,7 @@ def test_nstep_equals_single_steps_and_anchor_stays_above_the_foot() -> None:
         mud = MudAdapter(model, data, ["sole_a"], MudPatch(MudParameters.from_water_content(0.20)))
         for n in nsteps:
             mud.step(n)
-        runs.append((data.qpos.copy(), mud.states.copy()))
+        runs.append((data.qpos.copy(), mud.state))
         # the tendon's anchor (a world site the adapter moves) is 1 m above the contact point
         foot = data.site("mud_site_sole_a").xpos
         anchor = model.site("mud_anchor_site_sole_a").pos
