@@ -79,7 +79,9 @@ from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
 from mudforce.velocity import VelocityFilter
 
-__all__ = ["ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "simulate_drop"]
+__all__ = [
+    "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of", "simulate_drop",
+]
 
 #: Foot speed at or below which a step counts as rest for the branch choice [m/s] (deadband of the kernel).
 STICK_VELOCITY = REST_SPEED
@@ -232,6 +234,72 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         tendon.solimp_friction = list(_SOLIMP_FRICTION)
 
 
+def foot_of(model: Any, name: str) -> Foot:
+    """The flat foot (:class:`~mudforce.foot.Foot`) of a foot geom: its footprint on a horizontal surface.
+
+    The 1-D model loads a flat sole; a geom gets the sole of its outline seen
+    from below in its own frame (the contact follows the world's down
+    direction, so a geom is assumed upright there):
+
+    * sphere: a disc of its diameter;
+    * capsule, cylinder: a disc of its diameter if its axis is vertical in
+      its body, else a rectangle (its length, the capsule's caps included,
+      by its diameter);
+    * box: a rectangle of its two horizontal sides (the shorter is ``H``);
+    * ellipsoid: an ellipse of its two horizontal semi-axes (``H`` the shorter diameter);
+    * mesh: the rectangle of its vertices' x and y extents.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The compiled model.
+    name : str
+        A geom's name, or a body's with exactly one geom.
+
+    Raises
+    ------
+    InputError
+        For a name that is neither, a body with no geom or several, or a geom
+        of another type (plane, height field): give ``foot=`` then.
+    """
+    mj = _mujoco()
+    gid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, name)
+    if gid < 0:
+        bid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, name)
+        if bid < 0:
+            raise InputError(f"the model has no geom or body named {name!r}")
+        geoms = [int(g) for g in np.flatnonzero(model.geom_bodyid == bid)]
+        if len(geoms) != 1:
+            raise InputError(f"foot {name!r} is a body with {len(geoms)} geoms: name its foot geom, or give "
+                             "foot= (a mudforce.Foot per foot) for its sole")
+        gid = geoms[0]
+    kind = int(model.geom_type[gid])
+    size = [float(v) for v in model.geom_size[gid]]
+    quat = np.asarray(model.geom_quat[gid], dtype=float)
+    axis = np.zeros(3)
+    mj.mju_rotVecQuat(axis, np.array([0.0, 0.0, 1.0]), quat / np.linalg.norm(quat))
+    types = mj.mjtGeom
+    if kind == types.mjGEOM_SPHERE:
+        return Foot.disc(2.0 * size[0])
+    if kind in (types.mjGEOM_CAPSULE, types.mjGEOM_CYLINDER):
+        if abs(axis[2]) >= math.sqrt(0.5):
+            return Foot.disc(2.0 * size[0])
+        caps = 2.0 * size[0] if kind == types.mjGEOM_CAPSULE else 0.0
+        return Foot.cuboid(2.0 * size[1] + caps, 2.0 * size[0])
+    if kind == types.mjGEOM_BOX:
+        return Foot.cuboid(*sorted((2.0 * size[0], 2.0 * size[1]), reverse=True))
+    if kind == types.mjGEOM_ELLIPSOID:
+        a, b = size[0], size[1]
+        return Foot(area=math.pi * a * b, width=2.0 * min(a, b), shape=f"ellipse {2e3 * a:g}x{2e3 * b:g} mm")
+    if kind == types.mjGEOM_MESH:
+        mesh = int(model.geom_dataid[gid])
+        start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
+        extent = np.ptp(np.asarray(model.mesh_vert[start:start + count]), axis=0)
+        return Foot.cuboid(*sorted((float(extent[0]), float(extent[1])), reverse=True))
+    raise InputError(f"foot {name!r} is a geom of type {mj.mjtGeom(kind).name}, which has no sole: give foot= "
+                     "(a mudforce.Foot per foot)")
+
+
 class MudAdapter:
     """Mud under named feet of a MuJoCo model prepared with :func:`add_mud`; one contact state per foot.
 
@@ -250,7 +318,9 @@ class MudAdapter:
     patches : MudPatch or sequence of MudPatch
         One patch for all feet or one per foot.
     foot : Foot or sequence of Foot, optional
-        Contact area and width per foot [m^2, m]; the paper's cuboid by default.
+        Contact area and width per foot [m^2, m]; by default each foot's
+        own, from its geom (:func:`foot_of`: a sphere's disc, a box's
+        rectangle, ...); a foot with no geom to take it from is refused.
     prefix : str
         As given to :func:`add_mud`.
 
@@ -292,8 +362,10 @@ class MudAdapter:
             raise InputError(f"patches must be a MudPatch or a sequence of MudPatch, got {type(patches).__name__}")
         if len(plist) != n:
             raise InputError(f"got {len(plist)} patches for {n} feet")
-        if foot is None or isinstance(foot, Foot):
-            flist = [check_foot(foot)] * n
+        if foot is None:  # each foot's own sole, from its geom; never silently the paper's cuboid
+            flist = [foot_of(model, name) for name in self.feet]
+        elif isinstance(foot, Foot):
+            flist = [foot] * n
         elif isinstance(foot, Sequence) and all(isinstance(f, Foot) for f in foot):
             flist = list(foot)
         else:

@@ -146,7 +146,8 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
     "mudforce.mujoco": [
-        "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "simulate_drop",
+        "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of",
+        "simulate_drop",
     ],
     "mudforce.parameters": [
         "CITATION", "PAPER_UNITS", "PARAMETER_NAMES", "PARAMETER_RANGES", "RHO_M", "TABLE_I", "TABLE_I_RMSE_N",
