@@ -27,6 +27,7 @@ import mudforce
 # module -> the optional packages it needs (skipped where one is missing)
 OPTIONAL: dict[str, tuple[str, ...]] = {
     "mudforce.jax": ("jax",),
+    "mudforce.jax3d": ("jax",),
     "mudforce.mjx": ("jax", "mujoco", "mujoco.mjx"),
     "mudforce.mujoco": ("mujoco",),
 }
@@ -126,7 +127,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.law3d": [
         "FLAT_PLATE_ALPHA", "bearing_factor", "horizontal_drag", "lateral_capacity", "lateral_return_map",
-        "rotation_matrix", "shear_fraction", "spring_stress", "vertical_weight",
+        "quaternion_matrix", "rotation_matrix", "shear_fraction", "spring_stress", "vertical_weight",
     ],
     "mudforce.granular": [
         "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",
@@ -144,6 +145,7 @@ PINNED: dict[str, list[str]] = {
         "nonlinear_spring_stress", "reset", "rest_band", "step", "step_constants", "stick_force", "touchdown",
         "withdrawal_step"
     ],
+    "mudforce.jax3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
     "mudforce.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
     "mudforce.mujoco": [
         "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of",
