@@ -210,6 +210,8 @@ class MudContact3D:
         centroids = p + offsets
         normals = shape.normals @ rotation.T
         depth = self.surface_height - centroids[:, 2]
+        if self._started:  # an element turned about at its depth is at rest, not moving by rounding
+            depth = law3d.settle_depth(depth, self._elements.depths)  # the depths the elements were stepped to
         # the paper, element by element (refuses a depth out of bounds before any element moves)
         stress = self._elements.step(depth, dt)
         q = self.params

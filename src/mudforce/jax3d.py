@@ -265,7 +265,10 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     offsets = body_centroids @ rotation.T
     centroids = p + offsets
     normals = body_normals @ rotation.T
-    depth = jnp.asarray(params.surface_height, dtype=ftype) - centroids[:, 2]
+    height = jnp.asarray(params.surface_height, dtype=ftype)
+    depth = height - centroids[:, 2]
+    # an element turned about at its depth is at rest, not moving by rounding (MudContact3D.step's rule)
+    depth = jnp.where(started, law3d.settle_depth(depth, state.elements.depth, xp=jnp), depth)
     ok = pose_ok & (~started | dt_ok) & jnp.all(jnp.abs(depth) <= MAX_DEPTH)
 
     # the paper, element by element

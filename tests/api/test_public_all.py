@@ -126,8 +126,9 @@ PINNED: dict[str, list[str]] = {
     "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.law3d": [
-        "FLAT_PLATE_ALPHA", "bearing_factor", "horizontal_drag", "lateral_capacity", "lateral_return_map",
-        "quaternion_matrix", "rotation_matrix", "shear_fraction", "spring_stress", "vertical_weight",
+        "FLAT_PLATE_ALPHA", "ROUNDING_DEPTH", "bearing_factor", "horizontal_drag", "lateral_capacity",
+        "lateral_return_map", "quaternion_matrix", "rotation_matrix", "settle_depth", "shear_fraction",
+        "spring_stress", "vertical_weight",
     ],
     "mudforce.granular": [
         "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",
