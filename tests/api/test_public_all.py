@@ -161,6 +161,7 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.progress": ["Progress"],
     "mudforce.protocol": ["MAX_RATE", "MAX_SAMPLES", "MIN_RATE", "Hold", "Intrude", "Protocol", "Step", "Withdraw"],
+    "mudforce.reference3d": ["Reference3DResult", "reference_simulate_3d"],
     "mudforce.reference": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
     "mudforce.reference_drop": ["GRAVITY", "ExactDrop", "exact_drop"],
     "mudforce.reproduce": [
