@@ -387,6 +387,11 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     return array
 
 
+def _writable_rows(a: Any, m: int) -> bool:
+    """Whether ``a`` can receive (m, 3) float64 results in place."""
+    return isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == (m, 3) and bool(a.flags.writeable)
+
+
 class MudContacts3D:
     """Many feet of any shapes in mud, stepped together, one pose each per step (simulators, RL).
 
@@ -460,7 +465,7 @@ class MudContacts3D:
         self._starts = np.zeros(m + 1, dtype=np.int64)
         np.cumsum(sizes, out=self._starts[1:])
         total = int(self._starts[-1])
-        ft = np.zeros((S3.N_FOOT_ROWS, m))
+        ft = np.zeros((m, S3.N_FOOT_COLUMNS))
         rows = np.empty((total, K.N_PARAMS))
         exact = resolve_velocity_filter("exact")
         made: dict[tuple[int, float], np.ndarray] = {}  # 1-D params rows already made, by mud and width
@@ -481,30 +486,32 @@ class MudContacts3D:
             if key not in made:
                 made[key] = _param_rows(q, 1, foot, exact)[0]
             rows[self._starts[f]:self._starts[f + 1]] = made[key]
-            ft[:, f] = 0.0
-            ft[S3.F_SURFACE, f] = h
-            ft[S3.F_WIDTH, f] = float(Foot(area=1.0, width=w).width)
-            ft[S3.F_STIFFNESS, f] = float(k)
-            ft[S3.F_SIGMA_Y, f] = q.sigma_y
-            ft[S3.F_ALPHA, f] = q.alpha
-            ft[S3.F_BETA, f] = q.beta
-            ft[S3.F_LAMBDA, f] = q.lambda_
-            ft[S3.F_RHO, f] = q.rho_m
-        el = np.zeros((S3.N_ELEMENT_ROWS, total))
+            ft[f, S3.F_SURFACE] = h
+            ft[f, S3.F_WIDTH] = float(Foot(area=1.0, width=w).width)
+            ft[f, S3.F_STIFFNESS] = float(k)
+            ft[f, S3.F_SIGMA_Y] = q.sigma_y
+            ft[f, S3.F_ALPHA] = q.alpha
+            ft[f, S3.F_BETA] = q.beta
+            ft[f, S3.F_LAMBDA] = q.lambda_
+            ft[f, S3.F_RHO] = q.rho_m
+        el = np.zeros((total, S3.N_ELEMENT_COLUMNS))
         for f, shape in enumerate(feet):
             lo, hi = self._starts[f], self._starts[f + 1]
-            el[S3.E_CBX:S3.E_CBZ + 1, lo:hi] = shape.centroids.T
-            el[S3.E_NBX:S3.E_NBZ + 1, lo:hi] = shape.normals.T
-            el[S3.E_AREA, lo:hi] = shape.areas
+            el[lo:hi, S3.E_CBX:S3.E_CBZ + 1] = shape.centroids
+            el[lo:hi, S3.E_NBX:S3.E_NBZ + 1] = shape.normals
+            el[lo:hi, S3.E_AREA] = shape.areas
         self._el = el
         self._ft = ft
         self._params_rows = rows
         self._states = K.new_states(total)
         self._ring = K.new_ring(total, 1)
         self._scratch, self._index = K.new_spring_scratch(total)
-        #: the last step's forces [N] and torques about each body origin [N m], world frame, shape (n, 3)
-        self.forces = np.zeros((m, 3))
-        self.torques = np.zeros((m, 3))
+        self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
+        self._stress = np.zeros(total)
+        self._spring = np.zeros(total)  # this step's Eq. (4) stress at each element's depth [Pa]
+        # the compiled step's arguments after the poses and dt, before the outputs
+        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._spring, self._states,
+                             self._ring, self._params_rows, self._scratch, self._index)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -523,7 +530,7 @@ class MudContacts3D:
     @property
     def surface_heights(self) -> np.ndarray:
         """Each foot's surface height [m] (a copy)."""
-        heights: np.ndarray = self._ft[S3.F_SURFACE].copy()
+        heights: np.ndarray = self._ft[:, S3.F_SURFACE].copy()
         return heights
 
     # ------------------------------------------------------------------ state
@@ -532,8 +539,8 @@ class MudContacts3D:
         """A copy of everything the feet remember; assign one back to restore it."""
         el = self._el
         return ContactStates3D(np.hstack((self._states, self._ring)),
-                               el[S3.E_SLIPX:S3.E_SLIPY + 1].T.copy(), el[S3.E_CX:S3.E_CZ + 1].T.copy(),
-                               self._ft[S3.F_STARTED] != 0.0)
+                               el[:, S3.E_SLIPX:S3.E_SLIPY + 1].copy(), el[:, S3.E_CX:S3.E_CZ + 1].copy(),
+                               self._ft[:, S3.F_STARTED] != 0.0)
 
     @state.setter
     def state(self, saved: ContactStates3D) -> None:
@@ -556,9 +563,9 @@ class MudContacts3D:
         self._states[:] = elements[:, :K.N_STATE]
         self._ring[:] = elements[:, K.N_STATE:]
         K.forget_cache(self._states)
-        self._el[S3.E_SLIPX:S3.E_SLIPY + 1] = slip.T
-        self._el[S3.E_CX:S3.E_CZ + 1] = centroids.T
-        self._ft[S3.F_STARTED] = started
+        self._el[:, S3.E_SLIPX:S3.E_SLIPY + 1] = slip
+        self._el[:, S3.E_CX:S3.E_CZ + 1] = centroids
+        self._ft[:, S3.F_STARTED] = started
 
     @property
     def modes(self) -> list[str]:
@@ -599,21 +606,17 @@ class MudContacts3D:
         q = _float_rows(quaternions, "quaternions", (m, 4), "-")
         if type(dt) is not float:
             dt = real_number(dt, "dt")
-        if out is not None:
-            ok = isinstance(out, tuple) and len(out) == 2 and all(
-                isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == (m, 3) and a.flags.writeable
-                for a in out)
-            if not ok:
+        if out is None:
+            forces, torques = np.empty((m, 3)), np.empty((m, 3))
+        else:
+            if not (isinstance(out, tuple) and len(out) == 2 and _writable_rows(out[0], m)
+                    and _writable_rows(out[1], m)):
                 raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({m}, 3)")
-        code = S3.step_feet(p, q, dt, self._el, self._ft, self._starts, self._states, self._ring, self._params_rows,
-                            self._scratch, self._index, self.forces, self.torques)
+            forces, torques = out
+        code = S3.step_feet(p, q, dt, *self._kernel_args, forces, torques)
         if code != S3.OK:
             self._refuse(code, p, q, dt)
-        if out is None:
-            return self.forces.copy(), self.torques.copy()
-        out[0][:] = self.forces
-        out[1][:] = self.torques
-        return out
+        return forces, torques
 
     def _refuse(self, code: int, p: np.ndarray, q: np.ndarray, dt: float) -> None:
         """The one-line InputError for a step :func:`mudforce._kernel.step3d.step_feet` refused (nothing moved)."""
@@ -655,8 +658,8 @@ class MudContacts3D:
         for f in chosen.tolist():
             lo, hi = int(self._starts[f]), int(self._starts[f + 1])
             self._states[lo:hi] = fresh
-            self._el[S3.E_SLIPX:S3.E_SLIPY + 1, lo:hi] = 0.0
-            self._ft[S3.F_STARTED, f] = 0.0
+            self._el[lo:hi, S3.E_SLIPX:S3.E_SLIPY + 1] = 0.0
+            self._ft[f, S3.F_STARTED] = 0.0
 
     def __len__(self) -> int:
         return self.n

@@ -116,16 +116,38 @@ def rft3d_alpha(nx: float, ny: float, nz: float, vx: float, vy: float, vz: float
 
 
 @_compiled(inline="always")
+def _cubic_level(c: tuple[float, ...], b: float, d: float) -> float:
+    """:func:`_cubic` at ``x1 = -u_z = 0`` (a horizontal motion): its ten terms free of ``x1`` [-].
+
+    The other ten are products with ``x1 = -0.0``, signed zeros that change
+    no sum (at most the sign of an exact zero), so this is the full cubic's
+    value at a third of its cost.
+    """
+    return (c[0] + c[2] * b + c[3] * d + c[5] * (b * b) + c[6] * (d * d) + c[8] * (b * d) + c[11] * (b * b * b)
+            + c[12] * (d * d * d) + c[15] * (b * d * d) + c[16] * (d * b * b))
+
+
+@_compiled(inline="always")
 def bearing_factor(nx: float, ny: float, nz: float, dx: float, dy: float) -> float:
-    """:func:`mudforce.law3d.bearing_factor`: 3D-RFT's resistance along ``(dx, dy, 0)``, per a flat plate's [-].
+    """:func:`mudforce.law3d.bearing_factor`: 3D-RFT's resistance along ``s = (dx, dy, 0)``, per a flat plate's [-].
 
     ``max(0, -alpha . s) / FLAT_PLATE_ALPHA`` on a leading element
-    (``n . s > 0``), else 0.
+    (``n . s > 0``), else 0: :func:`rft3d_alpha` for a horizontal motion,
+    whose vertical part ``f3`` does not enter ``alpha . s``.
     """
     if not nx * dx + ny * dy > 0.0:
         return 0.0
-    ax, ay, _ = rft3d_alpha(nx, ny, nz, dx, dy, 0.0)
-    against = -(ax * dx + ay * dy)
+    speed = math.sqrt(dx * dx + dy * dy)
+    ux, uy = dx / speed, dy / speed
+    if nz < 0.0:
+        mx, my, mz = nx, ny, nz
+    else:
+        mx, my, mz = -nx, -ny, -nz
+    x2 = -mz
+    x3 = mx * ux + my * uy
+    f1 = _cubic_level(_C1, x2, x3)
+    f2 = _cubic_level(_C2, x2, x3)
+    against = -((f1 * mx + f2 * ux) * dx + (f1 * my + f2 * uy) * dy)
     return (against if against >= 0.0 else 0.0) / _FLAT
 
 
