@@ -357,16 +357,20 @@ class ContactStates3D(NamedTuple):
     started: np.ndarray
 
 
-def _per_foot(value: Any, m: int | None, name: str, kind: type | tuple[type, ...]) -> list[Any] | None:
-    """``value`` as a list of one item per foot if it is a sequence (not a ``kind`` itself), else None."""
+def _per_foot(value: Any, m: int | None, name: str, kind: type | tuple[type, ...], expected: str) -> list[Any] | None:
+    """``value`` as a list of one item per foot if it is a sequence (not a ``kind`` itself), else None.
+
+    ``expected`` words one item for the message (``"a MudParameters"``).
+    """
     if isinstance(value, kind) or value is None or is_real(value):
         return None
     if isinstance(value, (str, bytes)):
-        raise InputError(f"{name} must be one value or one per foot, got {type(value).__name__}")
+        raise InputError(f"{name} must be {expected} or a sequence of them, one per foot, got {type(value).__name__}")
     try:
         items = list(value)
     except TypeError:
-        raise InputError(f"{name} must be one value or one per foot, got {type(value).__name__}") from None
+        raise InputError(f"{name} must be {expected} or a sequence of them, one per foot, "
+                         f"got {type(value).__name__}") from None
     if m is not None and len(items) != m:
         raise InputError(f"got {len(items)} {name} for {m} feet; give one, or one per foot")
     return items
@@ -439,9 +443,9 @@ class MudContacts3D:
                  widths: float | Sequence[float] | None = None,
                  lateral_stiffness: float | Sequence[float] | None = None) -> None:
         m = None if n is None else positive_int(n, "the number of feet n")
-        muds = _per_foot(params, m, "parameter sets", MudParameters)
+        muds = _per_foot(params, m, "params", MudParameters, "a MudParameters")
         m = len(muds) if muds is not None and m is None else m
-        feet = _per_foot(shapes, m, "shapes", Shape)
+        feet = _per_foot(shapes, m, "shapes", Shape, "a mudforce.shapes.Shape")
         m = len(feet) if feet is not None and m is None else m
         if m is None:
             raise InputError("give n, the number of feet (params and shapes are one each)")
@@ -449,9 +453,10 @@ class MudContacts3D:
             raise InputError("give at least one foot")
         muds = muds if muds is not None else [params] * m
         feet = feet if feet is not None else [shapes] * m
-        heights = _per_foot(surface_heights, m, "surface heights", ()) or [surface_heights] * m
-        given_widths = _per_foot(widths, m, "widths", ()) or [widths] * m
-        stiffness = _per_foot(lateral_stiffness, m, "lateral stiffnesses", ()) or [lateral_stiffness] * m
+        heights = _per_foot(surface_heights, m, "surface_heights", (), "a number [m]") or [surface_heights] * m
+        given_widths = _per_foot(widths, m, "widths", (), "a number [m]") or [widths] * m
+        stiffness = (_per_foot(lateral_stiffness, m, "lateral_stiffness", (), "a number [Pa/m]")
+                     or [lateral_stiffness] * m)
         for f in range(m):
             if not isinstance(muds[f], MudParameters):
                 raise InputError(f"params must be MudParameters (one, or one per foot), got {type(muds[f]).__name__}")

@@ -23,6 +23,7 @@ PUBLIC = {
     "MudContact",
     "MudContact3D",
     "MudContacts",
+    "MudContacts3D",
     "MudParameters",
     "MudTracker",
     "MudTrackers",
