@@ -12,8 +12,11 @@ for one element) and Eq. (4) through
 and differs only in where things are kept:
 
 * the elements of all feet, concatenated foot after foot, are the rows
-  of one float64 block (``E_*`` columns: constants, the lateral state, and
-  this step's scratch), an element's values side by side; their depths
+  of one float64 block (``E_*`` columns: constants and the lateral state),
+  an element's values side by side; the world geometry of a step is
+  recomputed where it is used from the foot's pose (``F_*`` scratch
+  columns), not stored per element (a step of thousands of feet is bound
+  by memory traffic, not arithmetic); their depths
   and the paper's stresses are two arrays of their own, which the 1-D
   stepper takes as they are. (Not one contiguous row per quantity: rows
   of a few thousand doubles lie a multiple of 4 KiB apart, and the
@@ -70,10 +73,7 @@ E_NBX, E_NBY, E_NBZ = 3, 4, 5  # outward unit normal in the body frame [-]
 E_AREA = 6  # area [m^2]
 E_SLIPX, E_SLIPY = 7, 8  # horizontal elastic slip [m] (state)
 E_CX, E_CY, E_CZ = 9, 10, 11  # world centroid at the last step [m] (state)
-E_OX, E_OY, E_OZ = 12, 13, 14  # this step: the centroid's offset from the body origin, world frame [m]
-E_NX, E_NY, E_NZ = 15, 16, 17  # this step: the world normal [-]
-E_WX, E_WY, E_WZ = 18, 19, 20  # this step: the world centroid [m]
-N_ELEMENT_COLUMNS = 21
+N_ELEMENT_COLUMNS = 12
 
 # columns of the foot block: one row per foot
 F_SURFACE = 0  # surface height [m]
@@ -85,7 +85,9 @@ F_BETA = 5  # spring exponent [-]
 F_LAMBDA = 6  # drag factor [-]
 F_RHO = 7  # mud density [kg/m^3]
 F_STARTED = 8  # 1 once the foot has taken its first step
-N_FOOT_COLUMNS = 9
+F_PX = 9  # this step: the body origin [m], 3 columns
+F_R = 12  # this step: the rotation matrix [-], 9 columns, row by row
+N_FOOT_COLUMNS = 21
 
 #: :func:`step_feet`'s return values other than a foot's index
 OK = -1
@@ -95,12 +97,12 @@ BAD_DT = -2
 @_compiled()
 def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: np.ndarray, starts: np.ndarray,
            depths: np.ndarray) -> int:
-    """Every element's world offset, normal, centroid and depth [m] into scratch; the first bad foot or -1.
+    """Every foot's pose and every element's depth [m] into scratch; the first bad foot or -1.
 
     A foot is bad if its position is not finite, its quaternion not finite
     or farther than :data:`~mudforce.law3d.QUATERNION_TOLERANCE` from unit
     norm, or one of its elements would be deeper (or higher) than
-    ``MAX_DEPTH``. Writes only scratch (``el``'s this-step columns, ``depths``).
+    ``MAX_DEPTH``. Writes only scratch (``ft``'s this-step columns, ``depths``).
     """
     for f in range(positions.shape[0]):
         px, py, pz = positions[f, 0], positions[f, 1], positions[f, 2]
@@ -112,31 +114,30 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
         norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
         if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
             return f
-        r00, r01, r02, r10, r11, r12, r20, r21, r22 = rotation(qw, qx, qy, qz)
+        r = rotation(qw, qx, qy, qz)
+        for j in range(9):
+            ft[f, F_R + j] = r[j]
+        ft[f, F_PX] = px
+        ft[f, F_PX + 1] = py
+        ft[f, F_PX + 2] = pz
         h = ft[f, F_SURFACE]
         bad = False
         for i in range(starts[f], starts[f + 1]):
-            bx, by, bz = el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ]
-            ox = r00 * bx + r01 * by + r02 * bz
-            oy = r10 * bx + r11 * by + r12 * bz
-            oz = r20 * bx + r21 * by + r22 * bz
-            nx, ny, nz = el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ]
-            el[i, E_OX] = ox
-            el[i, E_OY] = oy
-            el[i, E_OZ] = oz
-            el[i, E_NX] = r00 * nx + r01 * ny + r02 * nz
-            el[i, E_NY] = r10 * nx + r11 * ny + r12 * nz
-            el[i, E_NZ] = r20 * nx + r21 * ny + r22 * nz
-            el[i, E_WX] = px + ox
-            el[i, E_WY] = py + oy
-            cz = pz + oz
-            el[i, E_WZ] = cz
-            depth = h - cz
+            oz = r[6] * el[i, E_CBX] + r[7] * el[i, E_CBY] + r[8] * el[i, E_CBZ]
+            depth = h - (pz + oz)
             depths[i] = depth
             bad |= not abs(depth) <= MAX_DEPTH
         if bad:
             return f
     return OK
+
+
+@_compiled(inline="always")
+def _rotated(ft: np.ndarray, f: int, x: float, y: float, z: float) -> tuple[float, float, float]:
+    """``R (x, y, z)`` with foot ``f``'s rotation of this step (the expressions :func:`_place` evaluates)."""
+    return (ft[f, F_R] * x + ft[f, F_R + 1] * y + ft[f, F_R + 2] * z,
+            ft[f, F_R + 3] * x + ft[f, F_R + 4] * y + ft[f, F_R + 5] * z,
+            ft[f, F_R + 6] * x + ft[f, F_R + 7] * y + ft[f, F_R + 8] * z)
 
 
 @_compiled(inline="always")
@@ -147,13 +148,17 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
     :meth:`mudforce.contact3d.MudContact3D.step` from the paper's stress on,
     one element at a time.
     """
+    # the geometry of this step, recomputed here rather than stored by _place: memory, not arithmetic, bounds
+    # a step of thousands of feet
+    px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
     started = ft[f, F_STARTED] != 0.0
     moving = False  # MudContact3D's ``trial.any()``
     if started:
         for i in range(lo, hi):
             if depths[i] > 0.0:
-                tx = el[i, E_SLIPX] + (el[i, E_WX] - el[i, E_CX])
-                ty = el[i, E_SLIPY] + (el[i, E_WY] - el[i, E_CY])
+                ox, oy, _ = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+                tx = el[i, E_SLIPX] + ((px + ox) - el[i, E_CX])
+                ty = el[i, E_SLIPY] + ((py + oy) - el[i, E_CY])
                 moving |= (tx != 0.0) | (ty != 0.0)
     k = ft[f, F_STIFFNESS]
     sigma_y = ft[f, F_SIGMA_Y]
@@ -169,13 +174,15 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
     stx = sty = stz = 0.0
     for i in range(lo, hi):
         area = el[i, E_AREA]
-        nx, ny, nz = el[i, E_NX], el[i, E_NY], el[i, E_NZ]
+        ox, oy, oz = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+        nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+        wx, wy, wz = px + ox, py + oy, pz + oz
         fz = stress[i] * area * vertical_weight(nz)
         fx = fy = 0.0
         slip_x = slip_y = 0.0
         if moving and depths[i] > 0.0:  # (above the surface the law gives 0 and 0, as MudContact3D's arrays do)
-            mx = el[i, E_WX] - el[i, E_CX]
-            my = el[i, E_WY] - el[i, E_CY]
+            mx = wx - el[i, E_CX]
+            my = wy - el[i, E_CY]
             tx = el[i, E_SLIPX] + mx
             ty = el[i, E_SLIPY] + my
             size = math.sqrt(tx * tx + ty * ty)
@@ -193,10 +200,9 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
             fy = ay * area
         el[i, E_SLIPX] = slip_x
         el[i, E_SLIPY] = slip_y
-        el[i, E_CX] = el[i, E_WX]
-        el[i, E_CY] = el[i, E_WY]
-        el[i, E_CZ] = el[i, E_WZ]
-        ox, oy, oz = el[i, E_OX], el[i, E_OY], el[i, E_OZ]
+        el[i, E_CX] = wx
+        el[i, E_CY] = wy
+        el[i, E_CZ] = wz
         sfx += fx
         sfy += fy
         sfz += fz
