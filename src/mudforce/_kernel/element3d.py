@@ -44,7 +44,7 @@ __all__ = [
 _C1 = tuple(float(c) for c in RFT3D_C1)
 _C2 = tuple(float(c) for c in RFT3D_C2)
 _C3 = tuple(float(c) for c in RFT3D_C3)
-_FLAT = float(FLAT_PLATE_ALPHA)
+_PER_FLAT = 1.0 / float(FLAT_PLATE_ALPHA)
 
 
 @_compiled(inline="always")
@@ -137,8 +137,7 @@ def bearing_factor(nx: float, ny: float, nz: float, dx: float, dy: float) -> flo
     """
     if not nx * dx + ny * dy > 0.0:
         return 0.0
-    speed = math.sqrt(dx * dx + dy * dy)
-    ux, uy = dx / speed, dy / speed
+    ux, uy = dx, dy  # a unit vector already (numpy's rft3d_alpha divides it by its norm again: within an ulp of 1)
     if nz < 0.0:
         mx, my, mz = nx, ny, nz
     else:
@@ -148,7 +147,7 @@ def bearing_factor(nx: float, ny: float, nz: float, dx: float, dy: float) -> flo
     f1 = _cubic_level(_C1, x2, x3)
     f2 = _cubic_level(_C2, x2, x3)
     against = -((f1 * mx + f2 * ux) * dx + (f1 * my + f2 * uy) * dy)
-    return (against if against >= 0.0 else 0.0) / _FLAT
+    return (against if against >= 0.0 else 0.0) * _PER_FLAT
 
 
 @_compiled(inline="always")

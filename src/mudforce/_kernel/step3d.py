@@ -167,6 +167,7 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
     width = ft[f, F_WIDTH]
     lambda_ = ft[f, F_LAMBDA]
     rho = ft[f, F_RHO]
+    per_dt = 1.0 / dt
     if moving:  # Eq. (4) at every element's depth, in a loop of its own, which the compiler vectorises
         for i in range(lo, hi):
             spring[i] = nonlinear_spring_stress(alpha, beta, depths[i], width)
@@ -186,14 +187,14 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
             tx = el[i, E_SLIPX] + mx
             ty = el[i, E_SLIPY] + my
             size = math.sqrt(tx * tx + ty * ty)
-            unit = size if size > 0.0 else 1.0
-            dx = tx / unit
-            dy = ty / unit
+            per = 1.0 / (size if size > 0.0 else 1.0)  # a multiply each where MudContact3D divides: within an ulp
+            dx = tx * per
+            dy = ty * per
             capacity = lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, dx, dy),
                                         spring[i],
                                         bearing_factor(nx, ny, nz, dx, dy))
             slip_x, slip_y, ax, ay = lateral_return_map(tx, ty, k, capacity)
-            gx, gy = horizontal_drag(lambda_, rho, nx, ny, mx / dt, my / dt)
+            gx, gy = horizontal_drag(lambda_, rho, nx, ny, mx * per_dt, my * per_dt)
             ax += gx
             ay += gy
             fx = ax * area
