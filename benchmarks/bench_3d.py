@@ -1,7 +1,7 @@
 """Benchmark the 3-D law: ns per element per step and us per step, one foot and many (MudContacts3D).
 
 Run: ``python benchmarks/bench_3d.py`` (``--quick`` for a short run).
-Prints figures; asserts nothing. Targets (issue 21, "Speed"): at most
+Prints figures; asserts nothing. One thread unless a line says otherwise. Targets (issue 21, "Speed"): at most
 20 ns per element per step on one CPU thread, and at most 2 us a step for
 a 64-element foot; on an H100, 4,096 quadrupeds x 4 feet x 64 elements
 in at most 1 ms per step (the JAX step, :mod:`mudforce.jax3d`, when it
@@ -68,21 +68,26 @@ def walk(feet: int, steps: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(pos), np.ascontiguousarray(quat)
 
 
-def timings(fn: Callable[[], Any], repeats: int) -> tuple[float, float]:
-    """Best and median CPU time of this process over the repeats [s]."""
+def timings(fn: Callable[[], Any], repeats: int, clock: Callable[[], float] = time.process_time
+            ) -> tuple[float, float]:
+    """Best and median time of the repeats [s], by ``clock`` (by default the CPU time of this process)."""
     times = []
     for _ in range(repeats):
-        c0 = time.process_time()
+        c0 = clock()
         fn()
-        times.append(time.process_time() - c0)
+        times.append(clock() - c0)
     return min(times), float(np.median(times))
 
 
-def bench_many(shape: shapes.Shape, feet: int, steps: int, repeats: int) -> tuple[float, float]:
-    """Seconds per step (best, median) of ``MudContacts3D.step`` for ``feet`` feet of ``shape``."""
+def bench_many(shape: shapes.Shape, feet: int, steps: int, repeats: int, threads: int | None = 1,
+               wall: bool = False) -> tuple[float, float]:
+    """Seconds per step (best, median) of ``MudContacts3D.step`` for ``feet`` feet of ``shape``.
+
+    CPU time on one thread; wall time (``wall=True``) for several, whose CPU time adds up.
+    """
     params = mf.MudParameters.from_water_content(0.25)
     pos, quat = walk(feet, steps + 1)
-    contacts = MudContacts3D(params, shape, feet)
+    contacts = MudContacts3D(params, shape, feet, threads=threads)
     out = (np.empty((feet, 3)), np.empty((feet, 3)))
     contacts.step(pos[0], quat[0], 0.0, out=out)
     start = contacts.state
@@ -94,7 +99,7 @@ def bench_many(shape: shapes.Shape, feet: int, steps: int, repeats: int) -> tupl
             contacts.step(pos[k], quat[k], dt, out=out)
 
     run()  # warm-up (and compile, or load numba's cache)
-    best, median = timings(run, repeats)
+    best, median = timings(run, repeats, time.perf_counter if wall else time.process_time)
     return best / steps, median / steps
 
 
@@ -154,6 +159,11 @@ def main() -> None:
         cases.append(("MudContacts3D, 4096 sphere feet (4 x 1024)", sphere, 4096, max(steps // 20, 20)))
     for label, shape, feet, n_steps in cases:
         row(label, bench_many(shape, feet, n_steps, repeats), feet * shape.n)
+    if not args.quick:
+        auto = MudContacts3D(mf.MudParameters.from_water_content(0.25), sphere, 4096, threads=None).threads
+        for threads in sorted({1, auto}):
+            row(f"  the same on {threads} thread(s), wall time",
+                bench_many(sphere, 4096, max(steps // 20, 20), repeats, threads=threads, wall=True), 4096 * sphere.n)
     row("MudContact3D (numpy reference), 1 sphere foot", bench_one(sphere, max(steps // 5, 50), repeats), sphere.n)
     jax = bench_jax(sphere, 64, steps, repeats)
     if jax is None:

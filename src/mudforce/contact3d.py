@@ -29,7 +29,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce import law3d
+from mudforce import law3d, vectorized
 from mudforce._kernel import step3d as S3
 from mudforce.contact import check_states
 from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, real_number
@@ -424,6 +424,15 @@ class MudContacts3D:
     lateral_stiffness : float or sequence of float, optional
         Stiffness of the horizontal elastic slip [Pa/m]; by default each
         mud's ``k_m_w``.
+    threads : int or None
+        Step the feet in this many slices on numba's threads (at most one
+        per foot); 1 (the default) steps them on the calling thread.
+        ``None`` chooses as :class:`mudforce.MudContacts` does for as many
+        feet as there are elements here (one slice per core above 1024
+        elements per thread, with numba's OpenMP or TBB layer; else 1).
+        The results do not depend on it. (Not the automatic choice by
+        default: on the shared 2-core machine where it was written, two
+        threads were never measured faster than one; docs/speed.md.)
 
     Examples
     --------
@@ -441,7 +450,7 @@ class MudContacts3D:
     def __init__(self, params: MudParameters | Sequence[MudParameters], shapes: Shape | Sequence[Shape],
                  n: int | None = None, *, surface_heights: float | Sequence[float] = 0.0,
                  widths: float | Sequence[float] | None = None,
-                 lateral_stiffness: float | Sequence[float] | None = None) -> None:
+                 lateral_stiffness: float | Sequence[float] | None = None, threads: int | None = 1) -> None:
         m = None if n is None else positive_int(n, "the number of feet n")
         muds = _per_foot(params, m, "params", MudParameters, "a MudParameters")
         m = len(muds) if muds is not None and m is None else m
@@ -510,13 +519,21 @@ class MudContacts3D:
         self._params_rows = rows
         self._states = K.new_states(total)
         self._ring = K.new_ring(total, 1)
+        #: slices the feet are stepped in, one per thread (1: the calling thread only)
+        self.threads = min(vectorized._resolve_threads(threads, total), m)
+        self._chunks = np.empty(self.threads, dtype=np.int64)
         self._scratch, self._index = K.new_spring_scratch(total)
+        # one spring block per slice of feet, as wide as the slice with the most elements
+        cuts = [int(self._starts[m * c // self.threads]) for c in range(self.threads + 1)]
+        widest = max(cuts[c + 1] - cuts[c] for c in range(self.threads))
+        self._slice_scratch, self._slice_index = K.new_feet_scratch(widest * self.threads, self.threads)
         self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
         self._stress = np.zeros(total)
         self._spring = np.zeros(total)  # this step's Eq. (4) stress at each element's depth [Pa]
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._spring, self._states,
                              self._ring, self._params_rows, self._scratch, self._index)
+        self._thread_args = (*self._kernel_args[:-2], self._slice_scratch, self._slice_index)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -618,7 +635,11 @@ class MudContacts3D:
                     and _writable_rows(out[1], m)):
                 raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({m}, 3)")
             forces, torques = out
-        code = S3.step_feet(p, q, dt, *self._kernel_args, forces, torques)
+        if self.threads > 1 and not vectorized._forked:
+            with vectorized._launch_lock:
+                code = S3.step_feet_threads(p, q, dt, *self._thread_args, forces, torques, self._chunks)
+        else:
+            code = S3.step_feet(p, q, dt, *self._kernel_args, forces, torques)
         if code != S3.OK:
             self._refuse(code, p, q, dt)
         return forces, torques
@@ -670,4 +691,4 @@ class MudContacts3D:
         return self.n
 
     def __repr__(self) -> str:
-        return f"MudContacts3D(n={self.n}, elements={self.n_elements})"
+        return f"MudContacts3D(n={self.n}, elements={self.n_elements}, threads={self.threads})"

@@ -149,6 +149,27 @@ def test_many_feet_are_independent_mudcontact3d_feet_with_their_own_muds() -> No
     assert not np.array_equal(force[:, 0], force[:, 3])
 
 
+def test_threads_give_the_same_bits_with_feet_of_unequal_sizes() -> None:
+    rng = np.random.default_rng(5)
+    feet = [SPHERE] * 2 + [SOLE] * 9  # the slices of feet hold unequal numbers of elements
+    pos, quat = _walk(rng, 60)
+    pos = np.repeat(pos[:, None, :], len(feet), axis=1) + rng.normal(scale=2e-3, size=(1, len(feet), 3))
+    quat = np.repeat(quat[:, None, :], len(feet), axis=1)
+    one = MudContacts3D(MUD, feet, threads=1)
+    three = MudContacts3D(MUD, feet, threads=3)
+    assert three.threads == 3
+    for k in range(60):
+        a, b = one.step(pos[k], quat[k], DT if k else 0.0), three.step(pos[k], quat[k], DT if k else 0.0)
+        assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+    assert np.max(np.abs(a[0])) > 1.0
+    bad = pos[59].copy()
+    bad[10, 0] = math.nan
+    saved = three.state
+    with pytest.raises(InputError, match="foot 10"):
+        three.step(bad, quat[59], DT)
+    assert _same_state(three.state, saved)
+
+
 # ---------------------------------------------------------------- refused input changes nothing
 def _settled_feet(n: int) -> tuple[MudContacts3D, np.ndarray, np.ndarray]:
     contacts = MudContacts3D(MUD, SPHERE, n)

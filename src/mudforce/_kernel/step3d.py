@@ -43,6 +43,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import prange
 
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.element3d import (
@@ -65,6 +66,7 @@ __all__ = [
     "N_FOOT_COLUMNS",
     "OK",
     "step_feet",
+    "step_feet_threads",
 ]
 
 # columns of the element block: one row per element (all feet's, foot after foot)
@@ -255,4 +257,49 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
         return refused
     for f in range(m):
         _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+    return OK
+
+
+@_compiled(inline="always")
+def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
+    """``dt`` if a foot has started and it is within bounds, 1.0 if none has started, NaN if refused."""
+    any_started = False
+    for f in range(m):
+        any_started |= ft[f, F_STARTED] != 0.0
+    if not any_started:
+        return 1.0
+    return dt if MIN_DT <= dt <= MAX_DT else math.nan
+
+
+@_compiled(parallel=True)
+def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
+                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray,
+                      states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
+                      index: np.ndarray, forces: np.ndarray, torques: np.ndarray, chunks: np.ndarray) -> int:
+    """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
+
+    The checks run first, on the calling thread, over every foot; then
+    each slice's elements take their 1-D step and its feet their lateral
+    law. The feet are independent, so the results are :func:`step_feet`'s
+    bit for bit. ``scratch`` and ``index`` hold one spring block per slice
+    (:func:`~mudforce._kernel.loops.new_feet_scratch` for all elements).
+    """
+    m = positions.shape[0]
+    dt = _checked_dt(ft, m, dt)
+    if dt != dt:
+        return BAD_DT
+    bad = _place(positions, quaternions, el, ft, starts, depths)
+    if bad != OK:
+        return bad
+    n = chunks.shape[0]
+    for c in prange(n):
+        lo = m * c // n
+        hi = m * (c + 1) // n
+        a, b = starts[lo], starts[hi]
+        chunks[c] = run_feet(states[a:b], ring[a:b], params[a:b], depths[a:b], dt, stress[a:b], scratch[c], index[c])
+        for f in range(lo, hi):
+            _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+    for c in range(n):
+        if chunks[c] >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+            return int(chunks[c])
     return OK
