@@ -64,22 +64,22 @@ LIFT = 0.02  # sole's target height at the top of a step [m]
 PUSH = 0.025  # sole's target depth at the bottom of a step [m]
 
 
-def build(worlds: int, water: np.ndarray) -> tuple[object, object, mud.Patch, object]:
+def build(worlds: int, water: np.ndarray) -> tuple[object, object, mud.MudPatch, object]:
     """The MJX model, a batch of data (one world per water content), per-world patches and the MuJoCo model."""
     model = mujoco.MjModel.from_xml_string(LEG)
     m = mjx.put_model(model)
-    patches = [mud.make_patch(model, ["sole"], MudParameters.from_water_content(float(w))) for w in water]
+    patches = [mud.add_mud(model, ["sole"], MudParameters.from_water_content(float(w))) for w in water]
     patch = jax.tree_util.tree_map(lambda *xs: jnp.stack(xs), *patches)  # a world axis on every field
     d0 = mjx.make_data(m)
     data = jax.tree_util.tree_map(lambda x: jnp.broadcast_to(x, (worlds, *x.shape)), d0)
     return m, data, patch, model
 
 
-def simulate(m: object, data: object, patch: mud.Patch, steps: int) -> dict[str, np.ndarray]:
+def simulate(m: object, data: object, patch: mud.MudPatch, steps: int) -> dict[str, np.ndarray]:
     """Every world for ``steps`` physics steps in one jit: sole depth [m] and work the mud takes [J] per step."""
     dt = float(m.opt.timestep)  # type: ignore[attr-defined]
 
-    def one_world(d: object, c: mud.Contact, p: mud.Patch, k: jax.Array) -> tuple[object, mud.Contact, jax.Array,
+    def one_world(d: object, c: mud.MudState, p: mud.MudPatch, k: jax.Array) -> tuple[object, mud.MudState, jax.Array,
                                                                                     jax.Array]:
         # the sole's target height: LIFT above the surface to PUSH below it and back, once per cycle
         cycle = 0.5 - 0.5 * jnp.cos(2.0 * jnp.pi * STEP_HZ * k * dt)
@@ -91,7 +91,7 @@ def simulate(m: object, data: object, patch: mud.Patch, steps: int) -> dict[str,
     batched = jax.vmap(one_world, in_axes=(0, 0, 0, None))
 
     @jax.jit
-    def run(data: object, patch: mud.Patch) -> tuple[jax.Array, jax.Array]:
+    def run(data: object, patch: mud.MudPatch) -> tuple[jax.Array, jax.Array]:
         # the per-world mud is an argument, not a constant closed over (see docs/gpu.md)
         def body(carry, k):  # type: ignore[no-untyped-def]
             d, c = carry

@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from mudforce.contact3d import MudContact3D, MudContacts3D, Wrench, simulate_3d
     from mudforce.errors import InputError
     from mudforce.foot import Foot
-    from mudforce.parameters import CHEN2024, PARAMETER_NAMES, TABLE_I, MudParameters
+    from mudforce.parameters import CITATION, PARAMETER_NAMES, TABLE_I, MudParameters
     from mudforce.protocol import Hold, Intrude, Protocol, Withdraw
     from mudforce.simulation import STATE_NAMES, SimulationResult, simulate
     from mudforce.tracker import MudTracker, MudTrackers, TrackEstimate, TrackEstimates
@@ -44,7 +44,7 @@ _LAZY = {
     "simulate_3d": "mudforce.contact3d",
     "InputError": "mudforce.errors",
     "Foot": "mudforce.foot",
-    "CHEN2024": "mudforce.parameters",
+    "CITATION": "mudforce.parameters",
     "PARAMETER_NAMES": "mudforce.parameters",
     "TABLE_I": "mudforce.parameters",
     "MudParameters": "mudforce.parameters",
@@ -65,7 +65,16 @@ _LAZY = {
 }
 
 
+# deprecated names (docs/api.md, "Renamed in 0.2"): old -> new; each use warns, and is not cached
+_RENAMED = {"CHEN2024": "CITATION"}
+
+
 def __getattr__(name: str) -> Any:
+    if name in _RENAMED:
+        from mudforce._deprecation import warn_renamed
+
+        warn_renamed(f"mudforce.{name}", f"mudforce.{_RENAMED[name]}")
+        name = _RENAMED[name]
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'mudforce' has no attribute {name!r}")
@@ -81,7 +90,7 @@ def __dir__() -> list[str]:
 __version__ = "0.1.0"
 
 __all__ = [
-    "CHEN2024",
+    "CITATION",
     "PARAMETER_NAMES",
     "STATE_NAMES",
     "TABLE_I",

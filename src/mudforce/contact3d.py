@@ -63,7 +63,7 @@ class ContactState3D(NamedTuple):
     Attributes
     ----------
     elements : ndarray
-        The elements' 1-D states (:meth:`mudforce.vectorized.MudContacts.snapshot`).
+        The elements' 1-D states (:attr:`mudforce.vectorized.MudContacts.state`).
     slip : ndarray, shape (n, 2)
         The elements' horizontal elastic slips [m].
     centroids : ndarray, shape (n, 3)
@@ -155,7 +155,7 @@ class MudContact3D:
     @property
     def state(self) -> ContactState3D:
         """A copy of everything the contact remembers; assign one back to restore it."""
-        return ContactState3D(self._elements.snapshot(), self._slip.copy(), self._centroids.copy(), self._started)
+        return ContactState3D(self._elements.state, self._slip.copy(), self._centroids.copy(), self._started)
 
     @state.setter
     def state(self, saved: ContactState3D) -> None:
@@ -169,7 +169,7 @@ class MudContact3D:
                              f"{slip.shape} and {centroids.shape}")
         if not (np.all(np.isfinite(slip)) and np.all(np.isfinite(centroids))):
             raise InputError("a state's slips and centroids must be finite")
-        self._elements.restore(saved.elements)  # validated; refuses without changing anything
+        self._elements.state = saved.elements  # validated; refuses without changing anything
         self._slip = slip.copy()
         self._centroids = centroids.copy()
         self._started = bool(saved.started)

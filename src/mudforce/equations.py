@@ -206,7 +206,8 @@ def drag_stress(lambda_: float, rho_m: float, velocity: float) -> float:
     Notes
     -----
     The paper's ``sign(0) = +1`` makes no difference here: ``v^2 = 0``.
-    The caller applies it only while the foot is below the surface (docs/model.md).
+    It acts only while the foot is below the surface (:func:`drag_acts`,
+    :func:`submerged_drag_stress`; docs/model.md).
     """
     return lambda_ * rho_m * velocity * abs(velocity)
 

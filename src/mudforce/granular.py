@@ -276,7 +276,13 @@ def rft3d_basis(x1: Any, x2: Any, x3: Any) -> np.ndarray:
     """
     a, b, c = np.broadcast_arrays(np.asarray(x1, dtype=np.float64), np.asarray(x2, dtype=np.float64),
                                   np.asarray(x3, dtype=np.float64))
-    return np.stack([np.ones_like(a), a, b, c, a * a, b * b, c * c, a * b, b * c, c * a, a ** 3, b ** 3, c ** 3,
+    out: np.ndarray = _basis(a, b, c, np)
+    return out
+
+
+def _basis(a: Any, b: Any, c: Any, xp: Any) -> Any:
+    """:func:`rft3d_basis` on arrays of one shape, in the array library ``xp`` (numpy or jax.numpy)."""
+    return xp.stack([xp.ones_like(a), a, b, c, a * a, b * b, c * c, a * b, b * c, c * a, a ** 3, b ** 3, c ** 3,
                      a * b * b, b * a * a, b * c * c, c * b * b, c * a * a, a * c * c, a * b * c], axis=-1)
 
 
@@ -321,7 +327,7 @@ def rft3d_angles(normals: Any, velocities: Any) -> tuple[np.ndarray, np.ndarray,
 
 
 def rft3d_alpha(normals: Any, velocities: Any,
-                coefficients: tuple[Any, Any, Any] = (RFT3D_C1, RFT3D_C2, RFT3D_C3)) -> np.ndarray:
+                coefficients: tuple[Any, Any, Any] = (RFT3D_C1, RFT3D_C2, RFT3D_C3), *, xp: Any = np) -> Any:
     """3D-RFT's generic stress per depth of each element, world frame, before friction and leading tests [-].
 
     ``alpha = f1 m + f2 v - f3 z`` with ``v`` the unit velocity, ``m`` the
@@ -338,30 +344,48 @@ def rft3d_alpha(normals: Any, velocities: Any,
         Element velocities [m/s]; a zero velocity gives ``alpha = 0`` (no direction).
     coefficients : tuple of three array_like, shape (20,)
         ``(c1, c2, c3)``; :data:`RFT3D_C1`, :data:`RFT3D_C2`, :data:`RFT3D_C3` by default.
+    xp : module
+        The array library: numpy (the default; every input is checked, and
+        bad input refused with :class:`~mudforce.errors.InputError`) or
+        ``jax.numpy`` (for :mod:`mudforce.jax3d`, under ``jit`` and ``grad``:
+        traced values cannot be checked, the caller guards them; the normals
+        are normalised all the same). The same operations either way.
 
     Returns
     -------
-    numpy.ndarray, shape (n, 3)
-        Generic stress per depth [-] (``xi_n`` [N/m^3] gives it its unit).
+    array, shape (n, 3)
+        Generic stress per depth [-] (``xi_n`` [N/m^3] gives it its unit); a
+        numpy array, or a jax array with ``xp=jax.numpy``.
     """
-    n = _unit_normals(normals)
-    v = _vectors(velocities, "velocities [m/s]", len(n))
-    c1, c2, c3 = _rft3d_coefficients(coefficients)
-    return _rft3d(n, v, c1, c2, c3)
+    if xp is np:
+        n = _unit_normals(normals)
+        v = _vectors(velocities, "velocities [m/s]", len(n))
+        c1, c2, c3 = _rft3d_coefficients(coefficients)
+    else:
+        n = normals / _norm(normals, xp)[:, None]
+        v = velocities
+        c1, c2, c3 = (xp.asarray(c) for c in coefficients)
+    return _rft3d(n, v, c1, c2, c3, xp)
 
 
-def _rft3d(n: np.ndarray, v: np.ndarray, c1: np.ndarray, c2: np.ndarray, c3: np.ndarray) -> np.ndarray:
-    speed = np.linalg.norm(v, axis=1)
-    moving = speed > 0.0
-    u = np.divide(v, speed[:, None], out=np.zeros_like(v), where=moving[:, None])
-    m = np.where(n[:, 2:3] < 0.0, n, -n)
-    basis = rft3d_basis(-u[:, 2], -m[:, 2], np.einsum("ij,ij->i", m, u))
+def _norm(x: Any, xp: Any = np) -> Any:
+    """The length of each row [-]: ``numpy.linalg.norm(x, axis=1)``'s own operations, in ``xp``."""
+    return xp.sqrt(xp.sum(x * x, axis=1))
+
+
+def _rft3d(n: Any, v: Any, c1: Any, c2: Any, c3: Any, xp: Any = np) -> Any:
+    """3D-RFT's ``alpha`` on checked unit normals, in the array library ``xp`` (numpy or jax.numpy)."""
+    square = xp.sum(v * v, axis=1)
+    moving = square > 0.0
+    speed = xp.sqrt(xp.where(moving, square, 1.0))  # |v|, 1 at rest: the double where keeps NaN out of gradients
+    u = xp.where(moving[:, None], v / speed[:, None], 0.0)
+    m = xp.where(n[:, 2:3] < 0.0, n, -n)
+    basis = _basis(-u[:, 2], -m[:, 2], xp.einsum("ij,ij->i", m, u), xp)
     # row sums, not a matrix product: the same bits per element whatever the number of elements (BLAS is not)
     f1, f2, f3 = (basis * c1).sum(axis=-1), (basis * c2).sum(axis=-1), (basis * c3).sum(axis=-1)
-    alpha: np.ndarray = f1[:, None] * m + f2[:, None] * u
-    alpha[:, 2] -= f3
-    alpha[~moving] = 0.0
-    return alpha
+    alpha = f1[:, None] * m + f2[:, None] * u
+    alpha = xp.concatenate([alpha[:, :2], (alpha[:, 2] - f3)[:, None]], axis=1)
+    return xp.where(moving[:, None], alpha, 0.0)
 
 
 def _li_vectors(n: np.ndarray, v: np.ndarray, c: LiCoefficients) -> np.ndarray:
@@ -572,7 +596,7 @@ def _vectors(value: Any, name: str, count: int | None) -> np.ndarray:
 
 def _unit_normals(value: Any) -> np.ndarray:
     n = _vectors(value, "normals", None)
-    length = np.linalg.norm(n, axis=1)
+    length = _norm(n)
     if np.any(np.abs(length - 1.0) > _NORMAL_TOLERANCE):
         worst = float(length[np.argmax(np.abs(length - 1.0))])
         raise InputError(f"normals must be unit vectors (|n| = 1 within {_NORMAL_TOLERANCE:g}), got |n| = {worst:g}")

@@ -89,6 +89,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mudforce import equations as _eq
+from mudforce._deprecation import renamed_keywords, warn_renamed
 from mudforce._kernel.layout import ContactMode
 from mudforce.errors import InputError, positive_int
 from mudforce.foot import Foot
@@ -196,28 +197,36 @@ def _float_dtype(dtype: Any) -> Any:
     return jnp.dtype(dtype) if dtype is not None else jnp.result_type(float)
 
 
+@renamed_keywords(mud="params")
 def make_params(
-    mud: MudParameters | Sequence[MudParameters],
-    foot: Foot | Sequence[Foot] | None = None,
+    params: MudParameters | Sequence[MudParameters],
     n: int | None = None,
+    foot: Foot | Sequence[Foot] | None = None,
     dtype: Any = None,
 ) -> Params:
     """The :class:`Params` pytree for one mud shared by all feet, or one per foot.
 
+    The arguments are those of :class:`mudforce.MudContacts`, in its order ``(params, n, foot)``.
+
     Parameters
     ----------
-    mud : MudParameters or sequence of MudParameters
+    params : MudParameters or sequence of MudParameters
         One parameter set (scalar fields, broadcast to every foot) or one per
-        foot (fields of shape ``(len(mud),)``).
-    foot : Foot or sequence of Foot, optional
-        Foot geometry (area ``S`` [m^2], width ``H`` [m]); the paper's
-        51 x 38 mm cuboid by default. A sequence gives one per foot.
+        foot (fields of shape ``(len(params),)``). (``mud=``: its deprecated name.)
     n : int, optional
         Number of feet: every field is broadcast to shape ``(n,)`` (per-foot
         arrays, e.g. to randomise them afterwards).
+    foot : Foot or sequence of Foot, optional
+        Foot geometry (area ``S`` [m^2], width ``H`` [m]); the paper's
+        51 x 38 mm cuboid by default. A sequence gives one per foot.
     dtype : dtype, optional
         Float dtype; JAX's default float by default.
     """
+    if isinstance(n, (Foot, Sequence)) or (foot is not None and not isinstance(foot, (Foot, Sequence))):
+        # the order before 0.2 was (mud, foot, n): a foot second, or a count third, is that order
+        warn_renamed("make_params(params, foot, n)", "make_params(params, n, foot), the order of MudContacts")
+        n, foot = foot, n  # type: ignore[assignment]
+    mud = params
     dt_ = _float_dtype(dtype)
     muds = [mud] if isinstance(mud, MudParameters) else list(mud)
     if not muds or not all(isinstance(m, MudParameters) for m in muds):

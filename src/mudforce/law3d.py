@@ -6,7 +6,22 @@ also slides, tilts and twists. :class:`mudforce.contact3d.MudContact3D`
 puts a law on every surface element of a :class:`mudforce.shapes.Shape`;
 this module holds that law's pieces as small pure functions on arrays of
 elements (one row each, world frame, z up, SI). The compiled 1-D stepper
-supplies each element's paper stress; everything here is vectorised numpy.
+supplies each element's paper stress; everything here is vectorised array
+code.
+
+One law, two array libraries
+----------------------------
+Every function takes the array library as a keyword, ``xp``: numpy by
+default (:class:`mudforce.contact3d.MudContact3D`, the reference), or
+``jax.numpy`` (:mod:`mudforce.jax3d`, the same law under ``jit``, ``vmap``,
+``lax.scan`` and ``grad``). The operations are the same either way; with
+numpy the results are those the functions gave before they took ``xp``, bit
+for bit. Where a square root or a quotient meets 0 (a slip or a direction of
+zero length, an element at or above the surface) the argument is guarded
+first (the "double where"), so that the branch not taken puts no NaN into a
+gradient; with numpy the guard changes no value. Only
+:func:`rotation_matrix` checks its input (numpy); :func:`quaternion_matrix`
+is its unchecked arithmetic, for traced values.
 
 The law, element by element
 ---------------------------
@@ -72,6 +87,7 @@ __all__ = [
     "horizontal_drag",
     "lateral_capacity",
     "lateral_return_map",
+    "quaternion_matrix",
     "rotation_matrix",
     "shear_fraction",
     "spring_stress",
@@ -83,6 +99,8 @@ FLAT_PLATE_ALPHA: float = float(rft3d_alpha(np.array([[0.0, 0.0, -1.0]]), np.arr
 
 #: A quaternion whose norm is within this of 1 is normalised; farther, refused [-].
 QUATERNION_TOLERANCE = 1e-6
+
+Array = Any  # a numpy array, or a jax array with xp=jax.numpy
 
 
 def rotation_matrix(quaternion: Any) -> np.ndarray:
@@ -102,25 +120,35 @@ def rotation_matrix(quaternion: Any) -> np.ndarray:
         raise InputError(f"a quaternion must have norm 1 (within {QUATERNION_TOLERANCE:g}), got norm {norm:.9g}")
     if norm != 1.0:
         q = q / norm
-    w, x, y, z = (float(v) for v in q)
-    return np.array([
+    out: np.ndarray = quaternion_matrix(q.tolist())  # Python floats: the same arithmetic, faster
+    return out
+
+
+def quaternion_matrix(quaternion: Array, *, xp: Any = np) -> Array:
+    """The rotation matrix of a quaternion ``(w, x, y, z)`` already of norm 1 [-], shape (3, 3); unchecked.
+
+    The arithmetic of :func:`rotation_matrix`, which checks and normalises
+    first; this one is for traced values (``xp=jax.numpy``), whose caller
+    normalises and guards them (:mod:`mudforce.jax3d`).
+    """
+    w, x, y, z = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
+    return xp.asarray([
         [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y)],
         [2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)],
         [2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)],
     ])
 
 
-def vertical_weight(normals: np.ndarray) -> np.ndarray:
+def vertical_weight(normals: Array, *, xp: Any = np) -> Array:
     """The share of each element's area that carries the paper's vertical stress, ``max(-n_z, 0)`` [-].
 
     Its horizontal projection facing down: 1 for a sole, 0 for a wall or an
-    upward-facing element.
+    upward-facing element. ``normals`` (n, 3) [-]; ``xp`` the array library.
     """
-    out: np.ndarray = np.maximum(-normals[:, 2], 0.0)
-    return out
+    return xp.maximum(-normals[:, 2], 0.0)
 
 
-def spring_stress(depth: np.ndarray, alpha: float, beta: float, width: float) -> np.ndarray:
+def spring_stress(depth: Array, alpha: Any, beta: Any, width: Any, *, xp: Any = np) -> Array:
     """The nonlinear spring ``alpha (z/H)^beta`` of Eq. (4) at each element's depth [Pa], 0 above the surface.
 
     Parameters
@@ -133,35 +161,46 @@ def spring_stress(depth: np.ndarray, alpha: float, beta: float, width: float) ->
         Spring exponent [-], Eq. (4).
     width : float
         Intruder width ``H`` [m], Eq. (4).
+    xp : module
+        The array library (numpy, or jax.numpy).
     """
-    below = np.maximum(depth, 0.0)
-    out: np.ndarray = alpha * (below / width) ** beta
-    return np.where(depth > 0.0, out, 0.0)
+    below = depth > 0.0
+    base = xp.where(below, depth, width) / width  # 1 at and above the surface: no NaN in a gradient there
+    return xp.where(below, alpha * base ** beta, 0.0)
 
 
-def shear_fraction(normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """``|s - (s.n) n|`` for a unit horizontal slip direction ``s`` (rows) [-]: 1 along a face, 0 straight into it."""
-    along = direction - np.einsum("ij,ij->i", direction, normals)[:, None] * normals
-    out: np.ndarray = np.sqrt(np.einsum("ij,ij->i", along, along))
-    return out
+def _length(rows: Array, xp: Any) -> Array:
+    """``|row|`` of each row, its square root guarded at 0 (the double where) [-]."""
+    square = xp.einsum("ij,ij->i", rows, rows)
+    some = square > 0.0
+    return xp.where(some, xp.sqrt(xp.where(some, square, 1.0)), 0.0)
 
 
-def bearing_factor(normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
+def shear_fraction(normals: Array, direction: Array, *, xp: Any = np) -> Array:
+    """``|s - (s.n) n|`` for a unit horizontal slip direction ``s`` (rows) [-]: 1 along a face, 0 straight into it.
+
+    ``normals`` and ``direction`` (n, 3) [-]; ``xp`` the array library.
+    """
+    along = direction - xp.einsum("ij,ij->i", direction, normals)[:, None] * normals
+    return _length(along, xp)
+
+
+def bearing_factor(normals: Array, direction: Array, *, xp: Any = np) -> Array:
     """3D-RFT's resistance of each element to motion along ``direction``, per a flat plate's pushed down [-].
 
     ``max(0, -alpha(n, s) . s) / FLAT_PLATE_ALPHA`` on the elements that lead
     the motion (``n . s > 0``), 0 on the others; ``alpha`` is
     :func:`mudforce.granular.rft3d_alpha`. A wall facing the motion gets
-    about 0.26, a flat plate pushed down 1.
+    about 0.26, a flat plate pushed down 1. ``normals`` and ``direction``
+    (n, 3) [-]; ``xp`` the array library.
     """
-    alpha = rft3d_alpha(normals, direction)
-    against = np.maximum(-np.einsum("ij,ij->i", alpha, direction), 0.0)
-    leading = np.einsum("ij,ij->i", normals, direction) > 0.0
-    out: np.ndarray = np.where(leading, against / FLAT_PLATE_ALPHA, 0.0)
-    return out
+    alpha = rft3d_alpha(normals, direction, xp=xp)
+    against = xp.maximum(-xp.einsum("ij,ij->i", alpha, direction), 0.0)
+    leading = xp.einsum("ij,ij->i", normals, direction) > 0.0
+    return xp.where(leading, against / FLAT_PLATE_ALPHA, 0.0)
 
 
-def lateral_capacity(sigma_y: float, shear: np.ndarray, spring: np.ndarray, bearing: np.ndarray) -> np.ndarray:
+def lateral_capacity(sigma_y: Any, shear: Array, spring: Array, bearing: Array) -> Array:
     """The horizontal stress an element can carry before it flows [Pa]: ``sigma_y shear + spring bearing``.
 
     Parameters
@@ -174,12 +213,13 @@ def lateral_capacity(sigma_y: float, shear: np.ndarray, spring: np.ndarray, bear
         :func:`spring_stress` [Pa].
     bearing : ndarray
         :func:`bearing_factor` [-].
+
+    Plain arithmetic: the same on numpy and jax arrays.
     """
-    out: np.ndarray = sigma_y * shear + spring * bearing
-    return out
+    return sigma_y * shear + spring * bearing
 
 
-def lateral_return_map(slip: np.ndarray, stiffness: float, capacity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def lateral_return_map(slip: Array, stiffness: Any, capacity: Array, *, xp: Any = np) -> tuple[Array, Array]:
     """Elastic-perfectly-plastic update of the elements' horizontal slips: ``(slip, traction)``.
 
     Parameters
@@ -190,6 +230,8 @@ def lateral_return_map(slip: np.ndarray, stiffness: float, capacity: np.ndarray)
         Lateral stiffness ``k`` [Pa/m].
     capacity : ndarray, shape (n,)
         :func:`lateral_capacity` in each trial slip's direction [Pa].
+    xp : module
+        The array library (numpy, or jax.numpy).
 
     Returns
     -------
@@ -199,14 +241,14 @@ def lateral_return_map(slip: np.ndarray, stiffness: float, capacity: np.ndarray)
     traction : ndarray, shape (n, 2)
         The horizontal stress on each element [Pa], ``-k slip``.
     """
-    size = np.sqrt(np.einsum("ij,ij->i", slip, slip))
+    size = _length(slip, xp)
     limit = capacity / stiffness
-    scale = np.where(size > limit, limit / np.where(size > 0.0, size, 1.0), 1.0)
+    scale = xp.where(size > limit, limit / xp.where(size > 0.0, size, 1.0), 1.0)
     kept = slip * scale[:, None]
     return kept, -stiffness * kept
 
 
-def horizontal_drag(lambda_: float, rho_m: float, normals: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+def horizontal_drag(lambda_: Any, rho_m: Any, normals: Array, velocity: Array, *, xp: Any = np) -> Array:
     """Eq. (5) against the horizontal motion on the leading projection: ``-lambda rho (n.u)_+ u`` [Pa], (n, 2).
 
     Its size is ``lambda rho |u|^2 (n.u/|u|)_+``: the paper's drag on the part
@@ -222,7 +264,8 @@ def horizontal_drag(lambda_: float, rho_m: float, normals: np.ndarray, velocity:
         Outward unit normals [-].
     velocity : ndarray, shape (n, 2)
         Horizontal element velocities [m/s].
+    xp : module
+        The array library (numpy, or jax.numpy).
     """
-    facing = np.maximum(np.einsum("ij,ij->i", normals[:, :2], velocity), 0.0)
-    out: np.ndarray = -(lambda_ * rho_m) * facing[:, None] * velocity
-    return out
+    facing = xp.maximum(xp.einsum("ij,ij->i", normals[:, :2], velocity), 0.0)
+    return -(lambda_ * rho_m) * facing[:, None] * velocity

@@ -8,11 +8,11 @@ Usage (one world; ``jax.vmap`` it over worlds, each with its own mud)::
 
     model = mujoco.MjModel.from_xml_path("hopper.xml")        # a site at each foot's sole
     m = mjx.put_model(model)
-    patch = mud.make_patch(model, ["foot_sole"], MudParameters.from_water_content(0.25))
+    patch = mud.add_mud(model, ["foot_sole"], MudParameters.from_water_content(0.25))
     d = mjx.make_data(m)
-    contact = mud.init(patch)
+    state = mud.init(patch)
     for _ in range(1000):                                       # or jax.lax.scan
-        d, contact, forces = mud.step(m, d, contact, patch)     # instead of mjx.step(m, d)
+        d, state, forces = mud.step(m, d, state, patch)         # instead of mjx.step(m, d)
 
 How the force is applied, and why
 ---------------------------------
@@ -61,19 +61,31 @@ import contextlib
 import io
 import math
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 import mudforce.jax as mj
+from mudforce._deprecation import module_getattr as _deprecated_getattr
+from mudforce._deprecation import renamed_keywords
 from mudforce._optional import require
 from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 
-__all__ = ["Contact", "Patch", "drop_model", "init", "make_patch", "simulate_drop", "step"]
+if TYPE_CHECKING:
+    from mudforce.dynamics.result import FootResult
+
+__all__ = ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"]
+
+# renamed in 0.2 (docs/api.md): the names the MuJoCo adapter uses for the same concepts
+__getattr__ = _deprecated_getattr(__name__, {
+    "Patch": ("mudforce.mjx.MudPatch", "mudforce.mjx:MudPatch"),
+    "Contact": ("mudforce.mjx.MudState", "mudforce.mjx:MudState"),
+    "make_patch": ("mudforce.mjx.add_mud (feet= for sites=, params= for mud=)", "mudforce.mjx:_make_patch"),
+})
 
 Array = Any
 _HOLD = 1e-7  # [m]: a stuck sole that moved less than this in a step is committed as not having moved
@@ -85,8 +97,10 @@ def _mjx() -> Any:
         return require("mujoco.mjx", "mjx", "mud in MJX")
 
 
-class Patch(NamedTuple):
+class MudPatch(NamedTuple):
     """Where the mud acts and what it is, for one world; a pytree (``jax.vmap`` over worlds).
+
+    The MJX form of :class:`mudforce.mujoco.MudPatch`, made by :func:`add_mud`.
 
     Fields: ``sites`` (int32, shape ``(feet,)``) the MuJoCo site at each
     sole; ``bodies`` (int32) the body each site is on; ``height`` [m] the
@@ -101,26 +115,33 @@ class Patch(NamedTuple):
     params: mj.Params
 
 
-class Contact(NamedTuple):
-    """The mud's state in one world: every foot's :class:`mudforce.jax.State`, whether stuck, its last force [N]."""
+class MudState(NamedTuple):
+    """The mud's state in one world: every foot's :class:`mudforce.jax.State`, whether stuck, its last force [N].
+
+    The MJX form of :attr:`mudforce.mujoco.MudAdapter.state` (a pytree: save it by keeping it).
+    """
 
     state: mj.State
     stuck: Array
     force: Array
 
 
-def make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[MudParameters],
-               foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
-               dtype: Any = None) -> Patch:
-    """A :class:`Patch` for the named sites (one per sole) of a compiled ``mujoco.MjModel``.
+def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[MudParameters],
+            foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
+            dtype: Any = None) -> MudPatch:
+    """Mud under the named feet of a compiled ``mujoco.MjModel``: the :class:`MudPatch` that :func:`step` takes.
+
+    The MJX counterpart of :func:`mudforce.mujoco.add_mud` (which prepares a
+    spec for :class:`mudforce.mujoco.MudAdapter`); MJX needs nothing added to
+    the model, only a site at each sole.
 
     Parameters
     ----------
     model : mujoco.MjModel
         The model (before ``mjx.put_model``).
-    sites : sequence of str
+    feet : sequence of str
         Names of the sites at the feet's soles (the contact points).
-    mud : MudParameters or sequence of MudParameters
+    params : MudParameters or sequence of MudParameters
         One mud for every foot, or one per foot. For per-world mud, make
         one patch per world and stack them (:func:`jax.tree_util.tree_map`
         with ``jnp.stack``), or replace ``params`` with batched arrays.
@@ -132,9 +153,11 @@ def make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[M
         Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
     """
     mujoco = require("mujoco", "mjx", "mud in MJX")
-    names = list(sites)
+    if isinstance(feet, str):
+        feet = [feet]
+    names = list(feet)
     if not names:
-        raise InputError("make_patch needs at least one site name")
+        raise InputError("add_mud needs at least one site name (the feet's soles)")
     ids = []
     for name in names:
         sid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
@@ -146,21 +169,28 @@ def make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[M
     if not np.isfinite(heights).all():
         raise InputError(f"mud surface height must be finite [m], got {height!r}")
     dt_ = mj._float_dtype(dtype)
-    per_foot = not isinstance(mud, MudParameters) or (foot is not None and not isinstance(foot, Foot))
-    params = mj.make_params(mud, foot, n=n if not per_foot else None, dtype=dt_)
-    params = mj.Params(*(jnp.broadcast_to(f, (n,)) for f in params))
-    return Patch(jnp.asarray(ids, dtype=jnp.int32), jnp.asarray(model.site_bodyid[ids], dtype=jnp.int32),
-                 jnp.asarray(heights, dtype=dt_), params)
+    per_foot = not isinstance(params, MudParameters) or (foot is not None and not isinstance(foot, Foot))
+    jparams = mj.make_params(params, n=n if not per_foot else None, foot=foot, dtype=dt_)
+    jparams = mj.Params(*(jnp.broadcast_to(f, (n,)) for f in jparams))
+    return MudPatch(jnp.asarray(ids, dtype=jnp.int32), jnp.asarray(model.site_bodyid[ids], dtype=jnp.int32),
+                    jnp.asarray(heights, dtype=dt_), jparams)
 
 
-def init(patch: Patch) -> Contact:
+def _make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[MudParameters],
+                foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
+                dtype: Any = None) -> MudPatch:
+    """Deprecated: :func:`add_mud` (``sites`` is now ``feet``, ``mud`` is now ``params``)."""
+    return add_mud(model, sites, mud, foot, height=height, dtype=dtype)
+
+
+def init(patch: MudPatch) -> MudState:
     """The mud's state at the start of an episode (no foot started: the first step sets each foot's sample)."""
     n = patch.sites.shape[-1]
     dtype = patch.height.dtype
-    return Contact(mj.init(n, dtype), jnp.zeros((n,), dtype=bool), jnp.zeros((n,), dtype=dtype))
+    return MudState(mj.init(n, dtype), jnp.zeros((n,), dtype=bool), jnp.zeros((n,), dtype=dtype))
 
 
-def _sole_kinematics(m: Any, d: Any, patch: Patch) -> tuple[Array, Array, Array]:
+def _sole_kinematics(m: Any, d: Any, patch: MudPatch) -> tuple[Array, Array, Array]:
     """Depths [m] (positive down), vertical Jacobians (feet, nv) and upward sole velocities [m/s]."""
     mjx = _mjx()
     points = d.site_xpos[patch.sites]
@@ -173,17 +203,18 @@ def _sole_kinematics(m: Any, d: Any, patch: Patch) -> tuple[Array, Array, Array]
     return patch.height - points[:, 2], jac, jac @ d.qvel
 
 
-def step(m: Any, d: Any, contact: Contact, patch: Patch, weight: float = 0.0) -> tuple[Any, Contact, Array]:
+@renamed_keywords(contact="state")
+def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) -> tuple[Any, MudState, Array]:
     """One physics step of an MJX model with the mud force on every foot; replaces ``mjx.step(m, d)``.
 
     Parameters
     ----------
     m, d : mjx.Model, mjx.Data
         The model and its data (Euler or implicitfast integrator).
-    contact : Contact
-        The mud's state (:func:`init`).
-    patch : Patch
-        The feet and their mud (:func:`make_patch`).
+    state : MudState
+        The mud's state (:func:`init`; ``contact=`` is its deprecated name).
+    patch : MudPatch
+        The feet and their mud (:func:`add_mud`).
     weight : float
         Where in the step the band is taken [-] (:func:`mudforce.jax.branch_forces`):
         0 (default) at its start, 1 at its predicted end. The depth is
@@ -196,7 +227,7 @@ def step(m: Any, d: Any, contact: Contact, patch: Patch, weight: float = 0.0) ->
     -------
     d : mjx.Data
         The data after the step.
-    contact : Contact
+    state : MudState
         The mud's state after the step.
     forces : array, shape (feet,)
         The vertical mud force applied on each sole during the step [N], positive up.
@@ -207,16 +238,16 @@ def step(m: Any, d: Any, contact: Contact, patch: Patch, weight: float = 0.0) ->
     dt = m.opt.timestep
     d = mjx.forward(m, d)
     depth, jac, _ = _sole_kinematics(m, d, patch)
-    state = contact.state
-    dtype = state.depth.dtype
+    feet = state.state  # every foot's mudforce.jax.State
+    dtype = feet.depth.dtype
     depth = depth.astype(dtype)
     # commit the depth reached by the last step; a stuck sole ended it at rest, up to rounding, which is
     # dropped (else the sign of a 1e-18 m/s residue would pick the branch); one that moved is committed as is
-    held = contact.stuck & (state.mode != mj.UNSTARTED) & (jnp.abs(depth - state.depth) <= _HOLD)
-    committed = jnp.where(held, state.depth, depth)
-    state, _ = mj.step(state, patch.params, committed, jnp.asarray(dt, dtype))
+    held = state.stuck & (feet.mode != mj.UNSTARTED) & (jnp.abs(depth - feet.depth) <= _HOLD)
+    committed = jnp.where(held, feet.depth, depth)
+    feet, _ = mj.step(feet, patch.params, committed, jnp.asarray(dt, dtype))
     # the band for the coming step and the force that would stop the sole within it
-    f_up, f_down, drag = mj.branch_forces(state, patch.params, dt, weight)
+    f_up, f_down, drag = mj.branch_forces(feet, patch.params, dt, weight)
     # the velocity the integrator will give: Euler integrates joint damping implicitly, (M + dt D) qacc = qfrc
     mass = mjx.full_m(m, d)
     if not m.opt.disableflags & mjx.DisableBit.EULERDAMP:
@@ -226,29 +257,33 @@ def step(m: Any, d: Any, contact: Contact, patch: Patch, weight: float = 0.0) ->
     w = jnp.einsum("fv,vf->f", jac, minv_jt)  # 1 / effective mass of each sole [1/kg]
     v_free = jac @ (d.qvel + dt * qacc)  # upward sole velocity at the step's end without mud
     f_stop = (-v_free / (dt * w)).astype(dtype)
-    force, stuck = mj.stick_force(f_up, f_down, drag, f_stop, state.velocity)
-    force = jnp.where(state.mode == mj.UNSTARTED, 0.0, force)
-    stuck = stuck & ((state.mode == mj.CONTACT) | (state.mode == mj.NECKED))
+    force, stuck = mj.stick_force(f_up, f_down, drag, f_stop, feet.velocity)
+    force = jnp.where(feet.mode == mj.UNSTARTED, 0.0, force)
+    stuck = stuck & ((feet.mode == mj.CONTACT) | (feet.mode == mj.NECKED))
     f = force.astype(d.qacc.dtype)
     d = d.replace(qfrc_smooth=d.qfrc_smooth + jac.T @ f, qacc=qacc + minv_jt @ f)
     if m.opt.integrator == mjx.IntegratorType.EULER:
         d = mjx.euler(m, d)
     else:
         d = mjx.implicit(m, d)
-    return d, Contact(state, stuck, force), force
+    return d, MudState(feet, stuck, force), force
 
 
 # ----------------------------------------------------------------------------- the drop (mudforce drop --engine mjx)
 
 
-def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, timestep: float = 1e-3,
+@renamed_keywords(timestep="dt")
+def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt: float = 1e-3,
                thickness: float = 0.025) -> Any:
-    """A ``mujoco.MjModel`` of the drop: a cuboid foot on a vertical slide joint, a site ``sole`` at its bottom.
+    """A compiled ``mujoco.MjModel`` of the drop: a cuboid foot on a vertical slide joint, a site ``sole`` below.
 
-    ``mass`` [kg]; ``height`` [m] of the sole above the mud surface at ``z = 0``;
-    ``timestep`` [s]; ``thickness`` [m]. The foot's bottom face is the
-    paper's 51 x 38 mm, or ``sqrt(area)`` square for another foot.
+    The same model and arguments as :func:`mudforce.mujoco.drop_model`: ``mass`` [kg];
+    ``height`` [m] of the sole above the mud surface at ``z = 0``; ``dt`` [s] the
+    time step (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here);
+    ``thickness`` [m]. The foot's bottom face is the paper's 51 x 38 mm, or
+    ``sqrt(area)`` square for another foot.
     """
+    timestep = dt
     mujoco = require("mujoco", "mjx", "mud in MJX")
     foot = Foot.paper() if foot is None else foot
     lx, ly = (0.051, 0.038) if foot == Foot.paper() else (math.sqrt(foot.area),) * 2
@@ -267,15 +302,20 @@ def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, ti
     return mujoco.MjModel.from_xml_string(xml)
 
 
+@renamed_keywords(timestep="dt")
 def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
-                  height: float = 0.0, timestep: float = 1e-3, weight: float = 0.0) -> Any:
+                  height: float = 0.0, dt: float = 1e-3, weight: float = 0.0) -> FootResult:
     """Drop a cuboid foot into mud in MJX with :func:`step`; returns a :class:`mudforce.dynamics.FootResult`.
 
     One jitted ``lax.scan`` over the steps. The phase of each sample is
     FREE or NECKED from the contact state, STUCK while the sole is held in
     the band, else INTRUSION (moving down) or WITHDRAWAL (moving up). The
     force is the mud force applied during the step that ends at the sample [N].
+    The arguments are those of :func:`mudforce.mujoco.simulate_drop`: ``mass`` [kg],
+    ``duration`` [s], ``height`` [m] of the sole above the surface, ``dt`` [s] the time step
+    (``timestep=`` is its deprecated name here); ``weight`` [-] of the predicted end-of-step band.
     """
+    timestep = dt
     from mudforce.dynamics.result import FootResult, Phase
 
     PH_FREE, INTRUSION, WITHDRAWAL, STUCK, NECKED = (Phase.FREE, Phase.INTRUSION, Phase.WITHDRAWAL, Phase.STUCK,
@@ -283,12 +323,12 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
 
     mjx = _mjx()  # first: a clear error if MJX is missing
     foot = Foot.paper() if foot is None else foot
-    model = drop_model(mass, foot, height=height, timestep=timestep)
+    model = drop_model(mass, foot, height=height, dt=timestep)
     m = mjx.put_model(model)
-    patch = make_patch(model, ["sole"], params, foot)
+    patch = add_mud(model, ["sole"], params, foot)
     n = math.floor(duration / timestep + 1e-9) + 1
 
-    def body(carry: tuple[Any, Contact], _: Any) -> tuple[tuple[Any, Contact], tuple[Array, ...]]:
+    def body(carry: tuple[Any, MudState], _: Any) -> tuple[tuple[Any, MudState], tuple[Array, ...]]:
         d, c = carry
         d, c, f = step(m, d, c, patch, weight)
         return (d, c), (d.qpos[0], d.qvel[0], f[0], c.state.mode[0], c.stuck[0], c.state.strain[0])

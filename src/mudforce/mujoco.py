@@ -68,6 +68,7 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce import _mujoco_fast as fast
+from mudforce._deprecation import renamed_keywords, warn_renamed
 from mudforce._mujoco_step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce._optional import require
 from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
@@ -78,7 +79,9 @@ from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
 from mudforce.velocity import VelocityFilter
 
-__all__ = ["ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_spec", "simulate_drop"]
+__all__ = [
+    "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of", "simulate_drop",
+]
 
 #: Foot speed at or below which a step counts as rest for the branch choice [m/s] (deadband of the kernel).
 STICK_VELOCITY = REST_SPEED
@@ -231,6 +234,72 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         tendon.solimp_friction = list(_SOLIMP_FRICTION)
 
 
+def foot_of(model: Any, name: str) -> Foot:
+    """The flat foot (:class:`~mudforce.foot.Foot`) of a foot geom: its footprint on a horizontal surface.
+
+    The 1-D model loads a flat sole; a geom gets the sole of its outline seen
+    from below in its own frame (the contact follows the world's down
+    direction, so a geom is assumed upright there):
+
+    * sphere: a disc of its diameter;
+    * capsule, cylinder: a disc of its diameter if its axis is vertical in
+      its body, else a rectangle (its length, the capsule's caps included,
+      by its diameter);
+    * box: a rectangle of its two horizontal sides (the shorter is ``H``);
+    * ellipsoid: an ellipse of its two horizontal semi-axes (``H`` the shorter diameter);
+    * mesh: the rectangle of its vertices' x and y extents.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The compiled model.
+    name : str
+        A geom's name, or a body's with exactly one geom.
+
+    Raises
+    ------
+    InputError
+        For a name that is neither, a body with no geom or several, or a geom
+        of another type (plane, height field): give ``foot=`` then.
+    """
+    mj = _mujoco()
+    gid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, name)
+    if gid < 0:
+        bid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, name)
+        if bid < 0:
+            raise InputError(f"the model has no geom or body named {name!r}")
+        geoms = [int(g) for g in np.flatnonzero(model.geom_bodyid == bid)]
+        if len(geoms) != 1:
+            raise InputError(f"foot {name!r} is a body with {len(geoms)} geoms: name its foot geom, or give "
+                             "foot= (a mudforce.Foot per foot) for its sole")
+        gid = geoms[0]
+    kind = int(model.geom_type[gid])
+    size = [float(v) for v in model.geom_size[gid]]
+    quat = np.asarray(model.geom_quat[gid], dtype=float)
+    axis = np.zeros(3)
+    mj.mju_rotVecQuat(axis, np.array([0.0, 0.0, 1.0]), quat / np.linalg.norm(quat))
+    types = mj.mjtGeom
+    if kind == types.mjGEOM_SPHERE:
+        return Foot.disc(2.0 * size[0])
+    if kind in (types.mjGEOM_CAPSULE, types.mjGEOM_CYLINDER):
+        if abs(axis[2]) >= math.sqrt(0.5):
+            return Foot.disc(2.0 * size[0])
+        caps = 2.0 * size[0] if kind == types.mjGEOM_CAPSULE else 0.0
+        return Foot.cuboid(2.0 * size[1] + caps, 2.0 * size[0])
+    if kind == types.mjGEOM_BOX:
+        return Foot.cuboid(*sorted((2.0 * size[0], 2.0 * size[1]), reverse=True))
+    if kind == types.mjGEOM_ELLIPSOID:
+        a, b = size[0], size[1]
+        return Foot(area=math.pi * a * b, width=2.0 * min(a, b), shape=f"ellipse {2e3 * a:g}x{2e3 * b:g} mm")
+    if kind == types.mjGEOM_MESH:
+        mesh = int(model.geom_dataid[gid])
+        start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
+        extent = np.ptp(np.asarray(model.mesh_vert[start:start + count]), axis=0)
+        return Foot.cuboid(*sorted((float(extent[0]), float(extent[1])), reverse=True))
+    raise InputError(f"foot {name!r} is a geom of type {mj.mjtGeom(kind).name}, which has no sole: give foot= "
+                     "(a mudforce.Foot per foot)")
+
+
 class MudAdapter:
     """Mud under named feet of a MuJoCo model prepared with :func:`add_mud`; one contact state per foot.
 
@@ -249,7 +318,9 @@ class MudAdapter:
     patches : MudPatch or sequence of MudPatch
         One patch for all feet or one per foot.
     foot : Foot or sequence of Foot, optional
-        Contact area and width per foot [m^2, m]; the paper's cuboid by default.
+        Contact area and width per foot [m^2, m]; by default each foot's
+        own, from its geom (:func:`foot_of`: a sphere's disc, a box's
+        rectangle, ...); a foot with no geom to take it from is refused.
     prefix : str
         As given to :func:`add_mud`.
 
@@ -259,8 +330,10 @@ class MudAdapter:
         The feet's names, in the order of every per-foot array.
     patches : tuple of MudPatch
         Each foot's patch.
-    states, params : ndarray
-        Read-only views of the feet's contact states and constants (kernel layout).
+    state : ndarray
+        A snapshot of the feet's contact states (kernel layout); assign one to restore.
+    params : ndarray
+        A read-only view of the feet's constants (kernel layout).
 
     Notes
     -----
@@ -289,8 +362,10 @@ class MudAdapter:
             raise InputError(f"patches must be a MudPatch or a sequence of MudPatch, got {type(patches).__name__}")
         if len(plist) != n:
             raise InputError(f"got {len(plist)} patches for {n} feet")
-        if foot is None or isinstance(foot, Foot):
-            flist = [check_foot(foot)] * n
+        if foot is None:  # each foot's own sole, from its geom; never silently the paper's cuboid
+            flist = [foot_of(model, name) for name in self.feet]
+        elif isinstance(foot, Foot):
+            flist = [foot] * n
         elif isinstance(foot, Sequence) and all(isinstance(f, Foot) for f in foot):
             flist = list(foot)
         else:
@@ -335,12 +410,44 @@ class MudAdapter:
         self.reset()
 
     @property
-    def states(self) -> np.ndarray:
-        """The feet's contact states, one row each (layout of :mod:`mudforce._kernel`).
+    def state(self) -> np.ndarray:
+        """A snapshot of the feet's contact states (a read-only copy), one row each; assign one back to restore.
 
-        A read-only view: it shows the state as the adapter steps on, but
-        cannot change it (copy it to keep a snapshot; :meth:`reset` to start over).
+        Rows in the layout of :mod:`mudforce._kernel`, as :attr:`mudforce.MudContacts.state`
+        (the adapter's filter keeps no history). Restoring validates the rows as
+        strictly as fresh ones (a refused one changes nothing) and prepares the
+        next step's band from the current ``data`` (runs ``mj_forward``), as
+        :meth:`reset` does; save and restore MuJoCo's own state
+        (``mujoco.mj_getState``/``mj_setState``) with it.
         """
+        snapshot: np.ndarray = self._states.copy()
+        snapshot.setflags(write=False)
+        return snapshot
+
+    @state.setter
+    def state(self, value: np.ndarray) -> None:
+        from mudforce.contact import check_states
+
+        n = len(self.feet)
+        try:
+            arr = np.asarray(value, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"a state of {n} feet must be a numeric array (from MudAdapter.state), got "
+                             f"{type(value).__name__}") from None
+        if arr.shape != self._states.shape:
+            raise InputError(f"a state of {n} feet has shape {self._states.shape}, got {arr.shape}")
+        check_states(arr, np.empty((n, 0)), "a state")
+        self._states[:] = arr
+        K.forget_cache(self._states)
+        self._mj.mj_forward(self.model, self.data)
+        self._conf[C_COMMIT] = 0.0
+        self._prepare()
+        self._conf[C_COMMIT] = 1.0
+
+    @property
+    def states(self) -> np.ndarray:
+        """Deprecated: a read-only view of the live state rows; use :attr:`state`."""
+        warn_renamed("MudAdapter.states", "MudAdapter.state")
         return _read_only(self._states)
 
     @property
@@ -428,9 +535,36 @@ class MudAdapter:
         return total
 
 
-def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, timestep: float = 1e-3,
-              thickness: float = 0.025) -> Any:
-    """A MuJoCo model (spec) of the drop: a cuboid foot on a vertical slide joint above mud at ``z = 0``.
+def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickness: float) -> Any:
+    mj = _mujoco()
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    foot = check_foot(foot)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    thickness = finite_number(thickness, "thickness", "m", positive=True)
+    if foot == Foot.paper():
+        lx, ly = 0.051, 0.038
+    else:
+        lx = ly = math.sqrt(foot.area)
+    spec = mj.MjSpec()
+    spec.modelname = "mudforce_drop"
+    spec.option.timestep = dt
+    spec.option.gravity = [0.0, 0.0, -GRAVITY]
+    body = spec.worldbody.add_body(name="foot", pos=[0.0, 0.0, height + 0.5 * thickness])
+    body.add_joint(name="drop", type=mj.mjtJoint.mjJNT_SLIDE, axis=[0.0, 0.0, 1.0])
+    body.add_geom(name="sole", type=mj.mjtGeom.mjGEOM_BOX, size=[0.5 * lx, 0.5 * ly, 0.5 * thickness],
+                  mass=mass, contype=0, conaffinity=0)
+    add_mud(spec, ["sole"])
+    return spec
+
+
+@renamed_keywords(timestep="dt")
+def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt: float = 1e-3,
+               thickness: float = 0.025) -> Any:
+    """A compiled ``mujoco.MjModel`` of the drop: a cuboid foot on a vertical slide joint above mud at ``z = 0``.
+
+    The foot's geom ``sole`` is prepared with :func:`add_mud` (feet ``["sole"]``).
+    The same model as :func:`mudforce.mjx.drop_model`, with the same arguments.
 
     Parameters
     ----------
@@ -441,35 +575,24 @@ def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, tim
         the paper's 51 x 38 mm cuboid (the default), which is kept as is.
     height : float
         Release height of the foot's bottom above the surface [m], >= 0.
-    timestep : float
-        MuJoCo time step [s], > 0.
+    dt : float
+        Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here).
     thickness : float
         Foot height [m], > 0 (the paper's 25 mm); irrelevant to the vertical dynamics.
     """
-    mj = _mujoco()
-    mass = finite_number(mass, "mass", "kg", positive=True)
-    foot = check_foot(foot)
-    height = finite_number(height, "height", "m", nonnegative=True)
-    timestep = finite_number(timestep, "timestep", "s", positive=True)
-    thickness = finite_number(thickness, "thickness", "m", positive=True)
-    if foot == Foot.paper():
-        lx, ly = 0.051, 0.038
-    else:
-        lx = ly = math.sqrt(foot.area)
-    spec = mj.MjSpec()
-    spec.modelname = "mudforce_drop"
-    spec.option.timestep = timestep
-    spec.option.gravity = [0.0, 0.0, -GRAVITY]
-    body = spec.worldbody.add_body(name="foot", pos=[0.0, 0.0, height + 0.5 * thickness])
-    body.add_joint(name="drop", type=mj.mjtJoint.mjJNT_SLIDE, axis=[0.0, 0.0, 1.0])
-    body.add_geom(name="sole", type=mj.mjtGeom.mjGEOM_BOX, size=[0.5 * lx, 0.5 * ly, 0.5 * thickness],
-                  mass=mass, contype=0, conaffinity=0)
-    add_mud(spec, ["sole"])
-    return spec
+    return _drop_spec(mass, foot, height, dt, thickness).compile()
 
 
+def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, timestep: float = 1e-3,
+              thickness: float = 0.025) -> Any:
+    """Deprecated: the ``mujoco.MjSpec`` of :func:`drop_model` (which returns the compiled model)."""
+    warn_renamed("mudforce.mujoco.drop_spec", "mudforce.mujoco.drop_model (compiled; dt= for timestep=)")
+    return _drop_spec(mass, foot, height, timestep, thickness)
+
+
+@renamed_keywords(timestep="dt")
 def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
-                  height: float = 0.0, timestep: float = 1e-3) -> FootResult:
+                  height: float = 0.0, dt: float = 1e-3) -> FootResult:
     """Drop a cuboid foot into mud in MuJoCo with :class:`MudAdapter`; returns a :class:`mudforce.dynamics.FootResult`.
 
     The phase of each sample is FREE or NECKED from the contact state, else
@@ -480,7 +603,7 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     Parameters
     ----------
     mass : float
-        Foot mass [kg]; at least ``S max(k_m_i, k_m_w) timestep^2`` (about
+        Foot mass [kg]; at least ``S max(k_m_i, k_m_w) dt^2`` (about
         3e-3 kg for Table I's muds, the paper's foot and 1 ms steps), so that
         the step resolves the foot's oscillation on the mud. Lighter than
         about 1 kg the result is rough: MuJoCo's soft friction lets the foot
@@ -493,8 +616,9 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
         Simulated time [s], > 0 (at most 1e8 steps).
     height : float
         Release height of the foot's bottom above the surface [m], >= 0.
-    timestep : float
-        MuJoCo time step [s], > 0; also the output sampling interval.
+    dt : float
+        Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here); also the
+        output sampling interval.
 
     Raises
     ------
@@ -507,16 +631,16 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     foot = check_foot(foot)
     duration = finite_number(duration, "duration", "s", positive=True)
     height = finite_number(height, "height", "m", nonnegative=True)
-    timestep = finite_number(timestep, "timestep", "s", positive=True)
-    mass = check_mass(mass, params, foot, timestep, "MuJoCo time step")
-    n = max_samples(duration, timestep)
-    model = drop_spec(mass, foot, height=height, timestep=timestep).compile()
+    dt = finite_number(dt, "dt", "s", positive=True)
+    mass = check_mass(mass, params, foot, dt, "MuJoCo time step")
+    n = max_samples(duration, dt)
+    model = _drop_spec(mass, foot, height, dt, 0.025).compile()
     data = mj.MjData(model)
     adapter = MudAdapter(model, data, ["sole"], MudPatch(params), foot)
     state = adapter._states[0]  # the live row (this function only reads it)
     live_depth = K.state_column(state, "depth")  # views of its fields, which follow the adapter
     live_mode = K.state_column(state, "mode")
-    time = np.arange(n) * timestep
+    time = np.arange(n) * dt
     depth = np.empty(n)
     velocity = np.empty(n)
     force = np.zeros(n)

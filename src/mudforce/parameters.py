@@ -21,10 +21,11 @@ from typing import Any
 
 import numpy as np
 
+from mudforce._deprecation import module_getattr as _deprecated_getattr
 from mudforce.errors import InputError, is_real
 
 __all__ = [
-    "CHEN2024",
+    "CITATION",
     "PAPER_UNITS",
     "PARAMETER_NAMES",
     "PARAMETER_RANGES",
@@ -36,8 +37,9 @@ __all__ = [
     "MudParameters",
 ]
 
-#: The paper this package implements; every built-in parameter set cites it.
-CHEN2024 = (
+#: The paper this package implements, as a citation string; every built-in parameter set cites it.
+#: (Its model, as a force law to fit, is :data:`mudforce.calibration.CHEN2024`.)
+CITATION = (
     'X. Chen, J. Yi, J. Shan, "A Reduced-Order Resistive Force Model for '
     'Robotic Foot-Mud Interactions", arXiv:2403.02617 (2024)'
 )
@@ -213,7 +215,7 @@ class MudParameters:
         for w, row in zip(TABLE_I_WATER_CONTENTS, _TABLE_I_PAPER_UNITS, strict=True):
             if abs(water_content - w) < 1e-9:
                 values = [v * s for v, s in zip(row, _TABLE_I_SCALE, strict=True)]
-                return cls._from_nine(values, f"{CHEN2024}, Table I, W = {w:.0%}")
+                return cls._from_nine(values, f"{CITATION}, Table I, W = {w:.0%}")
         raise InputError(
             f"Table I has no row for water content {water_content:g}; rows are "
             + ", ".join(f"{w:g}" for w in TABLE_I_WATER_CONTENTS)
@@ -261,7 +263,7 @@ class MudParameters:
         table = np.array(_TABLE_I_PAPER_UNITS) * np.array(_TABLE_I_SCALE)
         logs = np.log(table)
         values = [float(np.exp(np.interp(w, TABLE_I_WATER_CONTENTS, logs[:, j]))) for j in range(table.shape[1])]
-        return cls._from_nine(values, f"{CHEN2024}, Table I, log-linear interpolation at W = {w:.2%}")
+        return cls._from_nine(values, f"{CITATION}, Table I, log-linear interpolation at W = {w:.2%}")
 
     @classmethod
     def _from_nine(cls, values: list[float], source: str) -> MudParameters:
@@ -363,3 +365,8 @@ def _table() -> dict[float, MudParameters]:
 TABLE_I: dict[float, MudParameters] = _table()
 
 PARAMETER_UNITS = _UNITS
+
+
+# renamed in 0.2 (docs/api.md): the citation was CHEN2024, the name of the model in mudforce.calibration
+__getattr__ = _deprecated_getattr(__name__, {"CHEN2024": ("mudforce.parameters.CITATION",
+                                                          "mudforce.parameters:CITATION")})

@@ -55,14 +55,16 @@ call, :func:`_track_step`, over arrays held by the object.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
+from mudforce._deprecation import renamed_keywords, warn_renamed
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
 from mudforce.foot import Foot
 from mudforce.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -76,6 +78,7 @@ __all__ = [
     "TrackEstimate",
     "TrackEstimates",
     "TrackResult",
+    "TrackerState",
     "default_velocity_filter",
     "track",
 ]
@@ -271,8 +274,8 @@ class TrackEstimate:
     ----------
     water_content : float
         Posterior median of the water content [-] (0.25 means 25 %).
-    interval : tuple of float
-        Central 95 % credible interval (low, high) of the water content [-].
+    low, high : float
+        Central 95 % credible interval of the water content [-].
     force_predicted : float
         The force the sensor should read for this sample [N]: the models'
         mean force under the posterior before the sample, plus the
@@ -286,11 +289,18 @@ class TrackEstimate:
     """
 
     water_content: float
-    interval: tuple[float, float]
+    low: float
+    high: float
     force_predicted: float
     changed: bool
     bias: float
     noise: float
+
+    @property
+    def interval(self) -> tuple[float, float]:
+        """Deprecated: ``(low, high)`` [-]; use :attr:`low` and :attr:`high`."""
+        warn_renamed("TrackEstimate.interval", "TrackEstimate.low and TrackEstimate.high")
+        return self.low, self.high
 
 
 @dataclass(frozen=True)
@@ -316,6 +326,35 @@ class TrackEstimates:
     changed: np.ndarray
     bias: np.ndarray
     noise: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class TrackerState:
+    """A snapshot of a tracker's state, for save and restore (rollouts, replays).
+
+    Read it from :attr:`MudTrackers.state` (or :attr:`MudTracker.state`) and
+    assign it back to restore; it is a copy (read-only arrays), and it restores
+    only into a tracker of the same feet, grid and options.
+    """
+
+    #: the bank's contact states, as :attr:`mudforce.MudContacts.state`
+    bank: np.ndarray
+    #: each foot's log-posterior over the grid, shape (n, G)
+    log_posterior: np.ndarray
+    #: each foot's posterior over the grid, shape (n, G)
+    posterior: np.ndarray
+    #: each foot's offset, noise, contact time and change-flag state
+    aux: np.ndarray
+    #: False before the first sample
+    started: bool
+    #: the tracker configuration the snapshot belongs to
+    key: bytes
+
+    def __post_init__(self) -> None:
+        for name in ("bank", "log_posterior", "posterior", "aux"):
+            arr = np.array(getattr(self, name), dtype=np.float64)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
 
 
 def _grid(water_contents: Sequence[float] | None) -> np.ndarray:
@@ -464,7 +503,7 @@ class MudTrackers:
         else:
             dt = 1.0  # the first sample's dt is ignored
         bank = self._bank
-        bad = _track_step(bank.states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
+        bad = _track_step(bank._states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
                           bank._scratch[0], bank._index[0], self._depths, self._forces, self._edges, self._L,
                           self._P, self._aux, self._cfg, self._blur, self._Q, self._out)
         if bad >= 0:
@@ -499,6 +538,37 @@ class MudTrackers:
         return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
                               o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy())
 
+    def _key(self) -> bytes:
+        return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
+                         self._bank.params_array.tobytes()))
+
+    @property
+    def state(self) -> TrackerState:
+        """A snapshot of every foot's state (a copy); assign one back to restore it.
+
+        A refused restore (not a :class:`TrackerState`, one of another
+        tracker's configuration, or a state the tracker never makes) leaves
+        the tracker exactly as it was.
+        """
+        return TrackerState(self._bank.state, self._L, self._P, self._aux, self._started, self._key())
+
+    @state.setter
+    def state(self, value: TrackerState) -> None:
+        if not isinstance(value, TrackerState):
+            raise InputError(f"state must be a TrackerState (from a tracker's .state), got {type(value).__name__}")
+        if value.key != self._key() or value.log_posterior.shape != self._L.shape or \
+                value.aux.shape != self._aux.shape or value.posterior.shape != self._P.shape:
+            raise InputError("this TrackerState was taken from a tracker of other feet, grid or options; "
+                             "expected one from a tracker made with the same arguments")
+        if not (np.isfinite(value.posterior).all() and np.isfinite(value.log_posterior).all()
+                and np.isfinite(np.delete(value.aux, _A_ANCHOR, axis=1)).all()):
+            raise InputError("a TrackerState holds non-finite values; expected one taken from a tracker")
+        self._bank.state = value.bank  # validated there before anything changes (else it raises here)
+        self._L[:] = value.log_posterior
+        self._P[:] = value.posterior
+        self._aux[:] = value.aux
+        self._started = bool(value.started)
+
     @property
     def posterior(self) -> np.ndarray:
         """Each foot's posterior probability of each grid water content, shape (n, G) (a copy)."""
@@ -528,8 +598,7 @@ class MudTracker:
     >>> for t, z, f in zip(w.time, w.depth, w.force):
     ...     estimate = tracker.update(z, f, t - previous)
     ...     previous = t
-    >>> low, high = estimate.interval
-    >>> bool(low <= 0.25 <= high)
+    >>> bool(estimate.low <= 0.25 <= estimate.high)
     True
     """
 
@@ -537,17 +606,19 @@ class MudTracker:
         self._bank = MudTrackers(1, foot, **options)
         self.grid = self._bank.grid
 
-    def update(self, depth_m: float, force_N: float, dt_s: float) -> TrackEstimate:
+    @renamed_keywords(depth_m="depth", force_N="force", dt_s="dt")
+    def update(self, depth: float, force: float, dt: float) -> TrackEstimate:
         """Take one sample; return the estimate.
 
         Parameters
         ----------
-        depth_m : float
+        depth : float
             Foot depth below the undisturbed surface [m], positive down.
-        force_N : float
+        force : float
             Measured vertical force [N], positive up (with any sensor offset).
-        dt_s : float
+        dt : float
             Time since the previous sample [s], finite and > 0; ignored on the first call.
+            (``depth_m``, ``force_N``, ``dt_s``: deprecated names of the three.)
 
         Returns
         -------
@@ -555,19 +626,28 @@ class MudTracker:
         """
         b = self._bank
         # real numbers only: numpy would parse a string, drop an imaginary part, take a bool as 0 or 1
-        if type(depth_m) is not float or type(force_N) is not float or type(dt_s) is not float:
-            depth_m, force_N = real_number(depth_m, "depth [m]"), real_number(force_N, "force [N]")
-            dt_s = real_number(dt_s, "dt [s]")
-        b._depths[0] = depth_m
-        b._forces[0] = force_N
-        b._step(dt_s)
+        if type(depth) is not float or type(force) is not float or type(dt) is not float:
+            depth, force = real_number(depth, "depth [m]"), real_number(force, "force [N]")
+            dt = real_number(dt, "dt [s]")
+        b._depths[0] = depth
+        b._forces[0] = force
+        b._step(dt)
         o = b._out[0]
-        return TrackEstimate(float(o[_O_W]), (float(o[_O_LOW]), float(o[_O_HIGH])), float(o[_O_PRED]),
+        return TrackEstimate(float(o[_O_W]), float(o[_O_LOW]), float(o[_O_HIGH]), float(o[_O_PRED]),
                              bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]))
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample."""
         self._bank.reset()
+
+    @property
+    def state(self) -> TrackerState:
+        """A snapshot of the tracker's state (a copy); assign one back to restore it (see :attr:`MudTrackers.state`)."""
+        return self._bank.state
+
+    @state.setter
+    def state(self, value: TrackerState) -> None:
+        self._bank.state = value
 
     @property
     def posterior(self) -> np.ndarray:
@@ -608,6 +688,54 @@ class TrackResult:
     changed: np.ndarray
     bias: np.ndarray
     noise: np.ndarray
+
+    #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
+    COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
+                                          "force_predicted_N", "force_N", "changed")
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The per-sample data under the names of :attr:`COLUMNS` (``changed`` as bool)."""
+        arrays = (self.time, self.water_content, self.low, self.high, self.force_predicted, self.force, self.changed)
+        return dict(zip(self.COLUMNS, arrays, strict=True))
+
+    def to_pandas(self) -> Any:
+        """A :class:`pandas.DataFrame` with the columns of :meth:`to_csv` (needs pandas)."""
+        from mudforce._results import to_pandas
+
+        return to_pandas(self.columns())
+
+    def _csv_text(self) -> str:
+        lines = [",".join(self.COLUMNS)]
+        for row in zip(self.time.tolist(), self.water_content.tolist(), self.low.tolist(), self.high.tolist(),
+                       self.force_predicted.tolist(), self.force.tolist(), self.changed.tolist(), strict=True):
+            *values, changed = row
+            lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)}")
+        return "\n".join(lines) + "\n"
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write the estimates as CSV, atomically: the columns :attr:`COLUMNS` (``changed`` as 0 or 1).
+
+        The file ``mudforce track --out`` writes; units in the names ([s], [-], [N]).
+        """
+        from mudforce._results import write_text
+
+        write_text(path, self._csv_text())
+
+    def plot(self, path: str | os.PathLike[str] | None = None, *, truth: Any = None, title: str | None = None) -> Any:
+        """Force measured and predicted, and the water content with its band (needs matplotlib).
+
+        Saved as PNG at ``path`` if given; ``truth`` the true water content per sample [-], if known.
+        See :func:`mudforce.tracking_plots.plot_track`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from mudforce.tracking_plots import plot_track
+
+        if path is not None and not isinstance(path, (str, os.PathLike)):
+            raise InputError(f"path must be a file path (str or os.PathLike), got {type(path).__name__}")
+        return plot_track(self, path, truth=truth, title=title)
 
 
 def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options: Any) -> TrackResult:

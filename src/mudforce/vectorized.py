@@ -30,6 +30,7 @@ import numba.np.ufunc.parallel
 import numpy as np
 
 from mudforce import _kernel as K
+from mudforce._deprecation import warn_renamed
 from mudforce.contact import check_states
 from mudforce.errors import InputError, positive_int, real_array, real_number
 from mudforce.foot import Foot
@@ -198,7 +199,7 @@ class MudContacts:
         self.n = positive_int(n, "the number of feet n")
         self.velocity_filter = resolve_velocity_filter(velocity_filter)
         self.params_array = _param_rows(params, self.n, foot, self.velocity_filter)
-        self.states = K.new_states(self.n)
+        self._states = K.new_states(self.n)  # the live rows (kernel layout); save and restore with .state
         #: the velocity filter's recent samples, one row per foot (no columns for the exact filter)
         self.ring = K.new_ring(self.n, self.velocity_filter.window)
         #: the last step's forces [N] (the step writes them here)
@@ -242,7 +243,7 @@ class MudContacts:
         if type(dt) is not float:
             dt = real_number(dt, "dt")
         # dt is ignored by a foot's first step (as MudContact.step ignores it): refused only if a foot has started
-        if not MIN_DT <= dt <= MAX_DT and K.state_column(self.states, "started").any():
+        if not MIN_DT <= dt <= MAX_DT and K.state_column(self._states, "started").any():
             raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
         if out is not None and not (isinstance(out, np.ndarray) and out.dtype == np.float64
                                     and out.shape == (self.n,) and out.flags.writeable):
@@ -253,10 +254,10 @@ class MudContacts:
                              f"got {float(z[bad])!r}; no foot was stepped")
         if self.threads > 1 and not _forked:
             with _launch_lock:
-                bad = K.run_feet_threads(self.states, self.ring, self.params_array, z, dt, self.forces,
+                bad = K.run_feet_threads(self._states, self.ring, self.params_array, z, dt, self.forces,
                                          self._scratch, self._index, self._chunks)
         else:
-            bad = K.run_feet(self.states, self.ring, self.params_array, z, dt, self.forces, self._scratch[0],
+            bad = K.run_feet(self._states, self.ring, self.params_array, z, dt, self.forces, self._scratch[0],
                              self._index[0])
         if bad >= 0:  # pragma: no cover - every input the kernel refuses was refused above
             raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
@@ -276,7 +277,7 @@ class MudContacts:
         """
         fresh = K.new_states(1)[0]
         if feet is None:
-            self.states[:] = fresh
+            self._states[:] = fresh
             return
         idx = np.asarray(feet)
         if idx.dtype == np.bool_:
@@ -286,43 +287,59 @@ class MudContacts:
             raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
         elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):
             raise InputError(f"foot index out of range 0..{self.n - 1}: {idx.tolist()}")
-        self.states[idx] = fresh
+        self._states[idx] = fresh
 
     @property
     def modes(self) -> list[str]:
         """Each foot's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
-        return [STATE_NAMES[int(m)] for m in K.state_column(self.states, "mode")]
+        return [STATE_NAMES[int(m)] for m in K.state_column(self._states, "mode")]
 
     @property
     def depths(self) -> np.ndarray:
         """Each foot's depth at its last sample [m] (a copy)."""
-        return np.array(K.state_column(self.states, "depth"), dtype=np.float64)
+        return np.array(K.state_column(self._states, "depth"), dtype=np.float64)
 
-    def snapshot(self) -> np.ndarray:
-        """A copy of all feet's states, for :meth:`restore` (rollouts, resets).
+    @property
+    def state(self) -> np.ndarray:
+        """A snapshot of all feet's states (a read-only copy); assign one back to restore them (rollouts, resets).
 
-        Row ``j`` is foot ``j``'s state row followed by its velocity filter's
-        history (which the exact filter does not keep).
+        Row ``j`` is foot ``j``'s state row (layout of :mod:`mudforce._kernel`)
+        followed by its velocity filter's history (which the exact filter
+        does not keep). A restored state is validated as strictly as a fresh
+        one: a wrong shape or a row the stepper never makes
+        (:func:`mudforce.contact.check_states`) is refused with an
+        :class:`~mudforce.InputError`, and no foot is then changed.
         """
-        return np.hstack((self.states, self.ring))
+        snapshot = np.hstack((self._states, self.ring))
+        snapshot.setflags(write=False)
+        return snapshot
 
-    def restore(self, snapshot: np.ndarray) -> None:
-        """Restore all feet's states from :meth:`snapshot`, validated as strictly as fresh ones.
-
-        Raises
-        ------
-        InputError
-            For a wrong shape or a row the stepper never makes
-            (:func:`mudforce.contact.check_states`); no foot is then changed.
-        """
-        arr = real_array(snapshot, "a snapshot", "SI")
+    @state.setter
+    def state(self, value: np.ndarray) -> None:
+        arr = real_array(value, "a state", "SI")
         shape = (self.n, K.N_STATE + self.ring.shape[1])
         if arr.shape != shape:
-            raise InputError(f"a snapshot of {self.n} feet has shape {shape}, got {arr.shape}")
-        check_states(arr[:, : K.N_STATE], arr[:, K.N_STATE :], "a snapshot")
-        self.states[:] = arr[:, : K.N_STATE]
+            raise InputError(f"a state of {self.n} feet has shape {shape}, got {arr.shape}")
+        check_states(arr[:, : K.N_STATE], arr[:, K.N_STATE :], "a state")
+        self._states[:] = arr[:, : K.N_STATE]
         self.ring[:] = arr[:, K.N_STATE :]
-        K.forget_cache(self.states)  # recompute the step-length cache
+        K.forget_cache(self._states)  # recompute the step-length cache
+
+    @property
+    def states(self) -> np.ndarray:
+        """Deprecated: the live state rows; save and restore with :attr:`state`."""
+        warn_renamed("MudContacts.states", "MudContacts.state")
+        return self._states
+
+    def snapshot(self) -> np.ndarray:
+        """Deprecated: :attr:`state`."""
+        warn_renamed("MudContacts.snapshot()", "MudContacts.state")
+        return np.hstack((self._states, self.ring))
+
+    def restore(self, snapshot: np.ndarray) -> None:
+        """Deprecated: assign to :attr:`state`."""
+        warn_renamed("MudContacts.restore(snapshot)", "MudContacts.state = snapshot")
+        self.state = snapshot
 
     def __len__(self) -> int:
         return self.n

@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mudforce._kernel import MAX_WINDOW
-from mudforce.errors import InputError, is_real
+from mudforce.errors import InputError, is_real, real_array
 
 __all__ = [
     "MAX_NOISE_ORDER",
@@ -201,20 +201,18 @@ class DepthNoise:
 
 def _check_record(time: np.ndarray, depth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Float64 copies of a time and depth record, refused if they cannot be analysed."""
-    try:
-        t = np.asarray(time, dtype=np.float64)
-        z = np.asarray(depth, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"time and depth must be arrays of real numbers [s], [m]: {exc}") from None
+    t = real_array(time, "time", "s")
+    z = real_array(depth, "depth", "m")
     if t.ndim != 1 or z.ndim != 1 or t.size != z.size:
         raise InputError(f"time and depth must be 1-D arrays of one length, got shapes {t.shape} and {z.shape}")
     finite = np.isfinite(t) & np.isfinite(z)
     if not finite.all():
         k = int(np.flatnonzero(~finite)[0])
-        raise InputError(f"time and depth must be finite, got {t[k]!r} s and {z[k]!r} m at sample {k}")
+        raise InputError(f"time and depth must be finite, got {float(t[k])!r} s and {float(z[k])!r} m at sample {k}")
     if t.size > 1 and not (np.diff(t) > 0.0).all():
         k = int(np.flatnonzero(~(np.diff(t) > 0.0))[0]) + 1
-        raise InputError(f"time must be strictly increasing, got {t[k - 1]!r} s then {t[k]!r} s at sample {k}")
+        raise InputError(f"time must be strictly increasing, got {float(t[k - 1])!r} s then {float(t[k])!r} s at "
+                         f"sample {k}")
     return t, z
 
 

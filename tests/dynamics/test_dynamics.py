@@ -154,8 +154,8 @@ def test_applied_force_pulls_the_foot_out() -> None:
 
 def test_substeps_converge() -> None:
     params = MudParameters.from_water_content(0.20)
-    a = simulate_foot(10.0, params, duration=1.0, substeps=5, depth0=-0.02)
-    b = simulate_foot(10.0, params, duration=1.0, substeps=40, depth0=-0.02)
+    a = simulate_foot(10.0, params, duration=1.0, substeps=5, height=0.02)
+    b = simulate_foot(10.0, params, duration=1.0, substeps=40, height=0.02)
     np.testing.assert_allclose(a.depth, b.depth, atol=1e-6)  # 5e-5 of the depth (touchdown: z^beta)
     ref = exact_drop(10.0, params, duration=1.0, height=0.02)
     np.testing.assert_allclose(b.depth, ref.depth, atol=1e-7)

@@ -65,6 +65,7 @@ def test_identify_on_a_stepping_trajectory() -> None:
     result = identify_water_content(trial)
     assert abs(result.water_content - 0.22) < 0.005
     assert result.interval[0] <= 0.22 <= result.interval[1]
+    assert (result.low, result.high) == result.interval
     d = result.to_dict()
     assert {"nearest_water_content", "misfit_ratio", "model_misses_data", "off_family_N", "noise_floor_N",
             "force_noise_N", "bias_N", "bias_method"} <= set(d)

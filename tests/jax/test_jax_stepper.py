@@ -59,8 +59,8 @@ def cpu_run(muds: list[MudParameters], z: np.ndarray, dt: float) -> tuple[np.nda
     modes = np.empty((steps, n), dtype=np.int64)
     for k in range(steps):
         forces[k] = feet.step(z[k], dt)
-        modes[k] = feet.states[:, K.S_MODE]
-    return forces, modes, feet.states.copy()
+        modes[k] = feet.state[:, K.S_MODE]
+    return forces, modes, np.array(feet.state[:, : K.N_STATE])
 
 
 @pytest.fixture(scope="module")

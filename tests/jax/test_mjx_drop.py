@@ -53,7 +53,7 @@ def test_worlds_with_their_own_mud_in_one_jit() -> None:
     model = mud.drop_model(5.0)
     m = mjx.put_model(model)
     water = (0.15, 0.20, 0.25)
-    patches = [mud.make_patch(model, ["sole"], MudParameters.from_water_content(w)) for w in water]
+    patches = [mud.add_mud(model, ["sole"], MudParameters.from_water_content(w)) for w in water]
     patch = jax.tree_util.tree_map(lambda *xs: jnp.stack(xs), *patches)
     d0 = mjx.make_data(m)
     data = jax.tree_util.tree_map(lambda x: jnp.broadcast_to(x, (len(water), *x.shape)), d0)

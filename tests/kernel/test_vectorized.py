@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mudforce import Foot, MudContact, MudParameters
+from mudforce import _kernel as K
 from mudforce.errors import InputError
 from mudforce.parameters import TABLE_I
 from mudforce.vectorized import MudContacts
@@ -36,7 +37,7 @@ def test_equals_independent_contacts(seed: int, n: int, dt: float) -> None:
         expected = [c.step(float(z), dt) for c, z in zip(single, depths, strict=True)]
         np.testing.assert_array_equal(forces, expected)  # bit for bit: the same compiled stepper
     for j in range(n):
-        np.testing.assert_array_equal(many.states[j], single[j].state.data)
+        np.testing.assert_array_equal(many.state[j, : K.N_STATE], single[j].state.data)
     assert many.modes == [c.state.mode for c in single]
 
 
@@ -61,7 +62,7 @@ def test_gaits_at_a_constant_rate_equal_independent_contacts() -> None:
         seen.update(many.modes)
     assert seen == {"FREE", "CONTACT", "NECKED"}
     for j in range(n):
-        np.testing.assert_array_equal(many.states[j], single[j].state.data)
+        np.testing.assert_array_equal(many.state[j, : K.N_STATE], single[j].state.data)
 
 
 def test_parameter_array_for_domain_randomisation() -> None:
@@ -88,7 +89,7 @@ def test_reset_selected_feet() -> None:
         many.step(np.full(3, z), 0.01)
     many.reset([1])
     assert many.modes == ["CONTACT", "FREE", "CONTACT"]
-    kept = many.states[[0, 2]].copy()
+    kept = many.state[[0, 2], : K.N_STATE].copy()
     # foot 1 starts again from its next sample, like a fresh MudContact
     depths = np.array([0.012, 0.0, 0.012])
     f = many.step(depths, 0.01).copy()
@@ -96,7 +97,7 @@ def test_reset_selected_feet() -> None:
     for z in (0.003, 0.006):
         f = many.step(np.array([0.012, z, 0.012]), 0.01).copy()
         assert f[1] == fresh.step(z, 0.01)
-    assert not np.array_equal(kept, many.states[[0, 2]])  # the others went on relaxing
+    assert not np.array_equal(kept, many.state[[0, 2], : K.N_STATE])  # the others went on relaxing
     mask = np.array([True, False, True])
     many.reset(mask)
     assert many.modes == ["FREE", "CONTACT", "FREE"]
@@ -109,9 +110,9 @@ def test_snapshot_restore_replays_exactly() -> None:
     walks = _walks(3, 60, 2)
     for depths in walks[:30]:
         many.step(depths, 0.01)
-    snap = many.snapshot()
+    snap = many.state
     first = np.array([many.step(d, 0.01).copy() for d in walks[30:]])
-    many.restore(snap)
+    many.state = snap
     second = np.array([many.step(d, 0.01).copy() for d in walks[30:]])
     np.testing.assert_array_equal(first, second)
 
@@ -137,7 +138,6 @@ def test_bad_input_is_refused() -> None:
 def test_snapshot_restore_with_a_smoothing_filter() -> None:
     """A snapshot holds each foot's state row and its filter's recent samples; replays are exact."""
     from mudforce import VelocityFilter
-    from mudforce import _kernel as K
 
     vf = VelocityFilter(6, 0.001)
     many = MudContacts(W25, 3, velocity_filter=vf)
@@ -147,16 +147,16 @@ def test_snapshot_restore_with_a_smoothing_filter() -> None:
         many.step(depths, 0.01)
         for c, z in zip(single, depths, strict=True):
             c.step(float(z), 0.01)
-    snap = many.snapshot()
+    snap = many.state
     assert snap.shape == (3, K.N_STATE + K.N_RING)
     np.testing.assert_array_equal(snap[1, K.N_STATE:], single[1].state.ring)
     first = np.array([many.step(d, 0.01).copy() for d in walks[40:]])
     expected = np.array([[c.step(float(z), 0.01) for c, z in zip(single, d, strict=True)] for d in walks[40:]])
     np.testing.assert_array_equal(first, expected)
-    many.restore(snap)
+    many.state = snap
     np.testing.assert_array_equal(np.array([many.step(d, 0.01).copy() for d in walks[40:]]), first)
     with pytest.raises(InputError, match="shape"):
-        many.restore(snap[:, : K.N_STATE])
+        many.state = snap[:, : K.N_STATE]
 
 
 @pytest.mark.parametrize("window", [1, 6])
@@ -176,7 +176,7 @@ def test_threads_give_the_same_forces_bit_for_bit(window: int) -> None:
         np.testing.assert_array_equal(forces[1], forces[0])
         np.testing.assert_array_equal(forces[2], forces[0])
     for c in runs[1:]:
-        np.testing.assert_array_equal(c.states, runs[0].states)
+        np.testing.assert_array_equal(c.state, runs[0].state)
         np.testing.assert_array_equal(c.ring, runs[0].ring)
     # a refused foot in a later slice is reported by its index; the other feet step
     bad = np.full(n, 0.004)
@@ -184,7 +184,7 @@ def test_threads_give_the_same_forces_bit_for_bit(window: int) -> None:
     for c in runs:
         with pytest.raises(InputError, match="foot 30"):
             c.step(bad, 0.01)
-    np.testing.assert_array_equal(runs[2].states, runs[0].states)
+    np.testing.assert_array_equal(runs[2].state, runs[0].state)
 
 
 def test_threads_argument() -> None:

@@ -98,8 +98,8 @@ ENTRIES: dict[str, Callable[[Any], object]] = {
     "simulate depth": lambda bad: mf.simulate(T, bad, W25),
     "MudContact.step": lambda bad: mf.MudContact(W25).step(bad[:1].reshape(()), 0.01),  # a 0-d array
     "MudContacts.step": lambda bad: mf.MudContacts(W25, 40).step(bad, 0.01),
-    "MudContacts.restore": lambda bad: mf.MudContacts(W25, 1).restore(
-        np.asarray(mf.MudContacts(W25, 1).snapshot(), dtype=bad.dtype)),
+    "MudContacts.state": lambda bad: setattr(mf.MudContacts(W25, 1), "state",
+                                             np.asarray(mf.MudContacts(W25, 1).state, dtype=bad.dtype)),
     "MudTrackers.update": lambda bad: MudTrackers(40).update(bad, np.zeros(40), 0.01),
     "MudTracker.update": lambda bad: MudTracker().update(0.0, bad[:1].reshape(()), 0.01),
     "track": lambda bad: track(T, Z, bad),

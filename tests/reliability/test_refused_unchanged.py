@@ -99,7 +99,7 @@ def test_mud_contacts_refused_means_unchanged(data: st.DataObject) -> None:
     for z, dt in steps:
         feet.step(np.array(z), dt)
         twin.step(np.array(z), dt)
-    before = feet.snapshot()
+    before = feet.state
     z = np.array(data.draw(st.lists(good_depth, min_size=n, max_size=n)), dtype=object)
     kind = data.draw(st.sampled_from(["depth", "dt", "shape", "restore"]))
     dt: object = data.draw(good_dt)
@@ -114,12 +114,12 @@ def test_mud_contacts_refused_means_unchanged(data: st.DataObject) -> None:
         else:
             garbage = before.copy()
             garbage[data.draw(st.integers(0, n - 1)), data.draw(st.sampled_from([K.S_MODE, K.S_STARTED]))] = 7.0
-            feet.restore(garbage)
+            feet.state = garbage
     except InputError:
         pass
     else:
         raise AssertionError(f"accepted a bad {kind}")
-    assert np.array_equal(feet.snapshot(), before, equal_nan=True)
+    assert np.array_equal(feet.state, before, equal_nan=True)
     retry = np.array(data.draw(st.lists(good_depth, min_size=n, max_size=n)))
     got = feet.step(retry, 0.01)
     assert np.array_equal(got, twin.step(retry, 0.01))
@@ -133,7 +133,7 @@ def test_api_type_errors_are_input_errors() -> None:
     for call in (lambda: MudContacts(None, 3), lambda: MudContacts(W25, None), lambda: mf.MudContact(None),
                  lambda: mf.MudContact(W25, "disc"), lambda: mf.MudContact(W25).step(None, 0.01),
                  lambda: mf.Foot(None, 0.1), lambda: mf.Foot.disc("5cm"), lambda: MudContacts(W25, 2).step("ab", 0.1),
-                 lambda: MudContacts(W25, 2, foot=[None, None]), lambda: MudContacts(W25, 2).restore(None),
+                 lambda: MudContacts(W25, 2, foot=[None, None]), lambda: setattr(MudContacts(W25, 2), "state", None),
                  lambda: ContactState(None), lambda: mf.simulate(None, None, W25),
                  lambda: mf.MudParameters.from_water_content("25%"), lambda: mf.MudParameters.load(None),
                  lambda: load_dataset(None), lambda: read_trajectory(3.0), lambda: parse_quantity(None, "length"),

@@ -71,7 +71,7 @@ def test_one_foot_many_feet_and_track_agree() -> None:
     r = track(wk.time, wk.depth, wk.force)
     single = feed(MudTracker(), wk.time, wk.depth, wk.force)
     assert [e.water_content for e in single] == r.water_content.tolist()
-    assert [e.interval for e in single] == list(zip(r.low.tolist(), r.high.tolist(), strict=True))
+    assert [(e.low, e.high) for e in single] == list(zip(r.low.tolist(), r.high.tolist(), strict=True))
     assert [e.force_predicted for e in single] == r.force_predicted.tolist()
     # three feet: foot 1 sees this walk, the others their own
     other = walk(0.3, seed=9, duration=6.0, force_noise=0.4, bias=1.0)
@@ -138,7 +138,7 @@ def test_grid_and_estimate_fields() -> None:
     tracker = MudTracker(water_contents=[0.2, 0.25, 0.3], discrepancy=0.0)
     e = tracker.update(-0.01, 0.0, 0.01)
     assert e.water_content == pytest.approx(0.25)
-    low, high = e.interval
+    low, high = e.low, e.high
     assert 0.175 <= low < 0.25 < high <= 0.325
     assert tracker.posterior.shape == (3,)
     assert MudTracker().grid.tolist() == list(DEFAULT_GRID)
@@ -173,7 +173,7 @@ def test_estimate_invariants_on_any_finite_input(samples: list[tuple[float, floa
     tracker = MudTracker()
     for z, f, dt in samples:
         e = tracker.update(z, f, dt)
-        low, high = e.interval
+        low, high = e.low, e.high
         assert 0.1475 <= low <= e.water_content <= high <= 0.3525
         assert math.isfinite(e.force_predicted) and math.isfinite(e.bias) and e.noise > 0.0
     p = tracker.posterior

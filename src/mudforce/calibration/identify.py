@@ -101,6 +101,16 @@ class Identification:
     bias_stderr: float = math.nan
 
     @property
+    def low(self) -> float:
+        """Lower end of :attr:`interval` [-] (as :attr:`mudforce.TrackEstimate.low`)."""
+        return self.interval[0]
+
+    @property
+    def high(self) -> float:
+        """Upper end of :attr:`interval` [-] (as :attr:`mudforce.TrackEstimate.high`)."""
+        return self.interval[1]
+
+    @property
     def model_misses_data(self) -> bool:
         """True when the RMSE exceeds the force noise by more than :data:`MISFIT_WARNING_RATIO`."""
         return self.misfit_ratio > MISFIT_WARNING_RATIO

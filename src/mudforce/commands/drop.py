@@ -116,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         from mudforce.dynamics import simulate_foot
 
-        result = simulate_foot(mass, params, duration=duration, depth0=-height)
+        result = simulate_foot(mass, params, duration=duration, height=height)
     try:
         result.to_csv(out)
         if plot is not None:

@@ -50,7 +50,7 @@ def format_table_i() -> str:
         values), the paper's RMSE [N], and a citation line.
     """
     from mudforce.parameters import (
-        CHEN2024,
+        CITATION,
         PARAMETER_NAMES,
         PARAMETER_UNITS,
         TABLE_I,
@@ -68,7 +68,7 @@ def format_table_i() -> str:
     lines.append("-" * len(head))
     lines.append("RMSE: the fit error the paper reports on its own (unpublished) data; cited, not reproducible.")
     lines.append("rho_m and lambda are common to all rows. Between rows, `--water-content` interpolates log-linearly.")
-    lines.append(f"Source: {CHEN2024}, Table I.")
+    lines.append(f"Source: {CITATION}, Table I.")
     return "\n".join(lines)
 
 

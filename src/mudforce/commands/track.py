@@ -33,7 +33,8 @@ __all__ = ["COLUMNS", "HELP", "NAME", "add_arguments", "run"]
 NAME = "track"
 HELP = "track the mud's water content online along a recording (time, depth, force), write CSV (and a plot)"
 
-#: The output columns, in order.
+#: The output columns, in order (:attr:`mudforce.tracker.TrackResult.COLUMNS`; written out here so that
+#: building the command line does not import the tracker).
 COLUMNS = ("time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
            "changed")
 
@@ -49,18 +50,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", metavar="FILE.png", default=None,
                         help="also draw force (measured, predicted) and the water content with its band (PNG)")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
-
-
-def _csv_text(result: object) -> str:
-    from mudforce.tracker import TrackResult
-
-    assert isinstance(result, TrackResult)
-    lines = [",".join(COLUMNS)]
-    for row in zip(result.time.tolist(), result.water_content.tolist(), result.low.tolist(), result.high.tolist(),
-                   result.force_predicted.tolist(), result.force.tolist(), result.changed.tolist(), strict=True):
-        *values, changed = row
-        lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)}")
-    return "\n".join(lines) + "\n"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -95,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
         from mudforce.tracking_plots import plot_track
 
         png = figure_to_png(plot_track(result, title=f"Tracking {source.name}"))
-    text = _csv_text(result)
+    text = result._csv_text()
 
     from mudforce.io import atomic_open
 

@@ -69,7 +69,7 @@ the foot deeper. :func:`naive_drop` reproduces that for comparison.
 from __future__ import annotations
 
 from mudforce.dynamics.engine import simulate_foot
-from mudforce.dynamics.naive import naive_drop
+from mudforce.dynamics.naive import NaiveDrop, naive_drop
 from mudforce.dynamics.rest_band import branch_forces, rest_band
 from mudforce.dynamics.result import GRAVITY, PHASE_NAMES, REST_SPEED, FootResult, Phase
 from mudforce.reference_drop import ExactDrop, exact_drop
@@ -80,6 +80,7 @@ __all__ = [
     "REST_SPEED",
     "ExactDrop",
     "FootResult",
+    "NaiveDrop",
     "Phase",
     "branch_forces",
     "exact_drop",

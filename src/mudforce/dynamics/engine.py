@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
+from mudforce._deprecation import warn_renamed
 from mudforce._kernel import ContactMode, params_from_row
 from mudforce.dynamics._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.dynamics.rest_band import necked_force, rest_band
@@ -320,10 +321,11 @@ def simulate_foot(
     duration: float = 8.0,
     dt: float = 1e-3,
     substeps: int = 10,
-    depth0: float = 0.0,
+    height: float = 0.0,
     velocity0: float = 0.0,
     applied_force: Any = None,
     gravity: float = GRAVITY,
+    depth0: float | None = None,
 ) -> FootResult:
     """Simulate a one-degree-of-freedom foot of mass ``m`` falling into mud (the built-in engine).
 
@@ -348,8 +350,10 @@ def simulate_foot(
         Output sampling interval [s], > 0.
     substeps : int
         RK4 steps per output interval (default 10: ``h = 0.1 ms`` for ``dt = 1 ms``).
-    depth0 : float
-        Initial depth of the foot's bottom [m]; negative is above the surface (a drop height).
+    height : float
+        Release height of the foot's bottom above the mud surface [m], positive up (as everywhere a drop
+        starts: :func:`mudforce.mujoco.simulate_drop`, :func:`mudforce.mjx.simulate_drop`,
+        :func:`mudforce.reference_drop.exact_drop`); negative starts it that far inside fresh mud.
     velocity0 : float
         Initial velocity [m/s], positive down.
     applied_force : float, or (times, forces) arrays, optional
@@ -357,6 +361,8 @@ def simulate_foot(
         a pair of arrays is interpolated linearly in time [s] (held outside).
     gravity : float
         Gravitational acceleration [m/s^2].
+    depth0 : float, optional
+        Deprecated: the initial depth [m], positive down; ``height = -depth0``.
 
     Returns
     -------
@@ -374,7 +380,13 @@ def simulate_foot(
     duration = finite_number(duration, "duration", "s", positive=True)
     dt = finite_number(dt, "dt", "s", positive=True)
     gravity = finite_number(gravity, "gravity", "m/s^2")
-    depth0 = finite_number(depth0, "depth0", "m")
+    if depth0 is not None:  # deprecated in 0.2, for height (positive up, as every drop's start)
+        warn_renamed("simulate_foot(depth0=...)", "simulate_foot(height=-depth0)")
+        if height != 0.0:
+            raise InputError("give height [m] only (depth0 is its deprecated, negated form)")
+        z0 = finite_number(depth0, "depth0", "m")
+    else:
+        z0 = 0.0 - finite_number(height, "height", "m")  # (0.0 - 0.0 is +0.0)
     velocity0 = finite_number(velocity0, "velocity0", "m/s")
     substeps = positive_int(substeps, "substeps")
     mass = check_mass(mass, params, foot, dt / substeps, "RK4 sub-step")
@@ -387,7 +399,7 @@ def simulate_foot(
     force = np.empty(n)
     phase = np.empty(n, dtype=np.int8)
     strain = np.empty(n)
-    events = _integrate(p, mass, gravity, depth0, velocity0, t_out, substeps, tp, fp,
+    events = _integrate(p, mass, gravity, z0, velocity0, t_out, substeps, tp, fp,
                         depth, velocity, force, phase, strain)
     check_finite_output("built-in", t_out, depth, velocity, force)
     return FootResult(t_out, depth, velocity, force, phase, mass, gravity, "builtin", int(events), strain)

@@ -11,6 +11,9 @@ rest band (:mod:`mudforce.dynamics.rest_band`).
 
 from __future__ import annotations
 
+import os
+from typing import Any, NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -23,7 +26,7 @@ from mudforce.parameters import MudParameters
 from mudforce.simulation import params_row
 from mudforce.velocity import VelocityFilter
 
-__all__ = ["naive_drop"]
+__all__ = ["NaiveDrop", "naive_drop"]
 
 
 @njit(cache=True, nogil=True)
@@ -41,9 +44,46 @@ def _naive(states: np.ndarray, params: np.ndarray, m: float, g: float, z0: float
         force[k] = f
 
 
+class NaiveDrop(NamedTuple):
+    """What :func:`naive_drop` returns; unpacks as ``time, depth, force``.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times [s] (``dt, 2 dt, ...``).
+    depth : ndarray
+        Foot depth ``z_i`` [m], positive down.
+    force : ndarray
+        Mud force on the foot [N], positive up.
+    """
+
+    time: np.ndarray
+    depth: np.ndarray
+    force: np.ndarray
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The per-sample data under unit-suffixed names: ``time_s, depth_m, force_N``."""
+        return {"time_s": self.time, "depth_m": self.depth, "force_N": self.force}
+
+    def to_pandas(self) -> Any:
+        """A :class:`pandas.DataFrame` with the columns of :meth:`to_csv` (needs pandas)."""
+        from mudforce._results import to_pandas
+
+        return to_pandas(self.columns())
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write ``time_s, depth_m, force_N`` as CSV, atomically (the number format of :class:`FootResult`)."""
+        from mudforce._results import write_text
+
+        lines = ["time_s,depth_m,force_N"]
+        for t, z, f in zip(self.time.tolist(), self.depth.tolist(), self.force.tolist(), strict=True):
+            lines.append(f"{t:.9g},{z + 0.0:.12g},{f:.12g}")
+        write_text(path, "\n".join(lines) + "\n")
+
+
 def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
-               dt: float = 1e-3, gravity: float = GRAVITY) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The naive explicit coupling this module warns about: ``(time [s], depth [m], force [N])``.
+               dt: float = 1e-3, height: float = 0.0, gravity: float = GRAVITY) -> NaiveDrop:
+    """The naive explicit coupling this module warns about: a :class:`NaiveDrop` ``(time [s], depth [m], force [N])``.
 
     Each step integrates ``m dv/dt = m g - F`` with the force the streaming
     model returned for the previous sample; the branch follows the sign of
@@ -61,6 +101,8 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
         Simulated time [s], > 0 (at most 1e8 steps).
     dt : float
         Time step [s], > 0.
+    height : float
+        Release height of the foot's bottom above the mud surface [m], positive up (negative: inside fresh mud).
     gravity : float
         Gravitational acceleration [m/s^2].
 
@@ -75,15 +117,14 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     mass = finite_number(mass, "mass", "kg", positive=True)
     duration = finite_number(duration, "duration", "s", positive=True)
     dt = finite_number(dt, "dt", "s", positive=True)
+    z0 = 0.0 - finite_number(height, "height", "m")  # (0.0 - 0.0 is +0.0)
     gravity = finite_number(gravity, "gravity", "m/s^2")
     max_samples(duration, dt)
     p = params_row(params, foot, VelocityFilter.exact())[None, :]
     n = round(duration / dt)
     depth = np.empty(n)
     force = np.empty(n)
-    _naive(K.new_states(1), p, mass, gravity, 0.0, dt, n, K.new_out(1), depth, force)
+    _naive(K.new_states(1), p, mass, gravity, z0, dt, n, K.new_out(1), depth, force)
     time = np.arange(1, n + 1) * dt
     check_finite_output("naive", time, depth, force)
-    return time, depth, force
-
-
+    return NaiveDrop(time, depth, force)

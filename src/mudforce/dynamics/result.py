@@ -69,7 +69,7 @@ class FootResult:
     gravity : float
         Gravity [m/s^2].
     engine : str
-        ``"builtin"`` or ``"mujoco"``.
+        ``"builtin"``, ``"mujoco"`` or ``"mjx"``.
     events : int
         Number of located events (builtin engine; 0 otherwise).
     strain : ndarray
@@ -115,6 +115,17 @@ class FootResult:
         last = finite_number(last, "last", "s", positive=True)
         sel = self.time >= self.time[-1] - last - 1e-12
         return float(np.std(self.force[sel]))
+
+    def columns(self) -> dict[str, Any]:
+        """The per-sample data under the names of :meth:`to_csv`: ``time_s, depth_m, velocity_m_s, force_N, state``."""
+        return {"time_s": self.time, "depth_m": self.depth, "velocity_m_s": self.velocity, "force_N": self.force,
+                "state": np.array(self.phase_names, dtype=object)}
+
+    def to_pandas(self) -> Any:
+        """A :class:`pandas.DataFrame` with the columns of :meth:`to_csv` (needs pandas)."""
+        from mudforce._results import to_pandas
+
+        return to_pandas(self.columns())
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
         """Write ``time_s, depth_m, velocity_m_s, force_N, state`` as CSV, atomically."""

@@ -18,7 +18,7 @@ from pathlib import Path
 from string import Template
 from typing import Any
 
-from mudforce.parameters import CHEN2024
+from mudforce.parameters import CITATION
 from mudforce.reproduce.experiments import SCATTERED, ReproduceConfig
 from mudforce.reproduce.summary import MODEL_LABELS, NINE, PAPER_UNITS, POORLY_DETERMINED, in_paper_units
 
@@ -112,7 +112,7 @@ def render_html(config: ReproduceConfig, summary: Mapping[str, Any], figures: Se
     e = html.escape
     rows = summary["table_i"]
     return _template().substitute(
-        paper=e(CHEN2024),
+        paper=e(CITATION),
         version=e(str(summary["mudforce_version"])),
         mode="--quick" if config.quick else "full",
         seed=config.seed,

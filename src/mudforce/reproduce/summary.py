@@ -19,7 +19,7 @@ from mudforce.calibration.dataset import Dataset
 from mudforce.calibration.fit import POOR_RELATIVE_STDERR, ConditionFit
 from mudforce.foot import Foot
 from mudforce.parameters import (
-    CHEN2024,
+    CITATION,
     PAPER_UNITS,  # the one table of the paper's units (re-exported here)
     TABLE_I,
     TABLE_I_RMSE_N,
@@ -159,7 +159,7 @@ def make_summary(config: ReproduceConfig, dataset: Dataset, table: dict[float, C
                  for (w, v), f in by_speed.items()]
     summary = {
         "mudforce_version": __version__,
-        "paper": CHEN2024,
+        "paper": CITATION,
         "units": "SI (m, s, N, Pa, kg/m^3); water content as a fraction",
         "config": config.to_dict(),
         "table_i": rows,

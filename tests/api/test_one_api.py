@@ -1,0 +1,147 @@
+"""One API: every result has ``to_pandas``/``to_csv``/``plot`` where they make sense, and every stateful object
+saves and restores its state one way, ``.state`` (read a read-only snapshot; assign it back to restore).
+
+Cheap on purpose: short walks and drops; the numbers themselves are tested where they are made.
+"""
+
+from __future__ import annotations
+
+import inspect
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mudforce import InputError, MudContact, MudContacts, MudParameters, MudTracker, MudTrackers
+from mudforce.dynamics import FootResult, NaiveDrop, naive_drop, simulate_foot
+from mudforce.gait import walk
+from mudforce.tracker import TrackerState, TrackResult, track
+
+W25 = MudParameters.from_water_content(0.25)
+
+
+@pytest.fixture(scope="module")
+def tracked() -> TrackResult:
+    w = walk(0.25, seed=1, duration=3.0, force_noise=0.3, bias=0.5)
+    return track(w.time, w.depth, w.force)
+
+
+def test_track_result_to_csv_is_the_track_command_s_file(tracked: TrackResult, tmp_path: Path) -> None:
+    from mudforce.commands.track import COLUMNS
+
+    assert TrackResult.COLUMNS == COLUMNS
+    path = tmp_path / "t.csv"
+    tracked.to_csv(path)
+    lines = path.read_text().splitlines()
+    assert lines[0] == ",".join(COLUMNS) and len(lines) == tracked.time.size + 1
+    k = tracked.time.size // 2
+    row = lines[1 + k].split(",")
+    assert [float(x) for x in row[:6]] == [tracked.time[k], tracked.water_content[k], tracked.low[k],
+                                           tracked.high[k], tracked.force_predicted[k], tracked.force[k]]
+    assert row[6] == str(int(tracked.changed[k]))
+    with pytest.raises(InputError, match="path must be a file path"):
+        tracked.to_csv(3)  # type: ignore[arg-type]
+
+
+def test_track_result_to_pandas_and_plot(tracked: TrackResult, tmp_path: Path) -> None:
+    pytest.importorskip("pandas")
+    df = tracked.to_pandas()
+    assert list(df.columns) == list(TrackResult.COLUMNS)
+    assert np.array_equal(df["water_content_low"].to_numpy(), tracked.low)
+    pytest.importorskip("matplotlib")
+    fig = tracked.plot(tmp_path / "t.png", title="walk")
+    assert (tmp_path / "t.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and len(fig.axes) == 2
+    with pytest.raises(InputError, match="path must be a file path"):
+        tracked.plot(3)  # type: ignore[arg-type]
+
+
+def test_foot_result_to_pandas_has_the_csv_columns(tmp_path: Path) -> None:
+    pytest.importorskip("pandas")
+    res = simulate_foot(5.0, W25, duration=0.05, height=0.001)
+    assert isinstance(res, FootResult)
+    res.to_csv(tmp_path / "f.csv")
+    header = (tmp_path / "f.csv").read_text().splitlines()[0].split(",")
+    df = res.to_pandas()
+    assert list(df.columns) == header == ["time_s", "depth_m", "velocity_m_s", "force_N", "state"]
+    assert np.array_equal(df["force_N"].to_numpy(), res.force) and df["state"].tolist() == res.phase_names
+
+
+def test_naive_drop_is_a_result_that_unpacks_as_before(tmp_path: Path) -> None:
+    res = naive_drop(5.0, W25, duration=0.02)
+    assert isinstance(res, NaiveDrop)
+    t, z, f = res
+    assert t is res.time and z is res.depth and f is res.force and t.size == 20
+    res.to_csv(tmp_path / "n.csv")
+    lines = (tmp_path / "n.csv").read_text().splitlines()
+    assert lines[0] == "time_s,depth_m,force_N" and len(lines) == 21
+    assert [float(x) for x in lines[-1].split(",")] == pytest.approx([t[-1], z[-1], f[-1]], rel=1e-11)
+    # height [m] above the surface, as every drop's start: the foot falls freely before it touches
+    high = naive_drop(5.0, W25, duration=0.02, height=0.01)
+    assert high.depth[0] < 0.0 and np.all(high.force[high.depth <= 0.0] == 0.0)
+    pytest.importorskip("pandas")
+    assert list(res.to_pandas().columns) == ["time_s", "depth_m", "force_N"]
+
+
+def test_drops_start_at_height_everywhere() -> None:
+    """The same argument has the same name and meaning: ``height`` [m] above the surface, ``dt`` [s]."""
+    from mudforce.dynamics import exact_drop
+
+    functions = [simulate_foot, naive_drop, exact_drop]
+    for module in ("mudforce.mujoco", "mudforce.mjx"):
+        try:
+            functions.append(__import__(module, fromlist=["simulate_drop"]).simulate_drop)
+        except ImportError:
+            pass
+    for fn in functions:
+        names = list(inspect.signature(fn).parameters)
+        assert names[:3] == ["mass", "params", "foot"], fn
+        assert "height" in names and "dt" in names and "timestep" not in names, fn
+    assert simulate_foot(5.0, W25, duration=0.01, height=0.02).depth[0] == -0.02
+
+
+def test_every_stateful_object_saves_and_restores_through_state() -> None:
+    one = MudContact(W25)
+    many = MudContacts(W25, 2)
+    for z in (0.0, 0.002, 0.004):
+        one.step(z, 0.01)
+        many.step(np.array([z, z / 2]), 0.01)
+    saved_one, saved_many = one.state, many.state
+    with pytest.raises(ValueError, match="read-only"):
+        saved_many[0, 0] = 1.0
+    a, b = one.step(0.005, 0.01), many.step(np.array([0.005, 0.003]), 0.01)
+    one.state, many.state = saved_one, saved_many
+    assert one.step(0.005, 0.01) == a and np.array_equal(many.step(np.array([0.005, 0.003]), 0.01), b)
+
+
+def test_tracker_state_replays_exactly_and_a_refused_restore_changes_nothing() -> None:
+    w = walk(0.22, seed=2, duration=2.0, force_noise=0.3)
+    tracker = MudTracker()
+    dt = np.diff(w.time, prepend=w.time[0])
+    for k in range(100):
+        tracker.update(w.depth[k], w.force[k], dt[k])
+    saved = tracker.state
+    assert isinstance(saved, TrackerState) and saved.started
+    first = [tracker.update(w.depth[k], w.force[k], dt[k]) for k in range(100, 150)]
+    tracker.state = saved
+    assert [tracker.update(w.depth[k], w.force[k], dt[k]) for k in range(100, 150)] == first
+    before = tracker.state
+    other = MudTrackers(1, water_contents=[0.2, 0.3]).state
+    for bad in (None, other, saved.bank):
+        with pytest.raises(InputError, match="TrackerState"):
+            tracker.state = bad  # type: ignore[assignment]
+    bank = np.array(before.bank)
+    bank[0, 1] = 7.0  # a contact mode the stepper never makes
+    garbage = TrackerState(bank, before.log_posterior, before.posterior, before.aux, True, before.key)
+    with pytest.raises(InputError, match="expected a state taken from a contact"):
+        tracker.state = garbage
+    after = tracker.state
+    for name in ("bank", "log_posterior", "posterior", "aux"):
+        assert np.array_equal(getattr(after, name), getattr(before, name), equal_nan=True), name
+    # many feet: the same protocol
+    feet = MudTrackers(2)
+    feet.update([0.0, 0.0], [0.1, 0.2], 0.01)
+    snap = feet.state
+    x = feet.update([0.001, 0.002], [1.0, 2.0], 0.01)
+    feet.state = snap
+    y = feet.update([0.001, 0.002], [1.0, 2.0], 0.01)
+    assert np.array_equal(x.water_content, y.water_content) and np.array_equal(x.low, y.low)
