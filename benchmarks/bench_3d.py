@@ -4,8 +4,8 @@ Run: ``python benchmarks/bench_3d.py`` (``--quick`` for a short run).
 Prints figures; asserts nothing. One thread unless a line says otherwise. Targets (issue 21, "Speed"): at most
 20 ns per element per step on one CPU thread, and at most 2 us a step for
 a 64-element foot; on an H100, 4,096 quadrupeds x 4 feet x 64 elements
-in at most 1 ms per step (the JAX step, :mod:`mudforce.jax3d`, when it
-exists; its CPU figures are printed here).
+in at most 1 ms per step (the JAX step, :mod:`mudforce.jax3d`; its CPU
+figures are printed here, and :func:`bench_jax` runs on any JAX device).
 
 The feet walk: each foot's origin follows its own loop (phases and
 frequencies spread, 1 kHz), down into the mud, sideways while in it
@@ -123,15 +123,44 @@ def bench_one(shape: shapes.Shape, steps: int, repeats: int) -> tuple[float, flo
 
 
 def bench_jax(shape: shapes.Shape, feet: int, steps: int, repeats: int) -> tuple[float, float] | None:
-    """The JAX 3-D step's seconds per step on this machine's CPU, if :mod:`mudforce.jax3d` exists; else None.
+    """Seconds per step (best, median; wall time) of :mod:`mudforce.jax3d` on JAX's CPU, float64; None without it.
 
-    HOOK: ``mudforce.jax3d`` is being written apart; until it exists this
-    prints nothing for it. When it does, time its step here on the same
-    walk (jitted, ``block_until_ready``), best and median of the repeats.
+    ``jax.vmap`` of ``step3d`` over the feet, ``jax.lax.scan`` over the
+    steps, jitted (compiled before timing); the same walk. An H100's
+    figures (the issue's 4,096 x 4 x 64 elements) come from the same
+    function on a machine with one (JAX's default device).
     """
-    if importlib.util.find_spec("mudforce.jax3d") is None:
+    if importlib.util.find_spec("jax") is None or importlib.util.find_spec("mudforce.jax3d") is None:
         return None
-    return None  # pragma: no cover - HOOK: wire mudforce.jax3d's step in here once its API is settled
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    import jax.numpy as jnp
+
+    import mudforce.jax3d as mj3
+
+    params = mj3.make_params3d(mf.MudParameters.from_water_content(0.25), shape)
+    pos, quat = walk(feet, steps + 1)
+    step = jax.vmap(mj3.step3d, in_axes=(0, None, 0, 0, None))
+    dt = 1.0 / RATE
+
+    @jax.jit
+    def run(state: Any, pos: Any, quat: Any) -> Any:
+        def body(s: Any, pose: Any) -> Any:
+            s, force, torque = step(s, params, pose[0], pose[1], dt)
+            return s, force[:, 2].sum() + torque[:, 0].sum()
+
+        return jax.lax.scan(body, state, (pos, quat))
+
+    state, _, _ = step(mj3.init3d(shape, feet), params, jnp.asarray(pos[0]), jnp.asarray(quat[0]), 0.0)
+    p, q = jnp.asarray(pos[1:]), jnp.asarray(quat[1:])
+    jax.block_until_ready(run(state, p, q))  # compile
+
+    def once() -> None:
+        jax.block_until_ready(run(state, p, q))
+
+    best, median = timings(once, repeats, time.perf_counter)
+    return best / steps, median / steps
 
 
 def main() -> None:
@@ -165,11 +194,11 @@ def main() -> None:
             row(f"  the same on {threads} thread(s), wall time",
                 bench_many(sphere, 4096, max(steps // 20, 20), repeats, threads=threads, wall=True), 4096 * sphere.n)
     row("MudContact3D (numpy reference), 1 sphere foot", bench_one(sphere, max(steps // 5, 50), repeats), sphere.n)
-    jax = bench_jax(sphere, 64, steps, repeats)
+    jax = bench_jax(sphere, 64, steps // 2, repeats)
     if jax is None:
-        print("  JAX (mudforce.jax3d): not available in this checkout (hook in bench_jax)")
-    else:  # pragma: no cover - see bench_jax
-        row("JAX CPU, 64 sphere feet", jax, 64 * sphere.n)
+        print("  JAX (mudforce.jax3d): not installed here")
+    else:
+        row("mudforce.jax3d on JAX's CPU, 64 sphere feet (wall)", jax, 64 * sphere.n)
 
 
 if __name__ == "__main__":
