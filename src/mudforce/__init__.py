@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from mudforce.contact import ContactSample, ContactState, MudContact
-    from mudforce.contact3d import MudContact3D, Wrench, simulate_3d
+    from mudforce.contact3d import MudContact3D, MudContacts3D, Wrench, simulate_3d
     from mudforce.errors import InputError
     from mudforce.foot import Foot
     from mudforce.parameters import CITATION, PARAMETER_NAMES, TABLE_I, MudParameters
@@ -39,6 +39,7 @@ _LAZY = {
     "ContactState": "mudforce.contact",
     "MudContact": "mudforce.contact",
     "MudContact3D": "mudforce.contact3d",
+    "MudContacts3D": "mudforce.contact3d",
     "Wrench": "mudforce.contact3d",
     "simulate_3d": "mudforce.contact3d",
     "InputError": "mudforce.errors",
@@ -102,6 +103,7 @@ __all__ = [
     "MudContact",
     "MudContact3D",
     "MudContacts",
+    "MudContacts3D",
     "MudParameters",
     "MudTracker",
     "MudTrackers",

@@ -41,7 +41,8 @@ __all__ = ["SOURCES", "install", "source_fingerprint"]
 
 _PACKAGE = Path(__file__).resolve().parent
 #: the sources compiled into other modules' code, relative to the package (globs)
-SOURCES = ("_pow.py", "equations.py", "_kernel/*.py", "dynamics/rest_band.py", "dynamics/result.py", "_mujoco_step.py")
+SOURCES = ("_pow.py", "equations.py", "_kernel/*.py", "dynamics/rest_band.py", "dynamics/result.py", "_mujoco_step.py",
+           "law3d.py", "granular.py")  # the last two: constants of the 3-D law frozen into _kernel/element3d.py
 
 
 @functools.lru_cache(maxsize=1)

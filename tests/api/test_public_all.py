@@ -35,9 +35,9 @@ OPTIONAL: dict[str, tuple[str, ...]] = {
 PINNED: dict[str, list[str]] = {
     "mudforce": [
         "CITATION", "PARAMETER_NAMES", "STATE_NAMES", "TABLE_I", "ContactSample", "ContactState", "Foot", "Hold",
-        "InputError", "Intrude", "MudContact", "MudContact3D", "MudContacts", "MudParameters", "MudTracker",
-        "MudTrackers", "Protocol", "SimulationResult", "TrackEstimate", "TrackEstimates", "VelocityFilter", "Withdraw",
-        "Wrench", "__version__", "estimate_depth_noise", "simulate", "simulate_3d",
+        "InputError", "Intrude", "MudContact", "MudContact3D", "MudContacts", "MudContacts3D", "MudParameters",
+        "MudTracker", "MudTrackers", "Protocol", "SimulationResult", "TrackEstimate", "TrackEstimates",
+        "VelocityFilter", "Withdraw", "Wrench", "__version__", "estimate_depth_noise", "simulate", "simulate_3d",
     ],
     "mudforce.baselines": [
         "BASELINE_NAMES", "DEFAULT_K_RFT", "branch_velocity", "drft_force", "granular_rft_force", "maxwell_only_force",
@@ -102,7 +102,9 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.commands.track": ["COLUMNS", "HELP", "NAME", "add_arguments", "run"],
     "mudforce.contact": ["ContactSample", "ContactState", "MudContact", "check_states"],
-    "mudforce.contact3d": ["ContactState3D", "MudContact3D", "Result3D", "Wrench", "simulate_3d"],
+    "mudforce.contact3d": [
+        "ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d",
+    ],
     "mudforce.dynamics": [
         "GRAVITY", "PHASE_NAMES", "REST_SPEED", "ExactDrop", "FootResult", "NaiveDrop", "Phase", "branch_forces",
         "exact_drop", "naive_drop", "rest_band", "simulate_foot",

@@ -1,0 +1,205 @@
+"""Benchmark the 3-D law: ns per element per step and us per step, one foot and many (MudContacts3D).
+
+Run: ``python benchmarks/bench_3d.py`` (``--quick`` for a short run).
+Prints figures; asserts nothing. One thread unless a line says otherwise. Targets (issue 21, "Speed"): at most
+20 ns per element per step on one CPU thread, and at most 2 us a step for
+a 64-element foot; on an H100, 4,096 quadrupeds x 4 feet x 64 elements
+in at most 1 ms per step (the JAX step, :mod:`mudforce.jax3d`; its CPU
+figures are printed here, and :func:`bench_jax` runs on any JAX device).
+
+The feet walk: each foot's origin follows its own loop (phases and
+frequencies spread, 1 kHz), down into the mud, sideways while in it
+(sliding, so the lateral law yields), tilting, and out again, so every
+contact state and the lateral law's every branch occur. The foot is a
+64-element sphere (40 mm, elements on a Fibonacci lattice) or a 64-element
+sole (48 x 48 mm, 8 x 8). CPU time of this process, best and median of the
+repeats (bench_core.py's convention: the best is the figure for the code,
+the median shows how far the shared machine strays).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import math
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+import mudforce as mf
+from mudforce import shapes
+from mudforce.contact3d import MudContact3D, MudContacts3D
+
+RATE = 1000.0  # steps per second [1/s]
+
+
+def fibonacci_sphere(diameter: float = 0.04, n: int = 64) -> shapes.Shape:
+    """A sphere of ``n`` equal elements on a Fibonacci lattice [m]."""
+    k = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * k / n
+    r = np.sqrt(1.0 - z * z)
+    phi = k * math.pi * (3.0 - math.sqrt(5.0))
+    normals = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+    radius = diameter / 2.0
+    areas = np.full(n, 4.0 * math.pi * radius * radius / n)
+    return shapes.Shape(normals * radius, normals, areas, name=f"fibonacci sphere {n}", width=diameter)
+
+
+def walk(feet: int, steps: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Poses of ``feet`` feet over ``steps`` steps at 1 kHz: positions (steps, feet, 3) [m], quaternions (.., 4)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(steps)[:, None] / RATE
+    freq = rng.uniform(1.0, 2.5, feet)
+    phase = rng.uniform(0.0, 2.0 * math.pi, feet)
+    heading = rng.uniform(0.0, 2.0 * math.pi, feet)
+    w = 2.0 * math.pi * freq * t + phase
+    along = 0.03 * np.cos(w)  # sideways 60 mm a cycle, while in the mud half of it
+    pos = np.empty((steps, feet, 3))
+    pos[..., 0] = along * np.cos(heading)
+    pos[..., 1] = along * np.sin(heading)
+    pos[..., 2] = 0.005 + 0.03 * np.sin(w)  # the origin from 25 mm deep to 35 mm up
+    tilt = 0.25 * np.sin(w + 1.0)
+    quat = np.zeros((steps, feet, 4))
+    quat[..., 0] = np.cos(tilt / 2.0)
+    quat[..., 1] = np.sin(tilt / 2.0) * -np.sin(heading)
+    quat[..., 2] = np.sin(tilt / 2.0) * np.cos(heading)
+    return np.ascontiguousarray(pos), np.ascontiguousarray(quat)
+
+
+def timings(fn: Callable[[], Any], repeats: int, clock: Callable[[], float] = time.process_time
+            ) -> tuple[float, float]:
+    """Best and median time of the repeats [s], by ``clock`` (by default the CPU time of this process)."""
+    times = []
+    for _ in range(repeats):
+        c0 = clock()
+        fn()
+        times.append(clock() - c0)
+    return min(times), float(np.median(times))
+
+
+def bench_many(shape: shapes.Shape, feet: int, steps: int, repeats: int, threads: int | None = 1,
+               wall: bool = False) -> tuple[float, float]:
+    """Seconds per step (best, median) of ``MudContacts3D.step`` for ``feet`` feet of ``shape``.
+
+    CPU time on one thread; wall time (``wall=True``) for several, whose CPU time adds up.
+    """
+    params = mf.MudParameters.from_water_content(0.25)
+    pos, quat = walk(feet, steps + 1)
+    contacts = MudContacts3D(params, shape, feet, threads=threads)
+    out = (np.empty((feet, 3)), np.empty((feet, 3)))
+    contacts.step(pos[0], quat[0], 0.0, out=out)
+    start = contacts.state
+    dt = 1.0 / RATE
+
+    def run() -> None:
+        contacts.state = start
+        for k in range(1, steps + 1):
+            contacts.step(pos[k], quat[k], dt, out=out)
+
+    run()  # warm-up (and compile, or load numba's cache)
+    best, median = timings(run, repeats, time.perf_counter if wall else time.process_time)
+    return best / steps, median / steps
+
+
+def bench_one(shape: shapes.Shape, steps: int, repeats: int) -> tuple[float, float]:
+    """Seconds per step (best, median) of the numpy reference, ``MudContact3D.step``, for one foot."""
+    params = mf.MudParameters.from_water_content(0.25)
+    pos, quat = walk(1, steps + 1)
+    contact = MudContact3D(params, shape)
+    contact.step(pos[0, 0], quat[0, 0], 0.0)
+    start = contact.state
+    dt = 1.0 / RATE
+
+    def run() -> None:
+        contact.state = start
+        for k in range(1, steps + 1):
+            contact.step(pos[k, 0], quat[k, 0], dt)
+
+    run()
+    best, median = timings(run, repeats)
+    return best / steps, median / steps
+
+
+def bench_jax(shape: shapes.Shape, feet: int, steps: int, repeats: int) -> tuple[float, float] | None:
+    """Seconds per step (best, median; wall time) of :mod:`mudforce.jax3d` on JAX's CPU, float64; None without it.
+
+    ``jax.vmap`` of ``step3d`` over the feet, ``jax.lax.scan`` over the
+    steps, jitted (compiled before timing); the same walk. An H100's
+    figures (the issue's 4,096 x 4 x 64 elements) come from the same
+    function on a machine with one (JAX's default device).
+    """
+    if importlib.util.find_spec("jax") is None or importlib.util.find_spec("mudforce.jax3d") is None:
+        return None
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    import jax.numpy as jnp
+
+    import mudforce.jax3d as mj3
+
+    params = mj3.make_params3d(mf.MudParameters.from_water_content(0.25), shape)
+    pos, quat = walk(feet, steps + 1)
+    step = jax.vmap(mj3.step3d, in_axes=(0, None, 0, 0, None))
+    dt = 1.0 / RATE
+
+    @jax.jit
+    def run(state: Any, pos: Any, quat: Any) -> Any:
+        def body(s: Any, pose: Any) -> Any:
+            s, force, torque = step(s, params, pose[0], pose[1], dt)
+            return s, force[:, 2].sum() + torque[:, 0].sum()
+
+        return jax.lax.scan(body, state, (pos, quat))
+
+    state, _, _ = step(mj3.init3d(shape, feet), params, jnp.asarray(pos[0]), jnp.asarray(quat[0]), 0.0)
+    p, q = jnp.asarray(pos[1:]), jnp.asarray(quat[1:])
+    jax.block_until_ready(run(state, p, q))  # compile
+
+    def once() -> None:
+        jax.block_until_ready(run(state, p, q))
+
+    best, median = timings(once, repeats, time.perf_counter)
+    return best / steps, median / steps
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer steps and repeats, and no 4096-foot run")
+    ap.add_argument("--repeats", type=int, default=None)
+    args = ap.parse_args()
+    repeats = args.repeats or (3 if args.quick else 7)
+    steps = 200 if args.quick else 1000
+    sphere = fibonacci_sphere()
+    sole = shapes.sole(mf.Foot.cuboid(0.048, 0.048), resolution=0.006)
+    print(f"3-D law, 1 kHz walk (down, sliding, tilting, out); CPU time, best and median of {repeats}; one thread")
+    print(f"  {'case':52s} {'us/step':>17s} {'ns/element-step':>17s}")
+
+    def row(label: str, per_step: tuple[float, float], elements: int) -> None:
+        best, median = per_step
+        print(f"  {label:52s} {best * 1e6:8.2f} {median * 1e6:8.2f} {best / elements * 1e9:8.2f} "
+              f"{median / elements * 1e9:8.2f}")
+
+    cases: list[tuple[str, shapes.Shape, int, int]] = []
+    for name, shape in (("sphere", sphere), ("sole", sole)):
+        cases.append((f"MudContacts3D, 1 {name} foot ({shape.n} el.)", shape, 1, steps * 5))
+        cases.append((f"MudContacts3D, 64 {name} feet", shape, 64, steps))
+    if not args.quick:
+        cases.append(("MudContacts3D, 4096 sphere feet (4 x 1024)", sphere, 4096, max(steps // 20, 20)))
+    for label, shape, feet, n_steps in cases:
+        row(label, bench_many(shape, feet, n_steps, repeats), feet * shape.n)
+    if not args.quick:
+        auto = MudContacts3D(mf.MudParameters.from_water_content(0.25), sphere, 4096, threads=None).threads
+        for threads in sorted({1, auto}):
+            row(f"  the same on {threads} thread(s), wall time",
+                bench_many(sphere, 4096, max(steps // 20, 20), repeats, threads=threads, wall=True), 4096 * sphere.n)
+    row("MudContact3D (numpy reference), 1 sphere foot", bench_one(sphere, max(steps // 5, 50), repeats), sphere.n)
+    jax = bench_jax(sphere, 64, steps // 2, repeats)
+    if jax is None:
+        print("  JAX (mudforce.jax3d): not installed here")
+    else:
+        row("mudforce.jax3d on JAX's CPU, 64 sphere feet (wall)", jax, 64 * sphere.n)
+
+
+if __name__ == "__main__":
+    main()

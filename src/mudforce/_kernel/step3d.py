@@ -1,0 +1,305 @@
+"""Speed plumbing only: the compiled 3-D step of many feet (:class:`mudforce.contact3d.MudContacts3D`).
+
+Nothing here is physics. One call places every foot's elements by its pose,
+steps every element's paper state with the 1-D stepper
+(:func:`~mudforce._kernel.loops.run_feet`, the same compiled function
+:class:`mudforce.MudContacts` runs, so the state machine exists once), and
+applies the lateral law through the scalar functions of
+:mod:`~mudforce._kernel.element3d` (each :mod:`mudforce.law3d`'s namesake
+for one element) and Eq. (4) through
+:func:`mudforce.equations.nonlinear_spring_stress`. It follows
+:meth:`mudforce.contact3d.MudContact3D.step` line for line, foot by foot,
+and differs only in where things are kept:
+
+* the elements of all feet, concatenated foot after foot, are the rows
+  of one float64 block (``E_*`` columns: constants and the lateral state),
+  an element's values side by side; the world geometry of a step is
+  recomputed where it is used from the foot's pose (``F_*`` scratch
+  columns), not stored per element (a step of thousands of feet is bound
+  by memory traffic, not arithmetic); their depths
+  and the paper's stresses are two arrays of their own, which the 1-D
+  stepper takes as they are. (Not one contiguous row per quantity: rows
+  of a few thousand doubles lie a multiple of 4 KiB apart, and the
+  processor then stalls loads behind stores to other rows with the same
+  low address bits ("4K aliasing"): placing the elements took 80 ns
+  each, not 5.)
+* each foot's constants and its ``started`` flag are a row of a second
+  block (``F_*`` columns), and ``starts[f]:starts[f + 1]`` are its
+  elements;
+* the 1-D states, params and rings are :mod:`~mudforce._kernel.layout`'s
+  rows, one per element.
+
+:func:`step_feet` checks every foot's pose, every element's depth and the
+step length before anything moves (so a refused step changes nothing),
+then steps. It does not use BLAS or numpy's sums, so it does not give
+:class:`~mudforce.contact3d.MudContact3D`'s bits (which has its rotations
+from BLAS): the two agree to rounding, about 1e-15 of the peak force
+(``tests/contact3d/test_many3d.py``); the same foot gives the same bits
+here whatever the other feet are.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import prange
+
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.element3d import (
+    bearing_factor,
+    horizontal_drag,
+    lateral_capacity,
+    lateral_return_map,
+    rotation,
+    shear_fraction,
+    vertical_weight,
+)
+from mudforce._kernel.layout import _compiled
+from mudforce._kernel.loops import run_feet
+from mudforce.equations import nonlinear_spring_stress
+from mudforce.law3d import QUATERNION_TOLERANCE
+
+__all__ = [
+    "BAD_DT",
+    "N_ELEMENT_COLUMNS",
+    "N_FOOT_COLUMNS",
+    "OK",
+    "step_feet",
+    "step_feet_threads",
+]
+
+# columns of the element block: one row per element (all feet's, foot after foot)
+E_CBX, E_CBY, E_CBZ = 0, 1, 2  # centroid in the body frame [m]
+E_NBX, E_NBY, E_NBZ = 3, 4, 5  # outward unit normal in the body frame [-]
+E_AREA = 6  # area [m^2]
+E_SLIPX, E_SLIPY = 7, 8  # horizontal elastic slip [m] (state)
+E_CX, E_CY, E_CZ = 9, 10, 11  # world centroid at the last step [m] (state)
+N_ELEMENT_COLUMNS = 12
+
+# columns of the foot block: one row per foot
+F_SURFACE = 0  # surface height [m]
+F_WIDTH = 1  # H of Eq. (4) [m]
+F_STIFFNESS = 2  # lateral stiffness [Pa/m]
+F_SIGMA_Y = 3  # yield stress [Pa]
+F_ALPHA = 4  # spring coefficient [Pa]
+F_BETA = 5  # spring exponent [-]
+F_LAMBDA = 6  # drag factor [-]
+F_RHO = 7  # mud density [kg/m^3]
+F_STARTED = 8  # 1 once the foot has taken its first step
+F_PX = 9  # this step: the body origin [m], 3 columns
+F_R = 12  # this step: the rotation matrix [-], 9 columns, row by row
+N_FOOT_COLUMNS = 21
+
+#: :func:`step_feet`'s return values other than a foot's index
+OK = -1
+BAD_DT = -2
+
+
+@_compiled()
+def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: np.ndarray, starts: np.ndarray,
+           depths: np.ndarray) -> int:
+    """Every foot's pose and every element's depth [m] into scratch; the first bad foot or -1.
+
+    A foot is bad if its position is not finite, its quaternion not finite
+    or farther than :data:`~mudforce.law3d.QUATERNION_TOLERANCE` from unit
+    norm, or one of its elements would be deeper (or higher) than
+    ``MAX_DEPTH``. Writes only scratch (``ft``'s this-step columns, ``depths``).
+    """
+    for f in range(positions.shape[0]):
+        px, py, pz = positions[f, 0], positions[f, 1], positions[f, 2]
+        qw, qx, qy, qz = quaternions[f, 0], quaternions[f, 1], quaternions[f, 2], quaternions[f, 3]
+        # |x| < inf is False for NaN and inf alike
+        if not ((abs(px) < math.inf) & (abs(py) < math.inf) & (abs(pz) < math.inf) & (abs(qw) < math.inf)
+                & (abs(qx) < math.inf) & (abs(qy) < math.inf) & (abs(qz) < math.inf)):
+            return f
+        norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+        if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
+            return f
+        r = rotation(qw, qx, qy, qz)
+        for j in range(9):
+            ft[f, F_R + j] = r[j]
+        ft[f, F_PX] = px
+        ft[f, F_PX + 1] = py
+        ft[f, F_PX + 2] = pz
+        h = ft[f, F_SURFACE]
+        bad = False
+        for i in range(starts[f], starts[f + 1]):
+            oz = r[6] * el[i, E_CBX] + r[7] * el[i, E_CBY] + r[8] * el[i, E_CBZ]
+            depth = h - (pz + oz)
+            depths[i] = depth
+            bad |= not abs(depth) <= MAX_DEPTH
+        if bad:
+            return f
+    return OK
+
+
+@_compiled(inline="always")
+def _rotated(ft: np.ndarray, f: int, x: float, y: float, z: float) -> tuple[float, float, float]:
+    """``R (x, y, z)`` with foot ``f``'s rotation of this step (the expressions :func:`_place` evaluates)."""
+    return (ft[f, F_R] * x + ft[f, F_R + 1] * y + ft[f, F_R + 2] * z,
+            ft[f, F_R + 3] * x + ft[f, F_R + 4] * y + ft[f, F_R + 5] * z,
+            ft[f, F_R + 6] * x + ft[f, F_R + 7] * y + ft[f, F_R + 8] * z)
+
+
+@_compiled(inline="always")
+def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray, f: int,
+             lo: int, hi: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> None:
+    """Foot ``f``'s elements ``lo:hi`` after the 1-D step: the lateral law, the wrench, the new lateral state.
+
+    :meth:`mudforce.contact3d.MudContact3D.step` from the paper's stress on,
+    one element at a time.
+    """
+    # the geometry of this step, recomputed here rather than stored by _place: memory, not arithmetic, bounds
+    # a step of thousands of feet
+    px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
+    started = ft[f, F_STARTED] != 0.0
+    moving = False  # MudContact3D's ``trial.any()``
+    if started:
+        for i in range(lo, hi):
+            if depths[i] > 0.0:
+                ox, oy, _ = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+                tx = el[i, E_SLIPX] + ((px + ox) - el[i, E_CX])
+                ty = el[i, E_SLIPY] + ((py + oy) - el[i, E_CY])
+                moving |= (tx != 0.0) | (ty != 0.0)
+    k = ft[f, F_STIFFNESS]
+    sigma_y = ft[f, F_SIGMA_Y]
+    alpha = ft[f, F_ALPHA]
+    beta = ft[f, F_BETA]
+    width = ft[f, F_WIDTH]
+    lambda_ = ft[f, F_LAMBDA]
+    rho = ft[f, F_RHO]
+    per_dt = 1.0 / dt
+    if moving:  # Eq. (4) at every element's depth, in a loop of its own, which the compiler vectorises
+        for i in range(lo, hi):
+            spring[i] = nonlinear_spring_stress(alpha, beta, depths[i], width)
+    sfx = sfy = sfz = 0.0
+    stx = sty = stz = 0.0
+    for i in range(lo, hi):
+        area = el[i, E_AREA]
+        ox, oy, oz = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+        nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+        wx, wy, wz = px + ox, py + oy, pz + oz
+        fz = stress[i] * area * vertical_weight(nz)
+        fx = fy = 0.0
+        slip_x = slip_y = 0.0
+        if moving and depths[i] > 0.0:  # (above the surface the law gives 0 and 0, as MudContact3D's arrays do)
+            mx = wx - el[i, E_CX]
+            my = wy - el[i, E_CY]
+            tx = el[i, E_SLIPX] + mx
+            ty = el[i, E_SLIPY] + my
+            size = math.sqrt(tx * tx + ty * ty)
+            per = 1.0 / (size if size > 0.0 else 1.0)  # a multiply each where MudContact3D divides: within an ulp
+            dx = tx * per
+            dy = ty * per
+            capacity = lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, dx, dy),
+                                        spring[i],
+                                        bearing_factor(nx, ny, nz, dx, dy))
+            slip_x, slip_y, ax, ay = lateral_return_map(tx, ty, k, capacity)
+            gx, gy = horizontal_drag(lambda_, rho, nx, ny, mx * per_dt, my * per_dt)
+            ax += gx
+            ay += gy
+            fx = ax * area
+            fy = ay * area
+        el[i, E_SLIPX] = slip_x
+        el[i, E_SLIPY] = slip_y
+        el[i, E_CX] = wx
+        el[i, E_CY] = wy
+        el[i, E_CZ] = wz
+        sfx += fx
+        sfy += fy
+        sfz += fz
+        stx += oy * fz - oz * fy
+        sty += oz * fx - ox * fz
+        stz += ox * fy - oy * fx
+    forces[f, 0] = sfx
+    forces[f, 1] = sfy
+    forces[f, 2] = sfz
+    torques[f, 0] = stx
+    torques[f, 1] = sty
+    torques[f, 2] = stz
+    ft[f, F_STARTED] = 1.0
+
+
+@_compiled()
+def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
+              starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray, states: np.ndarray,
+              ring: np.ndarray, params: np.ndarray, scratch: np.ndarray, index: np.ndarray, forces: np.ndarray,
+              torques: np.ndarray) -> int:
+    """One step of every foot: the wrench of foot ``f`` [N], [N m] into ``forces[f]`` and ``torques[f]``.
+
+    ``positions`` (m, 3) [m] and ``quaternions`` (m, 4) ``(w, x, y, z)``
+    are the feet's poses, ``dt`` [s] the time since the last step (ignored
+    if no foot has started). ``states``, ``ring`` and ``params`` are the
+    1-D stepper's rows, one per element, ``depths`` and ``stress`` its
+    depths [m] and forces (on a unit area: the stresses [Pa]); ``spring``
+    (one per element) receives Eq. (4)'s stress [Pa]; ``scratch`` and ``index`` the
+    spring pass's (:func:`~mudforce._kernel.loops.new_spring_scratch` for
+    all elements). Returns :data:`OK`; or, having changed nothing, the
+    first foot whose pose or depth is refused (see :func:`_place`), or
+    :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
+    foot has started.
+    """
+    m = positions.shape[0]
+    any_started = False
+    for f in range(m):
+        any_started |= ft[f, F_STARTED] != 0.0
+    if any_started:
+        if not MIN_DT <= dt <= MAX_DT:  # False for NaN
+            return BAD_DT
+    else:
+        dt = 1.0  # ignored by every element's first step, as MudContact3D passes it
+    bad = _place(positions, quaternions, el, ft, starts, depths)
+    if bad != OK:
+        return bad
+    refused = run_feet(states, ring, params, depths, dt, stress, scratch, index)
+    if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+        return refused
+    for f in range(m):
+        _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+    return OK
+
+
+@_compiled(inline="always")
+def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
+    """``dt`` if a foot has started and it is within bounds, 1.0 if none has started, NaN if refused."""
+    any_started = False
+    for f in range(m):
+        any_started |= ft[f, F_STARTED] != 0.0
+    if not any_started:
+        return 1.0
+    return dt if MIN_DT <= dt <= MAX_DT else math.nan
+
+
+@_compiled(parallel=True)
+def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
+                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray,
+                      states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
+                      index: np.ndarray, forces: np.ndarray, torques: np.ndarray, chunks: np.ndarray) -> int:
+    """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
+
+    The checks run first, on the calling thread, over every foot; then
+    each slice's elements take their 1-D step and its feet their lateral
+    law. The feet are independent, so the results are :func:`step_feet`'s
+    bit for bit. ``scratch`` and ``index`` hold one spring block per slice
+    (:func:`~mudforce._kernel.loops.new_feet_scratch` for all elements).
+    """
+    m = positions.shape[0]
+    dt = _checked_dt(ft, m, dt)
+    if dt != dt:
+        return BAD_DT
+    bad = _place(positions, quaternions, el, ft, starts, depths)
+    if bad != OK:
+        return bad
+    n = chunks.shape[0]
+    for c in prange(n):
+        lo = m * c // n
+        hi = m * (c + 1) // n
+        a, b = starts[lo], starts[hi]
+        chunks[c] = run_feet(states[a:b], ring[a:b], params[a:b], depths[a:b], dt, stress[a:b], scratch[c], index[c])
+        for f in range(lo, hi):
+            _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+    for c in range(n):
+        if chunks[c] >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+            return int(chunks[c])
+    return OK
