@@ -212,3 +212,25 @@ def test_an_element_on_the_axis_of_a_turn_stays_at_rest() -> None:
         stress = turned.element_forces[0, 2] / law3d.vertical_weight(normals)[0]
         assert stress == pytest.approx(still.element_forces[0, 2], rel=1e-12)
     assert max(map(abs, jitter)) > 0.0  # the rounding is there
+
+
+def test_many_feet_settle_an_element_turned_about_as_one_foot_does() -> None:
+    """MudContacts3D's compiled step applies the same rounding rule (law3d.settle_depth) as MudContact3D."""
+    params = mf.MudParameters.from_water_content(0.25)
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        radius = rng.uniform(0.005, 0.03)
+    centroids = np.array([radius * axis, [-0.01, 0.01, 0.0], [0.01, -0.01, 0.0]])
+    shape = shapes.Shape(centroids, np.tile([0.0, 0.0, -1.0], (3, 1)), np.full(3, 1e-4), width=0.03)
+    one = MudContact3D(params, shape)
+    many = mf.MudContacts3D(params, shape, 1)
+    poses = [([0.0, 0.0, -k * 1e-4], UPRIGHT) for k in range(101)]
+    for k in range(1, 150):
+        angle = 0.3 * math.sin(0.1 * k)
+        poses.append(([0.0, 0.0, -0.01], [math.cos(angle / 2), *(math.sin(angle / 2) * axis)]))
+    for k, (position, quat) in enumerate(poses):
+        w = one.step(position, quat, 0.01 if k else 0.0)
+        forces, _ = many.step(np.array([position]), np.array([quat]), 0.01 if k else 0.0)
+        assert forces[0] == pytest.approx(w.force, rel=1e-12, abs=1e-12)

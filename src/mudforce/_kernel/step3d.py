@@ -55,10 +55,10 @@ from mudforce._kernel.element3d import (
     shear_fraction,
     vertical_weight,
 )
-from mudforce._kernel.layout import _compiled
+from mudforce._kernel.layout import S_DEPTH, S_STARTED, _compiled
 from mudforce._kernel.loops import run_feet
 from mudforce.equations import nonlinear_spring_stress
-from mudforce.law3d import QUATERNION_TOLERANCE
+from mudforce.law3d import QUATERNION_TOLERANCE, ROUNDING_DEPTH
 
 __all__ = [
     "BAD_DT",
@@ -132,6 +132,14 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
         if bad:
             return f
     return OK
+
+
+@_compiled(inline="always")
+def _settle(states: np.ndarray, depths: np.ndarray) -> None:
+    """:func:`mudforce.law3d.settle_depth` on every started element: a change of depth by rounding is none."""
+    for i in range(depths.shape[0]):
+        if states[i, S_STARTED] != 0.0 and abs(depths[i] - states[i, S_DEPTH]) <= ROUNDING_DEPTH:
+            depths[i] = states[i, S_DEPTH]
 
 
 @_compiled(inline="always")
@@ -252,6 +260,7 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     bad = _place(positions, quaternions, el, ft, starts, depths)
     if bad != OK:
         return bad
+    _settle(states, depths)
     refused = run_feet(states, ring, params, depths, dt, stress, scratch, index)
     if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
         return refused
@@ -291,6 +300,7 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     bad = _place(positions, quaternions, el, ft, starts, depths)
     if bad != OK:
         return bad
+    _settle(states, depths)
     n = chunks.shape[0]
     for c in prange(n):
         lo = m * c // n
