@@ -145,6 +145,7 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.progress": ["Progress"],
     "mudforce.protocol": ["Hold", "Intrude", "Protocol", "Step", "Withdraw"],
+    "mudforce.quadruped": ["FEET", "GAITS", "QUADRUPED_XML", "ROBOT_FOOT", "QuadrupedGait", "RobotWalk", "robot_walk"],
     "mudforce.reference": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
     "mudforce.reference_drop": ["GRAVITY", "ExactDrop", "exact_drop"],
     "mudforce.reproduce": [
@@ -161,6 +162,7 @@ PINNED: dict[str, list[str]] = {
         "MODEL_LABELS", "NINE", "PAPER_UNITS", "POORLY_DETERMINED", "determined", "in_paper_units", "make_summary",
         "summary_json",
     ],
+    "mudforce.sensor_chain": ["LIMITS", "SensorChain", "apply", "drift_path"],
     "mudforce.simulation": ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"],
     "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "read_columns", "read_trajectory"],
     "mudforce.tracker": [
