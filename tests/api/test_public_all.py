@@ -75,7 +75,8 @@ PINNED: dict[str, list[str]] = {
         "load_fit_parameters", "misfit_ratio", "speed_key",
     ],
     "mudforce.calibration.synth": [
-        "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "START_BELOW", "synthesize", "synthesize_gait", "trial_name",
+        "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "START_BELOW", "synthesize",
+        "synthesize_gait", "trial_name",
     ],
     "mudforce.calibration.uncertainty": [
         "correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled",
