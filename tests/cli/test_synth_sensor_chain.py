@@ -7,9 +7,9 @@ import json
 from pathlib import Path
 
 import numpy as np
-from mudforce_cli_harness import assert_refused, run_batch
 
 from mudforce.calibration import load_dataset
+from mudforce_cli_harness import assert_refused, run_batch
 
 CLEAN = ["--force-noise", "0N", "--depth-noise", "0mm", "--bias", "0N", "--velocities", "20mm/s", "--repeats", "1",
          "--hold", "1s"]
