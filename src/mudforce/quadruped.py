@@ -1,8 +1,8 @@
 """A small planar quadruped walking on mud in MuJoCo: foot trajectories with impacts, for testing estimators.
 
 Needs MuJoCo (``pip install 'mudforce[mujoco]'``). The robot
-(:data:`QUADRUPED_XML`): a 3 kg torso on a planar root (slide x, slide z,
-pitch), four two-link legs (hip and knee hinges, 0.12 m links, PD position
+(:data:`QUADRUPED_XML`): a 1.5 kg torso on a planar root (slide x, slide z
+within +-0.15 m, pitch within +-0.5 rad), four two-link legs (hip and knee hinges, 0.12 m links, PD position
 servos) and spherical feet of 25 mm radius, whose contact with the mud is
 the paper's model through :class:`mudforce.mujoco.MudAdapter` (1-D,
 vertical, per foot), with the cross-section of the sphere as the contact
@@ -16,7 +16,9 @@ it forward and down, so the foot strikes the mud at the end of the swing
 :data:`GAITS` (walk, trot, bound, at two speeds) differ in period, duty
 factor and the legs' phases; each cycle's stride, swing height, target
 depth and period are drawn from a seeded generator. What the foot really
-does comes out of the simulation: the mud resists, holds and lets go.
+does comes out of the simulation: the mud resists, holds and lets go. In
+wet mud (W >= 30 %) the open-loop robot sinks, a foot down to some 100 mm,
+and pitches against its limits: real motion, not a tidy one.
 
 :func:`robot_walk` returns, at MuJoCo's fine time step, one foot's true
 depth [m] and two true forces [N]: the force the foot felt in MuJoCo (the
@@ -73,9 +75,9 @@ QUADRUPED_XML = f"""<mujoco model="mudforce_quadruped">
   <worldbody>
     <body name="torso" pos="0 0 {_HIP_HEIGHT}">
       <joint name="root_x" type="slide" axis="1 0 0" damping="20"/>
-      <joint name="root_z" type="slide" axis="0 0 1"/>
-      <joint name="root_pitch" type="hinge" axis="0 1 0" damping="1"/>
-      <geom type="box" size="0.18 0.08 0.03" mass="3"/>{_leg("fl", _HIP_X, 0.09)}{_leg("fr", _HIP_X, -0.09)}{
+      <joint name="root_z" type="slide" axis="0 0 1" limited="true" range="-0.15 0.15"/>
+      <joint name="root_pitch" type="hinge" axis="0 1 0" damping="1" limited="true" range="-0.5 0.5"/>
+      <geom type="box" size="0.18 0.08 0.03" mass="1.5"/>{_leg("fl", _HIP_X, 0.09)}{_leg("fr", _HIP_X, -0.09)}{
         _leg("hl", -_HIP_X, 0.09)}{_leg("hr", -_HIP_X, -0.09)}
     </body>
   </worldbody>
@@ -258,7 +260,8 @@ def robot_walk(gait: str = "trot", water_content: float = 0.25, *, seed: int = 0
         depth[k] = mud.depths[j]
         contact[k] = mud.contact_forces[j]
     time = np.arange(n) * dt
-    if not (np.all(np.isfinite(depth)) and np.all(np.isfinite(contact))):
-        raise InputError(f"the quadruped's simulation ({gait}, W {w:g}, seed {seed}) is not finite")
+    if not (np.all(np.isfinite(depth)) and np.all(np.isfinite(contact))) or np.max(np.abs(depth)) > 0.5:
+        raise InputError(f"the quadruped's simulation ({gait}, W {w:g}, seed {seed}) diverged (a foot beyond 0.5 m "
+                         "of the surface, or not finite); expected another seed or a shorter duration")
     force = simulate(time, depth, params, ROBOT_FOOT, velocity_filter="exact").force
     return RobotWalk(time, depth, np.asarray(force, dtype=np.float64), contact, w, gait, foot)
