@@ -149,3 +149,14 @@ def test_the_quadruped_foot_strikes_the_mud_and_repeats_bit_for_bit() -> None:
     assert again.depth.tobytes() == run.depth.tobytes() and again.force_contact.tobytes() == run.force_contact.tobytes()
     with pytest.raises(InputError, match="gait must be one of walk, walk-fast, trot, trot-fast, bound"):
         robot_walk("gallop")
+
+
+def test_the_synthesizers_take_a_chain_without_its_noise_and_refuse_one_with_it() -> None:
+    from mudforce.calibration.synth import synthesize_gait
+
+    with pytest.raises(InputError, match="depth_noise, force_noise, force_bias and rate as 0 and None"):
+        synthesize_gait(chain=SensorChain(force_noise=0.1), repeats=1, duration=2.0)
+    with pytest.raises(InputError, match="jitter cannot go with a sensor chain"):
+        synthesize_gait(chain=SensorChain(force_gain=1.05), repeats=1, duration=2.0, jitter=0.2)
+    data = synthesize_gait(chain=SensorChain(force_gain=1.05), repeats=1, duration=2.0, rate=50.0, seed=1)
+    assert data.trials[0].time.size == 101 and data.extra["synthetic"]["sensor_chain"]["force_gain"] == 1.05
