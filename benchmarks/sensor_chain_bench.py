@@ -21,14 +21,16 @@ seeded per (recording, corruption).
 Counts per corruption:
 
 * identify: within 1.5 points; interval covers the truth; flagged (any
-  warning, e.g. the misfit warning: ``model_misses_data``); confidently
+  warning, e.g. the misfit warning: ``model_misses_data``, or refused in
+  one line, e.g. when an offset puts every sample above the surface; a
+  refusal is honest and counts as neither within nor covering); confidently
   wrong (interval misses the truth and nothing flagged). Standard rows pass
   when >= 90 % are within 1.5 points and >= 90 % covered; hard rows when
   none is confidently wrong.
 * fit (``--fit-recordings`` of each source, on the rows marked for fits):
   every free parameter within 3 standard errors (on the logarithm) of
-  Table I's value at the true water content; flagged (any warning, or a
-  parameter not determined); confidently wrong (some parameter beyond 3
+  Table I's value at the true water content; flagged (any warning, a
+  parameter not determined, or refused); confidently wrong (some parameter beyond 3
   standard errors, or not determined, and no warning).
 * tracker, over the samples 3 s or more after the start, pooled: share
   within 1.5 points, share covered by the 95 % interval; the tracker has no
@@ -51,6 +53,7 @@ import numpy as np
 
 from mudforce.calibration import fit_condition, identify_water_content
 from mudforce.calibration.dataset import Trial
+from mudforce.errors import InputError
 from mudforce.foot import Foot
 from mudforce.gait import gait
 from mudforce.parameters import MudParameters
@@ -142,24 +145,30 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
             cseed = int(np.random.default_rng([seed, 3, index, SOURCES.index(source), r]).integers(0, 2**32 - 1))
             tt, zz, ff = apply(t, z, f, chain, cseed)
             trial = Trial(f"{source}{index}", w, tt, zz, ff)
-            res = identify_water_content(trial, foot)
-            covered = res.interval[0] <= w <= res.interval[1]
-            flagged = bool(res.warnings)
+            try:
+                res = identify_water_content(trial, foot)
+            except InputError:  # refused in one line (e.g. the offset hides every contact): honest, no answer
+                res = None
+            covered = res is not None and res.interval[0] <= w <= res.interval[1]
+            flagged = res is None or bool(res.warnings)
             tr = track(tt, zz, ff, foot)
             late = tt - tt[0] >= TRACK_AFTER
             tw = tr.water_content[late]
             tcov = (tr.low[late] <= w + 1e-12) & (w <= tr.high[late] + 1e-12)
             item: dict[str, Any] = {
                 "row": r, "source": source, "index": index, "w": w,
-                "error": (res.water_content - w) * 100.0, "covered": covered, "flagged": flagged,
-                "misfit": res.misfit_ratio,
+                "error": math.nan if res is None else (res.water_content - w) * 100.0, "covered": covered,
+                "flagged": flagged, "refused": res is None,
                 "wrong": not covered and not flagged,
                 "t_n": int(late.sum()), "t_within": int(np.sum(np.abs(tw - w) <= 0.015)), "t_cov": int(tcov.sum()),
                 "t_wrong": int(np.sum(~tcov & ~tr.changed[late])), "t_final": (tr.water_content[-1] - w) * 100.0,
             }
             if fit_it and index < fit_recordings:
                 start = time.perf_counter()
-                item["fit"] = _fit_row(fit_condition([trial], foot, seed=index), w)
+                try:
+                    item["fit"] = _fit_row(fit_condition([trial], foot, seed=index), w)
+                except InputError:  # refused: honest, no answer
+                    item["fit"] = {"ok": False, "flagged": True, "wrong": False, "beyond": [], "params": 0}
                 item["fit"]["seconds"] = time.perf_counter() - start
             out.append(item)
     return out
@@ -175,7 +184,7 @@ def _pct(k: int, n: int) -> str:
 
 def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[str]:
     lines = ["### identify_water_content", "",
-             "| corruption | set | n | within 1.5 pt | covers truth | flagged | confidently wrong | "
+             "| corruption | set | n | within 1.5 pt | covers truth | flagged (refused) | confidently wrong | "
              "wrong by source (" + " / ".join(sources) + ") | median abs error [pt] | acceptance |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for r, (row, kind, _, _) in enumerate(ROWS):
@@ -186,12 +195,14 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         flag = sum(x["flagged"] for x in rs)
         wrong = sum(x["wrong"] for x in rs)
         by = " / ".join(str(sum(x["wrong"] for x in rs if x["source"] == s)) for s in sources)
-        med = float(np.median([abs(x["error"]) for x in rs])) if rs else math.nan
+        refused = sum(x["refused"] for x in rs)
+        errors = [abs(x["error"]) for x in rs if not x["refused"]]
+        med = float(np.median(errors)) if errors else math.nan
         if kind == "hard":
             verdict = "pass" if wrong == 0 else "FAIL"
         else:
             verdict = "pass" if n and within >= 0.9 * n and cov >= 0.9 * n else "FAIL"
-        lines.append(f"| {row} | {kind} | {n} | {_pct(within, n)} | {_pct(cov, n)} | {_pct(flag, n)} | "
+        lines.append(f"| {row} | {kind} | {n} | {_pct(within, n)} | {_pct(cov, n)} | {_pct(flag, n)} ({refused}) | "
                      f"{_pct(wrong, n)} | {by} | {med:.2f} | {verdict} |")
     lines += ["", "### fit_condition (one recording per fit)", "",
               "| corruption | set | fits | all parameters within 3 SE | flagged | confidently wrong | "
@@ -232,7 +243,6 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
 
 def run_bench(args: argparse.Namespace) -> int:
     """Run the bench and print its tables (markdown); returns 0."""
-    from mudforce.errors import InputError
     from mudforce.units import parse_quantity
 
     duration = parse_quantity(args.duration or "30s", "time", name="--duration")
