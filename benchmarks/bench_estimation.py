@@ -23,6 +23,19 @@ a fit of four 25-s walks within 2 minutes.
 Usage::
 
     python benchmarks/bench_estimation.py [--identify 60] [--fits 10] [--duration 25s]
+
+``--sensor-chain`` runs the sensor-chain bench instead (issue "Estimation on
+a real robot's sensor chain", points 5 and 6): clean recordings simulated at
+2 kHz along the true path (a MuJoCo quadruped's foot, ``mudforce.quadruped``,
+five gaits, with the force MuJoCo applied and with the model's force along
+that path; and ``mudforce.gait.gait`` walks), each passed through
+``mudforce.sensor_chain`` with the issue's standard and hard corruptions one
+at a time and combined, then ``identify_water_content``, ``fit_condition``
+(a few recordings) and ``MudTracker`` (via ``track``) on each. It prints
+markdown tables of right, honest and confidently wrong by corruption;
+asserts nothing::
+
+    python benchmarks/bench_estimation.py --sensor-chain [--jobs 2] [--quiet]
 """
 
 from __future__ import annotations
@@ -57,10 +70,23 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--identify", type=int, default=60, help="identify cases (default 60)")
     parser.add_argument("--fits", type=int, default=10, help="fit conditions of four walks (default 10)")
-    parser.add_argument("--duration", default="25s")
+    parser.add_argument("--duration", default=None, help="length of each walk (default 25s; --sensor-chain 30s)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--sensor-chain", action="store_true",
+                        help="run the sensor-chain bench (robot and gait recordings through corrupted sensors)")
+    parser.add_argument("--robots", type=int, default=10,
+                        help="--sensor-chain: MuJoCo quadruped recordings (default 10, two per gait)")
+    parser.add_argument("--walks", type=int, default=10, help="--sensor-chain: gait() recordings (default 10)")
+    parser.add_argument("--fit-recordings", type=int, default=2,
+                        help="--sensor-chain: recordings of each source fitted, on the fit rows (default 2)")
+    parser.add_argument("--jobs", type=int, default=1, help="--sensor-chain: worker processes (default 1)")
+    parser.add_argument("--quiet", action="store_true", help="--sensor-chain: no progress line")
     args = parser.parse_args()
-    duration = parse_quantity(args.duration, "time")
+    if args.sensor_chain:
+        from sensor_chain_bench import run_bench
+
+        return run_bench(args)
+    duration = parse_quantity(args.duration or "25s", "time")
     rng = np.random.default_rng(args.seed)
 
     # compile once, outside the timings

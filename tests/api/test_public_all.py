@@ -78,7 +78,8 @@ PINNED: dict[str, list[str]] = {
         "load_fit_parameters", "misfit_ratio", "speed_key",
     ],
     "mudforce.calibration.synth": [
-        "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "START_BELOW", "synthesize", "synthesize_gait", "trial_name",
+        "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "START_BELOW", "synthesize",
+        "synthesize_gait", "trial_name",
     ],
     "mudforce.calibration.uncertainty": [
         "correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled",
@@ -163,6 +164,7 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.progress": ["Progress"],
     "mudforce.protocol": ["MAX_RATE", "MAX_SAMPLES", "MIN_RATE", "Hold", "Intrude", "Protocol", "Step", "Withdraw"],
+    "mudforce.quadruped": ["FEET", "GAITS", "QUADRUPED_XML", "ROBOT_FOOT", "QuadrupedGait", "RobotWalk", "robot_walk"],
     "mudforce.reference3d": ["Reference3DResult", "reference_simulate_3d"],
     "mudforce.reference": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
     "mudforce.reference_drop": ["GRAVITY", "ExactDrop", "exact_drop"],
@@ -180,6 +182,7 @@ PINNED: dict[str, list[str]] = {
         "MODEL_LABELS", "NINE", "PAPER_UNITS", "POORLY_DETERMINED", "determined", "in_paper_units", "make_summary",
         "summary_json",
     ],
+    "mudforce.sensor_chain": ["LIMITS", "SensorChain", "apply", "drift_path"],
     "mudforce.shapes": [
         "DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
         "from_mujoco_geom", "mesh", "sole", "sphere",

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -23,10 +24,12 @@ from mudforce.errors import InputError, positive_int, seed_int
 from mudforce.foot import Foot
 from mudforce.parameters import MudParameters
 from mudforce.protocol import Protocol
+from mudforce.sensor_chain import SensorChain
+from mudforce.sensor_chain import apply as apply_chain
 from mudforce.simulation import simulate
 
-__all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "START_BELOW", "synthesize", "synthesize_gait",
-           "trial_name"]
+__all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "START_BELOW",
+           "synthesize", "synthesize_gait", "trial_name"]
 
 #: How ``synthesize_gait`` chooses where each walk starts: above the surface, in the mud, or every other one.
 START_BELOW = ("never", "always", "alternate")
@@ -35,6 +38,43 @@ START_BELOW = ("never", "always", "alternate")
 DEFAULT_WATER_CONTENTS: tuple[float, ...] = (0.25,)
 #: Speeds [m/s] that ``mudforce synth`` makes by default.
 DEFAULT_VELOCITIES: tuple[float, ...] = (0.01, 0.02, 0.04)
+#: With a sensor chain, the rate [Hz] at which the model is simulated along the true path before the
+#: chain samples it (or the sample rate, if higher).
+FINE_RATE = 2000.0
+#: Most samples of the fine simulations of one dataset with a sensor chain, all trials together [-].
+MAX_FINE_SAMPLES = 20_000_000
+
+
+def _check_chain(chain: SensorChain | None, rate: float, seconds: float) -> None:
+    """Refuse a chain that sets what the synthesizer's own arguments set, or fine simulations too long."""
+    if chain is None:
+        return
+    if not isinstance(chain, SensorChain):
+        raise InputError(f"chain must be a SensorChain or None, got {type(chain).__name__}")
+    if chain.depth_noise or chain.force_noise or chain.force_bias or chain.rate is not None:
+        raise InputError("chain: give its depth_noise, force_noise, force_bias and rate as 0 and None; the "
+                         "synthesizer's depth_noise, force_noise, bias and rate arguments set them")
+    fine = max(FINE_RATE, rate)
+    if seconds * fine > MAX_FINE_SAMPLES:
+        raise InputError(f"with a sensor chain the model is simulated at {fine:g} Hz: {seconds * fine:.3g} samples "
+                         f"in all, more than {MAX_FINE_SAMPLES:,}; shorten the trials or make fewer")
+
+
+def _through_chain(chain: SensorChain, time: np.ndarray, depth: np.ndarray, force: np.ndarray, *, rate: float,
+                   force_noise: float, depth_noise: float, bias: float,
+                   seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The clean fine recording through ``chain`` with the synthesizer's noise, bias and rate."""
+    full = replace(chain, force_noise=force_noise, depth_noise=depth_noise, force_bias=bias,
+                   rate=None if rate >= FINE_RATE else rate)
+    return apply_chain(time, depth, force, full, seed)
+
+
+def _chain_entry(chain: SensorChain) -> dict[str, Any]:
+    """The manifest's record of a chain (the corruptions beyond noise and bias, and the fine rate)."""
+    entry = {k: v for k, v in chain.to_dict().items()
+             if k not in ("depth_noise_m", "force_noise_N", "force_bias_N", "rate_Hz")}
+    entry["fine_rate_Hz"] = FINE_RATE
+    return entry
 
 
 def trial_name(water_content: float, velocity: float, repeat: int) -> str:
@@ -60,6 +100,7 @@ def synthesize(
     rise: float = 0.02,
     rate: float = 100.0,
     parameters: dict[float, MudParameters] | None = None,
+    chain: SensorChain | None = None,
 ) -> Dataset:
     """Make (and optionally write) a synthetic dataset.
 
@@ -91,6 +132,13 @@ def synthesize(
         Sampling rate [Hz].
     parameters : dict, optional
         Water content [-] -> :class:`MudParameters`, overriding Table I.
+    chain : SensorChain, optional
+        A robot's sensor corruptions (:mod:`mudforce.sensor_chain`: depth
+        offset, drift, force delay and low-pass, gain) with its noise, bias
+        and rate left at 0 and None (the arguments above set them). The
+        model is then simulated along the true path at :data:`FINE_RATE`
+        and the chain samples it at ``rate``; each trial's chain is seeded
+        from ``seed``. Recorded under ``"sensor_chain"`` in the manifest.
 
     Returns
     -------
@@ -108,6 +156,11 @@ def synthesize(
     if not water_contents or not velocities:
         raise InputError("synthesize needs at least one water content and one velocity")
     foot = Foot.paper() if foot is None else foot
+    fine_rate = rate if chain is None else max(FINE_RATE, rate)
+    if chain is not None:
+        _check_chain(chain, rate, repeats * len(water_contents) * sum(
+            Protocol.paper(depth=depth, velocity=v, hold=hold, rise=rise, rate=rate, approach=approach).duration
+            for v in velocities))
     rng = np.random.default_rng(seed)
     truths: dict[str, Any] = {}
     trials: list[Trial] = []
@@ -115,13 +168,19 @@ def synthesize(
         params = (parameters or {}).get(w) or MudParameters.from_water_content(w)
         truths[f"{w:g}"] = params.to_dict()
         for v in velocities:
-            protocol = Protocol.paper(depth=depth, velocity=v, hold=hold, rise=rise, rate=rate, approach=approach)
+            protocol = Protocol.paper(depth=depth, velocity=v, hold=hold, rise=rise, rate=fine_rate,
+                                      approach=approach)
             time, z = protocol.sample()
             clean = simulate(time, z, params, foot, velocity_filter="exact").force
             for r in range(1, repeats + 1):
-                force = clean + bias + force_noise * rng.standard_normal(time.size)
-                measured = z + depth_noise * rng.standard_normal(time.size)
-                trials.append(Trial(trial_name(w, v, r), float(w), time, measured, force, float(v), r))
+                if chain is None:
+                    t, force = time, clean + bias + force_noise * rng.standard_normal(time.size)
+                    measured = z + depth_noise * rng.standard_normal(time.size)
+                else:
+                    t, measured, force = _through_chain(chain, time, z, clean, rate=rate, force_noise=force_noise,
+                                                        depth_noise=depth_noise, bias=bias,
+                                                        seed=int(rng.integers(0, 2**32 - 1)))
+                trials.append(Trial(trial_name(w, v, r), float(w), t, measured, force, float(v), r))
     synthetic = {
         "seed": seed,
         "force_noise_N": force_noise,
@@ -130,6 +189,8 @@ def synthesize(
         "protocol": {"depth_m": depth, "hold_s": hold, "approach_m": approach, "rise_m": rise, "rate_Hz": rate},
         "parameters": truths,
     }
+    if chain is not None:
+        synthetic["sensor_chain"] = _chain_entry(chain)
     dataset = Dataset(foot=foot, trials=tuple(trials), source="synthesize()", extra={"synthetic": synthetic})
     if out is not None:
         path = save_dataset(dataset, out)
@@ -151,6 +212,7 @@ def synthesize_gait(
     bias: float = 0.5,
     seed: int = 0,
     foot: Foot | None = None,
+    chain: SensorChain | None = None,
 ) -> Dataset:
     """Make (and optionally write) a dataset of robot-like foot motions: one walk per trial.
 
@@ -181,13 +243,18 @@ def synthesize_gait(
         Seed of the gaits and the noise; the same seed gives the same files.
     foot : Foot, optional
         The foot; the paper's 51 x 38 mm cuboid by default.
+    chain : SensorChain, optional
+        As for :func:`synthesize`: each walk's gait is simulated at
+        :data:`FINE_RATE` and the chain (seeded with the walk's seed)
+        samples it at ``rate``; not with ``jitter`` (the chain samples on a
+        regular clock).
 
     Returns
     -------
     Dataset
         With the true parameters under ``extra["synthetic"]``.
     """
-    from mudforce.gait import walk
+    from mudforce.gait import gait, walk
 
     repeats = positive_int(repeats, "repeats")
     if start_below not in START_BELOW:
@@ -197,6 +264,11 @@ def synthesize_gait(
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be an integer >= 0, got {seed!r}")
     foot = Foot.paper() if foot is None else foot
+    if chain is not None:
+        if jitter:
+            raise InputError("jitter cannot go with a sensor chain (the chain samples on a regular clock); "
+                             "expected jitter 0")
+        _check_chain(chain, rate, repeats * len(water_contents) * duration)
     truths: dict[str, Any] = {}
     trials: list[Trial] = []
     seeds = np.random.default_rng(seed).integers(0, 2**31 - 1, size=(len(water_contents), repeats))
@@ -204,10 +276,19 @@ def synthesize_gait(
         truths[f"{w:g}"] = MudParameters.from_water_content(w).to_dict()
         for r in range(1, repeats + 1):
             below = start_below == "always" or (start_below == "alternate" and r % 2 == 0)
-            path = walk(float(w), seed=int(seeds[i, r - 1]), duration=duration, rate=rate, jitter=jitter,
-                        start_below=below, foot=foot, force_noise=force_noise, depth_noise=depth_noise, bias=bias)
             name = (f"w{w * 100:g}_gait_r{r}").replace(".", "p") + ".csv"
-            trials.append(Trial(name, float(w), path.time, path.depth, path.force, None, r))
+            if chain is None:
+                path = walk(float(w), seed=int(seeds[i, r - 1]), duration=duration, rate=rate, jitter=jitter,
+                            start_below=below, foot=foot, force_noise=force_noise, depth_noise=depth_noise,
+                            bias=bias)
+                trials.append(Trial(name, float(w), path.time, path.depth, path.force, None, r))
+                continue
+            fine = gait(int(seeds[i, r - 1]), duration=duration, rate=max(FINE_RATE, rate), start_below=below)
+            clean = simulate(fine.time, fine.depth, MudParameters.from_water_content(float(w)), foot,
+                             velocity_filter="exact").force
+            t, z, f = _through_chain(chain, fine.time, fine.depth, clean, rate=rate, force_noise=force_noise,
+                                     depth_noise=depth_noise, bias=bias, seed=int(seeds[i, r - 1]))
+            trials.append(Trial(name, float(w), t, z, f, None, r))
     synthetic = {
         "seed": seed,
         "force_noise_N": force_noise,
@@ -216,6 +297,8 @@ def synthesize_gait(
         "gait": {"duration_s": duration, "rate_Hz": rate, "jitter": jitter, "start_below": start_below},
         "parameters": truths,
     }
+    if chain is not None:
+        synthetic["sensor_chain"] = _chain_entry(chain)
     dataset = Dataset(foot=foot, trials=tuple(trials), source="synthesize_gait()", extra={"synthetic": synthetic})
     if out is not None:
         written = save_dataset(dataset, out)

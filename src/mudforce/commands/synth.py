@@ -17,6 +17,13 @@ Every option is bounded by what `fit` and `identify` read back: force
 noise at most 1000 N, bias within +-10000 N, the depths (with 7 standard
 deviations of depth noise) within +-100 m, trials of at least 20 samples
 and at most 1e9 s; no file is written that they cannot read.
+
+A robot's sensor chain (mudforce.sensor_chain), each seeded by --seed:
+--depth-offset (a surface estimate off by so much), --drift (the surface
+estimate drifting), --force-lag (a force low-pass and/or delay) and
+--force-gain. With any of them the model is simulated along the true path
+at 2 kHz and the chain samples it at --rate; they are recorded under
+"synthetic" -> "sensor_chain" in dataset.json.
 """
 
 from __future__ import annotations
@@ -24,10 +31,14 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from mudforce.errors import InputError, seed_int
 from mudforce.foot import FOOT_EXAMPLES
 from mudforce.units import parse_list, parse_quantity
+
+if TYPE_CHECKING:
+    from mudforce.sensor_chain import SensorChain
 
 __all__ = ["DEPTH_NOISE_SIGMAS", "HELP", "MAX_BIAS", "MAX_FORCE_NOISE", "MAX_SAMPLES", "MAX_TRIALS", "NAME",
            "add_arguments", "run"]
@@ -77,6 +88,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--hold", default="6s", help="hold time (default 6s)")
     parser.add_argument("--approach", default="5mm", help="start height above the surface (default 5mm)")
     parser.add_argument("--rate", default="100Hz", help="sampling rate (default 100Hz)")
+    parser.add_argument("--depth-offset", default=None, metavar="Z",
+                        help="sensor chain: error of the surface estimate, within +-100mm; a positive offset reads "
+                             "every depth deeper, e.g. 2mm or -2mm (default none)")
+    parser.add_argument("--drift", default=None, metavar="Z[/T]",
+                        help="sensor chain: the surface estimate drifts by Z every T (default T 30s), plus a smooth "
+                             "wander of at most |Z|/4, e.g. 2mm, -2mm or 2mm/60s (default none)")
+    parser.add_argument("--force-lag", default=None, metavar="SPEC",
+                        help="sensor chain: a first-order force low-pass and/or a pure delay, each at most 1s: "
+                             "10ms (a low-pass of 10 ms), delay:5ms, lowpass:10ms,delay:10ms (default none)")
+    parser.add_argument("--force-gain", default=None, metavar="G",
+                        help="sensor chain: force-sensor gain within [0.5, 2], as a factor or a change, "
+                             "e.g. 1.05, +5%% or -5%% (default none)")
     parser.add_argument("--foot", default="paper", help=f"{FOOT_EXAMPLES} (default paper)")
     parser.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
     parser.add_argument("--force", action="store_true", help="replace an earlier synth dataset in DIR")
@@ -111,9 +134,81 @@ def _foreign(folder: Path) -> list[str]:
     return sorted({p.name for p in folder.iterdir()} - set(ours))
 
 
+def _parse_drift(text: str) -> tuple[float, float]:
+    """``--drift Z[/T]``: the drift [m] and the time it builds up over [s] (30 s by default)."""
+    value, slash, over = str(text).partition("/")
+    if slash and not over.strip():
+        raise InputError(f"--drift: {text!r} has no time after /; expected e.g. 2mm (over 30 s) or 2mm/60s")
+    drift = parse_quantity(value, "length", name="--drift", allow_negative=True, allow_zero=True)
+    time = parse_quantity(over, "time", name="--drift (the time after /)") if slash else 30.0
+    return drift, time
+
+
+def _parse_lag(text: str) -> tuple[float, float]:
+    """``--force-lag SPEC``: (delay [s], low-pass time constant [s])."""
+    delay = lowpass = 0.0
+    seen: set[str] = set()
+    for item in str(text).split(","):
+        kind, colon, value = item.strip().rpartition(":")
+        kind = kind.strip().lower() if colon else "lowpass"
+        if kind not in ("lowpass", "delay") or kind in seen:
+            raise InputError(f"--force-lag: cannot read {item.strip()!r} in {text!r}; expected e.g. 10ms (a low-pass), "
+                             "delay:5ms, or lowpass:10ms,delay:10ms (each kind once)")
+        seen.add(kind)
+        try:
+            seconds = parse_quantity(value.strip(), "time", name=f"--force-lag {kind}", allow_zero=True)
+        except InputError:
+            raise InputError(f"--force-lag: cannot read {item.strip()!r} in {text!r} as a {kind} time; expected e.g. "
+                             "10ms (a low-pass), delay:5ms, or lowpass:10ms,delay:10ms") from None
+        if kind == "delay":
+            delay = seconds
+        else:
+            lowpass = seconds
+    return delay, lowpass
+
+
+def _parse_gain(text: str) -> float:
+    """``--force-gain G``: a factor (1.05) or a change in percent (+5%, -5%)."""
+    raw = str(text).strip()
+    try:
+        gain = 1.0 + float(raw[:-1]) / 100.0 if raw.endswith("%") else float(raw)
+    except ValueError:
+        raise InputError(f"--force-gain: cannot read {raw!r}; expected a factor or a change, e.g. 1.05, +5% "
+                         "or -5%") from None
+    if not (math.isfinite(gain) and 0.5 <= gain <= 2.0):
+        raise InputError(f"--force-gain: {raw!r} is a gain of {gain:g}, outside [0.5, 2]; expected e.g. 1.05, +5% "
+                         "or -5%")
+    return gain
+
+
+def _parse_chain(args: argparse.Namespace) -> SensorChain | None:
+    """The sensor chain of the options (None when none is given); each value bounded, naming its option."""
+    from mudforce.sensor_chain import LIMITS, SensorChain
+
+    if all(getattr(args, k) is None for k in ("depth_offset", "drift", "force_lag", "force_gain")):
+        return None
+    fields: dict[str, float] = {}
+    if args.depth_offset is not None:
+        fields["depth_offset"] = parse_quantity(args.depth_offset, "length", name="--depth-offset",
+                                                allow_negative=True, allow_zero=True)
+    if args.drift is not None:
+        fields["drift"], fields["drift_time"] = _parse_drift(args.drift)
+    if args.force_lag is not None:
+        fields["force_delay"], fields["force_lowpass"] = _parse_lag(args.force_lag)
+    if args.force_gain is not None:
+        fields["force_gain"] = _parse_gain(args.force_gain)
+    option = {"depth_offset": "--depth-offset", "drift": "--drift", "drift_time": "--drift (the time after /)",
+              "force_delay": "--force-lag delay", "force_lowpass": "--force-lag lowpass", "force_gain": "--force-gain"}
+    for name, value in fields.items():
+        lo, hi, unit = LIMITS[name]
+        if not lo <= value <= hi:
+            raise InputError(f"{option[name]}: {value:g} {unit} is outside [{lo:g}, {hi:g}] {unit}")
+    return SensorChain(**fields)
+
+
 def _check_bounds(args: argparse.Namespace, velocities: list[float], *, depth: float,
                   hold: float, approach: float, rate: float, force_noise: float, depth_noise: float,
-                  bias: float) -> None:
+                  bias: float, chain: SensorChain | None = None, duration: float = 0.0) -> None:
     """Refuse options whose dataset ``fit`` and ``identify`` would not read, each naming its bound."""
     from mudforce.calibration.dataset import MIN_SAMPLES
     from mudforce.commands.params import parse_water_content
@@ -130,6 +225,19 @@ def _check_bounds(args: argparse.Namespace, velocities: list[float], *, depth: f
         raise InputError(f"--bias: {args.bias!r} is beyond +-{MAX_BIAS:g} N; expected e.g. 0.5N or -0.5N")
     limit = COLUMN_LIMITS["depth"]
     reach = 0.0 if args.motion == "gait" else max(depth, approach + _RISE)
+    if chain is not None:  # the surface estimate's error: the offset, and the drift over the longest trial
+        longest = duration if args.motion == "gait" else max(
+            (approach + depth) / v + hold + (depth + _RISE) / v for v in velocities)
+        moved = abs(chain.depth_offset) + abs(chain.drift) * (longest / chain.drift_time + 0.25)
+        if reach + moved + DEPTH_NOISE_SIGMAS * depth_noise > limit:
+            raise InputError(f"--depth-offset and --drift: depths would reach {reach + moved:.7g} m over a trial of "
+                             f"{longest:.6g} s, past the +-{limit:g} m that fit and identify read; lower --drift "
+                             "or shorten the trials")
+        if args.jitter:
+            raise InputError("--jitter cannot go with --depth-offset, --drift, --force-lag or --force-gain (the sensor "
+                             "chain samples on a regular clock); expected --jitter 0")
+        if rate > 1e5:
+            raise InputError(f"--rate: {args.rate!r} is above the sensor chain's 100 kHz; expected e.g. 100Hz")
     if reach + DEPTH_NOISE_SIGMAS * depth_noise > limit:
         most = (limit - reach) / DEPTH_NOISE_SIGMAS
         gait = args.motion == "gait"
@@ -204,8 +312,9 @@ def run(args: argparse.Namespace) -> int:
     force_noise = parse_quantity(args.force_noise, "force", name="--force-noise", allow_zero=True)
     depth_noise = parse_quantity(args.depth_noise, "length", name="--depth-noise", allow_zero=True)
     bias = parse_quantity(args.bias, "force", name="--bias", allow_zero=True, allow_negative=True)
+    chain = _parse_chain(args)
     _check_bounds(args, velocities, depth=depth, hold=hold, approach=approach, rate=rate,
-                  force_noise=force_noise, depth_noise=depth_noise, bias=bias)
+                  force_noise=force_noise, depth_noise=depth_noise, bias=bias, chain=chain, duration=duration)
     out = Path(args.out)
     path = check_replaceable_dir(args.out, "--out", (), _TAG, foreign=_foreign, what="synth dataset")
     if (path / MANIFEST_NAME).exists() and not args.force:
@@ -215,11 +324,11 @@ def run(args: argparse.Namespace) -> int:
 
         dataset = synthesize_gait(None, water_contents=waters, repeats=args.repeats, duration=duration, rate=rate,
                                   jitter=args.jitter, start_below=args.start_below, force_noise=force_noise,
-                                  depth_noise=depth_noise, bias=bias, seed=seed, foot=foot)
+                                  depth_noise=depth_noise, bias=bias, seed=seed, foot=foot, chain=chain)
     else:
         dataset = synthesize(None, water_contents=waters, velocities=velocities, repeats=args.repeats,
                              force_noise=force_noise, depth_noise=depth_noise, bias=bias, seed=seed, foot=foot,
-                             depth=depth, hold=hold, approach=approach, rise=_RISE, rate=rate)
+                             depth=depth, hold=hold, approach=approach, rise=_RISE, rate=rate, chain=chain)
     # built aside and swapped in whole: an interrupt leaves the old folder or the new one, never a mix
     with StagedOutputs(_TAG, folders=[path]) as staged:
         save_dataset(dataset, staged.staged_path(path))  # refuses, before writing, a trial the readers would refuse

@@ -1,0 +1,292 @@
+"""The sensor-chain bench of ``python benchmarks/bench_estimation.py --sensor-chain`` (see docs/estimation.md).
+
+Measures, and asserts nothing: how ``identify_water_content``, ``fit_condition``
+and ``MudTracker`` fare on recordings made as a robot's sensors would make
+them. Every recording starts clean, simulated at 2 kHz along the true path:
+
+* ``robot``: one foot (front left) of the MuJoCo quadruped of
+  :mod:`mudforce.quadruped` (walk, walk-fast, trot, trot-fast, bound in
+  turn), with the vertical force MuJoCo applied to it (the load it carried:
+  while the foot sticks, anywhere in the mud's rest band);
+* ``robot-model``: the same foot path with the model's force along it
+  (:func:`mudforce.simulate`, exact): what the kinematic model explains;
+* ``gait``: :func:`mudforce.gait.gait` walks with the model's force.
+
+Water contents are drawn uniformly in [15 %, 35 %], a force bias in
+[-1, 1] N; every recording carries 0.2 N of force noise and 0.03 mm of depth
+noise and is sampled at 100 Hz unless the corruption says otherwise. Each
+corruption of :data:`ROWS` is applied with :func:`mudforce.sensor_chain.apply`,
+seeded per (recording, corruption).
+
+Counts per corruption:
+
+* identify: within 1.5 points; interval covers the truth; flagged (any
+  warning, e.g. the misfit warning: ``model_misses_data``, or refused in
+  one line, e.g. when an offset puts every sample above the surface; a
+  refusal is honest and counts as neither within nor covering); confidently
+  wrong (interval misses the truth and nothing flagged). Standard rows pass
+  when >= 90 % are within 1.5 points and >= 90 % covered; hard rows when
+  none is confidently wrong.
+* fit (``--fit-recordings`` of each source, on the rows marked for fits):
+  every free parameter within 3 standard errors (on the logarithm) of
+  Table I's value at the true water content; flagged (any warning, a
+  parameter not determined, or refused); confidently wrong (some parameter beyond 3
+  standard errors, or not determined, and no warning).
+* tracker, over the samples 3 s or more after the start, pooled: share
+  within 1.5 points, share covered by the 95 % interval; the tracker has no
+  misfit flag, so a sample whose interval misses the truth is confidently
+  wrong unless a change of mud is flagged at it. Standard rows pass when
+  >= 80 % of the samples are covered and >= 80 % within 1.5 points; hard
+  rows when no sample is confidently wrong.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from mudforce.calibration import fit_condition, identify_water_content
+from mudforce.calibration.dataset import Trial
+from mudforce.errors import InputError
+from mudforce.foot import Foot
+from mudforce.gait import gait
+from mudforce.parameters import MudParameters
+from mudforce.progress import Progress
+from mudforce.sensor_chain import SensorChain, apply
+from mudforce.simulation import simulate
+from mudforce.tracker import track
+
+FINE_RATE = 2000.0  # [Hz] the clean simulation
+RATE = 100.0  # [Hz] the recordings' rate unless a row sets it
+FORCE_NOISE = 0.2  # [N]
+DEPTH_NOISE = 3e-5  # [m]
+TRACK_AFTER = 3.0  # [s] the tracker is judged from this time on
+SOURCES = ("robot", "robot-model", "gait")
+
+# (name, set, corruptions beyond the baseline noise, fit this row?)
+ROWS: list[tuple[str, str, dict[str, float], bool]] = [
+    ("clean (100 Hz)", "baseline", {}, True),
+    ("offset +2 mm", "standard", {"depth_offset": 0.002}, True),
+    ("offset -2 mm", "standard", {"depth_offset": -0.002}, False),
+    ("delay 5 ms", "standard", {"force_delay": 0.005}, False),
+    ("low-pass 10 ms", "standard", {"force_lowpass": 0.01}, True),
+    ("gain +5 %", "standard", {"force_gain": 1.05}, True),
+    ("gain -5 %", "standard", {"force_gain": 0.95}, False),
+    ("depth noise 0.3 mm", "standard", {"depth_noise": 3e-4}, False),
+    ("depth noise 1 mm", "standard", {"depth_noise": 1e-3}, True),
+    ("drift +2 mm / 30 s", "standard", {"drift": 0.002}, True),
+    ("drift -2 mm / 30 s", "standard", {"drift": -0.002}, False),
+    ("50 Hz", "standard", {"rate": 50.0}, True),
+    ("standard, all (+)", "standard", {"depth_offset": 0.002, "force_delay": 0.005, "force_lowpass": 0.01,
+                                       "force_gain": 1.05, "depth_noise": 3e-4, "drift": 0.002, "rate": 50.0}, True),
+    ("standard, all (-)", "standard", {"depth_offset": -0.002, "force_lowpass": 0.01, "force_gain": 0.95,
+                                       "depth_noise": 1e-3, "drift": -0.002, "rate": 50.0}, False),
+    ("offset +5 mm", "hard", {"depth_offset": 0.005}, True),
+    ("offset -5 mm", "hard", {"depth_offset": -0.005}, False),
+    ("low-pass 30 ms", "hard", {"force_lowpass": 0.03}, True),
+    ("delay 20 ms", "hard", {"force_delay": 0.02}, False),
+    ("delay 10 ms + low-pass 10 ms", "hard", {"force_delay": 0.01, "force_lowpass": 0.01}, False),
+    ("20 Hz", "hard", {"rate": 20.0}, True),
+    ("hard, all", "hard", {"depth_offset": 0.005, "force_delay": 0.01, "force_lowpass": 0.01, "rate": 20.0}, True),
+]
+
+
+def _clean(kind: str, index: int, seed: int, duration: float) -> list[tuple[str, float, Foot, np.ndarray,
+                                                                             np.ndarray, np.ndarray]]:
+    """The clean fine recordings of one unit: (source, W, foot, time, depth, force) per source."""
+    rng = np.random.default_rng([seed, 0 if kind == "robot" else 1, index])
+    w = float(rng.uniform(0.15, 0.35))
+    if kind == "robot":
+        from mudforce.quadruped import GAITS, ROBOT_FOOT, robot_walk
+
+        name = list(GAITS)[index % len(GAITS)]
+        run = robot_walk(name, w, seed=int(rng.integers(0, 2**31)), duration=duration)
+        return [("robot", w, ROBOT_FOOT, run.time, run.depth, run.force_contact),
+                ("robot-model", w, ROBOT_FOOT, run.time, run.depth, run.force)]
+    foot = Foot.paper()
+    path = gait(int(rng.integers(0, 2**31)), duration=duration, rate=FINE_RATE)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(w), foot, velocity_filter="exact").force
+    return [("gait", w, foot, path.time, path.depth, np.asarray(force))]
+
+
+def _fit_row(fit: Any, w: float) -> dict[str, Any]:
+    truth = MudParameters.from_water_content(w).to_dict()
+    beyond, undetermined = [], []
+    for name in fit.free:
+        se = fit.stderr[name]
+        value = fit.parameters[name]
+        if se is None or not math.isfinite(se) or se <= 0.0:
+            undetermined.append(name)
+            continue
+        z = math.log(value / truth[name]) / (se / value)
+        if abs(z) > 3.0:
+            beyond.append(name)
+    flagged = bool(fit.warnings) or bool(undetermined)
+    ok = not beyond and not undetermined
+    return {"ok": ok, "flagged": flagged, "wrong": not ok and not flagged, "beyond": beyond,
+            "params": len(fit.free)}
+
+
+def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: int) -> list[dict[str, Any]]:
+    """Every row's results on the recordings of one unit (one MuJoCo run: two sources; one gait: one)."""
+    out = []
+    for source, w, foot, t, z, f in _clean(kind, index, seed, duration):
+        bias = float(np.random.default_rng([seed, 2, index, SOURCES.index(source)]).uniform(-1.0, 1.0))
+        for r, (_row, _, corruption, fit_it) in enumerate(ROWS):
+            fields = {"force_noise": FORCE_NOISE, "depth_noise": DEPTH_NOISE, "force_bias": bias, "rate": RATE,
+                      **corruption}
+            chain = SensorChain(**fields)
+            cseed = int(np.random.default_rng([seed, 3, index, SOURCES.index(source), r]).integers(0, 2**32 - 1))
+            tt, zz, ff = apply(t, z, f, chain, cseed)
+            trial = Trial(f"{source}{index}", w, tt, zz, ff)
+            try:
+                res = identify_water_content(trial, foot)
+            except InputError:  # refused in one line (e.g. the offset hides every contact): honest, no answer
+                res = None
+            covered = res is not None and res.interval[0] <= w <= res.interval[1]
+            flagged = res is None or bool(res.warnings)
+            tr = track(tt, zz, ff, foot)
+            late = tt - tt[0] >= TRACK_AFTER
+            tw = tr.water_content[late]
+            tcov = (tr.low[late] <= w + 1e-12) & (w <= tr.high[late] + 1e-12)
+            item: dict[str, Any] = {
+                "row": r, "source": source, "index": index, "w": w,
+                "error": math.nan if res is None else (res.water_content - w) * 100.0, "covered": covered,
+                "flagged": flagged, "refused": res is None,
+                "wrong": not covered and not flagged,
+                "t_n": int(late.sum()), "t_within": int(np.sum(np.abs(tw - w) <= 0.015)), "t_cov": int(tcov.sum()),
+                "t_wrong": int(np.sum(~tcov & ~tr.changed[late])), "t_final": (tr.water_content[-1] - w) * 100.0,
+            }
+            if fit_it and index < fit_recordings:
+                start = time.perf_counter()
+                try:
+                    item["fit"] = _fit_row(fit_condition([trial], foot, seed=index), w)
+                except InputError:  # refused: honest, no answer
+                    item["fit"] = {"ok": False, "flagged": True, "wrong": False, "beyond": [], "params": 0}
+                item["fit"]["seconds"] = time.perf_counter() - start
+            out.append(item)
+    return out
+
+
+def _units(args: argparse.Namespace) -> list[tuple[str, int]]:
+    return [("robot", i) for i in range(args.robots)] + [("gait", i) for i in range(args.walks)]
+
+
+def _pct(k: int, n: int) -> str:
+    return f"{k}/{n} ({k / n:.0%})" if n else "-"
+
+
+def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[str]:
+    lines = ["### identify_water_content", "",
+             "| corruption | set | n | within 1.5 pt | covers truth | flagged (refused) | confidently wrong | "
+             "wrong by source (" + " / ".join(sources) + ") | median abs error [pt] | acceptance |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r, (row, kind, _, _) in enumerate(ROWS):
+        rs = [x for x in results if x["row"] == r]
+        n = len(rs)
+        within = sum(abs(x["error"]) <= 1.5 for x in rs)
+        cov = sum(x["covered"] for x in rs)
+        flag = sum(x["flagged"] for x in rs)
+        wrong = sum(x["wrong"] for x in rs)
+        by = " / ".join(str(sum(x["wrong"] for x in rs if x["source"] == s)) for s in sources)
+        refused = sum(x["refused"] for x in rs)
+        errors = [abs(x["error"]) for x in rs if not x["refused"]]
+        med = float(np.median(errors)) if errors else math.nan
+        if kind == "hard":
+            verdict = "pass" if wrong == 0 else "FAIL"
+        else:
+            verdict = "pass" if n and within >= 0.9 * n and cov >= 0.9 * n else "FAIL"
+        lines.append(f"| {row} | {kind} | {n} | {_pct(within, n)} | {_pct(cov, n)} | {_pct(flag, n)} ({refused}) | "
+                     f"{_pct(wrong, n)} | {by} | {med:.2f} | {verdict} |")
+    lines += ["", "### fit_condition (one recording per fit)", "",
+              "| corruption | set | fits | all parameters within 3 SE | flagged | confidently wrong | "
+              "parameters beyond 3 SE | median time [s] | acceptance |", "|---|---|---|---|---|---|---|---|---|"]
+    for r, (row, kind, _, fit_it) in enumerate(ROWS):
+        fs = [x["fit"] for x in results if x["row"] == r and "fit" in x]
+        if not fit_it or not fs:
+            continue
+        n = len(fs)
+        ok = sum(f["ok"] for f in fs)
+        flag = sum(f["flagged"] for f in fs)
+        wrong = sum(f["wrong"] for f in fs)
+        beyond = sum(len(f["beyond"]) for f in fs)
+        total = sum(f["params"] for f in fs)
+        verdict = "pass" if wrong == 0 and (kind == "hard" or all(f["ok"] or f["flagged"] for f in fs)) else "FAIL"
+        lines.append(f"| {row} | {kind} | {n} | {_pct(ok, n)} | {_pct(flag, n)} | {_pct(wrong, n)} | "
+                     f"{beyond}/{total} | {np.median([f['seconds'] for f in fs]):.1f} | {verdict} |")
+    lines += ["", f"### MudTracker (samples {TRACK_AFTER:g} s or more after the start, pooled)", "",
+              "| corruption | set | recordings | samples within 1.5 pt | samples covered | "
+              "recordings covered >= 80 % | samples confidently wrong | median abs final error [pt] | acceptance |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for r, (row, kind, _, _) in enumerate(ROWS):
+        rs = [x for x in results if x["row"] == r]
+        n = sum(x["t_n"] for x in rs)
+        within = sum(x["t_within"] for x in rs)
+        cov = sum(x["t_cov"] for x in rs)
+        wrong = sum(x["t_wrong"] for x in rs)
+        good = sum(x["t_cov"] >= 0.8 * x["t_n"] for x in rs if x["t_n"])
+        med = float(np.median([abs(x["t_final"]) for x in rs])) if rs else math.nan
+        if kind == "hard":
+            verdict = "pass" if wrong == 0 else "FAIL"
+        else:
+            verdict = "pass" if n and cov >= 0.8 * n and within >= 0.8 * n else "FAIL"
+        lines.append(f"| {row} | {kind} | {len(rs)} | {within / max(n, 1):.0%} | {cov / max(n, 1):.0%} | "
+                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} | {med:.2f} | {verdict} |")
+    return lines
+
+
+def run_bench(args: argparse.Namespace) -> int:
+    """Run the bench and print its tables (markdown); returns 0."""
+    from mudforce.units import parse_quantity
+
+    duration = parse_quantity(args.duration or "30s", "time", name="--duration")
+    if args.robots:
+        try:
+            import mujoco  # noqa: F401
+        except ImportError:
+            print("the robot recordings need MuJoCo: pip install 'mudforce[mujoco]' (or pass --robots 0)",
+                  file=sys.stderr)
+            return 2
+    if args.jobs < 1 or min(args.robots, args.walks, args.fit_recordings) < 0:
+        raise InputError("--jobs must be >= 1; --robots, --walks and --fit-recordings >= 0")
+    units = _units(args)
+    start = time.perf_counter()
+    results: list[dict[str, Any]] = []
+    with Progress(len(units), "sensor-chain bench", quiet=args.quiet) as progress:
+        if args.jobs == 1:
+            for kind, i in units:
+                results += run_unit(kind, i, args.seed, duration, args.fit_recordings)
+                progress.update(1, f"{kind} {i}")
+        else:
+            from concurrent.futures import as_completed
+
+            from mudforce.reproduce.jobs import executor
+
+            pool = executor(args.jobs)
+            try:
+                futures = {pool.submit(run_unit, kind, i, args.seed, duration, args.fit_recordings): (kind, i)
+                           for kind, i in units}
+                for future in as_completed(futures):
+                    results += future.result()
+                    progress.update(1, "{} {}".format(*futures[future]))
+            finally:
+                pool.shutdown()
+    results.sort(key=lambda x: (SOURCES.index(x["source"]), x["index"], x["row"]))  # independent of the workers
+    elapsed = time.perf_counter() - start
+    sources = [s for s in SOURCES if any(x["source"] == s for x in results)]
+    counts = ", ".join(f"{sum(1 for x in results if x['source'] == s and x['row'] == 0)} {s}" for s in sources)
+    print(f"## Sensor-chain bench: {counts} recordings of {duration:g} s, seed {args.seed}")
+    print()
+    print(f"Every row: force noise {FORCE_NOISE:g} N, depth noise {DEPTH_NOISE * 1e3:g} mm, a bias in [-1, 1] N, "
+          f"{RATE:g} Hz unless the row says otherwise; W in [15 %, 35 %].")
+    print()
+    print("\n".join(_tables(results, sources)))
+    print()
+    print(f"wall time {elapsed:.0f} s with --jobs {args.jobs}")
+    return 0
