@@ -64,7 +64,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce._deprecation import renamed_keywords, warn_renamed
+from mudforce._deprecation import warn_renamed
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
 from mudforce.foot import Foot
 from mudforce.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -582,6 +582,24 @@ class MudTrackers:
         return f"MudTrackers(n={self.n}, grid={self.grid[0]:g}..{self.grid[-1]:g} ({self.grid.size}))"
 
 
+_MISSING: Any = object()  # an argument not given (MudTracker.update's defaults)
+
+
+def _old_update_keywords(depth: Any, force: Any, dt: Any, given: dict[str, Any]) -> tuple[Any, Any, Any]:
+    """``MudTracker.update``'s arguments from its deprecated keywords ``depth_m``, ``force_N``, ``dt_s`` (warns)."""
+    names = {"depth_m": "depth", "force_N": "force", "dt_s": "dt"}
+    unknown = sorted(set(given) - set(names))
+    if unknown:
+        raise InputError(f"MudTracker.update got an unexpected keyword {unknown[0]!r}; expected depth, force, dt")
+    values = {"depth": depth, "force": force, "dt": dt}
+    for old, value in given.items():
+        if values[names[old]] is not _MISSING:
+            raise InputError(f"MudTracker.update: give {names[old]}= only ({old}= is its deprecated name)")
+        values[names[old]] = value
+    warn_renamed("MudTracker.update(" + "=, ".join(given) + "=)", "update(depth=, force=, dt=)", stacklevel=4)
+    return values["depth"], values["force"], values["dt"]
+
+
 class MudTracker:
     """Track the mud's water content under one foot, one sample at a time.
 
@@ -606,8 +624,8 @@ class MudTracker:
         self._bank = MudTrackers(1, foot, **options)
         self.grid = self._bank.grid
 
-    @renamed_keywords(depth_m="depth", force_N="force", dt_s="dt")
-    def update(self, depth: float, force: float, dt: float) -> TrackEstimate:
+    def update(self, depth: float = _MISSING, force: float = _MISSING, dt: float = _MISSING,
+               **deprecated: float) -> TrackEstimate:
         """Take one sample; return the estimate.
 
         Parameters
@@ -625,8 +643,14 @@ class MudTracker:
         TrackEstimate
         """
         b = self._bank
+        if deprecated:  # the old keywords, kept for one release (a decorator would cost every update a call)
+            depth, force, dt = _old_update_keywords(depth, force, dt, deprecated)
         # real numbers only: numpy would parse a string, drop an imaginary part, take a bool as 0 or 1
         if type(depth) is not float or type(force) is not float or type(dt) is not float:
+            for name, value in (("depth", depth), ("force", force), ("dt", dt)):
+                if value is _MISSING:
+                    raise InputError(f"MudTracker.update: {name} is missing; expected update(depth [m], force [N], "
+                                     "dt [s])")
             depth, force = real_number(depth, "depth [m]"), real_number(force, "force [N]")
             dt = real_number(dt, "dt [s]")
         b._depths[0] = depth
