@@ -139,8 +139,9 @@ class MudContact3D:
             raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
                              "a mudforce.shapes constructor, which sets it)")
         # each element's paper state, stepped with a unit area so that the 1-D force is the stress [Pa]
-        self._elements = MudContacts(params, shape.n, Foot(area=1.0, width=h, shape="element"), threads=1)
-        self.width = float(Foot(area=1.0, width=h).width)  #: H of Eq. (4) [m]
+        element = Foot(area=1.0, width=h, shape="element")  # checks H
+        self._elements = MudContacts(params, shape.n, element, threads=1)
+        self.width = element.width  #: H of Eq. (4) [m]
         k = params.k_m_w if lateral_stiffness is None else lateral_stiffness
         if not is_real(k) or not math.isfinite(k) or k <= 0.0:
             raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
@@ -503,7 +504,7 @@ class MudContacts3D:
                 made[key] = _param_rows(q, 1, foot, exact)[0]
             rows[self._starts[f]:self._starts[f + 1]] = made[key]
             ft[f, S3.F_SURFACE] = h
-            ft[f, S3.F_WIDTH] = float(Foot(area=1.0, width=w).width)
+            ft[f, S3.F_WIDTH] = foot.width
             ft[f, S3.F_STIFFNESS] = float(k)
             ft[f, S3.F_SIGMA_Y] = q.sigma_y
             ft[f, S3.F_ALPHA] = q.alpha
