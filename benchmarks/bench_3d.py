@@ -4,7 +4,7 @@ Run: ``python benchmarks/bench_3d.py`` (``--quick`` for a short run).
 Prints figures; asserts nothing. One thread unless a line says otherwise. Targets (issue 21, "Speed"): at most
 20 ns per element per step on one CPU thread, and at most 2 us a step for
 a 64-element foot; on an H100, 4,096 quadrupeds x 4 feet x 64 elements
-in at most 1 ms per step (the JAX step, :mod:`mudforce.jax3d`; its CPU
+in at most 1 ms per step (the JAX step, :mod:`mudforce.jax.contact3d`; its CPU
 figures are printed here, and :func:`bench_jax` runs on any JAX device).
 
 The feet walk: each foot's origin follows its own loop (phases and
@@ -29,8 +29,8 @@ from typing import Any
 import numpy as np
 
 import mudforce as mf
-from mudforce import shapes
-from mudforce.contact3d import MudContact3D, MudContacts3D
+from mudforce.model import shapes
+from mudforce.steppers.contact3d import MudContact3D, MudContacts3D
 
 RATE = 1000.0  # steps per second [1/s]
 
@@ -123,21 +123,22 @@ def bench_one(shape: shapes.Shape, steps: int, repeats: int) -> tuple[float, flo
 
 
 def bench_jax(shape: shapes.Shape, feet: int, steps: int, repeats: int) -> tuple[float, float] | None:
-    """Seconds per step (best, median; wall time) of :mod:`mudforce.jax3d` on JAX's CPU, float64; None without it.
+    """Seconds per step (best, median; wall time) of :mod:`mudforce.jax.contact3d` on JAX's CPU, float64; None
+    without it.
 
     ``jax.vmap`` of ``step3d`` over the feet, ``jax.lax.scan`` over the
     steps, jitted (compiled before timing); the same walk. An H100's
     figures (the issue's 4,096 x 4 x 64 elements) come from the same
     function on a machine with one (JAX's default device).
     """
-    if importlib.util.find_spec("jax") is None or importlib.util.find_spec("mudforce.jax3d") is None:
+    if importlib.util.find_spec("jax") is None or importlib.util.find_spec("mudforce.jax.contact3d") is None:
         return None
     import jax
 
     jax.config.update("jax_enable_x64", True)
     import jax.numpy as jnp
 
-    import mudforce.jax3d as mj3
+    import mudforce.jax.contact3d as mj3
 
     params = mj3.make_params3d(mf.MudParameters.from_water_content(0.25), shape)
     pos, quat = walk(feet, steps + 1)
@@ -196,9 +197,9 @@ def main() -> None:
     row("MudContact3D (numpy reference), 1 sphere foot", bench_one(sphere, max(steps // 5, 50), repeats), sphere.n)
     jax = bench_jax(sphere, 64, steps // 2, repeats)
     if jax is None:
-        print("  JAX (mudforce.jax3d): not installed here")
+        print("  JAX (mudforce.jax.contact3d): not installed here")
     else:
-        row("mudforce.jax3d on JAX's CPU, 64 sphere feet (wall)", jax, 64 * sphere.n)
+        row("mudforce.jax.contact3d on JAX's CPU, 64 sphere feet (wall)", jax, 64 * sphere.n)
 
 
 if __name__ == "__main__":

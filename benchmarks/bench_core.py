@@ -68,7 +68,7 @@ def main() -> None:
     necks = res.necking_times.size
 
     from mudforce import _kernel as K
-    from mudforce.simulation import params_row
+    from mudforce._kernel import params_row
 
     prow = params_row(params, mf.Foot.paper(), mf.VelocityFilter.exact())[None, :]
     out = K.new_out(t.size)

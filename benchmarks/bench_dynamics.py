@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from mudforce import MudParameters
-from mudforce.vectorized import MudContacts
+from mudforce.steppers.many import MudContacts
 
 
 def _best(fn: Any, repeats: int) -> float:
@@ -69,7 +69,7 @@ def bench_contacts(n: int = 4096, steps: int = 500, repeats: int = 5) -> dict[in
 
 def bench_builtin(repeats: int = 3) -> float:
     """Seconds per 8 s drop with the built-in engine."""
-    from mudforce.dynamics import simulate_foot
+    from mudforce.engines.dynamics import simulate_foot
 
     params = MudParameters.from_water_content(0.25)
     simulate_foot(5.0, params, duration=0.1)
@@ -129,7 +129,7 @@ def bench_mujoco(steps: int = 500, repeats: int = 40,
     """
     import mujoco
 
-    from mudforce.mujoco import MudAdapter, MudPatch, add_mud
+    from mudforce.engines.mujoco import MudAdapter, MudPatch, add_mud
 
     bare_model = mujoco.MjModel.from_xml_string(quadruped_xml(floor=True))
     bare_data = mujoco.MjData(bare_model)

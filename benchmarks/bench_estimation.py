@@ -1,6 +1,6 @@
 """Acceptance check of estimation from robot-like foot motions: identify and fit on gaits, over many seeds.
 
-Walks come from :func:`mudforce.gait.walk` (several steps, touchdowns at
+Walks come from :func:`mudforce.motions.gait.walk` (several steps, touchdowns at
 1-6 cm/s to 1-3 cm, stances with sway, partial withdrawals and re-pushes,
 lift-offs), at water contents drawn uniformly in [15%, 35%], force noise in
 [0.1, 0.5] N, depth noise 0.03 mm, a sensor bias drawn in [-1, 1] N; every
@@ -26,10 +26,10 @@ Usage::
 
 ``--sensor-chain`` runs the sensor-chain bench instead (issue "Estimation on
 a real robot's sensor chain", points 5 and 6): clean recordings simulated at
-2 kHz along the true path (a MuJoCo quadruped's foot, ``mudforce.quadruped``,
+2 kHz along the true path (a MuJoCo quadruped's foot, ``mudforce.motions.quadruped``,
 five gaits, with the force MuJoCo applied and with the model's force along
-that path; and ``mudforce.gait.gait`` walks), each passed through
-``mudforce.sensor_chain`` with the issue's standard and hard corruptions one
+that path; and ``mudforce.motions.gait.gait`` walks), each passed through
+``mudforce.motions.sensor_chain`` with the issue's standard and hard corruptions one
 at a time and combined, then ``identify_water_content``, ``fit_condition``
 (a few recordings) and ``MudTracker`` (via ``track``) on each. It prints
 markdown tables of right, honest and confidently wrong by corruption;
@@ -46,11 +46,11 @@ import time
 
 import numpy as np
 
-from mudforce.calibration import fit_condition, identify_water_content
-from mudforce.calibration.dataset import Trial
-from mudforce.gait import walk
-from mudforce.parameters import MudParameters
-from mudforce.units import parse_quantity
+from mudforce.estimation.calibration import fit_condition, identify_water_content
+from mudforce.estimation.calibration.dataset import Trial
+from mudforce.io.units import parse_quantity
+from mudforce.model.parameters import MudParameters
+from mudforce.motions.gait import walk
 
 TIGHT = ("alpha", "beta", "k_m_w", "sigma_y")
 

@@ -3,7 +3,7 @@
 For each Table I water content and each seed, makes the dataset that
 ``mudforce synth`` makes (the paper's protocol after a 5 mm approach;
 10, 20 and 40 mm/s x 3 repeats; force noise 0.2 N, depth noise 0.03 mm,
-sensor bias 0.5 N), fits it with :func:`mudforce.calibration.fit_condition`
+sensor bias 0.5 N), fits it with :func:`mudforce.estimation.calibration.fit_condition`
 (default budget), and reports:
 
 * per parameter: the relative error, and the error in standard errors
@@ -28,9 +28,9 @@ import time
 
 import numpy as np
 
-from mudforce.calibration import fit_condition, identify_water_content, prepare_trial, synthesize
-from mudforce.parameters import MudParameters
-from mudforce.units import parse_list, parse_quantity
+from mudforce.estimation.calibration import fit_condition, identify_water_content, prepare_trial, synthesize
+from mudforce.io.units import parse_list, parse_quantity
+from mudforce.model.parameters import MudParameters
 
 
 def main() -> int:

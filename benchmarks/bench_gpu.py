@@ -13,7 +13,7 @@ float64/float32 it prints
   no model (the ratio ``scan / floor`` is the figure of merit on a GPU);
 * ``call``: time per call of the jitted step from Python (state donated,
   results left on the device, synchronised once at the end);
-* ``cpu``: :class:`mudforce.vectorized.MudContacts` on this machine's CPU
+* ``cpu``: :class:`mudforce.steppers.many.MudContacts` on this machine's CPU
   cores, per step, on the same gait.
 
 Then it measures float32 against float64 over a 10 s gait at 1 kHz (all
@@ -41,7 +41,7 @@ import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
 import mudforce.jax as mj  # noqa: E402
-from mudforce.parameters import MudParameters  # noqa: E402
+from mudforce.model.parameters import MudParameters  # noqa: E402
 
 DT = 1e-3
 WATER = (0.15, 0.20, 0.25, 0.30, 0.35)
@@ -144,7 +144,7 @@ def bench_n(n: int, dtype: object, steps: int, calls: int, repeats: int, cpu: bo
     line = (f"n={n:>10,d} {name:>7}: scan {per * 1e6:9.2f} us/step ({per / n * 1e9:7.3f} ns/foot); "
             f"floor {floor * 1e6:9.2f} us/step -> {per / floor:5.2f}x floor; call {best_call * 1e6:9.2f} us/call")
     if cpu and name == "float64":
-        from mudforce.vectorized import MudContacts
+        from mudforce.steppers.many import MudContacts
 
         values = np.column_stack([np.asarray(f) for f in per_foot_params(n, jnp.float64)[:11]])
         mean_np = np.asarray(mean, dtype=np.float64)

@@ -9,7 +9,7 @@ Python for one foot; the estimate converges within a few steps, re-converges
 within a few steps after a change of mud, and its 95 % interval holds the
 truth >= 90 % of the time on stationary terrain after convergence.
 
-Acceptance walks (:func:`mudforce.gait.walk`): for each seed, water contents
+Acceptance walks (:func:`mudforce.motions.gait.walk`): for each seed, water contents
 drawn from 15-35 %, force noise from 0.1-0.5 N, depth noise 0.03 mm, a
 force offset from -2 to 2 N, 100 Hz.
 
@@ -33,8 +33,8 @@ import time
 
 import numpy as np
 
-from mudforce.gait import gait, walk
-from mudforce.tracker import MudTracker, MudTrackers, TrackResult, track
+from mudforce.estimation.tracker import MudTracker, MudTrackers, TrackResult, track
+from mudforce.motions.gait import gait, walk
 
 TOLERANCE = 0.01  # [-] converged: median within 1 point of the truth from then on (--tolerance)
 

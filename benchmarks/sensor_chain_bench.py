@@ -5,17 +5,17 @@ and ``MudTracker`` fare on recordings made as a robot's sensors would make
 them. Every recording starts clean, simulated at 2 kHz along the true path:
 
 * ``robot``: one foot (front left) of the MuJoCo quadruped of
-  :mod:`mudforce.quadruped` (walk, walk-fast, trot, trot-fast, bound in
+  :mod:`mudforce.motions.quadruped` (walk, walk-fast, trot, trot-fast, bound in
   turn), with the vertical force MuJoCo applied to it (the load it carried:
   while the foot sticks, anywhere in the mud's rest band);
 * ``robot-model``: the same foot path with the model's force along it
   (:func:`mudforce.simulate`, exact): what the kinematic model explains;
-* ``gait``: :func:`mudforce.gait.gait` walks with the model's force.
+* ``gait``: :func:`mudforce.motions.gait.gait` walks with the model's force.
 
 Water contents are drawn uniformly in [15 %, 35 %], a force bias in
 [-1, 1] N; every recording carries 0.2 N of force noise and 0.03 mm of depth
 noise and is sampled at 100 Hz unless the corruption says otherwise. Each
-corruption of :data:`ROWS` is applied with :func:`mudforce.sensor_chain.apply`,
+corruption of :data:`ROWS` is applied with :func:`mudforce.motions.sensor_chain.apply`,
 seeded per (recording, corruption).
 
 Counts per corruption:
@@ -51,16 +51,16 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.calibration import fit_condition, identify_water_content
-from mudforce.calibration.dataset import Trial
+from mudforce._plumbing.progress import Progress
 from mudforce.errors import InputError
-from mudforce.foot import Foot
-from mudforce.gait import gait
-from mudforce.parameters import MudParameters
-from mudforce.progress import Progress
-from mudforce.sensor_chain import SensorChain, apply
-from mudforce.simulation import simulate
-from mudforce.tracker import track
+from mudforce.estimation.calibration import fit_condition, identify_water_content
+from mudforce.estimation.calibration.dataset import Trial
+from mudforce.estimation.tracker import track
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.motions.gait import gait
+from mudforce.motions.sensor_chain import SensorChain, apply
+from mudforce.steppers.simulation import simulate
 
 FINE_RATE = 2000.0  # [Hz] the clean simulation
 RATE = 100.0  # [Hz] the recordings' rate unless a row sets it
@@ -103,7 +103,7 @@ def _clean(kind: str, index: int, seed: int, duration: float) -> list[tuple[str,
     rng = np.random.default_rng([seed, 0 if kind == "robot" else 1, index])
     w = float(rng.uniform(0.15, 0.35))
     if kind == "robot":
-        from mudforce.quadruped import GAITS, ROBOT_FOOT, robot_walk
+        from mudforce.motions.quadruped import GAITS, ROBOT_FOOT, robot_walk
 
         name = list(GAITS)[index % len(GAITS)]
         run = robot_walk(name, w, seed=int(rng.integers(0, 2**31)), duration=duration)
@@ -243,7 +243,7 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
 
 def run_bench(args: argparse.Namespace) -> int:
     """Run the bench and print its tables (markdown); returns 0."""
-    from mudforce.units import parse_quantity
+    from mudforce.io.units import parse_quantity
 
     duration = parse_quantity(args.duration or "30s", "time", name="--duration")
     if args.robots:

@@ -11,7 +11,7 @@ leg back out at every reversal and pumps energy into it (the paper's
 model is not passive there; docs/gpu.md): try ``--water 0.15 0.35``. All
 worlds run in one ``jax.jit`` of a ``lax.scan`` over the steps,
 ``jax.vmap`` over the worlds; the mud force comes from
-:func:`mudforce.mjx.step` on every physics step, with sticking. The servo
+:func:`mudforce.engines.mjx.step` on every physics step, with sticking. The servo
 is compliant, so how deep the foot gets and the work the mud takes depend
 on the mud.
 
@@ -41,7 +41,7 @@ import mujoco
 import numpy as np
 from mujoco import mjx
 
-import mudforce.mjx as mud
+import mudforce.engines.mjx as mud
 from mudforce import MudParameters
 
 LEG = """

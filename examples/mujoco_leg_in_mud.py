@@ -13,7 +13,7 @@ resistive-force baseline (Li, Zhang & Goldman 2013): force ``k z S`` while
 intruding, no relaxation and no suction; at rest the ground holds any load
 up to ``k z S`` (applied with the same tendon friction as the mud, so it
 does not chatter either). This is the force law of
-``mudforce.baselines.granular_rft`` (which takes a prescribed trajectory),
+``mudforce.model.baselines.granular_rft`` (which takes a prescribed trajectory),
 written here for a simulated foot. ``k = 0.5 N/cm^3`` is an illustrative value.
 
 Run::
@@ -33,9 +33,9 @@ import mujoco
 import numpy as np
 
 from mudforce import MudParameters
-from mudforce.foot import Foot
-from mudforce.mujoco import MudAdapter, MudPatch, add_mud
-from mudforce.units import parse_quantity
+from mudforce.engines.mujoco import MudAdapter, MudPatch, add_mud
+from mudforce.io.units import parse_quantity
+from mudforce.model.foot import Foot
 
 LEG_XML = """
 <mujoco model="leg_rig">

@@ -21,47 +21,51 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from mudforce.contact import ContactSample, ContactState, MudContact
-    from mudforce.contact3d import MudContact3D, MudContacts3D, Wrench, simulate_3d
     from mudforce.errors import InputError
-    from mudforce.foot import Foot
-    from mudforce.parameters import CITATION, PARAMETER_NAMES, TABLE_I, MudParameters
-    from mudforce.protocol import Hold, Intrude, Protocol, Withdraw
-    from mudforce.simulation import STATE_NAMES, SimulationResult, simulate
-    from mudforce.tracker import MudTracker, MudTrackers, TrackEstimate, TrackEstimates
-    from mudforce.vectorized import MudContacts
-    from mudforce.velocity import VelocityFilter, estimate_depth_noise
+    from mudforce.estimation.tracker import MudTracker, MudTrackers, TrackEstimate, TrackEstimates
+    from mudforce.model.foot import Foot
+    from mudforce.model.parameters import CITATION, PARAMETER_NAMES, TABLE_I, MudParameters
+    from mudforce.model.velocity import VelocityFilter, estimate_depth_noise
+    from mudforce.motions.protocol import Hold, Intrude, Protocol, Withdraw
+    from mudforce.steppers.contact import ContactSample, ContactState, MudContact
+    from mudforce.steppers.contact3d import MudContact3D, MudContacts3D, Wrench, simulate_3d
+    from mudforce.steppers.many import MudContacts
+    from mudforce.steppers.simulation import STATE_NAMES, SimulationResult, simulate
+
+from mudforce._plumbing import moved as _moved
+
+_moved.install()  # the old module paths of 0.1 (docs/api.md, "Moved in 0.2")
 
 # Public names are imported on first use (PEP 562), so that `import mudforce`
 # and the command line's error paths do not pay for compiling anything.
 _LAZY = {
-    "ContactSample": "mudforce.contact",
-    "ContactState": "mudforce.contact",
-    "MudContact": "mudforce.contact",
-    "MudContact3D": "mudforce.contact3d",
-    "MudContacts3D": "mudforce.contact3d",
-    "Wrench": "mudforce.contact3d",
-    "simulate_3d": "mudforce.contact3d",
+    "ContactSample": "mudforce.steppers.contact",
+    "ContactState": "mudforce.steppers.contact",
+    "MudContact": "mudforce.steppers.contact",
+    "MudContact3D": "mudforce.steppers.contact3d",
+    "MudContacts3D": "mudforce.steppers.contact3d",
+    "Wrench": "mudforce.steppers.contact3d",
+    "simulate_3d": "mudforce.steppers.contact3d",
     "InputError": "mudforce.errors",
-    "Foot": "mudforce.foot",
-    "CITATION": "mudforce.parameters",
-    "PARAMETER_NAMES": "mudforce.parameters",
-    "TABLE_I": "mudforce.parameters",
-    "MudParameters": "mudforce.parameters",
-    "Hold": "mudforce.protocol",
-    "Intrude": "mudforce.protocol",
-    "Protocol": "mudforce.protocol",
-    "Withdraw": "mudforce.protocol",
-    "STATE_NAMES": "mudforce.simulation",
-    "SimulationResult": "mudforce.simulation",
-    "simulate": "mudforce.simulation",
-    "MudContacts": "mudforce.vectorized",
-    "MudTracker": "mudforce.tracker",
-    "MudTrackers": "mudforce.tracker",
-    "TrackEstimate": "mudforce.tracker",
-    "TrackEstimates": "mudforce.tracker",
-    "VelocityFilter": "mudforce.velocity",
-    "estimate_depth_noise": "mudforce.velocity",
+    "Foot": "mudforce.model.foot",
+    "CITATION": "mudforce.model.parameters",
+    "PARAMETER_NAMES": "mudforce.model.parameters",
+    "TABLE_I": "mudforce.model.parameters",
+    "MudParameters": "mudforce.model.parameters",
+    "Hold": "mudforce.motions.protocol",
+    "Intrude": "mudforce.motions.protocol",
+    "Protocol": "mudforce.motions.protocol",
+    "Withdraw": "mudforce.motions.protocol",
+    "STATE_NAMES": "mudforce.steppers.simulation",
+    "SimulationResult": "mudforce.steppers.simulation",
+    "simulate": "mudforce.steppers.simulation",
+    "MudContacts": "mudforce.steppers.many",
+    "MudTracker": "mudforce.estimation.tracker",
+    "MudTrackers": "mudforce.estimation.tracker",
+    "TrackEstimate": "mudforce.estimation.tracker",
+    "TrackEstimates": "mudforce.estimation.tracker",
+    "VelocityFilter": "mudforce.model.velocity",
+    "estimate_depth_noise": "mudforce.model.velocity",
 }
 
 
@@ -71,7 +75,7 @@ _RENAMED = {"CHEN2024": "CITATION"}
 
 def __getattr__(name: str) -> Any:
     if name in _RENAMED:
-        from mudforce._deprecation import warn_renamed
+        from mudforce._plumbing.deprecation import warn_renamed
 
         warn_renamed(f"mudforce.{name}", f"mudforce.{_RENAMED[name]}")
         name = _RENAMED[name]

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 API = Path(__file__).resolve().parents[2] / "docs" / "api.md"
-OPTIONAL = {"mudforce.jax": ("jax",), "mudforce.mjx": ("jax", "mujoco"), "mudforce.mujoco": ("mujoco",)}
+OPTIONAL = {"mudforce.jax": ("jax",), "mudforce.engines.mjx": ("jax", "mujoco"), "mudforce.engines.mujoco": ("mujoco",)}
 
 
 def table_rows() -> list[tuple[list[str], str]]:

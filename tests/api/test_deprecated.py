@@ -13,7 +13,7 @@ import pytest
 
 import mudforce
 from mudforce import InputError, MudContacts, MudParameters, MudTracker
-from mudforce.dynamics import simulate_foot
+from mudforce.engines.dynamics import simulate_foot
 
 W25 = MudParameters.from_water_content(0.25)
 HAS_MUJOCO = importlib.util.find_spec("mujoco") is not None
@@ -26,13 +26,13 @@ def test_chen2024_citation_is_citation() -> None:
     with pytest.warns(DeprecationWarning, match=r"mudforce\.CHEN2024 .*mudforce\.CITATION"):
         old = mudforce.CHEN2024  # type: ignore[attr-defined]
     assert old == mudforce.CITATION and "arXiv:2403.02617" in old
-    import mudforce.parameters as parameters
+    import mudforce.model.parameters as parameters
 
     with pytest.warns(DeprecationWarning, match=r"parameters\.CHEN2024 .*parameters\.CITATION"):
         assert parameters.CHEN2024 == parameters.CITATION  # type: ignore[attr-defined]
     assert "CHEN2024" not in mudforce.__all__ and "CHEN2024" not in parameters.__all__
     # the one CHEN2024 left is the model, as the other models are named after theirs
-    from mudforce.calibration import CHEN2024, ForceModel
+    from mudforce.estimation.calibration import CHEN2024, ForceModel
 
     assert isinstance(CHEN2024, ForceModel)
     with pytest.raises(AttributeError):
@@ -81,8 +81,8 @@ def test_simulate_foot_depth0_is_minus_height() -> None:
 
 @needs_jax
 def test_jax_make_params_order_and_mud_keyword() -> None:
-    from mudforce.foot import Foot
     from mudforce.jax import make_params
+    from mudforce.model.foot import Foot
 
     new = make_params(W25, 3, Foot.disc(0.05))
     with pytest.warns(DeprecationWarning, match=r"make_params\(params, n, foot\)"):
@@ -99,7 +99,7 @@ def test_jax_make_params_order_and_mud_keyword() -> None:
 def test_mujoco_drop_spec_timestep_and_states() -> None:
     import mujoco
 
-    import mudforce.mujoco as mm
+    import mudforce.engines.mujoco as mm
 
     with pytest.warns(DeprecationWarning, match=r"drop_spec .*drop_model"):
         spec = mm.drop_spec(5.0, timestep=2e-3)  # type: ignore[attr-defined]
@@ -120,7 +120,7 @@ def test_mujoco_drop_spec_timestep_and_states() -> None:
 @needs_jax
 def test_mjx_patch_contact_make_patch_and_timestep() -> None:
     pytest.importorskip("mujoco.mjx")
-    import mudforce.mjx as mx
+    import mudforce.engines.mjx as mx
 
     with pytest.warns(DeprecationWarning, match=r"mjx\.Patch .*mjx\.MudPatch"):
         assert mx.Patch is mx.MudPatch  # type: ignore[attr-defined]
@@ -146,3 +146,48 @@ def jax_leaves(tree: object) -> list[np.ndarray]:
     import jax
 
     return [np.asarray(leaf) for leaf in jax.tree_util.tree_leaves(tree)]
+
+
+# ---------------------------------------------------------------- modules moved in 0.2 (the layout by concept)
+def _needs(module: str) -> tuple[str, ...]:
+    return {"mudforce.mjx": ("mujoco.mjx",), "mudforce.mujoco": ("mujoco",), "mudforce.jax3d": ("jax",)}.get(module, ())
+
+
+def test_every_moved_module_is_the_new_one_and_warns() -> None:
+    """`import mudforce.<old>` gives the very module object of the new path (one module, two names), warns with
+    the new path, and a submodule of a moved package follows it; docs/api.md lists the same table."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from mudforce._plumbing.moved import MOVED
+
+    table = (Path(__file__).resolve().parents[2] / "docs" / "api.md").read_text(encoding="utf-8")
+    olds = [o for o in sorted(MOVED) if all(importlib.util.find_spec(n.split(".")[0]) for n in _needs(o))]
+    code = "\n".join([
+        "import importlib, sys, warnings",
+        "import mudforce",
+        "from mudforce._plumbing.moved import MOVED",
+        f"for old in {olds!r}:",
+        "    with warnings.catch_warnings(record=True) as seen:",
+        "        warnings.simplefilter('always')",
+        "        module = importlib.import_module(old)",
+        "    new = importlib.import_module(MOVED[old])",
+        "    assert module is new and module.__spec__.name == MOVED[old], old",
+        "    assert any(w.category is DeprecationWarning and MOVED[old] in str(w.message) for w in seen), old",
+        "import mudforce.calibration.fit as f",
+        "assert f is sys.modules['mudforce.estimation.calibration.fit']",
+        "print('ok')",
+    ])
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr[-2000:]
+    for old, new in MOVED.items():
+        assert f"| `{old}` | `{new}` |" in table
+
+
+def test_plotters_moved_with_their_results_warn() -> None:
+    import mudforce.io.plotting as plotting
+    from mudforce.steppers.plots import plot_result
+
+    with pytest.warns(DeprecationWarning, match="mudforce.steppers.plots.plot_result"):
+        assert plotting.plot_result is plot_result

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 from mudforce import InputError, MudContact, MudContacts, MudParameters, MudTracker, MudTrackers
-from mudforce.dynamics import FootResult, NaiveDrop, naive_drop, simulate_foot
-from mudforce.gait import walk
-from mudforce.tracker import TrackerState, TrackResult, track
+from mudforce.engines.dynamics import FootResult, NaiveDrop, naive_drop, simulate_foot
+from mudforce.estimation.tracker import TrackerState, TrackResult, track
+from mudforce.motions.gait import walk
 
 W25 = MudParameters.from_water_content(0.25)
 
@@ -27,7 +27,7 @@ def tracked() -> TrackResult:
 
 
 def test_track_result_to_csv_is_the_track_command_s_file(tracked: TrackResult, tmp_path: Path) -> None:
-    from mudforce.commands.track import COLUMNS
+    from mudforce.cli.track import COLUMNS
 
     assert TrackResult.COLUMNS == COLUMNS
     path = tmp_path / "t.csv"
@@ -84,10 +84,10 @@ def test_naive_drop_is_a_result_that_unpacks_as_before(tmp_path: Path) -> None:
 
 def test_drops_start_at_height_everywhere() -> None:
     """The same argument has the same name and meaning: ``height`` [m] above the surface, ``dt`` [s]."""
-    from mudforce.dynamics import exact_drop
+    from mudforce.engines.dynamics import exact_drop
 
     functions = [simulate_foot, naive_drop, exact_drop]
-    for module in ("mudforce.mujoco", "mudforce.mjx"):
+    for module in ("mudforce.engines.mujoco", "mudforce.engines.mjx"):
         try:
             functions.append(__import__(module, fromlist=["simulate_drop"]).simulate_drop)
         except ImportError:

@@ -2,7 +2,7 @@
 public module) must be deliberate, made here with it.
 
 A public module is one under ``src/mudforce`` whose dotted name has no part starting with ``_`` (found on
-disk with :mod:`pkgutil`, without importing anything). The command line's modules (``mudforce.commands.*``)
+disk with :mod:`pkgutil`, without importing anything). The command line's modules (``mudforce.cli.*``)
 are pinned too: their interface is the command line itself (tested through a subprocess in ``tests/cli/``),
 but their ``__all__`` names what :mod:`mudforce.cli` (``NAME``, ``HELP``, ``add_arguments``, ``run``) and
 other modules take from them. Modules that need an optional package are checked only where it is installed.
@@ -27,9 +27,9 @@ import mudforce
 # module -> the optional packages it needs (skipped where one is missing)
 OPTIONAL: dict[str, tuple[str, ...]] = {
     "mudforce.jax": ("jax",),
-    "mudforce.jax3d": ("jax",),
-    "mudforce.mjx": ("jax", "mujoco", "mujoco.mjx"),
-    "mudforce.mujoco": ("mujoco",),
+    "mudforce.jax.contact3d": ("jax",),
+    "mudforce.engines.mjx": ("jax", "mujoco", "mujoco.mjx"),
+    "mudforce.engines.mujoco": ("mujoco",),
 }
 
 PINNED: dict[str, list[str]] = {
@@ -39,82 +39,87 @@ PINNED: dict[str, list[str]] = {
         "MudTracker", "MudTrackers", "Protocol", "SimulationResult", "TrackEstimate", "TrackEstimates",
         "VelocityFilter", "Withdraw", "Wrench", "__version__", "estimate_depth_noise", "simulate", "simulate_3d",
     ],
-    "mudforce.baselines": [
+    "mudforce.model.baselines": [
         "BASELINE_NAMES", "DEFAULT_K_RFT", "branch_velocity", "drft_force", "granular_rft_force", "maxwell_only_force",
     ],
-    "mudforce.calibration": [
+    "mudforce.estimation.calibration": [
         "CHEN2024", "MODELS", "ConditionFit", "Dataset", "DragFit", "FitOptions", "FitResult", "FitStage",
         "ForceModel", "Identification", "Motion", "PreparedTrial", "Trial", "TrialFit", "fit_by_velocity",
         "fit_condition", "fit_dataset", "fit_drag", "fit_motion", "get_model", "identify_water_content",
         "load_dataset", "load_fit", "load_fit_parameters", "load_trial", "parse_foot", "prepare_trial", "read_sliding",
         "register_model", "save_dataset", "synthesize", "synthesize_gait", "tare",
     ],
-    "mudforce.calibration.branches": [
+    "mudforce.estimation.calibration.branches": [
         "JUMP_REWARD_CAP", "SWITCH_COST", "corner_preserving_smooth", "denoise_depth", "estimate_force_noise",
         "label_branches", "rest_steps",
     ],
-    "mudforce.calibration.dataset": [
+    "mudforce.estimation.calibration.dataset": [
         "MANIFEST_NAME", "MIN_SAMPLES", "Dataset", "Trial", "foot_from_json", "foot_to_json", "load_dataset",
         "load_trial", "parse_foot", "save_dataset",
     ],
-    "mudforce.calibration.drag": ["DragFit", "fit_drag", "read_sliding"],
-    "mudforce.calibration.fit": [
+    "mudforce.estimation.calibration.drag": ["DragFit", "fit_drag", "read_sliding"],
+    "mudforce.estimation.calibration.fit": [
         "MISFIT_WARNING_RATIO", "POOR_RELATIVE_STDERR", "ConditionFit", "FitOptions", "FitResult", "TrialFit",
         "correlation_inflation", "fit_by_velocity", "fit_condition", "fit_dataset", "load_fit", "load_fit_parameters",
         "misfit_ratio", "speed_key",
     ],
-    "mudforce.calibration.identify": ["MIN_HALF_WIDTH", "Identification", "identify_water_content"],
-    "mudforce.calibration.models": [
+    "mudforce.estimation.calibration.identify": ["MIN_HALF_WIDTH", "Identification", "identify_water_content"],
+    "mudforce.estimation.calibration.models": [
         "CHEN2024", "DRFT", "GRANULAR_RFT", "MAXWELL_ONLY", "MODELS", "FitStage", "ForceFunction", "ForceModel",
         "get_model", "register_model",
     ],
-    "mudforce.calibration.preprocess": [
+    "mudforce.estimation.calibration.preprocess": [
         "CLEAN_DEPTH_M", "MIN_PRECONTACT_SAMPLES", "Motion", "PreparedTrial", "fit_motion", "is_protocol",
         "motion_covariance", "noise_floor", "prepare_trial", "snap_reversal", "tare", "tare_correction",
     ],
-    "mudforce.calibration.report": ["ERROR_PROFILE_POINTS", "error_profile", "write_report"],
-    "mudforce.calibration.results": [
+    "mudforce.estimation.calibration.report": ["ERROR_PROFILE_POINTS", "error_profile", "write_report"],
+    "mudforce.estimation.calibration.results": [
         "MISFIT_WARNING_RATIO", "POOR_RELATIVE_STDERR", "ConditionFit", "FitResult", "TrialFit", "load_fit",
         "load_fit_parameters", "misfit_ratio", "speed_key",
     ],
-    "mudforce.calibration.synth": [
+    "mudforce.estimation.calibration.synth": [
         "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "START_BELOW", "synthesize",
         "synthesize_gait", "trial_name",
     ],
-    "mudforce.calibration.uncertainty": [
+    "mudforce.estimation.calibration.uncertainty": [
         "correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled",
     ],
     "mudforce.cli": ["COMMANDS", "main"],
-    "mudforce.commands": [],
-    "mudforce.commands.drop": ["HELP", "NAME", "add_arguments", "run"],
-    "mudforce.commands.fit": ["HELP", "NAME", "add_arguments", "run"],
-    "mudforce.commands.fit_drag": ["HELP", "NAME", "add_arguments", "run"],
-    "mudforce.commands.identify": ["HELP", "NAME", "add_arguments", "run"],
-    "mudforce.commands.params": [
+    "mudforce.engines": [],  # a package of modules by concept
+    "mudforce.estimation": [],  # a package of modules by concept
+    "mudforce.model": [],  # a package of modules by concept
+    "mudforce.motions": [],  # a package of modules by concept
+    "mudforce.references": [],  # a package of modules by concept
+    "mudforce.steppers": [],  # a package of modules by concept
+    "mudforce.cli.drop": ["HELP", "NAME", "add_arguments", "run"],
+    "mudforce.cli.fit": ["HELP", "NAME", "add_arguments", "run"],
+    "mudforce.cli.fit_drag": ["HELP", "NAME", "add_arguments", "run"],
+    "mudforce.cli.identify": ["HELP", "NAME", "add_arguments", "run"],
+    "mudforce.cli.params": [
         "HELP", "NAME", "add_arguments", "format_table_i", "parse_water_content", "run", "table_i_json",
     ],
-    "mudforce.commands.reproduce": ["HELP", "NAME", "add_arguments", "run"],
-    "mudforce.commands.simulate": [
+    "mudforce.cli.reproduce": ["HELP", "NAME", "add_arguments", "run"],
+    "mudforce.cli.simulate": [
         "FOOT_EXAMPLES", "HELP", "MAX_SAMPLES", "NAME", "add_arguments", "check_output_path", "parse_foot", "run",
     ],
-    "mudforce.commands.synth": [
+    "mudforce.cli.synth": [
         "DEPTH_NOISE_SIGMAS", "HELP", "MAX_BIAS", "MAX_FORCE_NOISE", "MAX_SAMPLES", "MAX_TRIALS", "NAME",
         "add_arguments", "run",
     ],
-    "mudforce.commands.track": ["COLUMNS", "HELP", "NAME", "add_arguments", "run"],
-    "mudforce.contact": ["ContactSample", "ContactState", "MudContact", "check_states"],
-    "mudforce.contact3d": [
+    "mudforce.cli.track": ["COLUMNS", "HELP", "NAME", "add_arguments", "run"],
+    "mudforce.steppers.contact": ["ContactSample", "ContactState", "MudContact", "check_states"],
+    "mudforce.steppers.contact3d": [
         "ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d",
     ],
-    "mudforce.dynamics": [
+    "mudforce.engines.dynamics": [
         "GRAVITY", "PHASE_NAMES", "REST_SPEED", "ExactDrop", "FootResult", "NaiveDrop", "Phase", "branch_forces",
         "exact_drop", "naive_drop", "rest_band", "simulate_foot",
     ],
-    "mudforce.dynamics.engine": ["simulate_foot"],
-    "mudforce.dynamics.naive": ["NaiveDrop", "naive_drop"],
-    "mudforce.dynamics.rest_band": ["branch_forces", "necked_force", "rest_band"],
-    "mudforce.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
-    "mudforce.equations": [
+    "mudforce.engines.dynamics.engine": ["simulate_foot"],
+    "mudforce.engines.dynamics.naive": ["NaiveDrop", "naive_drop"],
+    "mudforce.engines.dynamics.rest_band": ["branch_forces", "necked_force", "rest_band"],
+    "mudforce.engines.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
+    "mudforce.model.equations": [
         "array_form", "drag_acts", "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_rate",
         "maxwell_strain_step", "neck_breaks", "neck_filter_closed_form",
         "neck_filter_response", "neck_filter_response_increment", "neck_filter_transition",
@@ -126,16 +131,17 @@ PINNED: dict[str, list[str]] = {
         "MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
         "real_array", "real_number", "seed_int",
     ],
-    "mudforce.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
-    "mudforce.gait": ["Gait", "Walk", "gait", "walk"],
-    "mudforce.law3d": [
+    "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
+    "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],
+    "mudforce.model.law3d": [
         "FLAT_PLATE_ALPHA", "ROUNDING_DEPTH", "bearing_factor", "horizontal_drag", "lateral_capacity",
         "lateral_return_map", "quaternion_matrix", "rotation_matrix", "settle_depth", "shear_fraction",
         "spring_stress", "vertical_weight",
     ],
-    "mudforce.granular": [
+    "mudforce.model.granular": [
         "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",
-        "medium_scale", "rft3d_alpha", "rft3d_angles", "rft3d_basis", "rft_alpha", "rft_element_alpha",
+        "medium_scale", "rft3d_alpha", "rft3d_alpha_unchecked", "rft3d_angles",
+        "rft3d_basis", "rft_alpha", "rft_element_alpha",
         "rft_element_forces", "rft_wrench",
     ],
     "mudforce.io": [
@@ -149,25 +155,29 @@ PINNED: dict[str, list[str]] = {
         "nonlinear_spring_stress", "reset", "rest_band", "step", "step_constants", "stick_force", "touchdown",
         "withdrawal_step"
     ],
-    "mudforce.jax3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
-    "mudforce.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
-    "mudforce.mujoco": [
+    "mudforce.jax.contact3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
+    "mudforce.engines.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
+    "mudforce.engines.mujoco": [
         "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of",
         "simulate_drop",
     ],
-    "mudforce.parameters": [
+    "mudforce.model.parameters": [
         "CITATION", "PAPER_UNITS", "PARAMETER_NAMES", "PARAMETER_RANGES", "RHO_M", "TABLE_I", "TABLE_I_RMSE_N",
         "TABLE_I_WATER_CONTENTS", "WATER_CONTENT_RANGE", "MudParameters"
     ],
-    "mudforce.plotting": [
-        "PHASE_COLOURS", "STATE_COLOURS", "figure_to_png", "new_figure", "plot_foot_result", "plot_result", "save_png",
+    "mudforce.io.plotting": ["figure_to_png", "new_figure", "save_png"],
+    "mudforce.io.results": ["to_pandas", "write_text"],
+    "mudforce.steppers.plots": ["STATE_COLOURS", "plot_result"],
+    "mudforce.engines.dynamics.plots": ["PHASE_COLOURS", "plot_foot_result"],
+    "mudforce.motions.protocol": [
+        "MAX_RATE", "MAX_SAMPLES", "MIN_RATE", "Hold", "Intrude", "Protocol", "Step", "Withdraw",
     ],
-    "mudforce.progress": ["Progress"],
-    "mudforce.protocol": ["MAX_RATE", "MAX_SAMPLES", "MIN_RATE", "Hold", "Intrude", "Protocol", "Step", "Withdraw"],
-    "mudforce.quadruped": ["FEET", "GAITS", "QUADRUPED_XML", "ROBOT_FOOT", "QuadrupedGait", "RobotWalk", "robot_walk"],
-    "mudforce.reference3d": ["Reference3DResult", "reference_simulate_3d"],
-    "mudforce.reference": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
-    "mudforce.reference_drop": ["GRAVITY", "ExactDrop", "exact_drop"],
+    "mudforce.motions.quadruped": [
+        "FEET", "GAITS", "QUADRUPED_XML", "ROBOT_FOOT", "QuadrupedGait", "RobotWalk", "robot_walk",
+    ],
+    "mudforce.references.contact3d": ["Reference3DResult", "reference_simulate_3d"],
+    "mudforce.references.trajectory": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
+    "mudforce.references.drop": ["GRAVITY", "ExactDrop", "exact_drop"],
     "mudforce.reproduce": [
         "MAX_SEED", "POORLY_DETERMINED", "SCATTERED", "VELOCITY_FREE", "ReproduceConfig", "ReproduceResult",
         "Terminated", "check_output_dir", "check_seed", "determined", "make_experiments", "reproduce",
@@ -182,23 +192,29 @@ PINNED: dict[str, list[str]] = {
         "MODEL_LABELS", "NINE", "PAPER_UNITS", "POORLY_DETERMINED", "determined", "in_paper_units", "make_summary",
         "summary_json",
     ],
-    "mudforce.sensor_chain": ["LIMITS", "SensorChain", "apply", "drift_path"],
-    "mudforce.shapes": [
+    "mudforce.motions.sensor_chain": ["LIMITS", "SensorChain", "apply", "drift_path"],
+    "mudforce.model.shapes": [
         "DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
         "from_mujoco_geom", "mesh", "sole", "sphere",
     ],
-    "mudforce.simulation": ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate"],
-    "mudforce.tables": ["COLUMN_LIMITS", "COLUMN_UNITS", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv"],
-    "mudforce.tracker": [
+    "mudforce.steppers.simulation": [
+        "MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate",
+    ],
+    "mudforce.io.tables": [
+        "COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv",
+    ],
+    "mudforce.estimation.tracker": [
         "DEFAULT_GRID", "MudTracker", "MudTrackers", "TrackEstimate", "TrackEstimates", "TrackResult", "TrackerState",
         "default_velocity_filter", "track",
     ],
-    "mudforce.tracking_plots": ["plot_track", "tracking_figure"],
-    "mudforce.units": ["KINDS", "LIMITS", "format_quantity", "parse_list", "parse_quantity"],
-    "mudforce.vectorized": ["MudContacts"],
-    "mudforce.velocity": ["MAX_NOISE_ORDER", "MIN_NOISE_SAMPLES", "NOISE_FLOOR_M", "SLOWEST_MOTION", "DepthNoise",
-                          "VelocityFilter", "analyse_depth_noise", "auto_velocity_filter", "choose_velocity_filter",
-                          "describe_velocity_rule", "estimate_depth_noise"],
+    "mudforce.estimation.tracking_plots": ["plot_track", "tracking_figure"],
+    "mudforce.io.units": ["KINDS", "LIMITS", "format_quantity", "parse_list", "parse_quantity"],
+    "mudforce.steppers.many": ["MudContacts"],
+    "mudforce.model.velocity": [
+        "MAX_NOISE_ORDER", "MAX_WINDOW", "MIN_NOISE_SAMPLES", "NOISE_FLOOR_M", "SLOWEST_MOTION", "DepthNoise",
+        "VelocityFilter", "analyse_depth_noise", "auto_velocity_filter", "choose_velocity_filter",
+        "describe_velocity_rule", "estimate_depth_noise", "resolve_velocity_filter",
+    ],
 }
 
 

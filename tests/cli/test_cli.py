@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 
 from mudforce import Foot, MudParameters, simulate
-from mudforce.commands.simulate import parse_foot
+from mudforce.cli.simulate import parse_foot
 from mudforce.errors import InputError
 from mudforce_cli_harness import run_cli, snapshot
 
@@ -337,7 +337,8 @@ def test_plot_is_deterministic_and_atomic(tmp_path: Path) -> None:
     """Two plots of the same result are byte-identical PNGs; a failing save leaves the old file."""
     pytest.importorskip("matplotlib")
     from mudforce import Protocol
-    from mudforce.plotting import plot_result, save_png
+    from mudforce.io.plotting import save_png
+    from mudforce.steppers.plots import plot_result
 
     time, depth = Protocol.paper().sample()
     result = simulate(time, depth, MudParameters.from_water_content(0.25))

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from mudforce import Foot
-from mudforce.calibration.synth import synthesize
+from mudforce.estimation.calibration.synth import synthesize
 from mudforce_cli_harness import Run, assert_refused, run_batch, snapshot
 
 GOOD_PARAMS = '{"k_m_i": 260000.0, "b_m_i": 290000.0, "k_m_w": 1210000.0, "b_m_w": 1350000.0, "alpha": 40000.0, ' \

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mudforce.calibration.synth import synthesize
+from mudforce.estimation.calibration.synth import synthesize
 from mudforce_cli_harness import Run, assert_refused, run_batch, run_cli, snapshot
 
 PREVIOUS = b"previous output, must survive any error\n"

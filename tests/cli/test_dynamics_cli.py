@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from mudforce import MudParameters
-from mudforce.dynamics import exact_drop
+from mudforce.engines.dynamics import exact_drop
 from mudforce_cli_harness import run_cli
 
 PREVIOUS = b"previous output, must survive any error\n"

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mudforce.calibration import load_dataset
+from mudforce.estimation.calibration import load_dataset
 from mudforce_cli_harness import assert_refused, run_batch
 
 CLEAN = ["--force-noise", "0N", "--depth-noise", "0mm", "--bias", "0N", "--velocities", "20mm/s", "--repeats", "1",

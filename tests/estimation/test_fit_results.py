@@ -7,12 +7,12 @@ from pathlib import Path
 
 import pytest
 
-from mudforce.calibration import Dataset, fit_dataset, load_fit, load_fit_parameters
-from mudforce.calibration.dataset import Trial
-from mudforce.calibration.results import ConditionFit, FitResult
 from mudforce.errors import InputError
-from mudforce.foot import Foot
-from mudforce.gait import walk
+from mudforce.estimation.calibration import Dataset, fit_dataset, load_fit, load_fit_parameters
+from mudforce.estimation.calibration.dataset import Trial
+from mudforce.estimation.calibration.results import ConditionFit, FitResult
+from mudforce.model.foot import Foot
+from mudforce.motions.gait import walk
 
 
 def test_load_fit_returns_the_saved_result(tmp_path: Path) -> None:

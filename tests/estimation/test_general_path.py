@@ -9,13 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mudforce.calibration import fit_condition, identify_water_content, prepare_trial, synthesize_gait
-from mudforce.calibration.branches import estimate_force_noise
-from mudforce.calibration.dataset import Trial
-from mudforce.calibration.models import CHEN2024
-from mudforce.foot import Foot
-from mudforce.gait import walk
-from mudforce.parameters import MudParameters
+from mudforce.estimation.calibration import fit_condition, identify_water_content, prepare_trial, synthesize_gait
+from mudforce.estimation.calibration.branches import estimate_force_noise
+from mudforce.estimation.calibration.dataset import Trial
+from mudforce.estimation.calibration.models import CHEN2024
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.motions.gait import walk
 from mudforce_cli_harness import run_cli
 
 

@@ -11,7 +11,7 @@ jax.config.update("jax_enable_x64", True)
 import jax.numpy as jnp  # noqa: E402
 
 import mudforce.jax as mj  # noqa: E402
-from mudforce.parameters import MudParameters  # noqa: E402
+from mudforce.model.parameters import MudParameters  # noqa: E402
 
 DT = 2e-3
 STEPS = 600

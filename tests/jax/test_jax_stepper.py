@@ -11,12 +11,12 @@ jax.config.update("jax_enable_x64", True)  # float64 comparisons; float32 is ask
 import jax.numpy as jnp  # noqa: E402
 
 import mudforce.jax as mj  # noqa: E402
-from mudforce import dynamics  # noqa: E402
 from mudforce._kernel import layout as K  # noqa: E402  (the state layout's columns, to compare states)
+from mudforce.engines import dynamics  # noqa: E402
 from mudforce.errors import InputError  # noqa: E402
-from mudforce.foot import Foot  # noqa: E402
-from mudforce.parameters import MudParameters  # noqa: E402
-from mudforce.vectorized import MudContacts  # noqa: E402
+from mudforce.model.foot import Foot  # noqa: E402
+from mudforce.model.parameters import MudParameters  # noqa: E402
+from mudforce.steppers.many import MudContacts  # noqa: E402
 
 WATER = (0.15, 0.20, 0.25, 0.30, 0.35)
 DT = 1e-3
@@ -222,7 +222,7 @@ def test_float32_tracks_float64() -> None:
 
 def test_neck_filter_transition_is_the_cpu_matrix_on_short_and_long_steps() -> None:
     """Eq. (7)'s one-step matrix minus I (shared increment forms) against the CPU's matrix, 0.1 ms to 50 ms steps."""
-    from mudforce import equations as eq
+    from mudforce.model import equations as eq
 
     grid = np.meshgrid([1e-4, 1e-3, 4e-3, 0.05], [0.05, 0.4, 0.99, 1.0, 1.01, 1.8, 6.0], [2.0, 60.0, 400.0, 2000.0],
                        indexing="ij")

@@ -5,17 +5,16 @@ from __future__ import annotations
 import numpy as np
 
 import mudforce as mf
-from mudforce import _cache
 from mudforce import _kernel as K
-from mudforce._kernel import layout
-from mudforce.simulation import params_row
+from mudforce._kernel import layout, params_row
+from mudforce._plumbing import cache as _cache
 
 
 def test_contact_state_codes_are_pinned() -> None:
     """The codes are stored in state rows, snapshots and SimulationResult.state: they must never change."""
     assert [(s.name, int(s)) for s in K.ContactMode] == [("FREE", 0), ("CONTACT", 1), ("NECKED", 2)]
     assert (layout.FREE, layout.CONTACT, layout.NECKED) == (0, 1, 2)
-    assert K.STATE_NAMES == ("FREE", "CONTACT", "NECKED") == mf.simulation.STATE_NAMES
+    assert K.STATE_NAMES == ("FREE", "CONTACT", "NECKED") == mf.STATE_NAMES
 
 
 def test_named_views_follow_the_columns() -> None:

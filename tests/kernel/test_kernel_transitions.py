@@ -14,10 +14,9 @@ from scipy.optimize import brentq
 
 import mudforce as mf
 from mudforce import _kernel as K
-from mudforce import equations as eq
-from mudforce._kernel import layout
+from mudforce._kernel import layout, params_row
 from mudforce._kernel import transitions as T
-from mudforce.simulation import params_row
+from mudforce.model import equations as eq
 
 P = K.params_of(params_row(mf.MudParameters.from_water_content(0.25), mf.Foot.paper(), mf.VelocityFilter.exact()))
 DT = 1e-3
@@ -138,7 +137,7 @@ def test_advance_is_the_composition_of_the_transitions() -> None:
 
 
 def test_plain_arithmetic_runs_on_arrays_with_the_compiled_bits() -> None:
-    """The convention of mudforce.equations: ``.py_func`` on whole arrays = the compiled function per element."""
+    """The convention of mudforce.model.equations: ``.py_func`` on whole arrays = the compiled function per element."""
     rng = np.random.default_rng(7)
     a, b, c, d, e, f = rng.uniform(0.1, 2.0, (6, 16))
     cases = [

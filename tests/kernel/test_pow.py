@@ -1,4 +1,4 @@
-"""The spring's power function (:func:`mudforce._pow.power`) against mpmath, and vectorised == scalar."""
+"""The spring's power function (:func:`mudforce._plumbing.pow.power`) against mpmath, and vectorised == scalar."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import mpmath
 import numpy as np
 from numba import njit
 
-from mudforce._pow import power
+from mudforce._plumbing.pow import power
 
 
 def _ulp_errors(x: np.ndarray, y: np.ndarray, got: np.ndarray) -> np.ndarray:

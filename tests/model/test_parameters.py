@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from mudforce import TABLE_I, Foot, InputError, MudParameters
-from mudforce.parameters import PARAMETER_NAMES, TABLE_I_WATER_CONTENTS
+from mudforce.model.parameters import PARAMETER_NAMES, TABLE_I_WATER_CONTENTS
 
 # Table I of Chen, Yi & Shan (2024), W = 25 %, converted by hand to SI
 # (MPa = 1e6 Pa, kPa = 1e3 Pa); rho_m and lambda from Section III-A.

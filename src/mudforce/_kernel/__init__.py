@@ -2,7 +2,7 @@
 
 Where to look
 -------------
-* The physics is :mod:`mudforce.equations`: every formula (the Maxwell
+* The physics is :mod:`mudforce.model.equations`: every formula (the Maxwell
   step, the branch stresses, the neck, Eq. (7)'s filter), each naming the
   paper's equation. Change the model there.
 * :mod:`~mudforce._kernel.transitions` is the contact state machine of
@@ -18,17 +18,17 @@ Where to look
 * :mod:`~mudforce._kernel.loops` is speed plumbing only: the loops over
   samples and feet (``step``, ``run_batch``, ``run_batch_compact``,
   ``run_feet``), none of which computes physics of its own.
-* The 3-D law (:mod:`mudforce.law3d`) for one element is
+* The 3-D law (:mod:`mudforce.model.law3d`) for one element is
   :mod:`~mudforce._kernel.element3d` (physics: compiled scalar functions,
   each its law3d namesake), and :mod:`~mudforce._kernel.step3d` is the
-  speed plumbing of :class:`mudforce.contact3d.MudContacts3D`, which runs
+  speed plumbing of :class:`mudforce.steppers.contact3d.MudContacts3D`, which runs
   ``run_feet`` on every element and that law on top.
 
 Rule for new code: the nonlinear spring, Eq. (4), is evaluated only through
-:func:`mudforce.equations.nonlinear_spring_stress` (its power is
-:func:`mudforce._pow.power`), so that every path, vectorised or not, gives
+:func:`mudforce.model.equations.nonlinear_spring_stress` (its power is
+:func:`mudforce._plumbing.pow.power`), so that every path, vectorised or not, gives
 the same bits. The force is summed only by
-:func:`mudforce.equations.total_stress`.
+:func:`mudforce.model.equations.total_stress`.
 
 The names below are what the rest of mudforce takes from the kernel
 (``from mudforce import _kernel as K; K.step(...)``): the loops, the
@@ -41,6 +41,8 @@ or the contact states as ints: those are the kernel's own, in
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from mudforce._kernel.layout import (
     MAX_WINDOW,
@@ -85,6 +87,10 @@ from mudforce._kernel.loops import (
     stream_parts,
     stream_step,
 )
+from mudforce.errors import InputError
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.model.velocity import VelocityFilter
 
 __all__ = [  # what the rest of mudforce uses (this package is private: not the public API)
     "MAX_WINDOW",
@@ -127,3 +133,12 @@ __all__ = [  # what the rest of mudforce uses (this package is private: not the 
     "stream_parts",
     "stream_step",
 ]
+
+
+def params_row(params: MudParameters, foot: Foot, velocity_filter: VelocityFilter) -> np.ndarray:
+    """The compiled stepper's constants for one foot."""
+    if not isinstance(params, MudParameters):
+        raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
+    if not isinstance(foot, Foot):
+        raise InputError(f"foot must be a Foot, got {type(foot).__name__}")
+    return make_params(params.as_array(), foot.area, foot.width, velocity_filter.window, velocity_filter.deadband)

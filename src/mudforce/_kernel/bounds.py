@@ -2,10 +2,10 @@
 
 Written once here so that the compiled loops (which take module constants
 into their machine code) and the Python checks in front of them use the
-same numbers; :mod:`mudforce.simulation` re-exports them as the public
-:data:`~mudforce.simulation.MAX_DEPTH`, :data:`~mudforce.simulation.MIN_DT`,
-:data:`~mudforce.simulation.MAX_DT` and :data:`~mudforce.simulation.MAX_TIME`.
-Inside these bounds every output is finite (``tests/reliability/test_promise.py``).
+same numbers; :mod:`mudforce.steppers.simulation` re-exports them as the public
+:data:`~mudforce.steppers.simulation.MAX_DEPTH`, :data:`~mudforce.steppers.simulation.MIN_DT`,
+:data:`~mudforce.steppers.simulation.MAX_DT` and :data:`~mudforce.steppers.simulation.MAX_TIME`.
+Inside these bounds every output is finite (``tests/api/test_promise.py``).
 :func:`out_of_bounds` is the one test of a sample against them, for the
 compiled loops and for ``simulation``'s pass over a whole trajectory.
 """

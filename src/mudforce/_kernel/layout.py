@@ -50,9 +50,10 @@ from typing import Any, NamedTuple, TypeVar
 import numpy as np
 from numba import njit
 
-from mudforce import _cache
+from mudforce._plumbing import cache as _cache
+from mudforce.model.velocity import MAX_WINDOW
 
-_cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._cache)
+_cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._plumbing.cache)
 
 __all__ = [
     "CONTACT",
@@ -177,8 +178,7 @@ N_STATE = S_CACHE_PHI + 4
 N_CORE = S_CACHE_DT  # the state proper: columns 0 .. N_CORE - 1
 
 # ring row: the smoothing differentiator's last samples (for filter windows > 1)
-RING = 65  # holds window + 1 samples, so windows up to 64 steps
-MAX_WINDOW = RING - 1
+RING = MAX_WINDOW + 1  # holds window + 1 samples, so windows up to MAX_WINDOW steps
 R_N = 0  # number of samples held
 R_HEAD = 1  # index of the newest sample
 R_Z = 2  # RING depths [m]
@@ -222,7 +222,7 @@ class Cache(NamedTuple):
     dt: float  #: the step length it is for [s] (-1: none)
     decay_i: float  #: ``exp(-dt / tau_i)``
     decay_w: float  #: ``exp(-dt / tau_w)``
-    phi0: float  #: Eq. (7)'s one-step transition matrix (:func:`mudforce.equations.neck_filter_transition`)
+    phi0: float  #: Eq. (7)'s one-step transition matrix (:func:`mudforce.model.equations.neck_filter_transition`)
     phi1: float
     phi2: float
     phi3: float
@@ -343,7 +343,7 @@ def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float) -> list
     """Which rows of ``states`` (and of the filter histories ``ring``) the stepper could never have made.
 
     For validating a restored state as strictly as a fresh one
-    (:func:`mudforce.contact.check_states` words the error).
+    (:func:`mudforce.steppers.contact.check_states` words the error).
 
     Parameters
     ----------

@@ -18,7 +18,7 @@ only in what it writes where:
 
 :func:`run_feet` and :func:`run_batch_compact` set the feet or samples on
 the spring aside and compute their forces in one vectorised pass
-(:func:`spring_pass`); the spring's power (:func:`mudforce._pow.power`)
+(:func:`spring_pass`); the spring's power (:func:`mudforce._plumbing.pow.power`)
 gives the same bits there as in a single call, so every path agrees.
 """
 
@@ -71,7 +71,7 @@ from mudforce._kernel.transitions import (
     stress_parts,
     total_force,
 )
-from mudforce.equations import nonlinear_spring_stress
+from mudforce.model.equations import nonlinear_spring_stress
 
 __all__ = [
     "N_SPRING",

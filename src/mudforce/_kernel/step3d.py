@@ -1,14 +1,14 @@
-"""Speed plumbing only: the compiled 3-D step of many feet (:class:`mudforce.contact3d.MudContacts3D`).
+"""Speed plumbing only: the compiled 3-D step of many feet (:class:`mudforce.steppers.contact3d.MudContacts3D`).
 
 Nothing here is physics. One call places every foot's elements by its pose,
 steps every element's paper state with the 1-D stepper
 (:func:`~mudforce._kernel.loops.run_feet`, the same compiled function
 :class:`mudforce.MudContacts` runs, so the state machine exists once), and
 applies the lateral law through the scalar functions of
-:mod:`~mudforce._kernel.element3d` (each :mod:`mudforce.law3d`'s namesake
+:mod:`~mudforce._kernel.element3d` (each :mod:`mudforce.model.law3d`'s namesake
 for one element) and Eq. (4) through
-:func:`mudforce.equations.nonlinear_spring_stress`. It follows
-:meth:`mudforce.contact3d.MudContact3D.step` line for line, foot by foot,
+:func:`mudforce.model.equations.nonlinear_spring_stress`. It follows
+:meth:`mudforce.steppers.contact3d.MudContact3D.step` line for line, foot by foot,
 and differs only in where things are kept:
 
 * the elements of all feet, concatenated foot after foot, are the rows
@@ -32,9 +32,9 @@ and differs only in where things are kept:
 :func:`step_feet` checks every foot's pose, every element's depth and the
 step length before anything moves (so a refused step changes nothing),
 then steps. It does not use BLAS or numpy's sums, so it does not give
-:class:`~mudforce.contact3d.MudContact3D`'s bits (which has its rotations
+:class:`~mudforce.steppers.contact3d.MudContact3D`'s bits (which has its rotations
 from BLAS): the two agree to rounding, about 1e-15 of the peak force
-(``tests/contact3d/test_many3d.py``); the same foot gives the same bits
+(``tests/steppers/test_many3d.py``); the same foot gives the same bits
 here whatever the other feet are.
 """
 
@@ -57,8 +57,8 @@ from mudforce._kernel.element3d import (
 )
 from mudforce._kernel.layout import S_DEPTH, S_STARTED, _compiled
 from mudforce._kernel.loops import run_feet
-from mudforce.equations import nonlinear_spring_stress
-from mudforce.law3d import QUATERNION_TOLERANCE, ROUNDING_DEPTH
+from mudforce.model.equations import nonlinear_spring_stress
+from mudforce.model.law3d import QUATERNION_TOLERANCE, ROUNDING_DEPTH
 
 __all__ = [
     "BAD_DT",
@@ -102,7 +102,7 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
     """Every foot's pose and every element's depth [m] into scratch; the first bad foot or -1.
 
     A foot is bad if its position is not finite, its quaternion not finite
-    or farther than :data:`~mudforce.law3d.QUATERNION_TOLERANCE` from unit
+    or farther than :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` from unit
     norm, or one of its elements would be deeper (or higher) than
     ``MAX_DEPTH``. Writes only scratch (``ft``'s this-step columns, ``depths``).
     """
@@ -136,7 +136,7 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
 
 @_compiled(inline="always")
 def _settle(states: np.ndarray, depths: np.ndarray) -> None:
-    """:func:`mudforce.law3d.settle_depth` on every started element: a change of depth by rounding is none."""
+    """:func:`mudforce.model.law3d.settle_depth` on every started element: a change of depth by rounding is none."""
     for i in range(depths.shape[0]):
         if states[i, S_STARTED] != 0.0 and abs(depths[i] - states[i, S_DEPTH]) <= ROUNDING_DEPTH:
             depths[i] = states[i, S_DEPTH]
@@ -155,7 +155,7 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
              lo: int, hi: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> None:
     """Foot ``f``'s elements ``lo:hi`` after the 1-D step: the lateral law, the wrench, the new lateral state.
 
-    :meth:`mudforce.contact3d.MudContact3D.step` from the paper's stress on,
+    :meth:`mudforce.steppers.contact3d.MudContact3D.step` from the paper's stress on,
     one element at a time.
     """
     # the geometry of this step, recomputed here rather than stored by _place: memory, not arithmetic, bounds

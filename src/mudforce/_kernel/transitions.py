@@ -16,7 +16,7 @@ NECKED    :func:`necked_step`                   :func:`leave_necked` (moving dow
 The transitions at a step's start come first (NECKED -> CONTACT/FREE, then
 FREE -> CONTACT from the crossing instant), then the step in the state
 reached, in closed form. Every formula is a function of
-:mod:`mudforce.equations`; this module only decides which applies when.
+:mod:`mudforce.model.equations`; this module only decides which applies when.
 All of these are compiled ``inline="always"``: the dispatcher and its
 transitions are one function to the compiler, so naming them costs nothing.
 
@@ -48,7 +48,7 @@ from mudforce._kernel.layout import (
     State,
     _compiled,
 )
-from mudforce.equations import (
+from mudforce.model.equations import (
     intrusion_stress,
     maxwell_strain_step,
     neck_filter_response,
@@ -141,7 +141,7 @@ def ring_velocity(ring: np.ndarray, j: int, window: int, depth: float, time: flo
     """Add the sample ``(time [s], depth [m])`` to ``ring[j]``; the secant over the last ``window`` steps [m/s].
 
     docs/model.md, "Measured trajectories": the smoothing differentiator of
-    :mod:`mudforce.velocity`.
+    :mod:`mudforce.model.velocity`.
     """
     head = (int(ring[j, R_HEAD]) + 1) % RING
     ring[j, R_Z + head] = depth
@@ -223,7 +223,7 @@ def intrusion_step(s: State, c: Cache, p: Params, z1: float, v: float, dt: float
     """CONTACT on the intrusion (or hold) branch from ``start`` [s] into the step to its end at ``z1`` [m].
 
     The Maxwell element with ``k_m_i, b_m_i``, Eqs. (2)-(3), in closed form
-    (:func:`mudforce.equations.maxwell_strain_step`). A step that ends
+    (:func:`mudforce.model.equations.maxwell_strain_step`). A step that ends
     above the surface ends in FREE (docs/model.md's table).
     """
     decay = c.decay_i if start == 0.0 else math.exp(-(dt - start) / p.tau_i)
@@ -257,7 +257,7 @@ def withdrawal_step(s: State, c: Cache, p: Params, z_start: float, z1: float, v:
 
     The Maxwell element with ``k_m_w, b_m_w``; the neck breaks at the
     first instant the suction passes ``-sigma_y``, Eq. (9), located in
-    closed form (:func:`mudforce.equations.necking_time`), and the step
+    closed form (:func:`mudforce.model.equations.necking_time`), and the step
     goes on in NECKED (:func:`neck`). The drag acts only while ``z_i > 0``,
     so the step is split where it crosses the surface; in each piece the
     stress is monotone. Returns the state at the step's end and the time
@@ -453,9 +453,9 @@ def stress_parts(p: Params, s: State, v: float) -> tuple[float, float, float, bo
     """A sample's stresses but the nonlinear spring's, from its state ``s`` and the step's velocity ``v`` [m/s].
 
     Returns ``(f_e1, f_s [Pa], dz_m/dt [m/s], spring)``: the branch's
-    stress (:func:`mudforce.equations.intrusion_stress`,
-    :func:`~mudforce.equations.withdrawal_stress`,
-    :func:`~mudforce.equations.necked_stress`) and the drag, Eq. (5), while
+    stress (:func:`mudforce.model.equations.intrusion_stress`,
+    :func:`~mudforce.model.equations.withdrawal_stress`,
+    :func:`~mudforce.model.equations.necked_stress`) and the drag, Eq. (5), while
     below the surface; ``spring`` is True where the nonlinear spring,
     Eq. (4), acts (CONTACT on the intrusion branch), which
     :func:`sample_outputs` evaluates at once and the loops over many
@@ -476,7 +476,8 @@ def stress_parts(p: Params, s: State, v: float) -> tuple[float, float, float, bo
 
 @_compiled(inline="always")
 def total_force(fe1: float, fe2: float, fs: float, area: float) -> float:
-    """The force [N]: :func:`mudforce.equations.total_stress` of the stresses [Pa] times the area [m^2], Eq. (1)."""
+    """The force [N]: :func:`mudforce.model.equations.total_stress` of the stresses [Pa] times the area [m^2],
+    Eq. (1)."""
     return total_stress(fe1, fe2, fs) * area
 
 
@@ -486,7 +487,7 @@ def sample_outputs(p: Params, s: State, v: float) -> tuple[float, float, float, 
 
     Returns ``(force [N], f_e1, f_e2, f_s [Pa], dz_m/dt [m/s])``: Eqs. (2),
     (4), (5), (7) and (8) times the area. The spring goes through
-    :func:`mudforce.equations.nonlinear_spring_stress`, as on every path.
+    :func:`mudforce.model.equations.nonlinear_spring_stress`, as on every path.
     """
     fe1, fs, mud_velocity, spring = stress_parts(p, s, v)
     fe2 = nonlinear_spring_stress(p.alpha, p.beta, s.depth, p.width) if spring else 0.0

@@ -1,9 +1,9 @@
 """Regenerate the paper's figures and tables from the model and synthetic experiments, with granular baselines.
 
 ``mudforce reproduce --out DIR`` (or :func:`reproduce`) makes synthetic
-experiments of the paper's protocol with :func:`mudforce.calibration.synthesize`,
+experiments of the paper's protocol with :func:`mudforce.estimation.calibration.synthesize`,
 fits the model back per water content and per speed, fits the baselines of
-:mod:`mudforce.baselines` to the same data, and writes ``DIR/report.html``
+:mod:`mudforce.model.baselines` to the same data, and writes ``DIR/report.html``
 with its PNG figures (each captioned with the figure of Chen, Yi & Shan,
 arXiv:2403.02617, that it corresponds to) and ``DIR/summary.json``. See
 :mod:`mudforce.reproduce.report` for what is computed and how.

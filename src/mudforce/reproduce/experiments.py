@@ -4,7 +4,7 @@ No experimental data from Chen, Yi & Shan (arXiv:2403.02617) is public, so
 the report works on data the project can make. For each water content,
 speed and repeat, one trial of the paper's protocol (approach from 5 mm
 above the surface, intrude to 20 mm, hold 6 s, withdraw to 20 mm above the
-surface, 100 Hz) is made by :func:`mudforce.calibration.synthesize` from
+surface, 100 Hz) is made by :func:`mudforce.estimation.calibration.synthesize` from
 Table I (interpolated) with force noise, depth noise and a force-sensor
 bias. Each trial's mud is prepared afresh, so its parameters scatter about
 the Table I row (lognormal, ``repeat_scatter`` relative standard deviation
@@ -19,12 +19,12 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.calibration.dataset import Dataset, Trial
-from mudforce.calibration.fit import FitOptions
-from mudforce.calibration.synth import synthesize, trial_name
 from mudforce.errors import InputError
-from mudforce.foot import Foot
-from mudforce.parameters import MudParameters
+from mudforce.estimation.calibration.dataset import Dataset, Trial
+from mudforce.estimation.calibration.fit import FitOptions
+from mudforce.estimation.calibration.synth import synthesize, trial_name
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
 from mudforce.reproduce._checks import check_seed
 
 __all__ = ["SCATTERED", "ReproduceConfig", "make_experiments"]

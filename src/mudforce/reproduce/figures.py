@@ -1,8 +1,8 @@
 """The figures of :mod:`mudforce.reproduce`: the paper's Figs. 2, 6-11, the critical withdrawal velocity, the baselines.
 
 Each figure is drawn by one function from the fits, on a figure of
-:func:`mudforce.plotting.new_figure`, and saved by
-:func:`mudforce.plotting.save_png` (reproducible bytes: no version or
+:func:`mudforce.io.plotting.new_figure`, and saved by
+:func:`mudforce.io.plotting.save_png` (reproducible bytes: no version or
 timestamp in the PNG). :func:`figure_specs` lists them with the paper's
 figure each corresponds to and its caption (shown in ``report.html``).
 Depths and speeds are drawn in mm and mm/s, parameters in the paper's
@@ -17,17 +17,17 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.baselines import granular_rft_force
-from mudforce.calibration.dataset import Dataset
-from mudforce.calibration.fit import ConditionFit, TrialFit
-from mudforce.calibration.report import error_profile
-from mudforce.foot import Foot
-from mudforce.parameters import MudParameters
-from mudforce.plotting import new_figure, save_png
-from mudforce.progress import Progress
+from mudforce._plumbing.progress import Progress
+from mudforce.estimation.calibration.dataset import Dataset
+from mudforce.estimation.calibration.fit import ConditionFit, TrialFit
+from mudforce.estimation.calibration.report import error_profile
+from mudforce.io.plotting import new_figure, save_png
+from mudforce.model.baselines import granular_rft_force
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
 from mudforce.reproduce.experiments import ReproduceConfig
 from mudforce.reproduce.summary import MODEL_LABELS, PAPER_UNITS, determined, in_paper_units
-from mudforce.simulation import simulate
+from mudforce.steppers.simulation import simulate
 
 __all__ = ["N_FIGURES", "Spec", "figure_specs", "warm_up_matplotlib", "write_figures"]
 
@@ -395,7 +395,7 @@ def figure_specs(config: ReproduceConfig, dataset: Dataset, table: dict[float, C
 
 
 def _fig_tracking(seed: int) -> Any:
-    from mudforce.tracking_plots import tracking_figure
+    from mudforce.estimation.tracking_plots import tracking_figure
 
     return tracking_figure(seed=seed)
 

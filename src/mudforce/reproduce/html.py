@@ -18,7 +18,7 @@ from pathlib import Path
 from string import Template
 from typing import Any
 
-from mudforce.parameters import CITATION
+from mudforce.model.parameters import CITATION
 from mudforce.reproduce.experiments import SCATTERED, ReproduceConfig
 from mudforce.reproduce.summary import MODEL_LABELS, NINE, PAPER_UNITS, POORLY_DETERMINED, in_paper_units
 

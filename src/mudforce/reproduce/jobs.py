@@ -1,7 +1,7 @@
 """The fits of :mod:`mudforce.reproduce`, as jobs, and the worker processes that run them.
 
 The paper's model is fitted per water content on all its speeds ("Table I
-as fitted"), the baselines of :mod:`mudforce.baselines` per water content on
+as fitted"), the baselines of :mod:`mudforce.model.baselines` per water content on
 the same trials, and, once a water content's fit is known, the paper's
 model per (water content, speed) with only :data:`VELOCITY_FREE` free
 (Fig. 10). Every fit has its own seed, so the result does not depend on
@@ -27,11 +27,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from mudforce.baselines import BASELINE_NAMES
-from mudforce.calibration.dataset import Dataset, Trial
-from mudforce.calibration.fit import ConditionFit, FitOptions, fit_condition
-from mudforce.foot import Foot
-from mudforce.progress import Progress
+from mudforce._plumbing.progress import Progress
+from mudforce.estimation.calibration.dataset import Dataset, Trial
+from mudforce.estimation.calibration.fit import ConditionFit, FitOptions, fit_condition
+from mudforce.model.baselines import BASELINE_NAMES
+from mudforce.model.foot import Foot
 from mudforce.reproduce.experiments import ReproduceConfig
 
 __all__ = ["VELOCITY_FREE", "Job", "count_fits", "executor", "run_fits", "sort_fits", "terminate"]

@@ -9,8 +9,8 @@ No experimental data from Chen, Yi & Shan (arXiv:2403.02617) is public, so
 2. **Calibration** (:mod:`mudforce.reproduce.jobs`): the paper's model is
    fitted per water content (all speeds: "Table I as fitted") and per
    (water content, speed) (Fig. 10) with
-   :func:`mudforce.calibration.fit_condition`; the baselines of
-   :mod:`mudforce.baselines` are fitted on the same trials.
+   :func:`mudforce.estimation.calibration.fit_condition`; the baselines of
+   :mod:`mudforce.model.baselines` are fitted on the same trials.
 3. **Report**: ``summary.json`` (:mod:`mudforce.reproduce.summary`), the PNG
    figures, each captioned with the paper's figure it corresponds to
    (:mod:`mudforce.reproduce.figures`), and ``report.html``
@@ -37,12 +37,12 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from mudforce.calibration.dataset import Dataset
-from mudforce.calibration.fit import ConditionFit
+from mudforce._plumbing.progress import Progress
 from mudforce.errors import positive_int
+from mudforce.estimation.calibration.dataset import Dataset
+from mudforce.estimation.calibration.fit import ConditionFit
 from mudforce.io import atomic_write_text
-from mudforce.parameters import MudParameters
-from mudforce.progress import Progress
+from mudforce.model.parameters import MudParameters
 from mudforce.reproduce.experiments import ReproduceConfig, make_experiments
 from mudforce.reproduce.figures import N_FIGURES, figure_specs, warm_up_matplotlib, write_figures
 from mudforce.reproduce.html import render_html
@@ -136,7 +136,7 @@ def reproduce(out: str | os.PathLike[str], config: ReproduceConfig | None = None
     Terminated
         On SIGTERM (in the main thread): the workers are stopped and ``out`` is left as it was.
     """
-    from mudforce._optional import require
+    from mudforce._plumbing.optional import require
 
     require("matplotlib", "plot", "mudforce reproduce")
     warm_up_matplotlib()  # before the workers fork, so that they do not each pay for it

@@ -15,10 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.calibration.dataset import Dataset
-from mudforce.calibration.fit import POOR_RELATIVE_STDERR, ConditionFit
-from mudforce.foot import Foot
-from mudforce.parameters import (
+from mudforce.estimation.calibration.dataset import Dataset
+from mudforce.estimation.calibration.fit import POOR_RELATIVE_STDERR, ConditionFit
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import (
     CITATION,
     PAPER_UNITS,  # the one table of the paper's units (re-exported here)
     TABLE_I,
@@ -26,7 +26,7 @@ from mudforce.parameters import (
     MudParameters,
 )
 from mudforce.reproduce.experiments import ReproduceConfig
-from mudforce.simulation import simulate
+from mudforce.steppers.simulation import simulate
 
 __all__ = [
     "MODEL_LABELS",
@@ -68,7 +68,7 @@ def _round(x: Any) -> Any:
 
 
 #: Relative standard error above which a fitted value is drawn and listed as not determined [-]: the
-#: calibration's own threshold (:data:`mudforce.calibration.fit.POOR_RELATIVE_STDERR`), written once there.
+#: calibration's own threshold (:data:`mudforce.estimation.calibration.fit.POOR_RELATIVE_STDERR`), written once there.
 POORLY_DETERMINED: float = POOR_RELATIVE_STDERR
 
 
@@ -78,7 +78,7 @@ def determined(fit: ConditionFit, name: str) -> bool:
     True when it was fitted, has a standard error below
     :data:`POORLY_DETERMINED` of its value, and is not at a bound of the model.
     """
-    from mudforce.calibration.models import get_model
+    from mudforce.estimation.calibration.models import get_model
 
     se = fit.stderr.get(name)
     value = fit.parameters[name]
@@ -101,7 +101,7 @@ def _rmse_with(params: MudParameters, fit: ConditionFit, foot: Foot) -> float:
 
 
 def _necks(params: MudParameters, velocity: float, foot: Foot) -> bool:
-    from mudforce.protocol import Protocol
+    from mudforce.motions.protocol import Protocol
 
     t, z = Protocol.paper(velocity=velocity, approach=0.005).sample()
     return bool(simulate(t, z, params, foot, velocity_filter="exact").necking_times.size)

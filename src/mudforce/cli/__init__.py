@@ -1,0 +1,125 @@
+"""The ``mudforce`` command line.
+
+Each subcommand lives in its own module under :mod:`mudforce.cli` and
+provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
+
+Exit status: 0 on success, 2 for bad input (one line on stderr, no
+traceback, no output file touched), 1 when the system fails mid-way (an
+``OSError``: one line too), 130 when interrupted (Ctrl-C, SIGINT: one line,
+``mudforce: interrupted``, even when the interrupt came inside a callback
+where Python cannot raise it; see :mod:`mudforce._plumbing.interrupt`). Bad input is refused at
+its root (units, bounds, strict readers: :mod:`mudforce.io.units`,
+:mod:`mudforce.io.tables`, :mod:`mudforce.io`); an ``OverflowError``,
+``RecursionError`` or ``ValueError`` that still escapes a command is
+reported the same way (one line, status 2), as a last line of defence.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import re
+import sys
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+from mudforce._plumbing import interrupt as _interrupt
+from mudforce.errors import InputError
+
+__all__ = ["COMMANDS", "main"]
+
+#: Subcommand modules, in the order ``mudforce --help`` lists them.
+COMMANDS: tuple[str, ...] = (
+    "mudforce.cli.simulate",
+    "mudforce.cli.params",
+    "mudforce.cli.synth",
+    "mudforce.cli.fit",
+    "mudforce.cli.fit_drag",
+    "mudforce.cli.identify",
+    "mudforce.cli.drop",
+    "mudforce.cli.track",
+    "mudforce.cli.reproduce",
+)
+
+
+#: A word that is a value, not an option, though it starts with "-": a signed number with or without
+#: its unit (``-0.5N``, ``-5mm``, ``-1e-3``, ``-.5``), or a signed infinity or NaN (which the value's own
+#: check then refuses with its message). No option of any command starts with "-<digit>", "-inf" or "-nan".
+_NEGATIVE_VALUE = re.compile(r"^-(?:\.?\d|inf|nan)", re.IGNORECASE)
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argparse parser whose errors are one line and exit status 2, and which reads ``--bias -0.5N`` as
+    an option and its value (argparse's own rule only takes plain numbers like ``-1`` for values, so it
+    reported "expected one argument"); a value that must not be negative is refused by its own check."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_VALUE
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full argument parser with every available subcommand."""
+    from mudforce import __version__
+
+    parser = _Parser(prog="mudforce", description="The mud resistive-force model of Chen, Yi & Shan (2024).")
+    parser.add_argument("--version", action="version", version=f"mudforce {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(name)
+        except ModuleNotFoundError as exc:
+            if exc.name == name:  # a command not written yet
+                continue
+            raise
+        cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.__doc__)
+        module.add_arguments(cmd)
+        cmd.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "_run", None) is None:
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        with _interrupt.watch():  # Ctrl-C always stops the command, even where Python would lose it
+            status = int(args._run(args) or 0)
+            _interrupt.check()  # an interrupt lost along the way: not a success
+        return status
+    except InputError as exc:
+        print(f"mudforce {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("mudforce: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # the reader went away (`mudforce params | head`): not an error of ours
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+    except (OverflowError, RecursionError, ValueError, ZeroDivisionError, MemoryError) as exc:
+        # the last line of defence, after the checks at the roots (units, bounds, strict readers):
+        # input of a kind no check foresaw still gets one line and status 2, not a traceback
+        text = " ".join(str(exc).split())[:200] or exc.__class__.__name__
+        print(f"mudforce {args.command}: error: the input could not be processed "
+              f"({exc.__class__.__name__}: {text})", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        # the system failed us mid-way (a full disk, a vanished folder): one line, not a traceback;
+        # status 1, since the input itself was fine (paths are checked before any work)
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"mudforce {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

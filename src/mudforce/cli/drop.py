@@ -1,0 +1,135 @@
+"""Drop a cuboid foot into mud and simulate how it sinks, sticks and settles.
+
+The paper's 51 x 38 mm cuboid foot of the given mass is released at rest
+with its bottom at the mud surface (or --height above it) and falls under
+gravity (9.81 m/s^2) into mud of the given water content (Table I of Chen,
+Yi & Shan 2024, interpolated between rows). The mud force is the model's,
+coupled with the foot's motion: the foot sinks on the intrusion branch,
+and at rest it sticks while its weight lies between the withdrawal- and
+intrusion-branch forces (README, "Dynamics").
+
+Engines: "builtin" integrates the one-degree-of-freedom foot event-driven
+(RK4 with event location, 0.1 ms sub-steps); "mujoco" runs MuJoCo (1 ms
+steps) with the mudforce.engines.mujoco adapter (needs: pip install 'mudforce[mujoco]'); "mjx" runs
+MuJoCo's JAX port MJX (1 ms steps, one jitted scan) with mudforce.engines.mjx (needs: pip install 'mudforce[mjx]').
+
+Output CSV columns: time_s, depth_m (positive down), velocity_m_s
+(positive down), force_N (mud force, positive up), state (FREE, INTRUSION,
+WITHDRAWAL, STUCK, NECKED), one row per millisecond. The summary line gives
+the rest depth only if the foot is at rest (STUCK) at the end; otherwise
+it says the foot is still moving, and how fast.
+
+Bounds: --mass from 0.1 kg (builtin) or 1 kg (mujoco and mjx: MuJoCo's contact's
+~10-20 um creep is a large part of a lighter foot's rest depth) to 10000 kg;
+--height 0 to 10 m; --duration 2 ms to 600 s; --water-content within
+Table I (15%-35%).
+
+examples:
+  mudforce drop --mass 5kg --water-content 25% --out drop.csv
+  mudforce drop --engine mujoco --mass 10kg --water-content 20% --duration 4s --out drop.csv --plot drop.png
+  mudforce drop --mass 5kg --water-content 15% --height 20mm --out drop.csv
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from mudforce.errors import InputError
+from mudforce.io import check_output_path
+from mudforce.io.units import parse_quantity
+
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
+NAME = "drop"
+HELP = "drop a cuboid foot into mud (built-in or MuJoCo engine) and write its depth and force (CSV)"
+
+_MAX_DURATION = 600.0  # [s]
+_MIN_DURATION = 2e-3  # [s]: two samples
+_MAX_MASS = 1e4  # [kg]
+#: Lightest foot per engine [kg]: the built-in engine is accurate far below (3e-5 kg is its stability
+#: limit), MuJoCo's soft friction lets a foot creep ~10-20 um, 10% of a 1 kg foot's rest depth at W = 15%;
+#: MJX's limit is MuJoCo's (the same model, stepped at 1 ms)
+_MIN_MASS = {"builtin": 0.1, "mujoco": 1.0, "mjx": 1.0}
+_MAX_HEIGHT = 10.0  # [m]
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Declare the options of ``mudforce drop``."""
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.add_argument("--engine", choices=("builtin", "mujoco", "mjx"), default="builtin",
+                        help="dynamics engine (default: builtin)")
+    parser.add_argument("--mass", required=True, metavar="M",
+                        help="foot mass with unit, e.g. 5kg: 0.1kg (builtin) or 1kg (mujoco) to 10000kg")
+    parser.add_argument("--water-content", required=True, metavar="W",
+                        help="mud water content within 15%%-35%%, e.g. 25%%")
+    parser.add_argument("--duration", default="8s", metavar="T",
+                        help="simulated time with unit, 2ms to 600s (default: 8s)")
+    parser.add_argument("--height", default="0mm", metavar="H",
+                        help="release height of the foot's bottom above the surface, 0 to 10m (default: 0mm)")
+    parser.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write (atomically)")
+    parser.add_argument("--plot", default=None, metavar="FILE.png", help="also save a PNG figure")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``mudforce drop``; returns the exit status."""
+    from mudforce.model.parameters import MudParameters
+
+    mass = parse_quantity(args.mass, "mass", name="--mass")
+    water = parse_quantity(args.water_content, "fraction", name="--water-content")
+    duration = parse_quantity(args.duration, "time", name="--duration")
+    height = parse_quantity(args.height, "length", name="--height", allow_zero=True)
+    if duration > _MAX_DURATION:
+        raise InputError(f"--duration: {args.duration!r} is longer than {_MAX_DURATION:g} s")
+    if duration < _MIN_DURATION:
+        raise InputError(f"--duration: {args.duration!r} is shorter than 2 ms (two samples)")
+    if mass > _MAX_MASS:
+        raise InputError(f"--mass: {args.mass!r} is more than {_MAX_MASS:g} kg; expected e.g. 5kg")
+    lightest = _MIN_MASS[args.engine]
+    if mass < lightest:
+        raise InputError(f"--mass: {args.mass!r} is less than {lightest:g} kg, the lightest foot the {args.engine} "
+                         f"engine simulates reliably; expected e.g. 5kg")
+    if height > _MAX_HEIGHT:
+        raise InputError(f"--height: {args.height!r} is more than {_MAX_HEIGHT:g} m; expected e.g. 20mm")
+    params = MudParameters.from_water_content(water)
+    out = check_output_path(args.out, "--out")
+    plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
+    if plot is not None and plot.resolve() == out.resolve():
+        raise InputError("--plot and --out name the same file")
+    if plot is not None:
+        from mudforce._plumbing.optional import require
+
+        require("matplotlib", "plot", "--plot")
+    if args.engine == "mujoco":
+        from mudforce._plumbing.optional import require
+
+        require("mujoco", "mujoco", "--engine mujoco")
+        from mudforce.engines.mujoco import simulate_drop
+
+        result = simulate_drop(mass, params, duration=duration, height=height)
+    elif args.engine == "mjx":
+        from mudforce._plumbing.optional import require
+
+        require("jax", "mjx", "--engine mjx")  # mudforce.engines.mjx checks for mujoco.mjx itself
+        from mudforce.engines.mjx import simulate_drop as simulate_drop_mjx
+
+        result = simulate_drop_mjx(mass, params, duration=duration, height=height)
+    else:
+        from mudforce.engines.dynamics import simulate_foot
+
+        result = simulate_foot(mass, params, duration=duration, height=height)
+    try:
+        result.to_csv(out)
+        if plot is not None:
+            result.plot(plot, title=f"{mass:g} kg foot dropped into mud at W = {water:.0%} ({args.engine})")
+    except OSError as exc:
+        raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
+    weight = mass * result.gravity
+    if result.at_rest:
+        where = f"rest depth {result.rest_depth * 1e3:.3f} mm after {duration:g} s"
+    else:
+        where = (f"not at rest after {duration:g} s: depth {result.end_depth * 1e3:.3f} mm, "
+                 f"moving at {result.velocity[-1] * 1e3:.3f} mm/s ({result.phase_names[-1]})")
+    span = "second" if duration >= 1.0 else f"{duration:g} s"
+    print(f"{args.engine}: {where}; "
+          f"force std over the last {span} {100.0 * result.force_std(1.0) / weight:.3f}% of m g; wrote {out}")
+    return 0

@@ -1,0 +1,87 @@
+"""Estimate the water content of one trial of any motion from the Table I family, with an interval.
+
+TRIAL.csv has the columns time_s, depth_m (or depth_mm), force_N of one
+trial: the lab protocol or any foot motion (steps, stances with sway,
+re-pushes; starting above or below the surface). The trial is prepared as
+for a fit (branch of every step from the depth and the force's jumps,
+force tared or its bias estimated; docs/estimation.md) and compared with
+the model for Table I's parameters, interpolated between its rows (15% to
+35%). The interval is a likelihood-ratio interval that widens when the
+family misfits the trial. With --json: {"water_content": 0.23,
+"nearest_water_content": 0.23, "interval": [0.21, 0.25], "rmse_N": ...,
+"level": 0.95, "force_noise_N": ..., "noise_floor_N": ..., "misfit_ratio":
+..., "model_misses_data": false, "off_family_N": ..., "bias_N": ...,
+"bias_method": "tared", "bias_stderr_N": ..., "warnings": [...]}.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from pathlib import Path
+
+from mudforce.io import dumps_json
+from mudforce.model.foot import FOOT_EXAMPLES, Foot
+
+__all__ = ["HELP", "NAME", "add_arguments", "run"]
+
+NAME = "identify"
+HELP = "estimate the water content of one trial (Table I family, with an interval)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``mudforce identify``."""
+    parser.add_argument("trial", metavar="TRIAL.csv", help="columns time_s, depth_m (or depth_mm), force_N")
+    parser.add_argument("--foot", default=None, help=f"{FOOT_EXAMPLES} (default paper)")
+    parser.add_argument("--level", default="95%", help="confidence level of the interval (default 95%%)")
+    parser.add_argument("--json", action="store_true", help="print JSON")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Read the trial, identify, print."""
+    from mudforce.errors import InputError
+    from mudforce.estimation.calibration.dataset import load_trial, parse_foot
+    from mudforce.estimation.calibration.identify import identify_water_content
+    from mudforce.io.units import parse_quantity
+
+    level = round(parse_quantity(args.level, "fraction", name="--level"), 9)
+    if not 0.0 < level < 1.0:
+        raise InputError(f"--level: {args.level!r} must be between 0% and 100%, e.g. 95%")
+    foot = parse_foot(args.foot if args.foot is not None else "paper")
+    result = identify_water_content(load_trial(args.trial), foot, level=level)
+    listed = _manifest_foot(args.trial)
+    if listed is not None and (abs(listed.area - foot.area) > 1e-9 * foot.area
+                               or abs(listed.width - foot.width) > 1e-9 * foot.width):
+        given = f"--foot {args.foot}" if args.foot is not None else "the paper's foot (no --foot given)"
+        note = (f"the dataset's manifest names the foot {listed.shape} (S = {listed.area:.4g} m^2), but "
+                f"{given} was assumed (S = {foot.area:.4g} m^2): pass the trial's own foot with --foot")
+        result = dataclasses.replace(result, warnings=(*result.warnings, note))
+    if args.json:
+        print(dumps_json(result.to_dict(), indent=2))
+    else:
+        lo, hi = result.interval
+        print(f"water content {result.water_content:.2%} ({level:.0%} interval {lo:.2%} to {hi:.2%}), "
+              f"RMSE {result.rmse:.3g} N")
+        for w in result.warnings:
+            print(f"warning: {w}")
+    return 0
+
+
+def _manifest_foot(trial: str) -> Foot | None:
+    """The foot that a dataset.json beside ``trial`` names for it, if one lists it (else None)."""
+    from mudforce.errors import InputError
+    from mudforce.estimation.calibration.dataset import MANIFEST_NAME, foot_from_json
+    from mudforce.io import load_json
+
+    path = Path(trial)
+    manifest = path.parent / MANIFEST_NAME
+    if not manifest.is_file():
+        return None
+    try:
+        data = load_json(manifest, "manifest")
+        listed = {entry.get("file") for entry in data.get("trials", ()) if isinstance(entry, dict)}
+        if path.name not in listed:
+            return None
+        return foot_from_json(data.get("foot"), str(manifest))
+    except (InputError, AttributeError, TypeError):
+        return None  # not a manifest this trial can be matched with: nothing to compare

@@ -1,0 +1,216 @@
+"""Simulate the mud force on a foot for the paper's protocol or a measured trajectory, and write it as CSV.
+
+The motion is either the paper's experiment (intrude at --velocity to
+--depth, hold for --hold, withdraw at the same speed to --rise above the
+surface, sampled at --rate; defaults 20mm, 10mm/s, 6s, 20mm, 100Hz) or a
+CSV file given with --trajectory (header with time_s and depth_m or
+depth_mm; depth positive below the surface). The mud is a row of Table I
+(--water-content, interpolated between rows) or a parameter file
+(--params, the flat JSON of `mudforce params --json`, SI).
+
+Every quantity needs its unit (20mm, 10mm/s, 6s, 100Hz, 25%). The foot is
+--foot cuboid:51mmx38mm (the paper's, the default), disc:50mm, or
+area:19.38cm2,width:38mm for any other flat foot (contact area S and the
+width H of Eq. (4)). Everything is checked before anything is written;
+the output files are replaced atomically, so an error leaves them as they
+were.
+
+Output columns: time_s, depth_m, velocity_m_s, mud_displacement_m,
+mud_velocity_m_s, f_e1_Pa, f_e2_Pa, f_s_Pa, force_N (+ up), state
+(FREE, CONTACT or NECKED).
+
+example: mudforce simulate --water-content 25% --depth 20mm --velocity 10mm/s --out force.csv --plot force.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mudforce.errors import InputError
+from mudforce.io import check_output_path, refuse_overwriting_inputs
+from mudforce.io.units import format_quantity, parse_quantity
+from mudforce.model.foot import FOOT_EXAMPLES, parse_foot
+from mudforce.motions.protocol import MAX_SAMPLES  # the bound's home: the protocol (here checked first, to name --rate)
+
+if TYPE_CHECKING:
+    from mudforce.model.parameters import MudParameters
+    from mudforce.steppers.simulation import SimulationResult
+
+__all__ = ["FOOT_EXAMPLES", "HELP", "MAX_SAMPLES", "NAME", "add_arguments", "check_output_path", "parse_foot", "run"]
+
+NAME = "simulate"
+HELP = "simulate the force for the paper's protocol or a trajectory CSV, write CSV (and a plot)"
+
+#: The accepted --foot forms, for help and error messages.
+
+
+#: The paper-protocol options: (attribute, option, kind, default text, zero allowed).
+_PROTOCOL_OPTIONS: tuple[tuple[str, str, str, str, bool], ...] = (
+    ("depth", "--depth", "length", "20mm", False),
+    ("velocity", "--velocity", "velocity", "10mm/s", False),
+    ("hold", "--hold", "time", "6s", False),
+    ("rise", "--rise", "length", "20mm", True),
+    ("rate", "--rate", "frequency", "100Hz", False),
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Declare the options of ``mudforce simulate``."""
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter  # keep the docstring's paragraphs
+    mud = parser.add_argument_group("mud (exactly one)")
+    which = mud.add_mutually_exclusive_group(required=True)
+    which.add_argument("--water-content", metavar="W",
+                       help="water content within Table I's 15%%-35%%, e.g. 25%%; between rows "
+                            "the parameters are interpolated log-linearly")
+    which.add_argument("--params", metavar="FILE.json",
+                       help="parameter file: a flat JSON object with the 11 keys in SI "
+                            "(as `mudforce params --water-content 25%% --json` prints)")
+
+    motion = parser.add_argument_group(
+        "motion: the paper's protocol (defaults shown), or --trajectory")
+    for attr, option, kind, default, _ in _PROTOCOL_OPTIONS:
+        text = {
+            "depth": "intrusion depth below the surface",
+            "velocity": "intrusion and withdrawal speed",
+            "hold": "hold time at depth",
+            "rise": "final height of the foot above the surface",
+            "rate": "sampling rate",
+        }[attr]
+        motion.add_argument(option, dest=attr, metavar=kind.upper(), default=None,
+                            help=f"{text} (default {default})")
+    motion.add_argument("--trajectory", metavar="FILE.csv",
+                        help="prescribed motion instead: CSV with a header naming time_s and "
+                             "depth_m (or depth_mm), depth positive down; excludes the options above")
+
+    parser.add_argument("--foot", metavar="SPEC", default=None,
+                        help=f"foot geometry: {FOOT_EXAMPLES} (default: the paper's cuboid:51mmx38mm)")
+    parser.add_argument("--velocity-filter", choices=("auto", "exact"), default="auto",
+                        help="how the intrusion/withdrawal branch is chosen from the depth: auto "
+                             "(exact for clean input of any shape, noise-robust when white noise is found in "
+                             "the depth; default; the summary says which) or exact")
+    parser.add_argument("--out", metavar="FILE.csv", required=True, help="write the samples here (CSV)")
+    parser.add_argument("--plot", metavar="FILE.png", default=None,
+                        help="also draw force over time and depth as PNG (needs matplotlib)")
+    parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+
+
+# ---------------------------------------------------------------------------- checks
+
+def _load_params(args: argparse.Namespace) -> tuple[MudParameters, str]:
+    """The mud parameters and a short label for them."""
+    from mudforce.cli.params import parse_water_content
+    from mudforce.model.parameters import TABLE_I_WATER_CONTENTS, MudParameters
+
+    if args.params is not None:
+        return MudParameters.load(args.params), f"parameters from {args.params}"
+    w = parse_water_content(args.water_content)
+    on_row = any(abs(w - row) < 1e-9 for row in TABLE_I_WATER_CONTENTS)
+    label = "Table I" if on_row else "Table I interpolated"
+    return MudParameters.from_water_content(w), f"{label}, W = {format_quantity(w, 'fraction')}"
+
+
+def _motion(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, str]:
+    """Sampled time [s] and depth [m], and a label for the motion."""
+    given = [option for attr, option, *_ in _PROTOCOL_OPTIONS if getattr(args, attr) is not None]
+    if args.trajectory is not None:
+        if given:
+            raise InputError(
+                f"{', '.join(given)} cannot be used with --trajectory (the file sets the motion); "
+                f"give either the protocol options or --trajectory"
+            )
+        from mudforce.io.tables import read_trajectory
+
+        time, depth = read_trajectory(args.trajectory)
+        return time, depth, f"trajectory {args.trajectory}"
+
+    from mudforce.motions.protocol import Protocol
+
+    values: dict[str, float] = {}
+    for attr, option, kind, default, zero in _PROTOCOL_OPTIONS:
+        text = getattr(args, attr)
+        values[attr] = parse_quantity(default if text is None else text, kind, name=option, allow_zero=zero)
+    duration = 2.0 * values["depth"] / values["velocity"] + values["hold"] + values["rise"] / values["velocity"]
+    samples = duration * values["rate"]
+    if not math.isfinite(samples) or samples > MAX_SAMPLES:
+        raise InputError(
+            f"--rate: {format_quantity(values['rate'], 'frequency')} over the {duration:.4g} s protocol is "
+            f"{samples:.3g} samples, more than {MAX_SAMPLES:,}; lower --rate or shorten the motion"
+        )
+    protocol = Protocol.paper(values["depth"], values["velocity"], values["hold"], values["rise"], values["rate"])
+    time, depth = protocol.sample()
+    label = (
+        f"paper protocol: {format_quantity(values['depth'], 'length')} at "
+        f"{format_quantity(values['velocity'], 'velocity')}, hold {format_quantity(values['hold'], 'time')}, "
+        f"{format_quantity(values['rate'], 'frequency')}"
+    )
+    return time, depth, label
+
+
+def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: Path | None) -> str:
+    from mudforce.model.velocity import describe_velocity_rule
+
+    k_max = int(np.argmax(result.force))
+    k_min = int(np.argmin(result.force))
+    necks = [f"{t:.4g} s" for t in result.necking_times[:5]]
+    if result.necking_times.size > 5:
+        necks.append(f"and {result.necking_times.size - 5} more")
+    if not necks:
+        necks = [f"none (suction never exceeded sigma_y = {result.params.sigma_y:g} Pa)"]
+    lines = [
+        f"mud: {mud}",
+        f"motion: {motion}",
+        f"foot: {result.foot.shape} (S = {result.foot.area * 1e6:.6g} mm^2, H = {result.foot.width * 1e3:.6g} mm)",
+        f"peak force: {result.force[k_max]:.4g} N at {result.time[k_max]:.4g} s",
+        f"min force: {result.force[k_min]:.4g} N at {result.time[k_min]:.4g} s",
+        f"necking: {', '.join(necks)}",
+        f"branch rule: {describe_velocity_rule(result.velocity_filter, result.depth_noise)}",
+        f"wrote {len(result)} rows to {out}",
+    ]
+    if plot is not None:
+        lines.append(f"wrote plot to {plot}")
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------------- run
+
+def run(args: argparse.Namespace) -> int:
+    """Check all inputs, simulate, then write the CSV (and PNG) atomically; print a summary."""
+    out = check_output_path(args.out, "--out")
+    plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
+    refuse_overwriting_inputs([("--out", out), ("--plot", plot)],
+                              [("--trajectory", args.trajectory), ("--params", args.params)])
+    if plot is not None:
+        from mudforce._plumbing.optional import require
+
+        require("matplotlib", "plot", "--plot")
+    foot = parse_foot(args.foot) if args.foot is not None else None
+    params, mud = _load_params(args)
+    time, depth, motion = _motion(args)
+
+    from mudforce.steppers.simulation import simulate
+
+    result = simulate(time, depth, params, foot, velocity_filter=args.velocity_filter)  # refuses a non-finite force
+    png: bytes | None = None
+    if plot is not None:
+        from mudforce.io.plotting import figure_to_png
+        from mudforce.steppers.plots import plot_result
+
+        png = figure_to_png(plot_result(result, title=f"{mud}; {motion}"))
+
+    from mudforce.io import atomic_open
+
+    try:
+        result.to_csv(out, quiet=args.quiet)
+        if plot is not None and png is not None:
+            with atomic_open(plot, "wb") as handle:
+                handle.write(png)
+    except OSError as exc:
+        raise InputError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    if not args.quiet:
+        print(_summary(result, mud, motion, out, plot))
+    return 0

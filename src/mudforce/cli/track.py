@@ -1,0 +1,115 @@
+"""Track the mud's water content along a recording of a foot walking on it, sample by sample, and write it as CSV.
+
+FILE.csv has a header naming time_s (or time_ms), depth_m (or depth_mm,
+positive below the surface) and force_N (the measured force, + up, offset
+and all). Each sample goes through mudforce.MudTracker in turn, as a
+robot's control loop would feed it: a bank of Table I models on a grid of
+water contents, Bayesian updating with forgetting, the sensor offset tared
+while the foot is free (see docs/tracking.md). Only the branch rule looks at
+the whole file: it is chosen from the file's own depth noise, as `mudforce
+simulate` does.
+
+Output columns: time_s, water_content, water_content_low,
+water_content_high (the estimate and its 95 % interval, fractions: 0.25 is
+25 %), force_predicted_N (the force the model predicts for the sample,
+offset included), force_N (as measured), changed (1 where a change of mud
+was flagged). Everything is checked before anything is written; the
+outputs are replaced atomically and never overwrite the input.
+
+example: mudforce track walk.csv --out track.csv --plot track.png
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from mudforce.errors import InputError
+from mudforce.io import check_output_path, refuse_overwriting_inputs
+from mudforce.model.foot import FOOT_EXAMPLES, parse_foot
+
+__all__ = ["COLUMNS", "HELP", "NAME", "add_arguments", "run"]
+
+NAME = "track"
+HELP = "track the mud's water content online along a recording (time, depth, force), write CSV (and a plot)"
+
+#: The output columns, in order (:attr:`mudforce.estimation.tracker.TrackResult.COLUMNS`; written out here so that
+#: building the command line does not import the tracker).
+COLUMNS = ("time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
+           "changed")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Declare the options of ``mudforce track``."""
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.add_argument("file", metavar="FILE.csv",
+                        help="recording: CSV with time_s, depth_m (or depth_mm) and force_N")
+    parser.add_argument("--foot", metavar="SPEC", default=None,
+                        help=f"foot geometry: {FOOT_EXAMPLES} (default: the paper's cuboid:51mmx38mm)")
+    parser.add_argument("--out", metavar="FILE.csv", required=True, help="write the estimates here (CSV)")
+    parser.add_argument("--plot", metavar="FILE.png", default=None,
+                        help="also draw force (measured, predicted) and the water content with its band (PNG)")
+    parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check all inputs, track, then write the CSV (and PNG) atomically; print a summary."""
+    source = Path(args.file)
+    out = check_output_path(args.out, "--out")
+    plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
+    refuse_overwriting_inputs([("--out", out), ("--plot", plot)], [("file", source)])
+    if plot is not None:
+        from mudforce._plumbing.optional import require
+
+        require("matplotlib", "plot", "--plot")
+    foot = parse_foot(args.foot) if args.foot is not None else None
+
+    from mudforce.io.tables import COLUMN_UNITS, check_time, read_columns
+
+    matched: dict[str, str] = {}
+    cols = read_columns(source, {q: COLUMN_UNITS[q] for q in ("time", "depth", "force")}, matched=matched)
+    time, depth, force = cols["time"], cols["depth"], cols["force"]
+    check_time(source, time, matched["time"], lines=cols["line"])
+    if time.size < 2:
+        raise InputError(f"{source}: has {time.size} data row; expected at least 2 samples to track")
+
+    from mudforce.estimation.tracker import track
+    from mudforce.model.velocity import choose_velocity_filter, describe_velocity_rule
+
+    velocity_filter, noise = choose_velocity_filter(time, depth)
+    result = track(time, depth, force, foot, velocity_filter=velocity_filter)
+    png: bytes | None = None
+    if plot is not None:
+        from mudforce.estimation.tracking_plots import plot_track
+        from mudforce.io.plotting import figure_to_png
+
+        png = figure_to_png(plot_track(result, title=f"Tracking {source.name}"))
+    text = result._csv_text()
+
+    from mudforce.io import atomic_open
+
+    try:
+        with atomic_open(out, "w") as handle:
+            handle.write(text)
+        if plot is not None and png is not None:
+            with atomic_open(plot, "wb") as handle:
+                handle.write(png)
+    except OSError as exc:
+        raise InputError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    if not args.quiet:
+        k = time.size - 1
+        flags = time[result.changed]
+        lines = [
+            f"tracked {time.size} samples of {source} ({time[-1] - time[0]:.4g} s)",
+            f"final water content: {100 * result.water_content[k]:.3g} % "
+            f"(95 % interval {100 * result.low[k]:.3g}-{100 * result.high[k]:.3g} %)",
+            f"force offset {result.bias[k]:.3g} N, noise {result.noise[k]:.3g} N (estimated while the foot was free)",
+            f"branch rule: {describe_velocity_rule(velocity_filter, noise)}",
+            "change of mud flagged at: " + (", ".join(f"{x:.4g} s" for x in flags[:10]) or "none")
+            + (f" and {flags.size - 10} more" if flags.size > 10 else ""),
+            f"wrote {time.size} rows to {out}",
+        ]
+        if plot is not None:
+            lines.append(f"wrote plot to {plot}")
+        print("\n".join(lines))
+    return 0

@@ -1,0 +1,130 @@
+"""The naive explicit coupling of a foot with the mud, for comparison with the engine (:func:`naive_drop`).
+
+A simulator that takes the branch from the sign of the last velocity and
+applies the force explicitly puts the full intrusion force on a foot that
+has just stopped, throws it up onto the withdrawal branch, then drops it
+back: it chatters every step and, as the intrusion branch carries the
+weight only on the way down, ratchets the foot deeper. The built-in engine
+(:mod:`mudforce.engines.dynamics.engine`) and the MuJoCo adapter avoid both with the
+rest band (:mod:`mudforce.engines.dynamics.rest_band`).
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, NamedTuple
+
+import numpy as np
+from numba import njit
+
+from mudforce import _kernel as K
+from mudforce._kernel import params_row
+from mudforce.engines._checks import check_finite_output, check_foot, check_params, max_samples
+from mudforce.engines.dynamics.result import GRAVITY
+from mudforce.errors import finite_number
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.model.velocity import VelocityFilter
+
+__all__ = ["NaiveDrop", "naive_drop"]
+
+
+@njit(cache=True, nogil=True)
+def _naive(states: np.ndarray, params: np.ndarray, m: float, g: float, z0: float, dt: float, n: int,
+           out: np.ndarray, depth: np.ndarray, force: np.ndarray) -> None:
+    ring = states[:, :0]  # the exact velocity filter keeps no history
+    z = z0
+    v = 0.0
+    f = K.step(states, ring, 0, params, z, dt, out, 0)
+    for k in range(n):
+        v += dt * (g - f / m)  # semi-implicit Euler, force from the last sample's branch
+        z += dt * v
+        f = K.step(states, ring, 0, params, z, dt, out, 0)
+        depth[k] = z
+        force[k] = f
+
+
+class NaiveDrop(NamedTuple):
+    """What :func:`naive_drop` returns; unpacks as ``time, depth, force``.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times [s] (``dt, 2 dt, ...``).
+    depth : ndarray
+        Foot depth ``z_i`` [m], positive down.
+    force : ndarray
+        Mud force on the foot [N], positive up.
+    """
+
+    time: np.ndarray
+    depth: np.ndarray
+    force: np.ndarray
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The per-sample data under unit-suffixed names: ``time_s, depth_m, force_N``."""
+        return {"time_s": self.time, "depth_m": self.depth, "force_N": self.force}
+
+    def to_pandas(self) -> Any:
+        """A :class:`pandas.DataFrame` with the columns of :meth:`to_csv` (needs pandas)."""
+        from mudforce.io.results import to_pandas
+
+        return to_pandas(self.columns())
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write ``time_s, depth_m, force_N`` as CSV, atomically (the number format of :class:`FootResult`)."""
+        from mudforce.io.results import write_text
+
+        lines = ["time_s,depth_m,force_N"]
+        for t, z, f in zip(self.time.tolist(), self.depth.tolist(), self.force.tolist(), strict=True):
+            lines.append(f"{t:.9g},{z + 0.0:.12g},{f:.12g}")
+        write_text(path, "\n".join(lines) + "\n")
+
+
+def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
+               dt: float = 1e-3, height: float = 0.0, gravity: float = GRAVITY) -> NaiveDrop:
+    """The naive explicit coupling this module warns about: a :class:`NaiveDrop` ``(time [s], depth [m], force [N])``.
+
+    Each step integrates ``m dv/dt = m g - F`` with the force the streaming
+    model returned for the previous sample; the branch follows the sign of
+    the last step's velocity. For comparison only: it chatters and ratchets.
+
+    Parameters
+    ----------
+    mass : float
+        Foot mass [kg], > 0.
+    params : MudParameters
+        Mud parameters.
+    foot : Foot, optional
+        Foot geometry; the paper's cuboid by default.
+    duration : float
+        Simulated time [s], > 0 (at most 1e8 steps).
+    dt : float
+        Time step [s], > 0.
+    height : float
+        Release height of the foot's bottom above the mud surface [m], positive up (negative: inside fresh mud).
+    gravity : float
+        Gravitational acceleration [m/s^2].
+
+    Raises
+    ------
+    InputError
+        For inputs of the wrong type or out of bounds, and if the result is
+        not finite (a foot too light for the step diverges).
+    """
+    params = check_params(params)
+    foot = check_foot(foot)
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    duration = finite_number(duration, "duration", "s", positive=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    z0 = 0.0 - finite_number(height, "height", "m")  # (0.0 - 0.0 is +0.0)
+    gravity = finite_number(gravity, "gravity", "m/s^2")
+    max_samples(duration, dt)
+    p = params_row(params, foot, VelocityFilter.exact())[None, :]
+    n = round(duration / dt)
+    depth = np.empty(n)
+    force = np.empty(n)
+    _naive(K.new_states(1), p, mass, gravity, z0, dt, n, K.new_out(1), depth, force)
+    time = np.arange(1, n + 1) * dt
+    check_finite_output("naive", time, depth, force)
+    return NaiveDrop(time, depth, force)

@@ -1,0 +1,170 @@
+"""The rest band of a foot, from its contact state: the forces that can hold it at rest.
+
+A foot at rest in the mud carries any load (positive down) between the
+withdrawal-branch force ``F_up`` and the intrusion-branch force ``F_down``
+(:func:`mudforce.model.equations.rest_band_forces`, Eqs. (1)-(5) at ``dz_i/dt = 0``).
+:func:`rest_band` applies the contact state machine to that (FREE above the
+surface, the post-necking force of Eq. (7) after necking) for one foot;
+:func:`branch_forces` gives every foot of a batch its band for the coming
+time step, which is what a time-stepping simulator (the MuJoCo adapter)
+needs. The built-in engine (:mod:`mudforce.engines.dynamics.engine`) calls
+:func:`rest_band` at each instant it decides whether a foot at rest sticks.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mudforce._kernel import ContactMode, load_cache, load_state, params_from_row
+from mudforce.model.equations import (
+    maxwell_strain_step,
+    neck_filter_response,
+    necked_mud_motion,
+    necked_stress,
+    nonlinear_spring_stress,
+    rest_band_forces,
+    submerged_drag_stress,
+)
+
+__all__ = ["branch_forces", "necked_force", "rest_band"]
+
+
+@njit(cache=True, nogil=True)
+def necked_force(p: np.ndarray, v_m0: float, z_n: float, age: float) -> tuple[float, float]:
+    """The post-necking force [N] and the mud's position ``z_m`` [m] at ``age`` [s] after necking, Eq. (7).
+
+    ``S f_e1`` with ``f_e1 = b_m_w dz_m/dt`` (:func:`mudforce.model.equations.necked_stress`), the mud moving
+    as ``dz_m/dt = v_m0 g``, ``z_m = z_n + v_m0 G`` (:func:`mudforce.model.equations.necked_mud_motion`).
+
+    Parameters
+    ----------
+    p : ndarray
+        One params row of :mod:`mudforce._kernel`.
+    v_m0 : float
+        Mud velocity at necking [m/s].
+    z_n : float
+        ``z_m`` at necking [m].
+    age : float
+        Time since necking ``t - t_n`` [s].
+    """
+    q = params_from_row(p)
+    g, g_int = neck_filter_response(age, q.zeta, q.omega_0)
+    mud_velocity, mud = necked_mud_motion(v_m0, z_n, g, g_int)
+    return q.area * necked_stress(q.b_w, mud_velocity)[0], mud
+
+
+@njit(cache=True, nogil=True)
+def rest_band(p: np.ndarray, mode: int, depth: float, strain: float, neck_force: float) -> tuple[float, float]:
+    """The force band ``(F_up, F_down)`` [N] of a foot at rest (:func:`mudforce.model.equations.rest_band_forces`).
+
+    Parameters
+    ----------
+    p : ndarray
+        One params row of :mod:`mudforce._kernel` (mud parameters in SI, area ``S`` [m^2], width ``H`` [m]).
+    mode : int
+        Kernel contact state: 0 FREE, 1 CONTACT, 2 NECKED.
+    depth : float
+        Foot depth ``z_i`` [m], positive down.
+    strain : float
+        Maxwell strain ``e = z_i - z_m`` [m], Eq. (2).
+    neck_force : float
+        Post-necking force ``S b_m_w v_m0 g(t - t_n)`` [N], Eq. (7) (used when NECKED).
+
+    Returns
+    -------
+    (float, float)
+        ``F_up`` (withdrawal branch, ``v -> 0-``) and ``F_down`` (intrusion
+        branch, ``v -> 0+``) [N], positive up. Above the surface the
+        intrusion branch is FREE (0 N); FREE gives ``(0, 0)``.
+    """
+    if mode == ContactMode.FREE:
+        return 0.0, 0.0
+    q = params_from_row(p)
+    spring = nonlinear_spring_stress(q.alpha, q.beta, depth, q.width)  # 0 above the surface
+    f_up, f_down = rest_band_forces(strain, spring, q.k_i, q.k_w, q.area)
+    if depth <= 0.0:
+        f_down = 0.0  # above the surface the intrusion branch is FREE (docs/model.md)
+    if mode == ContactMode.NECKED:
+        return neck_force, f_down
+    return f_up, f_down
+
+
+@njit(cache=True, nogil=True)
+def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: float, f_up: np.ndarray,
+                  f_down: np.ndarray, drag: np.ndarray) -> None:
+    """Sticking band of every foot for the coming step, from its kernel state (no commit).
+
+    For row ``j`` of ``states``/``params`` (the layout of :mod:`mudforce._kernel`),
+    writes the band ``[f_up[j], f_down[j]]`` [N] of :func:`rest_band` to use
+    over a step of ``dt`` [s], and the drag force ``drag[j] = S lambda rho_m v|v|``
+    [N] at the last step's velocity ``v`` (Eq. (5), positive up for a foot
+    moving down; zero above the surface).
+
+    The band is ``(1 - weight)`` times the band at the step's start plus
+    ``weight`` times the band at the step's predicted end, where each bound
+    is the force a trial step on a copy of the state would give on its own
+    branch: ``F_down`` after moving at ``max(v, 0)`` on the intrusion branch,
+    ``F_up`` after moving at ``min(v, 0)`` on the withdrawal branch (the
+    Maxwell strain advanced in closed form, Eq. (3),
+    :func:`mudforce.model.equations.maxwell_strain_step`). ``weight = 0`` is
+    explicit (the band lags a step); ``1`` (used by the MuJoCo adapter) is
+    consistent with a semi-implicit Euler step, whose position update uses
+    the new velocity. A foot that has not started, or is FREE, gets ``0, 0``
+    unless it touches down within the step.
+
+    The decays ``exp(-dt / tau)`` of Eq. (3) are the ones the stepper cached
+    in the state for its last step when that step was ``dt`` long (the
+    adapter's case: a fixed time step), else computed here.
+    """
+    for j in range(states.shape[0]):
+        s = load_state(states, j)
+        p = params[j]
+        q = params_from_row(p)
+        mode = s.mode
+        z = s.depth
+        v = s.velocity
+        area = q.area
+        if s.started == 0.0 or mode == ContactMode.FREE:
+            f_up[j] = 0.0
+            f_down[j] = 0.0
+            drag[j] = 0.0
+            if s.started != 0.0 and z + v * dt > 0.0 and weight > 0.0:
+                # touchdown within the step: the intrusion force at the predicted end, z_m = 0 at the surface
+                z1 = z + v * dt
+                lo, hi = rest_band(p, ContactMode.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
+                f_down[j] = weight * hi
+                f_up[j] = weight * min(lo, hi)
+            continue
+        # each bound is its own branch's force at the predicted end of the step:
+        # down with v >= 0 on the intrusion branch, up with v <= 0 on the withdrawal branch
+        v_dn = max(v, 0.0)
+        v_up = min(v, 0.0)
+        z_dn = z + v_dn * dt
+        z_up = z + v_up * dt
+        if mode == ContactMode.NECKED:
+            force0, zm0 = necked_force(p, s.neck_v, s.neck_z, s.neck_age)
+            lo1, zm1 = necked_force(p, s.neck_v, s.neck_z, s.neck_age + dt)
+            lo0, hi0 = rest_band(p, mode, z, z - zm0, force0)
+            _, hi1 = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
+        else:
+            e0 = z - s.mud
+            lo0, hi0 = rest_band(p, mode, z, e0, 0.0)
+            tau_i = q.tau_i
+            tau_w = q.tau_w
+            cache = load_cache(states, j)
+            if cache.dt == dt:
+                decay_i = cache.decay_i
+                decay_w = cache.decay_w
+            else:
+                decay_i = math.exp(-dt / tau_i)
+                decay_w = math.exp(-dt / tau_w)
+            e_dn = maxwell_strain_step(e0, v_dn, tau_i, decay_i)
+            e_up = maxwell_strain_step(e0, v_up, tau_w, decay_w)
+            _, hi1 = rest_band(p, mode, z_dn, e_dn, 0.0)
+            lo1, _ = rest_band(p, mode, z_up, e_up, 0.0)
+        f_up[j] = (1.0 - weight) * lo0 + weight * lo1
+        f_down[j] = (1.0 - weight) * hi0 + weight * hi1
+        drag[j] = area * submerged_drag_stress(q.lam, q.rho_m, v, z)

@@ -1,0 +1,350 @@
+"""Mud under the feet of MJX models, for a batch of worlds on a GPU (``pip install 'mudforce[mjx]'``).
+
+Usage (one world; ``jax.vmap`` it over worlds, each with its own mud)::
+
+    import mujoco
+    from mujoco import mjx
+    import mudforce.engines.mjx as mud
+
+    model = mujoco.MjModel.from_xml_path("hopper.xml")        # a site at each foot's sole
+    m = mjx.put_model(model)
+    patch = mud.add_mud(model, ["foot_sole"], MudParameters.from_water_content(0.25))
+    d = mjx.make_data(m)
+    state = mud.init(patch)
+    for _ in range(1000):                                       # or jax.lax.scan
+        d, state, forces = mud.step(m, d, state, patch)         # instead of mjx.step(m, d)
+
+How the force is applied, and why
+---------------------------------
+The mud force is set-valued at rest (:mod:`mudforce.engines.dynamics`): a foot at
+rest carries any load between the withdrawal-branch force ``F_up`` and the
+intrusion-branch force ``F_down``. Each call of :func:`step` is one physics
+step (a substep of an environment's control step) with an implicit
+(Moreau-Jean) treatment of that band, like dry friction:
+
+1. ``mjx.forward`` computes the motion without the mud force; the foot's
+   depth at the start of the step is committed to its contact state
+   (:func:`mudforce.jax.step`, the exact velocity rule);
+2. the band for the coming step (:func:`mudforce.jax.branch_forces`, by
+   default with ``weight = 0``: the band at the step's start, just
+   committed; see :func:`step`) and the force ``F_stop`` that would bring the sole to
+   rest by the step's end, from the sole's vertical Jacobian ``j`` and the
+   joint-space inertia ``M``: ``F_stop = -v_free / (dt j M^-1 j^T)``;
+3. the force is ``F_stop`` clamped to the band plus the drag
+   (:func:`mudforce.jax.stick_force`), applied at the sole: ``j^T F`` is
+   added to ``qfrc_smooth`` and ``M^-1 j^T F`` to ``qacc``, and the
+   model's integrator (Euler or implicitfast) advances the state. With
+   Euler, ``M`` includes the joint damping that Euler integrates
+   implicitly (``M + dt D``), so a stuck sole ends the step at rest; with
+   implicitfast only that damping part of its implicit terms is included.
+
+Inside the band the sole ends the step at rest (to rounding), with no
+chatter and no ratcheting; the next commit then sees exactly no motion
+(a stuck foot's committed depth is held), so the Maxwell element relaxes
+on the intrusion branch, as the model says. Outside the band the force is
+the branch's. The force is applied on every physics step, so an
+environment that takes several substeps per control step gets mud on
+each. Several feet are treated one at a time (each foot's effective mass
+``j M^-1 j^T`` alone, their coupling through ``M`` neglected within a
+step), and contact constraints computed by ``mjx.forward`` do not respond
+to the mud force within the step; both errors are first order in ``dt``,
+as the band's own lag is.
+
+Patches are horizontal and unbounded: each foot has a mud surface height
+(world ``z`` [m]); a foot above it is FREE. The RK4 integrator is not
+supported (it calls the forward dynamics four times per step).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+import mudforce.jax as mj
+from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
+from mudforce._plumbing.deprecation import renamed_keywords
+from mudforce._plumbing.optional import require
+from mudforce.errors import InputError
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+
+if TYPE_CHECKING:
+    from mudforce.engines.dynamics.result import FootResult
+
+__all__ = ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"]
+
+# renamed in 0.2 (docs/api.md): the names the MuJoCo adapter uses for the same concepts
+__getattr__ = _deprecated_getattr(__name__, {
+    "Patch": ("mudforce.engines.mjx.MudPatch", "mudforce.engines.mjx:MudPatch"),
+    "Contact": ("mudforce.engines.mjx.MudState", "mudforce.engines.mjx:MudState"),
+    "make_patch": ("mudforce.engines.mjx.add_mud (feet= for sites=, params= for mud=)",
+                   "mudforce.engines.mjx:_make_patch"),
+})
+
+Array = Any
+_HOLD = 1e-7  # [m]: a stuck sole that moved less than this in a step is committed as not having moved
+
+
+def _mjx() -> Any:
+    """``mujoco.mjx``, imported without the lines it prints about optional backends it did not find."""
+    with contextlib.redirect_stdout(io.StringIO()):  # "Failed to import warp: ..." on stdout
+        return require("mujoco.mjx", "mjx", "mud in MJX")
+
+
+class MudPatch(NamedTuple):
+    """Where the mud acts and what it is, for one world; a pytree (``jax.vmap`` over worlds).
+
+    The MJX form of :class:`mudforce.engines.mujoco.MudPatch`, made by :func:`add_mud`.
+
+    Fields: ``sites`` (int32, shape ``(feet,)``) the MuJoCo site at each
+    sole; ``bodies`` (int32) the body each site is on; ``height`` [m] the
+    mud surface's world ``z`` under each foot; ``params`` the
+    :class:`mudforce.jax.Params` of each foot (fields of shape ``(feet,)``,
+    or ``(worlds, feet)`` for a batch of worlds with their own mud).
+    """
+
+    sites: Array
+    bodies: Array
+    height: Array
+    params: mj.Params
+
+
+class MudState(NamedTuple):
+    """The mud's state in one world: every foot's :class:`mudforce.jax.State`, whether stuck, its last force [N].
+
+    The MJX form of :attr:`mudforce.engines.mujoco.MudAdapter.state` (a pytree: save it by keeping it).
+    """
+
+    state: mj.State
+    stuck: Array
+    force: Array
+
+
+def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[MudParameters],
+            foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
+            dtype: Any = None) -> MudPatch:
+    """Mud under the named feet of a compiled ``mujoco.MjModel``: the :class:`MudPatch` that :func:`step` takes.
+
+    The MJX counterpart of :func:`mudforce.engines.mujoco.add_mud` (which prepares a
+    spec for :class:`mudforce.engines.mujoco.MudAdapter`); MJX needs nothing added to
+    the model, only a site at each sole.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model (before ``mjx.put_model``).
+    feet : sequence of str
+        Names of the sites at the feet's soles (the contact points).
+    params : MudParameters or sequence of MudParameters
+        One mud for every foot, or one per foot. For per-world mud, make
+        one patch per world and stack them (:func:`jax.tree_util.tree_map`
+        with ``jnp.stack``), or replace ``params`` with batched arrays.
+    foot : Foot or sequence of Foot, optional
+        Sole geometry (area [m^2], width [m]); the paper's 51 x 38 mm cuboid by default.
+    height : float or sequence of float
+        World ``z`` of the mud surface under each foot [m].
+    dtype : dtype, optional
+        Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
+    """
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    if isinstance(feet, str):
+        feet = [feet]
+    names = list(feet)
+    if not names:
+        raise InputError("add_mud needs at least one site name (the feet's soles)")
+    ids = []
+    for name in names:
+        sid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
+        if sid < 0:
+            raise InputError(f"no site named {name!r} in the model; add a site at each sole")
+        ids.append(sid)
+    n = len(ids)
+    heights = np.broadcast_to(np.asarray(height, dtype=np.float64), (n,))
+    if not np.isfinite(heights).all():
+        raise InputError(f"mud surface height must be finite [m], got {height!r}")
+    dt_ = mj._float_dtype(dtype)
+    per_foot = not isinstance(params, MudParameters) or (foot is not None and not isinstance(foot, Foot))
+    jparams = mj.make_params(params, n=n if not per_foot else None, foot=foot, dtype=dt_)
+    jparams = mj.Params(*(jnp.broadcast_to(f, (n,)) for f in jparams))
+    return MudPatch(jnp.asarray(ids, dtype=jnp.int32), jnp.asarray(model.site_bodyid[ids], dtype=jnp.int32),
+                    jnp.asarray(heights, dtype=dt_), jparams)
+
+
+def _make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[MudParameters],
+                foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
+                dtype: Any = None) -> MudPatch:
+    """Deprecated: :func:`add_mud` (``sites`` is now ``feet``, ``mud`` is now ``params``)."""
+    return add_mud(model, sites, mud, foot, height=height, dtype=dtype)
+
+
+def init(patch: MudPatch) -> MudState:
+    """The mud's state at the start of an episode (no foot started: the first step sets each foot's sample)."""
+    n = patch.sites.shape[-1]
+    dtype = patch.height.dtype
+    return MudState(mj.init(n, dtype), jnp.zeros((n,), dtype=bool), jnp.zeros((n,), dtype=dtype))
+
+
+def _sole_kinematics(m: Any, d: Any, patch: MudPatch) -> tuple[Array, Array, Array]:
+    """Depths [m] (positive down), vertical Jacobians (feet, nv) and upward sole velocities [m/s]."""
+    mjx = _mjx()
+    points = d.site_xpos[patch.sites]
+
+    def jz(point: Array, body: Array) -> Array:
+        jacp, _ = mjx.jac(m, d, point, body)
+        return jacp[:, 2]
+
+    jac = jax.vmap(jz)(points, patch.bodies)
+    return patch.height - points[:, 2], jac, jac @ d.qvel
+
+
+@renamed_keywords(contact="state")
+def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) -> tuple[Any, MudState, Array]:
+    """One physics step of an MJX model with the mud force on every foot; replaces ``mjx.step(m, d)``.
+
+    Parameters
+    ----------
+    m, d : mjx.Model, mjx.Data
+        The model and its data (Euler or implicitfast integrator).
+    state : MudState
+        The mud's state (:func:`init`; ``contact=`` is its deprecated name).
+    patch : MudPatch
+        The feet and their mud (:func:`add_mud`).
+    weight : float
+        Where in the step the band is taken [-] (:func:`mudforce.jax.branch_forces`):
+        0 (default) at its start, 1 at its predicted end. The depth is
+        committed from this step's own ``mjx.forward``, so the start's band
+        is current; it matched the exact drop best (rest depth +0.01 to
+        +0.07 %, against -3 to +3 % with 1, the CPU MuJoCo adapter's choice,
+        whose commit lags a step; docs/gpu.md).
+
+    Returns
+    -------
+    d : mjx.Data
+        The data after the step.
+    state : MudState
+        The mud's state after the step.
+    forces : array, shape (feet,)
+        The vertical mud force applied on each sole during the step [N], positive up.
+    """
+    mjx = _mjx()
+    if m.opt.integrator == mjx.IntegratorType.RK4:
+        raise InputError("mudforce.engines.mjx supports the Euler and implicitfast integrators, not RK4")
+    dt = m.opt.timestep
+    d = mjx.forward(m, d)
+    depth, jac, _ = _sole_kinematics(m, d, patch)
+    feet = state.state  # every foot's mudforce.jax.State
+    dtype = feet.depth.dtype
+    depth = depth.astype(dtype)
+    # commit the depth reached by the last step; a stuck sole ended it at rest, up to rounding, which is
+    # dropped (else the sign of a 1e-18 m/s residue would pick the branch); one that moved is committed as is
+    held = state.stuck & (feet.mode != mj.UNSTARTED) & (jnp.abs(depth - feet.depth) <= _HOLD)
+    committed = jnp.where(held, feet.depth, depth)
+    feet, _ = mj.step(feet, patch.params, committed, jnp.asarray(dt, dtype))
+    # the band for the coming step and the force that would stop the sole within it
+    f_up, f_down, drag = mj.branch_forces(feet, patch.params, dt, weight)
+    # the velocity the integrator will give: Euler integrates joint damping implicitly, (M + dt D) qacc = qfrc
+    mass = mjx.full_m(m, d)
+    if not m.opt.disableflags & mjx.DisableBit.EULERDAMP:
+        mass = mass + jnp.diag(dt * m.dof_damping)
+    qacc = jnp.linalg.solve(mass, d.qfrc_smooth + d.qfrc_constraint)
+    minv_jt = jnp.linalg.solve(mass, jac.T)  # (nv, feet)
+    w = jnp.einsum("fv,vf->f", jac, minv_jt)  # 1 / effective mass of each sole [1/kg]
+    v_free = jac @ (d.qvel + dt * qacc)  # upward sole velocity at the step's end without mud
+    f_stop = (-v_free / (dt * w)).astype(dtype)
+    force, stuck = mj.stick_force(f_up, f_down, drag, f_stop, feet.velocity)
+    force = jnp.where(feet.mode == mj.UNSTARTED, 0.0, force)
+    stuck = stuck & ((feet.mode == mj.CONTACT) | (feet.mode == mj.NECKED))
+    f = force.astype(d.qacc.dtype)
+    d = d.replace(qfrc_smooth=d.qfrc_smooth + jac.T @ f, qacc=qacc + minv_jt @ f)
+    if m.opt.integrator == mjx.IntegratorType.EULER:
+        d = mjx.euler(m, d)
+    else:
+        d = mjx.implicit(m, d)
+    return d, MudState(feet, stuck, force), force
+
+
+# ----------------------------------------------------------------------------- the drop (mudforce drop --engine mjx)
+
+
+@renamed_keywords(timestep="dt")
+def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt: float = 1e-3,
+               thickness: float = 0.025) -> Any:
+    """A compiled ``mujoco.MjModel`` of the drop: a cuboid foot on a vertical slide joint, a site ``sole`` below.
+
+    The same model and arguments as :func:`mudforce.engines.mujoco.drop_model`: ``mass`` [kg];
+    ``height`` [m] of the sole above the mud surface at ``z = 0``; ``dt`` [s] the
+    time step (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here);
+    ``thickness`` [m]. The foot's bottom face is the paper's 51 x 38 mm, or
+    ``sqrt(area)`` square for another foot.
+    """
+    timestep = dt
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    foot = Foot.paper() if foot is None else foot
+    lx, ly = (0.051, 0.038) if foot == Foot.paper() else (math.sqrt(foot.area),) * 2
+    xml = f"""
+<mujoco model="mudforce_drop_mjx">
+  <option timestep="{timestep!r}" gravity="0 0 -9.81" integrator="Euler"/>
+  <worldbody>
+    <body name="foot" pos="0 0 {height + 0.5 * thickness!r}">
+      <joint name="drop" type="slide" axis="0 0 1"/>
+      <geom name="box" type="box" size="{0.5 * lx!r} {0.5 * ly!r} {0.5 * thickness!r}" mass="{mass!r}"
+            contype="0" conaffinity="0"/>
+      <site name="sole" pos="0 0 {-0.5 * thickness!r}"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+@renamed_keywords(timestep="dt")
+def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
+                  height: float = 0.0, dt: float = 1e-3, weight: float = 0.0) -> FootResult:
+    """Drop a cuboid foot into mud in MJX with :func:`step`; returns a :class:`mudforce.engines.dynamics.FootResult`.
+
+    One jitted ``lax.scan`` over the steps. The phase of each sample is
+    FREE or NECKED from the contact state, STUCK while the sole is held in
+    the band, else INTRUSION (moving down) or WITHDRAWAL (moving up). The
+    force is the mud force applied during the step that ends at the sample [N].
+    The arguments are those of :func:`mudforce.engines.mujoco.simulate_drop`: ``mass`` [kg],
+    ``duration`` [s], ``height`` [m] of the sole above the surface, ``dt`` [s] the time step
+    (``timestep=`` is its deprecated name here); ``weight`` [-] of the predicted end-of-step band.
+    """
+    timestep = dt
+    from mudforce.engines.dynamics.result import FootResult, Phase
+
+    PH_FREE, INTRUSION, WITHDRAWAL, STUCK, NECKED = (Phase.FREE, Phase.INTRUSION, Phase.WITHDRAWAL, Phase.STUCK,
+                                                     Phase.NECKED)
+
+    mjx = _mjx()  # first: a clear error if MJX is missing
+    foot = Foot.paper() if foot is None else foot
+    model = drop_model(mass, foot, height=height, dt=timestep)
+    m = mjx.put_model(model)
+    patch = add_mud(model, ["sole"], params, foot)
+    n = math.floor(duration / timestep + 1e-9) + 1
+
+    def body(carry: tuple[Any, MudState], _: Any) -> tuple[tuple[Any, MudState], tuple[Array, ...]]:
+        d, c = carry
+        d, c, f = step(m, d, c, patch, weight)
+        return (d, c), (d.qpos[0], d.qvel[0], f[0], c.state.mode[0], c.stuck[0], c.state.strain[0])
+
+    run = jax.jit(lambda d: jax.lax.scan(body, (d, init(patch)), None, length=n - 1)[1])
+    qpos, qvel, force, mode, stuck, strain = (np.asarray(a) for a in run(mjx.make_data(m)))
+    depth = np.concatenate(([-height], -(qpos.astype(np.float64) - 0.0) - height))
+    velocity = np.concatenate(([0.0], -qvel.astype(np.float64)))
+    force = np.concatenate(([0.0], force.astype(np.float64)))
+    phase = np.empty(n, dtype=np.int8)
+    phase[0] = PH_FREE
+    mode = mode.astype(np.int64)
+    moving = np.where(velocity[1:] > 0.0, INTRUSION, WITHDRAWAL)
+    phase[1:] = np.where(mode == mj.FREE, PH_FREE, np.where(mode == mj.NECKED, NECKED,
+                                                               np.where(stuck, STUCK, moving)))
+    strain_out = np.concatenate(([np.nan], np.where(mode == mj.CONTACT, strain.astype(np.float64), np.nan)))
+    time = np.arange(n) * timestep
+    return FootResult(time, depth, velocity, force, phase, float(mass), 9.81, "mjx", 0, strain_out)

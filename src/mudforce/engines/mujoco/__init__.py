@@ -1,0 +1,668 @@
+"""MuJoCo adapter: mud patches under named feet of any MuJoCo model (``pip install 'mudforce[mujoco]'``).
+
+Usage::
+
+    import mujoco
+    from mudforce.engines.mujoco import MudPatch, MudAdapter, add_mud
+
+    spec = mujoco.MjSpec.from_file("robot.xml")
+    add_mud(spec, ["left_foot", "right_foot"])        # before compiling
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    mud = MudAdapter(model, data, ["left_foot", "right_foot"],
+                     MudPatch(MudParameters.from_water_content(0.25)))
+    for _ in range(1000):
+        data.ctrl[:] = controller(data)
+        mud.step()                                   # instead of mujoco.mj_step
+
+How the force is applied, and why
+---------------------------------
+The mud force is set-valued at rest (:mod:`mudforce.engines.dynamics`): a foot at
+rest carries any load between the withdrawal-branch force ``F_up`` and the
+intrusion-branch force ``F_down``. That is dry friction centred on the
+mid-band force, so the adapter lets MuJoCo's own constraint solver handle it,
+with the whole robot's dynamics, contacts and actuators in the same solve:
+
+* :func:`add_mud` adds, per foot, a site at the foot's bottom (the contact
+  point), an anchor site on the world body and a spatial tendon from the
+  anchor down to that site. Before every step the adapter moves the anchor
+  (its ``model.site_pos``) 1 m straight above the foot, so the tendon's
+  direction is the world vertical at the contact point and its velocity is
+  the foot's vertical velocity.
+* Each step the adapter sets the tendon's ``frictionloss`` to the band's
+  half-width ``(F_down - F_up) / 2`` and applies the mid-band force
+  ``(F_up + F_down) / 2`` plus the drag (Eq. (5)) upward at the contact
+  point through ``xfrc_applied`` (force and the matching torque about the
+  body's centre of mass; added for the step and taken back after it). Moving down, the friction saturates and the total
+  is ``F_down``; moving up, ``F_up``; at rest the solver finds the force that
+  holds the foot (implicitly, with the foot's effective mass in the whole
+  multibody), so there is no chatter and no ratcheting.
+* After the step the adapter commits the foot's new depth to its contact
+  state (:class:`mudforce.steppers.many.MudContacts`' compiled stepper). The
+  branch comes from the step's velocity with a deadband of
+  :data:`STICK_VELOCITY`: MuJoCo's friction constraint is soft, so a stuck
+  foot creeps by a few micrometres per second, and the deadband makes that
+  count as rest, where the Maxwell element relaxes with the intrusion
+  parameters (docs/model.md). The band half-width keeps the solver's friction
+  stiff (``solref_friction``, ``solimp_friction`` set by :func:`add_mud`).
+
+Why not ``mj_applyFT``/``xfrc_applied`` alone: an explicit force cannot
+stop a foot; it overshoots zero velocity every step and chatters between the
+branches (:func:`mudforce.engines.dynamics.naive_drop`). Why not a joint's
+``frictionloss``: a foot's vertical motion is rarely a single joint; the
+tendon makes the same constraint available for any body in any model.
+
+The errors: the band is taken from the mud state at the step's start
+(first order in the time step), and the friction constraint's softness
+lets a stuck foot creep (``impedance 0.9999``, time constant two steps).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce._kernel import params_row
+from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
+from mudforce._plumbing.optional import require
+from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
+from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
+from mudforce.engines.mujoco import _fast as fast
+from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
+from mudforce.errors import InputError, finite_number, positive_int
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.model.velocity import VelocityFilter
+
+__all__ = [
+    "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of", "simulate_drop",
+]
+
+#: Foot speed at or below which a step counts as rest for the branch choice [m/s] (deadband of the kernel).
+STICK_VELOCITY = REST_SPEED
+_SOLREF_FRICTION = (1e-9, 1.0)  # a tiny time constant: MuJoCo raises it to its minimum, 2 time steps
+_SOLIMP_FRICTION = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+
+
+def _mujoco() -> Any:
+    return require("mujoco", "mujoco", "the MuJoCo adapter")
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A view of ``array`` that cannot be written through."""
+    view: np.ndarray = array.view()
+    view.flags.writeable = False
+    return view
+
+
+@dataclass(frozen=True)
+class MudPatch:
+    """A horizontal patch of mud.
+
+    Parameters
+    ----------
+    params : MudParameters
+        Mud parameters.
+    height : float
+        World height ``z`` of the undisturbed mud surface [m].
+    extent : (xmin, xmax, ymin, ymax), optional
+        Horizontal extent [m]; unbounded if omitted. A foot outside every
+        patch feels no mud and its contact state is reset.
+    """
+
+    params: MudParameters
+    height: float = 0.0
+    extent: tuple[float, float, float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.params, MudParameters):
+            raise InputError(f"a MudPatch needs MudParameters, got {type(self.params).__name__}")
+        finite_number(self.height, "patch height", "m")
+        if self.extent is not None:
+            try:
+                x0, x1, y0, y1 = (finite_number(v, "patch extent", "m") for v in self.extent)
+            except (TypeError, ValueError):  # not 4 values, or not a sequence
+                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {self.extent!r}") from None
+            if not (x0 < x1 and y0 < y1):
+                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got {self.extent}")
+
+
+def _name_list(feet: Any) -> list[str]:
+    """``feet`` (one name or a sequence of names) as a list of distinct strings, else InputError."""
+    if isinstance(feet, str):
+        return [feet]
+    if not isinstance(feet, Sequence) or not feet or not all(isinstance(f, str) for f in feet):
+        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {feet!r}")
+    if len(set(feet)) != len(feet):
+        raise InputError(f"feet must be distinct names, got {list(feet)}")
+    return list(feet)
+
+
+def _check_prefix(prefix: Any) -> str:
+    if not isinstance(prefix, str):
+        raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
+    return prefix
+
+
+def _names(prefix: str, foot: str) -> tuple[str, str, str]:
+    """Names of a foot's contact site, anchor site and tendon."""
+    return f"{prefix}site_{foot}", f"{prefix}anchor_site_{foot}", f"{prefix}tendon_{foot}"
+
+
+def _bottom_offset(geom: Any) -> list[float]:
+    """The bottom of a geom in its body's frame, assuming the geom's local z is up [m]."""
+    mj = _mujoco()
+    size = np.asarray(geom.size, dtype=float)
+    kind = geom.type
+    if kind == mj.mjtGeom.mjGEOM_BOX or kind == mj.mjtGeom.mjGEOM_ELLIPSOID:
+        depth = size[2]
+    elif kind == mj.mjtGeom.mjGEOM_SPHERE:
+        depth = size[0]
+    elif kind == mj.mjtGeom.mjGEOM_CAPSULE:
+        depth = size[1] + size[0]
+    elif kind == mj.mjtGeom.mjGEOM_CYLINDER:
+        depth = size[1]
+    else:
+        depth = 0.0
+    pos = np.asarray(geom.pos, dtype=float)
+    quat = np.asarray(geom.quat, dtype=float)
+    down = np.zeros(3)
+    mj.mju_rotVecQuat(down, np.array([0.0, 0.0, -depth]), quat / np.linalg.norm(quat))
+    return [float(v) for v in pos + down]
+
+
+def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]] | None = None,
+            prefix: str = "mud_") -> None:
+    """Prepare a model for mud contact under the named feet (edit an ``mujoco.MjSpec`` before compiling).
+
+    Parameters
+    ----------
+    spec : mujoco.MjSpec
+        The model being built.
+    feet : sequence of str
+        Names of foot geoms or bodies. For a geom the contact point is the
+        bottom of the geom (box, sphere, capsule, cylinder, ellipsoid, local
+        z up); for a body it is the body's origin unless ``points`` says otherwise.
+    points : sequence of (x, y, z), optional
+        Contact points in each foot body's frame [m], overriding the above.
+    prefix : str
+        Prefix of the names of the added sites and tendons.
+    """
+    mj = _mujoco()
+    if not isinstance(spec, mj.MjSpec):
+        raise InputError(f"spec must be a mujoco.MjSpec (edited before compiling), got {type(spec).__name__}")
+    feet = _name_list(feet)
+    prefix = _check_prefix(prefix)
+    chosen: list[list[float]] | None = None
+    if points is not None:
+        try:
+            chosen = [[finite_number(v, "contact point", "m") for v in point] for point in points]
+        except TypeError:
+            raise InputError("points must be a sequence of (x, y, z) contact points [m]") from None
+        if len(chosen) != len(feet) or any(len(point) != 3 for point in chosen):
+            raise InputError(f"points must be one (x, y, z) [m] per foot: got {len(chosen)} for {len(feet)} feet")
+    # every foot is checked before the spec is changed: a refused call leaves it as it was
+    found = []
+    for i, name in enumerate(feet):
+        geom = spec.geom(name)
+        body = spec.body(name)
+        if geom is not None:
+            body = geom.parent
+            point = _bottom_offset(geom)
+        elif body is not None:
+            point = [0.0, 0.0, 0.0]
+        else:
+            raise InputError(f"the model has no geom or body named {name!r}")
+        found.append((name, body, point if chosen is None else chosen[i]))
+    for name, body, point in found:
+        site_name, anchor_site, tendon_name = _names(prefix, name)
+        body.add_site(name=site_name, pos=point, size=[0.002, 0.0, 0.0])
+        # the anchor is a site of the world body that the adapter moves through model.site_pos:
+        # its world position is then exactly site_pos, as a mocap body's would be, without the
+        # cost of an extra body in every step (~5% of a small robot's step)
+        spec.worldbody.add_site(name=anchor_site, pos=[0.0, 0.0, ANCHOR_HEIGHT], size=[0.002, 0.0, 0.0])
+        tendon = spec.add_tendon(name=tendon_name)
+        tendon.wrap_site(anchor_site)
+        tendon.wrap_site(site_name)
+        tendon.frictionloss = 0.0
+        tendon.solref_friction = list(_SOLREF_FRICTION)
+        tendon.solimp_friction = list(_SOLIMP_FRICTION)
+
+
+def foot_of(model: Any, name: str) -> Foot:
+    """The flat foot (:class:`~mudforce.model.foot.Foot`) of a foot geom: its footprint on a horizontal surface.
+
+    The 1-D model loads a flat sole; a geom gets the sole of its outline seen
+    from below in its own frame (the contact follows the world's down
+    direction, so a geom is assumed upright there):
+
+    * sphere: a disc of its diameter;
+    * capsule, cylinder: a disc of its diameter if its axis is vertical in
+      its body, else a rectangle (its length, the capsule's caps included,
+      by its diameter);
+    * box: a rectangle of its two horizontal sides (the shorter is ``H``);
+    * ellipsoid: an ellipse of its two horizontal semi-axes (``H`` the shorter diameter);
+    * mesh: the rectangle of its vertices' x and y extents.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The compiled model.
+    name : str
+        A geom's name, or a body's with exactly one geom.
+
+    Raises
+    ------
+    InputError
+        For a name that is neither, a body with no geom or several, or a geom
+        of another type (plane, height field): give ``foot=`` then.
+    """
+    mj = _mujoco()
+    gid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, name)
+    if gid < 0:
+        bid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, name)
+        if bid < 0:
+            raise InputError(f"the model has no geom or body named {name!r}")
+        geoms = [int(g) for g in np.flatnonzero(model.geom_bodyid == bid)]
+        if len(geoms) != 1:
+            raise InputError(f"foot {name!r} is a body with {len(geoms)} geoms: name its foot geom, or give "
+                             "foot= (a mudforce.Foot per foot) for its sole")
+        gid = geoms[0]
+    kind = int(model.geom_type[gid])
+    size = [float(v) for v in model.geom_size[gid]]
+    quat = np.asarray(model.geom_quat[gid], dtype=float)
+    axis = np.zeros(3)
+    mj.mju_rotVecQuat(axis, np.array([0.0, 0.0, 1.0]), quat / np.linalg.norm(quat))
+    types = mj.mjtGeom
+    if kind == types.mjGEOM_SPHERE:
+        return Foot.disc(2.0 * size[0])
+    if kind in (types.mjGEOM_CAPSULE, types.mjGEOM_CYLINDER):
+        if abs(axis[2]) >= math.sqrt(0.5):
+            return Foot.disc(2.0 * size[0])
+        caps = 2.0 * size[0] if kind == types.mjGEOM_CAPSULE else 0.0
+        return Foot.cuboid(2.0 * size[1] + caps, 2.0 * size[0])
+    if kind == types.mjGEOM_BOX:
+        return Foot.cuboid(*sorted((2.0 * size[0], 2.0 * size[1]), reverse=True))
+    if kind == types.mjGEOM_ELLIPSOID:
+        a, b = size[0], size[1]
+        return Foot(area=math.pi * a * b, width=2.0 * min(a, b), shape=f"ellipse {2e3 * a:g}x{2e3 * b:g} mm")
+    if kind == types.mjGEOM_MESH:
+        mesh = int(model.geom_dataid[gid])
+        start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
+        extent = np.ptp(np.asarray(model.mesh_vert[start:start + count]), axis=0)
+        return Foot.cuboid(*sorted((float(extent[0]), float(extent[1])), reverse=True))
+    raise InputError(f"foot {name!r} is a geom of type {mj.mjtGeom(kind).name}, which has no sole: give foot= "
+                     "(a mudforce.Foot per foot)")
+
+
+class MudAdapter:
+    """Mud under named feet of a MuJoCo model prepared with :func:`add_mud`; one contact state per foot.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        Compiled from a spec that :func:`add_mud` prepared for these feet.
+    data : mujoco.MjData
+        Its data. During :meth:`step` the adapter adds the mud force to
+        ``xfrc_applied`` of the foot bodies and takes it back afterwards, so
+        between steps ``xfrc_applied`` holds only the user's forces (set or
+        clear them freely). It owns ``model.site_pos`` of its anchor sites
+        and ``model.tendon_frictionloss`` of its tendons.
+    feet : sequence of str
+        The names given to :func:`add_mud`.
+    patches : MudPatch or sequence of MudPatch
+        One patch for all feet or one per foot.
+    foot : Foot or sequence of Foot, optional
+        Contact area and width per foot [m^2, m]; by default each foot's
+        own, from its geom (:func:`foot_of`: a sphere's disc, a box's
+        rectangle, ...); a foot with no geom to take it from is refused.
+    prefix : str
+        As given to :func:`add_mud`.
+
+    Attributes
+    ----------
+    feet : tuple of str
+        The feet's names, in the order of every per-foot array.
+    patches : tuple of MudPatch
+        Each foot's patch.
+    state : ndarray
+        A snapshot of the feet's contact states (kernel layout); assign one to restore.
+    params : ndarray
+        A read-only view of the feet's constants (kernel layout).
+
+    Notes
+    -----
+    Call :meth:`step` instead of ``mujoco.mj_step``. The force on foot ``j``
+    applied during the next step is ``forces[j]`` plus the tendon friction
+    the solver finds; :attr:`contact_forces` is the total in the last step.
+    """
+
+    def __init__(self, model: Any, data: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPatch],
+                 foot: Foot | Sequence[Foot] | None = None, *, prefix: str = "mud_") -> None:
+        mj = _mujoco()
+        if not isinstance(model, mj.MjModel) or not isinstance(data, mj.MjData):
+            raise InputError(f"model and data must be a mujoco.MjModel and its mujoco.MjData, got "
+                             f"{type(model).__name__} and {type(data).__name__}")
+        self._mj = mj
+        self.model = model
+        self.data = data
+        self.feet: tuple[str, ...] = tuple(_name_list(feet))
+        prefix = _check_prefix(prefix)
+        n = len(self.feet)
+        if isinstance(patches, MudPatch):
+            plist = [patches] * n
+        elif isinstance(patches, Sequence) and all(isinstance(p, MudPatch) for p in patches):
+            plist = list(patches)
+        else:
+            raise InputError(f"patches must be a MudPatch or a sequence of MudPatch, got {type(patches).__name__}")
+        if len(plist) != n:
+            raise InputError(f"got {len(plist)} patches for {n} feet")
+        if foot is None:  # each foot's own sole, from its geom; never silently the paper's cuboid
+            flist = [foot_of(model, name) for name in self.feet]
+        elif isinstance(foot, Foot):
+            flist = [foot] * n
+        elif isinstance(foot, Sequence) and all(isinstance(f, Foot) for f in foot):
+            flist = list(foot)
+        else:
+            raise InputError(f"foot must be a Foot, a sequence of Foot or None, got {type(foot).__name__}")
+        if len(flist) != n:
+            raise InputError(f"got {len(flist)} feet's geometry (Foot) for {n} feet")
+        self.patches: tuple[MudPatch, ...] = tuple(plist)
+        vf = VelocityFilter(1, STICK_VELOCITY)
+        self._params = np.array([params_row(p.params, f, vf) for p, f in zip(plist, flist, strict=True)])
+        big = 1e300
+        conf = [0.0, 1.0, 0.0]
+        for p in plist:
+            conf += [p.height, *(p.extent if p.extent is not None else (-big, big, -big, big))]
+        self._conf = np.array(conf, dtype=np.float64)
+        self._conf[C_DT] = float(model.opt.timestep)
+        ints = []
+        for name in self.feet:
+            site_name, anchor_site, tendon_name = _names(prefix, name)
+            sid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_SITE, site_name)
+            tid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_TENDON, tendon_name)
+            aid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_SITE, anchor_site)
+            if sid < 0 or tid < 0 or aid < 0:
+                raise InputError(f"foot {name!r} was not prepared: call add_mud(spec, [{name!r}, ...]) "
+                                 "before compiling")
+            ints.append((sid, int(model.site_bodyid[sid]), tid, aid))
+        self._ints = np.ascontiguousarray(np.array(ints, dtype=np.int64).T)
+        self._tendons = self._ints[I_TENDON]
+        self._states = K.new_states(n)
+        self._out = K.new_out(n)  # the stepper's outputs: written by each step, read by nobody
+        self._out[:] = 0.0
+        self._work = np.zeros((7, n))
+        # views into MuJoCo's buffers (fixed for the life of model and data); holding them keeps
+        # model and data alive. The table has the raw addresses of these and the arrays above,
+        # which are therefore never replaced, only written in place.
+        self._arrays = (self._states, self._params, self._out, self._ints, self._conf, self._work,
+                        data.site_xpos, data.xipos, data.xfrc_applied, model.site_pos, model.tendon_frictionloss)
+        self._table = fast.address_table(self._arrays)
+        self._after = fast.direct(fast.after_step, self._table)
+        # what step() needs, in one attribute: each lookup there is a measurable part of its cost
+        before = fast.direct(fast.before_step, self._table)
+        self._step_args = (before, self._after, self._table, mj.mj_step, model, data)
+        self.reset()
+
+    @property
+    def state(self) -> np.ndarray:
+        """A snapshot of the feet's contact states (a read-only copy), one row each; assign one back to restore.
+
+        Rows in the layout of :mod:`mudforce._kernel`, as :attr:`mudforce.MudContacts.state`
+        (the adapter's filter keeps no history). Restoring validates the rows as
+        strictly as fresh ones (a refused one changes nothing) and prepares the
+        next step's band from the current ``data`` (runs ``mj_forward``), as
+        :meth:`reset` does; save and restore MuJoCo's own state
+        (``mujoco.mj_getState``/``mj_setState``) with it.
+        """
+        snapshot: np.ndarray = self._states.copy()
+        snapshot.setflags(write=False)
+        return snapshot
+
+    @state.setter
+    def state(self, value: np.ndarray) -> None:
+        from mudforce.steppers.contact import check_states
+
+        n = len(self.feet)
+        try:
+            arr = np.asarray(value, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"a state of {n} feet must be a numeric array (from MudAdapter.state), got "
+                             f"{type(value).__name__}") from None
+        if arr.shape != self._states.shape:
+            raise InputError(f"a state of {n} feet has shape {self._states.shape}, got {arr.shape}")
+        check_states(arr, np.empty((n, 0)), "a state")
+        self._states[:] = arr
+        K.forget_cache(self._states)
+        self._mj.mj_forward(self.model, self.data)
+        self._conf[C_COMMIT] = 0.0
+        self._prepare()
+        self._conf[C_COMMIT] = 1.0
+
+    @property
+    def states(self) -> np.ndarray:
+        """Deprecated: a read-only view of the live state rows; use :attr:`state`."""
+        warn_renamed("MudAdapter.states", "MudAdapter.state")
+        return _read_only(self._states)
+
+    @property
+    def params(self) -> np.ndarray:
+        """The feet's mud and foot constants, one row each (layout of :mod:`mudforce._kernel`; a read-only view).
+
+        Set them through the patches given to the constructor (a new adapter).
+        """
+        return _read_only(self._params)
+
+    def reset(self) -> None:
+        """Forget all contact histories and prepare the next step from the current ``data`` (runs ``mj_forward``)."""
+        self._work[:] = 0.0
+        self._states[:] = K.new_states(len(self.feet))
+        self._mj.mj_forward(self.model, self.data)
+        self._conf[C_COMMIT] = 0.0
+        self._prepare()
+        self._conf[C_COMMIT] = 1.0
+
+    @property
+    def weight(self) -> float:
+        """Weight of the predicted end-of-step band (:func:`mudforce.engines.dynamics.branch_forces`); 1 by default."""
+        return float(self._conf[C_WEIGHT])
+
+    @weight.setter
+    def weight(self, value: float) -> None:
+        w = finite_number(value, "weight", "-")
+        if not 0.0 <= w <= 1.0:
+            raise InputError(f"weight must be in [0, 1] [-], got {value!r}")
+        self._conf[C_WEIGHT] = w
+
+    def _prepare(self) -> None:
+        self._after(self._table)
+
+    def step(self, nstep: int = 1) -> None:
+        """Advance the simulation ``nstep`` MuJoCo steps with the mud forces."""
+        before, after, table, mj_step, model, data = self._step_args
+        if nstep.__class__ is not int:  # (the check costs ~20 ns of a ~1 us step)
+            nstep = positive_int(nstep, "nstep")
+        while nstep > 0:  # not range(): making one costs ~0.2 us, a few per cent of a small robot's step
+            before(table)
+            mj_step(model, data)
+            after(table)
+            nstep -= 1
+
+    @property
+    def forces(self) -> np.ndarray:
+        """Mid-band force plus drag [N] that the coming step applies at each foot (a copy)."""
+        return np.array(self._work[W_MID], dtype=np.float64)
+
+    @property
+    def depths(self) -> np.ndarray:
+        """Each foot's depth below its patch's surface at the last step [m] (positive down)."""
+        return np.array(K.state_column(self._states, "depth"), dtype=np.float64)
+
+    @property
+    def modes(self) -> list[str]:
+        """Each foot's contact state (FREE, CONTACT, NECKED)."""
+        return [K.STATE_NAMES[int(m)] for m in K.state_column(self._states, "mode")]
+
+    @property
+    def band(self) -> tuple[np.ndarray, np.ndarray]:
+        """The band ``(F_up, F_down)`` [N] applied in the coming step (copies)."""
+        return self._work[W_UP].copy(), self._work[W_DOWN].copy()
+
+    @property
+    def contact_forces(self) -> np.ndarray:
+        """The vertical mud force on each foot in the last step [N], positive up.
+
+        The mid-band force the adapter applied plus the tendon friction the
+        solver found (``efc_force`` of the foot's friction row): while the
+        foot sticks this is the load it carries; while it moves, the branch force.
+        """
+        mj = self._mj
+        total: np.ndarray = np.array(self._work[W_LAST], dtype=np.float64)
+        d = self.data
+        rows = np.flatnonzero(np.asarray(d.efc_type) == int(mj.mjtConstraint.mjCNSTR_FRICTION_TENDON))
+        ids = np.asarray(d.efc_id)[rows]
+        frc = np.asarray(d.efc_force)[rows]
+        for j, tid in enumerate(self._tendons):
+            hit = np.flatnonzero(ids == tid)
+            if hit.size:
+                # the tendon shortens as the foot rises: an upward push is a negative tendon force
+                total[j] -= float(frc[hit[0]])
+        return total
+
+
+def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickness: float) -> Any:
+    mj = _mujoco()
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    foot = check_foot(foot)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    thickness = finite_number(thickness, "thickness", "m", positive=True)
+    if foot == Foot.paper():
+        lx, ly = 0.051, 0.038
+    else:
+        lx = ly = math.sqrt(foot.area)
+    spec = mj.MjSpec()
+    spec.modelname = "mudforce_drop"
+    spec.option.timestep = dt
+    spec.option.gravity = [0.0, 0.0, -GRAVITY]
+    body = spec.worldbody.add_body(name="foot", pos=[0.0, 0.0, height + 0.5 * thickness])
+    body.add_joint(name="drop", type=mj.mjtJoint.mjJNT_SLIDE, axis=[0.0, 0.0, 1.0])
+    body.add_geom(name="sole", type=mj.mjtGeom.mjGEOM_BOX, size=[0.5 * lx, 0.5 * ly, 0.5 * thickness],
+                  mass=mass, contype=0, conaffinity=0)
+    add_mud(spec, ["sole"])
+    return spec
+
+
+@renamed_keywords(timestep="dt")
+def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt: float = 1e-3,
+               thickness: float = 0.025) -> Any:
+    """A compiled ``mujoco.MjModel`` of the drop: a cuboid foot on a vertical slide joint above mud at ``z = 0``.
+
+    The foot's geom ``sole`` is prepared with :func:`add_mud` (feet ``["sole"]``).
+    The same model as :func:`mudforce.engines.mjx.drop_model`, with the same arguments.
+
+    Parameters
+    ----------
+    mass : float
+        Foot mass [kg], > 0 (:func:`simulate_drop` states the least its time step resolves).
+    foot : Foot, optional
+        The foot; its bottom face is ``sqrt(area) x sqrt(area)`` unless it is
+        the paper's 51 x 38 mm cuboid (the default), which is kept as is.
+    height : float
+        Release height of the foot's bottom above the surface [m], >= 0.
+    dt : float
+        Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here).
+    thickness : float
+        Foot height [m], > 0 (the paper's 25 mm); irrelevant to the vertical dynamics.
+    """
+    return _drop_spec(mass, foot, height, dt, thickness).compile()
+
+
+def drop_spec(mass: float, foot: Foot | None = None, *, height: float = 0.0, timestep: float = 1e-3,
+              thickness: float = 0.025) -> Any:
+    """Deprecated: the ``mujoco.MjSpec`` of :func:`drop_model` (which returns the compiled model)."""
+    warn_renamed("mudforce.engines.mujoco.drop_spec",
+                 "mudforce.engines.mujoco.drop_model (compiled; dt= for timestep=)")
+    return _drop_spec(mass, foot, height, timestep, thickness)
+
+
+@renamed_keywords(timestep="dt")
+def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, duration: float = 8.0,
+                  height: float = 0.0, dt: float = 1e-3) -> FootResult:
+    """Drop a cuboid foot into mud in MuJoCo with :class:`MudAdapter`; returns a
+    :class:`mudforce.engines.dynamics.FootResult`.
+
+    The phase of each sample is FREE or NECKED from the contact state, else
+    STUCK when the foot's speed is at most :data:`STICK_VELOCITY`, else
+    INTRUSION (moving down) or WITHDRAWAL (moving up). The force is the total
+    the solver applied: mid-band force plus the tendon's friction [N].
+
+    Parameters
+    ----------
+    mass : float
+        Foot mass [kg]; at least ``S max(k_m_i, k_m_w) dt^2`` (about
+        3e-3 kg for Table I's muds, the paper's foot and 1 ms steps), so that
+        the step resolves the foot's oscillation on the mud. Lighter than
+        about 1 kg the result is rough: MuJoCo's soft friction lets the foot
+        creep some 10-20 um, a large part of a light foot's rest depth.
+    params : MudParameters
+        Mud parameters.
+    foot : Foot, optional
+        Foot geometry; the paper's 51 x 38 mm cuboid by default.
+    duration : float
+        Simulated time [s], > 0 (at most 1e8 steps).
+    height : float
+        Release height of the foot's bottom above the surface [m], >= 0.
+    dt : float
+        Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here); also the
+        output sampling interval.
+
+    Raises
+    ------
+    InputError
+        For any input of the wrong type or outside the bounds above, and if
+        the solution is not finite anyway (the first such sample time is named).
+    """
+    mj = _mujoco()
+    params = check_params(params)
+    foot = check_foot(foot)
+    duration = finite_number(duration, "duration", "s", positive=True)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    mass = check_mass(mass, params, foot, dt, "MuJoCo time step")
+    n = max_samples(duration, dt)
+    model = _drop_spec(mass, foot, height, dt, 0.025).compile()
+    data = mj.MjData(model)
+    adapter = MudAdapter(model, data, ["sole"], MudPatch(params), foot)
+    state = adapter._states[0]  # the live row (this function only reads it)
+    live_depth = K.state_column(state, "depth")  # views of its fields, which follow the adapter
+    live_mode = K.state_column(state, "mode")
+    time = np.arange(n) * dt
+    depth = np.empty(n)
+    velocity = np.empty(n)
+    force = np.zeros(n)
+    phase = np.empty(n, dtype=np.int8)
+    depth[0] = -height
+    velocity[0] = 0.0
+    phase[0] = Phase.FREE
+    for k in range(1, n):
+        adapter.step()
+        depth[k] = live_depth
+        velocity[k] = -float(data.qvel[0])
+        force[k] = adapter.contact_forces[0]
+        mode = int(live_mode)
+        if mode == K.ContactMode.FREE:
+            phase[k] = Phase.FREE
+        elif mode == K.ContactMode.NECKED:
+            phase[k] = Phase.NECKED
+        elif abs(velocity[k]) <= STICK_VELOCITY:
+            phase[k] = Phase.STUCK
+        else:
+            phase[k] = Phase.INTRUSION if velocity[k] > 0.0 else Phase.WITHDRAWAL
+    check_finite_output("MuJoCo", time, depth, velocity, force)
+    return FootResult(time, depth, velocity, force, phase, mass, GRAVITY, "mujoco", 0, np.full(n, np.nan))

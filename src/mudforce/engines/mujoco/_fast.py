@@ -1,0 +1,135 @@
+"""Speed plumbing of the MuJoCo adapter: calling its compiled per-step work from Python for ~0.1 us.
+
+Nothing here is physics; :mod:`mudforce.engines.mujoco._step` has what the calls do.
+:class:`mudforce.engines.mujoco.MudAdapter` calls :func:`before_step` and
+:func:`after_step` around every ``mj_step`` of the user's loop, so their
+call overhead is a visible part of a small robot's step. The tricks:
+
+* one argument per call: an int64 table of the raw addresses and shapes of
+  the arrays the step works on (:func:`address_table`), turned back into
+  array views inside compiled code (:data:`_voidptr`, ``numba.carray``);
+* the compiled entry point called directly, without numba's dispatcher
+  (:func:`direct`).
+
+The table is only safe while every array in it stays alive and in place:
+the adapter holds them all, never replaces one (it writes in place), and
+MuJoCo's buffers do not move for the life of the model and data.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numba import typeof, types
+from numba.extending import intrinsic
+from numba.np.numpy_support import carray  # numba.carray
+
+from mudforce import _kernel as K
+from mudforce.engines.mujoco._step import apply_mud, commit_and_prepare
+
+__all__ = [
+    "N_TABLE",
+    "SLOT_CONF",
+    "SLOT_FRICTIONLOSS",
+    "SLOT_INTS",
+    "SLOT_OUT",
+    "SLOT_PARAMS",
+    "SLOT_SITE_POS",
+    "SLOT_SITE_XPOS",
+    "SLOT_STATES",
+    "SLOT_WORK",
+    "SLOT_XFRC",
+    "SLOT_XIPOS",
+    "address_table",
+    "after_step",
+    "before_step",
+    "direct",
+]
+
+# The per-step calls take a single argument, an int64 table of the addresses and shapes of the
+# arrays they work on, because from Python every argument costs: numba's dispatcher spends
+# ~0.15 us per array resolving types, and even its compiled entry point ~0.05 us per array
+# unboxing it; with one small argument a call costs ~0.1 us. Slot k of the table is
+# (address, rows, columns) of array k (columns 1 for 1-D arrays). All are C-contiguous
+# float64 except the int64 ``ints``. The adapter keeps every array alive and never replaces
+# one, and MuJoCo's buffers do not move for the life of the model and data.
+SLOT_STATES, SLOT_PARAMS, SLOT_OUT, SLOT_INTS, SLOT_CONF, SLOT_WORK = 0, 1, 2, 3, 4, 5
+SLOT_SITE_XPOS, SLOT_XIPOS, SLOT_XFRC, SLOT_SITE_POS, SLOT_FRICTIONLOSS = 6, 7, 8, 9, 10
+# compiled with the stepper's options (K._compiled) but keeping the GIL (releasing and taking it back
+# would cost more than it frees), and with numba's reference counting (``_nrt=True``), which the
+# carray views need
+N_TABLE = 11
+
+
+def _voidptr_typing(typingctx: Any, address: Any) -> Any:
+    """Typing and code of :data:`_voidptr`."""
+    if not isinstance(address, types.Integer):
+        return None
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
+
+    return types.voidptr(address), codegen
+
+
+#: In compiled code, the raw pointer at an integer address (numba has no public cast from an integer to a pointer).
+_voidptr: Any = intrinsic(_voidptr_typing)
+
+
+# views of the arrays in slot k of a table (no copies; carray builds an array on the memory as is)
+@K._compiled(inline="always", nogil=False, _nrt=True)
+def _f64_1d(table: np.ndarray, k: int) -> np.ndarray:
+    return carray(_voidptr(table[3 * k]), table[3 * k + 1], np.float64)
+
+
+@K._compiled(inline="always", nogil=False, _nrt=True)
+def _f64_2d(table: np.ndarray, k: int) -> np.ndarray:
+    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
+
+
+@K._compiled(inline="always", nogil=False, _nrt=True)
+def _i64_2d(table: np.ndarray, k: int) -> np.ndarray:
+    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.int64)
+
+
+@K._compiled(nogil=False, _nrt=True)
+def before_step(table: np.ndarray) -> None:
+    """:func:`apply_mud` on the arrays in ``table`` (slots ``SLOT_*``)."""
+    apply_mud(_f64_2d(table, SLOT_XFRC), _i64_2d(table, SLOT_INTS), _f64_2d(table, SLOT_WORK))
+
+
+@K._compiled(nogil=False, _nrt=True)
+def after_step(table: np.ndarray) -> None:
+    """:func:`commit_and_prepare` on the arrays in ``table`` (slots ``SLOT_*``)."""
+    commit_and_prepare(_f64_2d(table, SLOT_STATES), _f64_2d(table, SLOT_PARAMS), _f64_2d(table, SLOT_OUT),
+                       _i64_2d(table, SLOT_INTS), _f64_1d(table, SLOT_CONF), _f64_2d(table, SLOT_WORK),
+                       _f64_2d(table, SLOT_SITE_XPOS), _f64_2d(table, SLOT_XIPOS), _f64_2d(table, SLOT_XFRC),
+                       _f64_2d(table, SLOT_SITE_POS), _f64_1d(table, SLOT_FRICTIONLOSS))
+
+
+def address_table(arrays: Sequence[np.ndarray]) -> np.ndarray:
+    """The table of :func:`before_step`/:func:`after_step` for ``arrays`` in slot order."""
+    table = np.zeros(3 * N_TABLE, dtype=np.int64)
+    for k, a in enumerate(arrays):
+        # the compiled side trusts these (a wrong one would be read as garbage, or written over)
+        expected = np.int64 if k == SLOT_INTS else np.float64
+        if a.dtype != expected or not a.flags.c_contiguous or not a.flags.writeable or a.ndim not in (1, 2):
+            raise RuntimeError(f"array {k} of the MuJoCo adapter is not a writeable C-contiguous "
+                               f"{np.dtype(expected)} array of 1 or 2 dimensions")
+        table[3 * k] = a.ctypes.data
+        table[3 * k + 1] = a.shape[0]
+        table[3 * k + 2] = a.shape[1] if a.ndim == 2 else 1
+    return table
+
+
+def direct(fn: Any, table: np.ndarray) -> Any:
+    """``fn``'s compiled code for a table, callable without numba's dispatcher (or ``fn`` itself).
+
+    ``Dispatcher.compile`` (which also loads from numba's cache) returns
+    the compiled entry point; calling it skips the dispatcher's type
+    resolution, ~0.2 us per call, most of the adapter's overhead per step.
+    """
+    entry = fn.compile((typeof(table),))
+    return entry if callable(entry) else fn

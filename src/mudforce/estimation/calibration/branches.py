@@ -1,0 +1,479 @@
+"""Trials of any motion: which branch each step is on, the denoised depth, and the force noise.
+
+The model switches between its intrusion and withdrawal branches (Eq. (8))
+on the sign of each step's velocity, and at every switch in the mud the
+force jumps by the whole nonlinear spring ``f_e2 S`` (Eq. (4)): tens to
+hundreds of newtons, from one sample to the next. On a robot's foot
+(touchdowns, stances that sway, partial withdrawals and re-pushes,
+lift-offs) the velocity crosses zero many times, often slowly, where the
+depth noise hides its sign. One misassigned sample costs tens of newtons.
+
+Two independent pieces of evidence settle each step's branch
+(:func:`label_branches`):
+
+* the measured depth: step ``k`` moves by ``d_k = z_k - z_{k-1}`` with
+  noise ``sqrt(2) sigma_z``, so ``P(true step >= 0) = Phi(d_k / (sqrt(2) sigma_z))``;
+* the measured force: a switch shows as a jump of the first difference of
+  the force away from its local trend (a median of the neighbouring
+  differences), of either sign (``f_e2`` vanishes or returns, and
+  ``k_w`` differs from ``k_i``). Its log-likelihood ratio ``j^2 / (2 sigma_j^2)`` is capped
+  at :data:`JUMP_REWARD_CAP` and every switch costs :data:`SWITCH_COST`
+  (a 6-sigma jump); a real pair of switches (a sway up and back down in
+  stance, invisible in the depth) is found from the force alone. The
+  force's steep onset at touchdown (``z^beta``) is not a switch: jumps in
+  the first few samples in the mud earn nothing.
+
+A two-state Viterbi pass finds the most likely branch sequence. The depth
+the model follows (:func:`denoise_depth`) is then the least-squares fit to
+the measured depth that is monotone within each run of equal branch
+(isotonic regression, pool-adjacent-violators), nudged so that every step's
+sign is its branch: the model with the paper's exact branch rule then
+switches at the labelled samples and its Maxwell element sees a depth less
+noisy than the measured one.
+
+:func:`estimate_force_noise` measures the force noise from the data alone,
+as the median absolute value of normalised third divided differences of
+the force (which annihilate any quadratic trend, on any time grid); the
+model's jumps touch only a few of them, so a bad fit cannot inflate it.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+from numba import njit
+from scipy.special import log_ndtr
+
+from mudforce.model.velocity import NOISE_FLOOR_M
+
+__all__ = [
+    "JUMP_REWARD_CAP",
+    "SWITCH_COST",
+    "corner_preserving_smooth",
+    "denoise_depth",
+    "estimate_force_noise",
+    "label_branches",
+    "rest_steps",
+]
+
+#: Largest log-likelihood ratio one force jump contributes to a branch switch [-].
+JUMP_REWARD_CAP = 50.0
+#: Prior cost of one branch switch, in log-likelihood [-] (a 6-sigma jump pays for it).
+SWITCH_COST = 18.0
+#: Half-width of the neighbourhood whose median first difference is a step's force trend [samples].
+_TREND_HALF_WIDTH = 2
+#: Level change [standard errors] that confirms a force jump as a switch [-].
+_LEVEL_SIGMAS = 4.0
+#: Steps after the foot enters the mud in which a force jump is the touchdown's onset, not a switch [-].
+_TOUCHDOWN_SAMPLES = 5
+
+
+def estimate_force_noise(time: np.ndarray, force: np.ndarray) -> float:
+    """Standard deviation of white noise on a sampled force [N] (or any signal), independent of any model.
+
+    The third divided difference over four consecutive samples, scaled to
+    unit norm, annihilates any quadratic in time and has the noise's
+    standard deviation for white noise; its median absolute value / 0.6745
+    is a robust estimate that the force's jumps (a few samples each) do not
+    move. Zero for fewer than 8 samples.
+
+    Parameters
+    ----------
+    time : ndarray
+        Sample times [s], strictly increasing (any spacing).
+    force : ndarray
+        Measured force [N].
+    """
+    t = np.asarray(time, dtype=np.float64)
+    f = np.asarray(force, dtype=np.float64)
+    if f.size < 8:
+        return 0.0
+    n = f.size - 3
+    coef = np.ones((n, 4))
+    for i in range(4):
+        for j in range(4):
+            if i != j:
+                coef[:, i] = coef[:, i] / (t[i:i + n] - t[j:j + n])
+    coef /= np.sqrt(np.sum(coef**2, axis=1))[:, None]
+    values = np.sum(coef * np.column_stack([f[i:i + n] for i in range(4)]), axis=1)
+    return float(np.median(np.abs(values)) / 0.6744897501960817)
+
+
+def _jump_statistic(time: np.ndarray, force: np.ndarray, noise: float) -> np.ndarray:
+    """Each step's force jump in units of its scatter (``n - 1`` values) [-]: sharp, for locating switches.
+
+    The step's force difference minus the local trend (the median force
+    rate of the neighbouring steps times the step's duration, so that
+    jittered time stamps make no jumps), over the larger of the noise's
+    ``sqrt(2) noise`` and a robust local scatter of the neighbours' jumps.
+    """
+    d = np.diff(force)
+    dt = np.diff(time)
+    m = d.size
+    if m < 3:
+        return np.zeros(m)
+    h = _TREND_HALF_WIDTH
+    padded = np.concatenate([np.full(h, np.nan), d / dt, np.full(h, np.nan)])
+    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * h + 1)
+    trend = np.nanmedian(np.delete(windows, h, axis=1), axis=1)
+    jump = d - np.where(np.isfinite(trend), trend, 0.0) * dt
+    wide = 4 * h
+    padded = np.concatenate([np.full(wide, np.nan), np.abs(jump), np.full(wide, np.nan)])
+    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * wide + 1)
+    local = 1.4826 * np.nanmedian(np.delete(windows, wide, axis=1), axis=1)
+    scale = np.maximum(np.where(np.isfinite(local), local, 0.0), math.sqrt(2.0) * noise)
+    scale = np.maximum(scale, 1e-9 * max(1.0, float(np.max(np.abs(force)))))
+    out: np.ndarray = jump / scale
+    return out
+
+
+def _line_at(tw: np.ndarray, fw: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Least-squares lines through windows ``(tw, fw)`` evaluated at ``at``; and their variance factor."""
+    tm = tw.mean(axis=1)
+    tc = tw - tm[:, None]
+    sxx = np.maximum(np.sum(tc**2, axis=1), 1e-300)
+    slope = np.sum(tc * fw, axis=1) / sxx
+    h = tw.shape[1]
+    return fw.mean(axis=1) + slope * (at - tm), 1.0 / h + (at - tm) ** 2 / sxx
+
+
+def _level_change(time: np.ndarray, force: np.ndarray, noise: float) -> np.ndarray:
+    """Each step's force level change in units of its standard error (``n - 1`` values) [-].
+
+    The jump of step ``k`` (samples ``k`` to ``k + 1``) is the difference,
+    at the step's midpoint, between a straight line through the
+    :data:`_TREND_HALF_WIDTH` + 1 samples ending at ``k`` and one through
+    those starting at ``k + 1``: a level jump counts, a kink (a change of
+    slope, e.g. where a descent stops) does not, and jittered time stamps
+    do not matter. Its scale is the larger of the noise's and a robust
+    local scatter of the jumps (fast motions, curvature).
+    """
+    t = np.asarray(time, dtype=np.float64)
+    f = np.asarray(force, dtype=np.float64)
+    m = f.size - 1
+    h = _TREND_HALF_WIDTH + 1
+    if m < 2 * h:
+        return np.full(max(m, 0), np.nan)
+    tw = np.lib.stride_tricks.sliding_window_view(t, h)
+    fw = np.lib.stride_tricks.sliding_window_view(f, h)
+    jump = np.full(m, np.nan)  # NaN: too near an end to tell
+    var = np.ones(m)
+    k = np.arange(h - 1, m - h + 1)  # steps with full windows on both sides
+    mid = 0.5 * (t[k] + t[k + 1])
+    left, vl = _line_at(tw[k - h + 1], fw[k - h + 1], mid)
+    right, vr = _line_at(tw[k + 1], fw[k + 1], mid)
+    jump[k] = right - left
+    var[k] = vl + vr
+    base = noise * np.sqrt(var)
+    wide = 4 * h
+    padded = np.concatenate([np.full(wide, np.nan), np.abs(jump) / np.sqrt(var), np.full(wide, np.nan)])
+    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * wide + 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN windows near the ends
+        local = 1.4826 * np.nanmedian(np.delete(windows, wide, axis=1), axis=1) * np.sqrt(var)
+    scale = np.maximum(np.where(np.isfinite(local), local, 0.0), base)
+    scale = np.maximum(scale, 1e-9 * max(1.0, float(np.max(np.abs(f)))))
+    out: np.ndarray = jump / scale
+    return out
+
+
+@njit(cache=True)
+def _viterbi(plus: np.ndarray, minus: np.ndarray, down: np.ndarray, up: np.ndarray, start_minus: float) -> np.ndarray:
+    """Most likely two-state path: ``plus/minus`` per-step scores, ``down/up`` switch scores at each step."""
+    n = plus.size
+    back = np.zeros((n, 2), dtype=np.int8)
+    sp = plus[0]
+    sm = minus[0] + start_minus
+    for k in range(1, n):
+        # state +: stay + or come from - (an upward switch at step k)
+        stay_p = sp
+        from_m = sm + up[k]
+        # state -: stay - or come from + (a downward switch at step k)
+        stay_m = sm
+        from_p = sp + down[k]
+        if stay_p >= from_m:
+            np_, back[k, 0] = stay_p + plus[k], 0
+        else:
+            np_, back[k, 0] = from_m + plus[k], 1
+        if stay_m > from_p:
+            nm, back[k, 1] = stay_m + minus[k], 1
+        else:
+            nm, back[k, 1] = from_p + minus[k], 0
+        sp, sm = np_, nm
+    path = np.empty(n, dtype=np.int8)  # 0: +, 1: -
+    s = 0 if sp >= sm else 1
+    for k in range(n - 1, -1, -1):
+        path[k] = s
+        s = back[k, s]
+    return path
+
+
+def label_branches(time: np.ndarray, depth: np.ndarray, force: np.ndarray, *,
+                   depth_noise: float, force_noise: float) -> np.ndarray:
+    """Each step's branch: +1 (intrusion: the foot goes down or rests) or -1 (withdrawal).
+
+    Parameters
+    ----------
+    time : ndarray
+        Sample times [s] (``n``), strictly increasing.
+    depth : ndarray
+        Measured depth [m], positive down.
+    force : ndarray
+        Measured force [N].
+    depth_noise : float
+        Standard deviation of the depth noise [m]; at or below 1 nm the
+        steps' own signs are used (the paper's exact rule).
+    force_noise : float
+        Standard deviation of the force noise [N].
+
+    Returns
+    -------
+    ndarray of int8, ``n - 1`` values
+        The branch of the step from sample ``k`` to ``k + 1``.
+    """
+    z = np.asarray(depth, dtype=np.float64)
+    d = np.diff(z)
+    if depth_noise <= NOISE_FLOOR_M or d.size == 0:
+        return np.where(d >= 0.0, 1, -1).astype(np.int8)
+    scale = math.sqrt(2.0) * depth_noise
+    plus = log_ndtr(d / scale)
+    minus = log_ndtr(-d / scale)
+    force = np.asarray(force, dtype=np.float64)
+    jump = _jump_statistic(np.asarray(time, dtype=np.float64), force, force_noise)
+    # a switch jumps either way: down as f_e2 vanishes, or up where k_w (z_i - z_m) outweighs it
+    reward = np.minimum(0.5 * jump**2, JUMP_REWARD_CAP)
+    # ... and only where the force's level changes (a kink, where a fast descent stops, is no switch)
+    level = np.abs(_level_change(np.asarray(time, dtype=np.float64), force, force_noise))
+    level[np.isnan(level)] = np.inf  # near the ends the level cannot be checked: the jump alone decides
+    confirmed = level > _LEVEL_SIGMAS
+    confirmed[1:] |= level[:-1] > _LEVEL_SIGMAS
+    confirmed[:-1] |= level[1:] > _LEVEL_SIGMAS
+    reward[~confirmed] = 0.0
+    # the force's onset at touchdown (z^beta) is not a switch: no reward for
+    # jumps out of the mud or within a few samples of entering it
+    inside = z > 3.0 * depth_noise
+    entered = np.flatnonzero(inside[1:] & ~inside[:-1])
+    near = ~(inside[:-1] & inside[1:])
+    for i in entered:
+        near[i:i + _TOUCHDOWN_SAMPLES] = True
+    reward[near] = 0.0
+    switch = reward - SWITCH_COST
+    path = _viterbi(plus, minus, switch, switch, -0.5 * SWITCH_COST)
+    labels = np.where(path == 0, 1, -1).astype(np.int8)
+    # a run of one or two steps that the depth does not support is a kink of the force, not two switches
+    change = np.flatnonzero(np.diff(labels) != 0) + 1
+    starts = np.concatenate([[0], change])
+    ends = np.concatenate([change, [labels.size]])
+    for a, b in zip(starts[1:-1], ends[1:-1], strict=True):
+        if b - a <= 2 and np.all(labels[a] * d[a:b] < 2.0 * scale):
+            labels[a:b] = -labels[a]
+    return labels
+
+
+@njit(cache=True)
+def _pava(y: np.ndarray) -> np.ndarray:
+    """Least-squares nondecreasing fit to ``y`` (pool adjacent violators)."""
+    n = y.size
+    level = np.empty(n)
+    weight = np.empty(n)
+    count = np.empty(n, dtype=np.int64)
+    top = 0
+    for i in range(n):
+        level[top] = y[i]
+        weight[top] = 1.0
+        count[top] = 1
+        top += 1
+        while top > 1 and level[top - 2] > level[top - 1]:
+            w = weight[top - 2] + weight[top - 1]
+            level[top - 2] = (level[top - 2] * weight[top - 2] + level[top - 1] * weight[top - 1]) / w
+            weight[top - 2] = w
+            count[top - 2] += count[top - 1]
+            top -= 1
+    out = np.empty(n)
+    i = 0
+    for b in range(top):
+        for _ in range(count[b]):
+            out[i] = level[b]
+            i += 1
+    return out
+
+
+@njit(cache=True)
+def _enforce(iso: np.ndarray, labels: np.ndarray, first: float, eps: float) -> np.ndarray:
+    """Follow ``iso`` while every step keeps its label's sign (``>= eps`` for +1, 0 for 0, ``<= -eps`` for -1)."""
+    out = np.empty(iso.size)
+    out[0] = first
+    for k in range(1, iso.size):
+        step = iso[k] - out[k - 1]
+        if labels[k - 1] == 0:
+            out[k] = out[k - 1]
+        elif labels[k - 1] > 0:
+            out[k] = out[k - 1] + max(step, eps)
+        else:
+            out[k] = out[k - 1] + min(step, -eps)
+    return out
+
+
+def corner_preserving_smooth(time: np.ndarray, depth: np.ndarray, width: int = 9, degree: int = 2) -> np.ndarray:
+    """Local polynomial smoothing that does not round corners [m].
+
+    Every window of ``width`` consecutive samples gets a least-squares
+    polynomial of ``degree``; each sample takes the value, at its time, of
+    the window containing it whose fit has the smallest residual. A window
+    that straddles a corner (a touchdown, a stop, a reversal) fits badly and
+    is passed over in favour of one on a single side of it (the idea of
+    essentially non-oscillatory schemes). Returns ``depth`` itself when it
+    has fewer than ``width`` samples.
+    """
+    t = np.asarray(time, dtype=np.float64)
+    z = np.asarray(depth, dtype=np.float64)
+    n = z.size
+    if n < width:
+        same: np.ndarray = z.copy()
+        return same
+    tw = np.lib.stride_tricks.sliding_window_view(t, width)
+    zw = np.lib.stride_tricks.sliding_window_view(z, width)
+    centre = tw.mean(axis=1, keepdims=True)
+    span = np.maximum(tw[:, -1:] - tw[:, :1], 1e-300)
+    x = (tw - centre) / span
+    basis = np.stack([x**p for p in range(degree + 1)], axis=2)  # windows x width x (degree+1)
+    q, r = np.linalg.qr(basis)
+    coef = np.linalg.solve(r, np.einsum("wkp,wk->wp", q, zw)[..., None])[..., 0]
+    fitted = np.einsum("wkp,wp->wk", basis, coef)
+    ssr = np.sum((zw - fitted) ** 2, axis=1)
+    windows = ssr.size
+    # for sample i, windows starting at i - width + 1 .. i (those that exist)
+    starts = np.arange(n)[:, None] - np.arange(width)[None, :]
+    valid = (starts >= 0) & (starts < windows)
+    cost = np.where(valid, ssr[np.clip(starts, 0, windows - 1)], np.inf)
+    pick = np.argmin(cost, axis=1)
+    w = starts[np.arange(n), pick]
+    pos = np.arange(n) - w
+    out: np.ndarray = fitted[w, pos]
+    return out
+
+
+def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None = None) -> np.ndarray:
+    """The depth the model follows [m]: monotone within each run of equal branch, each step's sign its label.
+
+    Within each run of steps with the same label, the least-squares
+    nondecreasing (intrusion) or decreasing (withdrawal) fit to the measured
+    depth (first smoothed by :func:`corner_preserving_smooth` when ``time``
+    is given); then a forward pass keeps every step's sign (a withdrawal step
+    moves up, and an intrusion step down, by at least 1e-12 m; a rest step
+    not at all), so that the paper's exact branch rule reproduces
+    ``labels`` (rest matters: it keeps a broken neck's decay going).
+
+    Parameters
+    ----------
+    depth : ndarray
+        Measured depth [m] (``n`` samples).
+    labels : ndarray
+        Branch of each step (``n - 1`` values of +1, 0 (rest) or -1), from
+        :func:`label_branches` and :func:`rest_steps`.
+    time : ndarray, optional
+        Sample times [s]; given, the depth is smoothed first.
+    """
+    z = np.asarray(depth, dtype=np.float64)
+    if time is not None:
+        z = corner_preserving_smooth(time, z)
+    given = np.asarray(labels, dtype=np.int8)
+    lab = np.where(given < 0, -1, 1).astype(np.int8)  # rest steps (0) belong to the intrusion runs
+    iso = np.empty_like(z)
+    if z.size == 0:
+        return iso
+    # run j covers samples start..end (the first run includes sample 0)
+    change = np.flatnonzero(np.diff(lab) != 0) + 1  # step indices where a new run begins
+    starts = np.concatenate([[0], change])
+    ends = np.concatenate([change, [lab.size]])
+    for a, b in zip(starts, ends, strict=True):
+        lo = 0 if a == 0 else a + 1
+        seg = z[lo:b + 1]
+        iso[lo:b + 1] = _pava(seg) if lab[a] > 0 else -_pava(-seg)
+    if lab.size == 0:
+        iso[:] = z
+    eps = 1e-12
+    out: np.ndarray = _enforce(iso, given, float(iso[0]), eps)
+    return out
+
+
+def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_noise: float,
+               force: np.ndarray | None = None, force_noise: float = 0.0) -> np.ndarray:
+    """``labels`` with the intrusion steps where the foot is at rest out of the mud set to 0 [-].
+
+    At rest (the paper's ``dz = 0``) the model keeps a broken neck's decay
+    going, while any downward motion ends it (``docs/model.md``); the
+    isotonic depth would otherwise creep down through noise. In the mud
+    rest and downward motion are the same intrusion branch, so only steps
+    out of the mud are considered. Each run of intrusion steps out of the
+    mud (a swing's apex, then its descent) gets a least-squares hinge: flat,
+    then a straight line down, with the corner at any instant (a grid of a
+    tenth of a step); the steps before the one that contains the corner
+    are at rest, unless the line does not go down significantly (then all
+    are). Given the force, a clear jump of it within a step of the corner
+    (a broken neck's decay cut off) places the start to the sample.
+    """
+    lab: np.ndarray = np.asarray(labels, dtype=np.int8).copy()
+    t = np.asarray(time, dtype=np.float64)
+    z = np.asarray(depth, dtype=np.float64)
+    if lab.size == 0:
+        return lab
+    out = (z[:-1] < 0.0) & (z[1:] < 0.0)
+    if depth_noise <= NOISE_FLOOR_M:  # noise-free: the steps' own signs, zero included
+        lab[(lab > 0) & (np.diff(z) == 0.0)] = 0
+        return lab
+    jump = None if force is None else _jump_statistic(t, np.asarray(force, dtype=np.float64), force_noise)
+    candidate = (lab > 0) & out
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], candidate.astype(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):  # steps a .. b-1, samples a .. b
+        first = _hinge_start(t[a:b + 1], z[a:b + 1], depth_noise)
+        if first is None:
+            lab[a:b] = 0
+            continue
+        first += a
+        if jump is not None:
+            near = np.arange(max(first - 1, a), min(first + 2, b))
+            if near.size:
+                k = int(near[np.argmax(np.abs(jump[near]))])
+                if abs(jump[k]) > 6.0:
+                    first = k
+        lab[a:first] = 0
+    return lab
+
+
+#: Longest stretch of samples a hinge is fitted to [-] (a longer run uses its last samples).
+_HINGE_SAMPLES = 1500
+
+
+def _hinge_start(t: np.ndarray, z: np.ndarray, noise: float) -> int | None:
+    """The step where a flat-then-descending depth starts to descend (index into the steps); None if it never does."""
+    n = t.size
+    if n < 3:
+        return 0
+    offset = max(n - _HINGE_SAMPLES, 0)
+    if offset:  # a long run: the corner, if any, is near its end; a descent all along starts at the beginning
+        found = _hinge_start(t[offset:], z[offset:], noise)
+        return None if found is None else (0 if found == 0 else offset + found)
+    # coarse: a corner at each sample; fine: tenths of a step around the best
+    best = _hinge_fit(t, z, t[:-1])
+    k = int(np.argmin(best[0]))
+    taus = np.linspace(t[max(k - 1, 0)], t[min(k + 1, n - 1)], 21)
+    ssr, slope, srr = _hinge_fit(t, z, taus)
+    i = int(np.argmin(ssr))
+    se = noise / math.sqrt(srr[i]) if srr[i] > 0 else math.inf
+    if not slope[i] > 3.0 * se:
+        return None
+    return min(max(int(np.searchsorted(t, taus[i], side="right")) - 1, 0), n - 2)
+
+
+def _hinge_fit(t: np.ndarray, z: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Residual sum of squares, slope and ramp spread of ``z ~ a + b max(t - tau, 0)`` for each ``tau``."""
+    ramp = np.maximum(t[None, :] - taus[:, None], 0.0)  # taus x samples
+    rc = ramp - ramp.mean(axis=1, keepdims=True)
+    srr = np.sum(rc**2, axis=1)
+    zc = z - z.mean()
+    slope = np.where(srr > 0, (rc @ zc) / np.where(srr > 0, srr, 1.0), 0.0)
+    ssr = np.sum(zc**2) - slope**2 * srr
+    return ssr, slope, srr

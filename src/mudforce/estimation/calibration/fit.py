@@ -1,0 +1,524 @@
+"""Fitting the model to measured intrusion trials, with honest standard errors.
+
+The objective is the force residual ``model - measured`` [N] at every sample
+of every trial of a condition (one water content), after each trial is
+prepared (:mod:`mudforce.estimation.calibration.preprocess`: motion fitted, force
+tared). The model follows the fitted noise-free motion with the exact
+branch rule, so the reversal happens at the right sample.
+
+The fit is staged, as Section III-A of [1] suggests (:data:`CHEN2024.stages
+<mudforce.estimation.calibration.models.CHEN2024>`):
+
+1. intrusion and hold (``k_m_i, b_m_i, alpha, beta``) on the samples up to
+   the reversal: bounded least squares from the best Table I rows;
+2. withdrawal (``k_m_w, b_m_w, sigma_y, zeta, omega_0``) on the samples after
+   it: seeded differential evolution, then least squares. Necking makes this
+   objective non-smooth in ``sigma_y`` (the neck breaks at a different
+   sample), and a local solver alone stalls on its plateaus;
+3. every free parameter jointly, on all samples.
+
+Parameters are fitted as logarithms inside bounds. Standard errors come
+from the Jacobian at the optimum (central differences):
+``cov = s^2 (J^T J)^-1`` in log space with ``s^2 = SSR / (n - p)``, mapped to
+SI by the delta method. Directions the data does not constrain (a zero
+singular value: e.g. ``sigma_y`` when no trial necks) get no standard error
+(``null``) and a warning, rather than a meaningless number.
+
+The results (:mod:`mudforce.estimation.calibration.results`) and the standard errors
+(:mod:`mudforce.estimation.calibration.uncertainty`) live in their own modules; this
+one is the driver.
+
+.. [1] X. Chen, J. Yi, J. Shan, arXiv:2403.02617 (2024).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.optimize import differential_evolution, least_squares
+
+from mudforce._plumbing.progress import Progress
+from mudforce.errors import InputError
+from mudforce.estimation.calibration.dataset import Dataset, Trial
+from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model
+from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor, prepare_trial, tare_correction
+from mudforce.estimation.calibration.results import (
+    MISFIT_WARNING_RATIO,
+    POOR_RELATIVE_STDERR,
+    ConditionFit,
+    FitResult,
+    TrialFit,
+    load_fit,
+    load_fit_parameters,
+    misfit_ratio,
+    speed_key,
+)
+from mudforce.estimation.calibration.uncertainty import (
+    correlation_inflation,
+    covariance,
+    jackknife_variance,
+    jacobian,
+    motion_sensitivity,
+    profiled,
+)
+from mudforce.model.foot import Foot
+
+# the results and the uncertainty live in their own modules; their names stay importable from here
+__all__ = [
+    "MISFIT_WARNING_RATIO",
+    "POOR_RELATIVE_STDERR",
+    "ConditionFit",
+    "FitOptions",
+    "FitResult",
+    "TrialFit",
+    "correlation_inflation",
+    "fit_by_velocity",
+    "fit_condition",
+    "fit_dataset",
+    "load_fit",
+    "load_fit_parameters",
+    "misfit_ratio",
+    "speed_key",
+]
+
+@dataclass(frozen=True)
+class FitOptions:
+    """The optimiser's budget (the defaults fit one condition of 9 trials in a few seconds).
+
+    Attributes
+    ----------
+    starts : int
+        Best starting points (by cost, among the model's ``starts`` and the
+        current values) from which each local stage runs least squares.
+    popsize : int
+        Differential-evolution population per parameter.
+    maxiter : int
+        Differential-evolution generations at most.
+    tol : float
+        Differential-evolution relative convergence tolerance.
+    max_nfev : int
+        Residual evaluations per least-squares run, at most.
+    """
+
+    starts: int = 2
+    popsize: int = 12
+    maxiter: int = 60
+    tol: float = 1e-4
+    max_nfev: int = 400
+
+
+# ---------------------------------------------------------------------------- the objective
+class _Objective:
+    """Force residuals [N] of groups of trials for a vector of log-parameters.
+
+    ``slots[j]`` lists the (group, parameter index) pairs that ``x[j]`` sets,
+    so one entry can be shared by several groups (water contents).
+    """
+
+    def __init__(self, model: ForceModel, foot: Foot, groups: Sequence[Sequence[PreparedTrial]],
+                 base: Sequence[np.ndarray], slots: Sequence[Sequence[tuple[int, int]]], window: str,
+                 prefix_fixed: bool = False) -> None:
+        self.model = model
+        self.foot = foot
+        self.groups = groups
+        self.base = [b.copy() for b in base]
+        self.slots = slots
+        self.window = window
+        # withdrawal-only parameters: simulate each trial up to its reversal once
+        self.tails: list[list[Callable[[np.ndarray], np.ndarray]]] | None = None
+        if prefix_fixed and window == "withdrawal" and model.resume is not None:
+            resume = model.resume
+            self.tails = [[resume(tr.time, tr.depth, b, foot, tr.reversal_index) for tr in group]
+                          for b, group in zip(self.base, groups, strict=True)]
+
+    def values(self, x: np.ndarray) -> list[np.ndarray]:
+        out = [b.copy() for b in self.base]
+        for xj, targets in zip(np.exp(x), self.slots, strict=True):
+            for g, i in targets:
+                out[g][i] = xj
+        return out
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        parts = []
+        priors = []
+        for g, (values, group) in enumerate(zip(self.values(x), self.groups, strict=True)):
+            for i, tr in enumerate(group):
+                if self.tails is not None:
+                    r = self.tails[g][i](values) - tr.force[tr.reversal_index:]
+                else:
+                    r = _trial_residual(self.model, self.foot, tr, values, self.window)
+                data, prior = profiled(r, tr.precontact)
+                parts.append(data)
+                priors.append(prior)
+        return np.concatenate([*parts, np.array(priors)])
+
+    def cost(self, x: np.ndarray) -> float:
+        r = self(x)
+        return float(r @ r)
+
+
+def _trial_residual(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray, window: str) -> np.ndarray:
+    t, z, f = tr.time, tr.depth, tr.force
+    k = tr.reversal_index
+    if window == "intrusion":  # the force up to the reversal does not depend on what follows
+        head: np.ndarray = model.force(t[:k], z[:k], values, foot) - f[:k]
+        return head
+    r: np.ndarray = model.force(t, z, values, foot) - f
+    return r[k:] if window == "withdrawal" else r
+
+
+def _log_bounds(model: ForceModel, names: Sequence[str], search: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    lo, hi = [], []
+    for n in names:
+        a, b = model.bounds[n]
+        if search and n in model.search_bounds:
+            a, b = max(a, model.search_bounds[n][0]), min(b, model.search_bounds[n][1])
+        lo.append(math.log(a))
+        hi.append(math.log(b))
+    return np.array(lo), np.array(hi)
+
+
+def _least_squares(obj: _Objective, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray, max_nfev: int) -> np.ndarray:
+    x0 = np.clip(x0, lo + 1e-9, hi - 1e-9)
+    sol = least_squares(obj, x0, bounds=(lo, hi), method="trf", x_scale=1.0, diff_step=1e-6,
+                        max_nfev=max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10)
+    return np.asarray(sol.x)
+
+
+_DE_TAKES_RNG = "rng" in inspect.signature(differential_evolution).parameters
+
+
+def _global_search(obj: _Objective, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray, options: FitOptions,
+                   seed: int) -> np.ndarray:
+    seeding: dict[str, Any] = {"rng": np.random.default_rng(seed)} if _DE_TAKES_RNG else {"seed": seed}
+    sol = differential_evolution(obj.cost, list(zip(lo, hi, strict=True)), popsize=options.popsize,
+                                 maxiter=options.maxiter, tol=options.tol, polish=False, workers=1,
+                                 updating="immediate", init="latinhypercube", x0=np.clip(x0, lo, hi), **seeding)
+    return np.asarray(sol.x)
+
+
+# ---------------------------------------------------------------------------- one condition
+def _resolve_free(model: ForceModel, free: Iterable[str] | None, fixed: Mapping[str, float] | None) -> tuple[str, ...]:
+    names = model.parameter_names
+    chosen = [n for n in names if n not in model.fixed] if free is None else list(free)
+    for n in chosen:
+        if n not in names:
+            raise InputError(f"unknown parameter {n!r} for model {model.name}; expected one of {', '.join(names)}")
+    held = set(fixed or {})
+    return tuple(n for n in names if n in chosen and n not in held)
+
+
+def _prepare(trials: Sequence[Trial | PreparedTrial]) -> list[PreparedTrial]:
+    if not trials:
+        raise InputError("no trials to fit")
+    return [t if isinstance(t, PreparedTrial) else prepare_trial(t) for t in trials]
+
+
+def _stage_indices(model: ForceModel, stage: FitStage, free: Sequence[str]) -> list[int]:
+    return [model.parameter_names.index(n) for n in stage.parameters if n in free]
+
+
+def _run_stage(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
+               idx: list[int], window: str, search: str, options: FitOptions, seed: int,
+               prefix_fixed: bool = False) -> np.ndarray:
+    names = [model.parameter_names[i] for i in idx]
+    obj = _Objective(model, foot, [prepared], [values], [[(0, i)] for i in idx], window, prefix_fixed)
+    lo, hi = _log_bounds(model, names)
+    current = np.log(values[idx])
+    if search == "global":
+        slo, shi = _log_bounds(model, names, search=True)
+        # the current point is in the initial population, so the search's best is at least as good
+        candidates = [_global_search(obj, current, slo, shi, options, seed)]
+    else:
+        pool = [current] + [np.log(model.vector(s)[idx]) for s in model.starts]
+        costs = [obj.cost(np.clip(x, lo, hi)) for x in pool]
+        candidates = [pool[i] for i in np.argsort(costs, kind="stable")[: max(options.starts, 1)]]
+    best_x, best_cost = current, obj.cost(current)
+    for x0 in candidates:
+        x = _least_squares(obj, x0, lo, hi, options.max_nfev)
+        c = obj.cost(x)
+        if c < best_cost:
+            best_x, best_cost = x, c
+    out: np.ndarray = values.copy()
+    out[idx] = np.exp(best_x)
+    return out
+
+
+def _rms(r: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(r**2))) if r.size else math.nan
+
+
+def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
+                    free: Sequence[str], cov: np.ndarray, determined: np.ndarray, free_cols: Sequence[int],
+                    stage_rmse: dict[str, float], spread: np.ndarray | None = None) -> ConditionFit:
+    names = model.parameter_names
+    params = {n: float(v) for n, v in zip(names, values, strict=True)}
+    stderr: dict[str, float | None] = {n: None for n in names}
+    warnings: list[str] = []
+    residuals = [model.force(tr.time, tr.depth, values, foot) - tr.force for tr in prepared]
+    inflation = correlation_inflation(residuals)
+    sub = cov[np.ix_(list(free_cols), list(free_cols))] * inflation
+    if spread is not None:  # trials that disagree more than the noise says: the jackknife's variance wins
+        var = np.diag(sub)
+        wider = np.sqrt(np.maximum(spread[list(free_cols)], var) / np.where(var > 0, var, 1.0))
+        wider = np.where(np.isfinite(wider) & (var > 0), wider, 1.0)
+        sub = sub * np.outer(wider, wider)
+    for k, (n, col) in enumerate(zip(free, free_cols, strict=True)):
+        value = params[n]
+        if not determined[col]:
+            warnings.append(f"{n} is not determined by the data (the force does not depend on it); no standard error")
+            continue
+        se_log = math.sqrt(max(float(sub[k, k]), 0.0))
+        stderr[n] = value * se_log
+        if se_log > POOR_RELATIVE_STDERR:
+            warnings.append(f"{n} is poorly determined: relative standard error {se_log:.0%}")
+        lo, hi = model.bounds[n]
+        if value <= lo * 1.001 or value >= hi * 0.999:
+            warnings.append(f"{n} = {value:.4g} is at its bound [{lo:g}, {hi:g}]; its standard error is not reliable")
+    d = np.sqrt(np.diag(sub))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = sub / np.outer(d, d)
+    if model.diagnose is not None:
+        warnings.extend(model.diagnose(values, prepared, foot))
+    trial_fits = []
+    for tr, r in zip(prepared, residuals, strict=True):
+        fitted = r + tr.force
+        offset = tare_correction(r, tr.precontact)
+        force = tr.force - offset
+        scatter = max(tr.force_noise, _rms(r + offset))
+        trial_fits.append(TrialFit(
+            name=tr.trial.name, water_content=tr.trial.water_content, velocity=tr.velocity,
+            nominal_velocity=tr.trial.velocity, repeat=tr.trial.repeat, rmse=_rms(fitted - force),
+            bias=tr.bias + offset, force_noise=tr.force_noise, reversal_time=tr.reversal_time, time=tr.time,
+            depth=tr.depth, force=force, fitted=fitted,
+            bias_method="estimated" if tr.bias_estimated else "tared",
+            bias_stderr=scatter * math.sqrt(inflation / (tr.time.size + tr.precontact))))
+    all_res = np.concatenate([t.residual for t in trial_fits])
+    noise = [t.force_noise for t in trial_fits if math.isfinite(t.force_noise)]
+    force_noise = float(np.sqrt(np.mean(np.square(noise)))) if noise else math.nan
+    def force_on(tr: PreparedTrial) -> Callable[[np.ndarray], np.ndarray]:
+        return lambda z: model.force(tr.time, z, values, foot)
+
+    floor_var = np.concatenate([noise_floor(tr, t.fitted, force_on(tr))
+                                for tr, t in zip(prepared, trial_fits, strict=True)])
+    floor = float(np.sqrt(np.mean(floor_var))) if noise else math.nan
+    rmse = _rms(all_res)
+    scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
+    ratio = misfit_ratio(rmse, floor, scale)
+    if ratio > MISFIT_WARNING_RATIO:
+        warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
+                        f"(force noise {force_noise:.3g} N, with the depth noise carried through): "
+                        "the model misses systematic features of the data (or the fit did not converge); "
+                        "the standard errors are widened for the residuals' correlation, but read them with care")
+    ws = {tr.trial.water_content for tr in prepared}
+    w = ws.pop() if len(ws) == 1 else math.nan
+    return ConditionFit(water_content=w, model=model.name, parameters=params, stderr=stderr, free=tuple(free),
+                        rmse=rmse, force_noise=force_noise, trials=tuple(trial_fits), correlation=corr,
+                        warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse, misfit_ratio=ratio,
+                        noise_floor=floor)
+
+
+def fit_condition(
+    trials: Sequence[Trial | PreparedTrial],
+    foot: Foot | None = None,
+    *,
+    model: str | ForceModel = "chen2024",
+    free: Iterable[str] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    start: Mapping[str, float] | None = None,
+    seed: int = 0,
+    options: FitOptions | None = None,
+    progress: Progress | None = None,
+) -> ConditionFit:
+    """Fit a model to the trials of one condition.
+
+    Parameters
+    ----------
+    trials : sequence of Trial or PreparedTrial
+        The condition's trials (any speeds); raw trials are prepared
+        (motion fitted, force tared) first.
+    foot : Foot, optional
+        The intruder; the paper's cuboid by default.
+    model : str or ForceModel
+        A registered model name (``"chen2024"``) or a model.
+    free : iterable of str, optional
+        The parameters to fit; by default all but the model's fixed ones
+        (``rho_m`` and ``lambda`` for the paper's model).
+    fixed : mapping, optional
+        Name -> value [SI] for parameters held fixed (overrides ``free``).
+    start : mapping, optional
+        Name -> value [SI] to start from (default: the model's defaults).
+    seed : int
+        Seeds the global search; the same seed and data give the same fit.
+    options : FitOptions, optional
+        Optimiser budget.
+    progress : Progress, optional
+        Advanced by one per stage.
+
+    Returns
+    -------
+    ConditionFit
+    """
+    m = get_model(model)
+    foot = Foot.paper() if foot is None else foot
+    options = FitOptions() if options is None else options
+    prepared = _prepare(trials)
+    free_names = _resolve_free(m, free, fixed)
+    if not free_names:
+        raise InputError("nothing to fit: every parameter is fixed")
+    values = m.vector({**(start or {}), **(fixed or {})})
+    stage_rmse: dict[str, float] = {}
+    for s, stage in enumerate(m.stages):
+        idx = _stage_indices(m, stage, free_names)
+        if idx:
+            values = _run_stage(m, foot, prepared, values, idx, stage.window, stage.search, options,
+                                seed + 7919 * s, stage.prefix_fixed)
+            stage_rmse[stage.name] = _rms(np.concatenate(
+                [_trial_residual(m, foot, tr, values, stage.window) for tr in prepared]))
+        if progress is not None:
+            progress.update(1, stage.name)
+    idx_all = [m.parameter_names.index(n) for n in free_names]
+    values = _run_stage(m, foot, prepared, values, idx_all, "all", "local", FitOptions(
+        starts=1, max_nfev=options.max_nfev), seed)
+    obj = _Objective(m, foot, [prepared], [values], [[(0, i)] for i in idx_all], "all")
+    x = np.log(values[idx_all])
+    residual = obj(x)
+    stage_rmse["joint"] = _rms(residual[: -len(prepared)])  # without the tare-prior rows
+    jac = jacobian(obj, x)
+    cov, determined = covariance(jac, residual, motion_sensitivity(m, foot, [prepared], [values]))
+    n_data = residual.size - len(prepared)
+    starts = np.cumsum([0] + [tr.time.size for tr in prepared])
+    groups = [np.append(np.arange(starts[i], starts[i + 1]), n_data + i) for i in range(len(prepared))]
+    spread = jackknife_variance(jac, residual, groups)
+    if progress is not None:
+        progress.update(1, "joint polish")
+    return _condition_from(m, foot, prepared, values, free_names, cov, determined, list(range(len(idx_all))),
+                           stage_rmse, spread)
+
+
+# ---------------------------------------------------------------------------- a dataset
+def fit_dataset(
+    dataset: Dataset,
+    *,
+    model: str | ForceModel = "chen2024",
+    free: Iterable[str] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    shared: Sequence[str] = (),
+    seed: int = 0,
+    options: FitOptions | None = None,
+    quiet: bool = False,
+) -> FitResult:
+    """Fit every water content of a dataset; optionally share some parameters across them.
+
+    Parameters
+    ----------
+    dataset : Dataset
+        The trials and the foot.
+    model, free, fixed, seed, options
+        As for :func:`fit_condition`.
+    shared : sequence of str
+        Parameters that take one value for all water contents (e.g.
+        ``("k_m_w", "b_m_w")``, which the paper found nearly constant). The
+        conditions are first fitted independently, then jointly with these tied.
+    quiet : bool
+        No progress on the terminal.
+
+    Returns
+    -------
+    FitResult
+    """
+    m = get_model(model)
+    free_names = _resolve_free(m, free, fixed)
+    for n in shared:
+        if n not in free_names:
+            raise InputError(f"--shared {n}: not a fitted parameter of model {m.name}; "
+                             f"expected some of {', '.join(free_names)}")
+    groups = dataset.conditions()
+    steps = len(groups) * (len(m.stages) + 1) + (1 if shared else 0)
+    fits: list[ConditionFit] = []
+    prepared_groups: list[list[PreparedTrial]] = []
+    with Progress(steps, "fitting", quiet=quiet) as progress:
+        for ci, trials in enumerate(groups.values()):
+            prepared = _prepare(trials)
+            prepared_groups.append(prepared)
+            fits.append(fit_condition(prepared, dataset.foot, model=m, free=free_names, fixed=fixed,
+                                      seed=seed + 104729 * ci, options=options, progress=progress))
+        if shared and len(fits) > 1:
+            fits = _fit_shared(m, dataset.foot, prepared_groups, fits, free_names, tuple(shared), options)
+            progress.update(1, "shared")
+    return FitResult(conditions=tuple(fits), model=m.name, shared=tuple(shared), seed=seed, foot=dataset.foot)
+
+
+def fit_by_velocity(
+    dataset: Dataset,
+    *,
+    model: str | ForceModel = "chen2024",
+    free: Iterable[str] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    seed: int = 0,
+    options: FitOptions | None = None,
+    quiet: bool = False,
+) -> list[tuple[float, ConditionFit]]:
+    """Fit each (water content, speed) on its own trials, for parameter-against-speed plots (Fig. 10 of [1]).
+
+    Trials are grouped by :func:`speed_key` (the nominal speed, or the
+    measured one to 0.5 mm/s). Returns ``(speed [m/s], fit)`` pairs,
+    ordered by water content, then speed.
+    """
+    m = get_model(model)
+    groups: dict[tuple[float, float], list[PreparedTrial]] = {}
+    for w, trials in dataset.conditions().items():
+        for tr in _prepare(trials):
+            v = speed_key(tr.trial.velocity, tr.velocity)
+            groups.setdefault((w, v), []).append(tr)
+    out = []
+    with Progress(len(groups) * (len(m.stages) + 1), "fitting per speed", quiet=quiet) as progress:
+        for i, ((_, v), prepared) in enumerate(sorted(groups.items())):
+            out.append((v, fit_condition(prepared, dataset.foot, model=m, free=free, fixed=fixed,
+                                         seed=seed + 15485863 * (i + 1), options=options, progress=progress)))
+    return out
+
+
+def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]], fits: list[ConditionFit],
+                free: Sequence[str], shared: tuple[str, ...], options: FitOptions | None) -> list[ConditionFit]:
+    """Refit all conditions jointly, with the ``shared`` parameters tied across them."""
+    options = FitOptions() if options is None else options
+    names = model.parameter_names
+    base = [model.vector(f.parameters) for f in fits]
+    slots: list[list[tuple[int, int]]] = []
+    x0: list[float] = []
+    labels: list[tuple[int | None, str]] = []
+    for n in shared:
+        i = names.index(n)
+        slots.append([(g, i) for g in range(len(groups))])
+        x0.append(float(np.mean([math.log(b[i]) for b in base])))  # geometric mean of the separate fits
+        labels.append((None, n))
+    for g in range(len(groups)):
+        for n in free:
+            if n not in shared:
+                slots.append([(g, names.index(n))])
+                x0.append(math.log(base[g][names.index(n)]))
+                labels.append((g, n))
+    obj = _Objective(model, foot, groups, base, slots, "all")
+    lo, hi = _log_bounds(model, [n for _, n in labels])
+    x = _least_squares(obj, np.array(x0), lo, hi, options.max_nfev * 2)
+    residual = obj(x)
+    values = obj.values(x)
+    cov, determined = covariance(jacobian(obj, x), residual, motion_sensitivity(model, foot, groups, values))
+    out = []
+    for g, prepared in enumerate(groups):
+        cols = [j for j, (owner, _) in enumerate(labels) if owner is None or owner == g]
+        order = [labels[j][1] for j in cols]
+        # reorder to the model's parameter order
+        perm = sorted(range(len(order)), key=lambda k: names.index(order[k]))
+        cols = [cols[k] for k in perm]
+        fnames = tuple(order[k] for k in perm)
+        out.append(_condition_from(model, foot, prepared, values[g], fnames, cov, determined, cols,
+                                   {**fits[g].stage_rmse, "shared": _rms(residual)}))
+    return out
+

@@ -1,0 +1,333 @@
+"""Force models the calibration can fit, behind one small interface.
+
+A :class:`ForceModel` is a function ``force(time, depth, values, foot) -> force``
+(time [s], depth [m], the parameter vector in SI in ``parameter_names``
+order, a :class:`~mudforce.model.foot.Foot`; force [N] per sample) plus what the
+fitter needs to know about its parameters: bounds, which are fixed by
+default, starting points, and the fit stages. Every parameter must be
+positive: the fitter works on their logarithms.
+
+:data:`CHEN2024` is the paper's model (the compiled stepper of
+:func:`mudforce.simulate`, exact branch rule). The baselines of
+:mod:`mudforce.model.baselines` are :data:`GRANULAR_RFT`, :data:`DRFT` and
+:data:`MAXWELL_ONLY`. :data:`MODELS` lists every built-in model, here, in
+one place; another model (a variant of your own) is added with
+:func:`register_model`, and any is chosen with ``mudforce fit --model NAME``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce.errors import InputError
+from mudforce.estimation.calibration.preprocess import PreparedTrial
+from mudforce.model.baselines import DEFAULT_K_RFT, drft_force, granular_rft_force, maxwell_only_force
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import PARAMETER_NAMES, PARAMETER_UNITS, TABLE_I, TABLE_I_WATER_CONTENTS, MudParameters
+from mudforce.steppers.simulation import run_compact, simulate
+
+__all__ = [
+    "CHEN2024",
+    "DRFT",
+    "GRANULAR_RFT",
+    "MAXWELL_ONLY",
+    "MODELS",
+    "FitStage",
+    "ForceFunction",
+    "ForceModel",
+    "get_model",
+    "register_model",
+]
+
+#: ``force(time [s], depth [m], values [SI], foot) -> force [N]``, one value per sample.
+ForceFunction = Callable[[np.ndarray, np.ndarray, np.ndarray, Foot], np.ndarray]
+
+#: Which samples a stage fits: up to the reversal (approach, intrusion, hold), after it, or all.
+Window = Literal["intrusion", "withdrawal", "all"]
+
+
+@dataclass(frozen=True)
+class FitStage:
+    """One stage of a staged fit.
+
+    Attributes
+    ----------
+    name : str
+        For progress and logs.
+    parameters : tuple of str
+        The parameters this stage adjusts (the fixed ones are skipped).
+    window : {"intrusion", "withdrawal", "all"}
+        The samples whose residuals it minimises.
+    search : {"local", "global"}
+        ``"local"``: multi-start bounded least squares; ``"global"``:
+        seeded differential evolution, then least squares from its best point.
+    """
+
+    name: str
+    parameters: tuple[str, ...]
+    window: Window
+    search: Literal["local", "global"] = "local"
+    #: True when the stage's parameters do not change the force before its window
+    #: (so a model with ``resume`` simulates the samples before the reversal once).
+    prefix_fixed: bool = False
+
+
+@dataclass(frozen=True)
+class ForceModel:
+    """A model the calibration can fit.
+
+    Attributes
+    ----------
+    name : str
+        Its registry name (``--model NAME``).
+    parameter_names : tuple of str
+        The parameter vector's entries.
+    force : ForceFunction
+        ``force(time, depth, values, foot) -> force [N]``.
+    bounds : mapping
+        Name -> (low, high) [SI], both > 0; the fit stays inside.
+    search_bounds : mapping
+        Name -> (low, high) for the global search (a narrower box; defaults to ``bounds``).
+    fixed : tuple of str
+        Parameters held at their default unless the user frees them.
+    defaults : mapping
+        Name -> value [SI]: the fixed values and a fallback start.
+    starts : tuple of mappings
+        Candidate starting points (name -> value [SI]) for local stages.
+    stages : tuple of FitStage
+        The staged fit; a final joint stage over every free parameter always follows.
+    diagnose : callable, optional
+        ``diagnose(values, prepared_trials, foot) -> list of warnings``: model-specific
+        identifiability checks (e.g. "no trial necked").
+    units : mapping
+        Name -> unit string, for reports.
+    resume : callable, optional
+        ``resume(time, depth, values, foot, k) -> tail``: simulate samples
+        ``[:k]`` once and return ``tail(values) -> force[k:]`` [N] for values
+        that differ only in parameters that do not act before sample ``k``
+        (a speed-up for stages with ``prefix_fixed``).
+    """
+
+    name: str
+    parameter_names: tuple[str, ...]
+    force: ForceFunction
+    bounds: Mapping[str, tuple[float, float]]
+    defaults: Mapping[str, float]
+    fixed: tuple[str, ...] = ()
+    search_bounds: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    starts: tuple[Mapping[str, float], ...] = ()
+    stages: tuple[FitStage, ...] = ()
+    diagnose: Callable[[np.ndarray, Sequence[PreparedTrial], Foot], list[str]] | None = None
+    units: Mapping[str, str] = field(default_factory=dict)
+    resume: Callable[[np.ndarray, np.ndarray, np.ndarray, Foot, int], Callable[[np.ndarray], np.ndarray]] | None = None
+
+    def __post_init__(self) -> None:
+        names = set(self.parameter_names)
+        for what, keys in (("bounds", self.bounds), ("defaults", self.defaults)):
+            missing = names - set(keys)
+            if missing:
+                raise InputError(f"model {self.name}: {what} lacks {', '.join(sorted(missing))}")
+        for n, (lo, hi) in self.bounds.items():
+            if not 0.0 < lo < hi:
+                raise InputError(f"model {self.name}: bounds of {n} must satisfy 0 < low < high, got {lo}, {hi}")
+
+    def vector(self, values: Mapping[str, float]) -> np.ndarray:
+        """The parameter vector [SI] from a name -> value mapping (missing names from ``defaults``)."""
+        return np.array([float(values.get(n, self.defaults[n])) for n in self.parameter_names])
+
+
+# ---------------------------------------------------------------------------- the paper's model
+_CHEN_BOUNDS: dict[str, tuple[float, float]] = {
+    "k_m_i": (1e3, 1e9),
+    "b_m_i": (1e2, 1e9),
+    "k_m_w": (1e3, 1e9),
+    "b_m_w": (1e2, 1e9),
+    "alpha": (1e0, 1e8),
+    "beta": (1e-2, 1.0),
+    "sigma_y": (1e0, 1e7),
+    "zeta": (1e-3, 1e2),
+    "omega_0": (1e-2, 1e3),
+    "rho_m": (1e2, 2e4),
+    "lambda": (1e-6, 1e2),
+}
+# a box around Table I's range, for the seeded global search of the withdrawal stage
+_CHEN_SEARCH: dict[str, tuple[float, float]] = {
+    "k_m_w": (1e5, 2e7),
+    "b_m_w": (1e5, 2e7),
+    "sigma_y": (1e2, 1e5),
+    "zeta": (0.05, 5.0),
+    "omega_0": (0.2, 30.0),
+}
+
+
+def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
+    """The paper's force [N] with the exact branch rule.
+
+    What :func:`mudforce.simulate` computes, calling the compiled stepper
+    directly: the fit evaluates this tens of thousands of times on inputs
+    already validated, and only needs the force.
+    """
+    row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
+    bad, force, *_ = run_compact(time, depth, row, 1)
+    if bad >= 0:  # numerically impossible parameters: a huge, finite residual
+        force[bad:] = 1e6
+    return force
+
+
+def _chen_resume(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot,
+                 first: int) -> Callable[[np.ndarray], np.ndarray]:
+    """Simulate samples ``[:first]`` once; the tail after it for withdrawal-only parameter changes."""
+    row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
+    head = K.new_out(first)
+    snapshot = K.new_states(1)
+    ring = K.new_ring(1, 1)  # the exact velocity rule keeps no history
+    K.run_batch(time[:first], depth[:first], snapshot, ring, row, head)
+    K.forget_cache(snapshot)  # cached decays belong to the old parameters
+    out = K.new_out(time.size - first)
+
+    def tail(new_values: np.ndarray) -> np.ndarray:
+        states = snapshot.copy()
+        prow = K.make_params(new_values, foot.area, foot.width, 1, 0.0)[None, :]
+        bad = K.run_batch(time, depth, states, ring, prow, out, first)
+        force: np.ndarray = K.outputs(out).force.copy()
+        # from the first sample refused or with a NaN force on: a huge, finite residual
+        end = bad - first if bad >= 0 else force.size
+        nan = np.flatnonzero(np.isnan(force[:end]))
+        force[int(nan[0]) if nan.size else end:] = 1e6
+        return force
+
+    return tail
+
+
+def _chen_diagnose(values: np.ndarray, trials: Sequence[PreparedTrial], foot: Foot) -> list[str]:
+    params = MudParameters.from_dict(dict(zip(PARAMETER_NAMES, map(float, values), strict=True)))
+    necks: list[float] = []
+    suction = 0.0
+    for tr in trials:
+        res = simulate(tr.time, tr.depth, params, foot, velocity_filter="exact")
+        suction = min(suction, res.min_force)
+        if res.necking_times.size:
+            necks.append(float(res.necking_times[0]) - tr.reversal_time)
+    warnings = []
+    if not necks:
+        warnings.append(
+            "no trial necked (the suction never reached sigma_y): sigma_y is only known to exceed "
+            f"{-suction / foot.area:.4g} Pa, and zeta, omega_0 are not determined by this data")
+    else:
+        tau_w = params.b_m_w / params.k_m_w
+        if max(necks) < 0.3 * tau_w:
+            warnings.append(
+                f"necking comes {max(necks):.3g} s after the reversal, before the withdrawal relaxation time "
+                f"b_m_w/k_m_w = {tau_w:.3g} s: the suction curve has not bent, so b_m_w is weakly determined")
+    return warnings
+
+
+_TABLE_STARTS = tuple(p.to_dict() for p in TABLE_I.values())
+
+#: The paper's model, Eqs. (1)-(9), fitted in three stages as its Section III-A suggests.
+CHEN2024 = ForceModel(
+    name="chen2024",
+    parameter_names=PARAMETER_NAMES,
+    force=_chen_force,
+    bounds=_CHEN_BOUNDS,
+    search_bounds=_CHEN_SEARCH,
+    defaults=TABLE_I[0.25].to_dict(),
+    fixed=("rho_m", "lambda"),
+    starts=_TABLE_STARTS,
+    stages=(
+        FitStage("intrusion and hold", ("k_m_i", "b_m_i", "alpha", "beta"), "intrusion", "local"),
+        # k_m_w ... omega_0 act only in the withdrawal branch and after necking
+        FitStage("withdrawal", ("k_m_w", "b_m_w", "sigma_y", "zeta", "omega_0"), "withdrawal", "global",
+                 prefix_fixed=True),
+    ),
+    diagnose=_chen_diagnose,
+    resume=_chen_resume,
+    units=PARAMETER_UNITS,
+)
+
+# ---------------------------------------------------------------------------- the baselines
+_RHO_M = TABLE_I[0.25].rho_m  # [kg/m^3]
+_LAMBDA = TABLE_I[0.25].lambda_  # [-]
+_K_STARTS = (1e5, 1e6, 1e7)
+
+
+def _rft_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
+    return granular_rft_force(time, depth, float(values[0]), foot)
+
+
+def _drft_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
+    return drft_force(time, depth, float(values[0]), float(values[1]), float(values[2]), foot)
+
+
+def _maxwell_fit(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
+    k_i, b_i, k_w, b_w, rho, lam = (float(x) for x in values)
+    return maxwell_only_force(time, depth, k_i, b_i, k_w, b_w, rho, lam, foot)
+
+
+#: Granular RFT (Li, Zhang & Goldman 2013) as a fittable model; parameter ``k_rft`` [Pa/m].
+GRANULAR_RFT = ForceModel(
+    name="granular_rft",
+    parameter_names=("k_rft",),
+    force=_rft_fit,
+    bounds={"k_rft": (1e2, 1e10)},
+    defaults={"k_rft": DEFAULT_K_RFT},
+    starts=tuple({"k_rft": k} for k in _K_STARTS),
+    units={"k_rft": "Pa/m"},
+)
+
+#: Dynamic RFT as a fittable model; parameters ``k_rft`` [Pa/m], ``lambda`` [-], ``rho_m`` [kg/m^3] (fixed).
+DRFT = ForceModel(
+    name="drft",
+    parameter_names=("k_rft", "lambda", "rho_m"),
+    force=_drft_fit,
+    bounds={"k_rft": (1e2, 1e10), "lambda": (1e-6, 1e4), "rho_m": (1e2, 2e4)},
+    defaults={"k_rft": DEFAULT_K_RFT, "lambda": _LAMBDA, "rho_m": _RHO_M},
+    fixed=("rho_m",),
+    starts=tuple({"k_rft": k, "lambda": lam} for k in _K_STARTS for lam in (_LAMBDA, 10.0)),
+    units={"k_rft": "Pa/m", "lambda": "-", "rho_m": "kg/m^3"},
+)
+
+_MAXWELL_ROWS: tuple[Mapping[str, float], ...] = tuple(
+    {n: TABLE_I[w].to_dict()[n] for n in ("k_m_i", "b_m_i", "k_m_w", "b_m_w")} for w in TABLE_I_WATER_CONTENTS
+)
+
+#: The Maxwell-only ablation as a fittable model; ``k_m_i, b_m_i, k_m_w, b_m_w`` (+ fixed ``rho_m``, ``lambda``).
+MAXWELL_ONLY = ForceModel(
+    name="maxwell_only",
+    parameter_names=("k_m_i", "b_m_i", "k_m_w", "b_m_w", "rho_m", "lambda"),
+    force=_maxwell_fit,
+    bounds={"k_m_i": (1e3, 1e9), "b_m_i": (1e2, 1e9), "k_m_w": (1e3, 1e9), "b_m_w": (1e2, 1e9),
+            "rho_m": (1e2, 2e4), "lambda": (1e-6, 1e2)},
+    defaults={**_MAXWELL_ROWS[2], "rho_m": _RHO_M, "lambda": _LAMBDA},
+    fixed=("rho_m", "lambda"),
+    starts=_MAXWELL_ROWS,
+    stages=(
+        FitStage("intrusion and hold", ("k_m_i", "b_m_i"), "intrusion", "local"),
+        FitStage("withdrawal", ("k_m_w", "b_m_w"), "withdrawal", "local"),
+    ),
+    units={"k_m_i": "Pa/m", "b_m_i": "Pa s/m", "k_m_w": "Pa/m", "b_m_w": "Pa s/m", "rho_m": "kg/m^3",
+           "lambda": "-"},
+)
+
+#: Every built-in model by name: the paper's, then the baselines; :func:`register_model` adds more.
+MODELS: dict[str, ForceModel] = {m.name: m for m in (CHEN2024, GRANULAR_RFT, DRFT, MAXWELL_ONLY)}
+
+
+def register_model(model: ForceModel) -> None:
+    """Make ``model`` available to :func:`get_model` and ``--model NAME``."""
+    MODELS[model.name] = model
+
+
+def get_model(model: str | ForceModel) -> ForceModel:
+    """A model by name (one of :data:`MODELS`), or the model itself."""
+    if isinstance(model, ForceModel):
+        return model
+    try:
+        return MODELS[model]
+    except KeyError:
+        raise InputError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}") from None

@@ -1,0 +1,798 @@
+"""Online tracking of the mud's water content from a robot's own foot, one sample at a time.
+
+A robot that walks on mud measures its foot's depth and the vertical force
+on it. :class:`MudTracker` turns that stream into an estimate of the mud's
+water content ``W`` (with a 95 % interval), the force the model predicts for
+the sample, and a flag when the terrain has changed, at a cost of a few
+microseconds per sample. :class:`MudTrackers` does the same for many feet at
+once. The design (a bank of models on a grid of ``W``, Bayesian updating
+with forgetting) is set out in ``docs/tracking.md``; in short:
+
+* **Bank.** One :class:`mudforce.MudContacts` row per grid value of ``W``
+  (Table I, interpolated: :meth:`MudParameters.from_water_content`), all
+  stepped on the same measured depth with the noise-robust branch rule
+  (:class:`mudforce.VelocityFilter`). Each row's force is that model's
+  prediction for the sample.
+* **Sensor offset (bias) and noise.** While every model is FREE (foot
+  above the surface, the mud let go), the model force is exactly zero, so
+  the measured force is offset plus noise: the offset is their running
+  mean, the noise its running spread (clipped at 4 sigma, so the rare
+  sample with force on it does not inflate it). Both are independent of the
+  model fit.
+* **Likelihood.** A Student-t (``dof`` degrees of freedom) of the measured
+  force minus the offset around each model's force, with a scale of the
+  noise, the offset's uncertainty, a ``floor`` and a relative misfit
+  ``misfit * |F|`` added in quadrature, and weighted by
+  ``min(1, dt / correlation_time)``:
+  the model is not exact for measured data (a reversal of the foot is seen a
+  few samples late through the noise, so the nonlinear spring can be
+  switched on the wrong branch for a few samples, errors of up to the whole
+  spring force), and those errors are correlated from sample to sample. The
+  heavy tails make such a sample weak evidence; the weight counts
+  correlated samples as fewer.
+* **Forgetting.** The log-posterior decays by ``exp(-dt / tau)`` per sample
+  in contact (samples where every model predicts zero force carry no
+  information and forget nothing), so the estimate follows a change of mud
+  within about ``tau`` seconds of contact, without being told.
+* **Estimate.** Each grid value stands for a cell reaching halfway to its
+  neighbours; the posterior is uniform within a cell, and the water content
+  is the posterior median, the interval its 2.5 % and 97.5 % quantiles.
+  The predicted force is the mean of the models' forces under the posterior
+  *before* the sample (a one-step-ahead prediction) plus the offset, i.e. the
+  expected sensor reading.
+* **Change flag.** Once the interval is narrower than a settling width (4
+  points, or 6 grid steps) and the offset has been tared (10 free
+  samples), its median becomes the anchor; when a later
+  interval that narrow excludes the anchor by more than a margin (1 point,
+  or 2 grid steps), the flag is raised for that sample. For the next ``tau``
+  seconds of contact the anchor follows the settling estimate without a
+  second flag.
+
+Speed plumbing: the whole update (bank step and posterior) is one compiled
+call, :func:`_track_step`, over arrays held by the object.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+from numba import njit
+
+from mudforce import _kernel as K
+from mudforce._plumbing.deprecation import warn_renamed
+from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
+from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
+
+__all__ = [
+    "DEFAULT_GRID",
+    "MudTracker",
+    "MudTrackers",
+    "TrackEstimate",
+    "TrackEstimates",
+    "TrackResult",
+    "TrackerState",
+    "default_velocity_filter",
+    "track",
+]
+
+#: The default grid of water contents [-]: 15 % to 35 % in steps of 0.5 points (41 models).
+DEFAULT_GRID: tuple[float, ...] = tuple(round(0.15 + 0.005 * k, 4) for k in range(41))
+
+# per-foot auxiliary state, columns of MudTrackers._aux
+_A_STARTED = 0  # 1 after the first sample
+_A_BIAS = 1  # force offset estimate [N]
+_A_NFREE = 2  # free samples seen (capped at the offset's memory)
+_A_VAR = 3  # force noise variance estimate [N^2]
+_A_CONTACT = 4  # seconds of contact seen (informative samples)
+_A_ANCHOR = 5  # water content of the last settled estimate [-], NaN before
+_A_HOLD = 6  # seconds of contact left in which the anchor follows the estimate after a flag [s]
+_N_AUX = 7
+
+# outputs, columns of MudTrackers._out
+_O_W = 0
+_O_LOW = 1
+_O_HIGH = 2
+_O_PRED = 3
+_O_CHANGED = 4
+_O_BIAS = 5
+_O_NOISE = 6
+_N_OUT = 7
+
+# configuration vector, entries of MudTrackers._cfg
+_C_TAU = 0
+_C_MISFIT = 1
+_C_FLOOR = 2
+_C_DOF = 3
+_C_TEMP = 4  # correlation time [s]
+_C_NOISE0 = 5
+_C_BIAS0 = 6
+_C_FREE_MEMORY = 7
+_C_SETTLE = 8
+_C_MARGIN = 9
+_C_LEVEL = 10
+_N_CFG = 11
+
+
+def default_velocity_filter(depth_noise: float = 3e-5, dt: float = 0.01) -> VelocityFilter:
+    """The bank's branch rule: :meth:`VelocityFilter.for_noise` for ``depth_noise`` [m] at step ``dt`` [s]."""
+    return VelocityFilter.for_noise(depth_noise, dt)
+
+
+# ---------------------------------------------------------------------------- compiled update (speed plumbing)
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
+    """The ``q`` quantile of a posterior uniform within each cell ``[edges[g], edges[g + 1]]`` of mass ``p[g]``."""
+    c = 0.0
+    G = p.shape[0]
+    for g in range(G):
+        if c + p[g] >= q and p[g] > 0.0:
+            return float(edges[g] + (q - c) / p[g] * (edges[g + 1] - edges[g]))
+        c += p[g]
+    return float(edges[G])
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: np.ndarray, dt: float,
+                forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, depths: np.ndarray,
+                measured: np.ndarray, edges: np.ndarray, L: np.ndarray, P: np.ndarray, aux: np.ndarray,
+                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray) -> int:
+    """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
+
+    ``depths``/``measured`` [m]/[N], shape (n,); the bank has ``n * G``
+    rows, foot ``j``'s models in rows ``j * G .. j * G + G - 1``. Returns the
+    first foot whose sample is not finite (nothing is changed then), else -1.
+    """
+    n = depths.shape[0]
+    G = L.shape[1]
+    for j in range(n):
+        if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
+            return j
+    for j in range(n):
+        for g in range(G):
+            zbuf[j * G + g] = depths[j]
+    K.run_feet(states, ring, params, zbuf, dt, forces, scratch, index)
+    tau = cfg[_C_TAU]
+    misfit2 = cfg[_C_MISFIT] * cfg[_C_MISFIT]
+    floor2 = cfg[_C_FLOOR] * cfg[_C_FLOOR]
+    dof = cfg[_C_DOF]
+    # each sample counts as dt / correlation_time independent ones (at most one)
+    weight = min(1.0, dt / cfg[_C_TEMP])
+    half = 0.5 * (1.0 - cfg[_C_LEVEL])
+    for j in range(n):
+        base = j * G
+        first = aux[j, _A_STARTED] == 0.0
+        aux[j, _A_STARTED] = 1.0
+        f = measured[j]
+        # one-step-ahead prediction: the models' forces under the posterior before this sample
+        pred = 0.0
+        free = True
+        for g in range(G):
+            fg = forces[base + g]
+            pred += P[j, g] * fg
+            if fg != 0.0:
+                free = False
+        out[j, _O_PRED] = pred + aux[j, _A_BIAS]
+        if free:
+            # every model says zero force: the measurement is offset plus noise (tare)
+            nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
+            aux[j, _A_NFREE] = nfree
+            e = f - aux[j, _A_BIAS]
+            var = aux[j, _A_VAR]
+            if nfree <= 1.0:
+                aux[j, _A_BIAS] = f
+            else:
+                clip = 16.0 * max(var, floor2)  # 4 sigma, never below 4 floors (clean data: var -> 0)
+                e2 = min(e * e, clip)
+                e_c = math.copysign(math.sqrt(e2), e)
+                aux[j, _A_BIAS] += e_c / nfree
+                # the running variance, from the residual against the offset before this sample
+                aux[j, _A_VAR] = var + (e2 * (nfree - 1.0) / nfree - var) / nfree
+        elif not first:
+            bias = aux[j, _A_BIAS]
+            nfree = aux[j, _A_NFREE]
+            var = aux[j, _A_VAR]
+            # the offset's uncertainty: its prior spread before any tare, then var / n
+            bias_var = cfg[_C_BIAS0] * cfg[_C_BIAS0] if nfree < 2.0 else var / nfree
+            keep = math.exp(-dt / tau)
+            aux[j, _A_CONTACT] += dt
+            aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
+            best = -1e300
+            for g in range(G):
+                fg = forces[base + g]
+                r = f - bias - fg
+                s2 = var + bias_var + floor2 + misfit2 * fg * fg
+                ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
+                v = keep * L[j, g] + ll * weight
+                L[j, g] = v
+                if v > best:
+                    best = v
+            total = 0.0
+            for g in range(G):
+                v = math.exp(L[j, g] - best)
+                P[j, g] = v
+                total += v
+            for g in range(G):
+                P[j, g] /= total
+        # the reported posterior: the fit's, blurred by the model discrepancy (Q = blur @ P)
+        for g in range(G):
+            acc = 0.0
+            for h in range(G):
+                acc += blur[g, h] * P[j, h]
+            Q[g] = acc
+        out[j, _O_W] = _quantile(Q, edges, 0.5)
+        out[j, _O_LOW] = _quantile(Q, edges, half)
+        out[j, _O_HIGH] = _quantile(Q, edges, 1.0 - half)
+        out[j, _O_BIAS] = aux[j, _A_BIAS]
+        out[j, _O_NOISE] = math.sqrt(aux[j, _A_VAR])
+        # change flag: a settled estimate that leaves the anchor behind
+        changed = 0.0
+        # (only once the offset has been tared: before, an estimate may still move with it)
+        if out[j, _O_HIGH] - out[j, _O_LOW] <= cfg[_C_SETTLE] and aux[j, _A_NFREE] >= 10.0:
+            anchor = aux[j, _A_ANCHOR]
+            if math.isnan(anchor) or aux[j, _A_HOLD] > 0.0:
+                # the first settled estimate, or the estimate still settling after a flag: follow it
+                aux[j, _A_ANCHOR] = out[j, _O_W]
+            elif anchor < out[j, _O_LOW] - cfg[_C_MARGIN] or anchor > out[j, _O_HIGH] + cfg[_C_MARGIN]:
+                changed = 1.0
+                aux[j, _A_ANCHOR] = out[j, _O_W]
+                aux[j, _A_HOLD] = tau
+        out[j, _O_CHANGED] = changed
+    return -1
+
+
+def _blur_matrix(grid: np.ndarray, edges: np.ndarray, sd: float) -> np.ndarray:
+    """``B[g, h]``: the share of a normal of standard deviation ``sd`` [-] around ``grid[h]`` in cell ``g``.
+
+    Each column is renormalised to the grid's range (the mass beyond its ends
+    is put back in proportion); ``sd = 0`` gives the identity.
+    """
+    G = grid.size
+    if sd == 0.0:
+        return np.eye(G)
+    cdf = np.array([[0.5 * (1.0 + math.erf((e - w) / (sd * math.sqrt(2.0)))) for w in grid] for e in edges])
+    blur = np.diff(cdf, axis=0)
+    blur /= blur.sum(axis=0, keepdims=True)
+    return np.ascontiguousarray(blur)
+
+
+# ---------------------------------------------------------------------------- public API
+
+@dataclass(frozen=True)
+class TrackEstimate:
+    """One foot's estimate after a sample (from :meth:`MudTracker.update`).
+
+    Attributes
+    ----------
+    water_content : float
+        Posterior median of the water content [-] (0.25 means 25 %).
+    low, high : float
+        Central 95 % credible interval of the water content [-].
+    force_predicted : float
+        The force the sensor should read for this sample [N]: the models'
+        mean force under the posterior before the sample, plus the
+        estimated sensor offset.
+    changed : bool
+        True on the sample at which the tracker decided the mud has changed.
+    bias : float
+        Estimated force-sensor offset [N] (tared while the foot is free).
+    noise : float
+        Estimated force-sensor noise, standard deviation [N].
+    """
+
+    water_content: float
+    low: float
+    high: float
+    force_predicted: float
+    changed: bool
+    bias: float
+    noise: float
+
+    @property
+    def interval(self) -> tuple[float, float]:
+        """Deprecated: ``(low, high)`` [-]; use :attr:`low` and :attr:`high`."""
+        warn_renamed("TrackEstimate.interval", "TrackEstimate.low and TrackEstimate.high")
+        return self.low, self.high
+
+
+@dataclass(frozen=True)
+class TrackEstimates:
+    """Every foot's estimate after a sample (from :meth:`MudTrackers.update`); arrays of shape (n,), copies.
+
+    Attributes
+    ----------
+    water_content, low, high : numpy.ndarray
+        Posterior median and central 95 % interval of the water content [-].
+    force_predicted : numpy.ndarray
+        Predicted sensor reading [N] (see :class:`TrackEstimate`).
+    changed : numpy.ndarray of bool
+        Where the tracker decided the mud has changed at this sample.
+    bias, noise : numpy.ndarray
+        Estimated sensor offset [N] and noise standard deviation [N].
+    """
+
+    water_content: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    force_predicted: np.ndarray
+    changed: np.ndarray
+    bias: np.ndarray
+    noise: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class TrackerState:
+    """A snapshot of a tracker's state, for save and restore (rollouts, replays).
+
+    Read it from :attr:`MudTrackers.state` (or :attr:`MudTracker.state`) and
+    assign it back to restore; it is a copy (read-only arrays), and it restores
+    only into a tracker of the same feet, grid and options.
+    """
+
+    #: the bank's contact states, as :attr:`mudforce.MudContacts.state`
+    bank: np.ndarray
+    #: each foot's log-posterior over the grid, shape (n, G)
+    log_posterior: np.ndarray
+    #: each foot's posterior over the grid, shape (n, G)
+    posterior: np.ndarray
+    #: each foot's offset, noise, contact time and change-flag state
+    aux: np.ndarray
+    #: False before the first sample
+    started: bool
+    #: the tracker configuration the snapshot belongs to
+    key: bytes
+
+    def __post_init__(self) -> None:
+        for name in ("bank", "log_posterior", "posterior", "aux"):
+            arr = np.array(getattr(self, name), dtype=np.float64)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
+
+def _grid(water_contents: Sequence[float] | None) -> np.ndarray:
+    if water_contents is None:
+        return np.array(DEFAULT_GRID, dtype=np.float64)
+    grid = np.array(real_array(water_contents, "water_contents", "-"))
+    lo, hi = WATER_CONTENT_RANGE
+    if grid.ndim != 1 or grid.size < 2:
+        raise InputError(f"water_contents must list at least 2 water contents [-], got shape {grid.shape}")
+    if not np.all(np.isfinite(grid)) or np.any(np.diff(grid) <= 0.0):
+        raise InputError("water_contents must be finite and strictly increasing [-]")
+    if grid[0] < lo - 1e-12 or grid[-1] > hi + 1e-12:
+        raise InputError(f"water_contents must lie within Table I's [{lo:g}, {hi:g}], got "
+                         f"{grid[0]:g} .. {grid[-1]:g}")
+    return grid
+
+
+class MudTrackers:
+    """Track the mud's water content under ``n`` feet at once, one sample at a time (see the module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Number of feet, >= 1; each has its own posterior, offset and noise.
+    foot : Foot, optional
+        The foot geometry (shared); the paper's 51 x 38 mm cuboid by default.
+    water_contents : sequence of float, optional
+        The grid of water contents [-], increasing, within Table I's
+        range; :data:`DEFAULT_GRID` (15-35 % by 0.5 points) by default. The
+        estimate cannot resolve finer than about one grid step.
+    tau : float
+        Forgetting time constant [s of contact], > 0 (default 3 s: the
+        estimate follows new mud within a few steps).
+    misfit : float
+        Relative model misfit [-] added to the likelihood's scale (default 0.05).
+    floor : float
+        Floor on the likelihood's scale [N] (default 0.2 N).
+    dof : float
+        Degrees of freedom of the Student-t likelihood [-] (default 2).
+    correlation_time : float
+        Time over which the model's misfit stays correlated [s] (default
+        0.05 s): each sample's log-likelihood is weighted by
+        ``min(1, dt / correlation_time)`` (1/5 at 100 Hz), so the evidence
+        per second does not grow with the sampling rate.
+    noise : float
+        Prior force-noise standard deviation [N], until the foot has been
+        free (default 0.5 N).
+    bias : float
+        Prior spread of the force offset [N], until the foot has been free
+        (default 2 N).
+    velocity_filter : VelocityFilter or "exact", optional
+        The bank's branch rule; by default :func:`default_velocity_filter`
+        (30 um depth noise at 100 Hz).
+    level : float
+        Probability of the credible interval [-], in (0, 1) (default 0.95).
+    discrepancy : float
+        Standard deviation [-] of the model's systematic error in water
+        content (default 0.0075, three quarters of a point): the fit's posterior is
+        blurred by it before the estimate and interval are read (0: none).
+
+    Notes
+    -----
+    One update steps ``n * len(water_contents)`` models in compiled code.
+    """
+
+    def __init__(
+        self,
+        n: int,
+        foot: Foot | None = None,
+        *,
+        water_contents: Sequence[float] | None = None,
+        tau: float = 3.0,
+        misfit: float = 0.05,
+        floor: float = 0.2,
+        dof: float = 2.0,
+        correlation_time: float = 0.05,
+        noise: float = 0.5,
+        bias: float = 2.0,
+        velocity_filter: VelocityFilter | str | None = None,
+        level: float = 0.95,
+        discrepancy: float = 0.0075,
+    ) -> None:
+        self.n = positive_int(n, "the number of feet n")
+        if foot is not None and not isinstance(foot, Foot):
+            raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")
+        self.foot = Foot.paper() if foot is None else foot
+        self.grid = _grid(water_contents)
+        level = positive_number(level, "level", "-")
+        if not level < 1.0:
+            raise InputError(f"level must be within (0, 1), got {level!r}")
+        self.level = level
+        self.velocity_filter = (default_velocity_filter() if velocity_filter is None
+                                else resolve_velocity_filter(velocity_filter))
+        cfg = np.empty(_N_CFG, dtype=np.float64)
+        cfg[_C_TAU] = positive_number(tau, "tau", "s")
+        cfg[_C_MISFIT] = positive_number(misfit, "misfit", "-")
+        cfg[_C_FLOOR] = positive_number(floor, "floor", "N")
+        cfg[_C_DOF] = positive_number(dof, "dof", "-")
+        cfg[_C_TEMP] = positive_number(correlation_time, "correlation_time", "s")
+        cfg[_C_NOISE0] = positive_number(noise, "noise", "N")
+        cfg[_C_BIAS0] = positive_number(bias, "bias", "N")
+        cfg[_C_FREE_MEMORY] = 500.0  # samples: the offset and noise follow slow drift over ~5 s of swing at 100 Hz
+        step = float(np.max(np.diff(self.grid)))
+        cfg[_C_SETTLE] = max(0.04, 6.0 * step)  # [-] interval width under which an estimate counts as settled
+        cfg[_C_MARGIN] = max(0.01, 2.0 * step)  # [-] how far a settled interval must leave the anchor
+        cfg[_C_LEVEL] = level
+        self._cfg = cfg
+        G = self.grid.size
+        mids = 0.5 * (self.grid[1:] + self.grid[:-1])
+        self._edges = np.concatenate(([self.grid[0] - (mids[0] - self.grid[0])], mids,
+                                      [self.grid[-1] + (self.grid[-1] - mids[-1])]))
+        if isinstance(discrepancy, (int, float)) and not isinstance(discrepancy, bool) and discrepancy == 0.0:
+            self.discrepancy = 0.0
+        else:
+            self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
+        self._blur = _blur_matrix(self.grid, self._edges, self.discrepancy)
+        self._Q = np.zeros(G, dtype=np.float64)
+        mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
+        from mudforce.steppers.many import MudContacts
+
+        self._bank = MudContacts(mud * self.n, self.n * G, self.foot, velocity_filter=self.velocity_filter,
+                                 threads=1)
+        self._zbuf = np.zeros(self.n * G, dtype=np.float64)
+        self._L = np.zeros((self.n, G), dtype=np.float64)
+        self._P = np.zeros((self.n, G), dtype=np.float64)
+        self._aux = np.zeros((self.n, _N_AUX), dtype=np.float64)
+        self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
+        self._depths = np.zeros(self.n, dtype=np.float64)
+        self._forces = np.zeros(self.n, dtype=np.float64)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget everything: the next update is a first sample, the posterior uniform."""
+        self._bank.reset()
+        self._L[:] = 0.0
+        self._P[:] = 1.0 / self.grid.size
+        self._aux[:] = 0.0
+        self._aux[:, _A_VAR] = self._cfg[_C_NOISE0] ** 2
+        self._aux[:, _A_ANCHOR] = np.nan
+        self._started = False
+
+    def _step(self, dt: float) -> None:
+        if self._started:
+            if not (dt > 0.0 and dt < math.inf):
+                raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        else:
+            dt = 1.0  # the first sample's dt is ignored
+        bank = self._bank
+        bad = _track_step(bank._states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
+                          bank._scratch[0], bank._index[0], self._depths, self._forces, self._edges, self._L,
+                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out)
+        if bad >= 0:
+            raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
+                             f"{self._depths[bad]!r} and {self._forces[bad]!r}")
+        self._started = True
+
+    def update(self, depths: Any, forces: Any, dt: float) -> TrackEstimates:
+        """Take one sample of every foot; return every foot's estimate.
+
+        Parameters
+        ----------
+        depths : array_like, shape (n,)
+            Foot depths below the undisturbed surface [m], positive down.
+        forces : array_like, shape (n,)
+            Measured vertical forces [N], positive up (with any sensor offset).
+        dt : float
+            Time since the previous sample [s], finite and > 0; ignored on the first call.
+
+        Returns
+        -------
+        TrackEstimates
+        """
+        z = real_array(depths, "depths", "m")
+        f = real_array(forces, "forces", "N")
+        if z.shape != (self.n,) or f.shape != (self.n,):
+            raise InputError(f"depths and forces must have shape ({self.n},), got {z.shape} and {f.shape}")
+        self._depths[:] = z
+        self._forces[:] = f
+        self._step(real_number(dt, "dt [s]"))
+        o = self._out
+        return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
+                              o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy())
+
+    def _key(self) -> bytes:
+        return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
+                         self._bank.params_array.tobytes()))
+
+    @property
+    def state(self) -> TrackerState:
+        """A snapshot of every foot's state (a copy); assign one back to restore it.
+
+        A refused restore (not a :class:`TrackerState`, one of another
+        tracker's configuration, or a state the tracker never makes) leaves
+        the tracker exactly as it was.
+        """
+        return TrackerState(self._bank.state, self._L, self._P, self._aux, self._started, self._key())
+
+    @state.setter
+    def state(self, value: TrackerState) -> None:
+        if not isinstance(value, TrackerState):
+            raise InputError(f"state must be a TrackerState (from a tracker's .state), got {type(value).__name__}")
+        if value.key != self._key() or value.log_posterior.shape != self._L.shape or \
+                value.aux.shape != self._aux.shape or value.posterior.shape != self._P.shape:
+            raise InputError("this TrackerState was taken from a tracker of other feet, grid or options; "
+                             "expected one from a tracker made with the same arguments")
+        if not (np.isfinite(value.posterior).all() and np.isfinite(value.log_posterior).all()
+                and np.isfinite(np.delete(value.aux, _A_ANCHOR, axis=1)).all()):
+            raise InputError("a TrackerState holds non-finite values; expected one taken from a tracker")
+        self._bank.state = value.bank  # validated there before anything changes (else it raises here)
+        self._L[:] = value.log_posterior
+        self._P[:] = value.posterior
+        self._aux[:] = value.aux
+        self._started = bool(value.started)
+
+    @property
+    def posterior(self) -> np.ndarray:
+        """Each foot's posterior probability of each grid water content, shape (n, G) (a copy)."""
+        p: np.ndarray = np.array(self._P, dtype=np.float64)
+        return p
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __repr__(self) -> str:
+        return f"MudTrackers(n={self.n}, grid={self.grid[0]:g}..{self.grid[-1]:g} ({self.grid.size}))"
+
+
+_MISSING: Any = object()  # an argument not given (MudTracker.update's defaults)
+
+
+def _old_update_keywords(depth: Any, force: Any, dt: Any, given: dict[str, Any]) -> tuple[Any, Any, Any]:
+    """``MudTracker.update``'s arguments from its deprecated keywords ``depth_m``, ``force_N``, ``dt_s`` (warns)."""
+    names = {"depth_m": "depth", "force_N": "force", "dt_s": "dt"}
+    unknown = sorted(set(given) - set(names))
+    if unknown:
+        raise InputError(f"MudTracker.update got an unexpected keyword {unknown[0]!r}; expected depth, force, dt")
+    values = {"depth": depth, "force": force, "dt": dt}
+    for old, value in given.items():
+        if values[names[old]] is not _MISSING:
+            raise InputError(f"MudTracker.update: give {names[old]}= only ({old}= is its deprecated name)")
+        values[names[old]] = value
+    warn_renamed("MudTracker.update(" + "=, ".join(given) + "=)", "update(depth=, force=, dt=)", stacklevel=4)
+    return values["depth"], values["force"], values["dt"]
+
+
+class MudTracker:
+    """Track the mud's water content under one foot, one sample at a time.
+
+    ``MudTracker(foot, **options)`` is :class:`MudTrackers` for one foot with
+    a scalar interface; the options are the same.
+
+    Examples
+    --------
+    >>> from mudforce import MudTracker
+    >>> from mudforce.motions.gait import walk
+    >>> w = walk(0.25, seed=3, duration=15.0, force_noise=0.2, bias=0.5)
+    >>> tracker = MudTracker()
+    >>> previous = w.time[0]
+    >>> for t, z, f in zip(w.time, w.depth, w.force):
+    ...     estimate = tracker.update(z, f, t - previous)
+    ...     previous = t
+    >>> bool(estimate.low <= 0.25 <= estimate.high)
+    True
+    """
+
+    def __init__(self, foot: Foot | None = None, **options: Any) -> None:
+        self._bank = MudTrackers(1, foot, **options)
+        self.grid = self._bank.grid
+
+    def update(self, depth: float = _MISSING, force: float = _MISSING, dt: float = _MISSING,
+               **deprecated: float) -> TrackEstimate:
+        """Take one sample; return the estimate.
+
+        Parameters
+        ----------
+        depth : float
+            Foot depth below the undisturbed surface [m], positive down.
+        force : float
+            Measured vertical force [N], positive up (with any sensor offset).
+        dt : float
+            Time since the previous sample [s], finite and > 0; ignored on the first call.
+            (``depth_m``, ``force_N``, ``dt_s``: deprecated names of the three.)
+
+        Returns
+        -------
+        TrackEstimate
+        """
+        b = self._bank
+        if deprecated:  # the old keywords, kept for one release (a decorator would cost every update a call)
+            depth, force, dt = _old_update_keywords(depth, force, dt, deprecated)
+        # real numbers only: numpy would parse a string, drop an imaginary part, take a bool as 0 or 1
+        if type(depth) is not float or type(force) is not float or type(dt) is not float:
+            for name, value in (("depth", depth), ("force", force), ("dt", dt)):
+                if value is _MISSING:
+                    raise InputError(f"MudTracker.update: {name} is missing; expected update(depth [m], force [N], "
+                                     "dt [s])")
+            depth, force = real_number(depth, "depth [m]"), real_number(force, "force [N]")
+            dt = real_number(dt, "dt [s]")
+        b._depths[0] = depth
+        b._forces[0] = force
+        b._step(dt)
+        o = b._out[0]
+        return TrackEstimate(float(o[_O_W]), float(o[_O_LOW]), float(o[_O_HIGH]), float(o[_O_PRED]),
+                             bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]))
+
+    def reset(self) -> None:
+        """Forget everything: the next update is a first sample."""
+        self._bank.reset()
+
+    @property
+    def state(self) -> TrackerState:
+        """A snapshot of the tracker's state (a copy); assign one back to restore it (see :attr:`MudTrackers.state`)."""
+        return self._bank.state
+
+    @state.setter
+    def state(self, value: TrackerState) -> None:
+        self._bank.state = value
+
+    @property
+    def posterior(self) -> np.ndarray:
+        """The posterior probability of each grid water content, shape (G,) (a copy)."""
+        p: np.ndarray = np.array(self._bank._P[0], dtype=np.float64)
+        return p
+
+    def __repr__(self) -> str:
+        g = self.grid
+        return f"MudTracker(grid={g[0]:g}..{g[-1]:g} ({g.size}))"
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """A whole recording tracked by :func:`track`; arrays of shape (samples,).
+
+    Attributes
+    ----------
+    time, depth, force : numpy.ndarray
+        The input [s], [m], [N].
+    water_content, low, high : numpy.ndarray
+        Estimate and 95 % interval [-] after each sample.
+    force_predicted : numpy.ndarray
+        Predicted sensor reading [N].
+    changed : numpy.ndarray of bool
+        Samples where a change of mud was flagged.
+    bias, noise : numpy.ndarray
+        Estimated offset and noise [N].
+    """
+
+    time: np.ndarray
+    depth: np.ndarray
+    force: np.ndarray
+    water_content: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    force_predicted: np.ndarray
+    changed: np.ndarray
+    bias: np.ndarray
+    noise: np.ndarray
+
+    #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
+    COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
+                                          "force_predicted_N", "force_N", "changed")
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The per-sample data under the names of :attr:`COLUMNS` (``changed`` as bool)."""
+        arrays = (self.time, self.water_content, self.low, self.high, self.force_predicted, self.force, self.changed)
+        return dict(zip(self.COLUMNS, arrays, strict=True))
+
+    def to_pandas(self) -> Any:
+        """A :class:`pandas.DataFrame` with the columns of :meth:`to_csv` (needs pandas)."""
+        from mudforce.io.results import to_pandas
+
+        return to_pandas(self.columns())
+
+    def _csv_text(self) -> str:
+        lines = [",".join(self.COLUMNS)]
+        for row in zip(self.time.tolist(), self.water_content.tolist(), self.low.tolist(), self.high.tolist(),
+                       self.force_predicted.tolist(), self.force.tolist(), self.changed.tolist(), strict=True):
+            *values, changed = row
+            lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)}")
+        return "\n".join(lines) + "\n"
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write the estimates as CSV, atomically: the columns :attr:`COLUMNS` (``changed`` as 0 or 1).
+
+        The file ``mudforce track --out`` writes; units in the names ([s], [-], [N]).
+        """
+        from mudforce.io.results import write_text
+
+        write_text(path, self._csv_text())
+
+    def plot(self, path: str | os.PathLike[str] | None = None, *, truth: Any = None, title: str | None = None) -> Any:
+        """Force measured and predicted, and the water content with its band (needs matplotlib).
+
+        Saved as PNG at ``path`` if given; ``truth`` the true water content per sample [-], if known.
+        See :func:`mudforce.estimation.tracking_plots.plot_track`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from mudforce.estimation.tracking_plots import plot_track
+
+        if path is not None and not isinstance(path, (str, os.PathLike)):
+            raise InputError(f"path must be a file path (str or os.PathLike), got {type(path).__name__}")
+        return plot_track(self, path, truth=truth, title=title)
+
+
+def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options: Any) -> TrackResult:
+    """Run a :class:`MudTracker` over a whole recording (offline convenience; same results as online).
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times [s], strictly increasing.
+    depth : array_like
+        Foot depth [m], positive down.
+    force : array_like
+        Measured force [N].
+    foot : Foot, optional
+        The foot (the paper's by default).
+    **options
+        As for :class:`MudTrackers`.
+    """
+    t = real_array(time, "time", "s")
+    z = real_array(depth, "depth", "m")
+    f = real_array(force, "force", "N")
+    if t.ndim != 1 or t.shape != z.shape or t.shape != f.shape or t.size < 1:
+        raise InputError(f"time, depth and force must be 1-D of one length >= 1, got {t.shape}, {z.shape}, {f.shape}")
+    if t.size > 1 and not np.all(np.diff(t) > 0.0):
+        raise InputError("time must be strictly increasing [s]")
+    tracker = MudTrackers(1, foot, **options)
+    m = t.size
+    cols = np.empty((m, _N_OUT), dtype=np.float64)
+    previous = t[0]
+    for k in range(m):
+        tracker._depths[0] = z[k]
+        tracker._forces[0] = f[k]
+        tracker._step(float(t[k] - previous) if k else 1.0)
+        cols[k] = tracker._out[0]
+        previous = t[k]
+    return TrackResult(t, z, f, cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
+                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE])

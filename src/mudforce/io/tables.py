@@ -1,0 +1,324 @@
+"""Reading measured data from CSV files, with one-line errors that name file, row and column; writing columns.
+
+Columns carry their unit in the header (``time_s``, ``depth_m``,
+``depth_mm``, ``force_N``); values are returned in SI. :func:`write_csv`
+writes columns of numbers (``.12g``) at numpy speed.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import re
+from collections.abc import Iterator, Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from mudforce.errors import InputError
+
+__all__ = ["COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv"]
+
+#: Accepted header spellings per quantity, with the factor to SI.
+COLUMN_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
+    "time": (("time_s", 1.0), ("time_ms", 1e-3)),
+    "depth": (("depth_m", 1.0), ("depth_mm", 1e-3)),
+    "force": (("force_N", 1.0),),
+    "velocity": (("velocity_m_s", 1.0), ("velocity_mm_s", 1e-3)),
+}
+
+
+#: Largest magnitude accepted per quantity [SI]: bounds of physical sense that keep every
+#: later product finite (a 1e300 N bias would otherwise reach a fit as ``inf``).
+COLUMN_LIMITS: dict[str, float] = {
+    "time": 1e9,  # [s], ~30 years
+    "depth": 100.0,  # [m], the model's depth bound (mudforce.steppers.simulation.MAX_DEPTH)
+    "force": 1e7,  # [N], ~1000 t
+    "velocity": 1e3,  # [m/s]
+    "water_content": 1.0,  # [-]
+}
+
+#: Rows read into Python lists before they are packed into float64 arrays (memory stays ~8 bytes a value).
+_CHUNK = 8192
+
+#: Rows :func:`write_csv` formats at a time [-] (a few MB of text); progress is shown per block.
+WRITE_BLOCK = 1 << 16
+#: Rows from which :func:`write_csv` shows progress on a terminal [-] (~1 s of writing).
+_PROGRESS_ROWS = 1 << 21
+
+#: A decimal number as the readers accept it: plain ASCII, no "1_0", no non-ASCII digits, no hex, no nan or inf.
+NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_NONFINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", flags=re.IGNORECASE)
+
+
+def _clip(text: str, limit: int = 60) -> str:
+    """``text`` cut to ``limit`` characters, so that a garbage file still gives a one-line, short message."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _expected(spellings: Sequence[tuple[str, float]]) -> str:
+    return " or ".join(s for s, _ in spellings)
+
+
+def _number(p: Path, line: int, spelling: str, cell: str) -> float:
+    """The value of one cell, or :class:`InputError` naming file, row and column."""
+    if NUMBER.fullmatch(cell) is None:
+        if _NONFINITE.fullmatch(cell):
+            raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not finite; expected a number")
+        raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not a number "
+                         "(plain ASCII decimal, e.g. 0.25 or 2.5e-1)")
+    return float(cell)
+
+
+def read_columns(
+    path: str | os.PathLike[str],
+    columns: Mapping[str, Sequence[tuple[str, float]]],
+    *,
+    optional: Mapping[str, Sequence[tuple[str, float]]] | None = None,
+    keep_text: Sequence[str] = (),
+    matched: dict[str, str] | None = None,
+) -> dict[str, np.ndarray]:
+    """Read named numeric columns from a CSV file with a header row.
+
+    The file is read row by row and packed into float64 arrays in chunks,
+    so memory grows as the numbers do (8 bytes each), not as Python objects.
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV file (UTF-8; a byte-order mark is accepted).
+    columns : mapping
+        Quantity name -> accepted ``(header, factor_to_SI)`` spellings; all required.
+    optional : mapping, optional
+        The same, for columns that may be absent.
+    keep_text : sequence of str
+        Header names returned as arrays of strings, unconverted (if present).
+    matched : dict, optional
+        Filled with the header each quantity was read from (``{"time": "time_ms"}``),
+        for messages about the values that name the file's own column.
+
+    Returns
+    -------
+    dict of str to ndarray
+        One float64 array [SI] per quantity found, one str array per
+        ``keep_text`` column, and under ``"line"`` each data row's line
+        number in the file (blank lines are skipped, so rows are not ``k + 2``).
+
+    Raises
+    ------
+    InputError
+        Missing, unreadable, empty, header-only, ragged or non-numeric files;
+        a column named twice, or two spellings of one quantity
+        (``depth_m`` beside ``depth_mm``); NaN, infinite values and values
+        beyond :data:`COLUMN_LIMITS`; each with file, row and column.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"path must be a file name, got {type(path).__name__}")
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"{p}: file not found")
+    if p.is_dir():
+        raise InputError(f"{p}: is a directory; expected a CSV file")
+    wanted = {**columns, **(optional or {})}
+    example = ",".join(spellings[0][0] for spellings in columns.values())
+    try:
+        with p.open(newline="", encoding="utf-8-sig") as handle:
+            return _read(p, csv.reader(handle), columns, wanted, example, keep_text, matched)
+    except UnicodeDecodeError:
+        raise InputError(f"{p}: not a text CSV file (cannot decode as UTF-8)") from None
+    except csv.Error as exc:
+        raise InputError(f"{p}: not a valid CSV file ({_clip(str(exc))})") from None
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+
+
+def _read(
+    p: Path,
+    reader: Iterator[list[str]],
+    columns: Mapping[str, Sequence[tuple[str, float]]],
+    wanted: Mapping[str, Sequence[tuple[str, float]]],
+    example: str,
+    keep_text: Sequence[str],
+    matched: dict[str, str] | None,
+) -> dict[str, np.ndarray]:
+    header: list[str] | None = None
+    line = 0
+    for row in reader:
+        line = reader.line_num  # type: ignore[attr-defined]
+        if row and any(c.strip() for c in row):
+            header = [c.strip() for c in row]
+            break
+    if header is None:
+        raise InputError(f"{p}: file is empty; expected a header row like {example} and data rows")
+    named = [h for h in header if h]
+    duplicates = sorted({h for h in named if named.count(h) > 1})
+    if duplicates:
+        raise InputError(f"{p}: column {duplicates[0]} appears more than once in the header; "
+                         "each column must be named once")
+    index: dict[str, tuple[int, float, str]] = {}
+    for quantity, spellings in wanted.items():
+        present = [(s, f) for s, f in spellings if s in header]
+        if len(present) > 1:
+            raise InputError(f"{p}: columns {' and '.join(s for s, _ in present)} both give the {quantity}; "
+                             "keep one of them")
+        if present:
+            spelling, factor = present[0]
+            index[quantity] = (header.index(spelling), factor, spelling)
+        elif quantity in columns:
+            raise InputError(
+                f"{p}: missing column {_expected(spellings)}; the header is {_clip(','.join(header))!r}, "
+                f"expected e.g. {example}"
+            )
+    text_index = {name: header.index(name) for name in keep_text if name in header}
+    limits = {q: COLUMN_LIMITS.get(q, math.inf) for q in index}
+    chunks: dict[str, list[np.ndarray]] = {q: [] for q in index}
+    values: dict[str, list[float]] = {q: [] for q in index}
+    line_chunks: list[np.ndarray] = []
+    lines: list[int] = []
+    texts: dict[str, list[str]] = {name: [] for name in text_index}
+    width = len(header)
+
+    def pack() -> None:
+        for q in index:
+            chunks[q].append(np.array(values[q], dtype=np.float64))
+            values[q].clear()
+        line_chunks.append(np.array(lines, dtype=np.int64))
+        lines.clear()
+
+    for row in reader:
+        line = reader.line_num  # type: ignore[attr-defined]
+        if not row or not any(c.strip() for c in row):
+            continue
+        if len(row) != width:
+            raise InputError(
+                f"{p}: row {line} has {len(row)} fields, the header has {width}; rows must not be ragged"
+            )
+        for quantity, (col, factor, spelling) in index.items():
+            cell = row[col].strip()
+            value = _number(p, line, spelling, cell) * factor
+            if not abs(value) <= limits[quantity]:
+                raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is beyond the accepted "
+                                 f"magnitude {limits[quantity]:g} (SI) for a {quantity}")
+            values[quantity].append(value)
+        for name, col in text_index.items():
+            texts[name].append(row[col].strip())
+        lines.append(line)
+        if len(lines) >= _CHUNK:
+            pack()
+    pack()
+    line_numbers = np.concatenate(line_chunks)
+    if not line_numbers.size:
+        raise InputError(
+            f"{p}: has a header but no data rows; expected rows of numbers under {_clip(','.join(header))}"
+        )
+    if matched is not None:
+        matched.update({quantity: spelling for quantity, (_, _, spelling) in index.items()})
+    result: dict[str, np.ndarray] = {q: np.concatenate(chunks[q]) for q in index}
+    result["line"] = line_numbers  # each data row's line number in the file
+    for name, texts_of in texts.items():
+        result[name] = np.array(texts_of, dtype=object)
+    return result
+
+
+def check_time(
+    path: str | os.PathLike[str], time: np.ndarray, column: str = "time_s", lines: np.ndarray | None = None
+) -> None:
+    """Refuse time that repeats or goes backwards, naming the row (``lines``: from :func:`read_columns`)."""
+    steps = np.diff(time)
+    bad = np.flatnonzero(steps <= 0.0)
+    if bad.size:
+        i = int(bad[0])
+        what = "repeats" if steps[i] == 0.0 else "goes backwards"
+        row = int(lines[i + 1]) if lines is not None else i + 3
+        raise InputError(
+            f"{path}: row {row}, column {column}: time {what} ({float(time[i])!r} then {float(time[i + 1])!r}); "
+            f"expected strictly increasing time"
+        )
+
+
+def read_trajectory(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Read a prescribed trajectory: columns ``time_s`` and ``depth_m`` (or ``depth_mm``).
+
+    Returns
+    -------
+    time : ndarray
+        [s], strictly increasing.
+    depth : ndarray
+        [m], positive below the surface.
+    """
+    matched: dict[str, str] = {}
+    cols = read_columns(path, {"time": COLUMN_UNITS["time"], "depth": COLUMN_UNITS["depth"]}, matched=matched)
+    check_time(path, cols["time"], matched["time"], lines=cols["line"])
+    return cols["time"], cols["depth"]
+
+
+def write_csv(
+    path: str | os.PathLike[str],
+    columns: Mapping[str, np.ndarray],
+    label: tuple[str, np.ndarray, Sequence[str]] | None = None,
+    *,
+    quiet: bool = False,
+) -> None:
+    """Write columns of numbers as CSV, atomically, each number as ``f"{x:.12g}"``; at numpy speed.
+
+    The lines are exactly those of ``",".join(f"{x:.12g}" for x in row)``
+    (plus ``"," + label``), made by a compiled formatter
+    (:mod:`mudforce.io._csvformat`, which leaves the rare values whose
+    rounding it cannot vouch for to Python), in blocks of
+    :data:`WRITE_BLOCK` rows. Long writes show progress on a terminal
+    (stderr) unless ``quiet``.
+
+    Parameters
+    ----------
+    path : path-like
+        The file; written to a temporary file and renamed onto it (:func:`mudforce.io.atomic_open`).
+    columns : mapping of str to ndarray
+        Header name (with its unit, ``force_N``) -> values, one per row, in the names' order.
+    label : (str, ndarray of int, sequence of str), optional
+        A last column of text: its name, each row's code, and the text of each code (ASCII, no comma).
+    quiet : bool
+        Show no progress.
+    """
+    from mudforce._plumbing.progress import Progress
+    from mudforce.io import atomic_open
+    from mudforce.io._csvformat import format_rows, row_width
+
+    names = list(columns)
+    arrays = [np.asarray(columns[name], dtype=np.float64) for name in names]
+    n = int(arrays[0].shape[0]) if arrays else 0
+    if label is None:
+        codes = np.zeros(n, dtype=np.int64)
+        texts: list[bytes] = []
+    else:
+        codes = np.asarray(label[1], dtype=np.int64)
+        texts = [text.encode("ascii") for text in label[2]]
+        names.append(label[0])
+    width = max((len(t) for t in texts), default=0)
+    table = np.zeros((len(texts), width), dtype=np.uint8)
+    for k, text in enumerate(texts):
+        table[k, : len(text)] = np.frombuffer(text, dtype=np.uint8)
+    lengths = np.array([len(t) for t in texts], dtype=np.int64)
+    block = min(WRITE_BLOCK, max(n, 1))
+    buffer = np.empty(block * row_width(len(arrays), width + 1), dtype=np.uint8)
+    rows = np.empty((block, len(arrays)), dtype=np.float64)
+    blocks = -(-n // block)
+    with atomic_open(path, "wb") as handle, Progress(blocks, f"writing {Path(path).name}",
+                                                     quiet=quiet or n < _PROGRESS_ROWS) as progress:
+        handle.write((",".join(names) + "\n").encode("ascii"))
+        for lo in range(0, n, block):
+            hi = min(lo + block, n)
+            part = rows[: hi - lo]
+            for c, arr in enumerate(arrays):
+                part[:, c] = arr[lo:hi]
+            ends, hard = format_rows(part, codes[lo:hi], table, lengths, buffer)
+            done = 0
+            for r in hard.tolist():  # rows Python formats (about one in 500): spliced in at their place
+                start = int(ends[r - 1]) if r else 0
+                handle.write(buffer[done:start].data)
+                line = ",".join(f"{x:.12g}" for x in part[r].tolist())
+                handle.write((line + ("," + texts[codes[lo + r]].decode("ascii") if texts else "") + "\n"
+                              ).encode("ascii"))
+                done = start
+            handle.write(buffer[done:int(ends[-1])].data)
+            progress.update()

@@ -1,0 +1,264 @@
+"""Streaming: one foot, one sample at a time, for a control loop."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.layout import STATE_NAMES
+from mudforce.errors import InputError, real_array, real_number
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
+
+__all__ = ["ContactSample", "ContactState", "MudContact", "check_states"]
+
+
+def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact state") -> None:
+    """Refuse state rows (and filter histories) that the stepper never makes: restored states are
+    validated as strictly as fresh ones.
+
+    Parameters
+    ----------
+    states : ndarray, shape (n, N_STATE)
+        Rows of :mod:`mudforce._kernel`'s state layout.
+    ring : ndarray, shape (n, 0 or N_RING)
+        The velocity filter's histories.
+    what : str
+        For the message.
+
+    Raises
+    ------
+    InputError
+        Naming the first bad row and field: a non-finite value, ``started``
+        not 0 or 1, a mode not 0, 1, 2, a direction not -1, 0, 1, a negative
+        time or neck age, a depth beyond +-100 m, cached decays outside [0, 1],
+        a filter history whose count or head is not a valid index.
+    """
+    checks = K.invalid_rows(states, ring, MAX_DEPTH)
+    for message, bad in checks:
+        rows = np.flatnonzero(bad)
+        if rows.size:
+            where = f"{what} (foot {rows[0]})" if states.shape[0] > 1 else what
+            raise InputError(f"{where}: {message}; expected a state taken from a contact")
+
+
+class ContactSample(NamedTuple):
+    """Everything the last step computed (units as in :class:`SimulationResult`)."""
+
+    force: float  #: total force [N], positive up
+    f_e1: float  #: visco-elastic stress [Pa], Eq. (2)
+    f_e2: float  #: nonlinear-spring stress [Pa], Eq. (4)
+    f_s: float  #: drag stress [Pa], Eq. (5)
+    mud_displacement: float  #: z_m [m]
+    mud_velocity: float  #: dz_m/dt [m/s]
+    velocity: float  #: branch velocity estimate [m/s]
+    state: str  #: "FREE", "CONTACT" or "NECKED"
+    necked: bool  #: True if the neck broke during this step
+
+
+@dataclass(frozen=True, eq=False)
+class ContactState:
+    """A snapshot of one foot's contact state, for save and restore in rollouts.
+
+    Read it from :attr:`MudContact.state` and assign it back to restore.
+    The snapshot is a copy: later steps do not change it.
+    """
+
+    #: the state row of :mod:`mudforce._kernel`
+    data: np.ndarray
+    #: the params row the snapshot was taken with (keeps the step-length cache valid on restore)
+    params_key: bytes = b""
+    #: the velocity filter's recent samples (empty for the exact filter, which keeps none)
+    ring: np.ndarray = field(default_factory=lambda: np.empty(0))
+
+    def __post_init__(self) -> None:
+        arr = np.array(real_array(self.data, "a contact state", "SI"))  # always private copies
+        if arr.shape != (K.N_STATE,):
+            raise InputError(f"a contact state has {K.N_STATE} values, got shape {arr.shape}")
+        ring = np.array(real_array(self.ring, "a contact state's filter history", "SI")).ravel()
+        if ring.size not in (0, K.N_RING):
+            raise InputError(f"a contact state's filter history has 0 or {K.N_RING} values, got {ring.size}")
+        if not isinstance(self.params_key, bytes):
+            raise InputError(f"params_key must be bytes, got {type(self.params_key).__name__}")
+        check_states(arr[None, :], ring[None, :])
+        arr.setflags(write=False)
+        ring.setflags(write=False)
+        object.__setattr__(self, "data", arr)
+        object.__setattr__(self, "ring", ring)
+
+    @property
+    def started(self) -> bool:
+        """False before the first sample."""
+        return bool(K.state_column(self.data, "started"))
+
+    @property
+    def mode(self) -> str:
+        """``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        return STATE_NAMES[int(K.state_column(self.data, "mode"))]
+
+    @property
+    def time(self) -> float:
+        """Time since the first sample [s]."""
+        return float(K.state_column(self.data, "time"))
+
+    @property
+    def depth(self) -> float:
+        """Foot depth at the last sample [m]."""
+        return float(K.state_column(self.data, "depth"))
+
+    @property
+    def mud_displacement(self) -> float:
+        """Mud displacement ``z_m`` at the last sample [m]."""
+        return float(K.state_column(self.data, "mud"))
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, ContactState):
+            return NotImplemented
+        # the step-length cache is not state
+        same = np.array_equal(K.state_core(self.data), K.state_core(other.data))
+        return bool(same) and np.array_equal(self.ring, other.ring)
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return (
+            f"ContactState(mode={self.mode!r}, time={self.time:g} s, depth={self.depth:g} m, "
+            f"mud_displacement={self.mud_displacement:g} m)"
+        )
+
+
+class MudContact:
+    """The mud force on one foot, stepped one sample at a time.
+
+    Runs the same compiled stepper as :func:`mudforce.simulate`, so feeding
+    it a trajectory's samples gives exactly the batch result.
+
+    Parameters
+    ----------
+    params : MudParameters
+        Mud parameters.
+    foot : Foot, optional
+        Foot geometry; the paper's 51 x 38 mm cuboid by default.
+    velocity_filter : "exact" or VelocityFilter
+        Branch-velocity filter. A stream cannot look ahead to estimate its
+        noise, so the default is the paper's exact rule; for measured depth
+        pass ``noise_std`` or a :class:`VelocityFilter`.
+    noise_std : float, optional
+        Depth noise [m]; with ``dt``, builds ``VelocityFilter.for_noise(noise_std, dt)``.
+    dt : float, optional
+        Nominal time step [s], needed with ``noise_std``.
+
+    Examples
+    --------
+    >>> from mudforce import MudContact, MudParameters
+    >>> contact = MudContact(MudParameters.from_water_content(0.25))
+    >>> contact.step(0.0, 0.01)   # first sample: sets the initial state
+    0.0
+    >>> round(contact.step(0.0001, 0.01), 3) > 0
+    True
+    """
+
+    def __init__(
+        self,
+        params: MudParameters,
+        foot: Foot | None = None,
+        *,
+        velocity_filter: VelocityFilter | str = "exact",
+        noise_std: float | None = None,
+        dt: float | None = None,
+    ) -> None:
+        self.params = params
+        self.foot = Foot.paper() if foot is None else foot
+        if noise_std is not None:
+            if dt is None:
+                raise InputError("noise_std needs the nominal time step dt [s]")
+            velocity_filter = VelocityFilter.for_noise(noise_std, dt)
+        self.velocity_filter = resolve_velocity_filter(velocity_filter)
+        self._params = K.params_row(params, self.foot, self.velocity_filter)
+        self._buf = K.new_stream_buffer(self._params)
+        # views into the one buffer the compiled step sees
+        self._states, _, self._out, self._ring = K.stream_parts(self._buf)
+        self._step = K.stream_step
+
+    def step(self, depth: float, dt: float) -> float:
+        """Advance to the next depth sample and return the force [N].
+
+        Parameters
+        ----------
+        depth : float
+            Foot depth below the surface [m], positive down, within +-100 m
+            (:data:`mudforce.steppers.simulation.MAX_DEPTH`).
+        dt : float
+            Time since the previous sample [s], within [1e-9, 1e3]
+            (:data:`~mudforce.steppers.simulation.MIN_DT`: shorter steps would let
+            ``dz/dt`` and the drag overflow); ignored on the first call,
+            which sets the initial sample.
+
+        Raises
+        ------
+        InputError
+            For a depth or step out of range or not a number; the state
+            is then exactly as it was.
+        """
+        if type(depth) is not float or type(dt) is not float:
+            depth, dt = real_number(depth, "depth"), real_number(dt, "dt")
+        # the compiled step refuses (NaN, state unchanged) a depth or a step out of bounds: no check here
+        # on the 0.2 us path; a NaN force is then told apart from a refusal below
+        force: float = self._step(self._buf, depth, dt)
+        if force != force:
+            self._refuse(depth, dt)
+        return force
+
+    def _refuse(self, depth: float, dt: float) -> None:
+        """Raise for a bad depth or step (a step's length is ignored on the first call); else return."""
+        if not (math.isfinite(depth) and abs(depth) <= MAX_DEPTH):
+            raise InputError(f"depth must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, got {depth!r}")
+        if K.state_column(self._states, "started")[0] != 0.0 and not MIN_DT <= dt <= MAX_DT:
+            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+
+    @property
+    def last(self) -> ContactSample:
+        """The components of the last step."""
+        out = K.outputs(self._out[:, 0])
+        return ContactSample(
+            force=float(out.force),
+            f_e1=float(out.f_e1),
+            f_e2=float(out.f_e2),
+            f_s=float(out.f_s),
+            mud_displacement=float(out.mud),
+            mud_velocity=float(out.mud_velocity),
+            velocity=float(out.velocity),
+            state=STATE_NAMES[int(out.state)],
+            necked=bool(np.isfinite(out.neck_offset)),
+        )
+
+    def reset(self) -> None:
+        """Forget the history: the next call to :meth:`step` sets the initial sample."""
+        self._states[:] = K.new_states(1)
+
+    @property
+    def state(self) -> ContactState:
+        """A snapshot of the contact state; assign one back to restore it."""
+        return ContactState(self._states[0], self._params.tobytes(), self._ring[0])
+
+    @state.setter
+    def state(self, value: ContactState) -> None:
+        if not isinstance(value, ContactState):
+            raise InputError(f"state must be a ContactState (from MudContact.state), got {type(value).__name__}")
+        if self._ring.size:
+            if value.ring.size != self._ring.size:
+                raise InputError("this contact's velocity filter needs the history of one with a window > 1; "
+                                 "the state was taken with the exact filter")
+            self._ring[0] = value.ring
+        self._states[0] = value.data
+        if value.params_key != self._params.tobytes():
+            K.forget_cache(self._states)  # other parameters: recompute the step-length cache
+
+    def __repr__(self) -> str:
+        return f"MudContact({self.params.source!r}, foot={self.foot.shape!r}, state={self.state.mode})"

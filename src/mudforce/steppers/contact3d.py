@@ -1,0 +1,700 @@
+"""Mud in 3-D: the force and torque on a foot of any shape moving in any way (:class:`MudContact3D`).
+
+A foot is a :class:`mudforce.model.shapes.Shape` (a sole, sphere, capsule, box,
+mesh, or a MuJoCo geom's), placed each step by a pose: the position of its
+body origin [m] and a unit quaternion ``(w, x, y, z)`` (MuJoCo's order), in
+a world frame with z up and the undisturbed mud surface at
+``surface_height``. Each surface element carries the law of
+:mod:`mudforce.model.law3d`: the paper's vertical law with its whole state on the
+element's downward-facing projection, an elastic-then-yielding horizontal
+resistance (shear capped by ``sigma_y``, bearing from 3D-RFT), and Eq. (5)'s
+drag. The elements' velocities follow from consecutive poses (the exact
+rule: each element's displacement over the step, first-order hold).
+
+A flat sole (``shapes.sole(foot)``) moved straight up and down is exactly
+the paper: the force equals :func:`mudforce.simulate`'s to rounding, with
+no sideways force or torque (``tests/contact3d``).
+
+What is the paper's and what is ours: :mod:`mudforce.model.law3d` and
+docs/model.md, "Mud in 3-D".
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce._kernel import step3d as S3
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.layout import STATE_NAMES
+from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, real_number
+from mudforce.model import law3d
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.model.shapes import Shape
+from mudforce.model.velocity import resolve_velocity_filter
+from mudforce.steppers import many as vectorized
+from mudforce.steppers.contact import check_states
+from mudforce.steppers.many import MudContacts, _param_rows
+
+__all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
+
+
+class Wrench(NamedTuple):
+    """The mud's force and torque on a foot, world frame (z up).
+
+    Attributes
+    ----------
+    force : ndarray, shape (3,)
+        Force on the foot [N]; ``force[2] > 0`` pushes it up.
+    torque : ndarray, shape (3,)
+        Torque on the foot about its body origin [N m].
+    """
+
+    force: np.ndarray
+    torque: np.ndarray
+
+
+class ContactState3D(NamedTuple):
+    """Everything a :class:`MudContact3D` remembers, for ``contact.state = saved`` (rollouts, resets).
+
+    Attributes
+    ----------
+    elements : ndarray
+        The elements' 1-D states (:attr:`mudforce.steppers.many.MudContacts.state`).
+    slip : ndarray, shape (n, 2)
+        The elements' horizontal elastic slips [m].
+    centroids : ndarray, shape (n, 3)
+        The elements' world centroids at the last step [m].
+    started : bool
+        Whether the contact has taken its first step.
+    """
+
+    elements: np.ndarray
+    slip: np.ndarray
+    centroids: np.ndarray
+    started: bool
+
+
+def _pose(position: Any, quaternion: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The position [m] as a (3,) float64 array and the rotation matrix, refused if not finite or not unit."""
+    try:
+        p = np.asarray(position, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"position must be 3 numbers [m], got {position!r}") from None
+    if p.shape != (3,) or not np.all(np.isfinite(p)):
+        raise InputError(f"position must be 3 finite numbers [m], got {position!r}")
+    try:
+        rotation = law3d.rotation_matrix(quaternion)
+    except InputError:
+        raise
+    except (TypeError, ValueError):
+        raise InputError(f"a quaternion must be 4 finite numbers (w, x, y, z), got {quaternion!r}") from None
+    return p, rotation
+
+
+class MudContact3D:
+    """A foot of any shape in mud, stepped one pose at a time (a control loop, an engine).
+
+    Parameters
+    ----------
+    params : MudParameters
+        The mud (e.g. ``MudParameters.from_water_content(0.25)``).
+    shape : Shape
+        The foot's surface (:mod:`mudforce.model.shapes`), body frame.
+    surface_height : float
+        Height of the undisturbed mud surface in the world frame [m].
+    width : float, optional
+        The intruder width ``H`` of Eq. (4) [m]; by default ``shape.width``.
+    lateral_stiffness : float, optional
+        Stiffness of the horizontal elastic slip [Pa/m]; by default the
+        paper's withdrawal stiffness ``k_m_w`` (:mod:`mudforce.model.law3d`).
+
+    Examples
+    --------
+    >>> import mudforce as mf
+    >>> from mudforce.model import shapes
+    >>> foot = mf.MudContact3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.04))
+    >>> w = foot.step([0.0, 0.0, 0.015], [1.0, 0.0, 0.0, 0.0], 0.0)
+    >>> w = foot.step([0.0, 0.0, 0.010], [1.0, 0.0, 0.0, 0.0], 0.01)
+    >>> bool(w.force[2] > 0.0)
+    True
+    """
+
+    def __init__(self, params: MudParameters, shape: Shape, surface_height: float = 0.0, *,
+                 width: float | None = None, lateral_stiffness: float | None = None) -> None:
+        if not isinstance(params, MudParameters):
+            raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
+        if not isinstance(shape, Shape):
+            raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
+        self.params = params
+        self.shape = shape
+        self.surface_height = finite_number(surface_height, "surface_height", "m")
+        if abs(self.surface_height) > MAX_DEPTH:
+            raise InputError(f"surface_height must be within +-{MAX_DEPTH:g} m, got {surface_height!r}")
+        h = width if width is not None else shape.width
+        if h is None:
+            raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
+                             "a mudforce.model.shapes constructor, which sets it)")
+        # each element's paper state, stepped with a unit area so that the 1-D force is the stress [Pa]
+        element = Foot(area=1.0, width=h, shape="element")  # checks H
+        self._elements = MudContacts(params, shape.n, element, threads=1)
+        self.width = element.width  #: H of Eq. (4) [m]
+        k = params.k_m_w if lateral_stiffness is None else lateral_stiffness
+        if not is_real(k) or not math.isfinite(k) or k <= 0.0:
+            raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
+        self.lateral_stiffness = float(k)
+        self._slip = np.zeros((shape.n, 2))
+        self._centroids = np.zeros((shape.n, 3))
+        self._started = False
+        #: the last step's force on every element [N], world frame, shape (n, 3)
+        self.element_forces = np.zeros((shape.n, 3))
+
+    # ------------------------------------------------------------------ state
+    @property
+    def state(self) -> ContactState3D:
+        """A copy of everything the contact remembers; assign one back to restore it."""
+        return ContactState3D(self._elements.state, self._slip.copy(), self._centroids.copy(), self._started)
+
+    @state.setter
+    def state(self, saved: ContactState3D) -> None:
+        if not isinstance(saved, ContactState3D):
+            raise InputError(f"state must be a ContactState3D from .state, got {type(saved).__name__}")
+        slip = np.asarray(saved.slip, dtype=np.float64)
+        centroids = np.asarray(saved.centroids, dtype=np.float64)
+        n = self.shape.n
+        if slip.shape != (n, 2) or centroids.shape != (n, 3):
+            raise InputError(f"a state of this {n}-element foot has slips (n, 2) and centroids (n, 3), got "
+                             f"{slip.shape} and {centroids.shape}")
+        if not (np.all(np.isfinite(slip)) and np.all(np.isfinite(centroids))):
+            raise InputError("a state's slips and centroids must be finite")
+        self._elements.state = saved.elements  # validated; refuses without changing anything
+        self._slip = slip.copy()
+        self._centroids = centroids.copy()
+        self._started = bool(saved.started)
+
+    @property
+    def modes(self) -> list[str]:
+        """Each element's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        return self._elements.modes
+
+    # ------------------------------------------------------------------ step
+    def step(self, position: Any, quaternion: Any, dt: float) -> Wrench:
+        """Move the foot to a pose and return the mud's wrench on it.
+
+        Every input is checked before anything changes: a refused step
+        leaves the contact exactly as it was.
+
+        Parameters
+        ----------
+        position : array_like, shape (3,)
+            The body origin in the world frame [m], z up.
+        quaternion : array_like, shape (4,)
+            The body's orientation ``(w, x, y, z)`` [-], unit (within 1e-6;
+            normalised).
+        dt : float
+            Time since the previous pose [s], within [1e-9, 1e3]; ignored on
+            the first step.
+
+        Returns
+        -------
+        Wrench
+            Force [N] and torque about the body origin [N m], world frame.
+        """
+        p, rotation = _pose(position, quaternion)
+        if self._started:
+            if not is_real(dt) or not MIN_DT <= float(dt) <= MAX_DT:
+                raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s after the first step, got {dt!r}")
+            dt = float(dt)
+        else:
+            dt = 1.0  # ignored by the elements' first step
+        shape = self.shape
+        offsets = shape.centroids @ rotation.T
+        centroids = p + offsets
+        normals = shape.normals @ rotation.T
+        depth = self.surface_height - centroids[:, 2]
+        if self._started:  # an element turned about at its depth is at rest, not moving by rounding
+            depth = law3d.settle_depth(depth, self._elements.depths)  # the depths the elements were stepped to
+        # the paper, element by element (refuses a depth out of bounds before any element moves)
+        stress = self._elements.step(depth, dt)
+        q = self.params
+        forces = np.zeros((shape.n, 3))
+        forces[:, 2] = stress * shape.areas * law3d.vertical_weight(normals)
+        below = depth > 0.0
+        moved = centroids[:, :2] - self._centroids[:, :2]
+        trial = np.where(below[:, None], self._slip + moved, 0.0)
+        if self._started and trial.any():
+            size = np.sqrt(np.einsum("ij,ij->i", trial, trial))
+            direction = np.zeros((shape.n, 3))
+            direction[:, :2] = trial / np.where(size > 0.0, size, 1.0)[:, None]
+            capacity = law3d.lateral_capacity(
+                q.sigma_y, law3d.shear_fraction(normals, direction),
+                law3d.spring_stress(depth, q.alpha, q.beta, self.width), law3d.bearing_factor(normals, direction))
+            slip, traction = law3d.lateral_return_map(trial, self.lateral_stiffness, capacity)
+            drag = law3d.horizontal_drag(q.lambda_, q.rho_m, normals, moved / dt)
+            forces[:, :2] = (traction + np.where(below[:, None], drag, 0.0)) * shape.areas[:, None]
+        else:  # nothing moved sideways and nothing is loaded sideways (the paper's own case): no sums to do
+            slip = np.zeros((shape.n, 2))
+        self._slip = slip
+        self._centroids = centroids
+        self._started = True
+        self.element_forces = forces
+        return Wrench(forces.sum(axis=0), np.cross(offsets, forces).sum(axis=0))
+
+    def reset(self) -> None:
+        """Forget the history: the next step is a first step."""
+        self._elements.reset()
+        self._slip[:] = 0.0
+        self._started = False
+
+    def __repr__(self) -> str:
+        return f"MudContact3D({self.shape!r}, surface_height={self.surface_height:g})"
+
+
+@dataclass(frozen=True, eq=False)
+class Result3D:
+    """A 3-D simulation: the wrench at each pose (:func:`simulate_3d`).
+
+    Attributes
+    ----------
+    time : ndarray, shape (m,)
+        Sample times [s].
+    force : ndarray, shape (m, 3)
+        Force on the foot [N], world frame, z up.
+    torque : ndarray, shape (m, 3)
+        Torque about the body origin [N m], world frame.
+    element_forces : ndarray, shape (m, n, 3) or None
+        Each element's force [N], when asked for.
+    """
+
+    time: np.ndarray
+    force: np.ndarray
+    torque: np.ndarray
+    element_forces: np.ndarray | None = field(default=None, repr=False)
+
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame with columns ``time_s``, ``force_{x,y,z}_N``, ``torque_{x,y,z}_N_m``."""
+        from mudforce._plumbing.optional import require
+
+        pd = require("pandas", "pandas", "Result3D.to_pandas")
+        columns: dict[str, np.ndarray] = {"time_s": self.time}
+        for k, axis in enumerate("xyz"):
+            columns[f"force_{axis}_N"] = self.force[:, k]
+        for k, axis in enumerate("xyz"):
+            columns[f"torque_{axis}_N_m"] = self.torque[:, k]
+        return pd.DataFrame(columns)
+
+
+def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParameters, shape: Shape, *,
+                surface_height: float = 0.0, width: float | None = None, lateral_stiffness: float | None = None,
+                elements: bool = False) -> Result3D:
+    """The mud's wrench on a foot following a prescribed motion (poses sampled in time).
+
+    Parameters
+    ----------
+    time : array_like, shape (m,)
+        Sample times [s], strictly increasing.
+    positions : array_like, shape (m, 3)
+        The body origin at each sample [m], world frame, z up.
+    quaternions : array_like, shape (m, 4)
+        The orientation at each sample, ``(w, x, y, z)`` [-], unit.
+    params : MudParameters
+        The mud.
+    shape : Shape
+        The foot's surface (:mod:`mudforce.model.shapes`).
+    surface_height, width, lateral_stiffness
+        As for :class:`MudContact3D` ([m], [m], [Pa/m]).
+    elements : bool
+        Also keep every element's force at every sample (``m n 3`` numbers).
+
+    Returns
+    -------
+    Result3D
+    """
+    try:
+        t = np.asarray(time, dtype=np.float64)
+        x = np.asarray(positions, dtype=np.float64)
+        q = np.asarray(quaternions, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("time, positions and quaternions must be arrays of real numbers") from None
+    m = t.shape[0] if t.ndim == 1 else -1
+    if m < 1 or x.shape != (m, 3) or q.shape != (m, 4):
+        raise InputError(f"time (m,), positions (m, 3) and quaternions (m, 4) must agree, got {t.shape}, "
+                         f"{x.shape} and {q.shape}")
+    contact = MudContact3D(params, shape, surface_height, width=width, lateral_stiffness=lateral_stiffness)
+    force = np.empty((m, 3))
+    torque = np.empty((m, 3))
+    per_element = np.empty((m, shape.n, 3)) if elements else None
+    for k in range(m):
+        wrench = contact.step(x[k], q[k], float(t[k] - t[k - 1]) if k else 0.0)
+        force[k] = wrench.force
+        torque[k] = wrench.torque
+        if per_element is not None:
+            per_element[k] = contact.element_forces
+    return Result3D(t.copy(), force, torque, per_element)
+
+
+class ContactStates3D(NamedTuple):
+    """Everything a :class:`MudContacts3D` remembers, for ``contacts.state = saved`` (rollouts, resets).
+
+    The elements of all feet are concatenated, foot after foot (foot ``f``'s
+    are rows ``contacts.element_slice(f)``).
+
+    Attributes
+    ----------
+    elements : ndarray, shape (N, ...)
+        The elements' 1-D states (rows as in :meth:`mudforce.steppers.many.MudContacts.snapshot`).
+    slip : ndarray, shape (N, 2)
+        The elements' horizontal elastic slips [m].
+    centroids : ndarray, shape (N, 3)
+        The elements' world centroids at the last step [m].
+    started : ndarray of bool, shape (m,)
+        Whether each foot has taken its first step.
+    """
+
+    elements: np.ndarray
+    slip: np.ndarray
+    centroids: np.ndarray
+    started: np.ndarray
+
+
+def _per_foot(value: Any, m: int | None, name: str, kind: type | tuple[type, ...], expected: str) -> list[Any] | None:
+    """``value`` as a list of one item per foot if it is a sequence (not a ``kind`` itself), else None.
+
+    ``expected`` words one item for the message (``"a MudParameters"``).
+    """
+    if isinstance(value, kind) or value is None or is_real(value):
+        return None
+    if isinstance(value, (str, bytes)):
+        raise InputError(f"{name} must be {expected} or a sequence of them, one per foot, got {type(value).__name__}")
+    try:
+        items = list(value)
+    except TypeError:
+        raise InputError(f"{name} must be {expected} or a sequence of them, one per foot, "
+                         f"got {type(value).__name__}") from None
+    if m is not None and len(items) != m:
+        raise InputError(f"got {len(items)} {name} for {m} feet; give one, or one per foot")
+    return items
+
+
+def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.ndarray:
+    """``value`` as a float64 array of ``shape`` (no copy if it is one), else a one-line InputError."""
+    if isinstance(value, np.ndarray) and value.dtype == np.float64 and value.shape == shape:
+        return value
+    try:
+        array = real_array(value, name, unit)
+    except InputError:
+        raise
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be an array of real numbers of shape {shape} [{unit}]") from None
+    if array.shape != shape:
+        raise InputError(f"{name} must have shape {shape} [{unit}], got {array.shape}")
+    return array
+
+
+def _writable_rows(a: Any, m: int) -> bool:
+    """Whether ``a`` can receive (m, 3) float64 results in place."""
+    return isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == (m, 3) and bool(a.flags.writeable)
+
+
+class MudContacts3D:
+    """Many feet of any shapes in mud, stepped together, one pose each per step (simulators, RL).
+
+    Foot ``f`` is a :class:`MudContact3D` in all but speed: each step runs
+    :mod:`mudforce.model.law3d`'s law through one compiled call for all feet
+    (:mod:`mudforce._kernel.step3d`, which steps every element's paper
+    state with the 1-D stepper of :class:`mudforce.MudContacts`). The
+    wrench of a foot equals :class:`MudContact3D`'s to rounding (about
+    1e-15 of the peak: the two sum in other orders) and does not depend on
+    the other feet, bit for bit.
+
+    Parameters
+    ----------
+    params : MudParameters or sequence of MudParameters
+        The mud: one for all feet, or one per foot (domain randomisation).
+    shapes : Shape or sequence of Shape
+        The feet's surfaces (:mod:`mudforce.model.shapes`), body frame: one for
+        all feet, or one per foot.
+    n : int, optional
+        Number of feet; by default the length of ``params`` or ``shapes``
+        (needed when both are single).
+    surface_heights : float or sequence of float
+        Height of each foot's undisturbed mud surface, world frame [m].
+    widths : float or sequence of float, optional
+        The intruder width ``H`` of Eq. (4) [m]; by default each shape's width.
+    lateral_stiffness : float or sequence of float, optional
+        Stiffness of the horizontal elastic slip [Pa/m]; by default each
+        mud's ``k_m_w``.
+    threads : int or None
+        Step the feet in this many slices on numba's threads (at most one
+        per foot); 1 (the default) steps them on the calling thread.
+        ``None`` chooses as :class:`mudforce.MudContacts` does for as many
+        feet as there are elements here (one slice per core above 1024
+        elements per thread, with numba's OpenMP or TBB layer; else 1).
+        The results do not depend on it. (Not the automatic choice by
+        default: on the shared 2-core machine where it was written, two
+        threads were never measured faster than one; docs/speed.md.)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mudforce as mf
+    >>> from mudforce.model import shapes
+    >>> feet = mf.MudContacts3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.04), 4)
+    >>> quats = np.tile([1.0, 0.0, 0.0, 0.0], (4, 1))
+    >>> forces, torques = feet.step(np.tile([0.0, 0.0, 0.015], (4, 1)), quats, 0.0)
+    >>> forces, torques = feet.step(np.tile([0.0, 0.0, 0.010], (4, 1)), quats, 0.01)
+    >>> bool((forces[:, 2] > 0.0).all())
+    True
+    """
+
+    def __init__(self, params: MudParameters | Sequence[MudParameters], shapes: Shape | Sequence[Shape],
+                 n: int | None = None, *, surface_heights: float | Sequence[float] = 0.0,
+                 widths: float | Sequence[float] | None = None,
+                 lateral_stiffness: float | Sequence[float] | None = None, threads: int | None = 1) -> None:
+        m = None if n is None else positive_int(n, "the number of feet n")
+        muds = _per_foot(params, m, "params", MudParameters, "a MudParameters")
+        m = len(muds) if muds is not None and m is None else m
+        feet = _per_foot(shapes, m, "shapes", Shape, "a mudforce.model.shapes.Shape")
+        m = len(feet) if feet is not None and m is None else m
+        if m is None:
+            raise InputError("give n, the number of feet (params and shapes are one each)")
+        if m < 1:
+            raise InputError("give at least one foot")
+        muds = muds if muds is not None else [params] * m
+        feet = feet if feet is not None else [shapes] * m
+        heights = _per_foot(surface_heights, m, "surface_heights", (), "a number [m]") or [surface_heights] * m
+        given_widths = _per_foot(widths, m, "widths", (), "a number [m]") or [widths] * m
+        stiffness = (_per_foot(lateral_stiffness, m, "lateral_stiffness", (), "a number [Pa/m]")
+                     or [lateral_stiffness] * m)
+        for f in range(m):
+            if not isinstance(muds[f], MudParameters):
+                raise InputError(f"params must be MudParameters (one, or one per foot), got {type(muds[f]).__name__}")
+            if not isinstance(feet[f], Shape):
+                raise InputError(f"shapes must be mudforce.model.shapes.Shape (one, or one per foot), got "
+                                 f"{type(feet[f]).__name__}")
+        self.n = m
+        self.params: tuple[MudParameters, ...] = tuple(muds)
+        self.shapes: tuple[Shape, ...] = tuple(feet)
+        sizes = np.array([s.n for s in feet], dtype=np.int64)
+        self._starts = np.zeros(m + 1, dtype=np.int64)
+        np.cumsum(sizes, out=self._starts[1:])
+        total = int(self._starts[-1])
+        ft = np.zeros((m, S3.N_FOOT_COLUMNS))
+        rows = np.empty((total, K.N_PARAMS))
+        exact = resolve_velocity_filter("exact")
+        made: dict[tuple[int, float], np.ndarray] = {}  # 1-D params rows already made, by mud and width
+        for f in range(m):
+            q, shape = muds[f], feet[f]
+            h = finite_number(heights[f], "surface_height", "m")
+            if abs(h) > MAX_DEPTH:
+                raise InputError(f"surface_height must be within +-{MAX_DEPTH:g} m, got {heights[f]!r}")
+            w = given_widths[f] if given_widths[f] is not None else shape.width
+            if w is None:
+                raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
+                                 "a mudforce.model.shapes constructor, which sets it)")
+            foot = Foot(area=1.0, width=w, shape="element")
+            k = q.k_m_w if stiffness[f] is None else stiffness[f]
+            if not is_real(k) or not math.isfinite(k) or k <= 0.0:
+                raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {stiffness[f]!r}")
+            key = (id(q), float(foot.width))
+            if key not in made:
+                made[key] = _param_rows(q, 1, foot, exact)[0]
+            rows[self._starts[f]:self._starts[f + 1]] = made[key]
+            ft[f, S3.F_SURFACE] = h
+            ft[f, S3.F_WIDTH] = foot.width
+            ft[f, S3.F_STIFFNESS] = float(k)
+            ft[f, S3.F_SIGMA_Y] = q.sigma_y
+            ft[f, S3.F_ALPHA] = q.alpha
+            ft[f, S3.F_BETA] = q.beta
+            ft[f, S3.F_LAMBDA] = q.lambda_
+            ft[f, S3.F_RHO] = q.rho_m
+        el = np.zeros((total, S3.N_ELEMENT_COLUMNS))
+        for f, shape in enumerate(feet):
+            lo, hi = self._starts[f], self._starts[f + 1]
+            el[lo:hi, S3.E_CBX:S3.E_CBZ + 1] = shape.centroids
+            el[lo:hi, S3.E_NBX:S3.E_NBZ + 1] = shape.normals
+            el[lo:hi, S3.E_AREA] = shape.areas
+        self._el = el
+        self._ft = ft
+        self._params_rows = rows
+        self._states = K.new_states(total)
+        self._ring = K.new_ring(total, 1)
+        #: slices the feet are stepped in, one per thread (1: the calling thread only)
+        self.threads = min(vectorized._resolve_threads(threads, total), m)
+        self._chunks = np.empty(self.threads, dtype=np.int64)
+        self._scratch, self._index = K.new_spring_scratch(total)
+        # one spring block per slice of feet, as wide as the slice with the most elements
+        cuts = [int(self._starts[m * c // self.threads]) for c in range(self.threads + 1)]
+        widest = max(cuts[c + 1] - cuts[c] for c in range(self.threads))
+        self._slice_scratch, self._slice_index = K.new_feet_scratch(widest * self.threads, self.threads)
+        self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
+        self._stress = np.zeros(total)
+        self._spring = np.zeros(total)  # this step's Eq. (4) stress at each element's depth [Pa]
+        # the compiled step's arguments after the poses and dt, before the outputs
+        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._spring, self._states,
+                             self._ring, self._params_rows, self._scratch, self._index)
+        self._thread_args = (*self._kernel_args[:-2], self._slice_scratch, self._slice_index)
+
+    # ------------------------------------------------------------------ layout
+    @property
+    def n_elements(self) -> int:
+        """The number of elements of all feet together."""
+        return int(self._starts[-1])
+
+    def element_slice(self, foot: int) -> slice:
+        """The rows of foot ``foot``'s elements in :attr:`state`'s arrays."""
+        f = int(foot)
+        if not -self.n <= f < self.n:
+            raise InputError(f"foot index out of range 0..{self.n - 1}: {foot!r}")
+        f %= self.n
+        return slice(int(self._starts[f]), int(self._starts[f + 1]))
+
+    @property
+    def surface_heights(self) -> np.ndarray:
+        """Each foot's surface height [m] (a copy)."""
+        heights: np.ndarray = self._ft[:, S3.F_SURFACE].copy()
+        return heights
+
+    # ------------------------------------------------------------------ state
+    @property
+    def state(self) -> ContactStates3D:
+        """A copy of everything the feet remember; assign one back to restore it."""
+        el = self._el
+        return ContactStates3D(np.hstack((self._states, self._ring)),
+                               el[:, S3.E_SLIPX:S3.E_SLIPY + 1].copy(), el[:, S3.E_CX:S3.E_CZ + 1].copy(),
+                               self._ft[:, S3.F_STARTED] != 0.0)
+
+    @state.setter
+    def state(self, saved: ContactStates3D) -> None:
+        if not isinstance(saved, ContactStates3D):
+            raise InputError(f"state must be a ContactStates3D from .state, got {type(saved).__name__}")
+        total = self.n_elements
+        elements = real_array(saved.elements, "a state's elements", "SI")
+        slip = real_array(saved.slip, "a state's slips", "m")
+        centroids = real_array(saved.centroids, "a state's centroids", "m")
+        started = np.asarray(saved.started)
+        width = K.N_STATE + self._ring.shape[1]
+        if (elements.shape != (total, width) or slip.shape != (total, 2) or centroids.shape != (total, 3)
+                or started.shape != (self.n,) or started.dtype != np.bool_):
+            raise InputError(f"a state of these {self.n} feet ({total} elements) has elements ({total}, {width}), "
+                             f"slips ({total}, 2), centroids ({total}, 3) and started ({self.n},) bool, got "
+                             f"{elements.shape}, {slip.shape}, {centroids.shape} and {started.shape} {started.dtype}")
+        if not (np.all(np.isfinite(slip)) and np.all(np.isfinite(centroids))):
+            raise InputError("a state's slips and centroids must be finite")
+        check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state")
+        self._states[:] = elements[:, :K.N_STATE]
+        self._ring[:] = elements[:, K.N_STATE:]
+        K.forget_cache(self._states)
+        self._el[:, S3.E_SLIPX:S3.E_SLIPY + 1] = slip
+        self._el[:, S3.E_CX:S3.E_CZ + 1] = centroids
+        self._ft[:, S3.F_STARTED] = started
+
+    @property
+    def modes(self) -> list[str]:
+        """Each element's contact state (all feet, foot after foot): ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        return [STATE_NAMES[int(v)] for v in K.state_column(self._states, "mode")]
+
+    # ------------------------------------------------------------------ step
+    def step(self, positions: Any, quaternions: Any, dt: float, *,
+             out: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Move every foot to its pose and return the mud's forces and torques on them.
+
+        Every input is checked before any foot moves: a refused step leaves
+        every foot exactly as it was.
+
+        Parameters
+        ----------
+        positions : array_like, shape (n, 3)
+            The body origins in the world frame [m], z up.
+        quaternions : array_like, shape (n, 4)
+            The orientations ``(w, x, y, z)`` [-], unit (within 1e-6; normalised).
+        dt : float
+            Time since the previous poses [s], within [1e-9, 1e3]; ignored
+            while no foot has started (a foot's first step after creation
+            or :meth:`reset` ignores it).
+        out : (ndarray, ndarray), optional
+            Two writable float64 arrays of shape (n, 3) to receive the
+            forces and torques (no allocation).
+
+        Returns
+        -------
+        forces : ndarray, shape (n, 3)
+            Force on each foot [N], world frame; ``[:, 2] > 0`` pushes up.
+        torques : ndarray, shape (n, 3)
+            Torque on each foot about its body origin [N m], world frame.
+        """
+        m = self.n
+        p = _float_rows(positions, "positions", (m, 3), "m")
+        q = _float_rows(quaternions, "quaternions", (m, 4), "-")
+        if type(dt) is not float:
+            dt = real_number(dt, "dt")
+        if out is None:
+            forces, torques = np.empty((m, 3)), np.empty((m, 3))
+        else:
+            if not (isinstance(out, tuple) and len(out) == 2 and _writable_rows(out[0], m)
+                    and _writable_rows(out[1], m)):
+                raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({m}, 3)")
+            forces, torques = out
+        if self.threads > 1 and not vectorized._forked:
+            with vectorized._launch_lock:
+                code = S3.step_feet_threads(p, q, dt, *self._thread_args, forces, torques, self._chunks)
+        else:
+            code = S3.step_feet(p, q, dt, *self._kernel_args, forces, torques)
+        if code != S3.OK:
+            self._refuse(code, p, q, dt)
+        return forces, torques
+
+    def _refuse(self, code: int, p: np.ndarray, q: np.ndarray, dt: float) -> None:
+        """The one-line InputError for a step :func:`mudforce._kernel.step3d.step_feet` refused (nothing moved)."""
+        if code == S3.BAD_DT:
+            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s once a foot has started, got {dt!r}; "
+                             "no foot was stepped")
+        if not 0 <= code < self.n:  # pragma: no cover - the 1-D stepper refuses nothing step_feet lets through
+            raise InputError("the step was refused; no foot was stepped")
+        try:
+            _pose(p[code], q[code])
+        except InputError as error:
+            raise InputError(f"foot {code}: {error}; no foot was stepped") from None
+        raise InputError(f"foot {code}: an element would be beyond +-{MAX_DEPTH:g} m of the surface "
+                         f"(position {p[code].tolist()!r} [m]); no foot was stepped")
+
+    def reset(self, feet: Any = None) -> None:
+        """Forget the history of some feet (all by default): their next step is a first step.
+
+        Parameters
+        ----------
+        feet : int, sequence of int, or boolean mask of shape (n,), optional
+            Which feet to reset.
+        """
+        if feet is None:
+            chosen = np.arange(self.n)
+        else:
+            idx = np.asarray(feet)
+            if idx.dtype == np.bool_:
+                if idx.shape != (self.n,):
+                    raise InputError(f"a reset mask must have shape ({self.n},), got {idx.shape}")
+                chosen = np.flatnonzero(idx)
+            elif not np.issubdtype(idx.dtype, np.integer):
+                raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
+            elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):
+                raise InputError(f"foot index out of range 0..{self.n - 1}: {idx.tolist()}")
+            else:
+                chosen = np.atleast_1d(idx) % self.n
+        fresh = K.new_states(1)[0]
+        for f in chosen.tolist():
+            lo, hi = int(self._starts[f]), int(self._starts[f + 1])
+            self._states[lo:hi] = fresh
+            self._el[lo:hi, S3.E_SLIPX:S3.E_SLIPY + 1] = 0.0
+            self._ft[f, S3.F_STARTED] = 0.0
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __repr__(self) -> str:
+        return f"MudContacts3D(n={self.n}, elements={self.n_elements}, threads={self.threads})"

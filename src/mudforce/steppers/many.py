@@ -1,0 +1,349 @@
+"""Many feet at once: the streaming contact vectorised over feet.
+
+:class:`MudContacts` holds ``n`` contact states as the rows of one array
+and steps all of them with one call to the compiled stepper
+(:func:`mudforce._kernel.run_feet`), with no Python loop over feet. Each foot
+may have its own mud parameters and foot geometry (one params row each), for
+domain randomisation in reinforcement learning. Feeding foot ``j`` the same
+samples as a :class:`mudforce.MudContact` gives bit-for-bit the same force.
+
+Threads: with thousands of feet the step splits the feet into contiguous
+slices stepped on numba's threads (:func:`mudforce._kernel.run_feet_threads`),
+one slice per thread. The feet are independent, so the forces are the same
+bit for bit with any number of threads. Only numba's OpenMP and TBB
+threading layers launch fast enough to pay (~6 us per step); with its
+fallback "workqueue" layer (~140 us per launch), and in a process forked
+after threads were used (GNU OpenMP is not fork-safe), the automatic choice
+is one thread.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import threading
+from collections.abc import Sequence
+from typing import Any
+
+import numba
+import numba.np.ufunc.parallel
+import numpy as np
+
+from mudforce import _kernel as K
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.layout import STATE_NAMES
+from mudforce._plumbing.deprecation import warn_renamed
+from mudforce.errors import InputError, positive_int, real_array, real_number
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import PARAMETER_NAMES, MudParameters
+from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
+from mudforce.steppers.contact import check_states
+
+__all__ = ["MudContacts"]
+
+#: feet per thread below which splitting the step does not pay for the launch (~6 us)
+FEET_PER_THREAD = 1024
+
+# numba's workqueue layer must not be entered by two Python threads at once;
+# held around every threaded step (uncontended: ~0.1 us against ~50 us per step)
+_launch_lock = threading.Lock()
+_forked = False
+
+
+def _mark_forked() -> None:
+    global _forked
+    _forked = True
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_mark_forked)
+
+
+@functools.lru_cache(maxsize=1)
+def _fast_threading_layer() -> bool:
+    """Whether numba's threading layer launches fast enough (OpenMP or TBB) to step feet on threads."""
+    states = K.new_states(2)
+    K.run_feet_threads(states, K.new_ring(2, 1), np.zeros((2, K.N_PARAMS)), np.zeros(2), 1.0, np.zeros(2),
+                       *K.new_feet_scratch(2, 2), np.zeros(2, dtype=np.int64))
+    layer: str = numba.np.ufunc.parallel.threading_layer()
+    return layer in ("omp", "tbb")
+
+
+def _resolve_threads(threads: int | None, n: int) -> int:
+    """Number of slices to step ``n`` feet in: ``threads`` if given, else automatic (see the module docstring)."""
+    if threads is not None:
+        return min(positive_int(threads, "threads", " or None (automatic)"), n)
+    auto = min(numba.get_num_threads(), n // FEET_PER_THREAD)
+    if auto <= 1 or _forked or not _fast_threading_layer():
+        return 1
+    return auto
+
+
+def _param_rows(
+    params: MudParameters | Sequence[MudParameters] | np.ndarray,
+    n: int,
+    foot: Foot | Sequence[Foot] | None,
+    vf: VelocityFilter,
+) -> np.ndarray:
+    feet: list[Foot]
+    if foot is None:
+        feet = [Foot.paper()] * n
+    elif isinstance(foot, Foot):
+        feet = [foot] * n
+    else:
+        try:
+            feet = list(foot)
+        except TypeError:
+            raise InputError(f"foot must be a Foot or a sequence of Foot, got {type(foot).__name__}") from None
+        if len(feet) != n:
+            raise InputError(f"got {len(feet)} feet for {n} contacts; give one Foot or one per contact")
+        for f in feet:
+            if not isinstance(f, Foot):
+                raise InputError(f"foot must be a Foot or a sequence of Foot, got an element {type(f).__name__}")
+    if isinstance(params, MudParameters):
+        values = np.tile(params.as_array(), (n, 1))
+    elif isinstance(params, np.ndarray):
+        try:
+            values = np.array(params, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"a parameter array must be numeric, got dtype {params.dtype}") from None
+        if values.ndim == 1:
+            values = np.tile(values, (n, 1))
+        if values.shape != (n, len(PARAMETER_NAMES)):
+            raise InputError(
+                f"a parameter array must have shape ({n}, {len(PARAMETER_NAMES)}) "
+                f"(columns {', '.join(PARAMETER_NAMES)}, SI), got {values.shape}"
+            )
+        # validate every row through MudParameters (positivity, beta in (0, 1], ...)
+        for row in values:
+            MudParameters(*row.tolist())
+    elif isinstance(params, (str, bytes)) or not isinstance(params, Sequence):
+        raise InputError("params must be MudParameters, a sequence of them or an (n, 11) array, "
+                         f"got {type(params).__name__}")
+    else:
+        plist = list(params)
+        if len(plist) != n:
+            raise InputError(f"got {len(plist)} parameter sets for {n} contacts; give one or one per contact")
+        for p in plist:
+            if not isinstance(p, MudParameters):
+                raise InputError(f"params must be MudParameters, got {type(p).__name__}")
+        values = np.array([p.as_array() for p in plist], dtype=np.float64)
+    rows = np.empty((n, K.N_PARAMS), dtype=np.float64)
+    for j in range(n):
+        rows[j] = K.make_params(values[j], feet[j].area, feet[j].width, vf.window, vf.deadband)
+    return rows
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _depths_ok(z: np.ndarray) -> bool:
+    """True if every depth is finite and within +-MAX_DEPTH [m] (one pass over the feet).
+
+    Speed plumbing: the failures are or-ed without an early exit, so the loop
+    vectorises (a comparison is False for NaN, so a NaN fails).
+    """
+    bad = False
+    for k in range(z.shape[0]):
+        bad |= not abs(z[k]) <= MAX_DEPTH
+    return not bad
+
+
+class MudContacts:
+    """The mud force on ``n`` feet, all stepped together, one sample at a time.
+
+    Parameters
+    ----------
+    params : MudParameters, sequence of MudParameters, or ndarray
+        One parameter set for all feet, one per foot, or an array of shape
+        ``(n, 11)`` (or ``(11,)``) in :data:`mudforce.PARAMETER_NAMES` order,
+        SI units, for domain randomisation. Every row is validated.
+    n : int
+        Number of feet, >= 1.
+    foot : Foot or sequence of Foot, optional
+        Foot geometry, shared or one per foot; the paper's 51 x 38 mm cuboid by default.
+    velocity_filter : "exact" or VelocityFilter
+        Branch-velocity filter shared by all feet (default: the paper's exact rule).
+    threads : int, optional
+        Step the feet in this many slices on numba's threads. By default one
+        per core (``numba.get_num_threads()``) if there are at least
+        :data:`FEET_PER_THREAD` feet per thread and numba's threading layer is
+        OpenMP or TBB, else 1. The forces do not depend on it.
+
+    Notes
+    -----
+    Foot ``j`` is row ``j`` of one state array and one parameter array, and
+    every step runs the compiled stepper of :class:`mudforce.MudContact`
+    over all rows in one compiled loop, so the result is exactly that of
+    ``n`` independent :class:`~mudforce.MudContact` objects. :meth:`step`
+    returns a new force array (or fills ``out=``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mudforce import MudParameters
+    >>> from mudforce.steppers.many import MudContacts
+    >>> feet = MudContacts(MudParameters.from_water_content(0.25), 3)
+    >>> feet.step(np.zeros(3), 0.01).tolist()
+    [0.0, 0.0, 0.0]
+    >>> bool((feet.step(np.full(3, 1e-4), 0.01) > 0).all())
+    True
+    """
+
+    def __init__(
+        self,
+        params: MudParameters | Sequence[MudParameters] | np.ndarray,
+        n: int,
+        foot: Foot | Sequence[Foot] | None = None,
+        *,
+        velocity_filter: VelocityFilter | str = "exact",
+        threads: int | None = None,
+    ) -> None:
+        self.n = positive_int(n, "the number of feet n")
+        self.velocity_filter = resolve_velocity_filter(velocity_filter)
+        self.params_array = _param_rows(params, self.n, foot, self.velocity_filter)
+        self._states = K.new_states(self.n)  # the live rows (kernel layout); save and restore with .state
+        #: the velocity filter's recent samples, one row per foot (no columns for the exact filter)
+        self.ring = K.new_ring(self.n, self.velocity_filter.window)
+        #: the last step's forces [N] (the step writes them here)
+        self.forces: np.ndarray = np.zeros(self.n, dtype=np.float64)
+        #: slices the feet are stepped in, one per thread (1: the calling thread only)
+        self.threads = _resolve_threads(threads, self.n)
+        self._chunks = np.empty(self.threads, dtype=np.int64)
+        # where the feet on the nonlinear spring wait for their vectorised pass, one block per slice
+        self._scratch, self._index = K.new_feet_scratch(self.n, self.threads)
+
+    def step(self, depths: Any, dt: float, *, out: np.ndarray | None = None) -> np.ndarray:
+        """Advance every foot to its next depth sample; return the forces [N].
+
+        Every input is checked before any foot moves: a refused step leaves
+        every foot exactly as it was, so it can be retried.
+
+        Parameters
+        ----------
+        depths : array_like, shape (n,)
+            Foot depths below the surface [m], positive down, each within
+            +-100 m (:data:`mudforce.steppers.simulation.MAX_DEPTH`).
+        dt : float
+            Time since the previous sample [s], within [1e-9, 1e3]
+            (:data:`~mudforce.steppers.simulation.MIN_DT`: shorter steps would let
+            ``dz/dt`` and the drag overflow; ignored by a foot's first step
+            after creation or :meth:`reset`).
+        out : ndarray, shape (n,), float64, optional
+            Write the forces here instead of into a new array (no allocation).
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Vertical mud force on each foot [N], positive up: a new array,
+            or ``out``.
+        """
+        # refuses complex, boolean, string and object arrays (a float64 array passes as it is)
+        z = depths if isinstance(depths, np.ndarray) and depths.dtype == np.float64 else real_array(
+            depths, "depths", "m")
+        if z.shape != (self.n,):
+            raise InputError(f"depths must have shape ({self.n},), got {z.shape}")
+        if type(dt) is not float:
+            dt = real_number(dt, "dt")
+        # dt is ignored by a foot's first step (as MudContact.step ignores it): refused only if a foot has started
+        if not MIN_DT <= dt <= MAX_DT and K.state_column(self._states, "started").any():
+            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+        if out is not None and not (isinstance(out, np.ndarray) and out.dtype == np.float64
+                                    and out.shape == (self.n,) and out.flags.writeable):
+            raise InputError(f"out must be a writable float64 array of shape ({self.n},)")
+        if not _depths_ok(z):  # check every foot before any moves
+            bad = int(np.flatnonzero(~(np.abs(z) <= MAX_DEPTH))[0])
+            raise InputError(f"depth of foot {bad} must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, "
+                             f"got {float(z[bad])!r}; no foot was stepped")
+        if self.threads > 1 and not _forked:
+            with _launch_lock:
+                bad = K.run_feet_threads(self._states, self.ring, self.params_array, z, dt, self.forces,
+                                         self._scratch, self._index, self._chunks)
+        else:
+            bad = K.run_feet(self._states, self.ring, self.params_array, z, dt, self.forces, self._scratch[0],
+                             self._index[0])
+        if bad >= 0:  # pragma: no cover - every input the kernel refuses was refused above
+            raise InputError(f"depth of foot {bad} must be finite [m], got {z[bad]!r}")
+        if out is None:
+            forces: np.ndarray = self.forces.copy()
+            return forces
+        out[:] = self.forces
+        return out
+
+    def reset(self, feet: Any = None) -> None:
+        """Forget the history of some feet (all by default).
+
+        Parameters
+        ----------
+        feet : int, sequence of int, or boolean mask of shape (n,), optional
+            Which feet to reset; their next :meth:`step` sets their initial sample.
+        """
+        fresh = K.new_states(1)[0]
+        if feet is None:
+            self._states[:] = fresh
+            return
+        idx = np.asarray(feet)
+        if idx.dtype == np.bool_:
+            if idx.shape != (self.n,):
+                raise InputError(f"a reset mask must have shape ({self.n},), got {idx.shape}")
+        elif not np.issubdtype(idx.dtype, np.integer):
+            raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
+        elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):
+            raise InputError(f"foot index out of range 0..{self.n - 1}: {idx.tolist()}")
+        self._states[idx] = fresh
+
+    @property
+    def modes(self) -> list[str]:
+        """Each foot's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        return [STATE_NAMES[int(m)] for m in K.state_column(self._states, "mode")]
+
+    @property
+    def depths(self) -> np.ndarray:
+        """Each foot's depth at its last sample [m] (a copy)."""
+        return np.array(K.state_column(self._states, "depth"), dtype=np.float64)
+
+    @property
+    def state(self) -> np.ndarray:
+        """A snapshot of all feet's states (a read-only copy); assign one back to restore them (rollouts, resets).
+
+        Row ``j`` is foot ``j``'s state row (layout of :mod:`mudforce._kernel`)
+        followed by its velocity filter's history (which the exact filter
+        does not keep). A restored state is validated as strictly as a fresh
+        one: a wrong shape or a row the stepper never makes
+        (:func:`mudforce.steppers.contact.check_states`) is refused with an
+        :class:`~mudforce.InputError`, and no foot is then changed.
+        """
+        snapshot = np.hstack((self._states, self.ring))
+        snapshot.setflags(write=False)
+        return snapshot
+
+    @state.setter
+    def state(self, value: np.ndarray) -> None:
+        arr = real_array(value, "a state", "SI")
+        shape = (self.n, K.N_STATE + self.ring.shape[1])
+        if arr.shape != shape:
+            raise InputError(f"a state of {self.n} feet has shape {shape}, got {arr.shape}")
+        check_states(arr[:, : K.N_STATE], arr[:, K.N_STATE :], "a state")
+        self._states[:] = arr[:, : K.N_STATE]
+        self.ring[:] = arr[:, K.N_STATE :]
+        K.forget_cache(self._states)  # recompute the step-length cache
+
+    @property
+    def states(self) -> np.ndarray:
+        """Deprecated: the live state rows; save and restore with :attr:`state`."""
+        warn_renamed("MudContacts.states", "MudContacts.state")
+        return self._states
+
+    def snapshot(self) -> np.ndarray:
+        """Deprecated: :attr:`state`."""
+        warn_renamed("MudContacts.snapshot()", "MudContacts.state")
+        return np.hstack((self._states, self.ring))
+
+    def restore(self, snapshot: np.ndarray) -> None:
+        """Deprecated: assign to :attr:`state`."""
+        warn_renamed("MudContacts.restore(snapshot)", "MudContacts.state = snapshot")
+        self.state = snapshot
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __repr__(self) -> str:
+        return f"MudContacts(n={self.n}, threads={self.threads})"

@@ -1,0 +1,78 @@
+"""``mudforce track`` through a subprocess: the columns, the plot, bad input (exit 2, one line, nothing clobbered)."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mudforce.estimation.tracker import track
+from mudforce.motions.gait import walk
+from mudforce_cli_harness import run_cli, snapshot
+
+EXPECTED = ["time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
+            "changed"]
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A 20 s walk, 20 % then 30 % water, written with depth in mm."""
+    folder = tmp_path_factory.mktemp("track")
+    wk = walk([0.20, 0.30], change_times=[8.0], seed=2, duration=20.0, force_noise=0.3, bias=0.7)
+    path = folder / "walk.csv"
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["time_s", "depth_mm", "force_N"])
+        for row in zip(wk.time.tolist(), (wk.depth * 1e3).tolist(), wk.force.tolist(), strict=True):
+            writer.writerow([repr(v) for v in row])
+    return path
+
+
+def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
+    folder = recording.parent
+    proc = run_cli(["track", recording.name, "--out", "track.csv", "--plot", "track.png"], folder)
+    assert proc.returncode == 0, proc.stderr
+    assert "final water content: 30 %" in proc.stdout
+    with (folder / "track.csv").open(newline="") as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0] == EXPECTED
+    data = np.array(rows[1:], dtype=float)
+    wk = walk([0.20, 0.30], change_times=[8.0], seed=2, duration=20.0, force_noise=0.3, bias=0.7)
+    assert data.shape == (wk.time.size, len(EXPECTED))
+    np.testing.assert_allclose(data[:, 5], wk.force, rtol=1e-12)
+    assert abs(data[-1, 1] - 0.30) <= 0.01 and data[-1, 2] <= 0.30 <= data[-1, 3]
+    assert data[:, 6].sum() == 1  # one change flagged
+    # the same estimates as the Python API, given the same branch rule
+    from mudforce.model.velocity import auto_velocity_filter
+
+    given = np.loadtxt(recording, delimiter=",", skiprows=1)
+    depth = given[:, 1] * 1e-3
+    r = track(given[:, 0], depth, given[:, 2], velocity_filter=auto_velocity_filter(given[:, 0], depth))
+    np.testing.assert_allclose(data[:, 1], r.water_content, rtol=0, atol=1e-12)
+    assert (folder / "track.png").read_bytes().startswith(b"\x89PNG")
+
+
+@pytest.mark.parametrize(("make", "args", "message"), [
+    (None, ["missing.csv", "--out", "o.csv"], "file not found"),
+    ("time_s,depth_m\n0,0\n0.01,0\n", ["in.csv", "--out", "o.csv"], "missing column force_N"),
+    ("time_s,depth_m,force_N\n0,0,0\n0,0,0\n", ["in.csv", "--out", "o.csv"], "time repeats"),
+    ("time_s,depth_m,force_N\n0,0,0\n0.01,x,0\n", ["in.csv", "--out", "o.csv"], "is not a number"),
+    ("time_s,depth_m,force_N\n0,0,0\n", ["in.csv", "--out", "o.csv"], "at least 2 samples"),
+    ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "in.csv"], "is the input file"),
+    ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--plot", "o.jpg"], ".png"),
+    ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--foot", "blob"], "--foot"),
+])
+def test_bad_input_exits_2_with_one_line_and_clobbers_nothing(tmp_path: Path, make: str | None,
+                                                              args: list[str], message: str) -> None:
+    if make is not None:
+        (tmp_path / "in.csv").write_text(make)
+    (tmp_path / "o.csv").write_bytes(b"previous output\n")
+    before = snapshot(tmp_path)
+    proc = run_cli(["track", *args], tmp_path)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], proc.stderr
+    assert snapshot(tmp_path) == before

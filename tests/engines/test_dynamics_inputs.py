@@ -1,0 +1,166 @@
+"""Bounds and types at the dynamics' public entry points (InputError, nothing changed), and honest results."""
+
+from __future__ import annotations
+
+import importlib.util
+from typing import Any
+
+import numpy as np
+import pytest
+
+import mudforce.engines.dynamics as dyn
+from mudforce import Foot, MudParameters
+from mudforce import _kernel as K
+from mudforce.engines.dynamics import FootResult, Phase, exact_drop, naive_drop, simulate_foot
+from mudforce.errors import InputError
+
+W25 = MudParameters.from_water_content(0.25)
+HAS_MUJOCO = importlib.util.find_spec("mujoco") is not None
+needs_mujoco = pytest.mark.skipif(not HAS_MUJOCO, reason="mujoco is not installed")
+
+
+def test_phase_names_and_codes_are_stable() -> None:
+    # (the module's __all__ is pinned in tests/api/test_public_all.py)
+    # the CSV's state column and the phase codes are what they were
+    assert dyn.PHASE_NAMES == ("FREE", "INTRUSION", "WITHDRAWAL", "STUCK", "NECKED")
+    assert [int(p) for p in Phase] == [0, 1, 2, 3, 4]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"mass": "5"}, "mass must be a number"),
+        ({"mass": None}, "mass must be a number"),
+        ({"mass": True}, "mass must be a number"),
+        ({"mass": float("nan")}, "mass must be finite"),
+        ({"mass": 1e-6}, "too light"),  # was NaN (W = 25%) or -1e62 m (W = 15%)
+        ({"mass": 1e-300}, "too light"),
+        ({"params": "mud"}, "MudParameters"),
+        ({"foot": 0.002}, "foot must be a Foot"),
+        ({"duration": "8s"}, "duration must be a number"),
+        ({"duration": 1e12}, "too many"),
+        ({"dt": 0.0}, "dt must be > 0"),
+        ({"substeps": 2.5}, "substeps"),
+        ({"height": [0.0]}, "height must be a number"),
+        ({"velocity0": float("inf")}, "velocity0 must be finite"),
+        ({"gravity": "g"}, "gravity must be a number"),
+        ({"applied_force": "push"}, "applied_force"),
+    ],
+)
+def test_simulate_foot_refuses(kwargs: dict[str, Any], message: str) -> None:
+    args: dict[str, Any] = {"mass": 5.0, "params": W25, "duration": 0.01, **kwargs}
+    with pytest.raises(InputError, match=message):
+        simulate_foot(args.pop("mass"), args.pop("params"), **args)
+
+
+def test_lightest_stable_foot_is_simulated_and_accurate() -> None:
+    """Just above the bound (S max(k) h^2 = 2.3e-5 kg at W = 25%) the engine still follows the exact drop."""
+    res = simulate_foot(3e-5, W25, duration=0.2)
+    ref = exact_drop(3e-5, W25, duration=0.2)
+    assert np.isfinite(res.depth).all() and res.at_rest
+    assert res.rest_depth == pytest.approx(ref.rest_depth, rel=0.05)
+
+
+def test_a_diverging_solution_is_refused_not_returned() -> None:
+    """Where no bound can be stated (a pull beyond any float), the non-finite output is refused."""
+    with pytest.raises(InputError, match="not finite from t = "):
+        simulate_foot(5.0, W25, duration=0.01, applied_force=1e308)
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: naive_drop("5", W25), "mass must be a number"),
+        (lambda: naive_drop(5.0, W25, dt=-1e-3), "dt must be > 0"),
+        (lambda: naive_drop(5.0, None), "MudParameters"),  # type: ignore[arg-type]
+        (lambda: exact_drop(5.0, W25, height=-0.01), "height must be >= 0"),
+        (lambda: exact_drop("5", W25), "mass must be a number"),
+        (lambda: exact_drop(5.0, W25, foot="cube"), "foot must be a Foot"),  # type: ignore[arg-type]
+    ],
+)
+def test_other_entry_points_refuse_bad_types(call: Any, message: str) -> None:
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+def test_a_moving_foot_has_no_rest_depth() -> None:
+    """Still falling at the end: not at rest, rest_depth NaN, end_depth the last sample's depth."""
+    moving = simulate_foot(5.0, W25, duration=0.05)
+    assert not moving.at_rest and moving.velocity[-1] > 0.1
+    assert np.isnan(moving.rest_depth) and moving.end_depth == moving.depth[-1]
+    # a creeping foot (stick-slip, W = 25%, 15 kg) that is sliding at the end is not at rest either
+    creep = FootResult(np.arange(3.0), np.full(3, 0.05), np.array([0.0, 0.0, 8e-4]), np.zeros(3),
+                       np.array([Phase.STUCK, Phase.STUCK, Phase.INTRUSION], dtype=np.int8), 15.0)
+    assert not creep.at_rest and np.isnan(creep.rest_depth)
+    held = simulate_foot(5.0, W25, duration=3.0)
+    assert held.at_rest and held.rest_depth == held.depth[-1] > 0.0
+
+
+@needs_mujoco
+def test_mujoco_entry_points_refuse() -> None:
+    import mujoco
+
+    from mudforce.engines.mujoco import MudAdapter, MudPatch, _drop_spec, add_mud, drop_model, simulate_drop
+
+    with pytest.raises(InputError, match="too light"):
+        simulate_drop(1e-300, W25, duration=0.01)  # was a traceback from MuJoCo's compiler
+    with pytest.raises(InputError, match="too light"):
+        simulate_drop(1e-3, W25, duration=0.01)  # was a foot thrown 16 km up
+    with pytest.raises(InputError, match="height must be >= 0"):
+        simulate_drop(5.0, W25, height=-0.01)
+    with pytest.raises(InputError, match="mass must be a number"):
+        drop_model("5")
+    with pytest.raises(InputError, match="patch height must be a number"):
+        MudPatch(W25, height="0")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="patch extent"):
+        MudPatch(W25, extent=(0.0, 1.0))  # type: ignore[arg-type]
+    with pytest.raises(InputError, match=r"spec must be a mujoco\.MjSpec"):
+        add_mud("robot.xml", ["foot"])
+    spec = _drop_spec(5.0, None, 0.0, 1e-3, 0.025)
+    before = spec.to_xml()
+    with pytest.raises(InputError, match="no geom or body named 'nope'"):
+        add_mud(spec, ["foot", "nope"])  # the first name is valid: still nothing is added
+    assert spec.to_xml() == before
+    with pytest.raises(InputError, match="feet must be"):
+        add_mud(spec, [3])  # type: ignore[list-item]
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    with pytest.raises(InputError, match="patches must be"):
+        MudAdapter(model, data, ["sole"], W25)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="foot must be"):
+        MudAdapter(model, data, ["sole"], MudPatch(W25), foot=0.002)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="model and data"):
+        MudAdapter(data, model, ["sole"], MudPatch(W25))
+    mud = MudAdapter(model, data, ["sole"], MudPatch(W25), Foot.paper())
+    with pytest.raises(InputError, match="weight must be in"):
+        mud.weight = 2.0
+    with pytest.raises(InputError, match="nstep"):
+        mud.step(0.5)  # type: ignore[arg-type]
+    mud.step(5)
+    # the state is a read-only snapshot: looking cannot change the simulation, and it does not follow it
+    snapshot = mud.state
+    with pytest.raises(ValueError, match="read-only"):
+        snapshot[0, 0] = 1.0
+    with pytest.raises(ValueError, match="read-only"):
+        mud.params[0, 0] = 1.0
+    mud.step()
+    assert K.state_column(mud.state, "time")[0] > K.state_column(snapshot, "time")[0]
+    # a refused restore changes nothing
+    before = mud.state
+    garbage = np.array(before)
+    garbage[0, 1] = 7.0  # the mode column (kernel layout)
+    for bad in (garbage, before[:, :3], None):
+        with pytest.raises(InputError, match="state"):
+            mud.state = bad  # type: ignore[assignment]
+        assert np.array_equal(mud.state, before)
+
+
+def test_result_methods_refuse_bad_types(tmp_path: Any) -> None:
+    res = simulate_foot(5.0, W25, duration=0.01)
+    with pytest.raises(InputError, match="path must be a file path"):
+        res.to_csv(123)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="last must be a number"):
+        res.force_std("1")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="path must be a file path"):
+        res.plot(123)  # type: ignore[arg-type]
+    assert list(tmp_path.iterdir()) == []

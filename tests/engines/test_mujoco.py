@@ -1,0 +1,148 @@
+"""The MuJoCo adapter: drops against the exact solution, sticking without chatter, any foot body."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+mujoco = pytest.importorskip("mujoco")
+
+from mudforce import MudParameters  # noqa: E402
+from mudforce.engines.dynamics import GRAVITY, exact_drop  # noqa: E402
+from mudforce.engines.mujoco import MudAdapter, MudPatch, add_mud, simulate_drop  # noqa: E402
+from mudforce.errors import InputError  # noqa: E402
+
+CASES = [(w, m) for w in (0.15, 0.20, 0.25) for m in (5.0, 10.0, 20.0)]
+
+
+@pytest.mark.parametrize(("water", "mass"), CASES)
+def test_mujoco_drop_rests_at_the_exact_depth(water: float, mass: float) -> None:
+    params = MudParameters.from_water_content(water)
+    res = simulate_drop(mass, params)
+    ref = exact_drop(mass, params)
+    assert abs(res.end_depth / ref.rest_depth - 1.0) < 0.05  # measured: at most 0.42% at 1 ms steps
+    assert res.force_std(1.0) <= 0.02 * mass * GRAVITY
+    assert np.mean(res.force[res.time >= 7.0]) == pytest.approx(mass * GRAVITY, rel=1e-3)
+    late = res.time >= 5.0
+    assert set(np.array(res.phase_names)[late]) <= {"STUCK", "INTRUSION"}  # no withdrawal chatter
+
+
+def test_mujoco_and_builtin_agree_from_a_height() -> None:
+    from mudforce.engines.dynamics import simulate_foot
+
+    params = MudParameters.from_water_content(0.20)
+    a = simulate_drop(10.0, params, duration=2.0, height=0.03)
+    b = simulate_foot(10.0, params, duration=2.0, height=0.03)
+    assert a.at_rest and b.at_rest
+    assert a.rest_depth == pytest.approx(b.rest_depth, rel=0.02)
+    assert np.max(np.abs(a.depth - b.depth)) < 0.05 * b.rest_depth
+
+
+XML = """
+<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <body name="a" pos="0 0 0.02"><freejoint/>
+      <geom name="sole_a" type="box" size="0.0255 0.019 0.0125" mass="5"/></body>
+    <body name="b" pos="1 0 0.0125"><freejoint/><geom type="box" size="0.0255 0.019 0.0125" mass="5"/></body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_free_bodies_named_by_geom_or_body_with_patches() -> None:
+    spec = mujoco.MjSpec.from_string(XML)
+    add_mud(spec, ["sole_a", "b"], points=[(0.0, 0.0, -0.0125), (0.0, 0.0, -0.0125)])
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    params = MudParameters.from_water_content(0.20)
+    patches = [MudPatch(params, height=0.0), MudPatch(params, height=0.0, extent=(-0.5, 0.5, -0.5, 0.5))]
+    mud = MudAdapter(model, data, ["sole_a", "b"], patches)
+    for _ in range(3000):
+        data.xfrc_applied[:] = 0.0  # users may clear their forces between steps
+        mud.step()
+    assert not data.xfrc_applied.any()  # the mud force is taken back after each step
+    ref = exact_drop(5.0, params, duration=3.0, height=0.0075)
+    # foot a (free joint: 6 dof) sinks and sticks at the 1-dof solution; foot b is outside its patch and falls
+    assert mud.depths[0] == pytest.approx(ref.rest_depth, rel=0.05)
+    assert mud.modes[1] == "FREE" and data.xpos[2, 2] < -1.0
+    f = mud.contact_forces
+    assert f[0] == pytest.approx(5.0 * GRAVITY, rel=1e-3)
+    assert f[1] == 0.0
+    # the foot stays upright (the force acts at the bottom centre, below the centre of mass)
+    assert abs(data.qvel[3:6]).max() < 1e-6
+
+
+def test_unprepared_foot_is_refused() -> None:
+    spec = mujoco.MjSpec.from_string(XML)
+    model = spec.compile()
+    with pytest.raises(InputError, match="add_mud"):
+        MudAdapter(model, mujoco.MjData(model), ["sole_a"], MudPatch(MudParameters.from_water_content(0.2)))
+    with pytest.raises(InputError, match="no geom or body"):
+        add_mud(mujoco.MjSpec.from_string(XML), ["nope"])
+
+
+def test_nstep_equals_single_steps_and_anchor_stays_above_the_foot() -> None:
+    runs = []
+    for nsteps in ([5, 5, 5], [1] * 15):
+        spec = mujoco.MjSpec.from_string(XML)
+        add_mud(spec, ["sole_a"], points=[(0.0, 0.0, -0.0125)])
+        model = spec.compile()
+        data = mujoco.MjData(model)
+        mud = MudAdapter(model, data, ["sole_a"], MudPatch(MudParameters.from_water_content(0.20)))
+        for n in nsteps:
+            mud.step(n)
+        runs.append((data.qpos.copy(), mud.state))
+        # the tendon's anchor (a world site the adapter moves) is 1 m above the contact point
+        foot = data.site("mud_site_sole_a").xpos
+        anchor = model.site("mud_anchor_site_sole_a").pos
+        assert anchor[:2] == pytest.approx(foot[:2]) and anchor[2] == pytest.approx(foot[2] + 1.0)
+    assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
+
+
+FEET_XML = """
+<mujoco>
+  <asset><mesh name="wedge" vertex="0 0 0  0.04 0 0  0 0.02 0  0 0 0.01"/></asset>
+  <worldbody>
+    <body name="ball"><freejoint/><geom name="toe" type="sphere" size="0.04" mass="1"/></body>
+    <body name="plate"><freejoint/><geom type="box" size="0.01 0.03 0.005" mass="1"/></body>
+    <body name="rod"><freejoint/><geom name="rod" type="capsule" size="0.01 0.05" quat="0.7071068 0.7071068 0 0"
+                                       mass="1"/></body>
+    <body name="post"><freejoint/><geom name="post" type="cylinder" size="0.015 0.02" mass="1"/></body>
+    <body name="egg"><freejoint/><geom name="egg" type="ellipsoid" size="0.03 0.02 0.01" mass="1"/></body>
+    <body name="wedge"><freejoint/><geom name="wedge" type="mesh" mesh="wedge" mass="1"/></body>
+    <body name="two"><freejoint/><geom type="sphere" size="0.01"/><geom type="sphere" size="0.01"/></body>
+    <body name="none" pos="0 0 1"><freejoint/><site name="s"/><inertial pos="0 0 0" mass="1"
+                                                                  diaginertia="1 1 1"/></body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_each_foot_takes_its_sole_from_its_geom_and_none_is_silently_the_paper_s() -> None:
+    """A spherical toe is a disc of its diameter, not the paper's 51 x 38 mm block (a 107 kg robot sank 346 mm)."""
+    from mudforce.engines.mujoco import foot_of
+    from mudforce.model.foot import Foot
+
+    model = mujoco.MjModel.from_xml_string(FEET_XML)
+    assert foot_of(model, "toe") == Foot.disc(0.08)
+    assert foot_of(model, "ball") == Foot.disc(0.08)  # a body with one geom
+    assert foot_of(model, "plate") == Foot.cuboid(0.06, 0.02)
+    rod = foot_of(model, "rod")  # lying down: its length with the caps, by its diameter
+    assert rod.area == pytest.approx(0.12 * 0.02) and rod.width == pytest.approx(0.02)
+    assert foot_of(model, "post") == Foot.disc(0.03)  # upright
+    egg = foot_of(model, "egg")
+    assert egg.area == pytest.approx(np.pi * 0.03 * 0.02) and egg.width == pytest.approx(0.04)
+    wedge = foot_of(model, "wedge")  # MuJoCo stores a mesh in its inertial frame: the extents there
+    extent = np.ptp(model.mesh_vert[: model.mesh_vertnum[0]], axis=0)
+    assert wedge.width == pytest.approx(min(extent[:2])) and wedge.area == pytest.approx(extent[0] * extent[1])
+    for name, match in (("two", "2 geoms"), ("none", "0 geoms"), ("nope", "no geom or body")):
+        with pytest.raises(InputError, match=match):
+            foot_of(model, name)
+    spec = mujoco.MjSpec.from_string(FEET_XML)
+    add_mud(spec, ["toe", "two"])
+    model = spec.compile()
+    with pytest.raises(InputError, match="2 geoms"):
+        MudAdapter(model, mujoco.MjData(model), ["toe", "two"], MudPatch(MudParameters.from_water_content(0.25)))
+    mud = MudAdapter(model, mujoco.MjData(model), ["toe"], MudPatch(MudParameters.from_water_content(0.25)))
+    assert mud.params[0, 0] > 0.0  # built with the toe's disc

@@ -1,0 +1,104 @@
+"""The rest band as physics (equations.rest_band_forces), its state machine (rest_band) and branch_forces."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mudforce import Foot, MudParameters
+from mudforce import _kernel as K
+from mudforce._kernel import ContactMode, params_row
+from mudforce.engines.dynamics import branch_forces, rest_band
+from mudforce.model.equations import maxwell_strain_step, nonlinear_spring_stress, rest_band_forces
+from mudforce.model.velocity import VelocityFilter
+
+W20 = MudParameters.from_water_content(0.20)
+FOOT = Foot.paper()
+ROW = params_row(W20, FOOT, VelocityFilter.exact())
+
+
+def test_rest_band_forces_are_the_two_branch_limits() -> None:
+    """Eqs. (2), (4) at v = 0: F_up = S k_m_w e, F_down = S (k_m_i e + f_e2); checked against the paper's formulas."""
+    e, z = 2e-4, 0.015
+    spring = W20.alpha * (z / FOOT.width) ** W20.beta
+    f_up, f_down = rest_band_forces(e, spring, W20.k_m_i, W20.k_m_w, FOOT.area)
+    assert f_up == pytest.approx(FOOT.area * W20.k_m_w * e, rel=1e-15)
+    assert f_down == pytest.approx(FOOT.area * (W20.k_m_i * e + spring), rel=1e-15)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.tuples(st.floats(-1e-2, 1e-2), st.floats(0.0, 1e5)), min_size=1, max_size=20))
+def test_rest_band_forces_py_func_works_on_arrays(rows: list[tuple[float, float]]) -> None:
+    """Plain arithmetic: the Python function on arrays equals the compiled one on each element, bit for bit."""
+    e = np.array([r[0] for r in rows])
+    spring = np.array([r[1] for r in rows])
+    up, down = rest_band_forces.py_func(e, spring, W20.k_m_i, W20.k_m_w, FOOT.area)
+    for i in range(e.size):
+        assert (up[i], down[i]) == rest_band_forces(e[i], spring[i], W20.k_m_i, W20.k_m_w, FOOT.area)
+
+
+def test_rest_band_applies_the_state_machine() -> None:
+    e = 1e-4
+    z = 0.02
+    spring = nonlinear_spring_stress(W20.alpha, W20.beta, z, FOOT.width)
+    both = rest_band_forces(e, spring, W20.k_m_i, W20.k_m_w, FOOT.area)
+    assert rest_band(ROW, ContactMode.CONTACT, z, e, 0.0) == both
+    assert rest_band(ROW, ContactMode.FREE, z, e, 0.0) == (0.0, 0.0)
+    # above the surface the intrusion branch is FREE: no downward limit
+    lo, hi = rest_band(ROW, ContactMode.CONTACT, -1e-3, e, 0.0)
+    assert hi == 0.0 and lo == FOOT.area * W20.k_m_w * e
+    # after necking the upward limit is the post-necking force (Eq. (7)), given
+    lo, hi = rest_band(ROW, ContactMode.NECKED, z, e, -3.5)
+    assert lo == -3.5 and hi == both[1]
+
+
+def _moving_state(velocity: float) -> tuple[np.ndarray, np.ndarray]:
+    """A foot stepped down to 20 mm and then at ``velocity`` [m/s] for a few 1 ms steps (CONTACT)."""
+    prow = ROW[None, :]
+    states = K.new_states(1)
+    ring = K.new_ring(1, 1)
+    out = K.new_out(1)
+    z = 0.0
+    for z in np.linspace(0.0, 0.02, 21):
+        K.step(states, ring, 0, prow, float(z), 1e-3, out, 0)
+    for _ in range(3):
+        z += velocity * 1e-3
+        K.step(states, ring, 0, prow, float(z), 1e-3, out, 0)
+    return states, prow
+
+
+@pytest.mark.parametrize("velocity", [0.05, -0.02, 0.0])
+def test_branch_forces_advance_eq3_with_maxwell_strain_step(velocity: float) -> None:
+    """The predicted-end band is rest_band after Eq. (3)'s closed-form step, on each bound's own branch."""
+    states, prow = _moving_state(velocity)
+    s = K.state_of(states[0])
+    assert s.mode == ContactMode.CONTACT
+    dt = 1e-3
+    f_up, f_down, drag = np.zeros(1), np.zeros(1), np.zeros(1)
+    branch_forces(states, prow, dt, 1.0, f_up, f_down, drag)
+    v = s.velocity
+    z = s.depth
+    e0 = z - s.mud
+    v_dn, v_up = max(v, 0.0), min(v, 0.0)
+    e_dn = maxwell_strain_step(e0, v_dn, W20.b_m_i / W20.k_m_i, math.exp(-dt * W20.k_m_i / W20.b_m_i))
+    e_up = maxwell_strain_step(e0, v_up, W20.b_m_w / W20.k_m_w, math.exp(-dt * W20.k_m_w / W20.b_m_w))
+    assert f_down[0] == pytest.approx(rest_band(ROW, ContactMode.CONTACT, z + v_dn * dt, e_dn, 0.0)[1], rel=1e-12)
+    assert f_up[0] == pytest.approx(rest_band(ROW, ContactMode.CONTACT, z + v_up * dt, e_up, 0.0)[0], rel=1e-12)
+
+
+def test_branch_forces_cached_decays_equal_computed_ones() -> None:
+    """The decays the stepper cached for a step of dt are the ones branch_forces would compute: same bits."""
+    states, prow = _moving_state(0.05)
+    assert K.load_cache(states, 0).dt == 1e-3
+    cached = [np.zeros(1) for _ in range(3)]
+    branch_forces(states, prow, 1e-3, 1.0, *cached)
+    fresh = states.copy()
+    K.forget_cache(fresh)  # no cache: exp(-dt / tau) computed in place
+    computed = [np.zeros(1) for _ in range(3)]
+    branch_forces(fresh, prow, 1e-3, 1.0, *computed)
+    for a, b in zip(cached, computed, strict=True):
+        assert a[0] == b[0]

@@ -1,0 +1,314 @@
+"""Calibration inputs and helpers: dataset loading and validation, motion fit, tare, drag, identify, CLI."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from mudforce.errors import InputError
+from mudforce.estimation.calibration import (
+    fit_drag,
+    fit_motion,
+    identify_water_content,
+    load_dataset,
+    load_trial,
+    parse_foot,
+    prepare_trial,
+    synthesize,
+    tare,
+)
+from mudforce.estimation.calibration.dataset import Trial
+from mudforce.estimation.calibration.preprocess import snap_reversal
+from mudforce.model.foot import Foot
+from mudforce.motions.protocol import Protocol
+from mudforce_cli_harness import run_cli
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A written synthetic dataset: W = 25%, 10 and 40 mm/s, one repeat each."""
+    out = tmp_path_factory.mktemp("ds")
+    synthesize(out, water_contents=[0.25], velocities=[0.01, 0.04], repeats=1, seed=3)
+    return out
+
+
+def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
+    return run_cli(args, timeout=120)
+
+
+# ------------------------------------------------------------------------ dataset loading
+def test_roundtrip_folder(small: Path) -> None:
+    ds = load_dataset(small)
+    assert [t.name for t in ds.trials] == ["w25_v10_r1.csv", "w25_v40_r1.csv"]
+    assert ds.water_contents == [0.25]
+    assert ds.trials[0].velocity == 0.01 and ds.trials[0].repeat == 1
+    assert_allclose(ds.foot.area, 0.051 * 0.038)
+    assert ds.extra is not None and "synthetic" in ds.extra
+    # the manifest itself is accepted too
+    assert len(load_dataset(small / "dataset.json").trials) == 2
+
+
+def test_tidy_csv_and_mm_columns(small: Path, tmp_path: Path) -> None:
+    ds = load_dataset(small)
+    lines = ["trial,water_content,time_s,depth_mm,force_N"]
+    for t in ds.trials:
+        rows = zip(t.time, t.depth, t.force, strict=True)
+        lines += [f"{t.name},0.25,{float(a)!r},{float(z) * 1e3!r},{float(f)!r}" for a, z, f in rows]
+    path = tmp_path / "tidy.csv"
+    path.write_text("\n".join(lines) + "\n")
+    tidy = load_dataset(path)
+    assert [t.name for t in tidy.trials] == [t.name for t in ds.trials]
+    assert_allclose(tidy.trials[1].depth, ds.trials[1].depth, rtol=1e-12)
+
+
+def _manifest(folder: Path, data: object) -> Path:
+    (folder / "dataset.json").write_text(json.dumps(data))
+    return folder
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda m: m.pop("foot"), 'missing "foot"'),
+        (lambda m: m.update(trials=[]), '"trials" must be a non-empty list'),
+        (lambda m: m.update(extra=1), "unknown key(s) extra"),
+        (lambda m: m["foot"].update(shape="blob"), "foot.shape is 'blob'"),
+        (lambda m: m["foot"].update(width_m=-1), "foot.width_m is -1"),
+        (lambda m: m["trials"][0].update(water_content=25), "water_content is 25"),
+        (lambda m: m["trials"][0].update(water_content="25%"), "water_content is '25%'"),
+        (lambda m: m["trials"][0].pop("water_content"), 'missing "water_content"'),
+        (lambda m: m["trials"][0].update(file="nope.csv"), "nope.csv not found"),
+        (lambda m: m["trials"][1].update(file="w25_v10_r1.csv"), "listed twice"),
+        (lambda m: m["trials"][0].update(velocity_m_s=0), "velocity_m_s is 0"),
+        (lambda m: m["trials"][0].update(speed=1), "unknown key(s) speed"),
+    ],
+)
+def test_bad_manifests(small: Path, tmp_path: Path, change: object, message: str) -> None:
+    for f in small.glob("*.csv"):
+        (tmp_path / f.name).write_text(f.read_text())
+    manifest = json.loads((small / "dataset.json").read_text())
+    change(manifest)  # type: ignore[operator]
+    _manifest(tmp_path, manifest)
+    with pytest.raises(InputError, match=None) as info:
+        load_dataset(tmp_path)
+    assert message in str(info.value)
+    assert "\n" not in str(info.value)
+    assert str(tmp_path / "dataset.json") in str(info.value)
+
+
+def test_malformed_json_and_missing_folder(tmp_path: Path) -> None:
+    (tmp_path / "dataset.json").write_text('{"foot": ')
+    with pytest.raises(InputError, match="malformed JSON at line 1"):
+        load_dataset(tmp_path)
+    with pytest.raises(InputError, match="not found"):
+        load_dataset(tmp_path / "missing")
+    (tmp_path / "sub").mkdir()
+    with pytest.raises(InputError, match=r"no dataset\.json"):
+        load_dataset(tmp_path / "sub")
+
+
+@pytest.mark.parametrize(
+    ("rows", "message"),
+    [
+        (["time_s,depth_m,force_N", "0,0.1,1", "0.01,0.1"], "row 3 has 2 fields"),
+        (["time_s,depth_m,force_N", "0,0.1,1", "0.01,nan,1"], "row 3, column depth_m: 'nan' is not finite"),
+        (["time_s,depth_m,force_N", "0,0.1,1", "0.01,abc,1"], "row 3, column depth_m: 'abc' is not a number"),
+        (["time_s,depth_m", "0,0.1"], "missing column force_N"),
+        (["time_s,depth_m,force_N"], "no data rows"),
+    ],
+)
+def test_bad_trial_csv(small: Path, tmp_path: Path, rows: list[str], message: str) -> None:
+    manifest = json.loads((small / "dataset.json").read_text())
+    manifest["trials"] = manifest["trials"][:1]
+    (tmp_path / "w25_v10_r1.csv").write_text("\n".join(rows) + "\n")
+    _manifest(tmp_path, manifest)
+    with pytest.raises(InputError) as info:
+        load_dataset(tmp_path)
+    assert message in str(info.value) and "w25_v10_r1.csv" in str(info.value)
+
+
+def test_short_and_backwards_trials(tmp_path: Path) -> None:
+    path = tmp_path / "t.csv"
+    path.write_text("time_s,depth_m,force_N\n" + "".join(f"{i * 0.01},0,0\n" for i in range(5)))
+    with pytest.raises(InputError, match="only 5 samples"):
+        load_trial(path)
+    with pytest.raises(InputError, match="missing column water_content"):
+        load_dataset(path)  # not a tidy CSV
+    rows = [f"{0.01 * i},{-0.001},{0.0}" for i in range(30)]
+    rows[10] = "0.05,0,0"
+    path.write_text("time_s,depth_m,force_N\n" + "\n".join(rows) + "\n")
+    with pytest.raises(InputError, match="row 12, column time_s: time goes backwards"):
+        load_trial(path)
+
+
+def test_time_errors_name_the_files_own_row_and_column(tmp_path: Path) -> None:
+    """Rows count the file's lines (blank lines included) and the column is the file's spelling."""
+    rows = [f"{10 * i},{-0.001},{0.0}" for i in range(30)]
+    rows[10] = "50,0,0"
+    path = tmp_path / "ms.csv"
+    path.write_text("time_ms,depth_m,force_N\n\n" + "\n".join(rows) + "\n")  # a blank line after the header
+    with pytest.raises(InputError, match="row 13, column time_ms: time goes backwards"):
+        load_trial(path)
+    tidy = tmp_path / "tidy.csv"
+    lines = [f"a,0.25,{0.01 * i},-0.001,0" for i in range(30)]
+    lines[10] = "a,0.25,0.01,-0.001,0"
+    tidy.write_text("trial,water_content,time_s,depth_m,force_N\n\n" + "\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"tidy.csv \(trial 'a'\): row 13, column time_s: time goes backwards"):
+        load_dataset(tidy)
+
+
+@pytest.mark.parametrize(
+    ("extra", "words"),
+    [
+        (["--out", "no/such/dir/fit.json"], "--out: directory 'no/such/dir' does not exist"),
+        (["--out", "."], "names a directory"),
+        (["--out", "same", "--report", "same"], "is the --report folder"),
+    ],
+)
+def test_fit_refuses_unusable_outputs_before_fitting(small: Path, tmp_path: Path, extra: list[str],
+                                                     words: str) -> None:
+    proc = run_cli(["fit", str(small), *extra, "--quiet"], tmp_path, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert words in proc.stderr and "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert not any(tmp_path.iterdir())  # nothing written, no report folder made
+
+
+def test_cli_bad_input_exit_2(small: Path, tmp_path: Path) -> None:
+    manifest = json.loads((small / "dataset.json").read_text())
+    manifest["trials"][0]["water_content"] = 1.5
+    _manifest(tmp_path, manifest)
+    proc = _run_cli("fit", str(tmp_path), "--out", str(tmp_path / "fit.json"), "--quiet")
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert "water_content is 1.5" in proc.stderr
+    assert not (tmp_path / "fit.json").exists()
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time_s,depth_m,force_N\n0,0,0\n0.01,0,\n")
+    proc = _run_cli("identify", str(bad))
+    assert proc.returncode == 2 and "row 3, column force_N" in proc.stderr and "Traceback" not in proc.stderr
+    proc = _run_cli("synth", "--out", str(tmp_path / "x"), "--velocities", "10")
+    assert proc.returncode == 2 and "has no unit" in proc.stderr
+
+
+def test_parse_foot() -> None:
+    assert parse_foot("paper") == Foot.paper()
+    assert_allclose(parse_foot("cuboid:51mm,38mm").area, 0.051 * 0.038)
+    assert_allclose(parse_foot("disc:40mm").width, 0.04)
+    assert_allclose(parse_foot("custom:19.38cm2,38mm").area, 19.38e-4)
+    # one parser for every --foot: the forms of `mudforce simulate` work here too
+    assert parse_foot("cuboid:51mmx38mm") == parse_foot("cuboid:51mm,38mm")
+    assert parse_foot("area:19.38cm2,width:38mm") == parse_foot("custom:19.38cm2,38mm")
+    with pytest.raises(InputError, match="expected paper, cuboid"):
+        parse_foot("triangle:3mm")
+
+
+# ------------------------------------------------------------------------ motion, reversal, tare
+@pytest.mark.parametrize("velocity", [0.01, 0.02, 0.04])
+def test_reversal_located_to_a_small_fraction_of_a_sample(velocity: float) -> None:
+    """Motion capture noise 0.05 mm at 100 Hz: the corners come out to < 0.15 sample (rms < 0.06)."""
+    protocol = Protocol.paper(velocity=velocity, approach=0.005)
+    time, depth = protocol.sample()
+    corners, _ = protocol.breakpoints()
+    rng = np.random.default_rng(7)
+    errors = []
+    for _ in range(10):
+        motion = fit_motion(time, depth + 5e-5 * rng.standard_normal(time.size))
+        errors.append(np.array(motion.corner_time[1:3]) - corners[1:3])
+    err = np.array(errors) / 0.01  # in samples
+    assert np.max(np.abs(err)) < 0.15
+    assert np.sqrt(np.mean(err**2)) < 0.06
+
+
+def test_reversal_sample_settled_by_the_force_drop() -> None:
+    """A reversal on a sample: the motion alone is ambiguous, the force drop decides."""
+    ds = synthesize(water_contents=[0.25], velocities=[0.01], repeats=1, seed=1, depth_noise=5e-5)
+    tr = ds.trials[0]
+    true_reversal = 0.005 / 0.01 + 0.02 / 0.01 + 6.0  # exactly on sample 850
+    motion = fit_motion(tr.time, tr.depth)
+    for shift in (-0.2e-2, 0.2e-2):  # either side of the sample, within the ambiguity
+        shifted = type(motion)((motion.corner_time[0], motion.corner_time[1], true_reversal + shift,
+                                motion.corner_time[3]), motion.start_depth, motion.hold_depth, motion.end_depth,
+                               motion.depth_noise)
+        snapped = snap_reversal(tr.time, tr.force, shifted)
+        assert true_reversal <= snapped.reversal_time < true_reversal + 0.01 * 0.01
+    prepared = prepare_trial(tr)
+    assert prepared.reversal_index == 851  # samples 0..850 are before the withdrawal
+
+
+def test_tare_removes_bias() -> None:
+    ds = synthesize(water_contents=[0.25], velocities=[0.01], repeats=1, seed=5, force_noise=0.3, bias=2.5)
+    tr = ds.trials[0]
+    motion = fit_motion(tr.time, tr.depth)
+    bias, noise, count = tare(tr.time, tr.force, motion)
+    assert count == 50  # contact at 0.5 s: samples 0 to 0.49 s
+    assert abs(bias - 2.5) < 4 * 0.3 / np.sqrt(count)
+    assert 0.2 < noise < 0.4
+    assert_allclose(motion.contact_time, 0.5, atol=2e-3)
+
+
+def test_trial_starting_in_the_mud_estimates_its_bias() -> None:
+    """The protocol refinement refuses it; the general path accepts it and leaves the bias to the fit."""
+    time = np.arange(0, 5, 0.01)
+    depth = np.interp(time, [0, 1, 3, 5], [0.005, 0.02, 0.02, -0.01])
+    force = np.random.default_rng(0).standard_normal(time.size)
+    with pytest.raises(InputError, match="starts 5 mm below the surface"):
+        prepare_trial(Trial("x.csv", 0.25, time, depth, force), protocol=True)
+    prepared = prepare_trial(Trial("x.csv", 0.25, time, depth, force))
+    assert prepared.motion is None and prepared.bias_estimated and prepared.bias == 0.0
+    with pytest.raises(InputError, match="never goes below the surface"):
+        prepare_trial(Trial("y.csv", 0.25, time, -0.01 + 0 * time, np.zeros_like(time)))
+
+
+# ------------------------------------------------------------------------ drag, identify
+def test_fit_drag_recovers_lambda() -> None:
+    """Synthetic sliding runs: 10 speeds x 3 repeats, force noise 2% of the largest force."""
+    area, rho = Foot.paper().area, 1840.0
+    v = np.repeat(np.linspace(0.1, 1.0, 10), 3)
+    clean = 0.013 * rho * area * v**2
+    rng = np.random.default_rng(11)
+    lams, ses = [], []
+    for _ in range(40):
+        fit = fit_drag(v, clean + 0.02 * clean.max() * rng.standard_normal(v.size), area, rho_m=rho)
+        lams.append(fit.lambda_)
+        ses.append(fit.stderr)
+    lams_a = np.array(lams)
+    assert abs(np.mean(lams_a) - 0.013) < 3 * np.std(lams_a) / np.sqrt(40)
+    # the standard error is honest: it matches the scatter over repeats to 30%
+    assert 0.7 < np.mean(ses) / np.std(lams_a) < 1.3
+    with pytest.raises(InputError, match="more than one non-zero speed"):
+        fit_drag([0.0, 0.0, 0.0], [0.0, 1.0, 2.0], area)
+
+
+def test_fit_drag_cli(tmp_path: Path) -> None:
+    v = np.linspace(-1.0, 1.0, 21)
+    f = 0.02 * 1840 * 19.38e-4 * np.sign(v) * v**2
+    path = tmp_path / "slide.csv"
+    rows = "".join(f"{float(a) * 1e3!r},{float(b)!r}\n" for a, b in zip(v, f, strict=True))
+    path.write_text("velocity_mm_s,force_N\n" + rows)
+    proc = _run_cli("fit-drag", str(path), "--area", "19.38cm2", "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert_allclose(json.loads(proc.stdout)["lambda"], 0.02, rtol=1e-9)
+
+
+@pytest.mark.parametrize("water_content", [0.15, 0.22, 0.35])
+def test_identify_water_content(water_content: float) -> None:
+    ds = synthesize(water_contents=[water_content], velocities=[0.02], repeats=1, seed=2, force_noise=0.3)
+    result = identify_water_content(ds.trials[0], ds.foot)
+    assert abs(result.water_content - water_content) < 0.005
+    lo, hi = result.interval
+    assert lo - 1e-6 <= water_content <= hi + 1e-6
+    assert result.rmse < 0.36
+
+
+def test_identify_cli_json(small: Path) -> None:
+    proc = _run_cli("identify", str(small / "w25_v40_r1.csv"), "--json")
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert set(out) >= {"water_content", "interval", "rmse_N"}
+    assert abs(out["water_content"] - 0.25) < 0.02

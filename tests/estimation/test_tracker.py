@@ -1,0 +1,180 @@
+"""The online tracker: convergence, re-convergence after a change of mud, offset and noise, refusals.
+
+Short walks and a few seeds only; the many-seed acceptance figures are in
+``benchmarks/bench_tracker.py --acceptance``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mudforce import InputError, MudTracker, MudTrackers, TrackEstimate
+from mudforce.estimation.tracker import DEFAULT_GRID, track
+from mudforce.motions.gait import walk
+
+
+def feed(tracker: MudTracker, time: np.ndarray, depth: np.ndarray, force: np.ndarray,
+         previous: float | None = None) -> list[TrackEstimate]:
+    """Every sample through ``tracker.update``; ``previous``: the time of the sample before (None: a first call)."""
+    out = []
+    previous = float(time[0]) if previous is None else previous
+    for t, z, f in zip(time.tolist(), depth.tolist(), force.tolist(), strict=True):
+        out.append(tracker.update(z, f, t - previous))
+        previous = t
+    return out
+
+
+@pytest.mark.parametrize(("seed", "w"), [(1, 0.18), (2, 0.25), (3, 0.32)])
+def test_converges_on_stationary_mud_and_covers_the_truth(seed: int, w: float) -> None:
+    wk = walk(w, seed=seed, duration=20.0, force_noise=0.3, bias=-1.0)
+    r = track(wk.time, wk.depth, wk.force)
+    late = wk.time >= 8.0  # a few steps in
+    assert np.all(np.abs(r.water_content[late] - w) <= 0.015)
+    inside = (r.low <= w) & (w <= r.high)
+    assert inside[late].mean() >= 0.9
+    assert np.all((r.high - r.low)[late] <= 0.04)  # informative: narrower than 4 points
+    assert not r.changed.any()  # no change flagged on stationary mud
+    # offset tared and noise estimated while the foot is free
+    assert r.bias[-1] == pytest.approx(-1.0, abs=0.1)
+    assert r.noise[-1] == pytest.approx(0.3, rel=0.25)
+
+
+def test_reconverges_after_a_change_of_mud_without_being_told() -> None:
+    wk = walk([0.20, 0.30], change_times=[10.0], seed=5, duration=30.0, force_noise=0.2, bias=0.5)
+    r = track(wk.time, wk.depth, wk.force)
+    change = wk.changes[0]
+    before = (wk.time > 6.0) & (wk.time < change)
+    assert np.all(np.abs(r.water_content[before] - 0.20) <= 0.01)
+    after = wk.time > change + 6.0
+    assert np.all(np.abs(r.water_content[after] - 0.30) <= 0.01)
+    assert np.all((r.low[after] <= 0.30) & (0.30 <= r.high[after]))
+    flags = wk.time[r.changed]
+    assert flags.size == 1 and change < flags[0] < change + 6.0
+
+
+def test_predicted_force_follows_the_measurement() -> None:
+    wk = walk(0.25, seed=7, duration=15.0, force_noise=0.2, bias=0.3)
+    r = track(wk.time, wk.depth, wk.force)
+    late = wk.time > 5.0
+    err = np.abs(r.force_predicted[late] - wk.force[late])
+    assert np.median(err) < 1.0  # N; the rare branch-switch samples aside
+    assert np.all(np.isfinite(r.force_predicted))
+
+
+def test_one_foot_many_feet_and_track_agree() -> None:
+    wk = walk(0.22, seed=8, duration=6.0, force_noise=0.2)
+    r = track(wk.time, wk.depth, wk.force)
+    single = feed(MudTracker(), wk.time, wk.depth, wk.force)
+    assert [e.water_content for e in single] == r.water_content.tolist()
+    assert [(e.low, e.high) for e in single] == list(zip(r.low.tolist(), r.high.tolist(), strict=True))
+    assert [e.force_predicted for e in single] == r.force_predicted.tolist()
+    # three feet: foot 1 sees this walk, the others their own
+    other = walk(0.3, seed=9, duration=6.0, force_noise=0.4, bias=1.0)
+    many = MudTrackers(3)
+    previous = wk.time[0]
+    for k, t in enumerate(wk.time.tolist()):
+        est = many.update([other.depth[k], wk.depth[k], other.depth[k]],
+                          [other.force[k], wk.force[k], other.force[k]], t - previous)
+        previous = t
+        assert est.water_content[1] == r.water_content[k]
+        assert est.low[1] == r.low[k] and est.high[1] == r.high[k]
+        assert est.water_content[0] == est.water_content[2]
+    assert est.water_content.shape == (3,) and est.changed.dtype == np.bool_
+
+
+def test_first_dt_is_ignored_and_reset_starts_over() -> None:
+    wk = walk(0.25, seed=10, duration=3.0)
+    a = MudTracker()
+    first = a.update(float(wk.depth[0]), float(wk.force[0]), float("nan"))
+    b = MudTracker()
+    assert b.update(float(wk.depth[0]), float(wk.force[0]), 123.0) == first
+    run_a = feed(a, wk.time[1:], wk.depth[1:], wk.force[1:], float(wk.time[0]))
+    a.reset()
+    run_b = feed(a, wk.time, wk.depth, wk.force)
+    fresh = feed(MudTracker(), wk.time, wk.depth, wk.force)
+    assert run_b == fresh
+    assert len(run_a) == wk.time.size - 1
+
+
+def test_a_refused_sample_changes_nothing() -> None:
+    wk = walk(0.25, seed=11, duration=4.0, force_noise=0.2)
+    a, b = MudTracker(), MudTracker()
+    n = wk.time.size // 2
+    feed(a, wk.time[:n], wk.depth[:n], wk.force[:n])
+    feed(b, wk.time[:n], wk.depth[:n], wk.force[:n])
+    for bad in ((math.nan, 1.0, 0.01), (0.01, math.inf, 0.01), (0.01, 1.0, 0.0), (0.01, 1.0, -0.01),
+                (0.01, 1.0, math.nan), ("deep", 1.0, 0.01)):
+        with pytest.raises(InputError):
+            a.update(*bad)  # type: ignore[arg-type]
+    ea = feed(a, wk.time[n:], wk.depth[n:], wk.force[n:], float(wk.time[n - 1]))
+    eb = feed(b, wk.time[n:], wk.depth[n:], wk.force[n:], float(wk.time[n - 1]))
+    assert ea == eb
+    many = MudTrackers(2)
+    many.update([0.0, 0.0], [0.0, 0.0], 0.01)
+    before = many.posterior
+    with pytest.raises(InputError, match="foot 1"):
+        many.update([0.0, math.nan], [0.0, 0.0], 0.01)
+    with pytest.raises(InputError, match="shape"):
+        many.update([0.0], [0.0], 0.01)
+    np.testing.assert_array_equal(many.posterior, before)
+
+
+@pytest.mark.parametrize("options", [
+    {"tau": 0.0}, {"tau": math.inf}, {"correlation_time": -1.0}, {"misfit": "a lot"}, {"level": 1.0},
+    {"water_contents": [0.3, 0.2]}, {"water_contents": [0.1, 0.2]}, {"water_contents": [0.25]},
+    {"discrepancy": -0.01}, {"velocity_filter": "fast"},
+])
+def test_bad_options_are_refused(options: dict[str, object]) -> None:
+    with pytest.raises(InputError):
+        MudTracker(**options)  # type: ignore[arg-type]
+
+
+def test_grid_and_estimate_fields() -> None:
+    tracker = MudTracker(water_contents=[0.2, 0.25, 0.3], discrepancy=0.0)
+    e = tracker.update(-0.01, 0.0, 0.01)
+    assert e.water_content == pytest.approx(0.25)
+    low, high = e.low, e.high
+    assert 0.175 <= low < 0.25 < high <= 0.325
+    assert tracker.posterior.shape == (3,)
+    assert MudTracker().grid.tolist() == list(DEFAULT_GRID)
+    assert "MudTracker" in repr(tracker)
+
+
+def test_same_input_same_output() -> None:
+    wk = walk([0.3, 0.2], change_times=[5.0], seed=12, duration=12.0, force_noise=0.5, bias=2.0)
+    a = track(wk.time, wk.depth, wk.force)
+    b = track(wk.time, wk.depth, wk.force)
+    for name in ("water_content", "low", "high", "force_predicted", "changed", "bias", "noise"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+
+
+def test_tracking_figure_is_deterministic(tmp_path: object) -> None:
+    pytest.importorskip("matplotlib")
+    from pathlib import Path
+
+    from mudforce.estimation.tracking_plots import tracking_figure
+
+    p = Path(str(tmp_path))
+    tracking_figure(p / "a.png", seed=3, duration=25.0, change_time=10.0)
+    tracking_figure(p / "b.png", seed=3, duration=25.0, change_time=10.0)
+    data = (p / "a.png").read_bytes()
+    assert data.startswith(b"\x89PNG") and data == (p / "b.png").read_bytes()
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.floats(-0.02, 0.05), st.floats(-300.0, 300.0), st.floats(1e-4, 0.1)),
+                min_size=1, max_size=60))
+def test_estimate_invariants_on_any_finite_input(samples: list[tuple[float, float, float]]) -> None:
+    tracker = MudTracker()
+    for z, f, dt in samples:
+        e = tracker.update(z, f, dt)
+        low, high = e.low, e.high
+        assert 0.1475 <= low <= e.water_content <= high <= 0.3525
+        assert math.isfinite(e.force_predicted) and math.isfinite(e.bias) and e.noise > 0.0
+    p = tracker.posterior
+    assert p.sum() == pytest.approx(1.0) and np.all(p >= 0.0)

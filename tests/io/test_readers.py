@@ -1,0 +1,30 @@
+"""The CSV reader's memory grows as the numbers do, not as Python objects (issue 15, item 5)."""
+
+from __future__ import annotations
+
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+
+from mudforce.io.tables import read_trajectory
+
+
+def test_reading_a_long_trajectory_takes_memory_in_proportion_to_the_numbers(tmp_path: Path) -> None:
+    """50,000 rows: peak allocation below 100 bytes a row (two float64 columns and a line number are 24;
+    a reader that keeps the rows as Python lists of strings takes ~250)."""
+    n = 50_000
+    time = np.arange(n) * 1e-3
+    depth = 0.02 * np.sin(time)
+    path = tmp_path / "long.csv"
+    with path.open("w") as handle:
+        handle.write("time_s,depth_m\n")
+        handle.writelines(f"{t:.6f},{z:.8f}\n" for t, z in zip(time, depth, strict=True))
+    tracemalloc.start()
+    try:
+        t, z = read_trajectory(path)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert t.size == n and np.allclose(z, depth, atol=1e-8)
+    assert peak < 100 * n, peak / n

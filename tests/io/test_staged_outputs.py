@@ -1,0 +1,142 @@
+"""Outputs staged and swapped in together (:class:`mudforce.io.StagedOutputs`), and what killed runs left behind.
+
+The commit puts every output in place or none (a failed step swaps the
+folders back); an interrupt lost earlier stops it; a file keeps its
+permissions and a link stays a link; the leftovers of a killed run are
+found by their exact names, so a target whose name holds ``*``, ``?`` or
+``[`` gets its own removed and nobody else's touched (issue 20, item 8).
+In-process, except the refusals of ``fit --report`` (one batch subprocess).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+import mudforce.io
+from mudforce._plumbing import interrupt as _interrupt
+from mudforce.estimation.calibration.synth import synthesize
+from mudforce.io import StagedOutputs, clean_stale
+from mudforce.reproduce.output import StagedFolder
+from mudforce.reproduce.output import clean_stale as clean_stale_reproduce
+from mudforce_cli_harness import assert_refused, run_batch, snapshot
+
+TAG = "mudforce-test"
+OLD_REPORT = {"report.md": b"old report\n", "a.png": b"old png"}
+
+
+def _old_pair(root: Path, fit: str = "fit.json", report: str = "rep") -> tuple[Path, Path]:
+    (root / fit).write_bytes(b"old fit\n")
+    (root / report).mkdir()
+    for name, data in OLD_REPORT.items():
+        (root / report / name).write_bytes(data)
+    return root / fit, root / report
+
+
+def _hidden(root: Path) -> list[str]:
+    return sorted(n for n in os.listdir(root) if n.startswith("."))
+
+
+@pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "two-renames"])
+def test_commit_swaps_a_folder_and_a_file_together(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                    exchange: bool) -> None:
+    if not exchange:
+        monkeypatch.setattr(mudforce.io, "_exchange", lambda a, b: False)
+    fit, report = _old_pair(tmp_path, "target.json")
+    fit.chmod(0o640)
+    (tmp_path / "link.json").symlink_to("target.json")
+    with StagedOutputs(TAG, folders=[report], files=[tmp_path / "link.json"]) as staged:
+        assert len(_hidden(tmp_path)) == 2  # one locked sibling per target (the link's target's)
+        staged.staged_path(tmp_path / "link.json").write_text("new fit\n")
+        (staged.staged_path(report) / "report.md").write_text("new report\n")
+        assert fit.read_bytes() == b"old fit\n" and snapshot(report) == OLD_REPORT
+        staged.commit()
+    assert fit.read_text() == "new fit\n" and fit.stat().st_mode & 0o777 == 0o640
+    assert os.readlink(tmp_path / "link.json") == "target.json"
+    assert snapshot(report) == {"report.md": b"new report\n"}  # replaced whole: the old PNG is gone
+    assert _hidden(tmp_path) == []
+
+
+@pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "two-renames"])
+def test_a_failed_commit_puts_the_old_pair_back(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                               exchange: bool) -> None:
+    if not exchange:
+        monkeypatch.setattr(mudforce.io, "_exchange", lambda a, b: False)
+    fit, report = _old_pair(tmp_path)
+
+    def full_disk(src: object, dst: object) -> None:
+        raise OSError(28, "No space left on device", str(dst))
+
+    with pytest.raises(OSError, match="No space"), StagedOutputs(TAG, folders=[report], files=[fit]) as staged:
+        staged.staged_path(fit).write_text("new fit\n")
+        (staged.staged_path(report) / "report.md").write_text("new report\n")
+        monkeypatch.setattr(mudforce.io.os, "replace", full_disk)  # the file's rename fails after the folder's swap
+        staged.commit()
+    monkeypatch.undo()
+    assert fit.read_bytes() == b"old fit\n" and snapshot(report) == OLD_REPORT
+    assert _hidden(tmp_path) == []
+
+
+def test_a_lost_interrupt_stops_the_commit(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    fit, report = _old_pair(tmp_path)
+    with pytest.raises(KeyboardInterrupt), StagedOutputs(TAG, folders=[report], files=[fit]) as staged:
+        staged.staged_path(fit).write_text("new fit\n")
+        monkeypatch.setattr(_interrupt, "_pending", True)  # came inside a callback and was lost
+        staged.commit()
+    assert fit.read_bytes() == b"old fit\n" and snapshot(report) == OLD_REPORT
+    assert _hidden(tmp_path) == []
+
+
+def test_a_long_file_name_is_staged_under_a_short_sibling(tmp_path: Path) -> None:
+    name = "L" * 250 + ".json"
+    with StagedOutputs(TAG, files=[tmp_path / name]) as staged:
+        staged.staged_path(tmp_path / name).write_text("{}\n")
+        assert all(len(n) < 255 for n in _hidden(tmp_path))
+        staged.commit()
+    assert (tmp_path / name).read_text() == "{}\n" and _hidden(tmp_path) == []
+
+
+def test_leftovers_are_matched_by_their_exact_names(tmp_path: Path) -> None:
+    """A name with glob characters: its own leftovers removed, another target's old folder not taken."""
+    dead = tmp_path / f".rep[1].{TAG}-new-dead1234"
+    dead.mkdir()
+    (dead / "a.png").write_bytes(b"half")
+    other_old = tmp_path / f".abc.{TAG}-old-dead5678"  # abc's old folder, left aside between two renames
+    other_old.mkdir()
+    not_ours = tmp_path / f".rep[1].{TAG}-new-x.{TAG}-new-dead0000"  # the leftover of a target 'rep[1].TAG-new-x'
+    not_ours.mkdir()
+    assert clean_stale(tmp_path / "a*", TAG) == [] and clean_stale(tmp_path / "re?[1]", TAG) == []
+    assert clean_stale(tmp_path / "rep[1]", TAG) == [dead]
+    assert _hidden(tmp_path) == sorted([other_old.name, not_ours.name])
+    assert not (tmp_path / "a*").exists()
+    assert clean_stale(tmp_path / "abc", TAG) == [other_old] and (tmp_path / "abc").is_dir()  # put back
+
+
+def test_reproduce_removes_a_killed_runs_folder_of_a_glob_name(tmp_path: Path) -> None:
+    """``reproduce --out 'out[1]'`` killed: the next run's staging removes its folder (a pattern missed it)."""
+    out = tmp_path / "out[1]"
+    dead = tmp_path / ".out[1].mudforce-reproduce-new-dead1234"
+    dead.mkdir()
+    (dead / "fig02_profile.png").write_bytes(b"half")
+    with StagedFolder(out.resolve()) as running:
+        assert _hidden(tmp_path) == [running.staged.name]
+        assert clean_stale_reproduce(out.resolve()) == []  # a live run's folder is left alone
+    assert _hidden(tmp_path) == []
+
+
+def test_fit_refuses_a_report_folder_it_cannot_replace_whole(tmp_path: Path) -> None:
+    """A --report folder holding other files, or holding --out: one line, exit 2, nothing touched."""
+    synthesize(tmp_path / "ds", velocities=(0.02,), repeats=1, seed=1)
+    (tmp_path / "notes").mkdir()
+    (tmp_path / "notes" / "notes.txt").write_text("mine\n")
+    (tmp_path / "notes" / "fit.json").write_text("old fit\n")
+    before = snapshot(tmp_path)
+    runs = run_batch([
+        (["fit", "ds", "--out", "fit.json", "--report", "notes", "--quiet"], tmp_path),
+        (["fit", "ds", "--out", "notes/fit.json", "--report", "notes", "--quiet"], tmp_path),
+    ])
+    assert_refused(runs[0], "--report notes", "'fit.json' and 1 more, not part of a mudforce report")
+    assert_refused(runs[1], "--out", "inside the --report folder", "replaced whole")
+    assert snapshot(tmp_path) == before and _hidden(tmp_path) == []

@@ -1,0 +1,185 @@
+"""The default branch rule tells the depth's noise from its motion (mudforce.model.velocity.analyse_depth_noise).
+
+Clean input of any shape and rate gets the paper's exact rule, so the ``auto`` force equals the exact one;
+noisy input gets the filter; the choice and the noise assumed are reported.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mudforce as mf
+from mudforce import InputError, VelocityFilter, simulate
+from mudforce.model.velocity import (
+    MAX_NOISE_ORDER,
+    NOISE_FLOOR_M,
+    SLOWEST_MOTION,
+    analyse_depth_noise,
+    choose_velocity_filter,
+    describe_velocity_rule,
+    estimate_depth_noise,
+)
+from mudforce.motions.gait import gait
+from mudforce_cli_harness import run_cli
+
+W20 = mf.MudParameters.from_water_content(0.20)
+
+
+def _sine_record() -> tuple[np.ndarray, np.ndarray]:
+    """The issue's case: a 3.14 s sine of 10 mm about 20 mm, 100 Hz, depths printed to 12 digits."""
+    i = np.arange(600)
+    time = np.array([float(f"{k / 100:.2f}") for k in i])
+    depth = np.array([float(f"{0.02 + 0.01 * math.sin(2 * math.pi * k / 314):.12g}") for k in i])
+    return time, depth
+
+
+def test_a_clean_sine_gets_the_exact_rule() -> None:
+    """Before: the line through three samples read the sine's curvature as 1.8 um of noise, and the filter
+    gave 209 N at 0.80 s where the model gives 5.14 N."""
+    t, z = _sine_record()
+    auto = simulate(t, z, W20)
+    exact = simulate(t, z, W20, velocity_filter="exact")
+    assert auto.velocity_filter.is_exact
+    assert auto.depth_noise is not None and auto.depth_noise.clean
+    assert auto.depth_noise.std <= NOISE_FLOOR_M
+    np.testing.assert_array_equal(auto.force, exact.force)
+    assert auto.force[80] == pytest.approx(5.143, abs=1e-3)
+    assert exact.depth_noise is None  # given, not chosen
+
+
+@st.composite
+def _smooth_motions(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
+    """Smooth motions resolved by their sampling: up to three sines below a tenth of the rate, a
+    minimum-jerk or a polynomial stroke, 20 Hz to 1 kHz, optionally jittered time stamps."""
+    rate = draw(st.sampled_from([20.0, 50.0, 100.0, 333.0, 1000.0]))
+    duration = draw(st.floats(2.0, 8.0))
+    n = int(duration * rate)
+    t = np.arange(n) / rate
+    jitter = draw(st.sampled_from([0.0, 0.2]))
+    if jitter:
+        t = t + np.random.default_rng(draw(st.integers(0, 99))).uniform(-jitter, jitter, n) / rate
+    kind = draw(st.sampled_from(["sines", "min-jerk", "polynomial"]))
+    s = (t - t[0]) / (t[-1] - t[0])
+    if kind == "sines":
+        z = np.full(n, draw(st.floats(-0.01, 0.03)))
+        for _ in range(draw(st.integers(1, 3))):
+            f = draw(st.floats(0.05, min(5.0, rate / 10)))
+            z = z + draw(st.floats(1e-3, 1e-2)) * np.sin(2 * np.pi * f * t + draw(st.floats(0.0, 6.0)))
+    elif kind == "min-jerk":
+        z = draw(st.floats(-0.02, 0.0)) + draw(st.floats(0.01, 0.05)) * (10 * s**3 - 15 * s**4 + 6 * s**5)
+    else:
+        c = draw(st.lists(st.floats(-0.03, 0.03), min_size=2, max_size=6))
+        z = np.polyval(np.array(c), s)
+    return t, z
+
+
+@settings(max_examples=int(os.environ.get("MUDFORCE_EXAMPLES", "40")), deadline=None)
+@given(_smooth_motions())
+def test_clean_smooth_input_of_any_shape_and_rate_gets_the_exact_force(motion: tuple[np.ndarray, np.ndarray]) -> None:
+    t, z = motion
+    auto = simulate(t, z, W20)
+    exact = simulate(t, z, W20, velocity_filter="exact")
+    assert auto.depth_noise is not None and auto.depth_noise.clean, auto.depth_noise
+    peak = max(1.0, float(np.max(np.abs(exact.force))))
+    assert np.max(np.abs(auto.force - exact.force)) <= 1e-9 * peak
+
+
+@pytest.mark.parametrize("rate", [20.0, 50.0, 100.0, 1000.0])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_clean_gaits_with_kinks_and_sway_are_clean(rate: float, seed: int) -> None:
+    """A gait: touchdowns and lift-offs (kinks every few samples at 20 Hz), stances with sway, jitter."""
+    g = gait(seed, duration=10.0, rate=rate, jitter=0.2)
+    noise = analyse_depth_noise(g.time, g.depth)
+    assert noise.clean, noise
+    noisy = analyse_depth_noise(g.time, g.depth + np.random.default_rng(seed).normal(0.0, 3e-5, g.depth.size))
+    assert noisy.white and 0.8 < noisy.std / 3e-5 < 2.0, noisy
+
+
+@pytest.mark.parametrize("sigma", [1e-6, 3e-5, 1e-3])
+def test_noise_on_a_curved_motion_is_found_and_measured(sigma: float) -> None:
+    """Noise under a 1 Hz sine of 10 mm at 100 Hz: the curvature swamps the order-2 residual at small sigma,
+    so the estimate comes from higher orders, where the motion has fallen below the noise."""
+    t = np.arange(1000) / 100.0
+    z = 0.01 + 0.01 * np.sin(2 * np.pi * t) + np.random.default_rng(3).normal(0.0, sigma, t.size)
+    noise = analyse_depth_noise(t, z)
+    assert noise.white
+    assert noise.std == pytest.approx(sigma, rel=0.2)
+    assert (noise.order > 2) == (sigma < 1e-5)
+    vf, _ = choose_velocity_filter(t, z)
+    assert vf == VelocityFilter.for_noise(noise.std, 0.01)
+    assert not vf.is_exact
+
+
+def test_white_noise_alone_is_measured_at_order_two() -> None:
+    """On a piecewise-linear motion (the paper's protocol) the estimate is the line through three samples,
+    as before, value for value."""
+    t, z = mf.Protocol.paper().sample()
+    noisy = z + np.random.default_rng(5).normal(0.0, 5e-5, z.size)
+    noise = analyse_depth_noise(t, noisy)
+    assert noise.white and noise.order == 2
+    h0, h1 = t[1:-1] - t[:-2], t[2:] - t[1:-1]
+    r = noisy[2:] - (noisy[1:-1] + (noisy[1:-1] - noisy[:-2]) * (h1 / h0))
+    assert noise.std == 1.4826 * float(np.median(np.abs(r - np.median(r)))) / math.sqrt(6.0)
+    assert estimate_depth_noise(t, noisy) == noise.std
+
+
+def test_short_and_long_records() -> None:
+    t = np.arange(10) * 0.01
+    assert analyse_depth_noise(t, np.random.default_rng(0).normal(0, 1e-3, 10)).clean  # too few to tell
+    t = np.arange(1_000_000) * 1e-3
+    z = 0.01 * np.sin(t) + np.random.default_rng(1).normal(0.0, 3e-5, t.size)
+    noise = analyse_depth_noise(t, z)  # a subset of runs of consecutive samples
+    assert noise.white and noise.std == pytest.approx(3e-5, rel=0.05)
+    assert analyse_depth_noise(t, 0.01 * np.sin(t)).clean
+    assert MAX_NOISE_ORDER >= 6
+
+
+def test_the_choice_is_reported() -> None:
+    t, z = mf.Protocol.paper().sample()
+    res = simulate(t, z + np.random.default_rng(0).normal(0.0, 5e-5, z.size), W20)
+    assert res.depth_noise is not None and res.depth_noise.white
+    text = describe_velocity_rule(res.velocity_filter, res.depth_noise)
+    assert text.startswith("filtered (secant over 10 steps") and "depth noise 0.0498 mm (white, from order-2" in text
+    clean = simulate(t, z, W20)
+    assert describe_velocity_rule(clean.velocity_filter, clean.depth_noise).startswith("exact")
+
+
+def test_small_noise_gets_a_short_window() -> None:
+    """The window is the shortest whose deadband is at most 1 mm/s: small noise is not delayed by 0.1 s."""
+    assert VelocityFilter.for_noise(5e-5, 0.01).window == 10  # motion capture: the whole 0.1 s
+    small = VelocityFilter.for_noise(1e-6, 0.01)
+    assert small.window == 1
+    assert small.deadband == pytest.approx(5 * math.sqrt(2) * 1e-6 / 0.01)
+    mid = VelocityFilter.for_noise(5e-6, 0.01)
+    assert mid.window == math.ceil(5 * math.sqrt(2) * 5e-6 / (0.01 * SLOWEST_MOTION))
+    assert mid.deadband <= SLOWEST_MOTION
+
+
+@pytest.mark.parametrize(("time", "depth", "match"), [
+    (np.arange(20.0), np.zeros(19), "one length"),
+    (np.arange(20.0), np.where(np.arange(20) == 7, np.nan, 0.0), "finite.*sample 7"),
+    (np.r_[np.arange(10.0), np.arange(10.0)], np.zeros(20), "strictly increasing"),
+    (np.zeros((4, 5)), np.zeros((4, 5)), "1-D"),
+])
+def test_bad_records_are_refused(time: np.ndarray, depth: np.ndarray, match: str) -> None:
+    with pytest.raises(InputError, match=match):
+        estimate_depth_noise(time, depth)
+
+
+def test_simulate_command_says_which_rule(tmp_path: Path) -> None:
+    """The issue's command line: exit 0, the exact force at 0.80 s (5.14 N, not 209 N), and the rule printed."""
+    t, z = _sine_record()
+    rows = "".join(f"{a:.2f},{b:.12g}\n" for a, b in zip(t, z, strict=True))
+    (tmp_path / "sine.csv").write_text("time_s,depth_m\n" + rows)
+    run = run_cli(["simulate", "--water-content", "20%", "--trajectory", "sine.csv", "--out", "a.csv"], tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert "branch rule: exact (the sign of each step, the paper's rule); clean" in run.stdout
+    row = next(line for line in (tmp_path / "a.csv").read_text().splitlines() if line.startswith("0.8,"))
+    assert float(row.split(",")[8]) == pytest.approx(5.143, abs=1e-3)

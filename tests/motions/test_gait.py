@@ -1,0 +1,47 @@
+"""The gait generator and simulated walks: deterministic, bounded, and through every contact state."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mudforce.errors import InputError
+from mudforce.motions.gait import gait, walk
+
+
+def test_same_seed_same_gait_bit_for_bit() -> None:
+    a, b = gait(7, duration=10.0, jitter=0.3), gait(7, duration=10.0, jitter=0.3)
+    assert a.time.tobytes() == b.time.tobytes() and a.depth.tobytes() == b.depth.tobytes()
+    assert gait(8, duration=10.0).depth.tobytes() != a.depth.tobytes()
+
+
+def test_gait_steps_in_and_out_of_the_mud() -> None:
+    g = gait(3, duration=20.0)
+    assert np.all(np.diff(g.time) > 0) and g.time[0] == 0.0
+    assert g.depth[0] < 0 and g.depth.max() > 0.009 and g.depth.max() < 0.04
+    assert len(g.swings) >= 3  # several steps
+    # above the surface at every swing apex
+    for s in g.swings:
+        assert np.interp(s, g.time, g.depth) < 0
+
+
+def test_walk_necks_and_changes_mud_at_a_swing() -> None:
+    w = walk((0.2, 0.3), change_times=(10.0,), seed=1, duration=20.0, bias=0.5, force_noise=0.0, depth_noise=0.0)
+    assert len(w.changes) == 1 and w.changes[0] >= 10.0
+    assert set(np.unique(w.water_content)) == {0.2, 0.3}
+    assert w.force_true.min() < -1.0  # suction
+    np.testing.assert_allclose(w.force - w.force_true, 0.5)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [({"seed": -1}, "seed"), ({"duration": 0.0}, "duration"), ({"rate": float("nan")}, "rate")],
+)
+def test_gait_refuses_bad_input(kwargs: dict[str, float], match: str) -> None:
+    with pytest.raises(InputError, match=match):
+        gait(**kwargs)  # type: ignore[arg-type]
+
+
+def test_walk_needs_one_change_time_per_change() -> None:
+    with pytest.raises(InputError, match="one change time per change"):
+        walk((0.2, 0.3))
