@@ -64,7 +64,7 @@ def test_run_batch_from_a_later_sample_is_the_tail_of_a_whole_run() -> None:
 
 def test_numba_cache_is_keyed_on_the_shared_sources() -> None:
     """A compiled function's cache stamp carries the hash of the sources inlined into it (no files deleted)."""
-    locator = K.run_batch._cache._impl._locator
+    locator = K.loops.run_batch_compiled._cache._impl._locator
     assert type(locator).__name__.startswith("Mudforce")
     assert locator.get_source_stamp()[1] == _cache.source_fingerprint()
     assert all(any(_cache._PACKAGE.glob(pattern)) for pattern in _cache.SOURCES)  # none renamed away

@@ -80,6 +80,7 @@ __all__ = [
     "new_spring_scratch",
     "new_stream_buffer",
     "run_batch",
+    "run_batch_compiled",
     "run_batch_compact",
     "run_feet",
     "run_feet_threads",
@@ -232,9 +233,27 @@ def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
     return force
 
 
-@_compiled()
 def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray,
               out: np.ndarray, first: int = 0) -> int:
+    """:func:`run_batch_compiled` through one compiled specialisation (speed plumbing, not physics).
+
+    numba compiles a function once per argument type: a read-only trajectory (a result's own arrays), a
+    writable one, ``first`` given or left out were three compilations of the largest loop (about 6 s each,
+    on every cold start). Here the trajectory is always passed read-only (a view: no copy) and ``first`` as
+    an integer, so there is one.
+    """
+    return run_batch_compiled(_read_only(time), _read_only(depth), states, ring, params, out, int(first))
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    view = array.view()
+    view.flags.writeable = False
+    return view
+
+
+@_compiled()
+def run_batch_compiled(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.ndarray,
+                       params: np.ndarray, out: np.ndarray, first: int) -> int:
     """Run foot 0 over samples ``first, first + 1, ...`` of a trajectory into ``out[:, k - first]``.
 
     Returns the index of a bad sample or -1. With ``first > 0`` the state
