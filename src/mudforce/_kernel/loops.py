@@ -80,8 +80,8 @@ __all__ = [
     "new_spring_scratch",
     "new_stream_buffer",
     "run_batch",
-    "run_batch_compiled",
     "run_batch_compact",
+    "run_batch_compiled",
     "run_feet",
     "run_feet_threads",
     "spring_pass",
@@ -246,7 +246,7 @@ def run_batch(time: np.ndarray, depth: np.ndarray, states: np.ndarray, ring: np.
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
-    view = array.view()
+    view: np.ndarray = array.view()
     view.flags.writeable = False
     return view
 
