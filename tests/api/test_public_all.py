@@ -30,6 +30,7 @@ OPTIONAL: dict[str, tuple[str, ...]] = {
     "mudforce.jax.contact3d": ("jax",),
     "mudforce.engines.mjx": ("jax", "mujoco", "mujoco.mjx"),
     "mudforce.engines.mujoco": ("mujoco",),
+    "mudforce.engines.mujoco.adapter3d": ("mujoco",),
 }
 
 PINNED: dict[str, list[str]] = {
@@ -158,8 +159,12 @@ PINNED: dict[str, list[str]] = {
     "mudforce.jax.contact3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
     "mudforce.engines.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
     "mudforce.engines.mujoco": [
-        "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of",
-        "simulate_drop",
+        "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudAdapter3D", "MudPatch", "add_mud", "add_mud_3d",
+        "drop_model", "foot_of", "simulate_drop", "simulate_drop_3d",
+    ],
+    "mudforce.engines.mujoco.adapter3d": [
+        "DROP_SHAPES", "SUPPORTED_GEOMS", "Drop3D", "MudAdapter3D", "add_mud_3d", "drop_model_3d", "foot_geom",
+        "simulate_drop_3d",
     ],
     "mudforce.model.parameters": [
         "CITATION", "PAPER_UNITS", "PARAMETER_NAMES", "PARAMETER_RANGES", "RHO_M", "TABLE_I", "TABLE_I_RMSE_N",

@@ -66,6 +66,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="simulated time with unit, 2ms to 600s (default: 8s)")
     parser.add_argument("--height", default="0mm", metavar="H",
                         help="release height of the foot's bottom above the surface, 0 to 10m (default: 0mm)")
+    parser.add_argument("--shape", default=None, metavar="KIND:SIZE",
+                        help="a free foot of this shape through the 3-D MuJoCo adapter (needs --engine mujoco): "
+                             "sphere:40mm, capsule:30mmx60mm (diameter x length), cylinder:30mmx20mm, "
+                             "box:50mmx40mmx20mm")
+    parser.add_argument("--tilt", default=None, metavar="DEG",
+                        help="with --shape: the foot's rotation about x in degrees, e.g. 20 or 20deg (default: 0)")
+    parser.add_argument("--vx", default=None, metavar="V",
+                        help="with --shape: initial horizontal velocity along x with unit, e.g. 50mm/s (default: 0)")
     parser.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write (atomically)")
     parser.add_argument("--plot", default=None, metavar="FILE.png", help="also save a PNG figure")
 
@@ -91,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
     if height > _MAX_HEIGHT:
         raise InputError(f"--height: {args.height!r} is more than {_MAX_HEIGHT:g} m; expected e.g. 20mm")
     params = MudParameters.from_water_content(water)
+    shape3d = _shape_options(args)
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
     if plot is not None and plot.resolve() == out.resolve():
@@ -99,6 +108,8 @@ def run(args: argparse.Namespace) -> int:
         from mudforce._plumbing.optional import require
 
         require("matplotlib", "plot", "--plot")
+    if shape3d is not None:
+        return _run_3d(args, mass, params, duration, height, shape3d, out, plot)
     if args.engine == "mujoco":
         from mudforce._plumbing.optional import require
 
@@ -132,4 +143,77 @@ def run(args: argparse.Namespace) -> int:
     span = "second" if duration >= 1.0 else f"{duration:g} s"
     print(f"{args.engine}: {where}; "
           f"force std over the last {span} {100.0 * result.force_std(1.0) / weight:.3f}% of m g; wrote {out}")
+    return 0
+
+
+_DIMENSIONS = {"sphere": 1, "capsule": 2, "cylinder": 2, "box": 3}
+
+
+def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, float] | None:
+    """``(kind, sizes [m], tilt [rad], vx [m/s])`` from --shape, --tilt, --vx; None without them."""
+    import math
+
+    if args.shape is None:
+        if args.tilt is not None or args.vx is not None:
+            raise InputError("--tilt and --vx need --shape (e.g. --shape sphere:40mm)")
+        return None
+    if args.engine != "mujoco":
+        raise InputError(f"--shape needs --engine mujoco (the 3-D adapter), got --engine {args.engine}")
+    kind, _, sizes = str(args.shape).partition(":")
+    if kind not in _DIMENSIONS or not sizes:
+        raise InputError(f"--shape: {args.shape!r} is not KIND:SIZE; expected e.g. sphere:40mm, capsule:30mmx60mm, "
+                         "cylinder:30mmx20mm or box:50mmx40mmx20mm")
+    parts = sizes.replace("×", "x").split("x")
+    if len(parts) != _DIMENSIONS[kind]:
+        raise InputError(f"--shape: a {kind} takes {_DIMENSIONS[kind]} size(s) joined by x, got {sizes!r}; "
+                         "expected e.g. sphere:40mm, capsule:30mmx60mm or box:50mmx40mmx20mm")
+    dims = [parse_quantity(p, "length", name="--shape") for p in parts]
+    if any(d > 1.0 for d in dims):
+        raise InputError(f"--shape: {sizes!r} is larger than 1 m; expected a foot, e.g. sphere:40mm")
+    tilt = 0.0
+    if args.tilt is not None:
+        text = str(args.tilt).strip().removesuffix("deg")
+        try:
+            tilt = float(text)
+        except ValueError:
+            raise InputError(f"--tilt: {args.tilt!r} is not an angle in degrees; expected e.g. 20 or 20deg") from None
+        if not math.isfinite(tilt) or abs(tilt) > 180.0:
+            raise InputError(f"--tilt: {args.tilt!r} is outside -180 to 180 degrees")
+    vx = 0.0
+    if args.vx is not None:
+        vx = parse_quantity(args.vx, "velocity", name="--vx", allow_negative=True, allow_zero=True)
+        if abs(vx) > 10.0:
+            raise InputError(f"--vx: {args.vx!r} is faster than 10 m/s; expected e.g. 50mm/s")
+    return kind, dims, math.radians(tilt), vx
+
+
+def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: float, height: float,
+            shape3d: tuple[str, list[float], float, float], out: object, plot: object) -> int:
+    """``mudforce drop --shape``: the 3-D MuJoCo adapter; CSV of the foot's pose, velocity and force."""
+    import math
+
+    from mudforce._plumbing.optional import require
+
+    require("mujoco", "mujoco", "--engine mujoco")
+    from mudforce.engines.mujoco import simulate_drop_3d
+    from mudforce.io.results import write_text
+
+    if plot is not None:
+        raise InputError("--plot is not available with --shape; plot the CSV")
+    kind, dims, tilt, vx = shape3d
+    res = simulate_drop_3d(mass, params, kind, dims, duration=duration, height=height, tilt=tilt, vx=vx)
+    lines = ["time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"]
+    for k in range(res.time.size):
+        x, y, z = res.position[k]
+        fx, fy, fz = res.force[k]
+        lines.append(f"{res.time[k]:.6g},{x:.9g},{y:.9g},{z:.9g},{res.depth[k]:.9g},{res.velocity[k, 0]:.9g},"
+                     f"{res.velocity[k, 2]:.9g},{fx:.9g},{fy:.9g},{fz:.9g},{math.degrees(res.tilt[k]):.6g}")
+    try:
+        write_text(str(out), "\n".join(lines) + "\n")
+    except OSError as exc:
+        raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
+    speed = res.speed(min(0.5, duration / 2))
+    state = "at rest" if speed <= 1e-4 else f"moving at {speed * 1e3:.3f} mm/s"
+    print(f"mujoco 3-D {kind}: depth {res.depth[-1] * 1e3:.3f} mm after {duration:g} s, {state}; "
+          f"drifted {res.position[-1, 0] * 1e3:.3f} mm in x; wrote {out}")
     return 0

@@ -555,6 +555,22 @@ class MudContacts3D:
         f %= self.n
         return slice(int(self._starts[f]), int(self._starts[f + 1]))
 
+    def kernel_rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """Read-only views of the elements' 1-D state rows and constant rows (layout of :mod:`mudforce._kernel`).
+
+        One row per element, foot after foot (:meth:`element_slice`); each
+        element is stepped with a unit area, so a force computed from these
+        rows (a rest band, :func:`mudforce.engines.dynamics.rest_band.branch_forces`)
+        is the element's stress [Pa]. For engines that hold the feet in their
+        own solver (:class:`mudforce.engines.mujoco.MudAdapter3D`); the views
+        follow the feet as they are stepped.
+        """
+        states = self._states.view()
+        states.flags.writeable = False
+        rows = self._params_rows.view()
+        rows.flags.writeable = False
+        return states, rows
+
     @property
     def surface_heights(self) -> np.ndarray:
         """Each foot's surface height [m] (a copy)."""

@@ -74,13 +74,15 @@ from mudforce.engines._checks import check_finite_output, check_foot, check_mass
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
 from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
+from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, positive_int
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
 
 __all__ = [
-    "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudPatch", "add_mud", "drop_model", "foot_of", "simulate_drop",
+    "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudAdapter3D", "MudPatch", "add_mud", "add_mud_3d", "drop_model",
+    "foot_of", "simulate_drop", "simulate_drop_3d",
 ]
 
 #: Foot speed at or below which a step counts as rest for the branch choice [m/s] (deadband of the kernel).

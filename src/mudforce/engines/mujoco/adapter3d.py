@@ -1,0 +1,722 @@
+"""The MuJoCo adapter in 3-D: the whole mud wrench on feet of any shape, held in every direction.
+
+Usage::
+
+    spec = mujoco.MjSpec.from_file("robot.xml")
+    add_mud_3d(spec, ["toe_fl", "toe_fr", "toe_hl", "toe_hr"])     # before compiling
+    model = spec.compile(); data = mujoco.MjData(model)
+    mud = MudAdapter3D(model, data, ["toe_fl", "toe_fr", "toe_hl", "toe_hr"],
+                       MudPatch(MudParameters.from_water_content(0.25)))
+    mud.step()                                                     # instead of mujoco.mj_step
+
+Each foot's surface is its geom's (:func:`mudforce.model.shapes.from_mujoco_geom`)
+unless ``shapes=`` says otherwise; a geom with no surface (a plane, a height
+field) is refused, never silently the paper's cuboid. The feet's states are
+the 3-D law's (:class:`mudforce.steppers.contact3d.MudContacts3D`, one per
+patch), stepped on each foot geom's pose after every MuJoCo step.
+
+How the force is applied (docs/engines3d.md)
+--------------------------------------------
+As in the 1-D adapter (:mod:`mudforce.engines.mujoco`), the parts of the
+force that are set-valued at rest go to MuJoCo's constraint solver as
+friction on spatial tendons, so that every stuck foot of the model is held
+jointly with the whole multibody, without chatter; the rest is applied
+explicitly through ``xfrc_applied`` (added for the step, taken back after).
+
+* **Vertically**, the rest band ``[F_up, F_down]`` of the foot is the sum,
+  over its elements, of each element's band
+  (:func:`mudforce.engines.dynamics.rest_band.branch_forces` on its 1-D state, a
+  stress) times its downward-facing projection ``A_i max(-n_z, 0)``
+  (:func:`mudforce.model.law3d.vertical_weight`): the mid-band force plus the
+  drag is applied, and half the band's width is the friction of a vertical
+  tendon. The world's down direction decides, not the geom's local z.
+* **Sideways**, the foot is held rigidly up to the law's lateral capacity
+  (:func:`mudforce.model.law3d.lateral_capacity` summed over the submerged
+  elements) and slides against it beyond: the friction of two horizontal
+  tendons, one along the foot's last horizontal motion ``u``, one across
+  it, each with the capacity in its direction. The horizontal drag
+  (:func:`mudforce.model.law3d.horizontal_drag`) is applied explicitly.
+  *Ours, an approximation of the law:* the law's elastic slip before yield
+  (at most ``sigma_y / k``, 1.7 to 11 mm for Table I) is not reproduced:
+  the engine foot does not deflect before it slides. An explicit elastic
+  slip would ring undamped (the law has no sideways damping) and, at the
+  stiffness ``k_m_w S``, would need steps of about a millisecond.
+* All of it acts at the foot's **contact point**, the centroid of its
+  submerged downward-facing area (the lowest element when none is): a
+  site the adapter moves there before every step, with the three tendons'
+  anchors 1 m above it and 1 m away along ``u`` and across it.
+
+After each MuJoCo step the feet's new poses are committed to their 3-D
+states (:attr:`law_forces`, :attr:`law_torques`: the law's own wrench on the
+poses taken), and the next step's bands, capacities, contact points and
+anchors are prepared.
+
+A **rigid floor** under the mud (a geom the feet collide with) carries
+part of the load while the mud holds the rest: the adapter warns once per
+foot when a foot in the mud touches a geom that is not a foot.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mudforce.engines.dynamics.rest_band import branch_forces
+from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
+from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
+from mudforce.errors import InputError, positive_int
+from mudforce.model import law3d
+from mudforce.model.shapes import Shape, from_mujoco_geom
+from mudforce.steppers.contact3d import MudContacts3D
+
+__all__ = ["DROP_SHAPES", "SUPPORTED_GEOMS", "Drop3D", "MudAdapter3D", "add_mud_3d", "drop_model_3d", "foot_geom",
+           "simulate_drop_3d"]
+
+#: MuJoCo geom types a foot's surface can be taken from (:func:`mudforce.model.shapes.from_mujoco_geom`).
+SUPPORTED_GEOMS = ("sphere", "capsule", "cylinder", "box", "ellipsoid", "mesh")
+_SOLREF_FRICTION = (1e-9, 1.0)  # as the 1-D adapter: MuJoCo raises it to its minimum, 2 time steps
+_SOLIMP_FRICTION = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+
+
+def _mujoco() -> Any:
+    from mudforce._plumbing.optional import require
+
+    return require("mujoco", "mujoco", "the MuJoCo adapter")
+
+
+def _names(prefix: str, foot: str) -> dict[str, str]:
+    """Names of a foot's contact site, its three anchors and three tendons (z: vertical, u, v: horizontal)."""
+    return {"site": f"{prefix}site_{foot}", "anchor_z": f"{prefix}anchor_site_{foot}",
+            "anchor_u": f"{prefix}anchor_u_{foot}", "anchor_v": f"{prefix}anchor_v_{foot}",
+            "tendon_z": f"{prefix}tendon_{foot}", "tendon_u": f"{prefix}tendon_u_{foot}",
+            "tendon_v": f"{prefix}tendon_v_{foot}"}
+
+
+def _name_list(feet: Any) -> list[str]:
+    if isinstance(feet, str):
+        return [feet]
+    if not isinstance(feet, Sequence) or not feet or not all(isinstance(f, str) for f in feet):
+        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {feet!r}")
+    if len(set(feet)) != len(feet):
+        raise InputError(f"feet must be distinct names, got {list(feet)}")
+    return list(feet)
+
+
+def _kind_name(mj: Any, kind: int) -> str:
+    return str(mj.mjtGeom(kind).name).removeprefix("mjGEOM_").lower()
+
+
+def _spec_geom(spec: Any, name: str) -> Any:
+    """The geom a foot name gives in a spec (a geom's name, or a body's with exactly one geom), else InputError."""
+    mj = _mujoco()
+    geom = spec.geom(name)
+    if geom is None:
+        body = spec.body(name)
+        if body is None:
+            raise InputError(f"foot {name!r} names no geom: the model has no geom or body named {name!r}")
+        geoms = list(body.geoms)
+        if len(geoms) != 1:
+            raise InputError(f"foot {name!r} is a body with {len(geoms)} geoms: name its foot geom")
+        geom = geoms[0]
+    kind = _kind_name(mj, int(geom.type))
+    if kind not in SUPPORTED_GEOMS:
+        raise InputError(f"foot {name!r} is a geom of type {kind}, which has no surface for the 3-D law; expected "
+                         f"one of {', '.join(SUPPORTED_GEOMS)} (or give shapes=)")
+    return geom
+
+
+def foot_geom(model: Any, name: str) -> int:
+    """The id of a foot's geom in a compiled model: a geom's name, or a body's with exactly one geom.
+
+    Raises
+    ------
+    InputError
+        For a name that is neither, or a body with no geom or several.
+    """
+    mj = _mujoco()
+    gid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, name))
+    if gid >= 0:
+        return gid
+    bid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, name))
+    if bid < 0:
+        raise InputError(f"foot {name!r} names no geom: the model has no geom or body named {name!r}")
+    geoms = [int(g) for g in np.flatnonzero(model.geom_bodyid == bid)]
+    if len(geoms) != 1:
+        raise InputError(f"foot {name!r} is a body with {len(geoms)} geoms: name its foot geom")
+    return geoms[0]
+
+
+def add_mud_3d(spec: Any, feet: Sequence[str], *, prefix: str = "mud_") -> None:
+    """Prepare a model for 3-D mud contact under the named feet (edit an ``mujoco.MjSpec`` before compiling).
+
+    Adds, per foot, a contact site on the foot's body, three anchor sites on
+    the world body and three spatial tendons from them to the contact site
+    (vertical, and two horizontal), which :class:`MudAdapter3D` moves and
+    loads every step. Every foot is checked before the spec is changed.
+
+    Parameters
+    ----------
+    spec : mujoco.MjSpec
+        The model being built.
+    feet : sequence of str
+        Foot geoms, or bodies with exactly one geom, of type sphere, capsule,
+        cylinder, box, ellipsoid or mesh.
+    prefix : str
+        Prefix of the names of the added sites and tendons.
+    """
+    mj = _mujoco()
+    if not isinstance(spec, mj.MjSpec):
+        raise InputError(f"spec must be a mujoco.MjSpec (edited before compiling), got {type(spec).__name__}")
+    feet = _name_list(feet)
+    if not isinstance(prefix, str):
+        raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
+    geoms = [_spec_geom(spec, name) for name in feet]
+    taken = [n for name in feet for n in _names(prefix, name).values()
+             if spec.site(n) is not None or spec.tendon(n) is not None]
+    if taken:
+        raise InputError(f"the model already has {taken[0]!r}: add_mud_3d was called twice for a foot (or use "
+                         "another prefix=)")
+    for name, geom in zip(feet, geoms, strict=True):
+        n = _names(prefix, name)
+        geom.parent.add_site(name=n["site"], pos=[float(v) for v in geom.pos], size=[0.002, 0.0, 0.0])
+        for anchor, tendon in (("anchor_z", "tendon_z"), ("anchor_u", "tendon_u"), ("anchor_v", "tendon_v")):
+            spec.worldbody.add_site(name=n[anchor], pos=[0.0, 0.0, ANCHOR_HEIGHT], size=[0.002, 0.0, 0.0])
+            t = spec.add_tendon(name=n[tendon])
+            t.wrap_site(n[anchor])
+            t.wrap_site(n["site"])
+            t.frictionloss = 0.0
+            t.solref_friction = list(_SOLREF_FRICTION)
+            t.solimp_friction = list(_SOLIMP_FRICTION)
+
+
+def _sums(index: np.ndarray, values: np.ndarray, minlength: int) -> np.ndarray:
+    """The sum of ``values`` per index (one per foot)."""
+    out: np.ndarray = np.bincount(index, values, minlength=minlength).astype(np.float64)
+    return out
+
+
+def _patch_list(patches: Any) -> list[Any]:
+    from mudforce.engines.mujoco import MudPatch
+
+    if isinstance(patches, MudPatch):
+        return [patches]
+    if (isinstance(patches, Sequence) and not isinstance(patches, str) and patches
+            and all(isinstance(p, MudPatch) for p in patches)):
+        plist = list(patches)
+    else:
+        raise InputError(f"patches must be a MudPatch or a non-empty sequence of MudPatch, got {patches!r}")
+    big = math.inf
+    boxes = [p.extent if p.extent is not None else (-big, big, -big, big) for p in plist]
+    for k, (x0, x1, y0, y1) in enumerate(boxes):
+        for j in range(k):  # a foot is in the first patch that contains it: a patch inside an earlier one is never
+            a0, a1, b0, b1 = boxes[j]
+            if a0 <= x0 and x1 <= a1 and b0 <= y0 and y1 <= b1:
+                raise InputError(f"patch {k} lies inside patch {j}, which comes first: it misses every foot; "
+                                 "order the patches, or drop it")
+    return plist
+
+
+class MudAdapter3D:
+    """Mud in 3-D under named feet of a MuJoCo model prepared with :func:`add_mud_3d`.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        Compiled from a spec that :func:`add_mud_3d` prepared for these feet.
+    data : mujoco.MjData
+        Its data. During :meth:`step` the adapter adds the mud's explicit
+        force to ``xfrc_applied`` of the foot bodies and takes it back
+        afterwards (user forces there are kept). It owns ``model.site_pos``
+        of its sites and ``model.tendon_frictionloss`` of its tendons.
+    feet : sequence of str
+        The names given to :func:`add_mud_3d`.
+    patches : MudPatch or sequence of MudPatch
+        The mud: one patch, or several regions shared by all feet (a foot
+        is in the first patch whose extent holds its geom's centre; outside
+        every patch it feels no mud and its state is reset). A patch that
+        lies inside an earlier one can hold no foot and is refused.
+    shapes : Shape or sequence of Shape, optional
+        Each foot's surface in its geom's frame [m]; by default the geom's
+        own (:func:`mudforce.model.shapes.from_mujoco_geom`, at ``resolution``).
+    resolution : float, optional
+        Element size of the shapes taken from the geoms [m].
+    prefix : str
+        As given to :func:`add_mud_3d`.
+
+    Attributes
+    ----------
+    feet : tuple of str
+        The feet's names, in the order of every per-foot array.
+    shapes : tuple of Shape
+        Each foot's surface.
+    """
+
+    def __init__(self, model: Any, data: Any, feet: Sequence[str], patches: Any,
+                 shapes: Shape | Sequence[Shape] | None = None, *, resolution: float | None = None,
+                 prefix: str = "mud_") -> None:
+        mj = _mujoco()
+        if not isinstance(model, mj.MjModel) or not isinstance(data, mj.MjData):
+            raise InputError(f"model and data must be a mujoco.MjModel and its mujoco.MjData, got "
+                             f"{type(model).__name__} and {type(data).__name__}")
+        names = _name_list(feet)
+        if not isinstance(prefix, str):
+            raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
+        plist = _patch_list(patches)
+        n = len(names)
+        gids = [foot_geom(model, name) for name in names]
+        if shapes is None:
+            slist = [from_mujoco_geom(model, g, resolution=resolution) for g in gids]
+        elif isinstance(shapes, Shape):
+            slist = [shapes] * n
+        elif isinstance(shapes, Sequence) and all(isinstance(s, Shape) for s in shapes):
+            slist = list(shapes)
+        else:
+            raise InputError(f"shapes must be a Shape, a sequence of Shape or None, got {type(shapes).__name__}")
+        if len(slist) != n:
+            raise InputError(f"got {len(slist)} shapes for {n} feet")
+        ids = []
+        for name in names:
+            found = {}
+            for key, full in _names(prefix, name).items():
+                kind = mj.mjtObj.mjOBJ_TENDON if key.startswith("tendon") else mj.mjtObj.mjOBJ_SITE
+                found[key] = int(mj.mj_name2id(model, kind, full))
+            if min(found.values()) < 0:
+                raise InputError(f"foot {name!r} was not prepared: call add_mud_3d(spec, [{name!r}, ...]) "
+                                 "before compiling")
+            ids.append(found)
+        # everything checked: build
+        self._mj = mj
+        self.model = model
+        self.data = data
+        self.feet: tuple[str, ...] = tuple(names)
+        self.shapes: tuple[Shape, ...] = tuple(slist)
+        self.patches = tuple(plist)
+        self._gids = np.array(gids, dtype=np.int64)
+        self._bodies = np.array([int(model.geom_bodyid[g]) for g in gids], dtype=np.int64)
+        self._sites = np.array([i["site"] for i in ids], dtype=np.int64)
+        self._anchors = np.array([[i["anchor_z"], i["anchor_u"], i["anchor_v"]] for i in ids], dtype=np.int64)
+        self._tendons = np.array([[i["tendon_z"], i["tendon_u"], i["tendon_v"]] for i in ids], dtype=np.int64)
+        self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.height) for p in plist]
+        sizes = [s.n for s in slist]
+        self._foot_of = np.repeat(np.arange(n), sizes)
+        self._cb = np.vstack([s.centroids for s in slist])
+        self._nb = np.vstack([s.normals for s in slist])
+        self._area = np.concatenate([s.areas for s in slist])
+        self._width = np.array([float(s.width) if s.width is not None else np.nan for s in slist])
+        self._starts = np.concatenate(([0], np.cumsum(sizes)))
+        nel = len(self._area)
+        self._up = np.zeros(nel)
+        self._down = np.zeros(nel)
+        self._drag = np.zeros(nel)
+        self._u = np.tile([1.0, 0.0], (n, 1))  # each foot's last direction of horizontal motion
+        self._last_pos = np.zeros((n, 3))
+        self._last_applied = np.zeros((n, 6))
+        self._last_dirs = np.zeros((n, 3, 3))
+        self._applied = np.zeros((n, 6))  # the explicit force [N] and torque about the COM [N m] of the coming step
+        self._dirs = np.zeros((n, 3, 3))  # unit vectors from contact point to each anchor (z, u, v)
+        self._patch = np.full(n, -1, dtype=np.int64)
+        self._submerged = np.zeros(n, dtype=bool)
+        self._warned: set[str] = set()
+        self.law_forces = np.zeros((n, 3))  #: the law's force on each foot at the last committed pose [N]
+        self.law_torques = np.zeros((n, 3))  #: ... and its torque about the geom's centre [N m]
+        self.band = (np.zeros(n), np.zeros(n))  #: the vertical band (F_up, F_down) of the coming step [N]
+        self.capacity = np.zeros((n, 2))  #: the sideways holds along u and across it of the coming step [N]
+        self.reset()
+
+    # ---------------------------------------------------------------- stepping
+    def reset(self) -> None:
+        """Forget every foot's history and prepare the next step from the current ``data`` (runs ``mj_forward``)."""
+        for c in self._contacts:
+            c.reset()
+        self._applied[:] = 0.0
+        self._patch[:] = -1
+        self._mj.mj_forward(self.model, self.data)
+        self._last_pos[:] = self.data.geom_xpos[self._gids]
+        self._commit(first=True)
+        self._prepare()
+
+    def step(self, nstep: int = 1) -> None:
+        """Advance the simulation ``nstep`` MuJoCo steps with the mud's wrench and holds."""
+        if nstep.__class__ is not int:
+            nstep = positive_int(nstep, "nstep")
+        mj, model, data = self._mj, self.model, self.data
+        xfrc = data.xfrc_applied
+        for _ in range(nstep):
+            np.add.at(xfrc, self._bodies, self._applied)
+            mj.mj_step(model, data)
+            np.subtract.at(xfrc, self._bodies, self._applied)
+            if data.ncon:
+                self._check_floor()
+            self._last_applied[:] = self._applied
+            self._last_dirs[:] = self._dirs
+            self._commit(first=False)
+            self._prepare()
+
+    def _poses(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        d = self.data
+        pos = np.array(d.geom_xpos[self._gids])
+        mats = np.array(d.geom_xmat[self._gids]).reshape(-1, 3, 3)
+        quats = np.empty((len(self.feet), 4))
+        for f in range(len(self.feet)):
+            self._mj.mju_mat2Quat(quats[f], mats[f].ravel())
+        return pos, mats, quats
+
+    def _commit(self, *, first: bool) -> None:
+        """Step each patch's feet to their poses (their first step when ``first``); reset the feet outside it."""
+        pos, _, quats = self._poses()
+        n = len(self.feet)
+        where = np.full(n, -1, dtype=np.int64)
+        for k, p in enumerate(self.patches):
+            if p.extent is None:
+                inside = where < 0
+            else:
+                x0, x1, y0, y1 = p.extent
+                inside = (where < 0) & (x0 <= pos[:, 0]) & (pos[:, 0] <= x1) & (y0 <= pos[:, 1]) & (pos[:, 1] <= y1)
+            where[inside] = k
+        dt = float(self.model.opt.timestep)
+        self.law_forces[:] = 0.0
+        self.law_torques[:] = 0.0
+        for k, c in enumerate(self._contacts):
+            mine = where == k
+            entering = mine & (self._patch != k)
+            if entering.any() and not first:
+                c.reset(entering)  # a foot entering this patch starts afresh in it
+            if mine.any():
+                forces, torques = c.step(pos, quats, dt)
+                self.law_forces[mine] = forces[mine]
+                self.law_torques[mine] = torques[mine]
+            leaving = ~mine & (self._patch == k)
+            if leaving.any():
+                c.reset(leaving)
+        self._patch = where
+
+    def _prepare(self) -> None:
+        """The next step's bands, holds, contact points, anchors and explicit wrench."""
+        model, d = self.model, self.data
+        pos, mats, _ = self._poses()
+        fo = self._foot_of
+        n = len(self.feet)
+        rot = mats[fo]
+        offsets = np.einsum("eij,ej->ei", rot, self._cb)
+        cw = pos[fo] + offsets
+        nw = np.einsum("eij,ej->ei", rot, self._nb)
+        dt = float(model.opt.timestep)
+        surface = np.array([self.patches[k].height if k >= 0 else -np.inf for k in self._patch])
+        depth = surface[fo] - cw[:, 2]
+        below = depth > 0.0
+        self._up[:] = 0.0
+        self._down[:] = 0.0
+        self._drag[:] = 0.0
+        up = np.empty_like(self._up)
+        down = np.empty_like(self._up)
+        drag = np.empty_like(self._up)
+        for k, c in enumerate(self._contacts):
+            mine = (self._patch == k)[fo]
+            if mine.any():
+                states, rows = c.kernel_rows()
+                branch_forces(states, rows, dt, 1.0, up, down, drag)
+                self._up[mine] = up[mine]
+                self._down[mine] = down[mine]
+                self._drag[mine] = drag[mine]
+        weight = self._area * law3d.vertical_weight(nw)
+        f_up = _sums(fo, weight * self._up, minlength=n)
+        f_down = _sums(fo, weight * self._down, minlength=n)
+        f_drag = _sums(fo, weight * self._drag, minlength=n)
+        inverted = f_down < f_up
+        mid = np.where(inverted, 0.0, 0.5 * (f_up + f_down)) + f_drag
+        half = np.where(inverted, 0.0, 0.5 * (f_down - f_up))
+        # an inverted band (k_m_w e > k_m_i e + spring): no sticking; the branch of the current motion
+        velocity = (pos - self._last_pos) / dt
+        self._last_pos = pos.copy()
+        vel = velocity[:, :2]
+        moving = np.hypot(vel[:, 0], vel[:, 1]) > REST_SPEED
+        self._u[moving] = vel[moving] / np.hypot(vel[moving, 0], vel[moving, 1])[:, None]
+        mid = np.where(inverted, np.where(velocity[:, 2] <= 0.0, f_down, f_up) + f_drag, mid)
+        sigma_y = np.zeros(n)
+        alpha = np.zeros(n)
+        beta = np.ones(n)
+        lam_rho = np.zeros(n)
+        for f in range(n):
+            if self._patch[f] >= 0:
+                q = self.patches[self._patch[f]].params
+                sigma_y[f], alpha[f], beta[f], lam_rho[f] = q.sigma_y, q.alpha, q.beta, q.lambda_ * q.rho_m
+        spring = law3d.spring_stress(depth, alpha[fo], beta[fo], self._width[fo])
+        # the contact point: the centre of the depth stress (Eq. (4)) on the downward-facing area, a function
+        # of the elements' world depths only (a point fixed in the foot would be an inverted pendulum's pivot);
+        # the lowest element when none is submerged
+        wet = weight * spring
+        total = _sums(fo, wet, minlength=n)
+        point = np.empty((n, 3))
+        for axis in range(3):
+            point[:, axis] = _sums(fo, wet * cw[:, axis], minlength=n)
+        has = total > 0.0
+        point[has] /= total[has, None]
+        for f in np.flatnonzero(~has).tolist():
+            lo, hi = int(self._starts[f]), int(self._starts[f + 1])
+            point[f] = cw[lo + int(np.argmin(cw[lo:hi, 2]))]
+        # the sideways holds along u and across it: the law's capacity of the submerged elements
+        u3 = np.zeros((n, 3))
+        u3[:, :2] = self._u
+        v3 = np.stack((-u3[:, 1], u3[:, 0], np.zeros(n)), axis=1)
+        holds = np.zeros((n, 2))
+        fx = np.zeros(n)
+        fy = np.zeros(n)
+        wet_rows = np.flatnonzero(below)  # only submerged elements are loaded sideways
+        if wet_rows.size:
+            fw = fo[wet_rows]
+            nww = nw[wet_rows]
+            aw = self._area[wet_rows]
+            for col, direction in enumerate((u3, v3)):
+                dirs = direction[fw]
+                cap = law3d.lateral_capacity(sigma_y[fw], law3d.shear_fraction(nww, dirs), spring[wet_rows],
+                                             law3d.bearing_factor(nww, dirs))
+                holds[:, col] = _sums(fw, aw * cap, minlength=n)
+            # the horizontal drag (Eq. (5)) on the leading submerged elements, at the foot's horizontal velocity
+            hdrag = law3d.horizontal_drag(lam_rho[fw][:, None], 1.0, nww, vel[fw]) * aw[:, None]
+            fx = _sums(fw, hdrag[:, 0], minlength=n)
+            fy = _sums(fw, hdrag[:, 1], minlength=n)
+        force = np.stack((fx, fy, mid), axis=1)
+        force[self._patch < 0] = 0.0
+        half[self._patch < 0] = 0.0
+        holds[self._patch < 0] = 0.0
+        # the explicit force acts below the geom's centre at the contact point's height: a point that follows
+        # the foot's translation but not its turning (one fixed in the foot, below the centre of mass, would be
+        # an inverted pendulum's pivot); the holds act at the contact point itself
+        at = np.column_stack((pos[:, :2], point[:, 2]))
+        torque = np.cross(at - d.xipos[self._bodies], force)
+        self._applied[:, :3] = force
+        self._applied[:, 3:] = torque
+        self.band = (f_up, f_down)
+        self.capacity = holds
+        frictionloss = model.tendon_frictionloss
+        site_pos = model.site_pos
+        for f in range(n):
+            tz, tu, tv = self._tendons[f]
+            frictionloss[tz] = half[f]
+            frictionloss[tu] = holds[f, 0]
+            frictionloss[tv] = holds[f, 1]
+            az, au, av = self._anchors[f]
+            site_pos[az] = point[f] + (0.0, 0.0, ANCHOR_HEIGHT)
+            site_pos[au] = point[f] + ANCHOR_HEIGHT * u3[f]
+            site_pos[av] = point[f] + ANCHOR_HEIGHT * v3[f]
+            self._dirs[f, 0] = (0.0, 0.0, 1.0)
+            self._dirs[f, 1] = u3[f]
+            self._dirs[f, 2] = v3[f]
+            b = self._bodies[f]
+            site_pos[self._sites[f]] = d.xmat[b].reshape(3, 3).T @ (point[f] - d.xpos[b])
+
+    def _check_floor(self) -> None:
+        """Warn once per foot that touches a geom that is not a foot while it is in the mud."""
+        d = self.data
+        pairs = np.asarray(d.contact.geom)[: d.ncon]
+        for f, g in enumerate(self._gids):
+            name = self.feet[f]
+            if name in self._warned or self._patch[f] < 0 or not self.band[1][f] > 0.0:
+                continue
+            hit = pairs[(pairs == g).any(axis=1)]
+            others = [int(o) for o in hit.ravel() if o != g and o not in self._gids]
+            if others:
+                other = self._mj.mj_id2name(self.model, self._mj.mjtObj.mjOBJ_GEOM, others[0]) or f"geom {others[0]}"
+                self._warned.add(name)
+                warnings.warn(f"foot {name!r} touches {other!r} while in the mud: a rigid contact carries part of "
+                              "its load; turn that geom's collisions off under the mud (contype/conaffinity) "
+                              "(docs/engines3d.md)", RuntimeWarning, stacklevel=3)
+
+    # ---------------------------------------------------------------- outputs
+    @property
+    def contact_forces(self) -> np.ndarray:
+        """The mud's force on each foot in the last step [N], world frame, shape (n, 3).
+
+        The explicit force the adapter applied plus the tendons' friction the
+        solver found: while a foot sticks, the load it carries; while it moves,
+        the branch force and the sideways capacity.
+        """
+        mj = self._mj
+        d = self.data
+        total: np.ndarray = np.array(self._last_applied[:, :3], dtype=np.float64)
+        rows = np.flatnonzero(np.asarray(d.efc_type) == int(mj.mjtConstraint.mjCNSTR_FRICTION_TENDON))
+        ids = np.asarray(d.efc_id)[rows]
+        frc = np.asarray(d.efc_force)[rows]
+        for f in range(len(self.feet)):
+            for axis in range(3):
+                hit = np.flatnonzero(ids == self._tendons[f, axis])
+                if hit.size:  # the tendon shortens as the foot moves toward its anchor
+                    total[f] -= float(frc[hit[0]]) * self._last_dirs[f, axis]
+        return total
+
+    @property
+    def depths(self) -> np.ndarray:
+        """Depth of each foot's lowest element centroid below its patch's surface [m] (positive down; NaN outside)."""
+        pos, mats, _ = self._poses()
+        fo = self._foot_of
+        cz = pos[fo, 2] + np.einsum("ej,ej->e", mats[fo, 2, :], self._cb)
+        out = np.full(len(self.feet), np.nan)
+        for f in range(len(self.feet)):
+            k = self._patch[f]
+            if k >= 0:
+                lo, hi = self._starts[f], self._starts[f + 1]
+                out[f] = self.patches[k].height - float(cz[lo:hi].min())
+        return out
+
+    def __repr__(self) -> str:
+        return f"MudAdapter3D(feet={list(self.feet)}, patches={len(self.patches)})"
+
+
+#: Geom types of :func:`simulate_drop_3d` and their MuJoCo ``size`` from full dimensions [m].
+DROP_SHAPES = ("sphere", "capsule", "cylinder", "box")
+
+
+def _lowest(kind: str, size: np.ndarray, rot: np.ndarray) -> float:
+    """How far the lowest point of a geom lies below its centre [m] (exact, from its world rotation ``rot``)."""
+    column = rot[2]  # the world z of each geom axis
+    if kind == "sphere":
+        return float(size[0])
+    if kind == "capsule":
+        return float(size[0] + size[1] * abs(column[2]))
+    if kind == "cylinder":
+        return float(size[0] * math.sqrt(max(0.0, 1.0 - column[2] ** 2)) + size[1] * abs(column[2]))
+    return float(np.abs(column) @ size[:3])  # box
+
+
+@dataclass(frozen=True, eq=False)
+class Drop3D:
+    """A 3-D drop in MuJoCo (:func:`simulate_drop_3d`): one row per step.
+
+    Attributes
+    ----------
+    time : ndarray, shape (m,)
+        [s].
+    position : ndarray, shape (m, 3)
+        The geom's centre [m], world frame, z up.
+    velocity : ndarray, shape (m, 3)
+        Its velocity [m/s].
+    depth : ndarray, shape (m,)
+        Depth of the geom's lowest point below the surface [m], positive down.
+    force : ndarray, shape (m, 3)
+        The mud's force on the foot [N] (:attr:`MudAdapter3D.contact_forces`).
+    tilt : ndarray, shape (m,)
+        Angle between the geom's z axis and the world's [rad].
+    mass : float
+        [kg].
+    """
+
+    time: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    depth: np.ndarray
+    force: np.ndarray
+    tilt: np.ndarray
+    mass: float
+
+    def speed(self, last: float = 0.5) -> float:
+        """Mean speed of the centre over the last ``last`` seconds [m/s] (a creep rate at rest)."""
+        k = self.time >= self.time[-1] - last
+        span = self.time[k][-1] - self.time[k][0]
+        return float(np.linalg.norm(self.position[k][-1] - self.position[k][0]) / span) if span > 0 else 0.0
+
+    def force_std(self, last: float = 0.5) -> float:
+        """Largest standard deviation of a force component over the last ``last`` seconds [N]."""
+        k = self.time >= self.time[-1] - last
+        return float(self.force[k].std(axis=0).max())
+
+
+def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: float = 0.0, tilt: float = 0.0,
+                  dt: float = 1e-3) -> Any:
+    """A compiled model of a free foot geom above mud at ``z = 0``, prepared with :func:`add_mud_3d` (foot ``"foot"``).
+
+    Parameters
+    ----------
+    mass : float
+        [kg], > 0.
+    shape : str
+        ``sphere``, ``capsule``, ``cylinder`` or ``box`` (MuJoCo's frame: a capsule's and cylinder's axis is z).
+    size : sequence of float
+        Full dimensions [m]: a sphere's diameter; a capsule's or cylinder's diameter and length (a capsule's
+        between its caps' centres); a box's length, width and height.
+    height : float
+        Release height of the lowest point above the surface [m], >= 0.
+    tilt : float
+        Rotation about the world x axis [rad].
+    dt : float
+        Time step [s], > 0.
+    """
+    mj = _mujoco()
+    from mudforce.errors import finite_number
+
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    height = finite_number(height, "height", "m", nonnegative=True)
+    tilt = finite_number(tilt, "tilt", "rad")
+    dt = finite_number(dt, "dt", "s", positive=True)
+    if shape not in DROP_SHAPES:
+        raise InputError(f"shape must be one of {', '.join(DROP_SHAPES)}, got {shape!r}")
+    needs = {"sphere": 1, "capsule": 2, "cylinder": 2, "box": 3}[shape]
+    dims = [finite_number(v, "size", "m", positive=True) for v in size]
+    if len(dims) != needs:
+        raise InputError(f"a {shape} needs {needs} dimension(s) [m], got {len(dims)}")
+    half = np.array([0.5 * dims[0], 0.5 * dims[1] if needs > 1 else 0.0, 0.5 * dims[2] if needs > 2 else 0.0])
+    rot = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(tilt), -math.sin(tilt)], [0.0, math.sin(tilt), math.cos(tilt)]])
+    spec = mj.MjSpec()
+    spec.modelname = f"mudforce_drop_{shape}"
+    spec.option.timestep = dt
+    spec.option.gravity = [0.0, 0.0, -GRAVITY]
+    z = height + _lowest(shape, half, rot)
+    body = spec.worldbody.add_body(name="body", pos=[0.0, 0.0, z],
+                                   quat=[math.cos(0.5 * tilt), math.sin(0.5 * tilt), 0.0, 0.0])
+    body.add_freejoint()
+    kind = getattr(mj.mjtGeom, f"mjGEOM_{shape.upper()}")
+    body.add_geom(name="foot", type=kind, size=list(half), mass=mass, contype=0, conaffinity=0)
+    add_mud_3d(spec, ["foot"])
+    return spec.compile()
+
+
+def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float], *, duration: float = 2.0,
+                     height: float = 0.0, tilt: float = 0.0, vx: float = 0.0, dt: float = 1e-3,
+                     resolution: float | None = None) -> Drop3D:
+    """Drop a free foot geom into mud in MuJoCo with :class:`MudAdapter3D`: a :class:`Drop3D`.
+
+    Parameters
+    ----------
+    mass, shape, size, height, tilt, dt
+        As for :func:`drop_model_3d` ([kg], -, [m], [m], [rad], [s]).
+    params : MudParameters
+        The mud.
+    duration : float
+        Simulated time [s], > 0.
+    vx : float
+        Initial horizontal velocity along x [m/s].
+    resolution : float, optional
+        Element size of the foot's surface [m].
+    """
+    mj = _mujoco()
+    from mudforce.engines.mujoco import MudPatch
+    from mudforce.errors import finite_number
+
+    duration = finite_number(duration, "duration", "s", positive=True)
+    vx = finite_number(vx, "vx", "m/s")
+    model = drop_model_3d(mass, shape, size, height=height, tilt=tilt, dt=dt)
+    data = mj.MjData(model)
+    data.qvel[0] = vx
+    mud = MudAdapter3D(model, data, ["foot"], MudPatch(params), resolution=resolution)
+    steps = max(1, round(duration / dt))
+    half = np.asarray(model.geom_size[0], dtype=float)
+    time = np.arange(steps + 1) * dt
+    position = np.empty((steps + 1, 3))
+    velocity = np.empty((steps + 1, 3))
+    depth = np.empty(steps + 1)
+    force = np.zeros((steps + 1, 3))
+    tilt_out = np.empty(steps + 1)
+    for k in range(steps + 1):
+        if k:
+            mud.step()
+            force[k] = mud.contact_forces[0]
+        rot = np.asarray(data.geom_xmat[0]).reshape(3, 3)
+        position[k] = data.geom_xpos[0]
+        velocity[k] = data.qvel[:3]
+        depth[k] = -(position[k, 2] - _lowest(shape, half, rot))
+        tilt_out[k] = math.acos(max(-1.0, min(1.0, float(rot[2, 2]))))
+    return Drop3D(time, position, velocity, depth, force, tilt_out, float(mass))

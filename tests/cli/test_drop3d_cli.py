@@ -1,0 +1,38 @@
+"""`mudforce drop --shape/--tilt/--vx`: a free foot of any shape through the 3-D MuJoCo adapter."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("mujoco")
+
+from mudforce_cli_harness import assert_refused, run_batch
+
+BASE = ["drop", "--engine", "mujoco", "--mass", "5kg", "--water-content", "20%", "--duration", "0.1s"]
+
+
+def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path: Path) -> None:
+    runs = run_batch([
+        ([*BASE, "--shape", "sphere:40mm", "--vx", "50mm/s", "--out", "s.csv"], tmp_path),
+        ([*BASE, "--shape", "box:50mmx40mmx20mm", "--tilt", "10deg", "--out", "b.csv"], tmp_path),
+        ([*BASE, "--shape", "cone:40mm", "--out", "x.csv"], tmp_path),
+        ([*BASE, "--shape", "capsule:30mm", "--out", "x.csv"], tmp_path),
+        ([*BASE, "--shape", "sphere:40mm", "--tilt", "steep", "--out", "x.csv"], tmp_path),
+        ([*BASE, "--tilt", "10", "--out", "x.csv"], tmp_path),
+        (["drop", "--mass", "5kg", "--water-content", "20%", "--shape", "sphere:40mm", "--out", "x.csv"], tmp_path),
+    ])
+    sphere, box = runs[0], runs[1]
+    assert sphere.returncode == 0 and "mujoco 3-D sphere: depth" in sphere.stdout, sphere.stderr
+    assert box.returncode == 0 and "mujoco 3-D box" in box.stdout, box.stderr
+    rows = (tmp_path / "s.csv").read_text().splitlines()
+    assert rows[0] == "time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"
+    assert len(rows) == 102
+    last = [float(v) for v in rows[-1].split(",")]
+    assert 0.0 < last[1] < 0.01  # slid forward a little, then held by the mud
+    assert last[4] > 0.0 and last[9] == pytest.approx(5.0 * 9.81, rel=0.02)
+    assert float((tmp_path / "b.csv").read_text().splitlines()[1].split(",")[-1]) == pytest.approx(10.0)
+    for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco"), strict=True):
+        assert_refused(run, word)
+    assert not (tmp_path / "x.csv").exists()

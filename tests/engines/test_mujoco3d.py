@@ -1,0 +1,143 @@
+"""The 3-D MuJoCo adapter: rest depths against exact references, holds in every direction, bad input."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+mujoco = pytest.importorskip("mujoco")
+
+from scipy.optimize import brentq  # noqa: E402
+
+from mudforce import MudParameters  # noqa: E402
+from mudforce.engines.dynamics import GRAVITY, exact_drop  # noqa: E402
+from mudforce.engines.mujoco import MudAdapter3D, MudPatch, add_mud_3d, simulate_drop_3d  # noqa: E402
+from mudforce.engines.mujoco.adapter3d import drop_model_3d  # noqa: E402
+from mudforce.errors import InputError  # noqa: E402
+from mudforce.model import law3d  # noqa: E402
+from mudforce.model.foot import Foot  # noqa: E402
+
+MUD = MudParameters.from_water_content(0.15)
+
+
+def test_a_flat_box_dropped_flat_rests_at_the_exact_1d_depth() -> None:
+    """A box's bottom is the paper's sole: the 1-D exact drop (DOP853 with events) is its reference."""
+    res = simulate_drop_3d(5.0, MUD, "box", (0.051, 0.038, 0.025), duration=0.6, dt=2e-3)
+    ref = exact_drop(5.0, MUD, Foot.cuboid(0.051, 0.038), duration=0.6)
+    assert res.depth[-1] == pytest.approx(ref.rest_depth, rel=0.02)  # measured +0.03% at 1 ms
+    assert res.speed(0.2) < 1e-4  # creep < 0.1 mm/s (measured 0.26 um/s)
+    assert res.force_std(0.2) <= 0.02 * 5.0 * GRAVITY
+    assert res.force[-1] == pytest.approx([0.0, 0.0, 5.0 * GRAVITY], abs=1e-3 * 5.0 * GRAVITY)
+
+
+@pytest.mark.parametrize(("shape", "size"), [("sphere", (0.04,)), ("capsule", (0.03, 0.06))])
+def test_a_slowly_loaded_curved_foot_rests_at_the_quasi_static_depth(shape: str, size: tuple[float, ...]) -> None:
+    """Loaded slowly, the Maxwell strain relaxes and the spring of Eq. (4) alone carries the foot.
+
+    Reference: the depth at which the law's spring stress on every element's downward projection sums to m g
+    (scipy's brentq on the same elements).
+    """
+    mass, dt, ramp = 5.0, 5e-3, 1.0
+    model = drop_model_3d(mass, shape, size, dt=dt)
+    data = mujoco.MjData(model)
+    mud = MudAdapter3D(model, data, ["foot"], MudPatch(MUD))
+    foot = mud.shapes[0]
+
+    def excess(centre: float) -> float:
+        depth = -(centre + foot.centroids[:, 2])
+        stress = law3d.spring_stress(depth, MUD.alpha, MUD.beta, foot.width)
+        return float(np.sum(foot.areas * law3d.vertical_weight(foot.normals) * stress)) - mass * GRAVITY
+
+    centre = brentq(excess, -0.05, 0.05)
+    lowest = data.geom_xpos[0, 2] - 0.0  # the lowest point is a fixed offset below the centre (upright)
+    offset = lowest - (size[0] / 2 + (size[1] / 2 if shape == "capsule" else 0.0))
+    track = []
+    for k in range(280):
+        data.xfrc_applied[1, 2] = mass * GRAVITY * max(0.0, 1.0 - k * dt / ramp)
+        mud.step()
+        track.append(data.geom_xpos[0, 2])
+    depth, ref = -(track[-1] - (lowest - offset)), -(centre - (lowest - offset))
+    assert depth == pytest.approx(ref, rel=0.02)  # measured: sphere -0.9%, capsule -0.7%
+    assert abs(track[-1] - track[-41]) / (40 * dt) < 1e-4
+
+
+@pytest.fixture(scope="module")
+def resting_sphere() -> tuple[object, object, MudAdapter3D]:
+    model = drop_model_3d(2.0, "sphere", (0.04,), dt=2e-3)
+    data = mujoco.MjData(model)
+    mud = MudAdapter3D(model, data, ["foot"], MudPatch(MudParameters.from_water_content(0.20)))
+    mud.step(250)
+    return model, data, mud
+
+
+def test_sideways_below_the_hold_stays_put_and_above_it_slides_at_the_law_s_rate(resting_sphere: tuple) -> None:
+    _model, data, mud = resting_sphere
+    hold = float(mud.capacity[0, 0])
+    assert hold > 5.0
+    data.xfrc_applied[1, 0] = 0.5 * hold
+    mud.step(100)
+    x0 = data.geom_xpos[0, 0]
+    forces = []
+    for _ in range(100):
+        mud.step()
+        forces.append(mud.contact_forces[0])
+    assert abs(data.geom_xpos[0, 0] - x0) / 0.2 < 1e-4  # creep < 0.1 mm/s
+    forces = np.array(forces)
+    assert forces[:, 0].mean() == pytest.approx(-0.5 * hold, rel=1e-3)
+    assert forces.std(axis=0).max() <= 0.02 * 2.0 * GRAVITY
+    # then above the hold: the foot accelerates at (load - the law's capacity) / m
+    data.xfrc_applied[1, 0] = 1.5 * hold
+    v0 = data.qvel[0]
+    mud.step(25)
+    accel = (data.qvel[0] - v0) / (25 * 2e-3)
+    resist = -np.array(mud.contact_forces[0])[0]
+    assert resist == pytest.approx(mud.capacity[0, 0], rel=0.05)
+    assert accel == pytest.approx((1.5 * hold - resist) / 2.0, rel=0.1)
+    data.xfrc_applied[1, 0] = 0.0
+
+
+XML = """
+<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" size="1 1 0.1" pos="0 0 -0.004"/>
+    <body name="ball" pos="0 0 0.02"><freejoint/><geom name="toe" type="sphere" size="0.02" mass="2"/></body>
+    <body name="two" pos="1 0 0.2"><freejoint/><geom type="sphere" size="0.01"/><geom type="sphere" size="0.01"/></body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_bad_input_is_refused_in_one_line_before_anything_changes() -> None:
+    spec = mujoco.MjSpec.from_string(XML)
+    for feet, match in ((["floor"], "type plane"), (["nope"], "names no geom"), (["two"], "2 geoms"),
+                        (["toe", "floor"], "type plane")):
+        with pytest.raises(InputError, match=match) as err:
+            add_mud_3d(spec, feet)
+        assert "\n" not in str(err.value)
+    assert spec.compile().nsite == 0  # nothing was added
+    add_mud_3d(spec, ["toe"])
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    hidden = [MudPatch(MUD), MudPatch(MUD, extent=(-0.1, 0.1, -0.1, 0.1))]
+    before = (model.site_pos.copy(), model.tendon_frictionloss.copy())
+    for feet, patches, match in ((["floor"], MudPatch(MUD), "is a plane"), (["nope"], MudPatch(MUD), "names no geom"),
+                                 (["toe"], hidden, "misses every foot"), (["ball", "two"], MudPatch(MUD), "2 geoms")):
+        with pytest.raises(InputError, match=match):
+            MudAdapter3D(model, data, feet, patches)
+    assert np.array_equal(model.site_pos, before[0]) and np.array_equal(model.tendon_frictionloss, before[1])
+
+
+def test_a_rigid_floor_under_the_mud_is_reported_once() -> None:
+    spec = mujoco.MjSpec.from_string(XML)
+    add_mud_3d(spec, ["toe"])
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    mud = MudAdapter3D(model, data, ["toe"], MudPatch(MudParameters.from_water_content(0.30)))
+    with pytest.warns(RuntimeWarning, match="touches 'floor' while in the mud") as record:
+        mud.step(150)
+    assert len([w for w in record if issubclass(w.category, RuntimeWarning)]) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mud.step(5)  # once
