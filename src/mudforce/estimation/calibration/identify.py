@@ -30,7 +30,7 @@ interval scaled by ``sqrt(C_ww / C_ww|nuisances fixed)``). A force-gain
 error cannot be told from stiffer mud; its uncertainty is an input
 (``force_gain_uncertainty``, default :data:`DEFAULT_FORCE_GAIN_UNCERTAINTY`)
 and the interval is widened on each side by the water-content shift that a
-gain change of that size causes (linearised at the optimum). A sample where
+gain change of that size causes (the same fit on the force divided by ``1 +- g``). A sample where
 the foot is at rest in the mud (it moved less than :data:`REST_SPEED` times
 the step) constrains the mud only through the rest band it must lie in
 (:func:`mudforce.model.equations.rest_band_forces`): its residual is the
@@ -139,8 +139,8 @@ class Identification:
     force_gain_uncertainty : float
         The force gain's relative uncertainty assumed [-] (an input).
     gain_shift : float
-        The water-content shift [-] a gain change of ``force_gain_uncertainty`` causes;
-        the interval is widened by it on each side.
+        The largest water-content shift [-] a gain change of ``force_gain_uncertainty`` (up or down)
+        causes; the interval is widened on each side by the shift towards it.
     discretisation : float
         The model's own discretisation error at the data's rate [N] (RMS), part of ``noise_floor``.
     rest_fraction : float
@@ -335,11 +335,12 @@ def identify_water_content(
         rest = np.zeros(t.size, dtype=bool)
     moving = ~rest
 
-    def evaluate(w: float, offset: float, lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
-        """Residual (model - measured) [N], model force [N], measured force [N], bias [N], tare count."""
+    def evaluate(w: float, offset: float, lag: float,
+                 gain: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
+        """Residual (model - measured / gain) [N], model force [N], measured force [N], bias [N], tare count."""
         if not general:
             f = CHEN2024.force(t, tr.depth, family(w).as_array(), foot)
-            r0 = f - tr.force
+            r0 = f - tr.force / gain
             return r0 + tare_correction(r0, tr.precontact), f, tr.force, tr.bias, tr.precontact
         z = tr.depth + offset
         f, low, high = _force_and_band(t, z, family(w), foot, lag)
@@ -348,14 +349,14 @@ def identify_water_content(
             first_in = int(np.argmax(z > 0.0))
             if first_in >= MIN_PRECONTACT_SAMPLES:
                 pre, bias = first_in, float(np.mean(raw[:first_in]))
-        meas = raw - bias
+        meas = (raw - bias) / gain
         c = -float(np.sum((f - meas)[moving])) / (int(np.count_nonzero(moving)) + pre)
         meas = meas - c
         r = np.where(rest, np.clip(meas, low, high), f) - meas  # at rest: anywhere in the band
         return r, f, meas, bias + c, pre
 
-    def ssr_at(w: float, offset: float, lag: float) -> float:
-        r = evaluate(w, offset, lag)[0]
+    def ssr_at(w: float, offset: float, lag: float, gain: float = 1.0) -> float:
+        r = evaluate(w, offset, lag, gain)[0]
         return float(r @ r)
 
     offset, lag = 0.0, 0.0
@@ -395,9 +396,18 @@ def identify_water_content(
     cov = np.linalg.pinv(jtj)
     inflate = math.sqrt(max(float(cov[0, 0] * jtj[0, 0]), 1.0)) if jtj[0, 0] > 0 else 1.0
     stderr = np.sqrt(np.maximum(np.diag(cov), 0.0) * s2)
-    # a gain change g moves the measured force by g * force; the water content follows by the linearised fit
-    gain_push = np.where(rest, 0.0, meas) * force_gain_uncertainty
-    gain_shift = abs(float((cov @ (jac.T @ gain_push))[0])) if force_gain_uncertainty > 0.0 else 0.0
+    # a gain off by +-g: the water content the same fit finds on the force divided by (1 +- g)
+    shifts = [0.0]
+    for gain in ((1.0 + force_gain_uncertainty, 1.0 - force_gain_uncertainty) if force_gain_uncertainty else ()):
+        coarse = np.linspace(lo, hi, 21)
+        gc = [ssr_at(float(w), offset, lag, gain) for w in coarse]
+        j = int(np.argmin(gc))
+        found = minimize_scalar(lambda x, g=gain: ssr_at(float(x), offset, lag, g),
+                                bounds=(coarse[max(j - 1, 0)], coarse[min(j + 1, 20)]), method="bounded",
+                                options={"xatol": 1e-5})
+        shifts.append(float(found.x) - w_best)
+    shift_down, shift_up = max(-min(shifts), 0.0), max(max(shifts), 0.0)
+    gain_shift = max(shift_down, shift_up)
 
     def ssr(w: float) -> float:
         return ssr_at(w, offset, lag)
@@ -410,8 +420,8 @@ def identify_water_content(
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
     # labels of a general motion leave small systematic errors that the likelihood does not see;
     # then the gain's shift, which no amount of data reduces
-    low = max(min(low, w_best - MIN_HALF_WIDTH) - gain_shift, lo)
-    high = min(max(high, w_best + MIN_HALF_WIDTH) + gain_shift, hi)
+    low = max(min(low, w_best - MIN_HALF_WIDTH) - shift_down, lo)
+    high = min(max(high, w_best + MIN_HALF_WIDTH) + shift_up, hi)
     warnings = []
     if w_best - lo < 1e-3 or hi - w_best < 1e-3:
         warnings.append(f"the estimate is at the edge of the searched range [{lo:g}, {hi:g}]: "
