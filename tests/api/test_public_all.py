@@ -64,7 +64,15 @@ PINNED: dict[str, list[str]] = {
         "correlation_inflation", "fit_by_velocity", "fit_condition", "fit_dataset", "load_fit", "load_fit_parameters",
         "misfit_ratio", "speed_key",
     ],
-    "mudforce.estimation.calibration.identify": ["MIN_HALF_WIDTH", "Identification", "identify_water_content"],
+    "mudforce.estimation.calibration.identify": [
+        "DEFAULT_FORCE_GAIN_UNCERTAINTY",
+        "MAX_DEPTH_OFFSET",
+        "MAX_FORCE_LAG",
+        "MIN_HALF_WIDTH",
+        "REST_SPEED",
+        "Identification",
+        "identify_water_content",
+    ],
     "mudforce.estimation.calibration.models": [
         "CHEN2024", "DRFT", "GRANULAR_RFT", "MAXWELL_ONLY", "MODELS", "FitStage", "ForceFunction", "ForceModel",
         "get_model", "register_model",

@@ -11,7 +11,11 @@ family misfits the trial. With --json: {"water_content": 0.23,
 "nearest_water_content": 0.23, "interval": [0.21, 0.25], "rmse_N": ...,
 "level": 0.95, "force_noise_N": ..., "noise_floor_N": ..., "misfit_ratio":
 ..., "model_misses_data": false, "off_family_N": ..., "bias_N": ...,
-"bias_method": "tared", "bias_stderr_N": ..., "warnings": [...]}.
+"bias_method": "tared", "bias_stderr_N": ..., "depth_offset_m": ...,
+"force_lag_s": ..., "gain_shift": ..., "discretisation_N": ..., "warnings": [...]}.
+On a trial of any motion the surface offset of the depth and a force lag
+are fitted with the water content; a force-gain error cannot be told from
+stiffer mud, so --force-gain-uncertainty (default 5%) widens the interval.
 """
 
 from __future__ import annotations
@@ -34,6 +38,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("trial", metavar="TRIAL.csv", help="columns time_s, depth_m (or depth_mm), force_N")
     parser.add_argument("--foot", default=None, help=f"{FOOT_EXAMPLES} (default paper)")
     parser.add_argument("--level", default="95%", help="confidence level of the interval (default 95%%)")
+    parser.add_argument("--force-gain-uncertainty", default="5%",
+                        help="relative uncertainty of the force sensor's gain (default 5%%): a gain error reads "
+                             "as stiffer or softer mud, so the interval is widened by the shift it causes")
     parser.add_argument("--json", action="store_true", help="print JSON")
 
 
@@ -47,8 +54,12 @@ def run(args: argparse.Namespace) -> int:
     level = round(parse_quantity(args.level, "fraction", name="--level"), 9)
     if not 0.0 < level < 1.0:
         raise InputError(f"--level: {args.level!r} must be between 0% and 100%, e.g. 95%")
+    text = str(args.force_gain_uncertainty).strip()
+    gain = 0.0 if text in ("0", "0%") else parse_quantity(text, "fraction", name="--force-gain-uncertainty")
+    if not 0.0 <= gain < 0.5:
+        raise InputError(f"--force-gain-uncertainty: {args.force_gain_uncertainty!r} must be in [0%, 50%), e.g. 5%")
     foot = parse_foot(args.foot if args.foot is not None else "paper")
-    result = identify_water_content(load_trial(args.trial), foot, level=level)
+    result = identify_water_content(load_trial(args.trial), foot, level=level, force_gain_uncertainty=gain)
     listed = _manifest_foot(args.trial)
     if listed is not None and (abs(listed.area - foot.area) > 1e-9 * foot.area
                                or abs(listed.width - foot.width) > 1e-9 * foot.width):

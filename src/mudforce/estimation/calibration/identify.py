@@ -18,6 +18,27 @@ narrower than +-:data:`MIN_HALF_WIDTH` (0.25 points): below that the
 family's interpolation and the branch labels of a general motion, not the
 noise, limit what one trial can tell.
 
+**A robot's sensor chain** (docs/estimation.md, "What a robot should log"):
+on the general path the model is compared with the data through three
+nuisances, fitted jointly with the water content (Gauss-Newton, bias
+profiled): a surface offset of the depth (the model follows ``depth +
+offset``), a force lag (the model's force through a first-order low-pass
+of time constant ``force_lag``, which also stands for a pure delay of about
+that size) and the force bias (tared or free, as before). Their
+correlation with the water content widens the interval (the likelihood
+interval scaled by ``sqrt(C_ww / C_ww|nuisances fixed)``). A force-gain
+error cannot be told from stiffer mud; its uncertainty is an input
+(``force_gain_uncertainty``, default :data:`DEFAULT_FORCE_GAIN_UNCERTAINTY`)
+and the interval is widened on each side by the water-content shift that a
+gain change of that size causes (the same fit on the force divided by ``1 +- g``). A sample where
+the foot is at rest in the mud (it moved less than :data:`REST_SPEED` times
+the step) constrains the mud only through the rest band it must lie in
+(:func:`mudforce.model.equations.rest_band_forces`): its residual is the
+distance of the force outside the band, zero inside. The noise floor of the
+misfit flag includes the model's own discretisation error at the data's
+rate, estimated from the data (the model on every other sample against the
+model on every sample).
+
 A trial of any motion is accepted (:func:`~mudforce.estimation.calibration.preprocess.prepare_trial`).
 The result says how well the family explains it: ``misfit_ratio`` (RMSE
 over the force noise measured independently of the family),
@@ -32,21 +53,47 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
+from numba import njit
+from scipy.optimize import brentq, least_squares, minimize_scalar
 from scipy.stats import chi2
 
+from mudforce import _kernel as K
 from mudforce.errors import InputError
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.estimation.calibration.models import CHEN2024
-from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor, prepare_trial, tare_correction
+from mudforce.estimation.calibration.preprocess import (
+    MIN_PRECONTACT_SAMPLES,
+    PreparedTrial,
+    noise_floor,
+    prepare_trial,
+    tare_correction,
+)
+from mudforce.model.equations import array_form, nonlinear_spring_stress, rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
+from mudforce.steppers.simulation import run_compact
 
-__all__ = ["MIN_HALF_WIDTH", "Identification", "identify_water_content"]
+__all__ = [
+    "DEFAULT_FORCE_GAIN_UNCERTAINTY",
+    "MAX_DEPTH_OFFSET",
+    "MAX_FORCE_LAG",
+    "MIN_HALF_WIDTH",
+    "REST_SPEED",
+    "Identification",
+    "identify_water_content",
+]
 
 #: Smallest half-width of the interval [-] (0.25 percentage points of water content).
 MIN_HALF_WIDTH = 0.0025
+#: Default uncertainty of the force sensor's gain [-] (5 %): its water-content shift widens the interval.
+DEFAULT_FORCE_GAIN_UNCERTAINTY = 0.05
+#: Largest surface offset of the depth that identify fits [m] (+-10 mm).
+MAX_DEPTH_OFFSET = 0.01
+#: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
+MAX_FORCE_LAG = 0.05
+#: A step in the mud slower than this counts as the foot at rest [m/s] (5 mm/s): its force is a band, not a branch.
+REST_SPEED = 0.005
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,6 +130,21 @@ class Identification:
     bias_stderr : float
         Standard error of ``bias`` [N]: the residual scatter over the samples
         (and the pre-contact ones), widened for the residuals' correlation.
+    depth_offset, depth_offset_stderr : float
+        The surface offset fitted [m]: the model follows ``depth + depth_offset``
+        (a depth that reads 2 mm too deep gives -0.002); NaN on the protocol path.
+    force_lag, force_lag_stderr : float
+        The force lag fitted [s]: the time constant of a first-order low-pass
+        on the model's force (a pure delay of ``d`` reads about ``d``); NaN on the protocol path.
+    force_gain_uncertainty : float
+        The force gain's relative uncertainty assumed [-] (an input).
+    gain_shift : float
+        The largest water-content shift [-] a gain change of ``force_gain_uncertainty`` (up or down)
+        causes; the interval is widened on each side by the shift towards it.
+    discretisation : float
+        The model's own discretisation error at the data's rate [N] (RMS), part of ``noise_floor``.
+    rest_fraction : float
+        Share of the samples taken as the foot at rest in the mud [-] (compared with the rest band).
     """
 
     water_content: float
@@ -99,6 +161,14 @@ class Identification:
     bias: float = math.nan
     bias_method: str = "tared"
     bias_stderr: float = math.nan
+    depth_offset: float = math.nan
+    depth_offset_stderr: float = math.nan
+    force_lag: float = math.nan
+    force_lag_stderr: float = math.nan
+    force_gain_uncertainty: float = 0.0
+    gain_shift: float = 0.0
+    discretisation: float = 0.0
+    rest_fraction: float = 0.0
 
     @property
     def low(self) -> float:
@@ -122,7 +192,10 @@ class Identification:
         ``nearest_water_content`` (the same, named for what it is when the
         data are off the family), ``interval``, ``rmse_N``, ``level``,
         ``force_noise_N``, ``noise_floor_N``, ``misfit_ratio``, ``model_misses_data``,
-        ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``, ``warnings``.
+        ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``,
+        ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
+        ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
+        ``discretisation_N``, ``rest_fraction``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -142,6 +215,14 @@ class Identification:
             "bias_N": finite(self.bias),
             "bias_method": self.bias_method,
             "bias_stderr_N": finite(self.bias_stderr),
+            "depth_offset_m": finite(self.depth_offset),
+            "depth_offset_stderr_m": finite(self.depth_offset_stderr),
+            "force_lag_s": finite(self.force_lag),
+            "force_lag_stderr_s": finite(self.force_lag_stderr),
+            "force_gain_uncertainty": self.force_gain_uncertainty,
+            "gain_shift": self.gain_shift,
+            "discretisation_N": self.discretisation,
+            "rest_fraction": self.rest_fraction,
             "warnings": list(self.warnings),
         }
 
@@ -156,6 +237,48 @@ def _edge(ssr: Callable[[float], float], level: float, inside: float, outward: n
     return float(limit)
 
 
+@njit(cache=True, nogil=True)
+def _lowpass(time: np.ndarray, x: np.ndarray, tau: float) -> np.ndarray:  # pragma: no cover - compiled
+    """First-order low-pass ``tau y' + y = x`` [same unit as ``x``], exact for ``x`` linear between samples (ours)."""
+    y = np.empty_like(x)
+    y[0] = x[0]
+    for k in range(x.size - 1):
+        h = time[k + 1] - time[k]
+        a = math.exp(-h / tau)
+        y[k + 1] = a * y[k] + (1.0 - a) * x[k] + (x[k + 1] - x[k]) * (1.0 - tau * (1.0 - a) / h)
+    return y
+
+
+_spring = np.vectorize(nonlinear_spring_stress, otypes=[np.float64])
+
+
+def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
+                    lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The model's force [N] along ``depth`` [m] (exact rule) and the rest band ``(low, high)`` [N] at each sample.
+
+    The band is that of :func:`mudforce.model.equations.rest_band_forces` at
+    the stepper's own Maxwell strain, widened to hold the model's force
+    (after necking the withdrawal edge is the post-necking force); out of the
+    mud it is the force itself. With ``lag`` > 0 [s] all three pass through
+    the first-order low-pass a force sensor applies.
+    """
+    row = K.make_params(q.as_array(), foot.area, foot.width, 1, 0.0)[None, :]
+    bad, force, state, mud, _ = run_compact(time, depth, row, 1)
+    if bad >= 0:  # numerically impossible parameters: a huge, finite residual
+        force[bad:] = 1e6
+    spring = np.zeros_like(depth)
+    inside = depth > 0.0
+    spring[inside] = _spring(q.alpha, q.beta, depth[inside], foot.width)
+    up, down = array_form(rest_band_forces)(depth - mud, spring, q.k_m_i, q.k_m_w, foot.area)
+    down = np.where(inside, down, 0.0)
+    contact = state > 0
+    low = np.where(contact, np.minimum(np.minimum(up, down), force), force)
+    high = np.where(contact, np.maximum(np.maximum(up, down), force), force)
+    if lag > 0.0:
+        force, low, high = (_lowpass(time, x, lag) for x in (force, low, high))
+    return force, low, high
+
+
 def identify_water_content(
     trial: Trial | PreparedTrial,
     foot: Foot | None = None,
@@ -164,13 +287,14 @@ def identify_water_content(
     bounds: tuple[float, float] = WATER_CONTENT_RANGE,
     level: float = 0.95,
     points: int = 81,
+    force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
 ) -> Identification:
     """Estimate the water content of one trial from a one-parameter family of parameter sets.
 
     Parameters
     ----------
     trial : Trial or PreparedTrial
-        An intrude/hold/withdraw trial starting above the surface.
+        An intrude/hold/withdraw trial starting above the surface, or a trial of any motion.
     foot : Foot, optional
         The intruder; the paper's cuboid by default.
     family : callable
@@ -181,6 +305,10 @@ def identify_water_content(
         Confidence level of the interval, in (0, 1).
     points : int
         Grid points for the scan before refinement.
+    force_gain_uncertainty : float
+        Relative uncertainty of the force sensor's gain [-], in [0, 0.5) (default 5 %): a gain
+        error reads as stiffer or softer mud, so the interval is widened by the water-content
+        shift a gain change of this size causes.
 
     Returns
     -------
@@ -188,57 +316,140 @@ def identify_water_content(
     """
     if not 0.0 < level < 1.0:
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
+    if not 0.0 <= force_gain_uncertainty < 0.5:
+        raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), "
+                         f"got {force_gain_uncertainty!r}")
     foot = Foot.paper() if foot is None else foot
     tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial)
     if not np.any(tr.trial.force != tr.trial.force[0]):
         raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
                          "the trial carries no force to identify a water content from (is the column right?)")
     lo, hi = bounds
+    t = tr.time
+    general = tr.motion is None
+    raw = tr.trial.force
+    if general:
+        step = np.abs(np.diff(tr.depth))
+        rest = np.concatenate([[False], step <= REST_SPEED * np.diff(t)])
+    else:
+        rest = np.zeros(t.size, dtype=bool)
+    moving = ~rest
 
-    def residual(w: float) -> np.ndarray:
-        values = family(w).as_array()
-        r: np.ndarray = CHEN2024.force(tr.time, tr.depth, values, foot) - tr.force
-        return r + tare_correction(r, tr.precontact)
+    def evaluate(w: float, offset: float, lag: float,
+                 gain: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
+        """Residual (model - measured / gain) [N], model force [N], measured force [N], bias [N], tare count."""
+        if not general:
+            f = CHEN2024.force(t, tr.depth, family(w).as_array(), foot)
+            r0 = f - tr.force / gain
+            return r0 + tare_correction(r0, tr.precontact), f, tr.force, tr.bias, tr.precontact
+        z = tr.depth + offset
+        f, low, high = _force_and_band(t, z, family(w), foot, lag)
+        pre, bias = 0, 0.0
+        if tr.precontact:  # re-tare from the samples before the first contact of the offset depth
+            first_in = int(np.argmax(z > 0.0))
+            if first_in >= MIN_PRECONTACT_SAMPLES:
+                pre, bias = first_in, float(np.mean(raw[:first_in]))
+        meas = (raw - bias) / gain
+        c = -float(np.sum((f - meas)[moving])) / (int(np.count_nonzero(moving)) + pre)
+        meas = meas - c
+        r = np.where(rest, np.clip(meas, low, high), f) - meas  # at rest: anywhere in the band
+        return r, f, meas, bias + c, pre
 
-    def ssr(w: float) -> float:
-        r = residual(w)
+    def ssr_at(w: float, offset: float, lag: float, gain: float = 1.0) -> float:
+        r = evaluate(w, offset, lag, gain)[0]
         return float(r @ r)
 
+    offset, lag = 0.0, 0.0
+    if general:  # a coarse scan of the surface offset first: a few millimetres move the water content by points
+        coarse = np.linspace(lo, hi, 21)
+        scan = [(ssr_at(float(w), s0, 0.0), s0) for s0 in np.linspace(-0.8, 0.8, 5) * MAX_DEPTH_OFFSET
+                for w in coarse]
+        offset = float(min(scan)[1])
     grid = np.linspace(lo, hi, points)
-    costs = np.array([ssr(float(w)) for w in grid])
+    costs = np.array([ssr_at(float(w), offset, 0.0) for w in grid])
     k = int(np.argmin(costs))
     a, b = grid[max(k - 1, 0)], grid[min(k + 1, points - 1)]
-    sol = minimize_scalar(ssr, bounds=(a, b), method="bounded", options={"xatol": 1e-6})
+    sol = minimize_scalar(lambda x: ssr_at(float(x), offset, 0.0), bounds=(a, b), method="bounded",
+                          options={"xatol": 1e-6})
     w_best, c_best = (float(sol.x), float(sol.fun)) if sol.fun < costs[k] else (float(grid[k]), float(costs[k]))
-    r = residual(w_best)
-    raw = CHEN2024.force(tr.time, tr.depth, family(w_best).as_array(), foot) - tr.force
+    cov = None
+    jac = None
+    if general:  # the nuisances, jointly with the water content
+        joint = least_squares(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]))[0],
+                              np.array([w_best, offset, 0.0]),
+                              bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
+                              x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=60)
+        if 2.0 * float(joint.cost) < c_best:
+            w_best, offset, lag = (float(x) for x in joint.x)
+            c_best = 2.0 * float(joint.cost)
+        jac = np.asarray(joint.jac, dtype=np.float64)
+    r, f_best, meas, bias, pre = evaluate(w_best, offset, lag)
     n = r.size
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 2 and np.std(r) > 0 else 0.0
     rho = min(max(rho, 0.0), 0.99)
     n_eff = n * (1.0 - rho) / (1.0 + rho)
+    s2 = c_best / max(n - 1, 1) * n / max(n_eff, 1.0)
+    if jac is None:  # the water content alone: its derivative by central differences
+        wa, wb = max(w_best - 1e-4, lo), min(w_best + 1e-4, hi)
+        jac = ((evaluate(wb, 0.0, 0.0)[0] - evaluate(wa, 0.0, 0.0)[0]) / (wb - wa))[:, None]
+    jtj = jac.T @ jac
+    cov = np.linalg.pinv(jtj)
+    inflate = math.sqrt(max(float(cov[0, 0] * jtj[0, 0]), 1.0)) if jtj[0, 0] > 0 else 1.0
+    stderr = np.sqrt(np.maximum(np.diag(cov), 0.0) * s2)
+    # a gain off by +-g: the water content the same fit finds on the force divided by (1 +- g)
+    shifts = [0.0]
+    for gain in ((1.0 + force_gain_uncertainty, 1.0 - force_gain_uncertainty) if force_gain_uncertainty else ()):
+        coarse = np.linspace(lo, hi, 21)
+        gc = [ssr_at(float(w), offset, lag, gain) for w in coarse]
+        j = int(np.argmin(gc))
+        found = minimize_scalar(lambda x, g=gain: ssr_at(float(x), offset, lag, g),
+                                bounds=(coarse[max(j - 1, 0)], coarse[min(j + 1, 20)]), method="bounded",
+                                options={"xatol": 1e-5})
+        shifts.append(float(found.x) - w_best)
+    shift_down, shift_up = max(-min(shifts), 0.0), max(max(shifts), 0.0)
+    gain_shift = max(shift_down, shift_up)
+
+    def ssr(w: float) -> float:
+        return ssr_at(w, offset, lag)
+
     threshold = float(chi2.ppf(level, 1)) * c_best / max(n - 1, 1) * n / max(n_eff, 1.0)
     low = _edge(ssr, c_best + threshold, w_best, grid[grid < w_best][::-1], lo)
     high = _edge(ssr, c_best + threshold, w_best, grid[grid > w_best], hi)
+    # the nuisances' correlation with the water content
+    low, high = w_best - inflate * (w_best - low), w_best + inflate * (high - w_best)
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
-    # labels of a general motion leave small systematic errors that the likelihood does not see
-    low, high = min(low, max(w_best - MIN_HALF_WIDTH, lo)), max(high, min(w_best + MIN_HALF_WIDTH, hi))
+    # labels of a general motion leave small systematic errors that the likelihood does not see;
+    # then the gain's shift, which no amount of data reduces
+    low = max(min(low, w_best - MIN_HALF_WIDTH) - shift_down, lo)
+    high = min(max(high, w_best + MIN_HALF_WIDTH) + shift_up, hi)
     warnings = []
     if w_best - lo < 1e-3 or hi - w_best < 1e-3:
         warnings.append(f"the estimate is at the edge of the searched range [{lo:g}, {hi:g}]: "
                         "the mud may be drier or wetter than the family covers")
     rmse = math.sqrt(c_best / n)
-    scale = max(float(np.max(np.abs(tr.force))), 1.0)
+    scale = max(float(np.max(np.abs(meas))), 1.0)
     best_values = family(w_best).as_array()
-    floor = math.sqrt(float(np.mean(noise_floor(
-        tr, raw, lambda z: CHEN2024.force(tr.time, z, best_values, foot)))))
+    floor2 = float(np.mean(noise_floor(
+        tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))))
+    discretisation = 0.0
+    if general and n >= 8:  # the model at half the rate against the model at the data's rate
+        half = _force_and_band(t[::2], tr.depth[::2] + offset, family(w_best), foot, lag)[0]
+        d = np.where(moving[::2], half - f_best[::2], 0.0)
+        discretisation = math.sqrt(float(np.mean(d**2)) / 2.0)
+    floor = math.sqrt(floor2 + discretisation**2)
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
-                        f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through): "
+                        f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through and the "
+                        f"model's discretisation error {discretisation:.3g} N at this rate): "
                         f"the data are {off:.3g} N (RMS) off the Table I family (another mud, another foot "
                         "than assumed, or a model error); the estimate is the nearest water content and "
                         "the interval is widened for the misfit")
+    if general and (abs(offset) > 0.95 * MAX_DEPTH_OFFSET or lag > 0.95 * MAX_FORCE_LAG):
+        warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
+                        f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
+                        f"{MAX_FORCE_LAG * 1e3:g} ms): the depth or the force is not what the model can explain")
     return Identification(
         water_content=w_best,
         interval=(low, high),
@@ -251,7 +462,15 @@ def identify_water_content(
         noise_floor=floor,
         misfit_ratio=ratio,
         off_family=off,
-        bias=tr.bias + tare_correction(raw, tr.precontact),
+        bias=bias,
         bias_method="estimated" if tr.bias_estimated else "tared",
-        bias_stderr=max(rmse, tr.force_noise) * math.sqrt((1.0 + rho) / (1.0 - rho) / (n + tr.precontact)),
+        bias_stderr=max(rmse, tr.force_noise) * math.sqrt((1.0 + rho) / (1.0 - rho) / (n + pre)),
+        depth_offset=offset if general else math.nan,
+        depth_offset_stderr=float(stderr[1]) if general else math.nan,
+        force_lag=lag if general else math.nan,
+        force_lag_stderr=float(stderr[2]) if general else math.nan,
+        force_gain_uncertainty=force_gain_uncertainty,
+        gain_shift=gain_shift,
+        discretisation=discretisation,
+        rest_fraction=float(np.mean(rest)),
     )

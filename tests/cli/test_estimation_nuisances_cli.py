@@ -1,0 +1,30 @@
+"""identify's --force-gain-uncertainty from the command line (issue 23, point 3): the interval widens
+by the shift a gain error causes; 0% turns it off; a bad value is refused in one line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from mudforce_cli_harness import assert_refused, run_batch
+
+
+def test_force_gain_uncertainty_widens_identify(tmp_path: Path) -> None:
+    runs = run_batch([
+        (["synth", "--motion", "gait", "--out", "walks", "--water-content", "22%", "--repeats", "1",
+          "--seed", "1", "--duration", "8s"], tmp_path),
+        (["identify", "walks/w22_gait_r1.csv", "--json"], tmp_path),
+        (["identify", "walks/w22_gait_r1.csv", "--json", "--force-gain-uncertainty", "10%"], tmp_path),
+        (["identify", "walks/w22_gait_r1.csv", "--json", "--force-gain-uncertainty", "0%"], tmp_path),
+        (["identify", "walks/w22_gait_r1.csv", "--force-gain-uncertainty", "80%"], tmp_path),
+    ])
+    assert runs[0].returncode == 0, runs[0].stderr
+    default, ten, none = (json.loads(r.stdout) for r in runs[1:4])
+    assert default["force_gain_uncertainty"] == 0.05 and none["gain_shift"] == 0.0
+    assert ten["gain_shift"] > default["gain_shift"] > 0.0
+    width = [d["interval"][1] - d["interval"][0] for d in (none, default, ten)]
+    assert width[0] < width[1] < width[2]
+    for d in (none, default, ten):
+        assert d["interval"][0] <= 0.22 <= d["interval"][1]
+        assert {"depth_offset_m", "force_lag_s", "discretisation_N", "rest_fraction"} <= set(d)
+    assert_refused(runs[4], "--force-gain-uncertainty")

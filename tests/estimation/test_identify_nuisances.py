@@ -1,0 +1,69 @@
+"""identify on a robot's sensor chain: the surface offset and the force lag fitted, the gain's
+uncertainty in the interval, a foot at rest compared with the rest band (issue 23, points 2-3)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mudforce.estimation.calibration import identify_water_content
+from mudforce.estimation.calibration.dataset import Trial
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.motions.gait import gait
+from mudforce.motions.sensor_chain import SensorChain, apply
+from mudforce.steppers.simulation import simulate
+
+W = 0.24
+
+
+@pytest.fixture(scope="module")
+def fine() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A 10-s gait simulated at 2 kHz along its true path (time [s], depth [m], force [N])."""
+    path = gait(3, duration=10.0, rate=2000.0)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(W), Foot.paper(),
+                     velocity_filter="exact").force
+    return path.time, path.depth, np.asarray(force)
+
+
+def _trial(fine: tuple[np.ndarray, np.ndarray, np.ndarray], **chain: float) -> Trial:
+    fields = {"force_noise": 0.2, "depth_noise": 3e-5, "force_bias": 0.4, "rate": 100.0, **chain}
+    t, z, f = apply(*fine, SensorChain(**fields), 5)
+    return Trial("chain.csv", W, t, z, f)
+
+
+def test_a_surface_offset_is_fitted_not_read_as_mud(fine: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
+    """The depth reads 4 mm too deep: identify finds -4 mm and the water content it finds without the offset."""
+    clean = identify_water_content(_trial(fine))
+    res = identify_water_content(_trial(fine, depth_offset=0.004))
+    assert abs(res.depth_offset + 0.004) < 3e-4
+    assert np.isfinite(res.depth_offset_stderr) and res.depth_offset_stderr > 0.0
+    assert abs(res.water_content - clean.water_content) < 0.002
+    assert res.low <= W <= res.high and not res.model_misses_data
+
+
+def test_a_force_lag_is_fitted_and_the_gain_widens_the_interval(
+        fine: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
+    """A 20-ms low-pass on the force is found to within 6 ms; the 5 % gain uncertainty widens the interval."""
+    trial = _trial(fine, force_lowpass=0.02)
+    res = identify_water_content(trial)
+    assert abs(res.force_lag - 0.02) < 0.006
+    assert res.low <= W <= res.high
+    bare = identify_water_content(trial, force_gain_uncertainty=0.0)
+    assert res.gain_shift > 5e-4 and bare.gain_shift == 0.0
+    assert res.high - res.low > bare.high - bare.low + 1e-3
+    d = res.to_dict()
+    assert d["force_lag_s"] == res.force_lag and d["force_gain_uncertainty"] == 0.05
+
+
+def test_a_foot_at_rest_is_a_band_not_a_branch() -> None:
+    """One foot of the MuJoCo quadruped, its force the load MuJoCo applied: identify finds its own mud."""
+    pytest.importorskip("mujoco")
+    from mudforce.motions.quadruped import ROBOT_FOOT, robot_walk
+
+    run = robot_walk("walk", 0.25, seed=1, duration=3.0)
+    t, z, f = apply(run.time, run.depth, run.force_contact, SensorChain(force_noise=0.2, depth_noise=3e-5), 2)
+    res = identify_water_content(Trial("robot.csv", 0.25, t, z, f), ROBOT_FOOT)
+    assert res.rest_fraction > 0.2
+    assert abs(res.water_content - 0.25) < 0.01
+    assert res.low <= 0.25 <= res.high or res.warnings
