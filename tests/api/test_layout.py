@@ -141,3 +141,20 @@ def test_tests_mirror_the_source() -> None:
     folders = {p.name for p in tests.iterdir() if p.is_dir() and not p.name.startswith((".", "__"))}
     packages = {p.name.lstrip("_") for p in (SRC / "mudforce").iterdir() if p.is_dir() and not p.name.startswith("__")}
     assert folders - {"api"} <= packages
+
+
+def test_command_line_tests_are_in_one_place() -> None:
+    """Every test that runs the command line is in tests/cli/ (tests/reproduce/: the ``reproduce`` command):
+    no other test file imports the subprocess harness."""
+    tests = Path(__file__).resolve().parents[1]
+    homes = {tests / "cli", tests / "reproduce"}
+    elsewhere = []
+    for path in sorted(tests.rglob("test*.py")):
+        if path.parent in homes:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else \
+                [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            if any(n.split(".")[0] == "mudforce_cli_harness" for n in names):
+                elsewhere.append(str(path.relative_to(tests)))
+    assert elsewhere == []

@@ -15,6 +15,7 @@ from __future__ import annotations
 import concurrent.futures
 import csv
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -96,6 +97,27 @@ def test_simulate_trajectory_params_file_and_foot(tmp_path: Path) -> None:
     assert len(rows) == time.size
     np.testing.assert_allclose(depth, depth_mm * 1e-3, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(got, expected.force, rtol=1e-9, atol=1e-9 * expected.peak_force)
+
+
+def _sine_record() -> tuple[np.ndarray, np.ndarray]:
+    """The issue's case: a 3.14 s sine of 10 mm about 20 mm, 100 Hz, depths printed to 12 digits (the record of
+    tests/model/test_velocity_noise.py, whose API tests it drives)."""
+    i = np.arange(600)
+    time = np.array([float(f"{k / 100:.2f}") for k in i])
+    depth = np.array([float(f"{0.02 + 0.01 * math.sin(2 * math.pi * k / 314):.12g}") for k in i])
+    return time, depth
+
+
+def test_simulate_command_says_which_rule(tmp_path: Path) -> None:
+    """The issue's command line: exit 0, the exact force at 0.80 s (5.14 N, not 209 N), and the rule printed."""
+    t, z = _sine_record()
+    rows = "".join(f"{a:.2f},{b:.12g}\n" for a, b in zip(t, z, strict=True))
+    (tmp_path / "sine.csv").write_text("time_s,depth_m\n" + rows)
+    run = run_cli(["simulate", "--water-content", "20%", "--trajectory", "sine.csv", "--out", "a.csv"], tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert "branch rule: exact (the sign of each step, the paper's rule); clean" in run.stdout
+    row = next(line for line in (tmp_path / "a.csv").read_text().splitlines() if line.startswith("0.8,"))
+    assert float(row.split(",")[8]) == pytest.approx(5.143, abs=1e-3)
 
 
 def test_params_one_water_content_json(tmp_path: Path) -> None:

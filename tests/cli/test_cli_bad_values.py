@@ -166,6 +166,15 @@ def test_refused_in_one_line(runs: dict[str, tuple[Run, Path, dict[str, bytes | 
     assert snapshot(root) == before
 
 
+def test_the_simulate_command_refuses_a_depth_beyond_100_m(tmp_path: Path) -> None:
+    base = ["simulate", "--water-content", "25%", "--out", "out.csv"]
+    deep, fast = run_batch([([*base, "--depth", "101m", "--velocity", "10m/s"], tmp_path),
+                            ([*base, "--rate", "1e9Hz"], tmp_path)])
+    assert deep.returncode == 2 and deep.stderr.count("\n") == 1 and "within +-100 m" in deep.stderr, deep.stderr
+    assert fast.returncode == 2 and "--rate" in fast.stderr and "samples" in fast.stderr, fast.stderr
+    assert not (tmp_path / "out.csv").exists()
+
+
 def test_accepted_meanings(tmp_path: Path) -> None:
     """A BOM is accepted; fit-drag warns about a negative lambda; identify says when the manifest's foot
     differs from the one assumed, and does not call 8e-5 N "well above" a noise of 0 N; fit.json is valid

@@ -1,9 +1,9 @@
-"""Calibration inputs and helpers: dataset loading and validation, motion fit, tare, drag, identify, CLI."""
+"""Calibration inputs and helpers: dataset loading and validation, motion fit, tare, drag, identify (their
+command lines: tests/cli/test_fit_cli.py, test_fit_drag_cli.py, test_identify_cli.py)."""
 
 from __future__ import annotations
 
 import json
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +26,6 @@ from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.preprocess import snap_reversal
 from mudforce.model.foot import Foot
 from mudforce.motions.protocol import Protocol
-from mudforce_cli_harness import run_cli
 
 
 @pytest.fixture(scope="module")
@@ -35,10 +34,6 @@ def small(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("ds")
     synthesize(out, water_contents=[0.25], velocities=[0.01, 0.04], repeats=1, seed=3)
     return out
-
-
-def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return run_cli(args, timeout=120)
 
 
 # ------------------------------------------------------------------------ dataset loading
@@ -162,40 +157,6 @@ def test_time_errors_name_the_files_own_row_and_column(tmp_path: Path) -> None:
         load_dataset(tidy)
 
 
-@pytest.mark.parametrize(
-    ("extra", "words"),
-    [
-        (["--out", "no/such/dir/fit.json"], "--out: directory 'no/such/dir' does not exist"),
-        (["--out", "."], "names a directory"),
-        (["--out", "same", "--report", "same"], "is the --report folder"),
-    ],
-)
-def test_fit_refuses_unusable_outputs_before_fitting(small: Path, tmp_path: Path, extra: list[str],
-                                                     words: str) -> None:
-    proc = run_cli(["fit", str(small), *extra, "--quiet"], tmp_path, timeout=120)
-    assert proc.returncode == 2, proc.stderr
-    assert words in proc.stderr and "Traceback" not in proc.stderr
-    assert len(proc.stderr.strip().splitlines()) == 1
-    assert not any(tmp_path.iterdir())  # nothing written, no report folder made
-
-
-def test_cli_bad_input_exit_2(small: Path, tmp_path: Path) -> None:
-    manifest = json.loads((small / "dataset.json").read_text())
-    manifest["trials"][0]["water_content"] = 1.5
-    _manifest(tmp_path, manifest)
-    proc = _run_cli("fit", str(tmp_path), "--out", str(tmp_path / "fit.json"), "--quiet")
-    assert proc.returncode == 2
-    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
-    assert "water_content is 1.5" in proc.stderr
-    assert not (tmp_path / "fit.json").exists()
-    bad = tmp_path / "bad.csv"
-    bad.write_text("time_s,depth_m,force_N\n0,0,0\n0.01,0,\n")
-    proc = _run_cli("identify", str(bad))
-    assert proc.returncode == 2 and "row 3, column force_N" in proc.stderr and "Traceback" not in proc.stderr
-    proc = _run_cli("synth", "--out", str(tmp_path / "x"), "--velocities", "10")
-    assert proc.returncode == 2 and "has no unit" in proc.stderr
-
-
 def test_parse_foot() -> None:
     assert parse_foot("paper") == Foot.paper()
     assert_allclose(parse_foot("cuboid:51mm,38mm").area, 0.051 * 0.038)
@@ -285,17 +246,6 @@ def test_fit_drag_recovers_lambda() -> None:
         fit_drag([0.0, 0.0, 0.0], [0.0, 1.0, 2.0], area)
 
 
-def test_fit_drag_cli(tmp_path: Path) -> None:
-    v = np.linspace(-1.0, 1.0, 21)
-    f = 0.02 * 1840 * 19.38e-4 * np.sign(v) * v**2
-    path = tmp_path / "slide.csv"
-    rows = "".join(f"{float(a) * 1e3!r},{float(b)!r}\n" for a, b in zip(v, f, strict=True))
-    path.write_text("velocity_mm_s,force_N\n" + rows)
-    proc = _run_cli("fit-drag", str(path), "--area", "19.38cm2", "--json")
-    assert proc.returncode == 0, proc.stderr
-    assert_allclose(json.loads(proc.stdout)["lambda"], 0.02, rtol=1e-9)
-
-
 @pytest.mark.parametrize("water_content", [0.15, 0.22, 0.35])
 def test_identify_water_content(water_content: float) -> None:
     ds = synthesize(water_contents=[water_content], velocities=[0.02], repeats=1, seed=2, force_noise=0.3)
@@ -306,9 +256,3 @@ def test_identify_water_content(water_content: float) -> None:
     assert result.rmse < 0.36
 
 
-def test_identify_cli_json(small: Path) -> None:
-    proc = _run_cli("identify", str(small / "w25_v40_r1.csv"), "--json")
-    assert proc.returncode == 0, proc.stderr
-    out = json.loads(proc.stdout)
-    assert set(out) >= {"water_content", "interval", "rmse_N"}
-    assert abs(out["water_content"] - 0.25) < 0.02

@@ -8,7 +8,6 @@ runs the full acceptance check (3 speeds x 3 repeats, several seeds).
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 import numpy as np
@@ -21,13 +20,11 @@ from mudforce.estimation.calibration import (
     fit_condition,
     fit_dataset,
     load_dataset,
-    load_fit_parameters,
     synthesize,
 )
 from mudforce.estimation.calibration.report import write_report
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
-from mudforce_cli_harness import run_cli
 
 FAST = FitOptions(popsize=10, maxiter=40)
 
@@ -90,27 +87,6 @@ def test_shared_parameters_across_water_contents() -> None:
         _check_recovery(cond.parameters, cond.stderr, truth[w].to_dict(), cond.free, rel=0.05)
         assert cond.rmse < 1.1 * 0.2
     assert json.loads(result.to_json())["shared"] == ["k_m_w", "b_m_w"]
-
-
-def test_cli_fit_is_deterministic_and_reports(tmp_path: Path) -> None:
-    data = tmp_path / "data"
-    synthesize(data, water_contents=[0.3], velocities=[0.02, 0.04], repeats=1, seed=9, force_noise=0.2)
-    outs = []
-    for i in range(2):
-        out = tmp_path / f"fit{i}.json"
-        proc = run_cli(["fit", str(data), "--out", str(out), "--quiet", "--seed", "3"], timeout=300)
-        assert proc.returncode == 0, proc.stderr
-        assert proc.stdout == ""
-        outs.append(out.read_bytes())
-    assert outs[0] == outs[1]
-    fit = json.loads(outs[0])
-    cond = fit["conditions"][0]
-    assert cond["water_content"] == 0.3
-    assert set(cond["parameters"]) == set(cond["stderr"]) and len(cond["parameters"]) == 11
-    assert [t["file"] for t in cond["trials"]] == ["w30_v20_r1.csv", "w30_v40_r1.csv"]
-    assert math.isfinite(cond["rmse_N"]) and cond["correlation"]["parameters"][0] == "k_m_i"
-    params = load_fit_parameters(tmp_path / "fit0.json")
-    assert list(params) == [0.3] and params[0.3].alpha == cond["parameters"]["alpha"]
 
 
 def test_report_is_written_and_deterministic(tmp_path: Path) -> None:

@@ -2,21 +2,16 @@
 
 from __future__ import annotations
 
-import json
-import subprocess
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-from mudforce.estimation.calibration import fit_condition, identify_water_content, prepare_trial, synthesize_gait
+from mudforce.estimation.calibration import fit_condition, identify_water_content, prepare_trial
 from mudforce.estimation.calibration.branches import estimate_force_noise
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.motions.gait import walk
-from mudforce_cli_harness import run_cli
 
 
 def _trial(w: float, seed: int, **kw: object) -> tuple[Trial, object]:
@@ -93,29 +88,6 @@ def test_fit_two_gaits_reaches_the_noise_and_the_parameters() -> None:
     assert [t.bias_method for t in fit.trials] == ["tared", "estimated"]
     for t in fit.trials:
         assert abs(t.bias - 0.5) < 0.1 and 0 < t.bias_stderr < 0.1
-
-
-def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return run_cli(args, timeout=300)
-
-
-def test_synth_gait_and_identify_cli(tmp_path: Path) -> None:
-    out = tmp_path / "walks"
-    proc = _run_cli("synth", "--motion", "gait", "--out", str(out), "--water-content", "22%", "--repeats", "2",
-                    "--duration", "8s", "--seed", "3", "--start-below", "alternate", "--quiet")
-    assert proc.returncode == 0, proc.stderr
-    manifest = json.loads((out / "dataset.json").read_text())
-    assert [t.get("velocity_m_s") for t in manifest["trials"]] == [None, None]
-    assert manifest["synthetic"]["gait"]["start_below"] == "alternate"
-    again = synthesize_gait(water_contents=[0.22], repeats=2, duration=8.0, seed=3, start_below="alternate")
-    written = np.loadtxt(out / "w22_gait_r2.csv", delimiter=",", skiprows=1)[:, 2]
-    np.testing.assert_allclose(written, again.trials[1].force, rtol=1e-8, atol=1e-8)
-    proc = _run_cli("identify", str(out / "w22_gait_r2.csv"), "--json")
-    assert proc.returncode == 0, proc.stderr
-    result = json.loads(proc.stdout)
-    assert abs(result["water_content"] - 0.22) < 0.01
-    assert result["bias_method"] == "estimated" and isinstance(result["model_misses_data"], bool)
-    assert 0 < result["bias_stderr_N"] < 0.1
 
 
 def test_identify_refuses_a_constant_force() -> None:

@@ -5,7 +5,7 @@ folders back); an interrupt lost earlier stops it; a file keeps its
 permissions and a link stays a link; the leftovers of a killed run are
 found by their exact names, so a target whose name holds ``*``, ``?`` or
 ``[`` gets its own removed and nobody else's touched (issue 20, item 8).
-In-process, except the refusals of ``fit --report`` (one batch subprocess).
+In-process; the refusals of ``fit --report`` are in tests/cli/test_fit_cli.py.
 """
 
 from __future__ import annotations
@@ -17,11 +17,9 @@ import pytest
 
 import mudforce.io
 from mudforce._plumbing import interrupt as _interrupt
-from mudforce.estimation.calibration.synth import synthesize
 from mudforce.io import StagedOutputs, clean_stale
 from mudforce.reproduce.output import StagedFolder
 from mudforce.reproduce.output import clean_stale as clean_stale_reproduce
-from mudforce_cli_harness import assert_refused, run_batch, snapshot
 
 TAG = "mudforce-test"
 OLD_REPORT = {"report.md": b"old report\n", "a.png": b"old png"}
@@ -33,6 +31,18 @@ def _old_pair(root: Path, fit: str = "fit.json", report: str = "rep") -> tuple[P
     for name, data in OLD_REPORT.items():
         (root / report / name).write_bytes(data)
     return root / fit, root / report
+
+
+def snapshot(directory: Path) -> dict[str, bytes | str]:
+    """Every entry under ``directory``: file content, or ``-> target`` for a symbolic link (as the CLI harness's)."""
+    out: dict[str, bytes | str] = {}
+    for p in sorted(directory.rglob("*")):
+        rel = str(p.relative_to(directory))
+        if p.is_symlink():
+            out[rel] = "-> " + os.readlink(p)
+        elif p.is_file():
+            out[rel] = p.read_bytes()
+    return out
 
 
 def _hidden(root: Path) -> list[str]:
@@ -126,17 +136,3 @@ def test_reproduce_removes_a_killed_runs_folder_of_a_glob_name(tmp_path: Path) -
     assert _hidden(tmp_path) == []
 
 
-def test_fit_refuses_a_report_folder_it_cannot_replace_whole(tmp_path: Path) -> None:
-    """A --report folder holding other files, or holding --out: one line, exit 2, nothing touched."""
-    synthesize(tmp_path / "ds", velocities=(0.02,), repeats=1, seed=1)
-    (tmp_path / "notes").mkdir()
-    (tmp_path / "notes" / "notes.txt").write_text("mine\n")
-    (tmp_path / "notes" / "fit.json").write_text("old fit\n")
-    before = snapshot(tmp_path)
-    runs = run_batch([
-        (["fit", "ds", "--out", "fit.json", "--report", "notes", "--quiet"], tmp_path),
-        (["fit", "ds", "--out", "notes/fit.json", "--report", "notes", "--quiet"], tmp_path),
-    ])
-    assert_refused(runs[0], "--report notes", "'fit.json' and 1 more, not part of a mudforce report")
-    assert_refused(runs[1], "--out", "inside the --report folder", "replaced whole")
-    assert snapshot(tmp_path) == before and _hidden(tmp_path) == []

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,7 +26,6 @@ from mudforce.model.velocity import (
     estimate_depth_noise,
 )
 from mudforce.motions.gait import gait
-from mudforce_cli_harness import run_cli
 
 W20 = mf.MudParameters.from_water_content(0.20)
 
@@ -173,13 +171,3 @@ def test_bad_records_are_refused(time: np.ndarray, depth: np.ndarray, match: str
         estimate_depth_noise(time, depth)
 
 
-def test_simulate_command_says_which_rule(tmp_path: Path) -> None:
-    """The issue's command line: exit 0, the exact force at 0.80 s (5.14 N, not 209 N), and the rule printed."""
-    t, z = _sine_record()
-    rows = "".join(f"{a:.2f},{b:.12g}\n" for a, b in zip(t, z, strict=True))
-    (tmp_path / "sine.csv").write_text("time_s,depth_m\n" + rows)
-    run = run_cli(["simulate", "--water-content", "20%", "--trajectory", "sine.csv", "--out", "a.csv"], tmp_path)
-    assert run.returncode == 0, run.stderr
-    assert "branch rule: exact (the sign of each step, the paper's rule); clean" in run.stdout
-    row = next(line for line in (tmp_path / "a.csv").read_text().splitlines() if line.startswith("0.8,"))
-    assert float(row.split(",")[8]) == pytest.approx(5.143, abs=1e-3)
