@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import math
+import sys
 import time
 from collections.abc import Callable
 from typing import Any
@@ -164,13 +165,74 @@ def bench_jax(shape: shapes.Shape, feet: int, steps: int, repeats: int) -> tuple
     return best / steps, median / steps
 
 
+def bench_engines(steps: int, repeats: int) -> None:
+    """Issue 22, "Speed": the MuJoCo quadruped of examples/quadruped_in_mud.py trotting, four mud feet vs rigid.
+
+    (Engines section, kept apart from the 3-D law's benchmarks above; run with ``--engines``.) Both
+    trot open-loop with the same servo targets at 2 ms steps; CPU time per step, best and median.
+    """
+    import mujoco
+
+    from mudforce.engines.mujoco import MudAdapter3D, MudPatch
+
+    path = __file__.replace("benchmarks/bench_3d.py", "examples/quadruped_in_mud.py")
+    spec_ = importlib.util.spec_from_file_location("quadruped_in_mud", path)
+    assert spec_ is not None and spec_.loader is not None
+    q = importlib.util.module_from_spec(spec_)
+    sys.modules["quadruped_in_mud"] = q  # its dataclass looks itself up there
+    spec_.loader.exec_module(q)
+
+    made: list[Any] = []
+
+    def rigid() -> Callable[[], None]:
+        model = q.quadruped_spec(mud=False).compile()
+        data = mujoco.MjData(model)
+
+        def run() -> None:
+            mujoco.mj_resetData(model, data)
+            for _ in range(steps):
+                data.ctrl[:] = q.trot(data.time)
+                mujoco.mj_step(model, data)
+        return run
+
+    def mud() -> Callable[[], None]:
+        model = q.quadruped_spec().compile()
+        data = mujoco.MjData(model)
+        data.qpos[0] = 0.3  # in the mud from the start
+        adapter = MudAdapter3D(model, data, q.FEET, MudPatch(mf.MudParameters.from_water_content(0.20)))
+        made[:] = [adapter]
+
+        def run() -> None:
+            mujoco.mj_resetData(model, data)
+            data.qpos[0] = 0.3
+            adapter.reset()
+            for _ in range(steps):
+                data.ctrl[:] = q.trot(data.time)
+                adapter.step()
+        return run
+
+    mud()()  # compile
+    r = timings(rigid(), repeats)
+    m = timings(mud(), repeats)
+    elements = sum(s.n for s in made[0].shapes)
+    print(f"MuJoCo quadruped (examples/quadruped_in_mud.py), {steps} steps of 2 ms, CPU time, best and median of "
+          f"{repeats} (issue 22 target: mud feet at most 2x rigid)")
+    print(f"  rigid ground                     {r[0] / steps * 1e6:8.1f} {r[1] / steps * 1e6:8.1f} us/step")
+    print(f"  four mud feet ({elements} elements)   {m[0] / steps * 1e6:8.1f} {m[1] / steps * 1e6:8.1f} us/step")
+    print(f"  ratio mud/rigid                  {m[0] / r[0]:8.2f} {m[1] / r[1]:8.2f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer steps and repeats, and no 4096-foot run")
     ap.add_argument("--repeats", type=int, default=None)
+    ap.add_argument("--engines", action="store_true", help="only the MuJoCo quadruped, mud feet vs rigid ground")
     args = ap.parse_args()
     repeats = args.repeats or (3 if args.quick else 7)
     steps = 200 if args.quick else 1000
+    if args.engines:
+        bench_engines(steps, repeats)
+        return
     sphere = fibonacci_sphere()
     sole = shapes.sole(mf.Foot.cuboid(0.048, 0.048), resolution=0.006)
     print(f"3-D law, 1 kHz walk (down, sliding, tilting, out); CPU time, best and median of {repeats}; one thread")

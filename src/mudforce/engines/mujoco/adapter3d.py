@@ -69,8 +69,18 @@ import numpy as np
 from mudforce.engines.dynamics.rest_band import branch_forces
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
+from mudforce.engines.mujoco._step3d import (
+    C_ALPHA,
+    C_BETA,
+    C_LAM_RHO,
+    C_SIGMA_Y,
+    C_SURFACE,
+    C_WIDTH,
+    N_FOOT_CONSTANTS,
+    add_wrench,
+    prepare,
+)
 from mudforce.errors import InputError, positive_int
-from mudforce.model import law3d
 from mudforce.model.shapes import Shape, from_mujoco_geom
 from mudforce.steppers.contact3d import MudContacts3D
 
@@ -194,12 +204,6 @@ def add_mud_3d(spec: Any, feet: Sequence[str], *, prefix: str = "mud_") -> None:
             t.solimp_friction = list(_SOLIMP_FRICTION)
 
 
-def _sums(index: np.ndarray, values: np.ndarray, minlength: int) -> np.ndarray:
-    """The sum of ``values`` per index (one per foot)."""
-    out: np.ndarray = np.bincount(index, values, minlength=minlength).astype(np.float64)
-    return out
-
-
 def _patch_list(patches: Any) -> list[Any]:
     from mudforce.engines.mujoco import MudPatch
 
@@ -310,9 +314,20 @@ class MudAdapter3D:
         self._width = np.array([float(s.width) if s.width is not None else np.nan for s in slist])
         self._starts = np.concatenate(([0], np.cumsum(sizes)))
         nel = len(self._area)
-        self._up = np.zeros(nel)
-        self._down = np.zeros(nel)
-        self._drag = np.zeros(nel)
+        self._up = np.zeros((len(plist), nel))  # each patch's element bands and drag [Pa]
+        self._down = np.zeros((len(plist), nel))
+        self._drag = np.zeros((len(plist), nel))
+        self._patch_const = np.zeros((len(plist), N_FOOT_CONSTANTS))
+        for k, p in enumerate(plist):
+            q = p.params
+            self._patch_const[k, [C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO]] = (
+                p.height, q.sigma_y, q.alpha, q.beta, q.lambda_ * q.rho_m)
+        self._const = np.zeros((n, N_FOOT_CONSTANTS))
+        self._const[:, C_WIDTH] = self._width
+        self._velocity_z = np.zeros(n)
+        self._band = np.zeros((2, n))
+        self._pos = np.zeros((n, 3))
+        self._mats = np.zeros((n, 9))
         self._u = np.tile([1.0, 0.0], (n, 1))  # each foot's last direction of horizontal motion
         self._last_pos = np.zeros((n, 3))
         self._last_applied = np.zeros((n, 6))
@@ -324,7 +339,7 @@ class MudAdapter3D:
         self._warned: set[str] = set()
         self.law_forces = np.zeros((n, 3))  #: the law's force on each foot at the last committed pose [N]
         self.law_torques = np.zeros((n, 3))  #: ... and its torque about the geom's centre [N m]
-        self.band = (np.zeros(n), np.zeros(n))  #: the vertical band (F_up, F_down) of the coming step [N]
+        self.band = (self._band[0], self._band[1])  #: the vertical band (F_up, F_down) of the coming step [N]
         self.capacity = np.zeros((n, 2))  #: the sideways holds along u and across it of the coming step [N]
         self.reset()
 
@@ -347,9 +362,9 @@ class MudAdapter3D:
         mj, model, data = self._mj, self.model, self.data
         xfrc = data.xfrc_applied
         for _ in range(nstep):
-            np.add.at(xfrc, self._bodies, self._applied)
+            add_wrench(xfrc, self._bodies, self._applied, 1.0)
             mj.mj_step(model, data)
-            np.subtract.at(xfrc, self._bodies, self._applied)
+            add_wrench(xfrc, self._bodies, self._applied, -1.0)
             if data.ncon:
                 self._check_floor()
             self._last_applied[:] = self._applied
@@ -368,7 +383,8 @@ class MudAdapter3D:
 
     def _commit(self, *, first: bool) -> None:
         """Step each patch's feet to their poses (their first step when ``first``); reset the feet outside it."""
-        pos, _, quats = self._poses()
+        pos, mats, quats = self._poses()
+        self._pos, self._mats = pos, mats.reshape(-1, 9)
         n = len(self.feet)
         where = np.full(n, -1, dtype=np.int64)
         for k, p in enumerate(self.patches):
@@ -396,119 +412,23 @@ class MudAdapter3D:
         self._patch = where
 
     def _prepare(self) -> None:
-        """The next step's bands, holds, contact points, anchors and explicit wrench."""
+        """The next step's bands, holds, contact points, anchors and explicit wrench (compiled: ``_step3d.prepare``)."""
         model, d = self.model, self.data
-        pos, mats, _ = self._poses()
-        fo = self._foot_of
-        n = len(self.feet)
-        rot = mats[fo]
-        offsets = np.einsum("eij,ej->ei", rot, self._cb)
-        cw = pos[fo] + offsets
-        nw = np.einsum("eij,ej->ei", rot, self._nb)
+        pos, mats = self._pos, self._mats
         dt = float(model.opt.timestep)
-        surface = np.array([self.patches[k].height if k >= 0 else -np.inf for k in self._patch])
-        depth = surface[fo] - cw[:, 2]
-        below = depth > 0.0
-        self._up[:] = 0.0
-        self._down[:] = 0.0
-        self._drag[:] = 0.0
-        up = np.empty_like(self._up)
-        down = np.empty_like(self._up)
-        drag = np.empty_like(self._up)
         for k, c in enumerate(self._contacts):
-            mine = (self._patch == k)[fo]
-            if mine.any():
+            if (self._patch == k).any():
                 states, rows = c.kernel_rows()
-                branch_forces(states, rows, dt, 1.0, up, down, drag)
-                self._up[mine] = up[mine]
-                self._down[mine] = down[mine]
-                self._drag[mine] = drag[mine]
-        weight = self._area * law3d.vertical_weight(nw)
-        f_up = _sums(fo, weight * self._up, minlength=n)
-        f_down = _sums(fo, weight * self._down, minlength=n)
-        f_drag = _sums(fo, weight * self._drag, minlength=n)
-        inverted = f_down < f_up
-        mid = np.where(inverted, 0.0, 0.5 * (f_up + f_down)) + f_drag
-        half = np.where(inverted, 0.0, 0.5 * (f_down - f_up))
-        # an inverted band (k_m_w e > k_m_i e + spring): no sticking; the branch of the current motion
-        velocity = (pos - self._last_pos) / dt
-        self._last_pos = pos.copy()
-        vel = velocity[:, :2]
-        moving = np.hypot(vel[:, 0], vel[:, 1]) > REST_SPEED
-        self._u[moving] = vel[moving] / np.hypot(vel[moving, 0], vel[moving, 1])[:, None]
-        mid = np.where(inverted, np.where(velocity[:, 2] <= 0.0, f_down, f_up) + f_drag, mid)
-        sigma_y = np.zeros(n)
-        alpha = np.zeros(n)
-        beta = np.ones(n)
-        lam_rho = np.zeros(n)
-        for f in range(n):
-            if self._patch[f] >= 0:
-                q = self.patches[self._patch[f]].params
-                sigma_y[f], alpha[f], beta[f], lam_rho[f] = q.sigma_y, q.alpha, q.beta, q.lambda_ * q.rho_m
-        spring = law3d.spring_stress(depth, alpha[fo], beta[fo], self._width[fo])
-        # the contact point: the centre of the depth stress (Eq. (4)) on the downward-facing area, a function
-        # of the elements' world depths only (a point fixed in the foot would be an inverted pendulum's pivot);
-        # the lowest element when none is submerged
-        wet = weight * spring
-        total = _sums(fo, wet, minlength=n)
-        point = np.empty((n, 3))
-        for axis in range(3):
-            point[:, axis] = _sums(fo, wet * cw[:, axis], minlength=n)
-        has = total > 0.0
-        point[has] /= total[has, None]
-        for f in np.flatnonzero(~has).tolist():
-            lo, hi = int(self._starts[f]), int(self._starts[f + 1])
-            point[f] = cw[lo + int(np.argmin(cw[lo:hi, 2]))]
-        # the sideways holds along u and across it: the law's capacity of the submerged elements
-        u3 = np.zeros((n, 3))
-        u3[:, :2] = self._u
-        v3 = np.stack((-u3[:, 1], u3[:, 0], np.zeros(n)), axis=1)
-        holds = np.zeros((n, 2))
-        fx = np.zeros(n)
-        fy = np.zeros(n)
-        wet_rows = np.flatnonzero(below)  # only submerged elements are loaded sideways
-        if wet_rows.size:
-            fw = fo[wet_rows]
-            nww = nw[wet_rows]
-            aw = self._area[wet_rows]
-            for col, direction in enumerate((u3, v3)):
-                dirs = direction[fw]
-                cap = law3d.lateral_capacity(sigma_y[fw], law3d.shear_fraction(nww, dirs), spring[wet_rows],
-                                             law3d.bearing_factor(nww, dirs))
-                holds[:, col] = _sums(fw, aw * cap, minlength=n)
-            # the horizontal drag (Eq. (5)) on the leading submerged elements, at the foot's horizontal velocity
-            hdrag = law3d.horizontal_drag(lam_rho[fw][:, None], 1.0, nww, vel[fw]) * aw[:, None]
-            fx = _sums(fw, hdrag[:, 0], minlength=n)
-            fy = _sums(fw, hdrag[:, 1], minlength=n)
-        force = np.stack((fx, fy, mid), axis=1)
-        force[self._patch < 0] = 0.0
-        half[self._patch < 0] = 0.0
-        holds[self._patch < 0] = 0.0
-        # the explicit force acts below the geom's centre at the contact point's height: a point that follows
-        # the foot's translation but not its turning (one fixed in the foot, below the centre of mass, would be
-        # an inverted pendulum's pivot); the holds act at the contact point itself
-        at = np.column_stack((pos[:, :2], point[:, 2]))
-        torque = np.cross(at - d.xipos[self._bodies], force)
-        self._applied[:, :3] = force
-        self._applied[:, 3:] = torque
-        self.band = (f_up, f_down)
-        self.capacity = holds
-        frictionloss = model.tendon_frictionloss
-        site_pos = model.site_pos
-        for f in range(n):
-            tz, tu, tv = self._tendons[f]
-            frictionloss[tz] = half[f]
-            frictionloss[tu] = holds[f, 0]
-            frictionloss[tv] = holds[f, 1]
-            az, au, av = self._anchors[f]
-            site_pos[az] = point[f] + (0.0, 0.0, ANCHOR_HEIGHT)
-            site_pos[au] = point[f] + ANCHOR_HEIGHT * u3[f]
-            site_pos[av] = point[f] + ANCHOR_HEIGHT * v3[f]
-            self._dirs[f, 0] = (0.0, 0.0, 1.0)
-            self._dirs[f, 1] = u3[f]
-            self._dirs[f, 2] = v3[f]
-            b = self._bodies[f]
-            site_pos[self._sites[f]] = d.xmat[b].reshape(3, 3).T @ (point[f] - d.xpos[b])
+                branch_forces(states, rows, dt, 1.0, self._up[k], self._down[k], self._drag[k])
+        const = self._const
+        for f in range(len(self.feet)):
+            k = int(self._patch[f])
+            if k >= 0:
+                const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
+        prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
+                self._up, self._down, self._drag, self._velocity_z, self._u, d.xipos, d.xpos, d.xmat, self._bodies,
+                self._sites, self._anchors, self._tendons, model.site_pos, model.tendon_frictionloss, ANCHOR_HEIGHT,
+                REST_SPEED, self._band, self.capacity, self._applied, self._dirs)
 
     def _check_floor(self) -> None:
         """Warn once per foot that touches a geom that is not a foot while it is in the mud."""

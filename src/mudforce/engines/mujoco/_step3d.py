@@ -1,0 +1,168 @@
+"""Speed plumbing of :class:`mudforce.engines.mujoco.adapter3d.MudAdapter3D`: its per-step element work, compiled.
+
+Nothing here is new physics. :func:`prepare` is the adapter's preparation of
+the next MuJoCo step (band, holds, drag, contact point, anchors, explicit
+wrench; what it does and why is :mod:`mudforce.engines.mujoco.adapter3d`'s
+docstring) as one loop over the feet's elements, calling the law's scalar
+functions of :mod:`mudforce._kernel.element3d` (each :mod:`mudforce.model.law3d`'s
+namesake for one element) and Eq. (4) through
+:func:`mudforce.model.equations.nonlinear_spring_stress`, the functions the
+compiled 3-D step (:mod:`mudforce._kernel.step3d`) calls. The 1-D states'
+bands come from :func:`mudforce.engines.dynamics.rest_band.branch_forces`
+(compiled, called by the adapter per patch). :func:`add_wrench` adds (or,
+with ``sign=-1``, takes back) the explicit wrench to ``xfrc_applied``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mudforce._kernel.element3d import (
+    bearing_factor,
+    horizontal_drag,
+    lateral_capacity,
+    shear_fraction,
+    vertical_weight,
+)
+from mudforce._kernel.layout import _compiled
+from mudforce.model.equations import nonlinear_spring_stress
+
+__all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "add_wrench",
+           "prepare"]
+
+# columns of the per-foot constants (those of the foot's patch; row ignored off every patch)
+C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO, C_WIDTH = 0, 1, 2, 3, 4, 5
+N_FOOT_CONSTANTS = 6
+
+
+@_compiled(nogil=False)
+def add_wrench(xfrc: np.ndarray, bodies: np.ndarray, applied: np.ndarray, sign: float) -> None:
+    """``xfrc[bodies[f]] += sign * applied[f]`` for every foot (force [N], torque [N m])."""
+    for f in range(bodies.shape[0]):
+        for j in range(6):
+            xfrc[bodies[f], j] += sign * applied[f, j]
+
+
+@_compiled(nogil=False)
+def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, starts: np.ndarray,
+            cb: np.ndarray, nb: np.ndarray, area: np.ndarray, patch: np.ndarray, const: np.ndarray,
+            up: np.ndarray, down: np.ndarray, drag: np.ndarray, velocity_z: np.ndarray, u: np.ndarray,
+            xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
+            anchors: np.ndarray, tendons: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray,
+            anchor_height: float, rest_speed: float, band: np.ndarray, holds: np.ndarray, applied: np.ndarray,
+            dirs: np.ndarray) -> None:
+    """The next step's bands, holds, contact points, anchors and explicit wrench, foot by foot.
+
+    ``pos`` (n, 3) [m] and ``mats`` (n, 9) the foot geoms' poses; ``last_pos``
+    the previous ones (updated here); ``dt`` [s]; ``starts`` each foot's
+    element rows; ``cb``, ``nb`` (E, 3), ``area`` (E,) the elements in the
+    geom's frame [m], [-], [m^2]; ``patch`` (n,) each foot's patch or -1;
+    ``const`` (n, ``N_FOOT_CONSTANTS``) its patch's constants (``C_*``);
+    ``up``, ``down``, ``drag`` (P, E) each patch's element bands and drag [Pa]
+    (``branch_forces`` on unit areas); ``velocity_z`` (n,) written [m/s];
+    ``u`` (n, 2) each foot's last horizontal direction (updated). MuJoCo's
+    arrays: ``xipos``, ``xpos``, ``xmat`` (data), ``site_pos``,
+    ``frictionloss`` (model, written). Written: ``band`` (2, n) [N],
+    ``holds`` (n, 2) [N], ``applied`` (n, 6) [N], [N m], ``dirs`` (n, 3, 3).
+    """
+    n = pos.shape[0]
+    for f in range(n):
+        px, py, pz = pos[f, 0], pos[f, 1], pos[f, 2]
+        vx = (px - last_pos[f, 0]) / dt
+        vy = (py - last_pos[f, 1]) / dt
+        vz = (pz - last_pos[f, 2]) / dt
+        last_pos[f, 0], last_pos[f, 1], last_pos[f, 2] = px, py, pz
+        velocity_z[f] = vz
+        speed = math.sqrt(vx * vx + vy * vy)
+        if speed > rest_speed:
+            u[f, 0] = vx / speed
+            u[f, 1] = vy / speed
+        ux, uy = u[f, 0], u[f, 1]
+        k = patch[f]
+        r = mats[f]
+        lo, hi = starts[f], starts[f + 1]
+        f_up = f_down = f_drag = 0.0
+        total = qx = qy = qz = 0.0
+        hold_u = hold_v = 0.0
+        fx = fy = 0.0
+        lowest = math.inf
+        lx = ly = lz = 0.0
+        surface = const[f, C_SURFACE]
+        sigma_y, alpha, beta = const[f, C_SIGMA_Y], const[f, C_ALPHA], const[f, C_BETA]
+        lam_rho, width = const[f, C_LAM_RHO], const[f, C_WIDTH]
+        for i in range(lo, hi):
+            cx = px + r[0] * cb[i, 0] + r[1] * cb[i, 1] + r[2] * cb[i, 2]
+            cy = py + r[3] * cb[i, 0] + r[4] * cb[i, 1] + r[5] * cb[i, 2]
+            cz = pz + r[6] * cb[i, 0] + r[7] * cb[i, 1] + r[8] * cb[i, 2]
+            if cz < lowest:
+                lowest = cz
+                lx, ly, lz = cx, cy, cz
+            if k < 0:
+                continue
+            nx = r[0] * nb[i, 0] + r[1] * nb[i, 1] + r[2] * nb[i, 2]
+            ny = r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2]
+            nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
+            w = area[i] * vertical_weight(nz)
+            f_up += w * up[k, i]
+            f_down += w * down[k, i]
+            f_drag += w * drag[k, i]
+            depth = surface - cz
+            spring = nonlinear_spring_stress(alpha, beta, depth, width)  # Eq. (4); 0 at and above the surface
+            wet = w * spring
+            total += wet
+            qx += wet * cx
+            qy += wet * cy
+            qz += wet * cz
+            if depth > 0.0:  # only submerged elements are loaded sideways
+                hold_u += area[i] * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, ux, uy), spring,
+                                                     bearing_factor(nx, ny, nz, ux, uy))
+                hold_v += area[i] * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, -uy, ux), spring,
+                                                     bearing_factor(nx, ny, nz, -uy, ux))
+                gx, gy = horizontal_drag(lam_rho, 1.0, nx, ny, vx, vy)
+                fx += gx * area[i]
+                fy += gy * area[i]
+        if total > 0.0:
+            qx, qy, qz = qx / total, qy / total, qz / total
+        else:
+            qx, qy, qz = lx, ly, lz
+        if f_down < f_up:  # an inverted band (k_m_w e > k_m_i e + spring): no sticking; the branch of the motion
+            mid = (f_down if vz <= 0.0 else f_up) + f_drag
+            half = 0.0
+        else:
+            mid = 0.5 * (f_up + f_down) + f_drag
+            half = 0.5 * (f_down - f_up)
+        if k < 0:
+            mid = half = hold_u = hold_v = fx = fy = 0.0
+        band[0, f] = f_up
+        band[1, f] = f_down
+        holds[f, 0] = hold_u
+        holds[f, 1] = hold_v
+        # the explicit force acts below the geom's centre at the contact point's height; torque about the COM
+        b = bodies[f]
+        ax, ay, az = px - xipos[b, 0], py - xipos[b, 1], qz - xipos[b, 2]
+        applied[f, 0], applied[f, 1], applied[f, 2] = fx, fy, mid
+        applied[f, 3] = ay * mid - az * fy
+        applied[f, 4] = az * fx - ax * mid
+        applied[f, 5] = ax * fy - ay * fx
+        frictionloss[tendons[f, 0]] = half
+        frictionloss[tendons[f, 1]] = hold_u
+        frictionloss[tendons[f, 2]] = hold_v
+        site_pos[anchors[f, 0], 0], site_pos[anchors[f, 0], 1] = qx, qy
+        site_pos[anchors[f, 0], 2] = qz + anchor_height
+        site_pos[anchors[f, 1], 0] = qx + anchor_height * ux
+        site_pos[anchors[f, 1], 1] = qy + anchor_height * uy
+        site_pos[anchors[f, 1], 2] = qz
+        site_pos[anchors[f, 2], 0] = qx - anchor_height * uy
+        site_pos[anchors[f, 2], 1] = qy + anchor_height * ux
+        site_pos[anchors[f, 2], 2] = qz
+        dirs[f, 0, 0], dirs[f, 0, 1], dirs[f, 0, 2] = 0.0, 0.0, 1.0
+        dirs[f, 1, 0], dirs[f, 1, 1], dirs[f, 1, 2] = ux, uy, 0.0
+        dirs[f, 2, 0], dirs[f, 2, 1], dirs[f, 2, 2] = -uy, ux, 0.0
+        # the contact site in the body's frame: R^T (point - xpos)
+        dx, dy, dz = qx - xpos[b, 0], qy - xpos[b, 1], qz - xpos[b, 2]
+        s = sites[f]
+        site_pos[s, 0] = xmat[b, 0] * dx + xmat[b, 3] * dy + xmat[b, 6] * dz
+        site_pos[s, 1] = xmat[b, 1] * dx + xmat[b, 4] * dy + xmat[b, 7] * dz
+        site_pos[s, 2] = xmat[b, 2] * dx + xmat[b, 5] * dy + xmat[b, 7 + 1] * dz

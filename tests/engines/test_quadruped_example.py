@@ -1,0 +1,38 @@
+"""examples/quadruped_in_mud.py at a small size: the trotting quadruped sinks a plausible amount and does not skate."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("mujoco")
+
+PATH = Path(__file__).resolve().parents[2] / "examples" / "quadruped_in_mud.py"
+
+
+@pytest.fixture(scope="module")
+def example():  # type: ignore[no-untyped-def]
+    spec = importlib.util.spec_from_file_location("quadruped_in_mud", PATH)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["quadruped_in_mud"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_quadruped_sinks_plausibly_and_slips_less_than_on_a_frictionless_floor(example) -> None:  # type: ignore[no-untyped-def]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # toes at the rigid ground's edge touch its side
+        mud = example.run(1.5, resolution=0.01, start=0.3)  # all four toes in the dry mud
+    skate = example.run(1.5, frictionless=True, start=0.3)
+    dry = mud.region == 0
+    deepest = float(np.nanmax(np.where(dry, mud.sinkage, np.nan)))
+    assert 0.003 < deepest < 0.05  # a 11.6 kg robot on 50 mm toes in 15 % mud: a few cm at most
+    slip = float(np.sum(mud.slip_speed * dry))
+    assert slip < 0.5 * float(np.sum(skate.slip_speed))
+    assert np.sum(mud.power) > 0.0  # the mud takes energy
