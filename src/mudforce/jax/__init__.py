@@ -33,16 +33,21 @@ Every foot computes every branch and ``jnp.where`` picks (array form);
 guards keep the branches not taken free of NaN, also in gradients (the
 "double where").
 
-The physics is the shared layer's, :mod:`mudforce.model.equations`, the one that
-the CPU stepper and the dynamics call: its plain-arithmetic functions run
-here on jax arrays as numba's ``.py_func`` (the branch stresses, Eqs. (2),
-(3), (7), (8), summed by ``total_stress``; the drag, Eq. (5); the yield
-strain and the mud's motion at and after necking, Eqs. (9), (7); the rest
-band). Three functions of the model are not plain arithmetic (numba's own
+The physics is the shared layer's, :mod:`mudforce.model.equations`, the one
+that the CPU stepper and the dynamics call: its plain-arithmetic functions
+run here on jax arrays (``equations.array_form``, numba's ``.py_func``): the
+branch stresses, Eqs. (2), (3), (7), (8), summed by ``total_stress``; the
+drag, Eq. (5); the yield strain, the necking test and the mud's motion at
+and after necking, Eqs. (9), (7); the rest band's forces and its blend over
+a step. Three functions of the model are not plain arithmetic (numba's own
 ``pow``; ``math`` calls and branches) and have JAX-native versions here
-under the same names, built on the shared arithmetic where they can be:
-:func:`nonlinear_spring_stress` (Eq. (4)), :func:`neck_filter_response`
-(Eq. (7)) and :func:`necking_time` (Eq. (9)).
+under the same names: :func:`nonlinear_spring_stress` (Eq. (4)),
+:func:`neck_filter_response` (Eq. (7)) and :func:`necking_time` (Eq. (9)).
+Only their control flow (selects here, branches there) is written again:
+the arithmetic and the thresholds inside are the shared layer's, the
+spring's power excepted. So is the rest band's state rule
+(:func:`rest_band`, :func:`branch_forces`), the array form of
+:mod:`mudforce.engines.dynamics.rest_band`.
 
 Differences from the CPU stepper, all below 1e-12 of the peak force in
 float64 for steps ``dt >= 1e-4`` s (``tests/jax``): the step-length constants (``exp(-dt/tau)``,
