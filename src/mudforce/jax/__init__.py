@@ -305,6 +305,7 @@ def _shared(function: Any) -> Any:
 #: Eq. (5): ``f_s = lambda rho_m v |v|`` [Pa] (:func:`mudforce.model.equations.drag_stress`).
 drag_stress = _shared(_eq.drag_stress)
 _drag_acts = _shared(_eq.drag_acts)  # Eq. (5)'s gate: below the surface, z_i > 0
+_piece_midpoint_depth = _shared(_eq.piece_midpoint_depth)  # where a piece's drag gate is decided
 #: Eq. (3) in closed form, in increment form for float32: ``e(h) = e(0) + (v tau - e(0)) growth`` [m],
 #: ``growth = -expm1(-h / tau)`` (:func:`mudforce.model.equations.maxwell_strain_increment`).
 maxwell_strain_increment = _shared(_eq.maxwell_strain_increment)
@@ -552,7 +553,7 @@ def intrusion_step(strain: Array, v: Array, dt: Array, start: Array, k: StepCons
 
 def _piece_drag(p: Params, z_a: Array, v: Array, length: Array) -> Array:
     """Drag stress [Pa], Eq. (5), over a withdrawal piece from depth ``z_a`` [m]; its midpoint decides if below."""
-    return jnp.where(_drag_acts(z_a + 0.5 * v * length), drag_stress(p.lam, p.rho_m, v), 0.0)
+    return jnp.where(_drag_acts(_piece_midpoint_depth(z_a, v, length)), drag_stress(p.lam, p.rho_m, v), 0.0)
 
 
 class Necking(NamedTuple):

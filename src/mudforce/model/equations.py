@@ -99,6 +99,7 @@ __all__ = [
     "necking_time",
     "necking_velocity",
     "nonlinear_spring_stress",
+    "piece_midpoint_depth",
     "post_necking_force",
     "rest_band_blend",
     "rest_band_forces",
@@ -286,6 +287,27 @@ def submerged_drag_stress(lambda_: float, rho_m: float, velocity: float, depth: 
         Depth ``z_i`` [m] at which the drag is evaluated, positive down.
     """
     return drag_stress(lambda_, rho_m, velocity) if drag_acts(depth) else 0.0
+
+
+@_arithmetic
+def piece_midpoint_depth(depth: float, velocity: float, length: float) -> float:
+    """The depth [m] at the middle of a piece of a step, where the drag's gate is decided (ours).
+
+    A step of the sampled paths is split where the foot crosses the surface,
+    so no piece crosses it and its midpoint ``z_a + v length / 2`` tells
+    whether the drag of Eq. (5) acts over it (:func:`drag_acts`), robustly
+    for a piece that starts or ends on the surface. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    depth : float
+        Depth ``z_a`` [m] at the piece's start, positive down.
+    velocity : float
+        Foot velocity over the piece [m/s].
+    length : float
+        The piece's length [s].
+    """
+    return depth + 0.5 * velocity * length
 
 
 #: Eq. (7)'s response (:func:`neck_filter_response`): below this ``x = w_d t`` (or ``mu t``) ``sin(x) / w_d``
