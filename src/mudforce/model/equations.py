@@ -141,7 +141,7 @@ def _composed(python: Callable[..., Any]) -> Callable[..., Any]:
     if code is None or scope is not globals():
         return python
     calls = {name: array_form(scope[name]) for name in code.co_names
-             if name in scope and callable(getattr(scope[name], "py_func", None))}
+             if getattr(getattr(scope.get(name), "py_func", None), "__module__", None) == __name__}
     if not calls:
         return python
     rebound = types.FunctionType(code, {**scope, **calls}, python.__name__, python.__defaults__, python.__closure__)
