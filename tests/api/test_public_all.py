@@ -129,11 +129,14 @@ PINNED: dict[str, list[str]] = {
     "mudforce.engines.dynamics.rest_band": ["branch_forces", "necked_force", "rest_band"],
     "mudforce.engines.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
     "mudforce.model.equations": [
+        "NECK_FILTER_SERIES_BELOW", "NECK_FILTER_SLOW_MODE_FROM",
         "array_form", "drag_acts", "drag_stress", "intrusion_stress", "maxwell_strain_increment", "maxwell_strain_rate",
         "maxwell_strain_step", "neck_breaks", "neck_filter_closed_form",
-        "neck_filter_response", "neck_filter_response_increment", "neck_filter_transition",
+        "neck_filter_response", "neck_filter_response_increment", "neck_filter_sine_series",
+        "neck_filter_sinh_series", "neck_filter_slow_mode", "neck_filter_transition",
         "neck_filter_transition_increment", "neck_filter_update", "neck_filter_update_increment", "necked_mud_motion",
-        "necked_stress", "necking_time", "necking_velocity", "nonlinear_spring_stress", "rest_band_forces",
+        "necked_stress", "necking_fraction", "necking_time", "necking_velocity", "nonlinear_spring_stress",
+        "piece_midpoint_depth", "post_necking_force", "rest_band_blend", "rest_band_forces",
         "submerged_drag_stress", "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [

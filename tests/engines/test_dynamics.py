@@ -183,3 +183,26 @@ def test_stiffer_withdrawal_branch_can_pump_energy() -> None:
     flights = np.split(-res.depth, np.flatnonzero(np.diff((res.depth < 0).astype(int))) + 1)
     heights = [f.max() for f in flights if f.max() > 0.0]
     assert len(heights) >= 2 and heights[1] > 3.0 * heights[0] > 0.1
+
+
+def test_necked_force_is_summed_as_the_stepper() -> None:
+    """The engine's NECKED force below the surface is the stepper's sample force, bit for bit (one sum order)."""
+    from mudforce._kernel import transitions as T
+    from mudforce.engines.dynamics.engine import A_TN, A_VM0, A_ZN, N_AUX, _mud_force
+    from mudforce.model.equations import neck_filter_response
+
+    mud = MudParameters.from_water_content(0.20)
+    row = params_row(mud, Foot.paper(), VelocityFilter.exact())
+    q = K.params_of(row)
+    aux = np.zeros(N_AUX)
+    aux[A_TN], aux[A_VM0], aux[A_ZN] = 0.1, -0.0213, 0.0047
+    age = 0.0137
+    g, gi = neck_filter_response(age, q.zeta, q.omega_0)
+    old_order_differs = False
+    for z, v in ((0.011, -0.31), (0.023, -0.77), (0.0031, -1.9), (0.017, -0.05)):
+        got = _mud_force(int(Phase.NECKED), 0.1 + age, z, v, 0.0, row, aux, 0.0)
+        s = K.State(1.0, int(K.ContactMode.NECKED), 0.0, z, 0.0, age, aux[A_VM0], aux[A_ZN], -1.0, v, g, gi, 0.0)
+        ref, fe1, _, fs, _ = T.sample_outputs.py_func(q, s, v)
+        assert got == ref
+        old_order_differs |= q.area * fe1 + q.area * fs != ref  # the engine's own sum before it shared the stepper's
+    assert old_order_differs  # so the test tells the two orders apart

@@ -245,3 +245,86 @@ def test_necking_time_cases_cover_all_outcomes() -> None:
     tau = W25.b_m_w / W25.k_m_w
     outcomes = {np.sign(_necking_root(e0, v, tau, W25.k_m_w, d, W25.sigma_y, n)) for e0, v, d, n in NECK_CASES}
     assert outcomes == {-1.0, 0.0, 1.0}  # no neck, neck at the start, neck inside
+
+
+# --------------------------------------------------------------------- the shared pieces (every path calls them)
+def test_shared_pieces_run_on_arrays_as_compiled() -> None:
+    """array_form(f) on arrays = the compiled f per element, bit for bit, also when f calls others of the module."""
+    from mudforce.model import equations as eq
+
+    rng = np.random.default_rng(3)
+    a, b, c, d, e, f = rng.uniform(0.1, 2.0, (6, 8))
+    cases = [
+        (eq.neck_filter_sine_series, (a, b * 1e-6)),
+        (eq.neck_filter_sinh_series, (a, b * 1e-6)),
+        (eq.neck_filter_slow_mode, (a, b, c + 2.0)),
+        (eq.necking_fraction, (-a * 1e-3, -b, c, -d * 2e-3)),
+        (eq.rest_band_blend, (a / 2.0, b, c)),
+        (eq.piece_midpoint_depth, (a - 1.0, -b, c * 1e-3)),
+        (eq.post_necking_force, (a, b, c, d, e, f)),  # calls necked_mud_motion and necked_stress
+    ]
+    for fn, args in cases:
+        whole = np.asarray(eq.array_form(fn)(*args))
+        each = np.array([fn(*(float(x[i]) for x in args)) for i in range(8)]).T
+        np.testing.assert_array_equal(whole, each, err_msg=fn.__name__)
+
+
+def test_post_necking_force_is_the_damper_and_continuous_at_necking() -> None:
+    """Eq. (7): S b_m_w v_m0 g and z_n + v_m0 G; at necking (g = 1, G = 0) the withdrawal force S k_m_w e."""
+    from mudforce.model.equations import necking_velocity, post_necking_force
+
+    area, e, z_n = 0.051 * 0.038, -3e-3, 0.012
+    tau_w = W25.b_m_w / W25.k_m_w
+    v_m0 = necking_velocity(e, tau_w)
+    force, mud = post_necking_force(area, W25.b_m_w, v_m0, z_n, 1.0, 0.0)
+    assert force == pytest.approx(area * W25.k_m_w * e, rel=1e-14) and mud == z_n
+    g, big_g = neck_filter_response(0.02, W25.zeta, W25.omega_0)
+    force, mud = post_necking_force(area, W25.b_m_w, v_m0, z_n, g, big_g)
+    assert force == pytest.approx(area * W25.b_m_w * v_m0 * g, rel=1e-15)
+    assert mud == pytest.approx(z_n + v_m0 * big_g, rel=1e-15)
+
+
+def test_rest_band_blend_weights_the_step_ends() -> None:
+    from mudforce.model.equations import rest_band_blend
+
+    assert rest_band_blend(0.0, 3.0, 7.0) == 3.0 and rest_band_blend(1.0, 3.0, 7.0) == 7.0
+    assert rest_band_blend(0.25, 3.0, 7.0) == 4.0
+
+
+@pytest.mark.parametrize(("e0", "v", "drag"),
+                         [(-4.0e-3, -0.01, -0.0024), (2.0e-3, -0.04, -0.038), (-4.9e-3, -0.01, -0.0024)])
+def test_necking_fraction_puts_the_strain_on_the_yield_surface(e0: float, v: float, drag: float) -> None:
+    """Eq. (3)'s closed form at t* = -tau_w log1p(fraction) is the yield strain of Eq. (9)."""
+    from mudforce.model.equations import necking_fraction, yield_strain
+
+    tau = W25.b_m_w / W25.k_m_w
+    target = yield_strain(W25.k_m_w, W25.sigma_y, drag)
+    t_star = -tau * math.log1p(necking_fraction(e0, v, tau, target))
+    assert t_star > 0.0
+    assert maxwell_strain_step(e0, v, tau, math.exp(-t_star / tau)) == pytest.approx(target, rel=1e-12)
+
+
+def test_neck_filter_thresholds_join_its_forms() -> None:
+    """Eq. (7)'s response on both sides of its named thresholds: the series and the slow mode are its limits."""
+    from mudforce.model.equations import (
+        NECK_FILTER_SERIES_BELOW,
+        NECK_FILTER_SLOW_MODE_FROM,
+        neck_filter_sine_series,
+        neck_filter_sinh_series,
+        neck_filter_slow_mode,
+    )
+
+    x = NECK_FILTER_SERIES_BELOW
+    assert neck_filter_sine_series(2.0, x) == pytest.approx(2.0 * math.sin(x) / x, rel=1e-15)
+    assert neck_filter_sinh_series(2.0, x) == pytest.approx(2.0 * math.sinh(x) / x, rel=1e-15)
+    zeta, omega = 3.0, 10.0
+    mu = omega * math.sqrt(zeta * zeta - 1.0)
+    a = zeta * omega
+    for y in (0.5 * NECK_FILTER_SLOW_MODE_FROM, 0.9 * NECK_FILTER_SLOW_MODE_FROM):  # both modes, by cosh and sinh
+        t = y / mu
+        full = (math.exp(-a * t) * (math.cosh(y) - a * math.sinh(y) / mu), math.exp(-a * t) * math.sinh(y) / mu)
+        slow = neck_filter_slow_mode(0.5 * math.exp((mu - a) * t), a, mu)
+        assert_allclose(slow, full, rtol=1e-9 if y < 20.0 else 1e-12)
+    for y in (NECK_FILTER_SLOW_MODE_FROM * (1.0 - 1e-9), NECK_FILTER_SLOW_MODE_FROM * (1.0 + 1e-9)):
+        assert_allclose(neck_filter_response(y / mu, zeta, omega),
+                        neck_filter_slow_mode(0.5 * math.exp((mu - a) * y / mu), a, mu), rtol=1e-12)

@@ -59,6 +59,7 @@ from mudforce.model.equations import (
     necking_time,
     necking_velocity,
     nonlinear_spring_stress,
+    piece_midpoint_depth,
     submerged_drag_stress,
     total_stress,
     withdrawal_stress,
@@ -297,9 +298,10 @@ def piece_drag(p: Params, z_a: float, v: float, length: float) -> float:
     """Drag stress [Pa], Eq. (5), over a withdrawal piece of ``length`` [s] from depth ``z_a`` [m] at ``v`` [m/s].
 
     The drag acts while the foot is below the surface; a piece does not
-    cross it, so its midpoint decides.
+    cross it, so its midpoint decides
+    (:func:`mudforce.model.equations.piece_midpoint_depth`).
     """
-    return submerged_drag_stress(p.lam, p.rho_m, v, z_a + 0.5 * v * length)
+    return submerged_drag_stress(p.lam, p.rho_m, v, piece_midpoint_depth(z_a, v, length))
 
 
 @_compiled(inline="always")

@@ -33,16 +33,21 @@ Every foot computes every branch and ``jnp.where`` picks (array form);
 guards keep the branches not taken free of NaN, also in gradients (the
 "double where").
 
-The physics is the shared layer's, :mod:`mudforce.model.equations`, the one that
-the CPU stepper and the dynamics call: its plain-arithmetic functions run
-here on jax arrays as numba's ``.py_func`` (the branch stresses, Eqs. (2),
-(3), (7), (8), summed by ``total_stress``; the drag, Eq. (5); the yield
-strain and the mud's motion at and after necking, Eqs. (9), (7); the rest
-band). Three functions of the model are not plain arithmetic (numba's own
+The physics is the shared layer's, :mod:`mudforce.model.equations`, the one
+that the CPU stepper and the dynamics call: its plain-arithmetic functions
+run here on jax arrays (``equations.array_form``, numba's ``.py_func``): the
+branch stresses, Eqs. (2), (3), (7), (8), summed by ``total_stress``; the
+drag, Eq. (5); the yield strain, the necking test and the mud's motion at
+and after necking, Eqs. (9), (7); the rest band's forces and its blend over
+a step. Three functions of the model are not plain arithmetic (numba's own
 ``pow``; ``math`` calls and branches) and have JAX-native versions here
-under the same names, built on the shared arithmetic where they can be:
-:func:`nonlinear_spring_stress` (Eq. (4)), :func:`neck_filter_response`
-(Eq. (7)) and :func:`necking_time` (Eq. (9)).
+under the same names: :func:`nonlinear_spring_stress` (Eq. (4)),
+:func:`neck_filter_response` (Eq. (7)) and :func:`necking_time` (Eq. (9)).
+Only their control flow (selects here, branches there) is written again:
+the arithmetic and the thresholds inside are the shared layer's, the
+spring's power excepted. So is the rest band's state rule
+(:func:`rest_band`, :func:`branch_forces`), the array form of
+:mod:`mudforce.engines.dynamics.rest_band`.
 
 Differences from the CPU stepper, all below 1e-12 of the peak force in
 float64 for steps ``dt >= 1e-4`` s (``tests/jax``): the step-length constants (``exp(-dt/tau)``,
@@ -300,6 +305,7 @@ def _shared(function: Any) -> Any:
 #: Eq. (5): ``f_s = lambda rho_m v |v|`` [Pa] (:func:`mudforce.model.equations.drag_stress`).
 drag_stress = _shared(_eq.drag_stress)
 _drag_acts = _shared(_eq.drag_acts)  # Eq. (5)'s gate: below the surface, z_i > 0
+_piece_midpoint_depth = _shared(_eq.piece_midpoint_depth)  # where a piece's drag gate is decided
 #: Eq. (3) in closed form, in increment form for float32: ``e(h) = e(0) + (v tau - e(0)) growth`` [m],
 #: ``growth = -expm1(-h / tau)`` (:func:`mudforce.model.equations.maxwell_strain_increment`).
 maxwell_strain_increment = _shared(_eq.maxwell_strain_increment)
@@ -315,6 +321,15 @@ _neck_filter_response_increment = _shared(_eq.neck_filter_response_increment)  #
 _neck_filter_transition_increment = _shared(_eq.neck_filter_transition_increment)  # Eq. (7): Phi - I
 _neck_filter_update_increment = _shared(_eq.neck_filter_update_increment)  # Eq. (7): x + (Phi - I) x
 _rest_band_forces = _shared(_eq.rest_band_forces)  # Eqs. (1)-(5) at rest: (S k_m_w e, S (k_m_i e + f_e2))
+_post_necking_force = _shared(_eq.post_necking_force)  # Eq. (7) at rest: (S b_m_w v_m0 g, z_n + v_m0 G)
+_rest_band_blend = _shared(_eq.rest_band_blend)  # the band for a step: (1 - w) F(start) + w F(end)
+_neck_breaks = _shared(_eq.neck_breaks)  # Eq. (9): k_m_w e + f_s < -sigma_y, the necking test
+_necking_fraction = _shared(_eq.necking_fraction)  # Eq. (9): t* = -tau_w log1p(this)
+_neck_filter_sine_series = _shared(_eq.neck_filter_sine_series)  # Eq. (7): sin(x)/w_d near x = 0
+_neck_filter_sinh_series = _shared(_eq.neck_filter_sinh_series)  # Eq. (7): sinh(x)/mu near x = 0
+_neck_filter_slow_mode = _shared(_eq.neck_filter_slow_mode)  # Eq. (7): the overdamped slow mode alone
+_SERIES_BELOW = _eq.NECK_FILTER_SERIES_BELOW  # Eq. (7)'s thresholds, the compiled response's
+_SLOW_MODE_FROM = _eq.NECK_FILTER_SLOW_MODE_FROM
 
 
 def _safe(cond: Array, x: Array, fill: float = 1.0) -> Array:
@@ -348,8 +363,12 @@ def neck_filter_response(age: Array, zeta: Array, omega_0: Array) -> tuple[Array
     branches on the damping regime): here the underdamped, critical and
     overdamped forms are all computed and selected, each guarded so that
     the others' NaN or overflow stays out of the result and its gradient.
-    The arithmetic that combines the elementary functions is the shared
-    :func:`mudforce.model.equations.neck_filter_closed_form`. Returns ``(g, G)``.
+    The arithmetic is the shared layer's, as in the compiled response
+    (:func:`~mudforce.model.equations.neck_filter_closed_form`, the series
+    near ``x = 0`` and the overdamped slow mode), and so are its thresholds
+    (:data:`~mudforce.model.equations.NECK_FILTER_SERIES_BELOW`,
+    :data:`~mudforce.model.equations.NECK_FILTER_SLOW_MODE_FROM`): only the
+    control flow (select, not branch) is this one's. Returns ``(g, G)``.
     """
     a = zeta * omega_0
     decay = jnp.exp(-a * age)
@@ -358,23 +377,22 @@ def neck_filter_response(age: Array, zeta: Array, omega_0: Array) -> tuple[Array
     # underdamped: sin(x)/wd, x = wd age (age sinc(x) near 0)
     wd = omega_0 * jnp.sqrt(_safe(under, 1.0 - zeta * zeta))
     x = wd * age
-    small = x <= 1e-6
-    s_over = jnp.where(small, age * (1.0 - x * x / 6.0), jnp.sin(x) / _safe(~small, wd))
+    small = x <= _SERIES_BELOW
+    s_over = jnp.where(small, _neck_filter_sine_series(age, x), jnp.sin(x) / _safe(~small, wd))
     g_u, i_u = _neck_filter_closed_form(decay, jnp.cos(x), s_over, a)
     # critically damped
     g_c, i_c = _neck_filter_closed_form(decay, 1.0, age, a)
     # overdamped: sinh and cosh overflow long before the product does: past mu age = 30 keep the slow mode
     mu = omega_0 * jnp.sqrt(_safe(over, zeta * zeta - 1.0))
     y = mu * age
-    mid = y < 30.0
+    mid = y < _SLOW_MODE_FROM
     y_mid = _safe(mid, y, 0.0)
-    y_small = y_mid <= 1e-6
-    sh_over = jnp.where(y_small, age * (1.0 + y_mid * y_mid / 6.0), jnp.sinh(y_mid) / _safe(~y_small, mu))
+    y_small = y_mid <= _SERIES_BELOW
+    sh_over = jnp.where(y_small, _neck_filter_sinh_series(age, y_mid), jnp.sinh(y_mid) / _safe(~y_small, mu))
     g_o_mid, i_o_mid = _neck_filter_closed_form(decay, jnp.cosh(y_mid), sh_over, a)
-    # (the slow mode alone, written as the CPU's: slow (1 - a / mu), slow / mu)
-    slow = 0.5 * jnp.exp(_safe(~mid, (mu - a) * age, 0.0))
-    g_o = jnp.where(mid, g_o_mid, slow * (1.0 - a / mu))
-    i_o = jnp.where(mid, i_o_mid, slow / mu)
+    g_o_slow, i_o_slow = _neck_filter_slow_mode(0.5 * jnp.exp(_safe(~mid, (mu - a) * age, 0.0)), a, mu)
+    g_o = jnp.where(mid, g_o_mid, g_o_slow)
+    i_o = jnp.where(mid, i_o_mid, i_o_slow)
     g = jnp.where(under, g_u, jnp.where(over, g_o, g_c))
     gi = jnp.where(under, i_u, jnp.where(over, i_o, i_c))
     return g, gi
@@ -409,7 +427,7 @@ def neck_filter_transition(dt: Array, zeta: Array, omega_0: Array) -> tuple[Arra
     cm1_u = -2.0 * jnp.sin(0.5 * x) ** 2
     mu = omega_0 * jnp.sqrt(_safe(over, zeta * zeta - 1.0))
     y = mu * dt
-    mid = y < 30.0
+    mid = y < _SLOW_MODE_FROM
     y_mid = _safe(mid, y, 0.0)
     cm1_o = 2.0 * jnp.sinh(0.5 * y_mid) ** 2
     cm1 = jnp.where(under, cm1_u, jnp.where(over, cm1_o, 0.0))
@@ -441,8 +459,10 @@ def necking_time(strain: Array, velocity: Array, tau_w: Array, k_m_w: Array, dra
 
     JAX-native version of :func:`mudforce.model.equations.necking_time`, which
     cannot run on jax arrays (branches, ``math.log1p``): the withdrawal
-    stress ``k_m_w e(t) + f_s`` falls below ``-sigma_y`` at
-    ``t* = -tau_w log1p((e* - e(0)) / (e(0) - v tau_w))``,
+    stress ``k_m_w e(t) + f_s`` falls below ``-sigma_y`` (the shared
+    :func:`mudforce.model.equations.neck_breaks`) at
+    ``t* = -tau_w log1p((e* - e(0)) / (e(0) - v tau_w))`` (the shared
+    :func:`mudforce.model.equations.necking_fraction`),
     ``e* = (-sigma_y - f_s) / k_m_w`` (the shared
     :func:`mudforce.model.equations.yield_strain`), clipped to ``[0, length]``;
     the strain at the interval's end is the shared
@@ -452,13 +472,14 @@ def necking_time(strain: Array, velocity: Array, tau_w: Array, k_m_w: Array, dra
     tau_w)`` [-]. The root is differentiable in all of them (the event time
     moves with the parameters).
     """
-    already = k_m_w * strain + drag < -sigma_y
+    already = _neck_breaks(k_m_w, strain, drag, sigma_y)
     end = maxwell_strain_increment(strain, velocity, tau_w, growth)
-    never = k_m_w * end + drag >= -sigma_y
+    never = ~_neck_breaks(k_m_w, end, drag, sigma_y)
     root = ~already & ~never
-    vt = velocity * tau_w
     target = _yield_strain(k_m_w, sigma_y, drag)
-    ratio = (target - strain) / _safe(root, strain - vt)
+    # off the root the fraction's denominator e(0) - v tau_w may be 0: a strain 1 m off keeps it finite
+    e_root = _safe(root, strain, velocity * tau_w + 1.0)
+    ratio = _necking_fraction(e_root, velocity, tau_w, target)
     t = -tau_w * jnp.log1p(_safe(root, jnp.maximum(ratio, -1.0), 0.0))
     t = jnp.clip(t, 0.0, length)
     return jnp.where(already, 0.0, jnp.where(never, -1.0, t))
@@ -532,7 +553,7 @@ def intrusion_step(strain: Array, v: Array, dt: Array, start: Array, k: StepCons
 
 def _piece_drag(p: Params, z_a: Array, v: Array, length: Array) -> Array:
     """Drag stress [Pa], Eq. (5), over a withdrawal piece from depth ``z_a`` [m]; its midpoint decides if below."""
-    return jnp.where(_drag_acts(z_a + 0.5 * v * length), drag_stress(p.lam, p.rho_m, v), 0.0)
+    return jnp.where(_drag_acts(_piece_midpoint_depth(z_a, v, length)), drag_stress(p.lam, p.rho_m, v), 0.0)
 
 
 class Necking(NamedTuple):
@@ -745,7 +766,10 @@ def branch_forces(state: State, params: Params, dt: Array, weight: Array = 1.0) 
     (``F_down`` after moving at ``max(v, 0)`` on the intrusion branch,
     ``F_up`` after ``min(v, 0)`` on the withdrawal branch, ``v`` the last
     step's velocity); ``drag = S lambda rho_m v |v|`` (Eq. (5); 0 above
-    the surface). ``weight = 1`` suits a semi-implicit Euler step. A FREE
+    the surface). The arithmetic is the shared layer's
+    (:func:`mudforce.model.equations.post_necking_force`,
+    :func:`~mudforce.model.equations.rest_band_blend`, Eq. (3)'s step);
+    the control flow is the array form of the CPU's. ``weight = 1`` suits a semi-implicit Euler step. A FREE
     or unstarted foot gets ``(0, 0, 0)`` unless it touches down within the
     step (then the intrusion force at the predicted end, ``z_m = 0`` at the surface).
     """
@@ -772,12 +796,10 @@ def branch_forces(state: State, params: Params, dt: Array, weight: Array = 1.0) 
     z_up = z + v_up * dt
     g0, i0 = neck_filter_response(s.neck_age, p.zeta, p.omega_0)
     g1, i1 = neck_filter_response(s.neck_age + dt, p.zeta, p.omega_0)
-    vm = s.neck_v
-    mv0, zm0 = _necked_mud_motion(vm, s.neck_z, g0, i0)  # Eq. (7) now and at the step's end
-    mv1, zm1 = _necked_mud_motion(vm, s.neck_z, g1, i1)
-    lo0_n, hi0_n = rest_band(p, mode, z, z - zm0, p.area * _necked_stress(p.b_w, mv0)[0])
+    force0, zm0 = _post_necking_force(p.area, p.b_w, s.neck_v, s.neck_z, g0, i0)  # Eq. (7) now and at the end
+    lo1_n, zm1 = _post_necking_force(p.area, p.b_w, s.neck_v, s.neck_z, g1, i1)
+    lo0_n, hi0_n = rest_band(p, mode, z, z - zm0, force0)
     _, hi1_n = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
-    lo1_n = p.area * _necked_stress(p.b_w, mv1)[0]
     tau_i = p.b_i / p.k_i
     tau_w = p.b_w / p.k_w
     e0 = z - mud_depth(s)
@@ -791,8 +813,8 @@ def branch_forces(state: State, params: Params, dt: Array, weight: Array = 1.0) 
     hi0 = jnp.where(necked, hi0_n, hi0_c)
     lo1 = jnp.where(necked, lo1_n, lo1_c)
     hi1 = jnp.where(necked, hi1_n, hi1_c)
-    f_up = (1.0 - weight) * lo0 + weight * lo1
-    f_down = (1.0 - weight) * hi0 + weight * hi1
+    f_up = _rest_band_blend(weight, lo0, lo1)
+    f_down = _rest_band_blend(weight, hi0, hi1)
     drag = jnp.where(_drag_acts(z), p.area * drag_stress(p.lam, p.rho_m, v), 0.0)
     inactive = ~started | free
     return (jnp.where(inactive, jnp.where(started, fu_free, 0.0), f_up),

@@ -44,7 +44,16 @@ import numpy as np
 from numba import njit
 
 from mudforce.errors import InputError, real_array
-from mudforce.model.equations import array_form, drag_acts, drag_stress, maxwell_strain_step
+from mudforce.model.equations import (
+    array_form,
+    drag_acts,
+    drag_stress,
+    intrusion_stress,
+    maxwell_strain_step,
+    submerged_drag_stress,
+    total_stress,
+    withdrawal_stress,
+)
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import TABLE_I
 
@@ -154,7 +163,9 @@ def _maxwell_only_loop(t: np.ndarray, z: np.ndarray, k_i: float, tau_i: float, k
     follows Eq. (3) in closed form on the branch of the step's velocity
     (intrusion for ``v >= 0``); a step that ends on the intrusion branch at
     or above the surface returns to FREE; on the withdrawal branch the mud
-    clings (no yield). Force ``(k e + lambda rho v |v| [z_i > 0]) S``.
+    clings (no yield). Force ``(k e + lambda rho v |v| [z_i > 0]) S``. The
+    equations are the physics layer's (:mod:`mudforce.model.equations`);
+    the loop is this model's own control flow.
     """
     n = t.size
     out = np.zeros(n)
@@ -177,13 +188,12 @@ def _maxwell_only_loop(t: np.ndarray, z: np.ndarray, k_i: float, tau_i: float, k
             if z1 <= 0.0:
                 contact = False  # on the intrusion branch at or above the surface
                 continue
-            stress = k_i * strain
+            fe1, _ = intrusion_stress(k_i, tau_i, strain)
         else:
             strain = maxwell_strain_step(strain, v, tau_w, math.exp(-(dt - start) / tau_w))
-            stress = k_w * strain
-        if drag_acts(z1):
-            stress += drag_stress(lam, rho_m, v)
-        out[k] = stress * area
+            fe1, _ = withdrawal_stress(k_w, tau_w, strain)
+        # no spring (f_e2 = 0): the ablation; the stepper's sum and drag gate
+        out[k] = total_stress(fe1, 0.0, submerged_drag_stress(lam, rho_m, v, z1)) * area
     return out
 
 

@@ -14,13 +14,14 @@ model, change it here.
 
 Plain arithmetic, for other array libraries
 -------------------------------------------
-The functions marked *plain arithmetic* use only ``+ - * /``, ``abs`` and
-tuples: no ``math`` calls, no branches, no calls to other compiled
-functions. Exponentials and the impulse response come in as arguments
+The functions marked *plain arithmetic* use only ``+ - * /``, ``abs``,
+comparisons and tuples: no ``math`` calls, no branches, no calls to
+compiled functions other than this module's plain-arithmetic ones.
+Exponentials and the impulse response come in as arguments
 (``decay = exp(-h / tau)``, ``(g, G)`` of :func:`neck_filter_response`),
 computed once by the caller. So the undecorated Python function, numba's
 ``.py_func``, runs them on whole arrays of any library with those
-operators, e.g. ``maxwell_strain_step.py_func(e, v, tau, decay)`` on JAX
+operators, e.g. ``array_form(maxwell_strain_step)(e, v, tau, decay)`` on JAX
 arrays, giving the compiled stepper's arithmetic, operation for operation.
 They are compiled ``inline="always"`` with numba's IEEE division
 (``error_model="numpy"``), so in the stepper they cost what the expression
@@ -34,10 +35,22 @@ forms of the stepper's, equal in exact arithmetic, that keep their
 digits in float32: :func:`maxwell_strain_increment`,
 :func:`neck_filter_response_increment`,
 :func:`neck_filter_transition_increment`,
-:func:`neck_filter_update_increment`, and :func:`neck_filter_closed_form`
-(the arithmetic of :func:`neck_filter_response`). The JAX step
+:func:`neck_filter_update_increment`. The JAX step
 (:mod:`mudforce.jax`) calls them; the compiled stepper keeps its own
 forms, whose bits the tests pin.
+
+Functions that are not plain arithmetic (``math`` calls, branches:
+:func:`neck_filter_response`, :func:`necking_time`,
+:func:`nonlinear_spring_stress`) are scalar control flow around plain
+arithmetic of this module (:func:`neck_filter_closed_form`,
+:func:`necking_fraction`, :func:`neck_breaks`, ...) and its named
+thresholds (:data:`NECK_FILTER_SERIES_BELOW`,
+:data:`NECK_FILTER_SLOW_MODE_FROM`); the JAX step writes the same
+control flow on arrays around the same arithmetic. Only the control flow
+is written twice.
+
+A plain-arithmetic function may call others of this module: their
+Python forms are then called in turn (:func:`array_form`).
 
 Sign conventions (docs/model.md): depth ``z_i`` is positive downward,
 below the undisturbed surface; a positive stress pushes the foot up
@@ -46,7 +59,9 @@ below the undisturbed surface; a positive stress pushes the foot up
 
 from __future__ import annotations
 
+import functools
 import math
+import types
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -58,6 +73,8 @@ from mudforce._plumbing.pow import power
 _cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._plumbing.cache)
 
 __all__ = [
+    "NECK_FILTER_SERIES_BELOW",
+    "NECK_FILTER_SLOW_MODE_FROM",
     "array_form",
     "drag_acts",
     "drag_stress",
@@ -69,15 +86,22 @@ __all__ = [
     "neck_filter_closed_form",
     "neck_filter_response",
     "neck_filter_response_increment",
+    "neck_filter_sine_series",
+    "neck_filter_sinh_series",
+    "neck_filter_slow_mode",
     "neck_filter_transition",
     "neck_filter_transition_increment",
     "neck_filter_update",
     "neck_filter_update_increment",
     "necked_mud_motion",
     "necked_stress",
+    "necking_fraction",
     "necking_time",
     "necking_velocity",
     "nonlinear_spring_stress",
+    "piece_midpoint_depth",
+    "post_necking_force",
+    "rest_band_blend",
     "rest_band_forces",
     "submerged_drag_stress",
     "total_stress",
@@ -101,9 +125,28 @@ def array_form(function: Callable[..., Any]) -> Callable[..., Any]:
 
     The same operations on numpy or JAX arrays as the compiled function on
     scalars (see the module), e.g. ``array_form(drag_stress)(lam, rho, v)``.
+    A plain-arithmetic function that calls others of this module (e.g.
+    :func:`post_necking_force`) calls their array forms in turn: its
+    Python is rebound to them, so that it is written once for both.
     """
     python: Callable[..., Any] = getattr(function, "py_func", function)
-    return python
+    return _composed(python)
+
+
+@functools.cache
+def _composed(python: Callable[..., Any]) -> Callable[..., Any]:
+    """``python`` with the compiled functions of this module that it names replaced by their array forms."""
+    code = getattr(python, "__code__", None)
+    scope: dict[str, Any] = getattr(python, "__globals__", {})
+    if code is None or scope is not globals():
+        return python
+    calls = {name: array_form(scope[name]) for name in code.co_names
+             if getattr(getattr(scope.get(name), "py_func", None), "__module__", None) == __name__}
+    if not calls:
+        return python
+    rebound = types.FunctionType(code, {**scope, **calls}, python.__name__, python.__defaults__, python.__closure__)
+    rebound.__doc__ = python.__doc__
+    return rebound
 
 
 @njit(cache=True, nogil=True)
@@ -246,6 +289,35 @@ def submerged_drag_stress(lambda_: float, rho_m: float, velocity: float, depth: 
     return drag_stress(lambda_, rho_m, velocity) if drag_acts(depth) else 0.0
 
 
+@_arithmetic
+def piece_midpoint_depth(depth: float, velocity: float, length: float) -> float:
+    """The depth [m] at the middle of a piece of a step, where the drag's gate is decided (ours).
+
+    A step of the sampled paths is split where the foot crosses the surface,
+    so no piece crosses it and its midpoint ``z_a + v length / 2`` tells
+    whether the drag of Eq. (5) acts over it (:func:`drag_acts`), robustly
+    for a piece that starts or ends on the surface. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    depth : float
+        Depth ``z_a`` [m] at the piece's start, positive down.
+    velocity : float
+        Foot velocity over the piece [m/s].
+    length : float
+        The piece's length [s].
+    """
+    return depth + 0.5 * velocity * length
+
+
+#: Eq. (7)'s response (:func:`neck_filter_response`): below this ``x = w_d t`` (or ``mu t``) ``sin(x) / w_d``
+#: (``sinh(x) / mu``) is its series ``t (1 -+ x^2 / 6)`` [-] (ours: the division loses digits as ``x -> 0``).
+NECK_FILTER_SERIES_BELOW = 1e-6
+#: Eq. (7)'s overdamped response: from ``mu t`` this large on, only its slow mode is kept
+#: (:func:`neck_filter_slow_mode`) [-] (ours: ``cosh``, ``sinh`` overflow long before the product does).
+NECK_FILTER_SLOW_MODE_FROM = 30.0
+
+
 @njit(cache=True, nogil=True)
 def neck_filter_response(age: float, zeta: float, omega_0: float) -> tuple[float, float]:
     """Impulse response of the post-necking filter ``G_m(s)``, Eq. (7), and its integral.
@@ -270,25 +342,121 @@ def neck_filter_response(age: float, zeta: float, omega_0: float) -> tuple[float
     G : float
         Normalised mud displacement since necking ``(z_m - z_m(t_n)) / v_m0`` [s].
     """
+    # The scalar control flow (a branch per regime); the JAX step's computes every regime and
+    # selects (mudforce.jax.neck_filter_response). The arithmetic and the thresholds are shared.
     a = zeta * omega_0
     decay = math.exp(-a * age)
     if zeta < 1.0:
         wd = omega_0 * math.sqrt(1.0 - zeta * zeta)
         x = wd * age
         # sin(x)/wd, evaluated as age*sinc(x) near x = 0 (zeta -> 1-)
-        s_over = math.sin(x) / wd if x > 1e-6 else age * (1.0 - x * x / 6.0)
-        return decay * (math.cos(x) - a * s_over), decay * s_over
+        s_over = math.sin(x) / wd if x > NECK_FILTER_SERIES_BELOW else neck_filter_sine_series(age, x)
+        return neck_filter_closed_form(decay, math.cos(x), s_over, a)
     if zeta == 1.0:
-        return decay * (1.0 - a * age), decay * age
+        return neck_filter_closed_form(decay, 1.0, age, a)
     mu = omega_0 * math.sqrt(zeta * zeta - 1.0)
     x = mu * age
-    if x < 30.0:
-        sh_over = math.sinh(x) / mu if x > 1e-6 else age * (1.0 + x * x / 6.0)
-        return decay * (math.cosh(x) - a * sh_over), decay * sh_over
+    if x < NECK_FILTER_SLOW_MODE_FROM:
+        sh_over = math.sinh(x) / mu if x > NECK_FILTER_SERIES_BELOW else neck_filter_sinh_series(age, x)
+        return neck_filter_closed_form(decay, math.cosh(x), sh_over, a)
     # large mu*age: cosh and sinh overflow long before the product does;
     # keep only the slow mode (the fast one is below exp(-60) of it)
-    slow = 0.5 * math.exp((mu - a) * age)
-    return slow * (1.0 - a / mu), slow / mu
+    return neck_filter_slow_mode(0.5 * math.exp((mu - a) * age), a, mu)
+
+
+@_arithmetic
+def neck_filter_sine_series(age: float, x: float) -> float:
+    """``sin(x) / w_d`` [s] near ``x = w_d t = 0``: ``t (1 - x^2 / 6)``, Eq. (7)'s underdamped response (ours).
+
+    Used below :data:`NECK_FILTER_SERIES_BELOW`. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    age : float
+        Time since necking ``t`` [s].
+    x : float
+        ``w_d t`` [-], ``w_d = omega_0 sqrt(1 - zeta^2)``.
+    """
+    return age * (1.0 - x * x / 6.0)
+
+
+@_arithmetic
+def neck_filter_sinh_series(age: float, x: float) -> float:
+    """``sinh(x) / mu`` [s] near ``x = mu t = 0``: ``t (1 + x^2 / 6)``, Eq. (7)'s overdamped response (ours).
+
+    Used below :data:`NECK_FILTER_SERIES_BELOW`. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    age : float
+        Time since necking ``t`` [s].
+    x : float
+        ``mu t`` [-], ``mu = omega_0 sqrt(zeta^2 - 1)``.
+    """
+    return age * (1.0 + x * x / 6.0)
+
+
+@_arithmetic
+def neck_filter_slow_mode(slow: float, rate: float, mu: float) -> tuple[float, float]:
+    """Eq. (7)'s overdamped response ``(g, G)`` by its slow mode alone (ours), past :data:`NECK_FILTER_SLOW_MODE_FROM`.
+
+    ``g = slow (1 - a / mu)``, ``G = slow / mu`` with ``slow = exp((mu - a) t) / 2``: the fast mode is below
+    ``exp(-60)`` of it there. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    slow : float
+        ``exp((mu - a) t) / 2`` [-].
+    rate : float
+        ``a = zeta omega_0`` [1/s].
+    mu : float
+        ``omega_0 sqrt(zeta^2 - 1)`` [1/s].
+
+    Returns
+    -------
+    g : float
+        [-].
+    G : float
+        [s].
+    """
+    return slow * (1.0 - rate / mu), slow / mu
+
+
+@_arithmetic
+def neck_filter_closed_form(decay: float, c: float, s_over: float, rate: float) -> tuple[float, float]:
+    """Eq. (7)'s impulse response ``g`` and its integral ``G`` from the elementary functions of the age.
+
+    With ``a = zeta omega_0`` (``rate``) the response of
+    :func:`neck_filter_response` at age ``t`` is, in each damping regime,
+    ``g = exp(-a t) (c - a s)``, ``G = exp(-a t) s`` with
+    ``(c, s) = (cos x, sin(x) / w_d)`` (``x = w_d t``, underdamped),
+    ``(1, t)`` (critical) or ``(cosh y, sinh(y) / mu)`` (``y = mu t``,
+    overdamped). This is the arithmetic that combines them, the same
+    operations as :func:`neck_filter_response`'s; the caller computes
+    ``decay = exp(-a t)``, ``c`` and ``s``. Both responses call it: the
+    compiled :func:`neck_filter_response` (a branch per regime) and the
+    JAX step's (:func:`mudforce.jax.neck_filter_response`, which computes
+    every regime and selects). Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    decay : float
+        ``exp(-zeta omega_0 t)`` [-].
+    c : float
+        ``cos x``, ``1`` or ``cosh y`` [-].
+    s_over : float
+        ``sin(x) / w_d``, ``t`` or ``sinh(y) / mu`` [s].
+    rate : float
+        ``a = zeta omega_0`` [1/s].
+
+    Returns
+    -------
+    g : float
+        ``g(t)`` [-].
+    G : float
+        ``G(t)`` [s].
+    """
+    return decay * (c - rate * s_over), decay * s_over
 
 
 @njit(cache=True, nogil=True)
@@ -342,14 +510,34 @@ def necking_time(
     end = maxwell_strain_step(strain, velocity, tau_w, decay)
     if not neck_breaks(k_m_w, end, drag, sigma_y):
         return -1.0
-    vt = velocity * tau_w
     target = yield_strain(k_m_w, sigma_y, drag)
-    t = -tau_w * math.log1p((target - strain) / (strain - vt))
+    t = -tau_w * math.log1p(necking_fraction(strain, velocity, tau_w, target))
     if t < 0.0:
         return 0.0
     if t > length:
         return length
     return t
+
+
+@_arithmetic
+def necking_fraction(strain: float, velocity: float, tau_w: float, target: float) -> float:
+    """``(e* - e(0)) / (e(0) - v tau_w)`` [-]: the necking instant is ``t* = -tau_w log1p(this)``, Eq. (9).
+
+    From :func:`maxwell_strain_step`'s ``e(t) = v tau_w + (e(0) - v tau_w) exp(-t / tau_w)`` set to
+    ``e* =`` :func:`yield_strain`. Plain arithmetic (see the module); :func:`necking_time` clips the root.
+
+    Parameters
+    ----------
+    strain : float
+        ``e(0) = z_i - z_m`` at the interval's start [m].
+    velocity : float
+        Foot velocity over the interval [m/s].
+    tau_w : float
+        ``b_m_w / k_m_w`` [s].
+    target : float
+        The yield strain ``e*`` [m] (:func:`yield_strain`).
+    """
+    return (target - strain) / (strain - velocity * tau_w)
 
 
 @_arithmetic
@@ -595,6 +783,58 @@ def rest_band_forces(strain: float, spring_stress: float, k_m_i: float, k_m_w: f
     return area * k_m_w * strain, area * (k_m_i * strain + spring_stress)
 
 
+@_arithmetic
+def post_necking_force(area: float, b_m_w: float, v_m0: float, z_n: float, g: float, gi: float
+                       ) -> tuple[float, float]:
+    """The post-necking force ``S f_e1`` [N] and the mud's ``z_m`` [m], Eq. (7): a necked foot's ``F_up``.
+
+    ``f_e1 = b_m_w dz_m/dt`` (:func:`necked_stress`) with the mud moving as
+    ``dz_m/dt = v_m0 g``, ``z_m = z_n + v_m0 G`` (:func:`necked_mud_motion`).
+    The rest band's upward limit after necking (:func:`rest_band_forces`);
+    without drag, as at rest. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    area : float
+        Foot contact area ``S`` [m^2].
+    b_m_w : float
+        Withdrawal damping [Pa s/m].
+    v_m0 : float
+        Mud velocity at necking [m/s] (:func:`necking_velocity`).
+    z_n : float
+        ``z_m`` at necking [m].
+    g, gi : float
+        ``g(t - t_n)`` [-] and ``G(t - t_n)`` [s] of :func:`neck_filter_response`.
+
+    Returns
+    -------
+    force : float
+        ``S b_m_w v_m0 g`` [N], positive up.
+    mud : float
+        ``z_m`` [m].
+    """
+    mud_velocity, mud = necked_mud_motion(v_m0, z_n, g, gi)
+    return area * necked_stress(b_m_w, mud_velocity)[0], mud
+
+
+@_arithmetic
+def rest_band_blend(weight: float, at_start: float, at_end: float) -> float:
+    """A bound of the rest band for a coming time step [N]: ``(1 - weight) F(start) + weight F(end)`` (ours).
+
+    ``F(end)`` is the bound after a trial step on its own branch (docs/model.md,
+    "Coupled with dynamics"); ``weight = 0`` is explicit (the band lags a
+    step), ``1`` suits a semi-implicit Euler step. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    weight : float
+        Weight of the step's predicted end [-], in ``[0, 1]``.
+    at_start, at_end : float
+        The bound (``F_up`` or ``F_down``) at the step's start and at its predicted end [N].
+    """
+    return (1.0 - weight) * at_start + weight * at_end
+
+
 # ----------------------------------------------------------------------------- forms for float32 (the JAX step)
 # Plain-arithmetic forms of Eqs. (3) and (7) that hold their digits in float32. The
 # compiled CPU stepper keeps its own forms above (its bits must not move); the JAX step
@@ -632,44 +872,6 @@ def maxwell_strain_increment(strain: float, velocity: float, tau: float, growth:
         ``e(h)`` [m].
     """
     return strain + (velocity * tau - strain) * growth
-
-
-@_arithmetic
-def neck_filter_closed_form(decay: float, c: float, s_over: float, rate: float) -> tuple[float, float]:
-    """Eq. (7)'s impulse response ``g`` and its integral ``G`` from the elementary functions of the age.
-
-    With ``a = zeta omega_0`` (``rate``) the response of
-    :func:`neck_filter_response` at age ``t`` is, in each damping regime,
-    ``g = exp(-a t) (c - a s)``, ``G = exp(-a t) s`` with
-    ``(c, s) = (cos x, sin(x) / w_d)`` (``x = w_d t``, underdamped),
-    ``(1, t)`` (critical) or ``(cosh y, sinh(y) / mu)`` (``y = mu t``,
-    overdamped). This is the arithmetic that combines them, the same
-    operations as :func:`neck_filter_response`'s; the caller computes
-    ``decay = exp(-a t)``, ``c`` and ``s``. Used by the JAX step
-    (:mod:`mudforce.jax`), whose response computes every regime and
-    selects (no branches); the compiled one keeps its own (``math``
-    calls and branches cannot be plain arithmetic). Plain arithmetic
-    (see the module).
-
-    Parameters
-    ----------
-    decay : float
-        ``exp(-zeta omega_0 t)`` [-].
-    c : float
-        ``cos x``, ``1`` or ``cosh y`` [-].
-    s_over : float
-        ``sin(x) / w_d``, ``t`` or ``sinh(y) / mu`` [s].
-    rate : float
-        ``a = zeta omega_0`` [1/s].
-
-    Returns
-    -------
-    g : float
-        ``g(t)`` [-].
-    G : float
-        ``G(t)`` [s].
-    """
-    return decay * (c - rate * s_over), decay * s_over
 
 
 @_arithmetic

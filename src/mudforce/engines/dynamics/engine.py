@@ -10,6 +10,13 @@ through zero), touchdown, necking (Eq. (9)), surface crossing (the drag
 switches off) and the end of sticking is located by bisection to 1e-14 s
 and the phase switched there (:mod:`mudforce.engines.dynamics` explains the method
 and its error). A stuck foot does not move at all: no chatter, no ratcheting.
+
+Every equation and rule is the physics layer's (:mod:`mudforce.model.equations`:
+the branch stresses and their one sum, the Maxwell element as a rate, the
+drag's gate, the necking test and velocity, Eq. (7)'s response; the rest
+band through :mod:`mudforce.engines.dynamics.rest_band`). What is written here
+is this engine's own control flow: the phases, the events and their
+bisection, and the RK4 integration between them.
 """
 
 from __future__ import annotations
@@ -30,6 +37,10 @@ from mudforce.model.equations import (
     intrusion_stress,
     maxwell_strain_rate,
     neck_breaks,
+    neck_filter_response,
+    necked_mud_motion,
+    necked_stress,
+    necking_velocity,
     nonlinear_spring_stress,
     submerged_drag_stress,
     total_stress,
@@ -73,7 +84,10 @@ def _mud_force(phase: int, t: float, z: float, v: float, e: float, p: np.ndarray
                load: float) -> float:
     """Mud force on the foot [N], positive up, in each phase (STUCK: the reaction ``load``).
 
-    The branch stresses and their sum are the equations' (:func:`mudforce.model.equations.total_stress`).
+    The branch stresses and their sum are the equations', as in the stepper
+    (:func:`mudforce._kernel.sample_outputs`): the branch's ``f_e1`` (Eqs. (2), (7)), the spring
+    on the intrusion branch (Eq. (4)), the drag below the surface (Eq. (5)), summed by
+    :func:`mudforce.model.equations.total_stress` and times the area.
     """
     q = params_from_row(p)
     area = q.area
@@ -85,8 +99,9 @@ def _mud_force(phase: int, t: float, z: float, v: float, e: float, p: np.ndarray
         fe1, _ = withdrawal_stress(q.k_w, q.tau_w, e)
         return float(area * total_stress(fe1, 0.0, fs))
     if phase == Phase.NECKED:
-        f_neck, _ = _neck(p, aux, t)
-        return float(f_neck + area * fs)
+        g, g_int = neck_filter_response(t - aux[A_TN], q.zeta, q.omega_0)
+        fe1, _ = necked_stress(q.b_w, necked_mud_motion(aux[A_VM0], aux[A_ZN], g, g_int)[0])
+        return float(area * total_stress(fe1, 0.0, fs))
     if phase == Phase.STUCK:
         return load
     return 0.0
@@ -231,7 +246,7 @@ def _apply_event(code: int, phase: Phase, t: float, y: np.ndarray, p: np.ndarray
         return _decide_at_rest(t, y, p, aux, mg, tp, fp, phase == Phase.NECKED)
     if code == 3:  # necking inside the step, Eq. (9): v_m0 = dz_m/dt = e / tau_w
         aux[A_TN] = t
-        aux[A_VM0] = y[2] / params_from_row(p).tau_w
+        aux[A_VM0] = necking_velocity(y[2], params_from_row(p).tau_w)
         aux[A_ZN] = y[0] - y[2]
         return Phase.NECKED
     return phase  # a surface crossing only restarts the step (the drag switches there)

@@ -7,7 +7,13 @@ withdrawal-branch force ``F_up`` and the intrusion-branch force ``F_down``
 surface, the post-necking force of Eq. (7) after necking) for one foot;
 :func:`branch_forces` gives every foot of a batch its band for the coming
 time step, which is what a time-stepping simulator (the MuJoCo adapter)
-needs. The built-in engine (:mod:`mudforce.engines.dynamics.engine`) calls
+needs. The band's arithmetic is the physics layer's
+(:func:`~mudforce.model.equations.rest_band_forces`,
+:func:`~mudforce.model.equations.post_necking_force`,
+:func:`~mudforce.model.equations.rest_band_blend`); only the control flow
+(which bound applies in which state) is written here, scalar, and again
+on arrays in :func:`mudforce.jax.rest_band` and :func:`mudforce.jax.branch_forces`.
+The built-in engine (:mod:`mudforce.engines.dynamics.engine`) calls
 :func:`rest_band` at each instant it decides whether a foot at rest sticks.
 """
 
@@ -22,9 +28,9 @@ from mudforce._kernel import ContactMode, load_cache, load_state, params_from_ro
 from mudforce.model.equations import (
     maxwell_strain_step,
     neck_filter_response,
-    necked_mud_motion,
-    necked_stress,
     nonlinear_spring_stress,
+    post_necking_force,
+    rest_band_blend,
     rest_band_forces,
     submerged_drag_stress,
 )
@@ -36,8 +42,8 @@ __all__ = ["branch_forces", "necked_force", "rest_band"]
 def necked_force(p: np.ndarray, v_m0: float, z_n: float, age: float) -> tuple[float, float]:
     """The post-necking force [N] and the mud's position ``z_m`` [m] at ``age`` [s] after necking, Eq. (7).
 
-    ``S f_e1`` with ``f_e1 = b_m_w dz_m/dt`` (:func:`mudforce.model.equations.necked_stress`), the mud moving
-    as ``dz_m/dt = v_m0 g``, ``z_m = z_n + v_m0 G`` (:func:`mudforce.model.equations.necked_mud_motion`).
+    :func:`mudforce.model.equations.post_necking_force` (``S b_m_w dz_m/dt``, ``dz_m/dt = v_m0 g``,
+    ``z_m = z_n + v_m0 G``) at the response of :func:`mudforce.model.equations.neck_filter_response`.
 
     Parameters
     ----------
@@ -52,8 +58,8 @@ def necked_force(p: np.ndarray, v_m0: float, z_n: float, age: float) -> tuple[fl
     """
     q = params_from_row(p)
     g, g_int = neck_filter_response(age, q.zeta, q.omega_0)
-    mud_velocity, mud = necked_mud_motion(v_m0, z_n, g, g_int)
-    return q.area * necked_stress(q.b_w, mud_velocity)[0], mud
+    force, mud = post_necking_force(q.area, q.b_w, v_m0, z_n, g, g_int)
+    return force, mud
 
 
 @njit(cache=True, nogil=True)
@@ -165,6 +171,6 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
             e_up = maxwell_strain_step(e0, v_up, tau_w, decay_w)
             _, hi1 = rest_band(p, mode, z_dn, e_dn, 0.0)
             lo1, _ = rest_band(p, mode, z_up, e_up, 0.0)
-        f_up[j] = (1.0 - weight) * lo0 + weight * lo1
-        f_down[j] = (1.0 - weight) * hi0 + weight * hi1
+        f_up[j] = rest_band_blend(weight, lo0, lo1)
+        f_down[j] = rest_band_blend(weight, hi0, hi1)
         drag[j] = area * submerged_drag_stress(q.lam, q.rho_m, v, z)
