@@ -178,3 +178,19 @@ def test_estimate_invariants_on_any_finite_input(samples: list[tuple[float, floa
         assert math.isfinite(e.force_predicted) and math.isfinite(e.bias) and e.noise > 0.0
     p = tracker.posterior
     assert p.sum() == pytest.approx(1.0) and np.all(p >= 0.0)
+
+
+def test_gain_uncertainty_spans_each_gain_and_lag_allowance_is_checked() -> None:
+    """A 5 % gain error cannot be told from stiffer mud (issue 23): the interval covers the truth either way,
+    and is wider than the one-gain posterior's."""
+    w = walk(0.25, seed=3, duration=8.0, force_noise=0.2, bias=0.5)
+    one = track(w.time, w.depth, w.force * 1.05, force_gain_uncertainty=0.0)
+    for gain in (0.95, 1.05):
+        r = track(w.time, w.depth, w.force * gain)
+        assert r.low[-1] <= 0.25 <= r.high[-1]
+    wide = track(w.time, w.depth, w.force * 1.05, force_gain_uncertainty=0.2)
+    assert wide.high[-1] - wide.low[-1] > one.high[-1] - one.low[-1]
+    for bad in ({"force_gain_uncertainty": 0.6}, {"force_gain_uncertainty": -0.1}, {"force_lag": -1.0},
+                {"force_lag": float("nan")}):
+        with pytest.raises(InputError, match=next(iter(bad))):
+            MudTracker(**bad)

@@ -13,7 +13,9 @@ Output columns: time_s, water_content, water_content_low,
 water_content_high (the estimate and its 95 % interval, fractions: 0.25 is
 25 %), force_predicted_N (the force the model predicts for the sample,
 offset included), force_N (as measured), changed (1 where a change of mud
-was flagged). Everything is checked before anything is written; the
+was flagged). A force-gain error cannot be told from stiffer mud:
+--force-gain-uncertainty (default 5%) widens the interval by what it does.
+Everything is checked before anything is written; the
 outputs are replaced atomically and never overwrite the input.
 
 example: mudforce track walk.csv --out track.csv --plot track.png
@@ -49,6 +51,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="FILE.csv", required=True, help="write the estimates here (CSV)")
     parser.add_argument("--plot", metavar="FILE.png", default=None,
                         help="also draw force (measured, predicted) and the water content with its band (PNG)")
+    parser.add_argument("--force-gain-uncertainty", default="5%",
+                        help="relative uncertainty of the force sensor's gain (default 5%%, as identify's): a gain "
+                             "error reads as stiffer or softer mud, so the interval spans what each gain would read")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
 
 
@@ -63,6 +68,12 @@ def run(args: argparse.Namespace) -> int:
 
         require("matplotlib", "plot", "--plot")
     foot = parse_foot(args.foot) if args.foot is not None else None
+    from mudforce.io.units import parse_quantity
+
+    text = str(args.force_gain_uncertainty).strip()
+    gain = 0.0 if text in ("0", "0%") else parse_quantity(text, "fraction", name="--force-gain-uncertainty")
+    if not 0.0 <= gain < 0.5:
+        raise InputError(f"--force-gain-uncertainty: {args.force_gain_uncertainty!r} must be in [0%, 50%), e.g. 5%")
 
     from mudforce.io.tables import COLUMN_UNITS, check_time, read_columns
 
@@ -77,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.model.velocity import choose_velocity_filter, describe_velocity_rule
 
     velocity_filter, noise = choose_velocity_filter(time, depth)
-    result = track(time, depth, force, foot, velocity_filter=velocity_filter)
+    result = track(time, depth, force, foot, velocity_filter=velocity_filter, force_gain_uncertainty=gain)
     png: bytes | None = None
     if plot is not None:
         from mudforce.estimation.tracking_plots import plot_track

@@ -66,11 +66,13 @@ from numba import njit
 from mudforce import _kernel as K
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
+from mudforce.estimation.calibration.identify import DEFAULT_FORCE_GAIN_UNCERTAINTY
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
 
 __all__ = [
+    "DEFAULT_FORCE_LAG_ALLOWANCE",
     "DEFAULT_GRID",
     "MudTracker",
     "MudTrackers",
@@ -93,7 +95,8 @@ _A_VAR = 3  # force noise variance estimate [N^2]
 _A_CONTACT = 4  # seconds of contact seen (informative samples)
 _A_ANCHOR = 5  # water content of the last settled estimate [-], NaN before
 _A_HOLD = 6  # seconds of contact left in which the anchor follows the estimate after a flag [s]
-_N_AUX = 7
+_A_PPREV = 7  # the previous sample's predicted model force, offset excluded [N] (the lag allowance)
+_N_AUX = 8
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -117,7 +120,13 @@ _C_FREE_MEMORY = 7
 _C_SETTLE = 8
 _C_MARGIN = 9
 _C_LEVEL = 10
-_N_CFG = 11
+_C_GAIN = 11  # force gain uncertainty g [-]: the models' forces are also weighed at (1 - g) and (1 + g)
+_C_LAG = 12  # force lag allowance [s]: the model's force change over it is added to the likelihood's scale
+_N_CFG = 13
+
+#: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
+#: model by this much is not read as other mud.
+DEFAULT_FORCE_LAG_ALLOWANCE = 0.01
 
 
 def default_velocity_filter(depth_noise: float = 3e-5, dt: float = 0.01) -> VelocityFilter:
@@ -151,7 +160,8 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
     first foot whose sample is not finite (nothing is changed then), else -1.
     """
     n = depths.shape[0]
-    G = L.shape[1]
+    G = P.shape[1]
+    H = L.shape[1] // G  # gain hypotheses
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
@@ -180,6 +190,8 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             if fg != 0.0:
                 free = False
         out[j, _O_PRED] = pred + aux[j, _A_BIAS]
+        if first:
+            aux[j, _A_PPREV] = pred
         if free:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
@@ -204,19 +216,27 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             keep = math.exp(-dt / tau)
             aux[j, _A_CONTACT] += dt
             aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
+            # a sensor lagging by up to cfg[_C_LAG]: the force's change over that time, in quadrature
+            lag2 = (cfg[_C_LAG] * (pred - aux[j, _A_PPREV]) / dt) ** 2
             best = -1e300
-            for g in range(G):
-                fg = forces[base + g]
-                r = f - bias - fg
-                s2 = var + bias_var + floor2 + misfit2 * fg * fg
-                ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
-                v = keep * L[j, g] + ll * weight
-                L[j, g] = v
-                if v > best:
-                    best = v
+            for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
+                gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
+                for g in range(G):
+                    fg = gain * forces[base + g]
+                    r = f - bias - fg
+                    s2 = var + bias_var + floor2 + misfit2 * fg * fg + lag2
+                    ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
+                    v = keep * L[j, h * G + g] + ll * weight
+                    L[j, h * G + g] = v
+                    if v > best:
+                        best = v
+            # the posterior of W, the gain marginalised: a gain error cannot be told from stiffer mud,
+            # so the interval spans what each gain hypothesis would read
             total = 0.0
             for g in range(G):
-                v = math.exp(L[j, g] - best)
+                v = 0.0
+                for h in range(H):
+                    v += math.exp(L[j, h * G + g] - best)
                 P[j, g] = v
                 total += v
             for g in range(G):
@@ -245,6 +265,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_ANCHOR] = out[j, _O_W]
                 aux[j, _A_HOLD] = tau
         out[j, _O_CHANGED] = changed
+        aux[j, _A_PPREV] = pred
     return -1
 
 
@@ -356,6 +377,14 @@ class TrackerState:
             object.__setattr__(self, name, arr)
 
 
+def _non_negative(value: Any, name: str, unit: str) -> float:
+    """``value`` as a finite float >= 0, else a one-line InputError."""
+    x = real_number(value, f"{name} [{unit}]")
+    if not (x >= 0.0 and math.isfinite(x)):
+        raise InputError(f"{name} must be finite and >= 0 [{unit}], got {value!r}")
+    return x
+
+
 def _grid(water_contents: Sequence[float] | None) -> np.ndarray:
     if water_contents is None:
         return np.array(DEFAULT_GRID, dtype=np.float64)
@@ -413,6 +442,18 @@ class MudTrackers:
         Standard deviation [-] of the model's systematic error in water
         content (default 0.0075, three quarters of a point): the fit's posterior is
         blurred by it before the estimate and interval are read (0: none).
+    force_gain_uncertainty : float
+        Relative uncertainty of the force sensor's gain [-], >= 0 (default
+        :data:`~mudforce.estimation.calibration.identify.DEFAULT_FORCE_GAIN_UNCERTAINTY`,
+        5 %, as ``identify``'s): every model is also weighed with its force
+        times ``1 - g`` and ``1 + g``, and the posterior of the water content
+        is summed over the three. A gain error cannot be told from stiffer
+        mud, so the interval widens by the shift it causes (0: one gain).
+    force_lag : float
+        Force lag allowance [s], >= 0 (default :data:`DEFAULT_FORCE_LAG_ALLOWANCE`,
+        10 ms): the predicted force's change over this time is added to the
+        likelihood's scale, so a low-passed or delayed force sensor is not
+        read as other mud (0: none).
 
     Notes
     -----
@@ -435,6 +476,8 @@ class MudTrackers:
         velocity_filter: VelocityFilter | str | None = None,
         level: float = 0.95,
         discrepancy: float = 0.0075,
+        force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
+        force_lag: float = DEFAULT_FORCE_LAG_ALLOWANCE,
     ) -> None:
         self.n = positive_int(n, "the number of feet n")
         if foot is not None and not isinstance(foot, Foot):
@@ -460,6 +503,11 @@ class MudTrackers:
         cfg[_C_SETTLE] = max(0.04, 6.0 * step)  # [-] interval width under which an estimate counts as settled
         cfg[_C_MARGIN] = max(0.01, 2.0 * step)  # [-] how far a settled interval must leave the anchor
         cfg[_C_LEVEL] = level
+        cfg[_C_GAIN] = _non_negative(force_gain_uncertainty, "force_gain_uncertainty", "-")
+        if not cfg[_C_GAIN] < 0.5:
+            raise InputError(f"force_gain_uncertainty must be within [0, 0.5) [-] (0.05 is 5 %), "
+                             f"got {force_gain_uncertainty!r}")
+        cfg[_C_LAG] = _non_negative(force_lag, "force_lag", "s")
         self._cfg = cfg
         G = self.grid.size
         mids = 0.5 * (self.grid[1:] + self.grid[:-1])
@@ -477,7 +525,7 @@ class MudTrackers:
         self._bank = MudContacts(mud * self.n, self.n * G, self.foot, velocity_filter=self.velocity_filter,
                                  threads=1)
         self._zbuf = np.zeros(self.n * G, dtype=np.float64)
-        self._L = np.zeros((self.n, G), dtype=np.float64)
+        self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * G), dtype=np.float64)
         self._P = np.zeros((self.n, G), dtype=np.float64)
         self._aux = np.zeros((self.n, _N_AUX), dtype=np.float64)
         self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)

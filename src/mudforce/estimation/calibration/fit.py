@@ -20,7 +20,13 @@ The fit is staged, as Section III-A of [1] suggests (:data:`CHEN2024.stages
 Parameters are fitted as logarithms inside bounds. Standard errors come
 from the Jacobian at the optimum (central differences):
 ``cov = s^2 (J^T J)^-1`` in log space with ``s^2 = SSR / (n - p)``, mapped to
-SI by the delta method. Directions the data does not constrain (a zero
+SI by the delta method. Where the cost is flatter than that quadratic on
+one side (``b_m_w`` when the data barely sees the withdrawal relaxation,
+e.g. at 50 Hz with an early neck), the standard error is widened to the
+profile likelihood's (the other parameters refitted): ``value +- k se``
+covers the profile interval at ``k = 1, 2, 3``; a side the profile never
+closes within its bound gets a warning naming the parameter (ours, not
+the paper's). Directions the data does not constrain (a zero
 singular value: e.g. ``sigma_y`` when no trial necks) get no standard error
 (``null``) and a warning, rather than a meaningless number.
 
@@ -202,6 +208,81 @@ def _global_search(obj: _Objective, x0: np.ndarray, lo: np.ndarray, hi: np.ndarr
     return np.asarray(sol.x)
 
 
+# ---------------------------------------------------------------------------- profile likelihood
+#: ``profile(column, se_log) -> (standard error [SI], open edge [SI] or None)``
+_Profile = Callable[[int, float], tuple[float, "float | None"]]
+_PROFILE_SCREEN = 0.8  # a cost rise below this share of the quadratic's at +-2 se: profile the parameter
+_PROFILE_RELATIVE = 0.05  # a relative standard error above this: profile the parameter
+_PROFILE_STEPS = (1.0, 2.0, 3.0, 4.5, 6.0, 9.0, 13.0)  # where the profile is evaluated [se_log]
+
+
+def _profiler(obj: _Objective, x: np.ndarray, jac: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+              max_nfev: int) -> _Profile:
+    """The profile-likelihood standard error of each log-parameter (ours; docs/estimation.md).
+
+    The quadratic model of the cost at the optimum predicts a rise of
+    ``k^2 u`` at ``k`` standard errors, ``u = se_log^2 / (J^T J)^+_jj``. A
+    parameter whose relative standard error exceeds ``_PROFILE_RELATIVE``
+    (over 3 of them its logarithm moves far enough for the quadratic to
+    fail), or whose cost rises by less than ``_PROFILE_SCREEN`` of that at
+    +-2 standard errors along the linearised conditional path, is profiled:
+    held at steps of its standard error while the others are refitted, out
+    to where the rise reaches ``9 u`` (3 standard errors). The standard error
+    returned is the largest ``|edge_k - value| / k`` over ``k = 1, 2, 3`` and
+    both sides (in SI units), so ``value +- k se`` covers the profile's
+    ``k``-interval; a side the profile does not close before its bound or
+    last step is returned as the open edge.
+    """
+    c0 = obj.cost(x)
+    inv = np.linalg.pinv(jac.T @ jac)
+
+    def profile(j: int, se_log: float) -> tuple[float, float | None]:
+        unit = se_log**2 / inv[j, j] if inv[j, j] > 0 else 0.0
+        if not unit > 0:
+            return 0.0, None
+        path = inv[:, j] / inv[j, j]
+        rises = [(obj.cost(np.clip(x + t * se_log * path, lo, hi)) - c0) / (t * t * unit) for t in (-2.0, 2.0)]
+        if min(rises) >= _PROFILE_SCREEN and se_log <= _PROFILE_RELATIVE:
+            return 0.0, None
+        others = [i for i in range(x.size) if i != j]
+        value = math.exp(x[j])
+        se, edge = 0.0, None
+        for side in (-1.0, 1.0):
+            reached = 0  # how many of k = 1, 2, 3 the profile has closed on this side
+            last_t, last_rise, far = 0.0, 0.0, math.nan
+            start = x.copy()
+            for t in _PROFILE_STEPS:
+                xj = x[j] + side * t * se_log
+                if not lo[j] < xj < hi[j]:
+                    far = math.exp(hi[j] if side > 0 else lo[j])
+                    break
+                if t == _PROFILE_STEPS[0]:  # the first step along the linearised path, then from the last refit
+                    start = np.clip(x + side * t * se_log * path, lo, hi)
+                sub = _Objective(obj.model, obj.foot, obj.groups, [b.copy() for b in obj.values(x)],
+                                 [obj.slots[i] for i in others], obj.window)
+                for g, i in obj.slots[j]:
+                    sub.base[g][i] = math.exp(xj)
+                fitted = _least_squares(sub, start[others], lo[others], hi[others], max_nfev)
+                start[others] = fitted
+                rise = max(sub.cost(fitted) - c0, 0.0) / unit
+                while reached < 3 and rise >= (reached + 1) ** 2:
+                    k = reached + 1
+                    frac = (k * k - last_rise) / (rise - last_rise) if rise > last_rise else 1.0
+                    tk = last_t + frac * (t - last_t)
+                    se = max(se, abs(math.exp(x[j] + side * tk * se_log) - value) / k)
+                    reached = k
+                last_t, last_rise = t, rise
+                if reached == 3:
+                    break
+            if reached < 3:  # open on this side: the standard error reaches its bound or the last point looked at
+                far = far if math.isfinite(far) else math.exp(x[j] + side * last_t * se_log)
+                se = max(se, abs(far - value) / 3.0)
+                edge = far if edge is None or abs(far - value) > abs(edge - value) else edge
+        return se, edge
+
+    return profile
+
+
 # ---------------------------------------------------------------------------- one condition
 def _resolve_free(model: ForceModel, free: Iterable[str] | None, fixed: Mapping[str, float] | None) -> tuple[str, ...]:
     names = model.parameter_names
@@ -255,7 +336,8 @@ def _rms(r: np.ndarray) -> float:
 
 def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
                     free: Sequence[str], cov: np.ndarray, determined: np.ndarray, free_cols: Sequence[int],
-                    stage_rmse: dict[str, float], spread: np.ndarray | None = None) -> ConditionFit:
+                    stage_rmse: dict[str, float], spread: np.ndarray | None = None,
+                    profile: _Profile | None = None) -> ConditionFit:
     names = model.parameter_names
     params = {n: float(v) for n, v in zip(names, values, strict=True)}
     stderr: dict[str, float | None] = {n: None for n in names}
@@ -275,8 +357,17 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
             continue
         se_log = math.sqrt(max(float(sub[k, k]), 0.0))
         stderr[n] = value * se_log
-        if se_log > POOR_RELATIVE_STDERR:
-            warnings.append(f"{n} is poorly determined: relative standard error {se_log:.0%}")
+        if profile is not None and se_log > 0:
+            widened, edge = profile(col, se_log)
+            stderr[n] = max(value * se_log, widened)
+            if edge is not None:
+                warnings.append(f"{n} is not bounded {'above' if edge > value else 'below'} by this data: the "
+                                f"likelihood stays within 3 standard errors of its best out to {n} = {edge:.4g} "
+                                "(the end of its profile); the standard error is widened to reach it, "
+                                "read it as a range, not a measurement")
+        relative = max(se_log, (stderr[n] or 0.0) / value if value > 0 else 0.0)
+        if relative > POOR_RELATIVE_STDERR:
+            warnings.append(f"{n} is poorly determined: relative standard error {relative:.0%}")
         lo, hi = model.bounds[n]
         if value <= lo * 1.001 or value >= hi * 0.999:
             warnings.append(f"{n} = {value:.4g} is at its bound [{lo:g}, {hi:g}]; its standard error is not reliable")
@@ -395,10 +486,12 @@ def fit_condition(
     starts = np.cumsum([0] + [tr.time.size for tr in prepared])
     groups = [np.append(np.arange(starts[i], starts[i + 1]), n_data + i) for i in range(len(prepared))]
     spread = jackknife_variance(jac, residual, groups)
+    lo, hi = _log_bounds(m, free_names)
+    profile = _profiler(obj, x, jac, lo, hi, max(options.max_nfev // 4, 20))
     if progress is not None:
         progress.update(1, "joint polish")
     return _condition_from(m, foot, prepared, values, free_names, cov, determined, list(range(len(idx_all))),
-                           stage_rmse, spread)
+                           stage_rmse, spread, profile)
 
 
 # ---------------------------------------------------------------------------- a dataset
