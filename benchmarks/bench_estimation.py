@@ -81,6 +81,8 @@ def main() -> int:
                         help="--sensor-chain: recordings of each source fitted, on the fit rows (default 2)")
     parser.add_argument("--jobs", type=int, default=1, help="--sensor-chain: worker processes (default 1)")
     parser.add_argument("--quiet", action="store_true", help="--sensor-chain: no progress line")
+    parser.add_argument("--tracker-only", action="store_true",
+                        help="--sensor-chain: only the MudTracker rows (identify and fit skipped)")
     args = parser.parse_args()
     if args.sensor_chain:
         from sensor_chain_bench import run_bench

@@ -220,7 +220,8 @@ PINNED: dict[str, list[str]] = {
         "COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv",
     ],
     "mudforce.estimation.tracker": [
-        "DEFAULT_FORCE_LAG_ALLOWANCE", "DEFAULT_GRID", "MudTracker", "MudTrackers", "TrackEstimate", "TrackEstimates",
+        "DEFAULT_FORCE_LAG_ALLOWANCE", "DEFAULT_GRID", "MISFIT_THRESHOLD", "MudTracker", "MudTrackers", "TrackEstimate",
+        "TrackEstimates",
         "TrackResult", "TrackerState",
         "default_velocity_filter", "track",
     ],

@@ -65,8 +65,9 @@ from numba import njit
 
 from mudforce import _kernel as K
 from mudforce._plumbing.deprecation import warn_renamed
+from mudforce.engines.dynamics.rest_band import rest_band
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
-from mudforce.estimation.calibration.identify import DEFAULT_FORCE_GAIN_UNCERTAINTY
+from mudforce.estimation.calibration.identify import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -74,6 +75,7 @@ from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
 __all__ = [
     "DEFAULT_FORCE_LAG_ALLOWANCE",
     "DEFAULT_GRID",
+    "MISFIT_THRESHOLD",
     "MudTracker",
     "MudTrackers",
     "TrackEstimate",
@@ -96,7 +98,10 @@ _A_CONTACT = 4  # seconds of contact seen (informative samples)
 _A_ANCHOR = 5  # water content of the last settled estimate [-], NaN before
 _A_HOLD = 6  # seconds of contact left in which the anchor follows the estimate after a flag [s]
 _A_PPREV = 7  # the previous sample's predicted model force, offset excluded [N] (the lag allowance)
-_N_AUX = 8
+_A_ZPREV = 8  # the previous sample's depth [m] (the rest test)
+_A_MISFIT = 9  # contact-time average of the clipped squared standardised residual [-] (the misfit flag)
+_A_MISFIT_T = 10  # seconds of contact in that average [s]
+_N_AUX = 11
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -106,7 +111,8 @@ _O_PRED = 3
 _O_CHANGED = 4
 _O_BIAS = 5
 _O_NOISE = 6
-_N_OUT = 7
+_O_MISFIT = 7  # 1 where the model misses the force beyond its noise floor
+_N_OUT = 8
 
 # configuration vector, entries of MudTrackers._cfg
 _C_TAU = 0
@@ -122,7 +128,22 @@ _C_MARGIN = 9
 _C_LEVEL = 10
 _C_GAIN = 11  # force gain uncertainty g [-]: the models' forces are also weighed at (1 - g) and (1 + g)
 _C_LAG = 12  # force lag allowance [s]: the model's force change over it is added to the likelihood's scale
-_N_CFG = 13
+_C_REST = 13  # rest speed [m/s]: a slower sample constrains the mud only through the rest band
+_C_MISFIT_RATIO = 14  # misfit flag threshold on the average squared standardised residual [-]
+_C_DISC = 15  # discretisation allowance [samples]: the model at the rate may be off by this many steps' force change
+_N_CFG = 16
+
+#: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
+#: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
+#: about 1; the MuJoCo robot's feet at 100 Hz, in-family, 5 to 8 (vibration and impacts between the
+#: samples), hence 10: the residual's rms above about 3 scales.
+MISFIT_THRESHOLD = 10.0
+_MISFIT_CLIP = 25.0  # [-] one sample counts at most 5 scales (a reversal seen late is one bad sample, not a miss)
+_MISFIT_MIN_CONTACT = 1.0  # [s] of contact before the flag may fire
+#: The misfit flag's discretisation floor [samples] (ours): at the sample rate the model is not the model of the
+#: true path (a touchdown between two samples, a reversal seen late), an error of about a few samples' change of
+#: the predicted force; the flag's scale holds this many.
+_MISFIT_DISCRETISATION = 3.0
 
 #: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
 #: model by this much is not read as other mud.
@@ -152,7 +173,8 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
 def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: np.ndarray, dt: float,
                 forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, depths: np.ndarray,
                 measured: np.ndarray, edges: np.ndarray, L: np.ndarray, P: np.ndarray, aux: np.ndarray,
-                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray) -> int:
+                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray, scratch_lo: np.ndarray,
+                scratch_hi: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
 
     ``depths``/``measured`` [m]/[N], shape (n,); the bank has ``n * G``
@@ -218,13 +240,35 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
             # a sensor lagging by up to cfg[_C_LAG]: the force's change over that time, in quadrature
             lag2 = (cfg[_C_LAG] * (pred - aux[j, _A_PPREV]) / dt) ** 2
+            # a foot at rest (moved less than the rest speed times the step) carries its load anywhere in
+            # the rest band: each model's band [lo, hi] (its own force included), not its branch force
+            rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt
+            if rest:
+                for g in range(G):
+                    row = base + g
+                    st = K.load_state(states, row)
+                    lo = hi = forces[row]
+                    if st.mode != 0:  # not FREE (K.ContactMode.FREE)
+                        up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
+                        lo = min(lo, up, down)
+                        hi = max(hi, up, down)
+                    scratch_lo[g] = lo
+                    scratch_hi[g] = hi
+            # the misfit statistic: the squared standardised residual of the posterior's mean model
+            mis_r = 0.0
+            mis_s2 = 0.0
             best = -1e300
             for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
                 gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
                 for g in range(G):
                     fg = gain * forces[base + g]
+                    if rest:
+                        fg = min(max(f - bias, gain * scratch_lo[g]), gain * scratch_hi[g])
                     r = f - bias - fg
                     s2 = var + bias_var + floor2 + misfit2 * fg * fg + lag2
+                    if h == (H - 1) // 2:
+                        mis_r += P[j, g] * r
+                        mis_s2 += P[j, g] * s2
                     ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
                     v = keep * L[j, h * G + g] + ll * weight
                     L[j, h * G + g] = v
@@ -241,6 +285,12 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 total += v
             for g in range(G):
                 P[j, g] /= total
+            # the flag's floor: the model's own discretisation error at the rate (ours, see _MISFIT_DISCRETISATION)
+            mis_s2 += (cfg[_C_DISC] * (pred - aux[j, _A_PPREV])) ** 2
+            # the misfit average over the last tau seconds of contact
+            z2 = min(mis_r * mis_r / mis_s2, _MISFIT_CLIP)
+            aux[j, _A_MISFIT_T] = min(aux[j, _A_MISFIT_T] + dt, tau)
+            aux[j, _A_MISFIT] += (z2 - aux[j, _A_MISFIT]) * dt / aux[j, _A_MISFIT_T]
         # the reported posterior: the fit's, blurred by the model discrepancy (Q = blur @ P)
         for g in range(G):
             acc = 0.0
@@ -265,7 +315,10 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_ANCHOR] = out[j, _O_W]
                 aux[j, _A_HOLD] = tau
         out[j, _O_CHANGED] = changed
+        out[j, _O_MISFIT] = 1.0 if (aux[j, _A_CONTACT] >= _MISFIT_MIN_CONTACT
+                                    and aux[j, _A_MISFIT] > cfg[_C_MISFIT_RATIO]) else 0.0
         aux[j, _A_PPREV] = pred
+        aux[j, _A_ZPREV] = depths[j]
     return -1
 
 
@@ -306,6 +359,12 @@ class TrackEstimate:
         Estimated force-sensor offset [N] (tared while the foot is free).
     noise : float
         Estimated force-sensor noise, standard deviation [N].
+    misfit : bool
+        True while the model misses the force beyond its noise floor (the
+        average squared residual of the last ``tau`` seconds of contact,
+        in units of the likelihood's scale, above :data:`MISFIT_THRESHOLD`):
+        the mud is off the model's family, or the sensors are corrupted
+        beyond the allowances; the interval is then not to be trusted.
     """
 
     water_content: float
@@ -315,6 +374,7 @@ class TrackEstimate:
     changed: bool
     bias: float
     noise: float
+    misfit: bool = False
 
     @property
     def interval(self) -> tuple[float, float]:
@@ -337,6 +397,8 @@ class TrackEstimates:
         Where the tracker decided the mud has changed at this sample.
     bias, noise : numpy.ndarray
         Estimated sensor offset [N] and noise standard deviation [N].
+    misfit : numpy.ndarray of bool
+        Where the model misses the force beyond its noise floor (see :class:`TrackEstimate`).
     """
 
     water_content: np.ndarray
@@ -346,6 +408,7 @@ class TrackEstimates:
     changed: np.ndarray
     bias: np.ndarray
     noise: np.ndarray
+    misfit: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -508,6 +571,9 @@ class MudTrackers:
             raise InputError(f"force_gain_uncertainty must be within [0, 0.5) [-] (0.05 is 5 %), "
                              f"got {force_gain_uncertainty!r}")
         cfg[_C_LAG] = _non_negative(force_lag, "force_lag", "s")
+        cfg[_C_REST] = REST_SPEED
+        cfg[_C_MISFIT_RATIO] = MISFIT_THRESHOLD
+        cfg[_C_DISC] = _MISFIT_DISCRETISATION
         self._cfg = cfg
         G = self.grid.size
         mids = 0.5 * (self.grid[1:] + self.grid[:-1])
@@ -519,6 +585,8 @@ class MudTrackers:
             self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
         self._blur = _blur_matrix(self.grid, self._edges, self.discrepancy)
         self._Q = np.zeros(G, dtype=np.float64)
+        self._lo = np.zeros(G, dtype=np.float64)  # the rest band of each model, scratch of the compiled step
+        self._hi = np.zeros(G, dtype=np.float64)
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.steppers.many import MudContacts
 
@@ -552,7 +620,7 @@ class MudTrackers:
         bank = self._bank
         bad = _track_step(bank._states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
                           bank._scratch[0], bank._index[0], self._depths, self._forces, self._edges, self._L,
-                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out)
+                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out, self._lo, self._hi)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{self._depths[bad]!r} and {self._forces[bad]!r}")
@@ -583,7 +651,8 @@ class MudTrackers:
         self._step(real_number(dt, "dt [s]"))
         o = self._out
         return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
-                              o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy())
+                              o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy(),
+                              o[:, _O_MISFIT] != 0.0)
 
     def _key(self) -> bytes:
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
@@ -705,7 +774,8 @@ class MudTracker:
         b._step(dt)
         o = b._out[0]
         return TrackEstimate(float(o[_O_W]), float(o[_O_LOW]), float(o[_O_HIGH]), float(o[_O_PRED]),
-                             bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]))
+                             bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]),
+                             bool(o[_O_MISFIT] != 0.0))
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample."""
@@ -747,6 +817,8 @@ class TrackResult:
         Samples where a change of mud was flagged.
     bias, noise : numpy.ndarray
         Estimated offset and noise [N].
+    misfit : numpy.ndarray of bool
+        Samples where the model missed the force beyond its noise floor (see :class:`TrackEstimate`).
     """
 
     time: np.ndarray
@@ -759,6 +831,7 @@ class TrackResult:
     changed: np.ndarray
     bias: np.ndarray
     noise: np.ndarray
+    misfit: np.ndarray | None = None
 
     #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
@@ -843,4 +916,4 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         cols[k] = tracker._out[0]
         previous = t[k]
     return TrackResult(t, z, f, cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
-                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE])
+                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0)
