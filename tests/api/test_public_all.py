@@ -219,6 +219,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.io.tables": [
         "COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv",
     ],
+    "mudforce.estimation.nuisances": ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED"],
     "mudforce.estimation.tracker": [
         "DEFAULT_FORCE_LAG_ALLOWANCE", "DEFAULT_GRID", "MISFIT_THRESHOLD", "MudTracker", "MudTrackers", "TrackEstimate",
         "TrackEstimates",

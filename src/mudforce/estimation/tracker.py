@@ -67,7 +67,7 @@ from mudforce import _kernel as K
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines.dynamics.rest_band import rest_band
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
-from mudforce.estimation.calibration.identify import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
+from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -507,7 +507,7 @@ class MudTrackers:
         blurred by it before the estimate and interval are read (0: none).
     force_gain_uncertainty : float
         Relative uncertainty of the force sensor's gain [-], >= 0 (default
-        :data:`~mudforce.estimation.calibration.identify.DEFAULT_FORCE_GAIN_UNCERTAINTY`,
+        :data:`~mudforce.estimation.nuisances.DEFAULT_FORCE_GAIN_UNCERTAINTY`,
         5 %, as ``identify``'s): every model is also weighed with its force
         times ``1 - g`` and ``1 + g``, and the posterior of the water content
         is summed over the three. A gain error cannot be told from stiffer

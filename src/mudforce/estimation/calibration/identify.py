@@ -69,6 +69,7 @@ from mudforce.estimation.calibration.preprocess import (
     prepare_trial,
     tare_correction,
 )
+from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
 from mudforce.model.equations import array_form, nonlinear_spring_stress, rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -86,14 +87,10 @@ __all__ = [
 
 #: Smallest half-width of the interval [-] (0.25 percentage points of water content).
 MIN_HALF_WIDTH = 0.0025
-#: Default uncertainty of the force sensor's gain [-] (5 %): its water-content shift widens the interval.
-DEFAULT_FORCE_GAIN_UNCERTAINTY = 0.05
 #: Largest surface offset of the depth that identify fits [m] (+-10 mm).
 MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
 MAX_FORCE_LAG = 0.05
-#: A step in the mud slower than this counts as the foot at rest [m/s] (5 mm/s): its force is a band, not a branch.
-REST_SPEED = 0.005
 
 
 @dataclass(frozen=True, eq=False)

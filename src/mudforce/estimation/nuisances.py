@@ -1,0 +1,15 @@
+"""What a robot's sensor chain does to a recording that the estimators allow for, shared by the offline
+(:mod:`mudforce.estimation.calibration.identify`) and online (:mod:`mudforce.estimation.tracker`) estimators.
+
+A light module (no scipy): the tracker imports it without the calibration package.
+"""
+
+from __future__ import annotations
+
+__all__ = ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED"]
+
+#: Default uncertainty of the force sensor's gain [-] (5 %): a gain error cannot be told from stiffer mud, so its
+#: water-content shift widens the interval.
+DEFAULT_FORCE_GAIN_UNCERTAINTY = 0.05
+#: A step in the mud slower than this counts as the foot at rest [m/s] (5 mm/s): its force is a band, not a branch.
+REST_SPEED = 0.005
