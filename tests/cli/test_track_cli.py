@@ -13,7 +13,7 @@ from mudforce.motions.gait import walk
 from mudforce_cli_harness import run_cli, snapshot
 
 EXPECTED = ["time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
-            "changed"]
+            "changed", "misfit"]
 
 
 @pytest.fixture(scope="module")

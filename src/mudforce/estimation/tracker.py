@@ -835,11 +835,15 @@ class TrackResult:
 
     #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
-                                          "force_predicted_N", "force_N", "changed")
+                                          "force_predicted_N", "force_N", "changed", "misfit")
+
+    def _misfit(self) -> np.ndarray:
+        return np.zeros(self.time.shape, dtype=bool) if self.misfit is None else self.misfit
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The per-sample data under the names of :attr:`COLUMNS` (``changed`` as bool)."""
-        arrays = (self.time, self.water_content, self.low, self.high, self.force_predicted, self.force, self.changed)
+        """The per-sample data under the names of :attr:`COLUMNS` (``changed``, ``misfit`` as bool)."""
+        arrays = (self.time, self.water_content, self.low, self.high, self.force_predicted, self.force, self.changed,
+                  self._misfit())
         return dict(zip(self.COLUMNS, arrays, strict=True))
 
     def to_pandas(self) -> Any:
@@ -851,9 +855,10 @@ class TrackResult:
     def _csv_text(self) -> str:
         lines = [",".join(self.COLUMNS)]
         for row in zip(self.time.tolist(), self.water_content.tolist(), self.low.tolist(), self.high.tolist(),
-                       self.force_predicted.tolist(), self.force.tolist(), self.changed.tolist(), strict=True):
-            *values, changed = row
-            lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)}")
+                       self.force_predicted.tolist(), self.force.tolist(), self.changed.tolist(),
+                       self._misfit().tolist(), strict=True):
+            *values, changed, misfit = row
+            lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)},{int(misfit)}")
         return "\n".join(lines) + "\n"
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
