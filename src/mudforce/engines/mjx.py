@@ -50,7 +50,7 @@ step), and contact constraints computed by ``mjx.forward`` do not respond
 to the mud force within the step; both errors are first order in ``dt``,
 as the band's own lag is.
 
-Patches are horizontal and unbounded: each foot has a mud surface height
+Patches are horizontal and unbounded: each foot has a mud surface at ``surface_height``
 (world ``z`` [m]); a foot above it is FREE. The RK4 integrator is not
 supported (it calls the forward dynamics four times per step).
 """
@@ -69,7 +69,7 @@ import numpy as np
 
 import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
-from mudforce._plumbing.deprecation import renamed_keywords
+from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
 from mudforce.model.foot import Foot
@@ -104,16 +104,23 @@ class MudPatch(NamedTuple):
     The MJX form of :class:`mudforce.engines.mujoco.MudPatch`, made by :func:`add_mud`.
 
     Fields: ``sites`` (int32, shape ``(feet,)``) the MuJoCo site at each
-    sole; ``bodies`` (int32) the body each site is on; ``height`` [m] the
-    mud surface's world ``z`` under each foot; ``params`` the
+    sole; ``bodies`` (int32) the body each site is on; ``surface_height`` [m]
+    the mud surface's world ``z`` under each foot (``.height`` is its
+    deprecated name, kept for one release); ``params`` the
     :class:`mudforce.jax.Params` of each foot (fields of shape ``(feet,)``,
     or ``(worlds, feet)`` for a batch of worlds with their own mud).
     """
 
     sites: Array
     bodies: Array
-    height: Array
+    surface_height: Array
     params: mj.Params
+
+    @property
+    def height(self) -> Array:
+        """Deprecated: :attr:`surface_height` [m]."""
+        warn_renamed("mudforce.engines.mjx.MudPatch.height", "MudPatch.surface_height")
+        return self.surface_height
 
 
 class MudState(NamedTuple):
@@ -127,8 +134,9 @@ class MudState(NamedTuple):
     force: Array
 
 
+@renamed_keywords(height="surface_height")
 def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[MudParameters],
-            foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
+            foot: Foot | Sequence[Foot] | None = None, *, surface_height: float | Sequence[float] = 0.0,
             dtype: Any = None) -> MudPatch:
     """Mud under the named feet of a compiled ``mujoco.MjModel``: the :class:`MudPatch` that :func:`step` takes.
 
@@ -148,8 +156,8 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
         with ``jnp.stack``), or replace ``params`` with batched arrays.
     foot : Foot or sequence of Foot, optional
         Sole geometry (area [m^2], width [m]); the paper's 51 x 38 mm cuboid by default.
-    height : float or sequence of float
-        World ``z`` of the mud surface under each foot [m].
+    surface_height : float or sequence of float
+        World ``z`` of the mud surface under each foot [m] (``height=`` is its deprecated name).
     dtype : dtype, optional
         Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
     """
@@ -166,9 +174,9 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
             raise InputError(f"no site named {name!r} in the model; add a site at each sole")
         ids.append(sid)
     n = len(ids)
-    heights = np.broadcast_to(np.asarray(height, dtype=np.float64), (n,))
+    heights = np.broadcast_to(np.asarray(surface_height, dtype=np.float64), (n,))
     if not np.isfinite(heights).all():
-        raise InputError(f"mud surface height must be finite [m], got {height!r}")
+        raise InputError(f"surface_height must be finite [m], got {surface_height!r}")
     dt_ = mj._float_dtype(dtype)
     per_foot = not isinstance(params, MudParameters) or (foot is not None and not isinstance(foot, Foot))
     jparams = mj.make_params(params, n=n if not per_foot else None, foot=foot, dtype=dt_)
@@ -181,13 +189,13 @@ def _make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[
                 foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
                 dtype: Any = None) -> MudPatch:
     """Deprecated: :func:`add_mud` (``sites`` is now ``feet``, ``mud`` is now ``params``)."""
-    return add_mud(model, sites, mud, foot, height=height, dtype=dtype)
+    return add_mud(model, sites, mud, foot, surface_height=height, dtype=dtype)
 
 
 def init(patch: MudPatch) -> MudState:
     """The mud's state at the start of an episode (no foot started: the first step sets each foot's sample)."""
     n = patch.sites.shape[-1]
-    dtype = patch.height.dtype
+    dtype = patch.surface_height.dtype
     return MudState(mj.init(n, dtype), jnp.zeros((n,), dtype=bool), jnp.zeros((n,), dtype=dtype))
 
 
@@ -201,7 +209,7 @@ def _sole_kinematics(m: Any, d: Any, patch: MudPatch) -> tuple[Array, Array, Arr
         return jacp[:, 2]
 
     jac = jax.vmap(jz)(points, patch.bodies)
-    return patch.height - points[:, 2], jac, jac @ d.qvel
+    return patch.surface_height - points[:, 2], jac, jac @ d.qvel
 
 
 @renamed_keywords(contact="state")
