@@ -191,3 +191,35 @@ def test_plotters_moved_with_their_results_warn() -> None:
 
     with pytest.warns(DeprecationWarning, match="mudforce.steppers.plots.plot_result"):
         assert plotting.plot_result is plot_result
+
+
+@needs_mujoco
+def test_patch_height_is_surface_height() -> None:
+    import mudforce.engines.mujoco as mm
+
+    with pytest.warns(DeprecationWarning, match=r"MudPatch\(height=\.\.\.\).*MudPatch\(surface_height=\.\.\.\)"):
+        old = mm.MudPatch(W25, height=0.25, extent=(0.0, 1.0, 0.0, 1.0))
+    new = mm.MudPatch(W25, 0.25, (0.0, 1.0, 0.0, 1.0))
+    assert old == new and new.surface_height == 0.25
+    with pytest.warns(DeprecationWarning, match=r"MudPatch\.height .*MudPatch\.surface_height"):
+        assert new.height == 0.25  # type: ignore[misc]
+    with pytest.raises(InputError, match="give surface_height= only"):
+        mm.MudPatch(W25, surface_height=0.1, height=0.1)
+
+
+@needs_mujoco
+@needs_jax
+def test_mjx_add_mud_height_is_surface_height() -> None:
+    pytest.importorskip("mujoco.mjx")
+    import mudforce.engines.mjx as mx
+
+    model = mx.drop_model(5.0)
+    with pytest.warns(DeprecationWarning, match=r"add_mud\(height=\.\.\.\).*surface_height="):
+        old = mx.add_mud(model, ["sole"], W25, height=0.3)  # type: ignore[call-arg]
+    new = mx.add_mud(model, ["sole"], W25, surface_height=0.3)
+    for a, b in zip(jax_leaves(old), jax_leaves(new), strict=True):
+        assert np.array_equal(a, b)
+    with pytest.warns(DeprecationWarning, match=r"MudPatch\.height .*MudPatch\.surface_height"):
+        assert float(new.height[0]) == pytest.approx(0.3)  # type: ignore[misc]
+    with pytest.raises(InputError, match="give surface_height= only"):
+        mx.add_mud(model, ["sole"], W25, height=0.3, surface_height=0.3)  # type: ignore[call-arg]

@@ -28,6 +28,7 @@ import mudforce
 OPTIONAL: dict[str, tuple[str, ...]] = {
     "mudforce.jax": ("jax",),
     "mudforce.jax.contact3d": ("jax",),
+    "mudforce.jax.domain": ("jax",),
     "mudforce.engines.mjx": ("jax", "mujoco", "mujoco.mjx"),
     "mudforce.engines.mujoco": ("mujoco",),
     "mudforce.engines.mujoco.adapter3d": ("mujoco",),
@@ -168,6 +169,7 @@ PINNED: dict[str, list[str]] = {
         "withdrawal_step"
     ],
     "mudforce.jax.contact3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
+    "mudforce.jax.domain": ["params_from_water_content"],
     "mudforce.engines.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
     "mudforce.engines.mujoco": [
         "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudAdapter3D", "MudPatch", "add_mud", "add_mud_3d",

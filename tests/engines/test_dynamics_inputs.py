@@ -110,8 +110,8 @@ def test_mujoco_entry_points_refuse() -> None:
         simulate_drop(5.0, W25, height=-0.01)
     with pytest.raises(InputError, match="mass must be a number"):
         drop_model("5")
-    with pytest.raises(InputError, match="patch height must be a number"):
-        MudPatch(W25, height="0")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="patch surface_height must be a number"):
+        MudPatch(W25, surface_height="0")  # type: ignore[arg-type]
     with pytest.raises(InputError, match="patch extent"):
         MudPatch(W25, extent=(0.0, 1.0))  # type: ignore[arg-type]
     with pytest.raises(InputError, match=r"spec must be a mujoco\.MjSpec"):

@@ -56,7 +56,8 @@ def test_free_bodies_named_by_geom_or_body_with_patches() -> None:
     model = spec.compile()
     data = mujoco.MjData(model)
     params = MudParameters.from_water_content(0.20)
-    patches = [MudPatch(params, height=0.0), MudPatch(params, height=0.0, extent=(-0.5, 0.5, -0.5, 0.5))]
+    patches = [MudPatch(params, surface_height=0.0),
+               MudPatch(params, surface_height=0.0, extent=(-0.5, 0.5, -0.5, 0.5))]
     mud = MudAdapter(model, data, ["sole_a", "b"], patches)
     for _ in range(3000):
         data.xfrc_applied[:] = 0.0  # users may clear their forces between steps

@@ -44,13 +44,19 @@ chatter and no ratcheting; the next commit then sees exactly no motion
 on the intrusion branch, as the model says. Outside the band the force is
 the branch's. The force is applied on every physics step, so an
 environment that takes several substeps per control step gets mud on
-each. Several feet are treated one at a time (each foot's effective mass
-``j M^-1 j^T`` alone, their coupling through ``M`` neglected within a
-step), and contact constraints computed by ``mjx.forward`` do not respond
-to the mud force within the step; both errors are first order in ``dt``,
-as the band's own lag is.
+each. The feet of one world are solved together: with ``J`` the feet's
+vertical Jacobians, ``J M^-1 J^T f = -v_free / dt`` for the stuck feet,
+each force inside its band, the others at the band's edge they are pushed
+to (a box-constrained problem, as for dry friction; projected Gauss-Seidel,
+each foot's rule :func:`mudforce.jax.stick_force` given the others'
+forces, then the stuck feet's forces solved exactly). Redundant feet (four
+on one rigid body) share the load by the least norm. Taking each foot
+alone, as 0.2's first MJX step did, let a 100 kg box on four soles sink
+6 mm/s at 5 ms while every foot reported itself stuck. Contact
+constraints computed by ``mjx.forward`` do not respond to the mud force
+within the step (an error first order in ``dt``, as the band's own lag is).
 
-Patches are horizontal and unbounded: each foot has a mud surface height
+Patches are horizontal and unbounded: each foot has a mud surface at ``surface_height``
 (world ``z`` [m]); a foot above it is FREE. The RK4 integrator is not
 supported (it calls the forward dynamics four times per step).
 """
@@ -69,7 +75,7 @@ import numpy as np
 
 import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
-from mudforce._plumbing.deprecation import renamed_keywords
+from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
 from mudforce.model.foot import Foot
@@ -104,16 +110,23 @@ class MudPatch(NamedTuple):
     The MJX form of :class:`mudforce.engines.mujoco.MudPatch`, made by :func:`add_mud`.
 
     Fields: ``sites`` (int32, shape ``(feet,)``) the MuJoCo site at each
-    sole; ``bodies`` (int32) the body each site is on; ``height`` [m] the
-    mud surface's world ``z`` under each foot; ``params`` the
+    sole; ``bodies`` (int32) the body each site is on; ``surface_height`` [m]
+    the mud surface's world ``z`` under each foot (``.height`` is its
+    deprecated name, kept for one release); ``params`` the
     :class:`mudforce.jax.Params` of each foot (fields of shape ``(feet,)``,
     or ``(worlds, feet)`` for a batch of worlds with their own mud).
     """
 
     sites: Array
     bodies: Array
-    height: Array
+    surface_height: Array
     params: mj.Params
+
+    @property
+    def height(self) -> Array:
+        """Deprecated: :attr:`surface_height` [m]."""
+        warn_renamed("mudforce.engines.mjx.MudPatch.height", "MudPatch.surface_height")
+        return self.surface_height
 
 
 class MudState(NamedTuple):
@@ -127,8 +140,9 @@ class MudState(NamedTuple):
     force: Array
 
 
+@renamed_keywords(height="surface_height")
 def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[MudParameters],
-            foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
+            foot: Foot | Sequence[Foot] | None = None, *, surface_height: float | Sequence[float] = 0.0,
             dtype: Any = None) -> MudPatch:
     """Mud under the named feet of a compiled ``mujoco.MjModel``: the :class:`MudPatch` that :func:`step` takes.
 
@@ -148,8 +162,8 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
         with ``jnp.stack``), or replace ``params`` with batched arrays.
     foot : Foot or sequence of Foot, optional
         Sole geometry (area [m^2], width [m]); the paper's 51 x 38 mm cuboid by default.
-    height : float or sequence of float
-        World ``z`` of the mud surface under each foot [m].
+    surface_height : float or sequence of float
+        World ``z`` of the mud surface under each foot [m] (``height=`` is its deprecated name).
     dtype : dtype, optional
         Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
     """
@@ -166,9 +180,9 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
             raise InputError(f"no site named {name!r} in the model; add a site at each sole")
         ids.append(sid)
     n = len(ids)
-    heights = np.broadcast_to(np.asarray(height, dtype=np.float64), (n,))
+    heights = np.broadcast_to(np.asarray(surface_height, dtype=np.float64), (n,))
     if not np.isfinite(heights).all():
-        raise InputError(f"mud surface height must be finite [m], got {height!r}")
+        raise InputError(f"surface_height must be finite [m], got {surface_height!r}")
     dt_ = mj._float_dtype(dtype)
     per_foot = not isinstance(params, MudParameters) or (foot is not None and not isinstance(foot, Foot))
     jparams = mj.make_params(params, n=n if not per_foot else None, foot=foot, dtype=dt_)
@@ -181,13 +195,13 @@ def _make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[
                 foot: Foot | Sequence[Foot] | None = None, *, height: float | Sequence[float] = 0.0,
                 dtype: Any = None) -> MudPatch:
     """Deprecated: :func:`add_mud` (``sites`` is now ``feet``, ``mud`` is now ``params``)."""
-    return add_mud(model, sites, mud, foot, height=height, dtype=dtype)
+    return add_mud(model, sites, mud, foot, surface_height=height, dtype=dtype)
 
 
 def init(patch: MudPatch) -> MudState:
     """The mud's state at the start of an episode (no foot started: the first step sets each foot's sample)."""
     n = patch.sites.shape[-1]
-    dtype = patch.height.dtype
+    dtype = patch.surface_height.dtype
     return MudState(mj.init(n, dtype), jnp.zeros((n,), dtype=bool), jnp.zeros((n,), dtype=dtype))
 
 
@@ -201,7 +215,53 @@ def _sole_kinematics(m: Any, d: Any, patch: MudPatch) -> tuple[Array, Array, Arr
         return jacp[:, 2]
 
     jac = jax.vmap(jz)(points, patch.bodies)
-    return patch.height - points[:, 2], jac, jac @ d.qvel
+    return patch.surface_height - points[:, 2], jac, jac @ d.qvel
+
+
+_SWEEPS = 24  # projected Gauss-Seidel sweeps over the feet before the exact solve on the stuck set
+
+
+def _joint_forces(delassus: Array, target: Array, f_up: Array, f_down: Array, drag: Array, feet: mj.State,
+                  previous: Array) -> tuple[Array, Array]:
+    """Every foot's mud force [N] for one step, the feet of the world solved together; and which are stuck.
+
+    ``delassus`` (feet, feet) is ``J M^-1 J^T`` [1/kg], the sole velocity each unit force gives every sole
+    in a step of ``dt`` per ``dt``; ``target`` = ``-v_free / dt`` [m/s^2], so that ``delassus @ f = target``
+    brings every sole to rest by the step's end. The result is the box-constrained solution (a mixed
+    linear complementarity problem, as for dry friction): a stuck foot's force is inside its band
+    ``[f_up, f_down] + drag`` and its sole ends the step at rest; any other foot's force is at the
+    band's edge its motion pushes it to (or its branch force for an inverted band, 0 unstarted), each
+    foot's rule being :func:`mudforce.jax.stick_force` given the others' forces. Found by projected
+    Gauss-Seidel from ``previous`` (the last step's forces), then the stuck feet's forces solved exactly
+    (Tikhonov-regularised by ``eps^(3/4)`` of the diagonal, so that redundant feet, four on one rigid
+    body, share the load by the least weighted norm instead of failing on a singular matrix).
+    """
+    n = delassus.shape[0]
+    dtype = delassus.dtype
+    diag = jnp.diagonal(delassus)
+    unstarted = feet.mode == mj.UNSTARTED
+
+    def foot(i: int, f: Array) -> tuple[Array, Array]:
+        f_stop = (target[i] - delassus[i] @ f + diag[i] * f[i]) / diag[i]  # stop foot i, the others' f given
+        fi, si = mj.stick_force(f_up[i], f_down[i], drag[i], f_stop, feet.velocity[i])
+        return jnp.where(unstarted[i], 0.0, fi), si & ~unstarted[i]
+
+    def sweep(_: int, f: Array) -> Array:
+        for i in range(n):
+            f = f.at[i].set(foot(i, f)[0])
+        return f
+
+    f = jax.lax.fori_loop(0, _SWEEPS, sweep, jnp.where(unstarted, 0.0, previous).astype(dtype))
+    held = jnp.stack([foot(i, f)[1] for i in range(n)])
+    # the stuck feet exactly at rest: delassus[S, S] f[S] = target[S] - delassus[S, ~S] f[~S]
+    eps = jnp.finfo(dtype).eps ** 0.75
+    both = held[:, None] & held[None, :]
+    a = jnp.where(both, delassus, 0.0) + jnp.diag(jnp.where(held, eps, 1.0) * diag)
+    rhs = jnp.where(held, target - jnp.where(held[None, :], 0.0, delassus) @ f, diag * f)
+    solved = jnp.linalg.solve(a, rhs)
+    lo, hi = f_up + drag, f_down + drag
+    stuck = held & (solved > lo) & (solved < hi)
+    return jnp.where(held, jnp.clip(solved, lo, hi), f), stuck
 
 
 @renamed_keywords(contact="state")
@@ -255,11 +315,15 @@ def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) 
         mass = mass + jnp.diag(dt * m.dof_damping)
     qacc = jnp.linalg.solve(mass, d.qfrc_smooth + d.qfrc_constraint)
     minv_jt = jnp.linalg.solve(mass, jac.T)  # (nv, feet)
-    w = jnp.einsum("fv,vf->f", jac, minv_jt)  # 1 / effective mass of each sole [1/kg]
     v_free = jac @ (d.qvel + dt * qacc)  # upward sole velocity at the step's end without mud
-    f_stop = (-v_free / (dt * w)).astype(dtype)
-    force, stuck = mj.stick_force(f_up, f_down, drag, f_stop, feet.velocity)
-    force = jnp.where(feet.mode == mj.UNSTARTED, 0.0, force)
+    if jac.shape[0] == 1:  # one foot: its effective mass 1 / (j M^-1 j^T) is the whole story
+        w = jnp.einsum("fv,vf->f", jac, minv_jt)  # 1 / effective mass of the sole [1/kg]
+        f_stop = (-v_free / (dt * w)).astype(dtype)
+        force, stuck = mj.stick_force(f_up, f_down, drag, f_stop, feet.velocity)
+        force = jnp.where(feet.mode == mj.UNSTARTED, 0.0, force)
+    else:  # several feet: held together, through the world's inverse inertia
+        force, stuck = _joint_forces((jac @ minv_jt).astype(dtype), (-v_free / dt).astype(dtype), f_up, f_down,
+                                     drag, feet, state.force)
     stuck = stuck & ((feet.mode == mj.CONTACT) | (feet.mode == mj.NECKED))
     f = force.astype(d.qacc.dtype)
     d = d.replace(qfrc_smooth=d.qfrc_smooth + jac.T @ f, qacc=qacc + minv_jt @ f)

@@ -102,7 +102,7 @@ def _read_only(array: np.ndarray) -> np.ndarray:
     return view
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class MudPatch:
     """A horizontal patch of mud.
 
@@ -110,21 +110,36 @@ class MudPatch:
     ----------
     params : MudParameters
         Mud parameters.
-    height : float
-        World height ``z`` of the undisturbed mud surface [m].
+    surface_height : float
+        World height ``z`` of the undisturbed mud surface [m] (the name
+        :class:`mudforce.steppers.contact3d.MudContact3D` uses; ``height=``
+        is its deprecated name, kept for one release: a drop's ``height``
+        is the release height above the surface).
     extent : (xmin, xmax, ymin, ymax), optional
         Horizontal extent [m]; unbounded if omitted. A foot outside every
         patch feels no mud and its contact state is reset.
     """
 
     params: MudParameters
-    height: float = 0.0
-    extent: tuple[float, float, float, float] | None = None
+    surface_height: float
+    extent: tuple[float, float, float, float] | None
+
+    def __init__(self, params: MudParameters, surface_height: float | None = None,
+                 extent: tuple[float, float, float, float] | None = None, *, height: float | None = None) -> None:
+        if height is not None:
+            if surface_height is not None:
+                raise InputError("MudPatch: give surface_height= only (height= is its deprecated name)")
+            warn_renamed("MudPatch(height=...)", "MudPatch(surface_height=...)")
+            surface_height = height
+        object.__setattr__(self, "params", params)
+        object.__setattr__(self, "surface_height", 0.0 if surface_height is None else surface_height)
+        object.__setattr__(self, "extent", extent)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         if not isinstance(self.params, MudParameters):
             raise InputError(f"a MudPatch needs MudParameters, got {type(self.params).__name__}")
-        finite_number(self.height, "patch height", "m")
+        finite_number(self.surface_height, "patch surface_height", "m")
         if self.extent is not None:
             try:
                 x0, x1, y0, y1 = (finite_number(v, "patch extent", "m") for v in self.extent)
@@ -132,6 +147,12 @@ class MudPatch:
                 raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {self.extent!r}") from None
             if not (x0 < x1 and y0 < y1):
                 raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got {self.extent}")
+
+    @property
+    def height(self) -> float:
+        """Deprecated: :attr:`surface_height` [m]."""
+        warn_renamed("MudPatch.height", "MudPatch.surface_height")
+        return self.surface_height
 
 
 def _name_list(feet: Any) -> list[str]:
@@ -380,7 +401,7 @@ class MudAdapter:
         big = 1e300
         conf = [0.0, 1.0, 0.0]
         for p in plist:
-            conf += [p.height, *(p.extent if p.extent is not None else (-big, big, -big, big))]
+            conf += [p.surface_height, *(p.extent if p.extent is not None else (-big, big, -big, big))]
         self._conf = np.array(conf, dtype=np.float64)
         self._conf[C_DT] = float(model.opt.timestep)
         ints = []

@@ -305,7 +305,7 @@ class MudAdapter3D:
         self._sites = np.array([i["site"] for i in ids], dtype=np.int64)
         self._anchors = np.array([[i["anchor_z"], i["anchor_u"], i["anchor_v"]] for i in ids], dtype=np.int64)
         self._tendons = np.array([[i["tendon_z"], i["tendon_u"], i["tendon_v"]] for i in ids], dtype=np.int64)
-        self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.height) for p in plist]
+        self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.surface_height) for p in plist]
         sizes = [s.n for s in slist]
         self._foot_of = np.repeat(np.arange(n), sizes)
         self._cb = np.vstack([s.centroids for s in slist])
@@ -321,7 +321,7 @@ class MudAdapter3D:
         for k, p in enumerate(plist):
             q = p.params
             self._patch_const[k, [C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO]] = (
-                p.height, q.sigma_y, q.alpha, q.beta, q.lambda_ * q.rho_m)
+                p.surface_height, q.sigma_y, q.alpha, q.beta, q.lambda_ * q.rho_m)
         self._const = np.zeros((n, N_FOOT_CONSTANTS))
         self._const[:, C_WIDTH] = self._width
         self._velocity_z = np.zeros(n)
@@ -480,7 +480,7 @@ class MudAdapter3D:
             k = self._patch[f]
             if k >= 0:
                 lo, hi = self._starts[f], self._starts[f + 1]
-                out[f] = self.patches[k].height - float(cz[lo:hi].min())
+                out[f] = self.patches[k].surface_height - float(cz[lo:hi].min())
         return out
 
     def __repr__(self) -> str:

@@ -1,0 +1,56 @@
+"""mudforce.jax.domain: Table I's mud for a traced water content equals MudParameters.from_water_content."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("jax")
+
+from mudforce.errors import InputError
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import TABLE_I_WATER_CONTENTS, MudParameters
+
+ROWS = np.array(TABLE_I_WATER_CONTENTS)
+POINTS = np.concatenate([ROWS, 0.5 * (ROWS[1:] + ROWS[:-1]), [0.1537, 0.2291, 0.3499]])
+
+
+def test_traced_water_content_gives_the_cpu_parameters() -> None:
+    import jax
+    import jax.numpy as jnp
+
+    import mudforce.jax as mj
+    from mudforce.jax.domain import params_from_water_content
+
+    jax.config.update("jax_enable_x64", True)
+    try:
+        foot = Foot.disc(0.04)
+
+        @jax.jit
+        def run(w):  # type: ignore[no-untyped-def]  # one compile: a flat batch, worlds x feet, a gradient
+            slope = jax.grad(lambda x: jnp.log(params_from_water_content(x).sigma_y))(w[6])
+            return params_from_water_content(w, foot), jax.vmap(params_from_water_content)(w[:12].reshape(3, 4)), slope
+
+        got, batched, slope = run(jnp.asarray(POINTS))
+        want = mj.make_params([MudParameters.from_water_content(float(w)) for w in POINTS], foot=foot,
+                              dtype=jnp.float64)
+        for name, a, b in zip(mj.Params._fields, got, want, strict=True):
+            assert np.asarray(a).dtype == np.float64
+            np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=1e-12, atol=0.0, err_msg=name)
+        for j, w in enumerate(ROWS):  # the rows themselves are exact, as on the CPU
+            assert [float(f[j]) for f in got[:11]] == MudParameters.table_i(float(w)).as_array().tolist()
+        assert batched.sigma_y.shape == (3, 4) and batched.area.shape == (3, 4)
+        np.testing.assert_allclose(np.asarray(batched.sigma_y).ravel(), np.asarray(got.sigma_y)[:12], rtol=1e-12)
+        log_rows = np.log([MudParameters.table_i(w).sigma_y for w in (0.20, 0.25)])  # POINTS[6] = 0.225
+        assert float(slope) == pytest.approx((log_rows[1] - log_rows[0]) / 0.05, rel=1e-9)
+    finally:
+        jax.config.update("jax_enable_x64", False)
+
+
+def test_concrete_water_content_out_of_range_is_refused() -> None:
+    from mudforce.jax.domain import params_from_water_content
+
+    with pytest.raises(InputError, match=r"within Table I's range \[0.15, 0.35\].*got 0.15 to 0.4"):
+        params_from_water_content(np.array([0.15, 0.4]))
+    with pytest.raises(InputError, match="water content must be numbers"):
+        params_from_water_content("wet")
