@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 API = Path(__file__).resolve().parents[2] / "docs" / "api.md"
-OPTIONAL = {"mudforce.jax": ("jax",), "mudforce.engines.mjx": ("jax", "mujoco"), "mudforce.engines.mujoco": ("mujoco",)}
+OPTIONAL = {"mudforce.jax": ("jax",), "mudforce.jax.domain": ("jax",), "mudforce.engines.mjx": ("jax", "mujoco"),
+            "mudforce.engines.mujoco": ("mujoco",)}
 
 
 def table_rows() -> list[tuple[list[str], str]]:

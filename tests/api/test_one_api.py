@@ -38,7 +38,7 @@ def test_track_result_to_csv_is_the_track_command_s_file(tracked: TrackResult, t
     row = lines[1 + k].split(",")
     assert [float(x) for x in row[:6]] == [tracked.time[k], tracked.water_content[k], tracked.low[k],
                                            tracked.high[k], tracked.force_predicted[k], tracked.force[k]]
-    assert row[6] == str(int(tracked.changed[k]))
+    assert row[6] == str(int(tracked.changed[k])) and row[7] == str(int(tracked._misfit()[k]))
     with pytest.raises(InputError, match="path must be a file path"):
         tracked.to_csv(3)  # type: ignore[arg-type]
 

@@ -165,8 +165,8 @@ PINNED: dict[str, list[str]] = {
         "CONTACT", "FREE", "NECKED", "UNSTARTED", "Necking", "Params", "State", "StepConstants", "branch_forces",
         "drag_stress", "init", "intrusion_step", "leave_necked", "make_params", "maxwell_strain_increment", "mud_depth",
         "neck_filter_response", "neck_filter_transition", "neck_flush_age", "necked_step", "necking_time",
-        "nonlinear_spring_stress", "reset", "rest_band", "step", "step_constants", "stick_force", "touchdown",
-        "withdrawal_step"
+        "nonlinear_spring_stress", "params_from_water_content", "reset", "rest_band", "step", "step_constants",
+        "stick_force", "touchdown", "withdrawal_step",
     ],
     "mudforce.jax.contact3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
     "mudforce.jax.domain": ["params_from_water_content"],

@@ -38,7 +38,7 @@ HELP = "track the mud's water content online along a recording (time, depth, for
 #: The output columns, in order (:attr:`mudforce.estimation.tracker.TrackResult.COLUMNS`; written out here so that
 #: building the command line does not import the tracker).
 COLUMNS = ("time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
-           "changed")
+           "changed", "misfit")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

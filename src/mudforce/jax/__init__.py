@@ -123,6 +123,7 @@ __all__ = [
     "necked_step",
     "necking_time",
     "nonlinear_spring_stress",
+    "params_from_water_content",
     "reset",
     "rest_band",
     "step",
@@ -839,3 +840,7 @@ def stick_force(f_up: Array, f_down: Array, drag: Array, f_stop: Array, velocity
     stuck = ordered & (f_stop - drag > f_up) & (f_stop - drag < f_down)
     inverted = jnp.where(velocity >= 0.0, f_down, f_up)
     return jnp.where(ordered, clamped, inverted) + drag, stuck
+
+
+# Table I at a traced water content (domain randomisation under jit); imported last: it builds on Params
+from mudforce.jax.domain import params_from_water_content  # noqa: E402
