@@ -37,7 +37,10 @@ the step) constrains the mud only through the rest band it must lie in
 distance of the force outside the band, zero inside. The noise floor of the
 misfit flag includes the model's own discretisation error at the data's
 rate, estimated from the data (the model on every other sample against the
-model on every sample).
+model on every sample), sample by sample: the misfit statistic is the RMS
+of the residuals each divided by its own floor, so that a local
+discretisation error (a branch switch a sample late) excuses only the
+samples where it is large, not an off-family mud everywhere.
 
 A trial of any motion is accepted (:func:`~mudforce.estimation.calibration.preprocess.prepare_trial`).
 The result says how well the family explains it: ``misfit_ratio`` (RMSE
@@ -114,9 +117,11 @@ class Identification:
         The trial's force noise, measured independently of the family [N].
     noise_floor : float
         The RMSE a member of the family that is right would leave [N]: the
-        force noise and the depth noise carried through.
+        force noise, the depth noise carried through and the model's
+        discretisation error, each at its own sample (``rmse / misfit_ratio``).
     misfit_ratio : float
-        ``rmse / noise_floor`` [-]: about 1 when the family explains the trial to the noise.
+        The RMS of the residuals each divided by its own floor [-] (so ``rmse / noise_floor``):
+        about 1 when the family explains the trial to the noise.
     off_family : float
         How far the data are off the family [N]: the RMS of the residual in
         excess of the noise, ``sqrt(max(rmse^2 - noise_floor^2, 0))``.
@@ -139,7 +144,8 @@ class Identification:
         The largest water-content shift [-] a gain change of ``force_gain_uncertainty`` (up or down)
         causes; the interval is widened on each side by the shift towards it.
     discretisation : float
-        The model's own discretisation error at the data's rate [N] (RMS), part of ``noise_floor``.
+        The model's own discretisation error at the data's rate [N] (RMS over the samples); it
+        enters the misfit statistic sample by sample, excusing only the samples where it is large.
     rest_fraction : float
         Share of the samples taken as the foot at rest in the mud [-] (compared with the rest band).
     """
@@ -426,14 +432,23 @@ def identify_water_content(
     rmse = math.sqrt(c_best / n)
     scale = max(float(np.max(np.abs(meas))), 1.0)
     best_values = family(w_best).as_array()
-    floor2 = float(np.mean(noise_floor(
-        tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))))
-    discretisation = 0.0
+    # the floor a perfect member of the family would leave, sample by sample: force noise, depth noise
+    # carried through, and the model's own discretisation error at the data's rate
+    var = noise_floor(tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))
+    disc2 = np.zeros(n)
     if general and n >= 8:  # the model at half the rate against the model at the data's rate
         half = _force_and_band(t[::2], tr.depth[::2] + offset, family(w_best), foot, lag)[0]
-        d = np.where(moving[::2], half - f_best[::2], 0.0)
-        discretisation = math.sqrt(float(np.mean(d**2)) / 2.0)
-    floor = math.sqrt(floor2 + discretisation**2)
+        d2 = np.where(moving[::2], half - f_best[::2], 0.0) ** 2 / 2.0
+        disc2[::2] = d2
+        disc2[1::2] = d2[: disc2[1::2].size]
+    discretisation = math.sqrt(float(np.mean(disc2)))
+    # the statistic: the RMS of the residuals each divided by its own floor. The discretisation error
+    # is local (a branch switch or a necking a sample early or late can move the half-rate model by
+    # tens of newtons over a few strides), so it excuses the samples where it is large and no others;
+    # added in quadrature to one global floor it would excuse an off-family mud everywhere.
+    var = np.maximum(var + disc2, max((1e-4 * scale) ** 2, 1e-18))
+    standardised = math.sqrt(float(np.mean(r**2 / var)))
+    floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     if ratio > MISFIT_WARNING_RATIO:
