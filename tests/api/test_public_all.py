@@ -134,9 +134,10 @@ PINNED: dict[str, list[str]] = {
     "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.model.law3d": [
-        "FLAT_PLATE_ALPHA", "ROUNDING_DEPTH", "bearing_factor", "horizontal_drag", "lateral_capacity",
-        "lateral_return_map", "quaternion_matrix", "rotation_matrix", "settle_depth", "shear_fraction",
-        "spring_stress", "vertical_weight",
+        "FLAT_PLATE_ALPHA", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor", "element_depth",
+        "element_force", "horizontal_drag", "lateral_capacity", "lateral_moves", "lateral_return_map", "moment",
+        "root", "rotate", "rotation", "rotation_matrix", "select", "settle_depth", "shear_fraction", "spring_stress",
+        "vertical_force", "vertical_weight",
     ],
     "mudforce.model.granular": [
         "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",

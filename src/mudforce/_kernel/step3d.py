@@ -1,15 +1,21 @@
 """Speed plumbing only: the compiled 3-D step of many feet (:class:`mudforce.steppers.contact3d.MudContacts3D`).
 
-Nothing here is physics. One call places every foot's elements by its pose,
-steps every element's paper state with the 1-D stepper
-(:func:`~mudforce._kernel.loops.run_feet`, the same compiled function
-:class:`mudforce.MudContacts` runs, so the state machine exists once), and
-applies the lateral law through the scalar functions of
-:mod:`~mudforce._kernel.element3d` (each :mod:`mudforce.model.law3d`'s namesake
-for one element) and Eq. (4) through
-:func:`mudforce.model.equations.nonlinear_spring_stress`. It follows
-:meth:`mudforce.steppers.contact3d.MudContact3D.step` line for line, foot by foot,
-and differs only in where things are kept:
+Nothing here is physics. One call places every foot's elements by its pose
+(:func:`mudforce.model.law3d.rotation`, :func:`~mudforce.model.law3d.rotate`,
+:func:`~mudforce.model.law3d.element_depth`), steps every element's paper state
+with the 1-D stepper (:func:`~mudforce._kernel.loops.run_feet`, the same
+compiled function :class:`mudforce.MudContacts` runs, so the state machine
+exists once), and applies the 3-D law through
+:func:`mudforce.model.law3d.element_force` and
+:func:`~mudforce.model.law3d.moment`: the very functions
+:class:`~mudforce.steppers.contact3d.MudContact3D` and :mod:`mudforce.jax.contact3d`
+call on arrays, compiled in here (law3d registers them with numba). Only the
+control flow is this module's: an element that carries no horizontal force
+(above the surface, or of a foot that does not move) takes
+:func:`~mudforce.model.law3d.vertical_force` alone, which is what
+``element_force`` gives it, without the horizontal law's arithmetic. It
+follows :meth:`mudforce.steppers.contact3d.MudContact3D.step` foot by foot, and
+differs only in where things are kept:
 
 * the elements of all feet, concatenated foot after foot, are the rows
   of one float64 block (``E_*`` columns: constants and the lateral state),
@@ -46,19 +52,20 @@ import numpy as np
 from numba import prange
 
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
-from mudforce._kernel.element3d import (
-    bearing_factor,
-    horizontal_drag,
-    lateral_capacity,
-    lateral_return_map,
-    rotation,
-    shear_fraction,
-    vertical_weight,
-)
 from mudforce._kernel.layout import S_DEPTH, S_STARTED, _compiled
 from mudforce._kernel.loops import run_feet
-from mudforce.model.equations import nonlinear_spring_stress
-from mudforce.model.law3d import QUATERNION_TOLERANCE, ROUNDING_DEPTH
+from mudforce.model.law3d import (
+    QUATERNION_TOLERANCE,
+    element_depth,
+    element_force,
+    lateral_moves,
+    moment,
+    rotate,
+    rotation,
+    settle_depth,
+    spring_stress,
+    vertical_force,
+)
 
 __all__ = [
     "BAD_DT",
@@ -125,8 +132,8 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
         h = ft[f, F_SURFACE]
         bad = False
         for i in range(starts[f], starts[f + 1]):
-            oz = r[6] * el[i, E_CBX] + r[7] * el[i, E_CBY] + r[8] * el[i, E_CBZ]
-            depth = h - (pz + oz)
+            _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+            depth = element_depth(h, pz, oz)
             depths[i] = depth
             bad |= not abs(depth) <= MAX_DEPTH
         if bad:
@@ -138,16 +145,16 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
 def _settle(states: np.ndarray, depths: np.ndarray) -> None:
     """:func:`mudforce.model.law3d.settle_depth` on every started element: a change of depth by rounding is none."""
     for i in range(depths.shape[0]):
-        if states[i, S_STARTED] != 0.0 and abs(depths[i] - states[i, S_DEPTH]) <= ROUNDING_DEPTH:
-            depths[i] = states[i, S_DEPTH]
+        if states[i, S_STARTED] != 0.0:
+            depths[i] = settle_depth(depths[i], states[i, S_DEPTH])
 
 
 @_compiled(inline="always")
 def _rotated(ft: np.ndarray, f: int, x: float, y: float, z: float) -> tuple[float, float, float]:
     """``R (x, y, z)`` with foot ``f``'s rotation of this step (the expressions :func:`_place` evaluates)."""
-    return (ft[f, F_R] * x + ft[f, F_R + 1] * y + ft[f, F_R + 2] * z,
-            ft[f, F_R + 3] * x + ft[f, F_R + 4] * y + ft[f, F_R + 5] * z,
-            ft[f, F_R + 6] * x + ft[f, F_R + 7] * y + ft[f, F_R + 8] * z)
+    r = (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5], ft[f, F_R + 6],
+         ft[f, F_R + 7], ft[f, F_R + 8])
+    return rotate(r, x, y, z)  # type: ignore[no-any-return]
 
 
 @_compiled(inline="always")
@@ -162,14 +169,13 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
     # a step of thousands of feet
     px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
     started = ft[f, F_STARTED] != 0.0
-    moving = False  # MudContact3D's ``trial.any()``
+    moving = False  # MudContact3D's ``lateral_moves(...).any()``
     if started:
         for i in range(lo, hi):
             if depths[i] > 0.0:
                 ox, oy, _ = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-                tx = el[i, E_SLIPX] + ((px + ox) - el[i, E_CX])
-                ty = el[i, E_SLIPY] + ((py + oy) - el[i, E_CY])
-                moving |= (tx != 0.0) | (ty != 0.0)
+                moving |= lateral_moves(depths[i], el[i, E_SLIPX], el[i, E_SLIPY], (px + ox) - el[i, E_CX],
+                                        (py + oy) - el[i, E_CY])
     k = ft[f, F_STIFFNESS]
     sigma_y = ft[f, F_SIGMA_Y]
     alpha = ft[f, F_ALPHA]
@@ -180,7 +186,7 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
     per_dt = 1.0 / dt
     if moving:  # Eq. (4) at every element's depth, in a loop of its own, which the compiler vectorises
         for i in range(lo, hi):
-            spring[i] = nonlinear_spring_stress(alpha, beta, depths[i], width)
+            spring[i] = spring_stress(depths[i], alpha, beta, width)
     sfx = sfy = sfz = 0.0
     stx = sty = stz = 0.0
     for i in range(lo, hi):
@@ -188,38 +194,25 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
         ox, oy, oz = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
         nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
         wx, wy, wz = px + ox, py + oy, pz + oz
-        fz = stress[i] * area * vertical_weight(nz)
-        fx = fy = 0.0
-        slip_x = slip_y = 0.0
-        if moving and depths[i] > 0.0:  # (above the surface the law gives 0 and 0, as MudContact3D's arrays do)
-            mx = wx - el[i, E_CX]
-            my = wy - el[i, E_CY]
-            tx = el[i, E_SLIPX] + mx
-            ty = el[i, E_SLIPY] + my
-            size = math.sqrt(tx * tx + ty * ty)
-            per = 1.0 / (size if size > 0.0 else 1.0)  # a multiply each where MudContact3D divides: within an ulp
-            dx = tx * per
-            dy = ty * per
-            capacity = lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, dx, dy),
-                                        spring[i],
-                                        bearing_factor(nx, ny, nz, dx, dy))
-            slip_x, slip_y, ax, ay = lateral_return_map(tx, ty, k, capacity)
-            gx, gy = horizontal_drag(lambda_, rho, nx, ny, mx * per_dt, my * per_dt)
-            ax += gx
-            ay += gy
-            fx = ax * area
-            fy = ay * area
+        if moving and depths[i] > 0.0:
+            slip_x, slip_y, fx, fy, fz = element_force(
+                stress[i], spring[i], area, nx, ny, nz, depths[i], el[i, E_SLIPX], el[i, E_SLIPY], wx - el[i, E_CX],
+                wy - el[i, E_CY], per_dt, moving, k, sigma_y, lambda_, rho)
+        else:  # what element_force gives an element that carries no horizontal force, without its arithmetic
+            slip_x = slip_y = fx = fy = 0.0
+            fz = vertical_force(stress[i], area, nz)
         el[i, E_SLIPX] = slip_x
         el[i, E_SLIPY] = slip_y
         el[i, E_CX] = wx
         el[i, E_CY] = wy
         el[i, E_CZ] = wz
+        mx, my, mz = moment(ox, oy, oz, fx, fy, fz)
         sfx += fx
         sfy += fy
         sfz += fz
-        stx += oy * fz - oz * fy
-        sty += oz * fx - ox * fz
-        stz += ox * fy - oy * fx
+        stx += mx
+        sty += my
+        stz += mz
     forces[f, 0] = sfx
     forces[f, 1] = sfy
     forces[f, 2] = sfz
