@@ -135,7 +135,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.model.law3d": [
         "FLAT_PLATE_ALPHA", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor", "element_depth",
-        "element_force", "horizontal_drag", "lateral_capacity", "lateral_moves", "lateral_return_map", "moment",
+        "element_force", "horizontal_drag", "lateral_capacity", "lateral_return_map", "moment",
         "root", "rotate", "rotation", "rotation_matrix", "select", "settle_depth", "shear_fraction", "spring_stress",
         "vertical_force", "vertical_weight",
     ],

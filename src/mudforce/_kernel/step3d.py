@@ -11,7 +11,7 @@ exists once), and applies the 3-D law through
 :class:`~mudforce.steppers.contact3d.MudContact3D` and :mod:`mudforce.jax.contact3d`
 call on arrays, compiled in here (law3d registers them with numba). Only the
 control flow is this module's: an element that carries no horizontal force
-(above the surface, or of a foot that does not move) takes
+(above the surface, or at a foot's first step) takes
 :func:`~mudforce.model.law3d.vertical_force` alone, which is what
 ``element_force`` gives it, without the horizontal law's arithmetic. It
 follows :meth:`mudforce.steppers.contact3d.MudContact3D.step` foot by foot, and
@@ -52,13 +52,31 @@ import numpy as np
 from numba import prange
 
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
-from mudforce._kernel.layout import S_DEPTH, S_STARTED, _compiled
-from mudforce._kernel.loops import run_feet
+from mudforce._kernel.layout import (
+    S_DEPTH,
+    S_STARTED,
+    _compiled,
+    load_cache,
+    load_params,
+    load_state,
+    store_state,
+)
+from mudforce._kernel.loops import (
+    SP_ALPHA,
+    SP_AREA,
+    SP_BETA,
+    SP_DEPTH,
+    SP_F_E1,
+    SP_F_S,
+    SP_WIDTH,
+    _advance_row,
+    spring_pass,
+)
+from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
     element_depth,
     element_force,
-    lateral_moves,
     moment,
     rotate,
     rotation,
@@ -72,6 +90,7 @@ __all__ = [
     "N_ELEMENT_COLUMNS",
     "N_FOOT_COLUMNS",
     "OK",
+    "lateral_scratch",
     "step_feet",
     "step_feet_threads",
 ]
@@ -158,61 +177,166 @@ def _rotated(ft: np.ndarray, f: int, x: float, y: float, z: float) -> tuple[floa
 
 
 @_compiled(inline="always")
-def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray, f: int,
-             lo: int, hi: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> None:
-    """Foot ``f``'s elements ``lo:hi`` after the 1-D step: the lateral law, the wrench, the new lateral state.
+def _paper(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
+           stress: np.ndarray, scratch: np.ndarray, index: np.ndarray, lo: int, hi: int) -> int:
+    """The paper's 1-D step of one foot's elements ``lo:hi``: their stresses [Pa] into ``stress``.
 
-    :meth:`mudforce.steppers.contact3d.MudContact3D.step` from the paper's stress on,
-    one element at a time.
+    :func:`mudforce._kernel.loops.run_feet` on the foot's rows, written out
+    so that the foot's params row is loaded once (every element of a foot
+    has the same mud and width: :class:`~mudforce.steppers.contact3d.MudContacts3D`
+    builds them so) and the foot's rows are stepped while they are in the
+    cache: the same calls (:func:`~mudforce._kernel.transitions.quiet_step`,
+    else ``advance`` through ``_advance_row``; ``stress_parts``; Eq. (4) in
+    :func:`~mudforce._kernel.loops.spring_pass`), so the same bits. Returns
+    the first element refused, or -1.
+    """
+    p = load_params(params, lo)
+    quiet = exact_rule(p)
+    m = 0
+    for j in range(lo, hi):
+        ok = False
+        if quiet:
+            r = quiet_step(load_state(states, j), load_cache(states, j), p, depths[j], dt)
+            ok = r.ok
+            if ok:
+                store_state(states, j, r.state)
+        if not ok:
+            r, _ = _advance_row(states, ring, j, params, depths[j], dt)
+            if not r.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
+                return j
+        s1 = r.state
+        fe1, fs, _, spring = stress_parts(p, s1, r.velocity)
+        if spring:
+            index[m] = j
+            scratch[SP_DEPTH, m] = s1.depth
+            scratch[SP_WIDTH, m] = p.width
+            scratch[SP_ALPHA, m] = p.alpha
+            scratch[SP_BETA, m] = p.beta
+            scratch[SP_F_E1, m] = fe1
+            scratch[SP_F_S, m] = fs
+            scratch[SP_AREA, m] = p.area
+            m += 1
+        else:
+            stress[j] = total_force(fe1, 0.0, fs, p.area)
+    spring_pass(scratch, index, m, stress)
+    return -1
+
+
+# rows of the lateral scratch block (one per slice of feet, :func:`lateral_scratch`): a foot's submerged elements
+# side by side, so that the 3-D law runs over them in loops without branches, which the compiler vectorises
+L_INDEX = 0  # the element's row in the element block (an integer, exact in a double)
+L_NX, L_NY, L_NZ = 1, 2, 3  # world normal [-]
+L_OX, L_OY, L_OZ = 4, 5, 6  # world offset from the body origin [m]
+L_AREA = 7  # [m^2]
+L_DEPTH = 8  # [m]
+L_STRESS = 9  # the paper's stress [Pa]
+L_SPRING = 10  # Eq. (4) at the depth [Pa]
+L_SX, L_SY = 11, 12  # the last slip [m]; then the slip kept
+L_MX, L_MY = 13, 14  # the horizontal displacement since the last step [m]
+L_FX, L_FY, L_FZ = 15, 16, 17  # the element's force [N]
+N_LATERAL = 18
+
+
+def lateral_scratch(widest: int, slices: int) -> np.ndarray:
+    """The lateral scratch of :func:`step_feet` (``slices`` = 1) or :func:`step_feet_threads`: (slices, N_LATERAL, w).
+
+    ``widest`` the most elements of one foot; the rows are padded so that
+    they do not lie a multiple of 4 KiB apart (see the module).
+    """
+    width = -(-max(widest, 1) // 8) * 8
+    if width % 512 == 0:
+        width += 8
+    return np.zeros((slices, N_LATERAL, width))
+
+
+@_compiled(inline="always")
+def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, f: int,
+             lo: int, hi: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> None:
+    """Foot ``f``'s elements ``lo:hi`` after the 1-D step: the 3-D law, the wrench, the new lateral state.
+
+    :meth:`mudforce.steppers.contact3d.MudContact3D.step` from the paper's stress
+    on, in three passes: place every element, gathering the submerged ones
+    (once the foot has started) into ``lat``; run
+    :func:`~mudforce.model.law3d.spring_stress` and
+    :func:`~mudforce.model.law3d.element_force` over those, in loops without
+    branches (vectorised); scatter their slips and add up the wrench. The
+    others carry :func:`~mudforce.model.law3d.vertical_force` alone, which is
+    what ``element_force`` gives them.
     """
     # the geometry of this step, recomputed here rather than stored by _place: memory, not arithmetic, bounds
     # a step of thousands of feet
     px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
     started = ft[f, F_STARTED] != 0.0
-    moving = False  # MudContact3D's ``lateral_moves(...).any()``
-    if started:
-        for i in range(lo, hi):
-            if depths[i] > 0.0:
-                ox, oy, _ = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-                moving |= lateral_moves(depths[i], el[i, E_SLIPX], el[i, E_SLIPY], (px + ox) - el[i, E_CX],
-                                        (py + oy) - el[i, E_CY])
-    k = ft[f, F_STIFFNESS]
-    sigma_y = ft[f, F_SIGMA_Y]
-    alpha = ft[f, F_ALPHA]
-    beta = ft[f, F_BETA]
-    width = ft[f, F_WIDTH]
-    lambda_ = ft[f, F_LAMBDA]
-    rho = ft[f, F_RHO]
-    per_dt = 1.0 / dt
-    if moving:  # Eq. (4) at every element's depth, in a loop of its own, which the compiler vectorises
-        for i in range(lo, hi):
-            spring[i] = spring_stress(depths[i], alpha, beta, width)
     sfx = sfy = sfz = 0.0
     stx = sty = stz = 0.0
+    m = 0
     for i in range(lo, hi):
-        area = el[i, E_AREA]
         ox, oy, oz = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-        nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
         wx, wy, wz = px + ox, py + oy, pz + oz
-        if moving and depths[i] > 0.0:
-            slip_x, slip_y, fx, fy, fz = element_force(
-                stress[i], spring[i], area, nx, ny, nz, depths[i], el[i, E_SLIPX], el[i, E_SLIPY], wx - el[i, E_CX],
-                wy - el[i, E_CY], per_dt, moving, k, sigma_y, lambda_, rho)
+        if started and depths[i] > 0.0:
+            nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+            lat[L_INDEX, m] = i
+            lat[L_NX, m] = nx
+            lat[L_NY, m] = ny
+            lat[L_NZ, m] = nz
+            lat[L_OX, m] = ox
+            lat[L_OY, m] = oy
+            lat[L_OZ, m] = oz
+            lat[L_AREA, m] = el[i, E_AREA]
+            lat[L_DEPTH, m] = depths[i]
+            lat[L_STRESS, m] = stress[i]
+            lat[L_SX, m] = el[i, E_SLIPX]
+            lat[L_SY, m] = el[i, E_SLIPY]
+            lat[L_MX, m] = wx - el[i, E_CX]
+            lat[L_MY, m] = wy - el[i, E_CY]
+            m += 1
         else:  # what element_force gives an element that carries no horizontal force, without its arithmetic
-            slip_x = slip_y = fx = fy = 0.0
-            fz = vertical_force(stress[i], area, nz)
-        el[i, E_SLIPX] = slip_x
-        el[i, E_SLIPY] = slip_y
+            el[i, E_SLIPX] = 0.0
+            el[i, E_SLIPY] = 0.0
+            if stress[i] != 0.0:  # (most elements above the surface carry none: no force, no moment to add)
+                _, _, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+                fz = vertical_force(stress[i], el[i, E_AREA], nz)
+                mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
+                sfz += fz
+                stx += mx
+                sty += my
+                stz += mz
         el[i, E_CX] = wx
         el[i, E_CY] = wy
         el[i, E_CZ] = wz
-        mx, my, mz = moment(ox, oy, oz, fx, fy, fz)
-        sfx += fx
-        sfy += fy
-        sfz += fz
-        stx += mx
-        sty += my
-        stz += mz
+    if m > 0:
+        k = ft[f, F_STIFFNESS]
+        sigma_y = ft[f, F_SIGMA_Y]
+        alpha = ft[f, F_ALPHA]
+        beta = ft[f, F_BETA]
+        width = ft[f, F_WIDTH]
+        lambda_ = ft[f, F_LAMBDA]
+        rho = ft[f, F_RHO]
+        per_dt = 1.0 / dt
+        for j in range(m):  # Eq. (4), vectorised
+            lat[L_SPRING, j] = spring_stress(lat[L_DEPTH, j], alpha, beta, width)
+        for j in range(m):  # the 3-D law, vectorised
+            slip_x, slip_y, fx, fy, fz = element_force(
+                lat[L_STRESS, j], lat[L_SPRING, j], lat[L_AREA, j], lat[L_NX, j], lat[L_NY, j], lat[L_NZ, j],
+                lat[L_DEPTH, j], lat[L_SX, j], lat[L_SY, j], lat[L_MX, j], lat[L_MY, j], per_dt, True, k, sigma_y,
+                lambda_, rho)
+            lat[L_SX, j] = slip_x
+            lat[L_SY, j] = slip_y
+            lat[L_FX, j] = fx
+            lat[L_FY, j] = fy
+            lat[L_FZ, j] = fz
+        for j in range(m):
+            i = int(lat[L_INDEX, j])
+            el[i, E_SLIPX] = lat[L_SX, j]
+            el[i, E_SLIPY] = lat[L_SY, j]
+            fx, fy, fz = lat[L_FX, j], lat[L_FY, j], lat[L_FZ, j]
+            mx, my, mz = moment(lat[L_OX, j], lat[L_OY, j], lat[L_OZ, j], fx, fy, fz)
+            sfx += fx
+            sfy += fy
+            sfz += fz
+            stx += mx
+            sty += my
+            stz += mz
     forces[f, 0] = sfx
     forces[f, 1] = sfy
     forces[f, 2] = sfz
@@ -223,8 +347,23 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
 
 
 @_compiled()
+def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.ndarray, stress: np.ndarray,
+               lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
+               index: np.ndarray, f: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> int:
+    """Foot ``f``'s step once placed: its elements' paper step (:func:`_paper`), then the 3-D law
+    (:func:`_lateral`); the element refused, or -1. (Compiled on its own: numba's analysis of parallel loops
+    does not take the state machine inlined.)"""
+    lo, hi = starts[f], starts[f + 1]
+    refused = _paper(states, ring, params, depths, dt, stress, scratch, index, lo, hi)
+    if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+        return refused
+    _lateral(el, ft, depths, stress, lat, f, lo, hi, dt, forces, torques)
+    return -1
+
+
+@_compiled()
 def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-              starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray, states: np.ndarray,
+              starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray,
               ring: np.ndarray, params: np.ndarray, scratch: np.ndarray, index: np.ndarray, forces: np.ndarray,
               torques: np.ndarray) -> int:
     """One step of every foot: the wrench of foot ``f`` [N], [N m] into ``forces[f]`` and ``torques[f]``.
@@ -233,8 +372,8 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     are the feet's poses, ``dt`` [s] the time since the last step (ignored
     if no foot has started). ``states``, ``ring`` and ``params`` are the
     1-D stepper's rows, one per element, ``depths`` and ``stress`` its
-    depths [m] and forces (on a unit area: the stresses [Pa]); ``spring``
-    (one per element) receives Eq. (4)'s stress [Pa]; ``scratch`` and ``index`` the
+    depths [m] and forces (on a unit area: the stresses [Pa]); ``lat`` the
+    lateral scratch (:func:`lateral_scratch`, one slice); ``scratch`` and ``index`` the
     spring pass's (:func:`~mudforce._kernel.loops.new_spring_scratch` for
     all elements). Returns :data:`OK`; or, having changed nothing, the
     first foot whose pose or depth is refused (see :func:`_place`), or
@@ -254,11 +393,11 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     if bad != OK:
         return bad
     _settle(states, depths)
-    refused = run_feet(states, ring, params, depths, dt, stress, scratch, index)
-    if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
-        return refused
     for f in range(m):
-        _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+        refused = _step_foot(el, ft, starts, depths, stress, lat[0], states, ring, params, scratch, index, f, dt,
+                             forces, torques)
+        if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+            return refused
     return OK
 
 
@@ -275,7 +414,7 @@ def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
 
 @_compiled(parallel=True)
 def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray,
+                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray,
                       states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
                       index: np.ndarray, forces: np.ndarray, torques: np.ndarray, chunks: np.ndarray) -> int:
     """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
@@ -298,10 +437,12 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     for c in prange(n):
         lo = m * c // n
         hi = m * (c + 1) // n
-        a, b = starts[lo], starts[hi]
-        chunks[c] = run_feet(states[a:b], ring[a:b], params[a:b], depths[a:b], dt, stress[a:b], scratch[c], index[c])
+        chunks[c] = -1
         for f in range(lo, hi):
-            _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+            refused = _step_foot(el, ft, starts, depths, stress, lat[c], states, ring, params, scratch[c], index[c],
+                                 f, dt, forces, torques)
+            if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+                chunks[c] = refused
     for c in range(n):
         if chunks[c] >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return int(chunks[c])

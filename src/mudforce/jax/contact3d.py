@@ -282,10 +282,9 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     elements, stress = mj.step(state.elements, e, depth, dts)
     sx, sy = state.slip[:, 0], state.slip[:, 1]
     mx, my = centroids[:, 0] - state.centroids[:, 0], centroids[:, 1] - state.centroids[:, 1]
-    moving = started & jnp.any(law3d.lateral_moves(depth, sx, sy, mx, my))
     spring = law3d.spring_stress(depth, e.alpha, e.beta, e.width)
     slip_x, slip_y, fx, fy, fz = law3d.element_force(stress, spring, areas, nx, ny, nz, depth, sx, sy, mx, my,
-                                                     1.0 / dts, moving, k, e.sigma_y, e.lam, e.rho_m)
+                                                     1.0 / dts, started, k, e.sigma_y, e.lam, e.rho_m)
     slip = jnp.stack([slip_x, slip_y], axis=1)
     force = jnp.stack([fx.sum(), fy.sum(), fz.sum()])
     torque = jnp.stack([t.sum() for t in law3d.moment(ox, oy, oz, fx, fy, fz)])

@@ -111,7 +111,6 @@ __all__ = [
     "element_force",
     "horizontal_drag",
     "lateral_capacity",
-    "lateral_moves",
     "lateral_return_map",
     "moment",
     "root",
@@ -189,7 +188,7 @@ def _law(function: _F) -> _F:
         return function
 
     typer.__signature__ = inspect.signature(function)  # type: ignore[attr-defined]
-    overload(function)(typer)
+    overload(function, inline="always")(typer)
     return function
 
 
@@ -421,13 +420,16 @@ def lateral_capacity(sigma_y: Array, shear: Array, spring: Array, bearing: Array
 
 
 @_law
-def lateral_return_map(sx: Array, sy: Array, stiffness: Array, capacity: Array) -> tuple[Array, Array, Array, Array]:
+def lateral_return_map(sx: Array, sy: Array, size: Array, stiffness: Array,
+                       capacity: Array) -> tuple[Array, Array, Array, Array]:
     """Elastic-perfectly-plastic update of an element's horizontal slip: ``(slip x, slip y, traction x, y)``.
 
     Parameters
     ----------
     sx, sy : float or array
         The trial slip [m]: the last slip plus this step's horizontal displacement.
+    size : float or array
+        Its length ``|(sx, sy)|`` [m] (:func:`element_force` has it already).
     stiffness : float
         Lateral stiffness ``k`` [Pa/m].
     capacity : float or array
@@ -439,9 +441,6 @@ def lateral_return_map(sx: Array, sy: Array, stiffness: Array, capacity: Array) 
     scaled back to ``capacity / k``: the rest flowed), and the traction
     ``-k slip`` [Pa].
     """
-    square = sx * sx + sy * sy
-    some = square > 0.0
-    size = select(some, root(select(some, square, 1.0)), 0.0)
     limit = capacity / stiffness
     scale = select(size > limit, limit / select(size > 0.0, size, 1.0), 1.0)
     kx = sx * scale
@@ -463,32 +462,20 @@ def horizontal_drag(lambda_: Array, rho_m: Array, nx: Array, ny: Array, ux: Arra
 
 
 @_law
-def lateral_moves(depth: Array, sx: Array, sy: Array, mx: Array, my: Array) -> Array:
-    """Whether an element is below the surface with a trial slip ``(sx + mx, sy + my)`` other than 0.
-
-    A foot none of whose elements moves (or a foot's first step) carries
-    no horizontal force (the paper's own case: no sums to do).
-    ``depth`` [m], ``(sx, sy)`` the last slip [m], ``(mx, my)`` this
-    step's horizontal displacement [m].
-    """
-    return (depth > 0.0) & ((sx + mx != 0.0) | (sy + my != 0.0))
-
-
-@_law
 def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Array, nz: Array, depth: Array,
-                  sx: Array, sy: Array, mx: Array, my: Array, per_dt: Array, moving: Array, stiffness: Array,
+                  sx: Array, sy: Array, mx: Array, my: Array, per_dt: Array, started: Array, stiffness: Array,
                   sigma_y: Array, lambda_: Array, rho_m: Array) -> tuple[Array, Array, Array, Array, Array]:
     """An element's force [N] and its new slip [m]: the 3-D law, vertical and horizontal, in one place.
 
     Vertically the paper's stress on the downward projection
     (:func:`vertical_force`). Horizontally, on an element below the surface
-    of a foot that moves (``moving``: :func:`lateral_moves` of one of its
-    elements, after the first step): the trial slip ``s + m`` (the last slip
+    after the foot's first step (``started``): the trial slip ``s + m`` (the last slip
     plus the displacement since the last pose, the exact rule), yielding at
     :func:`lateral_capacity` in its direction (:func:`lateral_return_map`),
     plus Eq. (5)'s drag at the velocity ``m / dt`` (:func:`horizontal_drag`);
     elsewhere no horizontal force and no slip (an element that leaves the
-    mud forgets its slip).
+    mud forgets its slip). An element whose trial slip is 0 (a foot moved
+    straight up and down, the paper's own case) gets 0 and no slip.
 
     Parameters
     ----------
@@ -508,8 +495,8 @@ def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Arra
         Its horizontal displacement since the last step [m].
     per_dt : float
         ``1 / dt`` [1/s].
-    moving : bool
-        Whether the foot moves (above).
+    started : bool
+        Whether the foot has a last pose (after its first step).
     stiffness, sigma_y, lambda_, rho_m : float
         ``k`` [Pa/m], the yield stress [Pa], the drag factor [-], the mud's density [kg/m^3].
 
@@ -523,14 +510,15 @@ def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Arra
     ty = sy + my
     square = tx * tx + ty * ty
     some = square > 0.0
-    per = 1.0 / select(some, root(select(some, square, 1.0)), 1.0)
+    size = select(some, root(select(some, square, 1.0)), 0.0)
+    per = 1.0 / select(some, size, 1.0)
     dx = tx * per
     dy = ty * per
     capacity = lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, dx, dy), spring,
                                 bearing_factor(nx, ny, nz, dx, dy))
-    kx, ky, ax, ay = lateral_return_map(tx, ty, stiffness, capacity)
+    kx, ky, ax, ay = lateral_return_map(tx, ty, size, stiffness, capacity)
     gx, gy = horizontal_drag(lambda_, rho_m, nx, ny, mx * per_dt, my * per_dt)
-    loaded = moving & (depth > 0.0)
+    loaded = started & (depth > 0.0)
     return (select(loaded, kx, 0.0), select(loaded, ky, 0.0), select(loaded, (ax + gx) * area, 0.0),
             select(loaded, (ay + gy) * area, 0.0), fz)
 

@@ -231,14 +231,13 @@ class MudContact3D:
         stress = self._elements.step(depth, dt)
         sx, sy = self._slip[:, 0], self._slip[:, 1]
         mx, my = wx - self._centroids[:, 0], wy - self._centroids[:, 1]
-        moving = self._started and bool(law3d.lateral_moves(depth, sx, sy, mx, my).any())
-        if moving:
+        if self._started:
             spring = law3d.spring_stress(depth, q.alpha, q.beta, self.width)
             slip_x, slip_y, fx, fy, fz = law3d.element_force(
-                stress, spring, shape.areas, nx, ny, nz, depth, sx, sy, mx, my, 1.0 / dt, moving,
+                stress, spring, shape.areas, nx, ny, nz, depth, sx, sy, mx, my, 1.0 / dt, True,
                 self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m)
-        else:  # nothing moved sideways and nothing is loaded sideways (the paper's own case): element_force's
-            zero = np.zeros(shape.n)  # values there, without its arithmetic
+        else:  # the first step: element_force's values without a last pose, without its arithmetic
+            zero = np.zeros(shape.n)
             slip_x, slip_y, fx, fy = zero, zero, zero, zero
             fz = law3d.vertical_force(stress, shape.areas, nz)
         forces = np.stack([fx, fy, fz], axis=1)
@@ -538,9 +537,10 @@ class MudContacts3D:
         self._slice_scratch, self._slice_index = K.new_feet_scratch(widest * self.threads, self.threads)
         self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
         self._stress = np.zeros(total)
-        self._spring = np.zeros(total)  # this step's Eq. (4) stress at each element's depth [Pa]
+        # a foot's submerged elements side by side, for the 3-D law's vectorised loops (one block per slice)
+        self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
         # the compiled step's arguments after the poses and dt, before the outputs
-        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._spring, self._states,
+        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
                              self._ring, self._params_rows, self._scratch, self._index)
         self._thread_args = (*self._kernel_args[:-2], self._slice_scratch, self._slice_index)
 
