@@ -63,6 +63,7 @@ PINNED: dict[str, list[str]] = {
         "correlation_inflation", "fit_by_velocity", "fit_condition", "fit_dataset", "load_fit", "load_fit_parameters",
         "misfit_ratio", "speed_key",
     ],
+    "mudforce.estimation.calibration.fit3d": ["FIT3D_PARAMETERS", "Fit3D", "fit_3d"],
     "mudforce.estimation.calibration.identify": ["MIN_HALF_WIDTH", "Identification", "identify_water_content"],
     "mudforce.estimation.calibration.models": [
         "CHEN2024", "DRFT", "GRANULAR_RFT", "MAXWELL_ONLY", "MODELS", "FitStage", "ForceFunction", "ForceModel",
