@@ -53,8 +53,6 @@ from numba import prange
 
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import (
-    S_DEPTH,
-    S_STARTED,
     _compiled,
     load_cache,
     load_params,
@@ -161,14 +159,6 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
 
 
 @_compiled(inline="always")
-def _settle(states: np.ndarray, depths: np.ndarray) -> None:
-    """:func:`mudforce.model.law3d.settle_depth` on every started element: a change of depth by rounding is none."""
-    for i in range(depths.shape[0]):
-        if states[i, S_STARTED] != 0.0:
-            depths[i] = settle_depth(depths[i], states[i, S_DEPTH])
-
-
-@_compiled(inline="always")
 def _rotated(ft: np.ndarray, f: int, x: float, y: float, z: float) -> tuple[float, float, float]:
     """``R (x, y, z)`` with foot ``f``'s rotation of this step (the expressions :func:`_place` evaluates)."""
     r = (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5], ft[f, F_R + 6],
@@ -181,7 +171,8 @@ def _paper(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.
            stress: np.ndarray, scratch: np.ndarray, index: np.ndarray, lo: int, hi: int) -> int:
     """The paper's 1-D step of one foot's elements ``lo:hi``: their stresses [Pa] into ``stress``.
 
-    :func:`mudforce._kernel.loops.run_feet` on the foot's rows, written out
+    Each started element's depth is first settled (:func:`mudforce.model.law3d.settle_depth`, in ``depths``).
+    Then :func:`mudforce._kernel.loops.run_feet` on the foot's rows, written out
     so that the foot's params row is loaded once (every element of a foot
     has the same mud and width: :class:`~mudforce.steppers.contact3d.MudContacts3D`
     builds them so) and the foot's rows are stepped while they are in the
@@ -194,9 +185,12 @@ def _paper(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.
     quiet = exact_rule(p)
     m = 0
     for j in range(lo, hi):
+        s0 = load_state(states, j)
+        if s0.started != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
+            depths[j] = settle_depth(depths[j], s0.depth)
         ok = False
         if quiet:
-            r = quiet_step(load_state(states, j), load_cache(states, j), p, depths[j], dt)
+            r = quiet_step(s0, load_cache(states, j), p, depths[j], dt)
             ok = r.ok
             if ok:
                 store_state(states, j, r.state)
@@ -313,18 +307,22 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
         lambda_ = ft[f, F_LAMBDA]
         rho = ft[f, F_RHO]
         per_dt = 1.0 / dt
-        for j in range(m):  # Eq. (4), vectorised
-            lat[L_SPRING, j] = spring_stress(lat[L_DEPTH, j], alpha, beta, width)
-        for j in range(m):  # the 3-D law, vectorised
+        # rows as arrays of their own (as loops.spring_pass does): loops over them vectorise
+        depth, spring, area = lat[L_DEPTH], lat[L_SPRING], lat[L_AREA]
+        nxs, nys, nzs = lat[L_NX], lat[L_NY], lat[L_NZ]
+        sxs, sys_, mxs, mys = lat[L_SX], lat[L_SY], lat[L_MX], lat[L_MY]
+        stresses, fxs, fys, fzs = lat[L_STRESS], lat[L_FX], lat[L_FY], lat[L_FZ]
+        for j in range(m):  # Eq. (4)
+            spring[j] = spring_stress(depth[j], alpha, beta, width)
+        for j in range(m):  # the 3-D law
             slip_x, slip_y, fx, fy, fz = element_force(
-                lat[L_STRESS, j], lat[L_SPRING, j], lat[L_AREA, j], lat[L_NX, j], lat[L_NY, j], lat[L_NZ, j],
-                lat[L_DEPTH, j], lat[L_SX, j], lat[L_SY, j], lat[L_MX, j], lat[L_MY, j], per_dt, True, k, sigma_y,
-                lambda_, rho)
-            lat[L_SX, j] = slip_x
-            lat[L_SY, j] = slip_y
-            lat[L_FX, j] = fx
-            lat[L_FY, j] = fy
-            lat[L_FZ, j] = fz
+                stresses[j], spring[j], area[j], nxs[j], nys[j], nzs[j], depth[j], sxs[j], sys_[j], mxs[j], mys[j],
+                per_dt, True, k, sigma_y, lambda_, rho)
+            sxs[j] = slip_x
+            sys_[j] = slip_y
+            fxs[j] = fx
+            fys[j] = fy
+            fzs[j] = fz
         for j in range(m):
             i = int(lat[L_INDEX, j])
             el[i, E_SLIPX] = lat[L_SX, j]
@@ -392,7 +390,6 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     bad = _place(positions, quaternions, el, ft, starts, depths)
     if bad != OK:
         return bad
-    _settle(states, depths)
     for f in range(m):
         refused = _step_foot(el, ft, starts, depths, stress, lat[0], states, ring, params, scratch, index, f, dt,
                              forces, torques)
@@ -432,7 +429,6 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     bad = _place(positions, quaternions, el, ft, starts, depths)
     if bad != OK:
         return bad
-    _settle(states, depths)
     n = chunks.shape[0]
     for c in prange(n):
         lo = m * c // n
