@@ -88,6 +88,7 @@ __all__ = [
     "N_ELEMENT_COLUMNS",
     "N_FOOT_COLUMNS",
     "OK",
+    "element_forces",
     "lateral_scratch",
     "step_feet",
     "step_feet_threads",
@@ -342,6 +343,33 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
     torques[f, 1] = sty
     torques[f, 2] = stz
     ft[f, F_STARTED] = 1.0
+
+
+@_compiled()
+def element_forces(stress: np.ndarray, spring: np.ndarray, areas: np.ndarray, nx: np.ndarray, ny: np.ndarray,
+                   nz: np.ndarray, ox: np.ndarray, oy: np.ndarray, oz: np.ndarray, depth: np.ndarray,
+                   slip: np.ndarray, mx: np.ndarray, my: np.ndarray, per_dt: float, stiffness: float,
+                   sigma_y: float, lambda_: float, rho_m: float, out: np.ndarray) -> None:
+    """:func:`mudforce.model.law3d.element_force` and :func:`~mudforce.model.law3d.moment` on every element of a
+    started foot (:class:`~mudforce.steppers.contact3d.MudContact3D`'s step): ``out[i]`` = slip x, slip y [m],
+    force x, y, z [N], moment x, y, z [N m].
+
+    The arrays are the elements' columns (SI, world frame; ``slip`` (n, 2) the last slips); one compiled
+    loop rather than numpy's dozens of passes, the same source, the same bits.
+    """
+    for i in range(stress.shape[0]):
+        sx, sy, fx, fy, fz = element_force(stress[i], spring[i], areas[i], nx[i], ny[i], nz[i], depth[i], slip[i, 0],
+                                           slip[i, 1], mx[i], my[i], per_dt, True, stiffness, sigma_y, lambda_,
+                                           rho_m)
+        tx, ty, tz = moment(ox[i], oy[i], oz[i], fx, fy, fz)
+        out[i, 0] = sx
+        out[i, 1] = sy
+        out[i, 2] = fx
+        out[i, 3] = fy
+        out[i, 4] = fz
+        out[i, 5] = tx
+        out[i, 6] = ty
+        out[i, 7] = tz
 
 
 @_compiled()

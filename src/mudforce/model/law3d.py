@@ -14,11 +14,14 @@ Each function here is the law for ONE element, written as scalar
 arithmetic on its components (``nx, ny, nz`` rather than an (n, 3) array):
 
 * called from Python on numpy arrays (columns of elements), it is the law on
-  every element at once (:class:`mudforce.steppers.contact3d.MudContact3D`);
+  every element at once (:class:`mudforce.steppers.contact3d.MudContact3D`
+  places its elements so; the tests hold this form to the compiled one, bit
+  for bit);
 * called on JAX arrays, the same (:mod:`mudforce.jax.contact3d`, under
   ``jit``, ``vmap``, ``lax.scan`` and ``grad``);
 * called from numba-compiled code on floats, it is compiled into the
-  caller (:mod:`mudforce._kernel.step3d`, the many-feet step): each function
+  caller (:mod:`mudforce._kernel.step3d`: the many-feet step, and the loop
+  MudContact3D runs the law in): each function
   is registered with numba (``numba.extending.overload``), so the compiled
   step runs this very source, not a copy.
 

@@ -11,9 +11,11 @@ resistance (shear capped by ``sigma_y``, bearing from 3D-RFT), and Eq. (5)'s
 drag. The elements' velocities follow from consecutive poses (the exact
 rule: each element's displacement over the step, first-order hold). The
 law, the placing of the elements and the wrench's moments are
-:mod:`mudforce.model.law3d`'s functions, which :class:`MudContact3D` calls on
-numpy arrays, :class:`MudContacts3D` compiled (:mod:`mudforce._kernel.step3d`)
-and :mod:`mudforce.jax.contact3d` on JAX arrays.
+:mod:`mudforce.model.law3d`'s functions: :class:`MudContact3D` places its
+elements with them on numpy arrays and runs the law over them compiled
+(:func:`mudforce._kernel.step3d.element_forces`), :class:`MudContacts3D` has
+them compiled in (:mod:`mudforce._kernel.step3d`) and
+:mod:`mudforce.jax.contact3d` calls them on JAX arrays.
 
 A flat sole (``shapes.sole(foot)``) moved straight up and down is exactly
 the paper: the force equals :func:`mudforce.simulate`'s to rounding, with
@@ -229,19 +231,21 @@ class MudContact3D:
             depth = law3d.settle_depth(depth, self._elements.depths)  # the depths the elements were stepped to
         # the paper, element by element (refuses a depth out of bounds before any element moves)
         stress = self._elements.step(depth, dt)
-        sx, sy = self._slip[:, 0], self._slip[:, 1]
         mx, my = wx - self._centroids[:, 0], wy - self._centroids[:, 1]
-        if self._started:
+        if self._started:  # law3d.element_force and law3d.moment on every element, compiled (S3.element_forces)
             spring = law3d.spring_stress(depth, q.alpha, q.beta, self.width)
-            slip_x, slip_y, fx, fy, fz = law3d.element_force(
-                stress, spring, shape.areas, nx, ny, nz, depth, sx, sy, mx, my, 1.0 / dt, True,
-                self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m)
+            out = np.empty((shape.n, 8))
+            S3.element_forces(stress, spring, shape.areas, nx, ny, nz, ox, oy, oz, depth, self._slip, mx, my,
+                              1.0 / dt, self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m, out)
+            slip_x, slip_y = out[:, 0], out[:, 1]
+            forces = out[:, 2:5]
+            torques = out[:, 5:8]
         else:  # the first step: element_force's values without a last pose, without its arithmetic
             zero = np.zeros(shape.n)
-            slip_x, slip_y, fx, fy = zero, zero, zero, zero
+            slip_x = slip_y = zero
             fz = law3d.vertical_force(stress, shape.areas, nz)
-        forces = np.stack([fx, fy, fz], axis=1)
-        torques = np.stack(law3d.moment(ox, oy, oz, fx, fy, fz), axis=1)
+            forces = np.stack([zero, zero, fz], axis=1)
+            torques = np.stack(law3d.moment(ox, oy, oz, zero, zero, fz), axis=1)
         self._slip = np.stack([slip_x, slip_y], axis=1)
         self._centroids = np.stack([wx, wy, wz], axis=1)
         self._started = True
