@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from numba import njit
 
 import mudforce as mf
+from mudforce._kernel import step3d as S3
 from mudforce.errors import InputError
 from mudforce.model import granular, law3d, shapes
 from mudforce.model.equations import nonlinear_spring_stress
@@ -46,18 +46,6 @@ def _walk(rng: np.random.Generator, steps: int) -> tuple[np.ndarray, np.ndarray]
 
 
 # ---------------------------------------------------------------- one law: compiled, on arrays, on floats
-@njit(cache=False)
-def _compiled_law(stress: np.ndarray, spring: np.ndarray, area: np.ndarray, normals: np.ndarray, depth: np.ndarray,
-                  slip: np.ndarray, moved: np.ndarray, per_dt: float, k: float, sigma_y: float, lam: float,
-                  rho: float, out: np.ndarray) -> None:
-    for i in range(stress.shape[0]):
-        sx, sy, fx, fy, fz = law3d.element_force(stress[i], spring[i], area[i], normals[i, 0], normals[i, 1],
-                                                 normals[i, 2], depth[i], slip[i, 0], slip[i, 1], moved[i, 0],
-                                                 moved[i, 1], per_dt, True, k, sigma_y, lam, rho)
-        tx, ty, tz = law3d.moment(normals[i, 1], normals[i, 2], normals[i, 0], fx, fy, fz)
-        out[i] = (sx, sy, fx, fy, fz, tx, ty, tz, law3d.spring_stress(depth[i], 2e4, 0.5, 0.04))
-
-
 def test_the_law_is_one_source_compiled_and_on_arrays_bit_for_bit() -> None:
     rng = np.random.default_rng(7)
     n = 300
@@ -74,17 +62,21 @@ def test_the_law_is_one_source_compiled_and_on_arrays_bit_for_bit() -> None:
     spring = rng.uniform(0.0, 3e3, n)
     area = rng.uniform(1e-5, 1e-4, n)
     k, sigma_y = 3e5, 1.2e3
-    out = np.empty((n, 9))
-    _compiled_law(stress, spring, area, normals, depth, slip, moved, 500.0, k, sigma_y, MUD.lambda_, MUD.rho_m, out)
+    ox, oy, oz = normals[:, 1].copy(), normals[:, 2].copy(), normals[:, 0].copy()  # some offsets [m]
+    out = np.empty((n, 8))  # compiled: the kernel's loop over element_force and moment (MudContact3D's)
+    columns = [np.ascontiguousarray(c) for c in (*normals.T, *moved.T)]  # MudContact3D's types: no new compile
+    area.setflags(write=False)  # (a shape's areas are read-only)
+    S3.element_forces(stress, spring, area, *columns[:3], ox, oy, oz, depth, slip, *columns[3:], 500.0, k, sigma_y,
+                      MUD.lambda_, MUD.rho_m, out)
     sx, sy, fx, fy, fz = law3d.element_force(stress, spring, area, *normals.T, depth, *slip.T, *moved.T, 500.0, True,
                                              k, sigma_y, MUD.lambda_, MUD.rho_m)
-    moments = law3d.moment(normals[:, 1], normals[:, 2], normals[:, 0], fx, fy, fz)
-    arrays = np.stack([sx, sy, fx, fy, fz, *moments, law3d.spring_stress(depth, 2e4, 0.5, 0.04)], axis=1)
+    arrays = np.stack([sx, sy, fx, fy, fz, *law3d.moment(ox, oy, oz, fx, fy, fz)], axis=1)
     assert np.array_equal(out, arrays)  # the same source, the same IEEE operations: the same bits
     # on floats from Python too, and Eq. (4) is the 1-D law's (its shared power), bit for bit
     assert law3d.element_force(stress[50], spring[50], area[50], *normals[50], depth[50], *slip[50], *moved[50],
                                500.0, True, k, sigma_y, MUD.lambda_, MUD.rho_m)[2] == out[50, 2]
-    assert np.array_equal(arrays[:, 8], [nonlinear_spring_stress(2e4, 0.5, z, 0.04) for z in depth])
+    assert np.array_equal(law3d.spring_stress(depth, 2e4, 0.5, 0.04),
+                          [nonlinear_spring_stress(2e4, 0.5, z, 0.04) for z in depth])
     # the law did something on these elements: yielding and elastic ones, sideways forces, none above the surface
     assert np.all(out[depth <= 0.0, :4] == 0.0) and np.count_nonzero(out[:, 2]) > n // 2
 
