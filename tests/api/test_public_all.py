@@ -45,8 +45,8 @@ PINNED: dict[str, list[str]] = {
         "BASELINE_NAMES", "DEFAULT_K_RFT", "branch_velocity", "drft_force", "granular_rft_force", "maxwell_only_force",
     ],
     "mudforce.estimation.calibration": [
-        "CHEN2024", "MODELS", "ConditionFit", "Dataset", "DragFit", "FitOptions", "FitResult", "FitStage",
-        "ForceModel", "Identification", "Motion", "PreparedTrial", "Trial", "TrialFit", "fit_by_velocity",
+        "CHEN2024", "MODELS", "ConditionFit", "Dataset", "DragFit", "Fit3D", "FitOptions", "FitResult", "FitStage",
+        "ForceModel", "Identification", "Motion", "PreparedTrial", "Trial", "TrialFit", "fit_3d", "fit_by_velocity",
         "fit_condition", "fit_dataset", "fit_drag", "fit_motion", "get_model", "identify_water_content",
         "load_dataset", "load_fit", "load_fit_parameters", "load_trial", "parse_foot", "prepare_trial", "read_sliding",
         "register_model", "save_dataset", "synthesize", "synthesize_gait", "tare",
@@ -65,6 +65,7 @@ PINNED: dict[str, list[str]] = {
         "correlation_inflation", "fit_by_velocity", "fit_condition", "fit_dataset", "load_fit", "load_fit_parameters",
         "misfit_ratio", "speed_key",
     ],
+    "mudforce.estimation.calibration.fit3d": ["FIT3D_PARAMETERS", "Fit3D", "fit_3d"],
     "mudforce.estimation.calibration.identify": [
         "DEFAULT_FORCE_GAIN_UNCERTAINTY",
         "MAX_DEPTH_OFFSET",
@@ -147,9 +148,10 @@ PINNED: dict[str, list[str]] = {
     "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.model.law3d": [
-        "FLAT_PLATE_ALPHA", "ROUNDING_DEPTH", "bearing_factor", "horizontal_drag", "lateral_capacity",
-        "lateral_return_map", "quaternion_matrix", "rotation_matrix", "settle_depth", "shear_fraction",
-        "spring_stress", "vertical_weight",
+        "FLAT_PLATE_ALPHA", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor", "element_depth",
+        "element_force", "horizontal_drag", "lateral_capacity", "lateral_return_map", "moment",
+        "root", "rotate", "rotation", "rotation_matrix", "select", "settle_depth", "shear_fraction", "spring_stress",
+        "vertical_force", "vertical_weight",
     ],
     "mudforce.model.granular": [
         "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",

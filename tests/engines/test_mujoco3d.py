@@ -48,7 +48,7 @@ def test_a_slowly_loaded_curved_foot_rests_at_the_quasi_static_depth(shape: str,
     def excess(centre: float) -> float:
         depth = -(centre + foot.centroids[:, 2])
         stress = law3d.spring_stress(depth, MUD.alpha, MUD.beta, foot.width)
-        return float(np.sum(foot.areas * law3d.vertical_weight(foot.normals) * stress)) - mass * GRAVITY
+        return float(np.sum(foot.areas * law3d.vertical_weight(foot.normals[:, 2]) * stress)) - mass * GRAVITY
 
     centre = brentq(excess, -0.05, 0.05)
     lowest = data.geom_xpos[0, 2] - 0.0  # the lowest point is a fixed offset below the centre (upright)

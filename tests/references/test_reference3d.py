@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation
 import mudforce as mf
 from mudforce.model import shapes
 from mudforce.references.contact3d import reference_simulate_3d
-from mudforce.steppers.contact3d import simulate_3d
+from mudforce.steppers.contact3d import MudContacts3D, simulate_3d
 
 PARAMS = mf.MudParameters.from_water_content(0.25)
 K = PARAMS.k_m_w  # the default lateral stiffness [Pa/m]
@@ -254,12 +254,15 @@ def test_the_wrench_converges_from_n_to_4n_elements(name: str, make: object, for
                                                     torque_limit: float) -> None:
     """The wrench at five instants of a general motion, from n to 4n elements (resolution 8 mm, then 4 mm).
 
-    The issue asks for 1 %. Measured (sphere 104 -> 372 elements, capsule 120 -> 456), relative to the 4n
-    force: sphere 0.24, 0.39, 0.22, 0.21 % while pushed, slid and rolled, but 6.3 % at 0.9 s, while it is
-    pulled out (the neck breaks element by element: each element's break is a step of its own size); capsule
-    0.93, 0.84, 1.11, 3.1, 2.3 % (its flat-sided cylinder part meets the surface a band at a time). The torque,
-    a sum of large opposite moments: 1.4 to 4.8 % (sphere), 1.4 to 5.8 % (capsule). The limits below are
-    those figures, rounded up: 1 % holds for the force of a foot in the mud, not while it peels out.
+    Measured (sphere 104 -> 372 elements, capsule 120 -> 456), relative to the 4n force: sphere 0.24, 0.39,
+    0.22, 0.21 %, but 6.3 % at 0.9 s; capsule 0.93, 0.84, 1.11, 3.1, 2.3 %. The torque, a sum of large opposite
+    moments: 1.4 to 4.8 % (sphere), 1.4 to 5.8 % (capsule). The limits below are those figures, rounded up.
+    Why (docs/model.md, "Convergence"): the paper's law jumps where an element switches from intrusion to
+    withdrawal, and a rolling foot's elements switch one by one as the front where the surface's velocity
+    turns upward sweeps over it: the wrench is a staircase of steps of an element's size (at 0.84 s four of
+    the 104 elements switch together and take 3.1 N, 12 % of the force, off at once; 1 to 3 of the 372 take
+    0.3 N each). It converges (at about h^1.5): 1 % from n to 4n is met from 2 mm to 1 mm
+    (:func:`test_the_wrench_is_within_1_percent_from_n_to_4n_elements_at_2_mm`).
     """
     assert callable(make)
     pos, quat = _general_motion()
@@ -271,6 +274,35 @@ def test_the_wrench_converges_from_n_to_4n_elements(name: str, make: object, for
         assert float(np.linalg.norm(few.force[k] - many.force[k])) <= limit * size, (name, k)
         torque = float(np.linalg.norm(many.torque[k]))
         assert float(np.linalg.norm(few.torque[k] - many.torque[k])) <= torque_limit * torque, (name, k)
+
+
+def test_the_wrench_is_within_1_percent_from_n_to_4n_elements_at_2_mm() -> None:
+    """The issue's 1 %, where the staircase of element-by-element branch switches is fine enough: 2 mm to 1 mm.
+
+    The same general motion, the whole of it (121 poses), sphere 1384 -> 5316 elements and capsule
+    1752 -> 6876, stepped together (MudContacts3D: the same law, compiled). Measured: the force within 0.35 %
+    (sphere) and 0.47 % (capsule) of the peak force at every pose, and within 0.90 % of the force at the five
+    instants of the test above; the torque within 0.51 % and 0.60 % of the peak torque (at those instants up
+    to 1.15 % of the torque there, a difference of large opposite moments).
+    """
+    pos, quat = _general_motion()
+    pos = pos - [0.0, 0.0, 0.005]
+    feet = [shapes.sphere(0.04, resolution=r) for r in (0.002, 0.001)]
+    feet += [shapes.capsule(0.03, 0.04, resolution=r) for r in (0.002, 0.001)]
+    contacts = MudContacts3D(PARAMS, feet)
+    force = np.empty((T.size, 4, 3))
+    torque = np.empty((T.size, 4, 3))
+    for k in range(T.size):
+        force[k], torque[k] = contacts.step(np.repeat(pos[k:k + 1], 4, axis=0), np.repeat(quat[k:k + 1], 4, axis=0),
+                                            0.01 if k else 0.0)
+    for few, many in ((0, 1), (2, 3)):
+        f_err = np.linalg.norm(force[:, few] - force[:, many], axis=1)
+        t_err = np.linalg.norm(torque[:, few] - torque[:, many], axis=1)
+        f_size = np.linalg.norm(force[:, many], axis=1)
+        assert f_err.max() <= 0.006 * f_size.max()
+        assert t_err.max() <= 0.008 * np.linalg.norm(torque[:, many], axis=1).max()
+        for k in (30, 45, 60, 75, 90):
+            assert f_err[k] <= 0.01 * f_size[k]
 
 
 # ------------------------------------------------------------------ continuity at events

@@ -210,7 +210,7 @@ def test_an_element_on_the_axis_of_a_turn_stays_at_rest() -> None:
         still.step([0.0, 0.0, -0.01], UPRIGHT, 0.01)
         assert turned.modes[0] == still.modes[0] == "CONTACT"
         normals = turned.shape.normals @ law3d.rotation_matrix(quat).T
-        stress = turned.element_forces[0, 2] / law3d.vertical_weight(normals)[0]
+        stress = turned.element_forces[0, 2] / law3d.vertical_weight(normals[:, 2])[0]
         assert stress == pytest.approx(still.element_forces[0, 2], rel=1e-12)
     assert max(map(abs, jitter)) > 0.0  # the rounding is there
 

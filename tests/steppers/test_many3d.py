@@ -1,7 +1,7 @@
 """MudContacts3D: many feet equal independent MudContact3D feet, per-foot muds, refusals change nothing, state, reset.
 
-Also the compiled law (mudforce._kernel.element3d) against its numpy namesakes in mudforce.model.law3d and
-mudforce.model.granular, element by element.
+Also the law's one source (mudforce.model.law3d) compiled and on arrays, bit for bit, and its bearing against
+mudforce.model.granular's 3D-RFT.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mudforce as mf
-from mudforce._kernel import element3d as E
+from mudforce._kernel import step3d as S3
 from mudforce.errors import InputError
 from mudforce.model import granular, law3d, shapes
 from mudforce.model.equations import nonlinear_spring_stress
@@ -45,68 +45,76 @@ def _walk(rng: np.random.Generator, steps: int) -> tuple[np.ndarray, np.ndarray]
     return pos, quat
 
 
-# ---------------------------------------------------------------- the compiled law, element by element
-def test_the_compiled_law_is_law3d_element_by_element() -> None:
+# ---------------------------------------------------------------- one law: compiled, on arrays, on floats
+def test_the_law_is_one_source_compiled_and_on_arrays_bit_for_bit() -> None:
     rng = np.random.default_rng(7)
     n = 300
     normals = _unit(rng, n)
     normals[:20] = [0.0, 0.0, -1.0]  # soles
     normals[20:40, 2] = 0.0  # walls
     normals[20:40] /= np.linalg.norm(normals[20:40], axis=1)[:, None]
-    angle = rng.uniform(0, 2 * np.pi, n)
-    direction = np.stack([np.cos(angle), np.sin(angle), np.zeros(n)], axis=1)
-    direction[:10] = 0.0  # an element that does not slip
     slip = rng.normal(scale=1e-3, size=(n, 2))
-    capacity = rng.uniform(0.0, 2e3, n)
-    velocity = rng.normal(scale=0.05, size=(n, 2))
+    moved = rng.normal(scale=1e-3, size=(n, 2))
+    slip[:10] = 0.0
+    moved[:10] = 0.0  # an element that does not slip
     depth = rng.uniform(-0.01, 0.05, n)
+    stress = rng.normal(scale=2e3, size=n)
+    spring = rng.uniform(0.0, 3e3, n)
+    area = rng.uniform(1e-5, 1e-4, n)
     k, sigma_y = 3e5, 1.2e3
-
-    shear = [E.shear_fraction(*normals[i], *direction[i, :2]) for i in range(n)]
-    bearing = [E.bearing_factor(*normals[i], *direction[i, :2]) for i in range(n)]
-    weight = [E.vertical_weight(normals[i, 2]) for i in range(n)]
-    spring = [nonlinear_spring_stress(MUD.alpha, MUD.beta, depth[i], 0.038) for i in range(n)]
-    returned = np.array([E.lateral_return_map(slip[i, 0], slip[i, 1], k, capacity[i]) for i in range(n)])
-    drag = np.array([E.horizontal_drag(MUD.lambda_, MUD.rho_m, *normals[i, :2], *velocity[i]) for i in range(n)])
-    cap = [E.lateral_capacity(sigma_y, shear[i], spring[i], bearing[i]) for i in range(n)]
-
-    # the same expressions in the same order: bit for bit
-    assert np.array_equal(weight, law3d.vertical_weight(normals))
-    kept, traction = law3d.lateral_return_map(slip, k, capacity)
-    assert np.array_equal(returned[:, :2], kept) and np.array_equal(returned[:, 2:], traction)
-    assert np.array_equal(drag, law3d.horizontal_drag(MUD.lambda_, MUD.rho_m, normals, velocity))
-    assert np.array_equal(cap, law3d.lateral_capacity(sigma_y, np.array(shear), np.array(spring),
-                                                      np.array(bearing)))
-    # numpy sums in its own order (einsum, pow): a few ulp
-    np.testing.assert_allclose(shear, law3d.shear_fraction(normals, direction), rtol=0, atol=1e-15)
-    np.testing.assert_allclose(bearing, law3d.bearing_factor(normals, direction), rtol=0, atol=1e-15)
-    assert np.count_nonzero(bearing) > n // 3
-    reference = law3d.spring_stress(depth, MUD.alpha, MUD.beta, 0.038)
-    np.testing.assert_allclose(spring, reference, rtol=3e-16, atol=0)
-    assert np.array_equal(np.array(spring) == 0.0, reference == 0.0)
+    ox, oy, oz = normals[:, 1].copy(), normals[:, 2].copy(), normals[:, 0].copy()  # some offsets [m]
+    out = np.empty((n, 8))  # compiled: the kernel's loop over element_force and moment (MudContact3D's)
+    columns = [np.ascontiguousarray(c) for c in (*normals.T, *moved.T)]  # MudContact3D's types: no new compile
+    area.setflags(write=False)  # (a shape's areas are read-only)
+    S3.element_forces(stress, spring, area, *columns[:3], ox, oy, oz, depth, slip, *columns[3:], 500.0, k, sigma_y,
+                      MUD.lambda_, MUD.rho_m, out)
+    sx, sy, fx, fy, fz = law3d.element_force(stress, spring, area, *normals.T, depth, *slip.T, *moved.T, 500.0, True,
+                                             k, sigma_y, MUD.lambda_, MUD.rho_m)
+    arrays = np.stack([sx, sy, fx, fy, fz, *law3d.moment(ox, oy, oz, fx, fy, fz)], axis=1)
+    assert np.array_equal(out, arrays)  # the same source, the same IEEE operations: the same bits
+    # on floats from Python too, and Eq. (4) is the 1-D law's (its shared power), bit for bit
+    assert law3d.element_force(stress[50], spring[50], area[50], *normals[50], depth[50], *slip[50], *moved[50],
+                               500.0, True, k, sigma_y, MUD.lambda_, MUD.rho_m)[2] == out[50, 2]
+    assert np.array_equal(law3d.spring_stress(depth, 2e4, 0.5, 0.04),
+                          [nonlinear_spring_stress(2e4, 0.5, z, 0.04) for z in depth])
+    # the law did something on these elements: yielding and elastic ones, sideways forces, none above the surface
+    assert np.all(out[depth <= 0.0, :4] == 0.0) and np.count_nonzero(out[:, 2]) > n // 2
 
 
-def test_the_compiled_cubic_fit_is_granulars_rft3d_alpha() -> None:
+def test_the_bearing_is_granulars_rft3d_alpha_for_a_horizontal_slip() -> None:
     rng = np.random.default_rng(8)
     n = 300
     normals = _unit(rng, n)
-    velocities = rng.normal(size=(n, 3))
-    velocities[:10, :2] = 0.0  # straight down or up
-    velocities[10:20] = 0.0  # at rest
     normals[20:30] = [0.0, 0.0, 1.0]
-    ours = np.array([E.rft3d_alpha(*normals[i], *velocities[i]) for i in range(n)])
-    np.testing.assert_allclose(ours, granular.rft3d_alpha(normals, velocities), rtol=0, atol=1e-15)
-    assert np.all(ours[10:20] == 0.0)
+    normals[30:40] = [0.0, 0.0, -1.0]
+    angle = rng.uniform(0, 2 * np.pi, n)
+    direction = np.stack([np.cos(angle), np.sin(angle), np.zeros(n)], axis=1)
+    alpha = granular.rft3d_alpha(normals, direction)
+    leading = np.einsum("ij,ij->i", normals, direction) > 0.0
+    want = np.where(leading, np.maximum(-np.einsum("ij,ij->i", alpha, direction), 0.0) / law3d.FLAT_PLATE_ALPHA, 0.0)
+    got = law3d.bearing_factor(*normals.T, direction[:, 0], direction[:, 1])
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-15)
+    assert np.count_nonzero(got) > n // 3
+    along = normals - np.einsum("ij,ij->i", normals, direction)[:, None] * 0.0
+    shear = law3d.shear_fraction(*normals.T, direction[:, 0], direction[:, 1])
+    tangential = direction - np.einsum("ij,ij->i", direction, along)[:, None] * normals
+    np.testing.assert_allclose(shear, np.linalg.norm(tangential, axis=1), rtol=0, atol=1e-15)
 
 
-def test_the_compiled_rotation_is_law3d_bit_for_bit() -> None:
+def test_the_rotation_is_the_quaternions() -> None:
     rng = np.random.default_rng(9)
     q = rng.normal(size=(200, 4))
     q /= np.linalg.norm(q, axis=1)[:, None]
     q[100:] *= 1.0 + rng.uniform(-9e-7, 9e-7, size=(100, 1))  # within the tolerance: normalised
     q[0] = [1.0, 0.0, 0.0, 0.0]
+    v = rng.normal(size=3)
     for row in q:
-        assert np.array_equal(np.reshape(E.rotation(*row), (3, 3)), law3d.rotation_matrix(row))
+        u = row / np.linalg.norm(row)
+        w, axis = u[0], u[1:]
+        want = v + 2.0 * w * np.cross(axis, v) + 2.0 * np.cross(axis, np.cross(axis, v))  # q v q*
+        np.testing.assert_allclose(law3d.rotation_matrix(row) @ v, want, rtol=0, atol=1e-14)
+    assert np.array_equal(law3d.rotation_matrix(q[0]), np.eye(3))
+    assert np.array_equal(np.reshape(law3d.rotation(*q[5]), (3, 3)), law3d.rotation_matrix(q[5]))
 
 
 # ---------------------------------------------------------------- many feet = independent feet

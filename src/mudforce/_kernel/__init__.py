@@ -18,11 +18,10 @@ Where to look
 * :mod:`~mudforce._kernel.loops` is speed plumbing only: the loops over
   samples and feet (``step``, ``run_batch``, ``run_batch_compact``,
   ``run_feet``), none of which computes physics of its own.
-* The 3-D law (:mod:`mudforce.model.law3d`) for one element is
-  :mod:`~mudforce._kernel.element3d` (physics: compiled scalar functions,
-  each its law3d namesake), and :mod:`~mudforce._kernel.step3d` is the
-  speed plumbing of :class:`mudforce.steppers.contact3d.MudContacts3D`, which runs
-  ``run_feet`` on every element and that law on top.
+* :mod:`~mudforce._kernel.step3d` is the speed plumbing of
+  :class:`mudforce.steppers.contact3d.MudContacts3D`, which runs ``run_feet`` on
+  every element and the 3-D law on top: :mod:`mudforce.model.law3d`'s own
+  functions, which numba compiles in (law3d registers them with it).
 
 Rule for new code: the nonlinear spring, Eq. (4), is evaluated only through
 :func:`mudforce.model.equations.nonlinear_spring_stress` (its power is

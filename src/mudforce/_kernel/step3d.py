@@ -1,15 +1,21 @@
 """Speed plumbing only: the compiled 3-D step of many feet (:class:`mudforce.steppers.contact3d.MudContacts3D`).
 
-Nothing here is physics. One call places every foot's elements by its pose,
-steps every element's paper state with the 1-D stepper
-(:func:`~mudforce._kernel.loops.run_feet`, the same compiled function
-:class:`mudforce.MudContacts` runs, so the state machine exists once), and
-applies the lateral law through the scalar functions of
-:mod:`~mudforce._kernel.element3d` (each :mod:`mudforce.model.law3d`'s namesake
-for one element) and Eq. (4) through
-:func:`mudforce.model.equations.nonlinear_spring_stress`. It follows
-:meth:`mudforce.steppers.contact3d.MudContact3D.step` line for line, foot by foot,
-and differs only in where things are kept:
+Nothing here is physics. One call places every foot's elements by its pose
+(:func:`mudforce.model.law3d.rotation`, :func:`~mudforce.model.law3d.rotate`,
+:func:`~mudforce.model.law3d.element_depth`), steps every element's paper state
+with the 1-D stepper (:func:`~mudforce._kernel.loops.run_feet`, the same
+compiled function :class:`mudforce.MudContacts` runs, so the state machine
+exists once), and applies the 3-D law through
+:func:`mudforce.model.law3d.element_force` and
+:func:`~mudforce.model.law3d.moment`: the very functions
+:class:`~mudforce.steppers.contact3d.MudContact3D` and :mod:`mudforce.jax.contact3d`
+call on arrays, compiled in here (law3d registers them with numba). Only the
+control flow is this module's: an element that carries no horizontal force
+(above the surface, or at a foot's first step) takes
+:func:`~mudforce.model.law3d.vertical_force` alone, which is what
+``element_force`` gives it, without the horizontal law's arithmetic. It
+follows :meth:`mudforce.steppers.contact3d.MudContact3D.step` foot by foot, and
+differs only in where things are kept:
 
 * the elements of all feet, concatenated foot after foot, are the rows
   of one float64 block (``E_*`` columns: constants and the lateral state),
@@ -46,25 +52,44 @@ import numpy as np
 from numba import prange
 
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
-from mudforce._kernel.element3d import (
-    bearing_factor,
-    horizontal_drag,
-    lateral_capacity,
-    lateral_return_map,
-    rotation,
-    shear_fraction,
-    vertical_weight,
+from mudforce._kernel.layout import (
+    _compiled,
+    load_cache,
+    load_params,
+    load_state,
+    store_state,
 )
-from mudforce._kernel.layout import S_DEPTH, S_STARTED, _compiled
-from mudforce._kernel.loops import run_feet
-from mudforce.model.equations import nonlinear_spring_stress
-from mudforce.model.law3d import QUATERNION_TOLERANCE, ROUNDING_DEPTH
+from mudforce._kernel.loops import (
+    SP_ALPHA,
+    SP_AREA,
+    SP_BETA,
+    SP_DEPTH,
+    SP_F_E1,
+    SP_F_S,
+    SP_WIDTH,
+    _advance_row,
+    spring_pass,
+)
+from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
+from mudforce.model.law3d import (
+    QUATERNION_TOLERANCE,
+    element_depth,
+    element_force,
+    moment,
+    rotate,
+    rotation,
+    settle_depth,
+    spring_stress,
+    vertical_force,
+)
 
 __all__ = [
     "BAD_DT",
     "N_ELEMENT_COLUMNS",
     "N_FOOT_COLUMNS",
     "OK",
+    "element_forces",
+    "lateral_scratch",
     "step_feet",
     "step_feet_threads",
 ]
@@ -125,8 +150,8 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
         h = ft[f, F_SURFACE]
         bad = False
         for i in range(starts[f], starts[f + 1]):
-            oz = r[6] * el[i, E_CBX] + r[7] * el[i, E_CBY] + r[8] * el[i, E_CBZ]
-            depth = h - (pz + oz)
+            _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+            depth = element_depth(h, pz, oz)
             depths[i] = depth
             bad |= not abs(depth) <= MAX_DEPTH
         if bad:
@@ -135,91 +160,182 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
 
 
 @_compiled(inline="always")
-def _settle(states: np.ndarray, depths: np.ndarray) -> None:
-    """:func:`mudforce.model.law3d.settle_depth` on every started element: a change of depth by rounding is none."""
-    for i in range(depths.shape[0]):
-        if states[i, S_STARTED] != 0.0 and abs(depths[i] - states[i, S_DEPTH]) <= ROUNDING_DEPTH:
-            depths[i] = states[i, S_DEPTH]
-
-
-@_compiled(inline="always")
 def _rotated(ft: np.ndarray, f: int, x: float, y: float, z: float) -> tuple[float, float, float]:
     """``R (x, y, z)`` with foot ``f``'s rotation of this step (the expressions :func:`_place` evaluates)."""
-    return (ft[f, F_R] * x + ft[f, F_R + 1] * y + ft[f, F_R + 2] * z,
-            ft[f, F_R + 3] * x + ft[f, F_R + 4] * y + ft[f, F_R + 5] * z,
-            ft[f, F_R + 6] * x + ft[f, F_R + 7] * y + ft[f, F_R + 8] * z)
+    r = (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5], ft[f, F_R + 6],
+         ft[f, F_R + 7], ft[f, F_R + 8])
+    return rotate(r, x, y, z)  # type: ignore[no-any-return]
 
 
 @_compiled(inline="always")
-def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray, f: int,
-             lo: int, hi: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> None:
-    """Foot ``f``'s elements ``lo:hi`` after the 1-D step: the lateral law, the wrench, the new lateral state.
+def _paper(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
+           stress: np.ndarray, scratch: np.ndarray, index: np.ndarray, lo: int, hi: int) -> int:
+    """The paper's 1-D step of one foot's elements ``lo:hi``: their stresses [Pa] into ``stress``.
 
-    :meth:`mudforce.steppers.contact3d.MudContact3D.step` from the paper's stress on,
-    one element at a time.
+    Each started element's depth is first settled (:func:`mudforce.model.law3d.settle_depth`, in ``depths``).
+    Then :func:`mudforce._kernel.loops.run_feet` on the foot's rows, written out
+    so that the foot's params row is loaded once (every element of a foot
+    has the same mud and width: :class:`~mudforce.steppers.contact3d.MudContacts3D`
+    builds them so) and the foot's rows are stepped while they are in the
+    cache: the same calls (:func:`~mudforce._kernel.transitions.quiet_step`,
+    else ``advance`` through ``_advance_row``; ``stress_parts``; Eq. (4) in
+    :func:`~mudforce._kernel.loops.spring_pass`), so the same bits. Returns
+    the first element refused, or -1.
+    """
+    p = load_params(params, lo)
+    quiet = exact_rule(p)
+    m = 0
+    for j in range(lo, hi):
+        s0 = load_state(states, j)
+        if s0.started != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
+            depths[j] = settle_depth(depths[j], s0.depth)
+        ok = False
+        if quiet:
+            r = quiet_step(s0, load_cache(states, j), p, depths[j], dt)
+            ok = r.ok
+            if ok:
+                store_state(states, j, r.state)
+        if not ok:
+            r, _ = _advance_row(states, ring, j, params, depths[j], dt)
+            if not r.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
+                return j
+        s1 = r.state
+        fe1, fs, _, spring = stress_parts(p, s1, r.velocity)
+        if spring:
+            index[m] = j
+            scratch[SP_DEPTH, m] = s1.depth
+            scratch[SP_WIDTH, m] = p.width
+            scratch[SP_ALPHA, m] = p.alpha
+            scratch[SP_BETA, m] = p.beta
+            scratch[SP_F_E1, m] = fe1
+            scratch[SP_F_S, m] = fs
+            scratch[SP_AREA, m] = p.area
+            m += 1
+        else:
+            stress[j] = total_force(fe1, 0.0, fs, p.area)
+    spring_pass(scratch, index, m, stress)
+    return -1
+
+
+# rows of the lateral scratch block (one per slice of feet, :func:`lateral_scratch`): a foot's submerged elements
+# side by side, so that the 3-D law runs over them in loops without branches, which the compiler vectorises
+L_INDEX = 0  # the element's row in the element block (an integer, exact in a double)
+L_NX, L_NY, L_NZ = 1, 2, 3  # world normal [-]
+L_OX, L_OY, L_OZ = 4, 5, 6  # world offset from the body origin [m]
+L_AREA = 7  # [m^2]
+L_DEPTH = 8  # [m]
+L_STRESS = 9  # the paper's stress [Pa]
+L_SPRING = 10  # Eq. (4) at the depth [Pa]
+L_SX, L_SY = 11, 12  # the last slip [m]; then the slip kept
+L_MX, L_MY = 13, 14  # the horizontal displacement since the last step [m]
+L_FX, L_FY, L_FZ = 15, 16, 17  # the element's force [N]
+N_LATERAL = 18
+
+
+def lateral_scratch(widest: int, slices: int) -> np.ndarray:
+    """The lateral scratch of :func:`step_feet` (``slices`` = 1) or :func:`step_feet_threads`: (slices, N_LATERAL, w).
+
+    ``widest`` the most elements of one foot; the rows are padded so that
+    they do not lie a multiple of 4 KiB apart (see the module).
+    """
+    width = -(-max(widest, 1) // 8) * 8
+    if width % 512 == 0:
+        width += 8
+    return np.zeros((slices, N_LATERAL, width))
+
+
+@_compiled(inline="always")
+def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, f: int,
+             lo: int, hi: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> None:
+    """Foot ``f``'s elements ``lo:hi`` after the 1-D step: the 3-D law, the wrench, the new lateral state.
+
+    :meth:`mudforce.steppers.contact3d.MudContact3D.step` from the paper's stress
+    on, in three passes: place every element, gathering the submerged ones
+    (once the foot has started) into ``lat``; run
+    :func:`~mudforce.model.law3d.spring_stress` and
+    :func:`~mudforce.model.law3d.element_force` over those, in loops without
+    branches (vectorised); scatter their slips and add up the wrench. The
+    others carry :func:`~mudforce.model.law3d.vertical_force` alone, which is
+    what ``element_force`` gives them.
     """
     # the geometry of this step, recomputed here rather than stored by _place: memory, not arithmetic, bounds
     # a step of thousands of feet
     px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
     started = ft[f, F_STARTED] != 0.0
-    moving = False  # MudContact3D's ``trial.any()``
-    if started:
-        for i in range(lo, hi):
-            if depths[i] > 0.0:
-                ox, oy, _ = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-                tx = el[i, E_SLIPX] + ((px + ox) - el[i, E_CX])
-                ty = el[i, E_SLIPY] + ((py + oy) - el[i, E_CY])
-                moving |= (tx != 0.0) | (ty != 0.0)
-    k = ft[f, F_STIFFNESS]
-    sigma_y = ft[f, F_SIGMA_Y]
-    alpha = ft[f, F_ALPHA]
-    beta = ft[f, F_BETA]
-    width = ft[f, F_WIDTH]
-    lambda_ = ft[f, F_LAMBDA]
-    rho = ft[f, F_RHO]
-    per_dt = 1.0 / dt
-    if moving:  # Eq. (4) at every element's depth, in a loop of its own, which the compiler vectorises
-        for i in range(lo, hi):
-            spring[i] = nonlinear_spring_stress(alpha, beta, depths[i], width)
     sfx = sfy = sfz = 0.0
     stx = sty = stz = 0.0
+    m = 0
     for i in range(lo, hi):
-        area = el[i, E_AREA]
         ox, oy, oz = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-        nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
         wx, wy, wz = px + ox, py + oy, pz + oz
-        fz = stress[i] * area * vertical_weight(nz)
-        fx = fy = 0.0
-        slip_x = slip_y = 0.0
-        if moving and depths[i] > 0.0:  # (above the surface the law gives 0 and 0, as MudContact3D's arrays do)
-            mx = wx - el[i, E_CX]
-            my = wy - el[i, E_CY]
-            tx = el[i, E_SLIPX] + mx
-            ty = el[i, E_SLIPY] + my
-            size = math.sqrt(tx * tx + ty * ty)
-            per = 1.0 / (size if size > 0.0 else 1.0)  # a multiply each where MudContact3D divides: within an ulp
-            dx = tx * per
-            dy = ty * per
-            capacity = lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, dx, dy),
-                                        spring[i],
-                                        bearing_factor(nx, ny, nz, dx, dy))
-            slip_x, slip_y, ax, ay = lateral_return_map(tx, ty, k, capacity)
-            gx, gy = horizontal_drag(lambda_, rho, nx, ny, mx * per_dt, my * per_dt)
-            ax += gx
-            ay += gy
-            fx = ax * area
-            fy = ay * area
-        el[i, E_SLIPX] = slip_x
-        el[i, E_SLIPY] = slip_y
+        if started and depths[i] > 0.0:
+            nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+            lat[L_INDEX, m] = i
+            lat[L_NX, m] = nx
+            lat[L_NY, m] = ny
+            lat[L_NZ, m] = nz
+            lat[L_OX, m] = ox
+            lat[L_OY, m] = oy
+            lat[L_OZ, m] = oz
+            lat[L_AREA, m] = el[i, E_AREA]
+            lat[L_DEPTH, m] = depths[i]
+            lat[L_STRESS, m] = stress[i]
+            lat[L_SX, m] = el[i, E_SLIPX]
+            lat[L_SY, m] = el[i, E_SLIPY]
+            lat[L_MX, m] = wx - el[i, E_CX]
+            lat[L_MY, m] = wy - el[i, E_CY]
+            m += 1
+        else:  # what element_force gives an element that carries no horizontal force, without its arithmetic
+            el[i, E_SLIPX] = 0.0
+            el[i, E_SLIPY] = 0.0
+            if stress[i] != 0.0:  # (most elements above the surface carry none: no force, no moment to add)
+                _, _, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+                fz = vertical_force(stress[i], el[i, E_AREA], nz)
+                mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
+                sfz += fz
+                stx += mx
+                sty += my
+                stz += mz
         el[i, E_CX] = wx
         el[i, E_CY] = wy
         el[i, E_CZ] = wz
-        sfx += fx
-        sfy += fy
-        sfz += fz
-        stx += oy * fz - oz * fy
-        sty += oz * fx - ox * fz
-        stz += ox * fy - oy * fx
+    if m > 0:
+        k = ft[f, F_STIFFNESS]
+        sigma_y = ft[f, F_SIGMA_Y]
+        alpha = ft[f, F_ALPHA]
+        beta = ft[f, F_BETA]
+        width = ft[f, F_WIDTH]
+        lambda_ = ft[f, F_LAMBDA]
+        rho = ft[f, F_RHO]
+        per_dt = 1.0 / dt
+        # rows as arrays of their own (as loops.spring_pass does): loops over them vectorise
+        depth, spring, area = lat[L_DEPTH], lat[L_SPRING], lat[L_AREA]
+        nxs, nys, nzs = lat[L_NX], lat[L_NY], lat[L_NZ]
+        sxs, sys_, mxs, mys = lat[L_SX], lat[L_SY], lat[L_MX], lat[L_MY]
+        stresses, fxs, fys, fzs = lat[L_STRESS], lat[L_FX], lat[L_FY], lat[L_FZ]
+        for j in range(m):  # Eq. (4)
+            spring[j] = spring_stress(depth[j], alpha, beta, width)
+        for j in range(m):  # the 3-D law
+            slip_x, slip_y, fx, fy, fz = element_force(
+                stresses[j], spring[j], area[j], nxs[j], nys[j], nzs[j], depth[j], sxs[j], sys_[j], mxs[j], mys[j],
+                per_dt, True, k, sigma_y, lambda_, rho)
+            sxs[j] = slip_x
+            sys_[j] = slip_y
+            fxs[j] = fx
+            fys[j] = fy
+            fzs[j] = fz
+        for j in range(m):
+            i = int(lat[L_INDEX, j])
+            el[i, E_SLIPX] = lat[L_SX, j]
+            el[i, E_SLIPY] = lat[L_SY, j]
+            fx, fy, fz = lat[L_FX, j], lat[L_FY, j], lat[L_FZ, j]
+            mx, my, mz = moment(lat[L_OX, j], lat[L_OY, j], lat[L_OZ, j], fx, fy, fz)
+            sfx += fx
+            sfy += fy
+            sfz += fz
+            stx += mx
+            sty += my
+            stz += mz
     forces[f, 0] = sfx
     forces[f, 1] = sfy
     forces[f, 2] = sfz
@@ -230,8 +346,50 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
 
 
 @_compiled()
+def element_forces(stress: np.ndarray, spring: np.ndarray, areas: np.ndarray, nx: np.ndarray, ny: np.ndarray,
+                   nz: np.ndarray, ox: np.ndarray, oy: np.ndarray, oz: np.ndarray, depth: np.ndarray,
+                   slip: np.ndarray, mx: np.ndarray, my: np.ndarray, per_dt: float, stiffness: float,
+                   sigma_y: float, lambda_: float, rho_m: float, out: np.ndarray) -> None:
+    """:func:`mudforce.model.law3d.element_force` and :func:`~mudforce.model.law3d.moment` on every element of a
+    started foot (:class:`~mudforce.steppers.contact3d.MudContact3D`'s step): ``out[i]`` = slip x, slip y [m],
+    force x, y, z [N], moment x, y, z [N m].
+
+    The arrays are the elements' columns (SI, world frame; ``slip`` (n, 2) the last slips); one compiled
+    loop rather than numpy's dozens of passes, the same source, the same bits.
+    """
+    for i in range(stress.shape[0]):
+        sx, sy, fx, fy, fz = element_force(stress[i], spring[i], areas[i], nx[i], ny[i], nz[i], depth[i], slip[i, 0],
+                                           slip[i, 1], mx[i], my[i], per_dt, True, stiffness, sigma_y, lambda_,
+                                           rho_m)
+        tx, ty, tz = moment(ox[i], oy[i], oz[i], fx, fy, fz)
+        out[i, 0] = sx
+        out[i, 1] = sy
+        out[i, 2] = fx
+        out[i, 3] = fy
+        out[i, 4] = fz
+        out[i, 5] = tx
+        out[i, 6] = ty
+        out[i, 7] = tz
+
+
+@_compiled()
+def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.ndarray, stress: np.ndarray,
+               lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
+               index: np.ndarray, f: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> int:
+    """Foot ``f``'s step once placed: its elements' paper step (:func:`_paper`), then the 3-D law
+    (:func:`_lateral`); the element refused, or -1. (Compiled on its own: numba's analysis of parallel loops
+    does not take the state machine inlined.)"""
+    lo, hi = starts[f], starts[f + 1]
+    refused = _paper(states, ring, params, depths, dt, stress, scratch, index, lo, hi)
+    if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+        return refused
+    _lateral(el, ft, depths, stress, lat, f, lo, hi, dt, forces, torques)
+    return -1
+
+
+@_compiled()
 def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-              starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray, states: np.ndarray,
+              starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray,
               ring: np.ndarray, params: np.ndarray, scratch: np.ndarray, index: np.ndarray, forces: np.ndarray,
               torques: np.ndarray) -> int:
     """One step of every foot: the wrench of foot ``f`` [N], [N m] into ``forces[f]`` and ``torques[f]``.
@@ -240,8 +398,8 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     are the feet's poses, ``dt`` [s] the time since the last step (ignored
     if no foot has started). ``states``, ``ring`` and ``params`` are the
     1-D stepper's rows, one per element, ``depths`` and ``stress`` its
-    depths [m] and forces (on a unit area: the stresses [Pa]); ``spring``
-    (one per element) receives Eq. (4)'s stress [Pa]; ``scratch`` and ``index`` the
+    depths [m] and forces (on a unit area: the stresses [Pa]); ``lat`` the
+    lateral scratch (:func:`lateral_scratch`, one slice); ``scratch`` and ``index`` the
     spring pass's (:func:`~mudforce._kernel.loops.new_spring_scratch` for
     all elements). Returns :data:`OK`; or, having changed nothing, the
     first foot whose pose or depth is refused (see :func:`_place`), or
@@ -260,12 +418,11 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     bad = _place(positions, quaternions, el, ft, starts, depths)
     if bad != OK:
         return bad
-    _settle(states, depths)
-    refused = run_feet(states, ring, params, depths, dt, stress, scratch, index)
-    if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
-        return refused
     for f in range(m):
-        _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+        refused = _step_foot(el, ft, starts, depths, stress, lat[0], states, ring, params, scratch, index, f, dt,
+                             forces, torques)
+        if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+            return refused
     return OK
 
 
@@ -282,7 +439,7 @@ def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
 
 @_compiled(parallel=True)
 def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, spring: np.ndarray,
+                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray,
                       states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
                       index: np.ndarray, forces: np.ndarray, torques: np.ndarray, chunks: np.ndarray) -> int:
     """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
@@ -300,15 +457,16 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     bad = _place(positions, quaternions, el, ft, starts, depths)
     if bad != OK:
         return bad
-    _settle(states, depths)
     n = chunks.shape[0]
     for c in prange(n):
         lo = m * c // n
         hi = m * (c + 1) // n
-        a, b = starts[lo], starts[hi]
-        chunks[c] = run_feet(states[a:b], ring[a:b], params[a:b], depths[a:b], dt, stress[a:b], scratch[c], index[c])
+        chunks[c] = -1
         for f in range(lo, hi):
-            _lateral(el, ft, depths, stress, spring, f, starts[f], starts[f + 1], dt, forces, torques)
+            refused = _step_foot(el, ft, starts, depths, stress, lat[c], states, ring, params, scratch[c], index[c],
+                                 f, dt, forces, torques)
+            if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
+                chunks[c] = refused
     for c in range(n):
         if chunks[c] >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return int(chunks[c])

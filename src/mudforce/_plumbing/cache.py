@@ -43,7 +43,7 @@ _PACKAGE = Path(__file__).resolve().parents[1]
 #: the sources compiled into other modules' code, relative to the package (globs)
 SOURCES = ("_plumbing/pow.py", "model/equations.py", "_kernel/*.py", "engines/dynamics/rest_band.py",
            "engines/dynamics/result.py", "engines/mujoco/_step.py",
-           "model/law3d.py", "model/granular.py")  # the last two: constants of the 3-D law frozen into element3d.py
+           "model/law3d.py", "model/granular.py")  # the 3-D law, compiled into step3d
 
 
 @functools.lru_cache(maxsize=1)

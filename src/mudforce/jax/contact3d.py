@@ -22,8 +22,10 @@ area, the exact velocity rule: MudContact3D's elements), and the same
 wiring: world centroids ``c = p + R c_b``, normals ``n = R n_b``, depths
 ``h - c_z``; vertical force ``sigma_i A_i max(-n_z, 0)``; per submerged
 element an elastic-perfectly-plastic horizontal slip with 3D-RFT bearing
-and Eq. (5)'s drag; torque about the body origin. Measured equal to
-MudContact3D to 1e-12 of the peak force in float64 (``tests/jax/test_jax_contact3d.py``;
+and Eq. (5)'s drag; torque about the body origin. The law's
+functions are the very ones MudContact3D and the compiled step call
+(:mod:`mudforce.model.law3d` writes each once, for floats, numpy, JAX and
+numba). Measured equal to MudContact3D to 1e-12 of the peak force in float64 (``tests/jax/test_jax_contact3d.py``;
 the differences are rounding: XLA's reductions and products, and those of
 the 1-D step, :mod:`mudforce.jax`).
 
@@ -263,40 +265,29 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     pose_ok = jnp.all(jnp.isfinite(p)) & jnp.all(jnp.isfinite(q)) & (jnp.abs(norm - 1.0) <= law3d.QUATERNION_TOLERANCE)
     dt_ok = (dt >= MIN_DT) & (dt <= MAX_DT)
     dts = jnp.where(dt_ok, dt, 1.0)  # the double where: a first step's ignored dt puts no NaN in a gradient
-    rotation = law3d.quaternion_matrix(q / jnp.where(pose_ok, norm, 1.0), xp=jnp)
-    offsets = body_centroids @ rotation.T
-    centroids = p + offsets
-    normals = body_normals @ rotation.T
+    # the law of mudforce.model.law3d on the elements' columns (the functions MudContact3D and the compiled
+    # step call): placing, the paper per element, the horizontal law, the moments
+    qs = jnp.where(pose_ok, q, jnp.asarray([1.0, 0.0, 0.0, 0.0], dtype=ftype))  # rotation() normalises
+    r = law3d.rotation(qs[0], qs[1], qs[2], qs[3])
+    ox, oy, oz = law3d.rotate(r, body_centroids[:, 0], body_centroids[:, 1], body_centroids[:, 2])
+    nx, ny, nz = law3d.rotate(r, body_normals[:, 0], body_normals[:, 1], body_normals[:, 2])
+    centroids = jnp.stack([p[0] + ox, p[1] + oy, p[2] + oz], axis=1)
     height = jnp.asarray(params.surface_height, dtype=ftype)
-    depth = height - centroids[:, 2]
+    depth = law3d.element_depth(height, p[2], oz)
     # an element turned about at its depth is at rest, not moving by rounding (MudContact3D.step's rule)
-    depth = jnp.where(started, law3d.settle_depth(depth, state.elements.depth, xp=jnp), depth)
+    depth = jnp.where(started, law3d.settle_depth(depth, state.elements.depth), depth)
     ok = pose_ok & (~started | dt_ok) & jnp.all(jnp.abs(depth) <= MAX_DEPTH)
 
     # the paper, element by element
     elements, stress = mj.step(state.elements, e, depth, dts)
-    vertical = stress * areas * law3d.vertical_weight(normals, xp=jnp)
-    # horizontally: elastic slip, yielding at the capacity, and the drag (MudContact3D.step's wiring)
-    below = depth > 0.0
-    moved = centroids[:, :2] - state.centroids[:, :2]
-    trial = jnp.where(below[:, None], state.slip + moved, 0.0)
-    active = started & jnp.any(trial != 0.0)
-    square = jnp.einsum("ij,ij->i", trial, trial)
-    some = square > 0.0
-    size = jnp.where(some, jnp.sqrt(jnp.where(some, square, 1.0)), 0.0)
-    direction = jnp.concatenate([trial / jnp.where(size > 0.0, size, 1.0)[:, None], jnp.zeros((n, 1), ftype)], axis=1)
-    capacity = law3d.lateral_capacity(
-        e.sigma_y, law3d.shear_fraction(normals, direction, xp=jnp),
-        law3d.spring_stress(depth, e.alpha, e.beta, e.width, xp=jnp), law3d.bearing_factor(normals, direction, xp=jnp))
-    slip, traction = law3d.lateral_return_map(trial, k, capacity, xp=jnp)
-    drag = law3d.horizontal_drag(e.lam, e.rho_m, normals, moved / dts, xp=jnp)
-    horizontal = (traction + jnp.where(below[:, None], drag, 0.0)) * areas[:, None]
-    # nothing moved sideways and nothing is loaded sideways (or the first step): no horizontal force, no slip
-    horizontal = jnp.where(active, horizontal, 0.0)
-    slip = jnp.where(active, slip, 0.0)
-    forces = jnp.concatenate([horizontal, vertical[:, None]], axis=1)
-    force = forces.sum(axis=0)
-    torque = jnp.cross(offsets, forces).sum(axis=0)
+    sx, sy = state.slip[:, 0], state.slip[:, 1]
+    mx, my = centroids[:, 0] - state.centroids[:, 0], centroids[:, 1] - state.centroids[:, 1]
+    spring = law3d.spring_stress(depth, e.alpha, e.beta, e.width)
+    slip_x, slip_y, fx, fy, fz = law3d.element_force(stress, spring, areas, nx, ny, nz, depth, sx, sy, mx, my,
+                                                     1.0 / dts, started, k, e.sigma_y, e.lam, e.rho_m)
+    slip = jnp.stack([slip_x, slip_y], axis=1)
+    force = jnp.stack([fx.sum(), fy.sum(), fz.sum()])
+    torque = jnp.stack([t.sum() for t in law3d.moment(ox, oy, oz, fx, fy, fz)])
 
     new = State3D(elements, slip, centroids, jnp.ones_like(started))
     kept: State3D = jax.tree.map(lambda a, b: jnp.where(ok, a, b), new, state)

@@ -4,24 +4,40 @@ The paper (Chen, Yi & Shan 2024) gives the vertical force on a flat sole
 moved straight up and down. A robot's foot is a sphere, capsule or box that
 also slides, tilts and twists. :class:`mudforce.steppers.contact3d.MudContact3D`
 puts a law on every surface element of a :class:`mudforce.model.shapes.Shape`;
-this module holds that law's pieces as small pure functions on arrays of
-elements (one row each, world frame, z up, SI). The compiled 1-D stepper
-supplies each element's paper stress; everything here is vectorised array
-code.
+this module holds that law's pieces as small pure functions of one element
+(world frame, z up, SI), which run on floats, numpy arrays and JAX arrays
+alike. The 1-D stepper supplies each element's paper stress.
 
-One law, two array libraries
-----------------------------
-Every function takes the array library as a keyword, ``xp``: numpy by
-default (:class:`mudforce.steppers.contact3d.MudContact3D`, the reference), or
-``jax.numpy`` (:mod:`mudforce.jax.contact3d`, the same law under ``jit``, ``vmap``,
-``lax.scan`` and ``grad``). The operations are the same either way; with
-numpy the results are those the functions gave before they took ``xp``, bit
-for bit. Where a square root or a quotient meets 0 (a slip or a direction of
-zero length, an element at or above the surface) the argument is guarded
-first (the "double where"), so that the branch not taken puts no NaN into a
-gradient; with numpy the guard changes no value. Only
-:func:`rotation_matrix` checks its input (numpy); :func:`quaternion_matrix`
-is its unchecked arithmetic, for traced values.
+One law, written once, for every path
+-------------------------------------
+Each function here is the law for ONE element, written as scalar
+arithmetic on its components (``nx, ny, nz`` rather than an (n, 3) array):
+
+* called from Python on numpy arrays (columns of elements), it is the law on
+  every element at once (:class:`mudforce.steppers.contact3d.MudContact3D`
+  places its elements so; the tests hold this form to the compiled one, bit
+  for bit);
+* called on JAX arrays, the same (:mod:`mudforce.jax.contact3d`, under
+  ``jit``, ``vmap``, ``lax.scan`` and ``grad``);
+* called from numba-compiled code on floats, it is compiled into the
+  caller (:mod:`mudforce._kernel.step3d`: the many-feet step, and the loop
+  MudContact3D runs the law in): each function
+  is registered with numba (``numba.extending.overload``), so the compiled
+  step runs this very source, not a copy.
+
+So the placement of the elements (:func:`rotation`, :func:`rotate`,
+:func:`element_depth`), the velocities from consecutive poses and the
+horizontal law (:func:`element_force`), the vertical/lateral split and
+the wrench's moments (:func:`moment`) exist once. A choice is a
+:func:`select` (``where`` on arrays, ``a if c else b`` compiled) and a
+square root :func:`root`; where a square root or a quotient meets 0 (a slip
+of zero length, a slip straight into a face) its argument is guarded first
+(the "double where"), so that the branch not taken puts no NaN into a JAX
+gradient. Eq. (4)'s spring is :func:`spring_stress`: the compiled paths and
+numpy take it from :func:`mudforce.model.equations.nonlinear_spring_stress`
+(its power, :func:`mudforce._plumbing.pow.power`, is the one every path
+shares); JAX, which cannot run that power, computes ``x ** beta`` itself
+(within an ulp). Only :func:`rotation_matrix` checks its input.
 
 The law, element by element
 ---------------------------
@@ -43,6 +59,8 @@ The law, element by element
   growing: the element flows at its capacity, dissipating. A foot at rest
   under a small sideways load therefore holds (it deflects by
   ``load / (k S)``, without creep), and a sliding foot meets its capacity.
+  The slip follows from the poses by the exact rule: each element's
+  horizontal displacement since the last step (:func:`element_force`).
   The capacity is the sum of
   - **shear** along the face, capped by the paper's yield stress:
     ``sigma_y |s_t|``, with ``s_t`` the part of the slip direction in the
@@ -73,26 +91,40 @@ else is new.
 
 from __future__ import annotations
 
+import inspect
 import math
-from typing import Any
+import sys
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 import numpy as np
+from numba import njit
+from numba.extending import overload
 
 from mudforce.errors import InputError
-from mudforce.model.granular import rft3d_alpha
+from mudforce.model.equations import nonlinear_spring_stress
+from mudforce.model.granular import RFT3D_C1, RFT3D_C2, rft3d_alpha
 
 __all__ = [
     "FLAT_PLATE_ALPHA",
+    "QUATERNION_TOLERANCE",
     "ROUNDING_DEPTH",
     "bearing_factor",
+    "element_depth",
+    "element_force",
     "horizontal_drag",
     "lateral_capacity",
     "lateral_return_map",
-    "quaternion_matrix",
+    "moment",
+    "root",
+    "rotate",
+    "rotation",
     "rotation_matrix",
+    "select",
     "settle_depth",
     "shear_fraction",
     "spring_stress",
+    "vertical_force",
     "vertical_weight",
 ]
 
@@ -102,14 +134,82 @@ FLAT_PLATE_ALPHA: float = float(rft3d_alpha(np.array([[0.0, 0.0, -1.0]]), np.arr
 #: A quaternion whose norm is within this of 1 is normalised; farther, refused [-].
 QUATERNION_TOLERANCE = 1e-6
 
-Array = Any  # a numpy array, or a jax array with xp=jax.numpy
+#: A change of an element's depth up to this [m] between steps is the rounding of a pose, not motion.
+ROUNDING_DEPTH = 1e-13
+
+# the 3D-RFT cubic fits' coefficients (mudforce.model.granular) as constants of the compiled code
+_C1 = tuple(float(c) for c in RFT3D_C1)
+_C2 = tuple(float(c) for c in RFT3D_C2)
+_PER_FLAT = 1.0 / FLAT_PLATE_ALPHA
+
+Array = Any  # a float, a numpy array, or a jax array
+_F = TypeVar("_F", bound=Callable[..., Any])
 
 
+# ---------------------------------------------------------------- one source for floats, numpy, JAX and numba
+def _namespace(*values: Any) -> Any:
+    """``jax.numpy`` if one of ``values`` is a JAX array (or tracer), else numpy."""
+    jax = sys.modules.get("jax")
+    if jax is not None:
+        for v in values:
+            if isinstance(v, jax.Array):
+                return sys.modules["jax.numpy"]
+    return np
+
+
+def select(condition: Array, a: Array, b: Array) -> Array:
+    """``a`` where ``condition``, else ``b``: ``where`` on arrays, ``a if condition else b`` compiled."""
+    return _namespace(condition, a, b).where(condition, a, b)
+
+
+def root(x: Array) -> Array:
+    """The square root of ``x`` (``x >= 0``): ``sqrt`` of numpy or JAX, ``math.sqrt`` compiled."""
+    return _namespace(x).sqrt(x)
+
+
+@overload(select)
+def _select_compiled(condition: Any, a: Any, b: Any) -> Any:
+    def impl(condition: Any, a: Any, b: Any) -> Any:  # pragma: no cover - compiled
+        return a if condition else b
+    return impl
+
+
+@overload(root)
+def _root_compiled(x: Any) -> Any:
+    def impl(x: Any) -> Any:  # pragma: no cover - compiled
+        return math.sqrt(x)
+    return impl
+
+
+def _law(function: _F) -> _F:
+    """Register a law function with numba, so that compiled code calls (and inlines) this very source.
+
+    The function itself is returned unchanged: from Python it runs on
+    floats, numpy arrays and JAX arrays (the module docstring).
+    """
+    def typer(*args: Any) -> Any:
+        return function
+
+    typer.__signature__ = inspect.signature(function)  # type: ignore[attr-defined]
+    overload(function, inline="always")(typer)
+    return function
+
+
+def _positive(x: Array) -> Array:
+    """``max(x, 0)`` (0 for NaN's sake never arises: the callers' arguments are finite)."""
+    return select(x >= 0.0, x, 0.0)
+
+
+_law(_positive)
+
+
+# ---------------------------------------------------------------- placing the elements
 def rotation_matrix(quaternion: Any) -> np.ndarray:
-    """The rotation matrix of a unit quaternion ``(w, x, y, z)`` (MuJoCo's order) [-], shape (3, 3).
+    """The rotation matrix of a unit quaternion ``(w, x, y, z)`` (MuJoCo's order) [-], shape (3, 3); checked.
 
     A quaternion whose norm is within :data:`QUATERNION_TOLERANCE` of 1 is
-    normalised; ``(1, 0, 0, 0)`` gives the identity exactly.
+    normalised (:func:`rotation`); farther, or not 4 finite numbers, it is
+    refused with an :class:`~mudforce.errors.InputError`.
     """
     try:
         q = np.asarray(quaternion, dtype=np.float64)
@@ -120,32 +220,55 @@ def rotation_matrix(quaternion: Any) -> np.ndarray:
     norm = math.sqrt(float(q @ q))
     if abs(norm - 1.0) > QUATERNION_TOLERANCE:
         raise InputError(f"a quaternion must have norm 1 (within {QUATERNION_TOLERANCE:g}), got norm {norm:.9g}")
-    if norm != 1.0:
-        q = q / norm
-    out: np.ndarray = quaternion_matrix(q.tolist())  # Python floats: the same arithmetic, faster
-    return out
+    return np.reshape(np.array(_rotation_compiled(*q.tolist())), (3, 3))
 
 
-def quaternion_matrix(quaternion: Array, *, xp: Any = np) -> Array:
-    """The rotation matrix of a quaternion ``(w, x, y, z)`` already of norm 1 [-], shape (3, 3); unchecked.
+@_law
+def rotation(w: Array, x: Array, y: Array, z: Array) -> tuple[Array, ...]:
+    """The rotation matrix of the quaternion ``(w, x, y, z)`` divided by its norm, row by row [-]: 9 entries.
 
-    The arithmetic of :func:`rotation_matrix`, which checks and normalises
-    first; this one is for traced values (``xp=jax.numpy``), whose caller
-    normalises and guards them (:mod:`mudforce.jax.contact3d`).
+    Unchecked (:func:`rotation_matrix` checks); ``(1, 0, 0, 0)`` gives the
+    identity exactly, and a quaternion of norm exactly 1 is used as it is
+    (a division by 1 is exact).
     """
-    w, x, y, z = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
-    return xp.asarray([
-        [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y)],
-        [2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)],
-        [2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)],
-    ])
+    norm = root(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / norm, x / norm, y / norm, z / norm
+    return (1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y),
+            2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x),
+            2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y))
 
 
-#: A change of an element's depth up to this [m] between steps is the rounding of a pose, not motion.
-ROUNDING_DEPTH = 1e-13
+@njit(cache=True, nogil=True, error_model="numpy")
+def _rotation_compiled(w: float, x: float, y: float, z: float) -> tuple[float, ...]:
+    """:func:`rotation` of Python floats, compiled (the same source; a fraction of numpy's per-call cost)."""
+    return rotation(w, x, y, z)  # type: ignore[no-any-return]
 
 
-def settle_depth(depth: Array, previous: Array, *, xp: Any = np) -> Array:
+@_law
+def rotate(r: tuple[Array, ...], x: Array, y: Array, z: Array) -> tuple[Array, Array, Array]:
+    """``R (x, y, z)`` for a rotation ``r`` given row by row (:func:`rotation`) [the unit of x, y, z].
+
+    A body-frame centroid gives the element's offset from the body origin
+    in the world frame (its world centroid is the body position plus
+    that); a body-frame normal, its world normal.
+    """
+    return (r[0] * x + r[1] * y + r[2] * z,
+            r[3] * x + r[4] * y + r[5] * z,
+            r[6] * x + r[7] * y + r[8] * z)
+
+
+@_law
+def element_depth(surface_height: Array, pz: Array, oz: Array) -> Array:
+    """An element's depth below the undisturbed surface [m]: ``h - (p_z + o_z)``.
+
+    ``surface_height`` [m], ``pz`` the body origin's height [m], ``oz`` the
+    element's world offset's height (:func:`rotate`) [m].
+    """
+    return surface_height - (pz + oz)
+
+
+@_law
+def settle_depth(depth: Array, previous: Array) -> Array:
     """Each element's depth [m], or its previous depth where the two differ by rounding only.
 
     An element that stays at its depth while the foot turns about it gets
@@ -158,27 +281,45 @@ def settle_depth(depth: Array, previous: Array, *, xp: Any = np) -> Array:
 
     Parameters
     ----------
-    depth, previous : array
+    depth, previous : float or array
         The elements' depths now and at the last step [m].
     """
-    return xp.where(xp.abs(depth - previous) <= ROUNDING_DEPTH, previous, depth)
+    return select(abs(depth - previous) <= ROUNDING_DEPTH, previous, depth)
 
 
-def vertical_weight(normals: Array, *, xp: Any = np) -> Array:
-    """The share of each element's area that carries the paper's vertical stress, ``max(-n_z, 0)`` [-].
+# ---------------------------------------------------------------- the vertical law
+@_law
+def vertical_weight(nz: Array) -> Array:
+    """The share of an element's area that carries the paper's vertical stress, ``max(-n_z, 0)`` [-].
 
     Its horizontal projection facing down: 1 for a sole, 0 for a wall or an
-    upward-facing element. ``normals`` (n, 3) [-]; ``xp`` the array library.
+    upward-facing element. ``nz`` the world normal's vertical component [-].
     """
-    return xp.maximum(-normals[:, 2], 0.0)
+    return _positive(-nz)
 
 
-def spring_stress(depth: Array, alpha: Any, beta: Any, width: Any, *, xp: Any = np) -> Array:
+@_law
+def vertical_force(stress: Array, area: Array, nz: Array) -> Array:
+    """The paper's vertical force on an element [N]: ``sigma_i A_i max(-n_z, 0)``, Eq. (8) on its projection.
+
+    ``stress`` the element's paper stress ``sigma_i`` [Pa] (positive up),
+    ``area`` [m^2], ``nz`` its world normal's vertical component [-].
+    """
+    return stress * area * vertical_weight(nz)
+
+
+def spring_stress(depth: Array, alpha: Any, beta: Any, width: Any) -> Array:
     """The nonlinear spring ``alpha (z/H)^beta`` of Eq. (4) at each element's depth [Pa], 0 above the surface.
+
+    :func:`mudforce.model.equations.nonlinear_spring_stress` on floats and
+    numpy arrays (its power, :func:`mudforce._plumbing.pow.power`, is the one
+    every path shares) and in compiled code; on JAX arrays ``x ** beta``
+    (within an ulp), guarded so that no NaN reaches a gradient above the
+    surface.
 
     Parameters
     ----------
-    depth : ndarray
+    depth : float or array
         Element depths below the surface [m].
     alpha : float
         Spring coefficient [Pa], Eq. (4).
@@ -186,111 +327,210 @@ def spring_stress(depth: Array, alpha: Any, beta: Any, width: Any, *, xp: Any = 
         Spring exponent [-], Eq. (4).
     width : float
         Intruder width ``H`` [m], Eq. (4).
-    xp : module
-        The array library (numpy, or jax.numpy).
     """
+    xp = _namespace(depth, alpha, beta, width)
+    if xp is np:
+        z = np.asarray(depth, dtype=np.float64)
+        out = np.empty(z.shape)
+        _springs(z.reshape(-1), float(alpha), float(beta), float(width), out.reshape(-1))
+        return out if out.ndim else float(out)
     below = depth > 0.0
     base = xp.where(below, depth, width) / width  # 1 at and above the surface: no NaN in a gradient there
     return xp.where(below, alpha * base ** beta, 0.0)
 
 
-def _length(rows: Array, xp: Any) -> Array:
-    """``|row|`` of each row, its square root guarded at 0 (the double where) [-]."""
-    square = xp.einsum("ij,ij->i", rows, rows)
+@overload(spring_stress)
+def _spring_stress_compiled(depth: Any, alpha: Any, beta: Any, width: Any) -> Any:
+    def impl(depth: Any, alpha: Any, beta: Any, width: Any) -> Any:  # pragma: no cover - compiled
+        return nonlinear_spring_stress(alpha, beta, depth, width)
+    return impl
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _springs(depth: np.ndarray, alpha: float, beta: float, width: float, out: np.ndarray) -> None:
+    """:func:`spring_stress` of every depth, into ``out`` (a loop the compiler vectorises)."""
+    for i in range(depth.shape[0]):
+        out[i] = nonlinear_spring_stress(alpha, beta, depth[i], width)
+
+
+# ---------------------------------------------------------------- the horizontal law
+@_law
+def shear_fraction(nx: Array, ny: Array, nz: Array, dx: Array, dy: Array) -> Array:
+    """``|s - (s.n) n|`` for the unit horizontal slip direction ``s = (dx, dy, 0)`` [-]: 1 along a face, 0 into it.
+
+    ``(nx, ny, nz)`` the element's outward unit normal [-]. The square root
+    is guarded at 0 (a slip straight into the face).
+    """
+    dn = dx * nx + dy * ny
+    ax = dx - dn * nx
+    ay = dy - dn * ny
+    az = -(dn * nz)
+    square = ax * ax + ay * ay + az * az
     some = square > 0.0
-    return xp.where(some, xp.sqrt(xp.where(some, square, 1.0)), 0.0)
+    return select(some, root(select(some, square, 1.0)), 0.0)
 
 
-def shear_fraction(normals: Array, direction: Array, *, xp: Any = np) -> Array:
-    """``|s - (s.n) n|`` for a unit horizontal slip direction ``s`` (rows) [-]: 1 along a face, 0 straight into it.
+def _cubic_level(c: tuple[float, ...], b: Array, d: Array) -> Array:
+    """3D-RFT's cubic fit (:func:`mudforce.model.granular.rft3d_basis`'s order) at ``x1 = -u_z = 0`` [-].
 
-    ``normals`` and ``direction`` (n, 3) [-]; ``xp`` the array library.
+    A horizontal motion: the ten terms with ``x1`` are products with a
+    zero, which change no sum, and are left out.
     """
-    along = direction - xp.einsum("ij,ij->i", direction, normals)[:, None] * normals
-    return _length(along, xp)
+    return (c[0] + c[2] * b + c[3] * d + c[5] * (b * b) + c[6] * (d * d) + c[8] * (b * d) + c[11] * (b * b * b)
+            + c[12] * (d * d * d) + c[15] * (b * d * d) + c[16] * (d * b * b))
 
 
-def bearing_factor(normals: Array, direction: Array, *, xp: Any = np) -> Array:
-    """3D-RFT's resistance of each element to motion along ``direction``, per a flat plate's pushed down [-].
+_law(_cubic_level)
 
-    ``max(0, -alpha(n, s) . s) / FLAT_PLATE_ALPHA`` on the elements that lead
-    the motion (``n . s > 0``), 0 on the others; ``alpha`` is
-    :func:`mudforce.model.granular.rft3d_alpha`. A wall facing the motion gets
-    about 0.26, a flat plate pushed down 1. ``normals`` and ``direction``
-    (n, 3) [-]; ``xp`` the array library.
+
+@_law
+def bearing_factor(nx: Array, ny: Array, nz: Array, dx: Array, dy: Array) -> Array:
+    """3D-RFT's resistance of an element to motion along ``s = (dx, dy, 0)``, per a flat plate's pushed down [-].
+
+    ``max(0, -alpha(n, s) . s) / FLAT_PLATE_ALPHA`` on an element that
+    leads the motion (``n . s > 0``), 0 on the others; ``alpha`` is
+    :func:`mudforce.model.granular.rft3d_alpha` (Agarwal, Goldman & Kamrin
+    2023) for a horizontal unit velocity ``s``, whose vertical part ``f3``
+    does not enter ``alpha . s``. A wall facing the motion gets about 0.26.
+    ``(nx, ny, nz)`` the outward unit normal [-].
     """
-    alpha = rft3d_alpha(normals, direction, xp=xp)
-    against = xp.maximum(-xp.einsum("ij,ij->i", alpha, direction), 0.0)
-    leading = xp.einsum("ij,ij->i", normals, direction) > 0.0
-    return xp.where(leading, against / FLAT_PLATE_ALPHA, 0.0)
+    sign = select(nz < 0.0, 1.0, -1.0)  # the downward normal m (an exact change of sign)
+    mx, my, mz = sign * nx, sign * ny, sign * nz
+    x2 = -mz
+    x3 = mx * dx + my * dy
+    f1 = _cubic_level(_C1, x2, x3)
+    f2 = _cubic_level(_C2, x2, x3)
+    against = -((f1 * mx + f2 * dx) * dx + (f1 * my + f2 * dy) * dy)
+    return select(nx * dx + ny * dy > 0.0, _positive(against) * _PER_FLAT, 0.0)
 
 
-def lateral_capacity(sigma_y: Any, shear: Array, spring: Array, bearing: Array) -> Array:
+@_law
+def lateral_capacity(sigma_y: Array, shear: Array, spring: Array, bearing: Array) -> Array:
     """The horizontal stress an element can carry before it flows [Pa]: ``sigma_y shear + spring bearing``.
 
     Parameters
     ----------
     sigma_y : float
         Yield stress [Pa], Eq. (9) (taken as the yield in shear).
-    shear : ndarray
+    shear : float or array
         :func:`shear_fraction` [-].
-    spring : ndarray
+    spring : float or array
         :func:`spring_stress` [Pa].
-    bearing : ndarray
+    bearing : float or array
         :func:`bearing_factor` [-].
-
-    Plain arithmetic: the same on numpy and jax arrays.
     """
     return sigma_y * shear + spring * bearing
 
 
-def lateral_return_map(slip: Array, stiffness: Any, capacity: Array, *, xp: Any = np) -> tuple[Array, Array]:
-    """Elastic-perfectly-plastic update of the elements' horizontal slips: ``(slip, traction)``.
+@_law
+def lateral_return_map(sx: Array, sy: Array, size: Array, stiffness: Array,
+                       capacity: Array) -> tuple[Array, Array, Array, Array]:
+    """Elastic-perfectly-plastic update of an element's horizontal slip: ``(slip x, slip y, traction x, y)``.
 
     Parameters
     ----------
-    slip : ndarray, shape (n, 2)
-        Trial slips [m]: the last slips plus this step's horizontal displacements.
+    sx, sy : float or array
+        The trial slip [m]: the last slip plus this step's horizontal displacement.
+    size : float or array
+        Its length ``|(sx, sy)|`` [m] (:func:`element_force` has it already).
     stiffness : float
         Lateral stiffness ``k`` [Pa/m].
-    capacity : ndarray, shape (n,)
-        :func:`lateral_capacity` in each trial slip's direction [Pa].
-    xp : module
-        The array library (numpy, or jax.numpy).
+    capacity : float or array
+        :func:`lateral_capacity` in the trial slip's direction [Pa].
 
     Returns
     -------
-    slip : ndarray, shape (n, 2)
-        The slips kept [m]: the trial where ``k |slip| <= capacity``, else
-        scaled back to ``capacity / k`` (the rest flowed).
-    traction : ndarray, shape (n, 2)
-        The horizontal stress on each element [Pa], ``-k slip``.
+    The slip kept [m] (the trial where ``k |slip| <= capacity``, else
+    scaled back to ``capacity / k``: the rest flowed), and the traction
+    ``-k slip`` [Pa].
     """
-    size = _length(slip, xp)
     limit = capacity / stiffness
-    scale = xp.where(size > limit, limit / xp.where(size > 0.0, size, 1.0), 1.0)
-    kept = slip * scale[:, None]
-    return kept, -stiffness * kept
+    scale = select(size > limit, limit / select(size > 0.0, size, 1.0), 1.0)
+    kx = sx * scale
+    ky = sy * scale
+    return kx, ky, -stiffness * kx, -stiffness * ky
 
 
-def horizontal_drag(lambda_: Any, rho_m: Any, normals: Array, velocity: Array, *, xp: Any = np) -> Array:
-    """Eq. (5) against the horizontal motion on the leading projection: ``-lambda rho (n.u)_+ u`` [Pa], (n, 2).
+@_law
+def horizontal_drag(lambda_: Array, rho_m: Array, nx: Array, ny: Array, ux: Array, uy: Array) -> tuple[Array, Array]:
+    """Eq. (5) against the horizontal motion on the leading projection: ``-lambda rho (n.u)_+ u`` [Pa].
 
     Its size is ``lambda rho |u|^2 (n.u/|u|)_+``: the paper's drag on the part
-    of the element that faces the motion.
+    of the element that faces the motion; it always opposes the motion.
+    ``lambda_`` [-], ``rho_m`` [kg/m^3], ``(nx, ny)`` the normal's
+    horizontal part [-], ``(ux, uy)`` the element's horizontal velocity [m/s].
+    """
+    scale = -(lambda_ * rho_m) * _positive(nx * ux + ny * uy)
+    return scale * ux, scale * uy
+
+
+@_law
+def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Array, nz: Array, depth: Array,
+                  sx: Array, sy: Array, mx: Array, my: Array, per_dt: Array, started: Array, stiffness: Array,
+                  sigma_y: Array, lambda_: Array, rho_m: Array) -> tuple[Array, Array, Array, Array, Array]:
+    """An element's force [N] and its new slip [m]: the 3-D law, vertical and horizontal, in one place.
+
+    Vertically the paper's stress on the downward projection
+    (:func:`vertical_force`). Horizontally, on an element below the surface
+    after the foot's first step (``started``): the trial slip ``s + m`` (the last slip
+    plus the displacement since the last pose, the exact rule), yielding at
+    :func:`lateral_capacity` in its direction (:func:`lateral_return_map`),
+    plus Eq. (5)'s drag at the velocity ``m / dt`` (:func:`horizontal_drag`);
+    elsewhere no horizontal force and no slip (an element that leaves the
+    mud forgets its slip). An element whose trial slip is 0 (a foot moved
+    straight up and down, the paper's own case) gets 0 and no slip.
 
     Parameters
     ----------
-    lambda_ : float
-        Drag scaling factor [-], Eq. (5).
-    rho_m : float
-        Mud density [kg/m^3].
-    normals : ndarray, shape (n, 3)
-        Outward unit normals [-].
-    velocity : ndarray, shape (n, 2)
-        Horizontal element velocities [m/s].
-    xp : module
-        The array library (numpy, or jax.numpy).
+    stress : float or array
+        The element's paper stress ``sigma_i`` [Pa], Eq. (8).
+    spring : float or array
+        :func:`spring_stress` at its depth [Pa] (not read where it carries no horizontal force).
+    area : float or array
+        [m^2].
+    nx, ny, nz : float or array
+        Its outward unit normal, world frame [-].
+    depth : float or array
+        [m], positive below the surface.
+    sx, sy : float or array
+        Its slip at the last step [m].
+    mx, my : float or array
+        Its horizontal displacement since the last step [m].
+    per_dt : float
+        ``1 / dt`` [1/s].
+    started : bool
+        Whether the foot has a last pose (after its first step).
+    stiffness, sigma_y, lambda_, rho_m : float
+        ``k`` [Pa/m], the yield stress [Pa], the drag factor [-], the mud's density [kg/m^3].
+
+    Returns
+    -------
+    slip_x, slip_y, fx, fy, fz
+        The slip kept [m] and the force [N], world frame.
     """
-    facing = xp.maximum(xp.einsum("ij,ij->i", normals[:, :2], velocity), 0.0)
-    return -(lambda_ * rho_m) * facing[:, None] * velocity
+    fz = vertical_force(stress, area, nz)
+    tx = sx + mx
+    ty = sy + my
+    square = tx * tx + ty * ty
+    some = square > 0.0
+    size = select(some, root(select(some, square, 1.0)), 0.0)
+    per = 1.0 / select(some, size, 1.0)
+    dx = tx * per
+    dy = ty * per
+    capacity = lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, dx, dy), spring,
+                                bearing_factor(nx, ny, nz, dx, dy))
+    kx, ky, ax, ay = lateral_return_map(tx, ty, size, stiffness, capacity)
+    gx, gy = horizontal_drag(lambda_, rho_m, nx, ny, mx * per_dt, my * per_dt)
+    loaded = started & (depth > 0.0)
+    return (select(loaded, kx, 0.0), select(loaded, ky, 0.0), select(loaded, (ax + gx) * area, 0.0),
+            select(loaded, (ay + gy) * area, 0.0), fz)
+
+
+@_law
+def moment(ox: Array, oy: Array, oz: Array, fx: Array, fy: Array, fz: Array) -> tuple[Array, Array, Array]:
+    """The moment ``o x f`` of an element's force about the body origin [N m]: the wrench is the sums.
+
+    ``(ox, oy, oz)`` the element's world offset from the body origin [m]
+    (:func:`rotate`), ``(fx, fy, fz)`` its force [N].
+    """
+    return oy * fz - oz * fy, oz * fx - ox * fz, ox * fy - oy * fx

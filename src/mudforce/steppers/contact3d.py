@@ -9,7 +9,13 @@ a world frame with z up and the undisturbed mud surface at
 element's downward-facing projection, an elastic-then-yielding horizontal
 resistance (shear capped by ``sigma_y``, bearing from 3D-RFT), and Eq. (5)'s
 drag. The elements' velocities follow from consecutive poses (the exact
-rule: each element's displacement over the step, first-order hold).
+rule: each element's displacement over the step, first-order hold). The
+law, the placing of the elements and the wrench's moments are
+:mod:`mudforce.model.law3d`'s functions: :class:`MudContact3D` places its
+elements with them on numpy arrays and runs the law over them compiled
+(:func:`mudforce._kernel.step3d.element_forces`), :class:`MudContacts3D` has
+them compiled in (:mod:`mudforce._kernel.step3d`) and
+:mod:`mudforce.jax.contact3d` calls them on JAX arrays.
 
 A flat sole (``shapes.sole(foot)``) moved straight up and down is exactly
 the paper: the force equals :func:`mudforce.simulate`'s to rounding, with
@@ -214,37 +220,37 @@ class MudContact3D:
         else:
             dt = 1.0  # ignored by the elements' first step
         shape = self.shape
-        offsets = shape.centroids @ rotation.T
-        centroids = p + offsets
-        normals = shape.normals @ rotation.T
-        depth = self.surface_height - centroids[:, 2]
+        q = self.params
+        # the law of mudforce.model.law3d on the elements' columns (the functions the compiled step and JAX call)
+        r = tuple(rotation.ravel().tolist())
+        ox, oy, oz = law3d.rotate(r, *shape.centroids.T)
+        nx, ny, nz = law3d.rotate(r, *shape.normals.T)
+        wx, wy, wz = p[0] + ox, p[1] + oy, p[2] + oz
+        depth = law3d.element_depth(self.surface_height, p[2], oz)
         if self._started:  # an element turned about at its depth is at rest, not moving by rounding
             depth = law3d.settle_depth(depth, self._elements.depths)  # the depths the elements were stepped to
         # the paper, element by element (refuses a depth out of bounds before any element moves)
         stress = self._elements.step(depth, dt)
-        q = self.params
-        forces = np.zeros((shape.n, 3))
-        forces[:, 2] = stress * shape.areas * law3d.vertical_weight(normals)
-        below = depth > 0.0
-        moved = centroids[:, :2] - self._centroids[:, :2]
-        trial = np.where(below[:, None], self._slip + moved, 0.0)
-        if self._started and trial.any():
-            size = np.sqrt(np.einsum("ij,ij->i", trial, trial))
-            direction = np.zeros((shape.n, 3))
-            direction[:, :2] = trial / np.where(size > 0.0, size, 1.0)[:, None]
-            capacity = law3d.lateral_capacity(
-                q.sigma_y, law3d.shear_fraction(normals, direction),
-                law3d.spring_stress(depth, q.alpha, q.beta, self.width), law3d.bearing_factor(normals, direction))
-            slip, traction = law3d.lateral_return_map(trial, self.lateral_stiffness, capacity)
-            drag = law3d.horizontal_drag(q.lambda_, q.rho_m, normals, moved / dt)
-            forces[:, :2] = (traction + np.where(below[:, None], drag, 0.0)) * shape.areas[:, None]
-        else:  # nothing moved sideways and nothing is loaded sideways (the paper's own case): no sums to do
-            slip = np.zeros((shape.n, 2))
-        self._slip = slip
-        self._centroids = centroids
+        mx, my = wx - self._centroids[:, 0], wy - self._centroids[:, 1]
+        if self._started:  # law3d.element_force and law3d.moment on every element, compiled (S3.element_forces)
+            spring = law3d.spring_stress(depth, q.alpha, q.beta, self.width)
+            out = np.empty((shape.n, 8))
+            S3.element_forces(stress, spring, shape.areas, nx, ny, nz, ox, oy, oz, depth, self._slip, mx, my,
+                              1.0 / dt, self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m, out)
+            slip_x, slip_y = out[:, 0], out[:, 1]
+            forces = out[:, 2:5]
+            torques = out[:, 5:8]
+        else:  # the first step: element_force's values without a last pose, without its arithmetic
+            zero = np.zeros(shape.n)
+            slip_x = slip_y = zero
+            fz = law3d.vertical_force(stress, shape.areas, nz)
+            forces = np.stack([zero, zero, fz], axis=1)
+            torques = np.stack(law3d.moment(ox, oy, oz, zero, zero, fz), axis=1)
+        self._slip = np.stack([slip_x, slip_y], axis=1)
+        self._centroids = np.stack([wx, wy, wz], axis=1)
         self._started = True
         self.element_forces = forces
-        return Wrench(forces.sum(axis=0), np.cross(offsets, forces).sum(axis=0))
+        return Wrench(forces.sum(axis=0), torques.sum(axis=0))
 
     def reset(self) -> None:
         """Forget the history: the next step is a first step."""
@@ -535,9 +541,10 @@ class MudContacts3D:
         self._slice_scratch, self._slice_index = K.new_feet_scratch(widest * self.threads, self.threads)
         self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
         self._stress = np.zeros(total)
-        self._spring = np.zeros(total)  # this step's Eq. (4) stress at each element's depth [Pa]
+        # a foot's submerged elements side by side, for the 3-D law's vectorised loops (one block per slice)
+        self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
         # the compiled step's arguments after the poses and dt, before the outputs
-        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._spring, self._states,
+        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
                              self._ring, self._params_rows, self._scratch, self._index)
         self._thread_args = (*self._kernel_args[:-2], self._slice_scratch, self._slice_index)
 

@@ -3,9 +3,9 @@
 Nothing here is new physics. :func:`prepare` is the adapter's preparation of
 the next MuJoCo step (band, holds, drag, contact point, anchors, explicit
 wrench; what it does and why is :mod:`mudforce.engines.mujoco.adapter3d`'s
-docstring) as one loop over the feet's elements, calling the law's scalar
-functions of :mod:`mudforce._kernel.element3d` (each :mod:`mudforce.model.law3d`'s
-namesake for one element) and Eq. (4) through
+docstring) as one loop over the feet's elements, calling the law's functions
+of :mod:`mudforce.model.law3d` (one element's components; compiled through their numba
+registration) and Eq. (4) through
 :func:`mudforce.model.equations.nonlinear_spring_stress`, the functions the
 compiled 3-D step (:mod:`mudforce._kernel.step3d`) calls. The 1-D states'
 bands come from :func:`mudforce.engines.dynamics.rest_band.branch_forces`
@@ -19,15 +19,15 @@ import math
 
 import numpy as np
 
-from mudforce._kernel.element3d import (
+from mudforce._kernel.layout import _compiled
+from mudforce.model.equations import nonlinear_spring_stress
+from mudforce.model.law3d import (
     bearing_factor,
     horizontal_drag,
     lateral_capacity,
     shear_fraction,
     vertical_weight,
 )
-from mudforce._kernel.layout import _compiled
-from mudforce.model.equations import nonlinear_spring_stress
 
 __all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "add_wrench",
            "prepare"]

@@ -42,6 +42,7 @@ from mudforce.estimation.calibration.fit import (
     load_fit,
     load_fit_parameters,
 )
+from mudforce.estimation.calibration.fit3d import Fit3D, fit_3d
 from mudforce.estimation.calibration.identify import Identification, identify_water_content
 from mudforce.estimation.calibration.models import CHEN2024, MODELS, FitStage, ForceModel, get_model, register_model
 from mudforce.estimation.calibration.preprocess import Motion, PreparedTrial, fit_motion, prepare_trial, tare
@@ -53,6 +54,7 @@ __all__ = [
     "ConditionFit",
     "Dataset",
     "DragFit",
+    "Fit3D",
     "FitOptions",
     "FitResult",
     "FitStage",
@@ -62,6 +64,7 @@ __all__ = [
     "PreparedTrial",
     "Trial",
     "TrialFit",
+    "fit_3d",
     "fit_by_velocity",
     "fit_condition",
     "fit_dataset",

@@ -1,0 +1,263 @@
+"""Fitting the 3-D law's parameters from 3-D force data: force VECTORS along known poses (:func:`fit_3d`).
+
+The 3-D law (:mod:`mudforce.model.law3d`, docs/model.md "Mud in 3-D") adds
+to the paper one parameter of its own, the lateral stiffness ``k`` [Pa/m]
+of the elements' horizontal slip (default: the paper's withdrawal
+stiffness ``k_m_w``), and uses paper parameters in roles the paper does not
+measure: ``sigma_y`` as the yield stress in shear, ``lambda_`` for the
+horizontal drag. :func:`fit_3d` fits any of these (and the paper's
+stiffnesses and spring coefficient) to measured forces [N], world frame,
+along the measured poses of the foot, by nonlinear least squares on the
+logarithms of the values (so every value stays positive), with the
+simulation of :class:`mudforce.steppers.contact3d.MudContacts3D` (one foot per
+trial value: the central-difference Jacobian is one simulation of ``2p + 1``
+feet).
+
+Honest uncertainty: the standard errors are those of the linearised least
+squares with the noise variance estimated from the residuals, so a model
+that misses the data gets wider intervals; residuals that are correlated
+from sample to sample (a misfit has a shape in time; white sensor noise
+does not) make the independent samples fewer than the samples, and the
+errors are widened by ``sqrt((1 + rho) / (1 - rho))`` (``rho`` the residuals'
+lag-1 autocorrelation, the AR(1) effective sample size) with a warning when
+``rho > 0.5``. Given the sensor's ``noise`` [N], a residual RMS above twice
+it is warned about too.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mudforce.errors import InputError, positive_int
+from mudforce.model import law3d
+from mudforce.model.parameters import MudParameters
+from mudforce.model.shapes import Shape
+from mudforce.steppers.contact3d import MudContacts3D
+
+__all__ = ["FIT3D_PARAMETERS", "Fit3D", "fit_3d"]
+
+#: The names :func:`fit_3d` can fit: the 3-D law's own ``lateral_stiffness`` [Pa/m], and mud parameters
+#: (:class:`~mudforce.model.parameters.MudParameters` fields) that the 3-D law uses beyond the paper's case.
+FIT3D_PARAMETERS = ("lateral_stiffness", "sigma_y", "lambda_", "k_m_w", "b_m_w", "k_m_i", "b_m_i", "alpha")
+
+_UNITS = {"lateral_stiffness": "Pa/m", "sigma_y": "Pa", "lambda_": "-", "k_m_w": "Pa/m", "b_m_w": "Pa s/m",
+          "k_m_i": "Pa/m", "b_m_i": "Pa s/m", "alpha": "Pa"}
+_RANGE = math.log(1e3)  # each value is searched within a factor 1000 of its start
+_STEP = 1e-4  # the central differences' step in log(value)
+
+
+@dataclass(frozen=True)
+class Fit3D:
+    """The result of :func:`fit_3d`.
+
+    Attributes
+    ----------
+    values : dict of str to float
+        The fitted values, SI (``lateral_stiffness`` [Pa/m], ``sigma_y`` [Pa], ...).
+    standard_errors : dict of str to float
+        Their standard errors, SI (linearised, widened as the module says).
+    params : MudParameters
+        ``params0`` with the fitted mud parameters.
+    lateral_stiffness : float
+        The lateral stiffness to use with them [Pa/m] (fitted, or as given).
+    residual_rms : float
+        RMS of the force residuals over all samples and axes [N].
+    autocorrelation : float
+        Lag-1 autocorrelation of the residuals [-] (about 0 for white noise).
+    n_samples : int
+        Force samples used (each with 3 components).
+    success : bool
+        Whether the optimiser converged.
+    message : str
+        The optimiser's message.
+    covariance : ndarray, shape (p, p)
+        Covariance of ``log(value)`` in ``values``' order [-].
+    """
+
+    values: dict[str, float]
+    standard_errors: dict[str, float]
+    params: MudParameters
+    lateral_stiffness: float
+    residual_rms: float
+    autocorrelation: float
+    n_samples: int
+    success: bool
+    message: str
+    covariance: np.ndarray = field(repr=False)
+
+
+def _array(value: Any, name: str, shape: tuple[int, ...], unit: str) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be an array of real numbers of shape {shape} [{unit}]") from None
+    if a.shape != shape:
+        raise InputError(f"{name} must have shape {shape} [{unit}], got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise InputError(f"{name} must be finite [{unit}]")
+    return a
+
+
+def _free(free: Any) -> tuple[str, ...]:
+    names = (free,) if isinstance(free, str) else tuple(free) if isinstance(free, Sequence) else None
+    if not names or not all(isinstance(n, str) for n in names):
+        raise InputError(f"free must name one or more of {', '.join(FIT3D_PARAMETERS)}, got {free!r}")
+    unknown = [n for n in names if n not in FIT3D_PARAMETERS]
+    if unknown:
+        raise InputError(f"free names {unknown[0]!r}, which fit_3d cannot fit; expected one of "
+                         f"{', '.join(FIT3D_PARAMETERS)}")
+    if len(set(names)) != len(names):
+        raise InputError(f"free names a parameter twice: {list(names)}")
+    return names
+
+
+def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shape, params0: MudParameters, *,
+           free: Sequence[str] | str = ("lateral_stiffness",), lateral_stiffness: float | None = None,
+           surface_height: float = 0.0, width: float | None = None, noise: float | None = None,
+           max_iterations: int = 50) -> Fit3D:
+    """Fit the 3-D law's parameters to measured force vectors along measured poses.
+
+    Parameters
+    ----------
+    time : array_like, shape (m,)
+        Sample times [s], strictly increasing.
+    positions : array_like, shape (m, 3)
+        The foot's body origin at each sample [m], world frame, z up.
+    quaternions : array_like, shape (m, 4)
+        Its orientation ``(w, x, y, z)`` [-], unit (within 1e-6).
+    forces : array_like, shape (m, 3)
+        The measured force of the mud on the foot [N], world frame.
+    shape : Shape
+        The foot's surface (:mod:`mudforce.model.shapes`).
+    params0 : MudParameters
+        The mud: the values held fixed, and the start of the free ones.
+    free : str or sequence of str
+        What to fit (:data:`FIT3D_PARAMETERS`); by default the 3-D law's own
+        ``lateral_stiffness``.
+    lateral_stiffness : float, optional
+        Its start, or its value if not free [Pa/m]; by default ``params0.k_m_w``.
+    surface_height, width : float
+        As for :class:`~mudforce.steppers.contact3d.MudContact3D` [m].
+    noise : float, optional
+        The force sensor's noise [N]: a residual RMS above twice it is warned about.
+    max_iterations : int
+        Gauss-Newton iterations at most (each one simulation of ``2p + 1`` feet).
+
+    Returns
+    -------
+    Fit3D
+    """
+    from scipy.optimize import least_squares
+
+    if not isinstance(params0, MudParameters):
+        raise InputError(f"params0 must be a MudParameters, got {type(params0).__name__}")
+    if not isinstance(shape, Shape):
+        raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
+    names = _free(free)
+    t = _array(time, "time", (np.shape(time)[0] if np.ndim(time) == 1 else -1,), "s")
+    m = t.shape[0]
+    if m < 2 * len(names) + 2:
+        raise InputError(f"fit_3d needs at least {2 * len(names) + 2} samples to fit {len(names)} parameter(s), "
+                         f"got {m}")
+    if not np.all(np.diff(t) > 0.0):
+        raise InputError("time must be strictly increasing [s]")
+    x = _array(positions, "positions", (m, 3), "m")
+    q = _array(quaternions, "quaternions", (m, 4), "-")
+    f = _array(forces, "forces", (m, 3), "N")
+    norms = np.linalg.norm(q, axis=1)
+    if np.any(np.abs(norms - 1.0) > law3d.QUATERNION_TOLERANCE):
+        k = int(np.argmax(np.abs(norms - 1.0)))
+        raise InputError(f"quaternions must have norm 1 (within {law3d.QUATERNION_TOLERANCE:g}); sample {k} has "
+                         f"norm {norms[k]:.9g}")
+    if noise is not None and not (isinstance(noise, (int, float)) and math.isfinite(noise) and noise > 0.0):
+        raise InputError(f"noise must be a finite number > 0 [N], got {noise!r}")
+    iterations = positive_int(max_iterations, "max_iterations")
+    k0 = params0.k_m_w if lateral_stiffness is None else lateral_stiffness
+    if not isinstance(k0, (int, float)) or not math.isfinite(k0) or k0 <= 0.0:
+        raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
+    start = {n: float(k0) if n == "lateral_stiffness" else float(getattr(params0, n)) for n in names}
+    if any(v <= 0.0 for v in start.values()):
+        bad = next(n for n, v in start.items() if v <= 0.0)
+        raise InputError(f"the start of {bad} must be > 0 [{_UNITS[bad]}] (it is fitted on a log scale), got "
+                         f"{start[bad]!r}")
+    x0 = np.log(np.array([start[n] for n in names]))
+    p = len(names)
+    dts = np.diff(t)
+
+    def feet(points: np.ndarray) -> tuple[list[MudParameters], list[float]]:
+        muds, stiffness = [], []
+        for row in points:
+            values = dict(zip(names, np.exp(row).tolist(), strict=True))
+            k = values.pop("lateral_stiffness", float(k0))
+            muds.append(params0.replace(**values) if values else params0)
+            stiffness.append(k)
+        return muds, stiffness
+
+    def simulate(points: np.ndarray) -> np.ndarray:
+        """The forces [N] of one foot per row of ``points`` (log values): (rows, m, 3)."""
+        n = points.shape[0]
+        muds, stiffness = feet(points)
+        contacts = MudContacts3D(muds, shape, n, surface_heights=surface_height, widths=width,
+                                 lateral_stiffness=stiffness)
+        out = np.empty((m, n, 3))
+        torques = np.empty((n, 3))
+        pos = np.broadcast_to(x[:, None, :], (m, n, 3))
+        quat = np.broadcast_to(q[:, None, :], (m, n, 4))
+        for k in range(m):
+            contacts.step(np.ascontiguousarray(pos[k]), np.ascontiguousarray(quat[k]), float(dts[k - 1]) if k else 0.0,
+                          out=(out[k], torques))
+        return np.moveaxis(out, 1, 0)
+
+    cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+
+    def evaluate(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        key = z.tobytes()
+        if key not in cache:
+            points = np.vstack([z, z + _STEP * np.eye(p), z - _STEP * np.eye(p)])
+            sims = simulate(points)
+            residual = (sims[0] - f).ravel()
+            jacobian = ((sims[1:p + 1] - sims[p + 1:]) / (2.0 * _STEP)).reshape(p, -1).T
+            cache.clear()
+            cache[key] = (residual, jacobian)
+        return cache[key]
+
+    solution = least_squares(lambda z: evaluate(z)[0], x0, jac=lambda z: evaluate(z)[1],
+                             bounds=(x0 - _RANGE, x0 + _RANGE), method="trf", x_scale=1.0, max_nfev=iterations)
+    residual, jacobian = evaluate(solution.x)
+    dof = max(residual.size - p, 1)
+    variance = float(residual @ residual) / dof
+    r = residual.reshape(m, 3)
+    centred = r - r.mean(axis=0)
+    denominator = float(np.sum(centred * centred))
+    rho = float(np.sum(centred[1:] * centred[:-1]) / denominator) if denominator > 0.0 else 0.0
+    widen = math.sqrt((1.0 + rho) / (1.0 - rho)) if 0.0 < rho < 1.0 else 1.0
+    jtj = jacobian.T @ jacobian
+    try:
+        covariance = np.linalg.inv(jtj) * variance * widen * widen
+    except np.linalg.LinAlgError:
+        covariance = np.full((p, p), math.inf)
+    if not np.all(np.isfinite(covariance)) or np.linalg.cond(jtj) > 1e14:
+        warnings.warn(f"fit_3d: the data do not determine {', '.join(names)} (the motion does not exercise them): "
+                      "their standard errors are infinite", RuntimeWarning, stacklevel=2)
+        covariance = np.full((p, p), math.inf)
+    if rho > 0.5:
+        warnings.warn(f"fit_3d: the residuals are correlated in time (lag-1 {rho:.2f}): the model misses the data "
+                      f"in shape, not only by noise; the standard errors are widened {widen:.1f}x", RuntimeWarning,
+                      stacklevel=2)
+    rms = math.sqrt(float(residual @ residual) / residual.size)
+    if noise is not None and rms > 2.0 * noise:
+        warnings.warn(f"fit_3d: the residual RMS {rms:.3g} N is more than twice the sensor noise {noise:.3g} N: the "
+                      "model misses the data", RuntimeWarning, stacklevel=2)
+    fitted = np.exp(solution.x)
+    values = dict(zip(names, fitted.tolist(), strict=True))
+    errors = {n: float(values[n] * math.sqrt(covariance[i, i])) for i, n in enumerate(names)}
+    mud = {n: v for n, v in values.items() if n != "lateral_stiffness"}
+    return Fit3D(values=values, standard_errors=errors, params=params0.replace(**mud) if mud else params0,
+                 lateral_stiffness=float(values.get("lateral_stiffness", k0)), residual_rms=rms, autocorrelation=rho,
+                 n_samples=m, success=bool(solution.success), message=str(solution.message), covariance=covariance)
