@@ -204,6 +204,18 @@ def _float_dtype(dtype: Any) -> Any:
 
 
 @renamed_keywords(mud="params")
+def _feet(foot: Foot | Sequence[Foot] | None) -> list[Foot]:
+    """``foot`` as a non-empty list of :class:`Foot` (None: the paper's); InputError otherwise."""
+    if foot is None:
+        return [Foot.paper()]
+    if isinstance(foot, Foot):
+        return [foot]
+    feet = list(foot)
+    if not feet or not all(isinstance(f, Foot) for f in feet):
+        raise InputError("foot must be a Foot or a non-empty sequence of Foot")
+    return feet
+
+
 def make_params(
     params: MudParameters | Sequence[MudParameters],
     n: int | None = None,
@@ -237,14 +249,7 @@ def make_params(
     muds = [mud] if isinstance(mud, MudParameters) else list(mud)
     if not muds or not all(isinstance(m, MudParameters) for m in muds):
         raise InputError("make_params needs MudParameters or a non-empty sequence of them")
-    if foot is None:
-        feet = [Foot.paper()]
-    elif isinstance(foot, Foot):
-        feet = [foot]
-    else:
-        feet = list(foot)
-        if not feet or not all(isinstance(f, Foot) for f in feet):
-            raise InputError("foot must be a Foot or a non-empty sequence of Foot")
+    feet = _feet(foot)
     per_foot = not isinstance(mud, MudParameters) or (foot is not None and not isinstance(foot, Foot))
     count = max(len(muds), len(feet))
     for name, seq in (("mud parameter sets", muds), ("feet", feet)):

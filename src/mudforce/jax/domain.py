@@ -85,14 +85,7 @@ def params_from_water_content(w: Array, foot: Foot | Sequence[Foot] | None = Non
         if not np.isfinite(concrete).all() or (concrete < lo - 1e-12).any() or (concrete > hi + 1e-12).any():
             raise InputError(f"water content must be within Table I's range [{lo:g}, {hi:g}] (a fraction: "
                              f"0.25 means 25%), got {concrete.min():g} to {concrete.max():g}")
-    if foot is None:
-        feet = [Foot.paper()]
-    elif isinstance(foot, Foot):
-        feet = [foot]
-    else:
-        feet = list(foot)
-        if not feet or not all(isinstance(f, Foot) for f in feet):
-            raise InputError("foot must be a Foot or a non-empty sequence of Foot")
+    feet = mj._feet(foot)
     table = _table()
     rows = jnp.asarray(TABLE_I_WATER_CONTENTS, dtype=dt_)
     w = jnp.clip(jnp.asarray(w, dtype=dt_), lo, hi)
