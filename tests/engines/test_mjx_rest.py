@@ -62,6 +62,7 @@ def test_joint_forces_are_the_box_constrained_solution() -> None:
     import mudforce.jax as mj
     from mudforce.engines.mjx import _joint_forces
 
+    was = bool(jax.config.jax_enable_x64)  # put back as found: other modules in this worker may run in float64
     jax.config.update("jax_enable_x64", True)
     try:
         rng = np.random.default_rng(7)
@@ -85,4 +86,4 @@ def test_joint_forces_are_the_box_constrained_solution() -> None:
             assert np.all(residual[at_up] >= -1e-6 * scale)  # held by the least it can: it rises (or rests)
             assert np.all(residual[at_down] <= 1e-6 * scale)  # pushed by the most it can: it sinks (or rests)
     finally:
-        jax.config.update("jax_enable_x64", False)
+        jax.config.update("jax_enable_x64", was)

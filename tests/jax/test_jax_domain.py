@@ -22,6 +22,7 @@ def test_traced_water_content_gives_the_cpu_parameters() -> None:
     import mudforce.jax as mj
     from mudforce.jax.domain import params_from_water_content
 
+    was = bool(jax.config.jax_enable_x64)  # put back as found: other modules in this worker run in float64
     jax.config.update("jax_enable_x64", True)
     try:
         foot = Foot.disc(0.04)
@@ -44,7 +45,7 @@ def test_traced_water_content_gives_the_cpu_parameters() -> None:
         log_rows = np.log([MudParameters.table_i(w).sigma_y for w in (0.20, 0.25)])  # POINTS[6] = 0.225
         assert float(slope) == pytest.approx((log_rows[1] - log_rows[0]) / 0.05, rel=1e-9)
     finally:
-        jax.config.update("jax_enable_x64", False)
+        jax.config.update("jax_enable_x64", was)
 
 
 def test_concrete_water_content_out_of_range_is_refused() -> None:
