@@ -203,7 +203,6 @@ def _float_dtype(dtype: Any) -> Any:
     return jnp.dtype(dtype) if dtype is not None else jnp.result_type(float)
 
 
-@renamed_keywords(mud="params")
 def _feet(foot: Foot | Sequence[Foot] | None) -> list[Foot]:
     """``foot`` as a non-empty list of :class:`Foot` (None: the paper's); InputError otherwise."""
     if foot is None:
@@ -216,6 +215,7 @@ def _feet(foot: Foot | Sequence[Foot] | None) -> list[Foot]:
     return feet
 
 
+@renamed_keywords(mud="params")
 def make_params(
     params: MudParameters | Sequence[MudParameters],
     n: int | None = None,
