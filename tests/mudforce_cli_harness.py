@@ -26,6 +26,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from tree_snapshot import snapshot  # noqa: F401  (re-exported: the CLI tests take it from the harness)
+
 PYTHON_M = [sys.executable, "-m", "mudforce"]
 
 _DRIVER = r"""
@@ -103,18 +105,6 @@ def run_batch(cases: Sequence[tuple[Sequence[str], Path]], timeout: float = 300)
                           timeout=timeout, env=cli_env())
     assert proc.returncode == 0, proc.stderr[-3000:]
     return [Run(r["rc"], r["stdout"], r["stderr"]) for r in json.loads(proc.stdout)]
-
-
-def snapshot(directory: Path) -> dict[str, bytes | str]:
-    """Every entry under ``directory``: file content, or ``-> target`` for a symbolic link."""
-    out: dict[str, bytes | str] = {}
-    for p in sorted(directory.rglob("*")):
-        rel = str(p.relative_to(directory))
-        if p.is_symlink():
-            out[rel] = "-> " + os.readlink(p)
-        elif p.is_file():
-            out[rel] = p.read_bytes()
-    return out
 
 
 def assert_refused(run: Run, *words: str) -> None:

@@ -20,6 +20,7 @@ from mudforce._plumbing import interrupt as _interrupt
 from mudforce.io import StagedOutputs, clean_stale
 from mudforce.reproduce.output import StagedFolder
 from mudforce.reproduce.output import clean_stale as clean_stale_reproduce
+from tree_snapshot import snapshot
 
 TAG = "mudforce-test"
 OLD_REPORT = {"report.md": b"old report\n", "a.png": b"old png"}
@@ -31,18 +32,6 @@ def _old_pair(root: Path, fit: str = "fit.json", report: str = "rep") -> tuple[P
     for name, data in OLD_REPORT.items():
         (root / report / name).write_bytes(data)
     return root / fit, root / report
-
-
-def snapshot(directory: Path) -> dict[str, bytes | str]:
-    """Every entry under ``directory``: file content, or ``-> target`` for a symbolic link (as the CLI harness's)."""
-    out: dict[str, bytes | str] = {}
-    for p in sorted(directory.rglob("*")):
-        rel = str(p.relative_to(directory))
-        if p.is_symlink():
-            out[rel] = "-> " + os.readlink(p)
-        elif p.is_file():
-            out[rel] = p.read_bytes()
-    return out
 
 
 def _hidden(root: Path) -> list[str]:
