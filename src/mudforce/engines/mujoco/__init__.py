@@ -69,10 +69,12 @@ import numpy as np
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
-from mudforce._plumbing.optional import require
 from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
 from mudforce.engines.mujoco import _fast as fast
+from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
+from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
+from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, positive_int
@@ -89,10 +91,6 @@ __all__ = [
 STICK_VELOCITY = REST_SPEED
 _SOLREF_FRICTION = (1e-9, 1.0)  # a tiny time constant: MuJoCo raises it to its minimum, 2 time steps
 _SOLIMP_FRICTION = (0.9999, 0.9999, 0.001, 0.5, 2.0)
-
-
-def _mujoco() -> Any:
-    return require("mujoco", "mujoco", "the MuJoCo adapter")
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
@@ -153,23 +151,6 @@ class MudPatch:
         """Deprecated: :attr:`surface_height` [m]."""
         warn_renamed("MudPatch.height", "MudPatch.surface_height")
         return self.surface_height
-
-
-def _name_list(feet: Any) -> list[str]:
-    """``feet`` (one name or a sequence of names) as a list of distinct strings, else InputError."""
-    if isinstance(feet, str):
-        return [feet]
-    if not isinstance(feet, Sequence) or not feet or not all(isinstance(f, str) for f in feet):
-        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {feet!r}")
-    if len(set(feet)) != len(feet):
-        raise InputError(f"feet must be distinct names, got {list(feet)}")
-    return list(feet)
-
-
-def _check_prefix(prefix: Any) -> str:
-    if not isinstance(prefix, str):
-        raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
-    return prefix
 
 
 def _names(prefix: str, foot: str) -> tuple[str, str, str]:

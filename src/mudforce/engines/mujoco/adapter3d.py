@@ -68,6 +68,7 @@ import numpy as np
 
 from mudforce.engines.dynamics.rest_band import branch_forces
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
+from mudforce.engines.mujoco._spec import check_prefix, mujoco_module, name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
 from mudforce.engines.mujoco._step3d import (
     C_ALPHA,
@@ -93,12 +94,6 @@ _SOLREF_FRICTION = (1e-9, 1.0)  # as the 1-D adapter: MuJoCo raises it to its mi
 _SOLIMP_FRICTION = (0.9999, 0.9999, 0.001, 0.5, 2.0)
 
 
-def _mujoco() -> Any:
-    from mudforce._plumbing.optional import require
-
-    return require("mujoco", "mujoco", "the MuJoCo adapter")
-
-
 def _names(prefix: str, foot: str) -> dict[str, str]:
     """Names of a foot's contact site, its three anchors and three tendons (z: vertical, u, v: horizontal)."""
     return {"site": f"{prefix}site_{foot}", "anchor_z": f"{prefix}anchor_site_{foot}",
@@ -107,23 +102,13 @@ def _names(prefix: str, foot: str) -> dict[str, str]:
             "tendon_v": f"{prefix}tendon_v_{foot}"}
 
 
-def _name_list(feet: Any) -> list[str]:
-    if isinstance(feet, str):
-        return [feet]
-    if not isinstance(feet, Sequence) or not feet or not all(isinstance(f, str) for f in feet):
-        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {feet!r}")
-    if len(set(feet)) != len(feet):
-        raise InputError(f"feet must be distinct names, got {list(feet)}")
-    return list(feet)
-
-
 def _kind_name(mj: Any, kind: int) -> str:
     return str(mj.mjtGeom(kind).name).removeprefix("mjGEOM_").lower()
 
 
 def _spec_geom(spec: Any, name: str) -> Any:
     """The geom a foot name gives in a spec (a geom's name, or a body's with exactly one geom), else InputError."""
-    mj = _mujoco()
+    mj = mujoco_module()
     geom = spec.geom(name)
     if geom is None:
         body = spec.body(name)
@@ -148,7 +133,7 @@ def foot_geom(model: Any, name: str) -> int:
     InputError
         For a name that is neither, or a body with no geom or several.
     """
-    mj = _mujoco()
+    mj = mujoco_module()
     gid = int(mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, name))
     if gid >= 0:
         return gid
@@ -179,12 +164,11 @@ def add_mud_3d(spec: Any, feet: Sequence[str], *, prefix: str = "mud_") -> None:
     prefix : str
         Prefix of the names of the added sites and tendons.
     """
-    mj = _mujoco()
+    mj = mujoco_module()
     if not isinstance(spec, mj.MjSpec):
         raise InputError(f"spec must be a mujoco.MjSpec (edited before compiling), got {type(spec).__name__}")
-    feet = _name_list(feet)
-    if not isinstance(prefix, str):
-        raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
+    feet = name_list(feet)
+    check_prefix(prefix)
     geoms = [_spec_geom(spec, name) for name in feet]
     taken = [n for name in feet for n in _names(prefix, name).values()
              if spec.site(n) is not None or spec.tendon(n) is not None]
@@ -263,11 +247,11 @@ class MudAdapter3D:
     def __init__(self, model: Any, data: Any, feet: Sequence[str], patches: Any,
                  shapes: Shape | Sequence[Shape] | None = None, *, resolution: float | None = None,
                  prefix: str = "mud_") -> None:
-        mj = _mujoco()
+        mj = mujoco_module()
         if not isinstance(model, mj.MjModel) or not isinstance(data, mj.MjData):
             raise InputError(f"model and data must be a mujoco.MjModel and its mujoco.MjData, got "
                              f"{type(model).__name__} and {type(data).__name__}")
-        names = _name_list(feet)
+        names = name_list(feet)
         if not isinstance(prefix, str):
             raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
         plist = _patch_list(patches)
@@ -565,7 +549,7 @@ def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: flo
     dt : float
         Time step [s], > 0.
     """
-    mj = _mujoco()
+    mj = mujoco_module()
     from mudforce.errors import finite_number
 
     mass = finite_number(mass, "mass", "kg", positive=True)
@@ -612,7 +596,7 @@ def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float]
     resolution : float, optional
         Element size of the foot's surface [m].
     """
-    mj = _mujoco()
+    mj = mujoco_module()
     from mudforce.engines.mujoco import MudPatch
     from mudforce.errors import finite_number
 
