@@ -75,6 +75,7 @@ from mudforce.model.equations import nonlinear_spring_stress
 
 __all__ = [
     "N_SPRING",
+    "foot_force_or_defer",
     "glide",
     "new_feet_scratch",
     "new_spring_scratch",
@@ -284,6 +285,29 @@ def run_batch_compiled(time: np.ndarray, depth: np.ndarray, states: np.ndarray, 
 
 
 @_compiled(inline="always")
+def foot_force_or_defer(scratch: np.ndarray, index: np.ndarray, m: int, j: int, p: Params, s: State, velocity: float,
+                        forces: np.ndarray) -> int:
+    """Foot ``j``'s force [N] into ``forces[j]``, or, when it has the spring of Eq. (4), its column set aside
+    (with its own constants) for the one :func:`spring_pass` after all feet; returns the new count.
+
+    ``p`` the foot's :class:`Params`, ``s`` its new state, ``velocity`` the branch velocity [m/s].
+    """
+    fe1, fs, _, spring = stress_parts(p, s, velocity)
+    if spring:
+        index[m] = j
+        scratch[SP_DEPTH, m] = s.depth
+        scratch[SP_WIDTH, m] = p.width
+        scratch[SP_ALPHA, m] = p.alpha
+        scratch[SP_BETA, m] = p.beta
+        scratch[SP_F_E1, m] = fe1
+        scratch[SP_F_S, m] = fs
+        scratch[SP_AREA, m] = p.area
+        return m + 1
+    forces[j] = total_force(fe1, 0.0, fs, p.area)
+    return m
+
+
+@_compiled(inline="always")
 def defer_spring(scratch: np.ndarray, index: np.ndarray, m: int, k: int, depth: float, fe1: float, fs: float,
                  forces: np.ndarray) -> int:
     """Set sample ``k`` (depth [m], ``f_e1``, ``f_s`` [Pa]) aside for the spring pass; returns the new count.
@@ -476,20 +500,7 @@ def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: n
                 if bad < 0:
                     bad = j
                 continue
-        s = r.state
-        fe1, fs, _, spring = stress_parts(p, s, r.velocity)
-        if spring:
-            index[m] = j
-            scratch[SP_DEPTH, m] = s.depth
-            scratch[SP_WIDTH, m] = p.width
-            scratch[SP_ALPHA, m] = p.alpha
-            scratch[SP_BETA, m] = p.beta
-            scratch[SP_F_E1, m] = fe1
-            scratch[SP_F_S, m] = fs
-            scratch[SP_AREA, m] = p.area
-            m += 1
-        else:
-            forces[j] = total_force(fe1, 0.0, fs, p.area)
+        m = foot_force_or_defer(scratch, index, m, j, p, r.state, r.velocity, forces)
     spring_pass(scratch, index, m, forces)
     return bad
 

@@ -60,17 +60,11 @@ from mudforce._kernel.layout import (
     store_state,
 )
 from mudforce._kernel.loops import (
-    SP_ALPHA,
-    SP_AREA,
-    SP_BETA,
-    SP_DEPTH,
-    SP_F_E1,
-    SP_F_S,
-    SP_WIDTH,
     _advance_row,
+    foot_force_or_defer,
     spring_pass,
 )
-from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
+from mudforce._kernel.transitions import exact_rule, quiet_step
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
     element_depth,
@@ -199,20 +193,7 @@ def _paper(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.
             r, _ = _advance_row(states, ring, j, params, depths[j], dt)
             if not r.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
                 return j
-        s1 = r.state
-        fe1, fs, _, spring = stress_parts(p, s1, r.velocity)
-        if spring:
-            index[m] = j
-            scratch[SP_DEPTH, m] = s1.depth
-            scratch[SP_WIDTH, m] = p.width
-            scratch[SP_ALPHA, m] = p.alpha
-            scratch[SP_BETA, m] = p.beta
-            scratch[SP_F_E1, m] = fe1
-            scratch[SP_F_S, m] = fs
-            scratch[SP_AREA, m] = p.area
-            m += 1
-        else:
-            stress[j] = total_force(fe1, 0.0, fs, p.area)
+        m = foot_force_or_defer(scratch, index, m, j, p, r.state, r.velocity, stress)
     spring_pass(scratch, index, m, stress)
     return -1
 
