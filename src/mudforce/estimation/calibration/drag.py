@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from mudforce._plumbing.blas import one_blas_thread
 from mudforce.errors import InputError, is_real, real_array
 from mudforce.io.tables import COLUMN_UNITS, read_columns
 from mudforce.model.equations import array_form, drag_stress
@@ -93,6 +94,7 @@ def read_sliding(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
     return cols["velocity"], cols["force"]
 
 
+@one_blas_thread
 def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = RHO_M,
              intercept: bool = False) -> DragFit:
     """Fit ``lambda`` of Eq. (5) to sliding data.

@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import differential_evolution, least_squares
 
+from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.progress import Progress
 from mudforce.errors import InputError
 from mudforce.estimation.calibration.dataset import Dataset, Trial
@@ -414,6 +415,7 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
                         noise_floor=floor)
 
 
+@one_blas_thread
 def fit_condition(
     trials: Sequence[Trial | PreparedTrial],
     foot: Foot | None = None,
@@ -495,6 +497,7 @@ def fit_condition(
 
 
 # ---------------------------------------------------------------------------- a dataset
+@one_blas_thread
 def fit_dataset(
     dataset: Dataset,
     *,
@@ -547,6 +550,7 @@ def fit_dataset(
     return FitResult(conditions=tuple(fits), model=m.name, shared=tuple(shared), seed=seed, foot=dataset.foot)
 
 
+@one_blas_thread
 def fit_by_velocity(
     dataset: Dataset,
     *,

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from mudforce._plumbing.blas import one_blas_thread
 from mudforce.errors import InputError, positive_int
 from mudforce.model import law3d
 from mudforce.model.parameters import MudParameters
@@ -117,6 +118,7 @@ def _free(free: Any) -> tuple[str, ...]:
     return names
 
 
+@one_blas_thread
 def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shape, params0: MudParameters, *,
            free: Sequence[str] | str = ("lateral_stiffness",), lateral_stiffness: float | None = None,
            surface_height: float = 0.0, width: float | None = None, noise: float | None = None,

@@ -61,6 +61,7 @@ from scipy.optimize import brentq, least_squares, minimize_scalar
 from scipy.stats import chi2
 
 from mudforce import _kernel as K
+from mudforce._plumbing.blas import one_blas_thread
 from mudforce.errors import InputError
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
@@ -282,6 +283,7 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     return force, low, high
 
 
+@one_blas_thread
 def identify_water_content(
     trial: Trial | PreparedTrial,
     foot: Foot | None = None,
