@@ -1,0 +1,130 @@
+"""Compile mudforce's numba functions once, into numba's on-disk cache, before the test workers start.
+
+A clean clone has no cache, and every pytest-xdist worker (and every
+command-line test's subprocess started before a cache file exists) would
+otherwise compile the same kernels again: about 100 s of CPU for the
+paths below, paid once per process. ``tests/conftest.py`` runs this file's
+two halves in two processes at once, in the controller, when the run is
+distributed (``-n 2`` or more); a warm cache makes it a few seconds of loading.
+
+Nothing here is asserted: a step that fails only prints a line (the tests
+that cover it will fail on their own, with a proper report). Run it by hand
+with ``python tests/numba_warmup.py a`` (or ``b``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import sys
+import tempfile
+import time
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+
+
+def _cli(*argv: str) -> None:
+    from mudforce.cli import main
+
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        main(list(argv))
+
+
+def _one_d(tmp: Path) -> list[tuple[str, Callable[[], None]]]:
+    import numpy as np
+
+    import mudforce as mf
+
+    params = mf.MudParameters.from_water_content(0.25)
+    time_, depth = mf.Protocol.paper(depth=0.02, velocity=0.01).sample()
+
+    def steppers() -> None:
+        res = mf.simulate(time_, depth, params)
+        mf.simulate(time_, depth + 1e-4 * np.sin(np.arange(depth.size)), params)  # noisy: the filtered rule
+        res.to_csv(tmp / "run.csv")
+        contact = mf.MudContact(params)
+        contact.step(0.0, 0.0)
+        contact.step(1e-3, 0.01)
+        for threads in (1, 2):
+            feet = mf.MudContacts(params, n=4, threads=threads)
+            feet.step(np.full(4, 0.0), 0.0)
+            feet.step(np.full(4, 0.01), 1e-3)
+
+    def trackers() -> None:
+        tracker = mf.MudTracker()
+        tracker.update(0.0, 0.0, 0.0)
+        tracker.update(1e-3, 1.0, 0.01)
+        many = mf.MudTrackers(2)
+        many.update(np.zeros(2), np.zeros(2), 0.0)
+        many.update(np.full(2, 1e-3), np.ones(2), 0.01)
+
+    def commands() -> None:
+        _cli("synth", "--out", str(tmp / "d"), "--water-content", "25%", "--velocities", "10mm/s",
+             "--repeats", "1", "--seed", "1", "--quiet")
+        _cli("synth", "--motion", "gait", "--out", str(tmp / "g"), "--water-content", "22%", "--repeats", "1",
+             "--seed", "1", "--duration", "4s", "--quiet")
+        for trial in sorted((tmp / "g").glob("*.csv"))[:1]:
+            _cli("identify", str(trial), "--json")
+            _cli("track", str(trial), "--out", str(tmp / "track.csv"))
+        _cli("fit", str(tmp / "d"), "--out", str(tmp / "fit.json"), "--quiet")
+
+    def baselines() -> None:
+        from mudforce.model import baselines
+
+        baselines.maxwell_only_force(time_, depth, 1e6, 1e4, 1e6, 1e4)
+
+    return [("1-D steppers", steppers), ("trackers", trackers), ("commands", commands), ("baselines", baselines)]
+
+
+def _three_d_and_engines(tmp: Path) -> list[tuple[str, Callable[[], None]]]:
+    import numpy as np
+
+    import mudforce as mf
+    from mudforce.model import shapes
+
+    params = mf.MudParameters.from_water_content(0.25)
+    upright = [1.0, 0.0, 0.0, 0.0]
+
+    def law3d() -> None:
+        toe = mf.MudContact3D(params, shapes.sphere(0.04))
+        toe.step([0.0, 0.0, 0.01], upright, 0.0)
+        toe.step([0.0, 0.0, -0.001], upright, 0.01)
+        for threads in (1, 2):
+            feet = mf.MudContacts3D(params, shapes.sphere(0.04), 2, threads=threads)
+            feet.step(np.zeros((2, 3)), np.tile(upright, (2, 1)), 0.0)
+            feet.step(np.full((2, 3), -1e-3), np.tile(upright, (2, 1)), 0.01)
+
+    def engines() -> None:
+        _cli("drop", "--engine", "builtin", "--mass", "5kg", "--water-content", "25%", "--duration", "0.2s",
+             "--out", str(tmp / "b.csv"))
+        _cli("drop", "--engine", "mujoco", "--mass", "5kg", "--water-content", "25%", "--duration", "0.2s",
+             "--out", str(tmp / "m.csv"))
+        _cli("drop", "--engine", "mujoco", "--shape", "sphere:40mm", "--mass", "2kg", "--water-content", "25%",
+             "--duration", "0.2s", "--out", str(tmp / "s.csv"))
+        from mudforce.engines.dynamics import naive_drop
+
+        naive_drop(5.0, params, duration=0.05)
+
+    return [("3-D law", law3d), ("engines", engines)]
+
+
+PARTS = {"a": _one_d, "b": _three_d_and_engines}
+
+
+def main(part: str) -> int:
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="mudforce-warmup-") as folder:
+        for name, step in PARTS[part](Path(folder)):
+            began = time.perf_counter()
+            try:
+                step()
+            except Exception:  # a warm-up never fails the run; the tests report it properly
+                print(f"numba warm-up {part}: {name} failed:\n{traceback.format_exc()}", file=sys.stderr)
+            print(f"numba warm-up {part}: {name} {time.perf_counter() - began:.1f} s", file=sys.stderr)
+    print(f"numba warm-up {part}: {time.perf_counter() - start:.1f} s", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1] if len(sys.argv) > 1 else "a"))
