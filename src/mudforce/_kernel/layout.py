@@ -51,6 +51,8 @@ import numpy as np
 from numba import njit
 
 from mudforce._plumbing import cache as _cache
+from mudforce.model.equations import array_form, relaxation_time
+from mudforce.model.law3d import root, select
 from mudforce.model.velocity import MAX_WINDOW
 
 _cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._plumbing.cache)
@@ -273,13 +275,14 @@ def make_params(values: np.ndarray, area: float, width: float, window: int, dead
     row[P_WIDTH] = width
     row[P_WINDOW] = float(window)
     row[P_DEADBAND] = float(deadband)
-    row[P_TAU_I] = row[P_B_I] / row[P_K_I]
-    row[P_TAU_W] = row[P_B_W] / row[P_K_W]
-    row[P_NECK_FLUSH] = neck_flush_age(row[P_ZETA], row[P_OMEGA_0])
+    tau = array_form(relaxation_time)  # Eq. (3), as every path computes it
+    row[P_TAU_I] = tau(row[P_K_I], row[P_B_I])
+    row[P_TAU_W] = tau(row[P_K_W], row[P_B_W])
+    row[P_NECK_FLUSH] = float(neck_flush_age(row[P_ZETA], row[P_OMEGA_0]))
     return row
 
 
-def neck_flush_age(zeta: float, omega_0: float) -> float:
+def neck_flush_age(zeta: Any, omega_0: Any) -> Any:
     """The age after necking [s] at which Eq. (7)'s filter response has decayed below 1e-250 [-].
 
     Its slowest mode decays as ``exp(-r t)``, ``r = zeta omega_0`` up to
@@ -289,8 +292,13 @@ def neck_flush_age(zeta: float, omega_0: float) -> float:
     nothing physically, and left alone it would go on into subnormal
     numbers, which are slow. Deciding by the age rather than by the values
     keeps the test off the filter update's chain of dependent operations.
+
+    This one source runs on floats and, for :func:`mudforce.jax.neck_flush_age`,
+    on JAX arrays (``select`` and ``root`` are ``where`` and ``sqrt`` there; the
+    unselected branch's square root is of 1, so that no NaN reaches a gradient).
     """
-    rate = zeta * omega_0 if zeta <= 1.0 else omega_0 / (zeta + math.sqrt(zeta * zeta - 1.0))
+    over = zeta > 1.0
+    rate = select(over, omega_0 / (zeta + root(select(over, zeta * zeta - 1.0, 1.0))), zeta * omega_0)
     return 250.0 * math.log(10.0) / rate
 
 

@@ -86,17 +86,18 @@ are the model; :func:`step` only wires them.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
 
+from mudforce import _kernel
 from mudforce._kernel.layout import ContactMode
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce.errors import InputError, positive_int
 from mudforce.model import equations as _eq
+from mudforce.model import law3d as _law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -316,6 +317,7 @@ _piece_midpoint_depth = _shared(_eq.piece_midpoint_depth)  # where a piece's dra
 #: ``growth = -expm1(-h / tau)`` (:func:`mudforce.model.equations.maxwell_strain_increment`).
 maxwell_strain_increment = _shared(_eq.maxwell_strain_increment)
 _intrusion_stress = _shared(_eq.intrusion_stress)  # Eqs. (2), (3): (k_m_i e, e / tau_i)
+_relaxation_time = _shared(_eq.relaxation_time)  # Eq. (3): tau = b_m / k_m
 _withdrawal_stress = _shared(_eq.withdrawal_stress)  # Eqs. (2), (3), (8): (k_m_w e, e / tau_w)
 _necked_stress = _shared(_eq.necked_stress)  # Eq. (7): (b_m_w dz_m/dt, dz_m/dt)
 _total_stress = _shared(_eq.total_stress)  # Eqs. (1), (8): f_e2 + (f_e1 + f_s), the one place the force is summed
@@ -347,15 +349,16 @@ def nonlinear_spring_stress(alpha: Array, beta: Array, depth: Array, width: Arra
     """Nonlinear spring stress ``f_e2 = alpha (max(z_i, 0) / H)^beta`` [Pa], Eq. (4).
 
     ``alpha`` [Pa], ``beta`` [-], ``depth`` ``z_i`` [m], ``width`` ``H`` [m].
-    JAX-native version of :func:`mudforce.model.equations.nonlinear_spring_stress`
-    with ``jnp.power``: the shared function cannot run on jax arrays, as
-    its power is :func:`mudforce._plumbing.pow.power`, a branch-free ``pow`` built
-    from numba intrinsics (bit casts, ``llvm.fma``) that only numba
-    compiles (the two agree to within an ulp or so). The base is guarded
-    at and above the surface so that the gradient there is 0, not NaN.
+    The array form of Eq. (4) that the 3-D law shares
+    (:func:`mudforce.model.law3d.spring_stress` on JAX arrays, ``x ** beta``):
+    the compiled :func:`mudforce.model.equations.nonlinear_spring_stress`
+    cannot run on jax arrays, as its power is :func:`mudforce._plumbing.pow.power`,
+    a branch-free ``pow`` built from numba intrinsics (bit casts, ``llvm.fma``)
+    that only numba compiles (the two agree to within an ulp or so). The base
+    is guarded at and above the surface so that the gradient there is 0, not NaN.
     """
-    inside = depth > 0.0
-    return jnp.where(inside, alpha * jnp.power(_safe(inside, depth / width), beta), 0.0)
+    stress: Array = _law3d.spring_stress(jnp.asarray(depth), alpha, beta, width)  # the array form of Eq. (4)
+    return stress
 
 
 def neck_filter_response(age: Array, zeta: Array, omega_0: Array) -> tuple[Array, Array]:
@@ -450,13 +453,11 @@ def neck_filter_transition(dt: Array, zeta: Array, omega_0: Array) -> tuple[Arra
 def neck_flush_age(zeta: Array, omega_0: Array) -> Array:
     """Age after necking [s] past which Eq. (7)'s response is below 1e-250 and set to zero.
 
-    As :func:`mudforce._kernel.neck_flush_age` (speed plumbing of the
-    stepper's, not an equation of the paper; a ``sqrt`` and a branch, so a
-    JAX-native version).
+    :func:`mudforce._kernel.neck_flush_age` itself (speed plumbing of the
+    stepper's, not an equation of the paper), on JAX arrays.
     """
-    over = zeta > 1.0
-    rate = jnp.where(over, omega_0 / (zeta + jnp.sqrt(_safe(over, zeta * zeta - 1.0))), zeta * omega_0)
-    return 250.0 * math.log(10.0) / rate
+    flush: Array = _kernel.neck_flush_age(jnp.asarray(zeta), jnp.asarray(omega_0))  # the one source, on arrays
+    return flush
 
 
 def necking_time(strain: Array, velocity: Array, tau_w: Array, k_m_w: Array, drag: Array, sigma_y: Array,
@@ -509,8 +510,8 @@ class StepConstants(NamedTuple):
 
 def step_constants(p: Params, dt: Array) -> StepConstants:
     """Constants of a step of ``dt`` [s]: ``tau = b/k``, ``1 - exp(-dt/tau)``, Eq. (7)'s one-step matrix, flush age."""
-    tau_i = p.b_i / p.k_i
-    tau_w = p.b_w / p.k_w
+    tau_i = _relaxation_time(p.k_i, p.b_i)
+    tau_w = _relaxation_time(p.k_w, p.b_w)
     return StepConstants(tau_i, tau_w, -jnp.expm1(-dt / tau_i), -jnp.expm1(-dt / tau_w),
                          neck_filter_transition(dt, p.zeta, p.omega_0), neck_flush_age(p.zeta, p.omega_0))
 
@@ -806,8 +807,8 @@ def branch_forces(state: State, params: Params, dt: Array, weight: Array = 1.0) 
     lo1_n, zm1 = _post_necking_force(p.area, p.b_w, s.neck_v, s.neck_z, g1, i1)
     lo0_n, hi0_n = rest_band(p, mode, z, z - zm0, force0)
     _, hi1_n = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
-    tau_i = p.b_i / p.k_i
-    tau_w = p.b_w / p.k_w
+    tau_i = _relaxation_time(p.k_i, p.b_i)
+    tau_w = _relaxation_time(p.k_w, p.b_w)
     e0 = z - mud_depth(s)
     lo0_c, hi0_c = rest_band(p, mode, z, e0, 0.0)
     e_dn = maxwell_strain_increment(e0, v_dn, tau_i, -jnp.expm1(-dt / tau_i))  # Eq. (3), each branch's trial step

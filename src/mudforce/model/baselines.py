@@ -50,6 +50,7 @@ from mudforce.model.equations import (
     drag_stress,
     intrusion_stress,
     maxwell_strain_step,
+    relaxation_time,
     submerged_drag_stress,
     total_stress,
     withdrawal_stress,
@@ -228,6 +229,7 @@ def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w:
         if not math.isfinite(float(value)) or float(value) < 0.0 or (positive and float(value) == 0.0):
             raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
                              f"got {value!r}")
-    force: np.ndarray = _maxwell_only_loop(t, z, float(k_m_i), float(b_m_i) / float(k_m_i), float(k_m_w),
-                                           float(b_m_w) / float(k_m_w), float(lambda_), float(rho_m), _area(foot))
+    tau = array_form(relaxation_time)  # Eq. (3)
+    force: np.ndarray = _maxwell_only_loop(t, z, float(k_m_i), tau(float(k_m_i), float(b_m_i)), float(k_m_w),
+                                           tau(float(k_m_w), float(b_m_w)), float(lambda_), float(rho_m), _area(foot))
     return force

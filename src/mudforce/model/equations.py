@@ -101,6 +101,7 @@ __all__ = [
     "nonlinear_spring_stress",
     "piece_midpoint_depth",
     "post_necking_force",
+    "relaxation_time",
     "rest_band_blend",
     "rest_band_forces",
     "submerged_drag_stress",
@@ -180,6 +181,20 @@ def maxwell_strain_rate(velocity: float, mud_velocity: float) -> float:
         :func:`withdrawal_stress`).
     """
     return velocity - mud_velocity
+
+
+@njit(cache=True, nogil=True)
+def relaxation_time(k_m: float, b_m: float) -> float:
+    """Relaxation time of a Maxwell branch ``tau = b_m / k_m`` [s], Eq. (3).
+
+    Parameters
+    ----------
+    k_m : float
+        Maxwell stiffness of the branch [Pa/m], Eq. (2).
+    b_m : float
+        Maxwell damping of the branch [Pa s/m], Eq. (2).
+    """
+    return b_m / k_m
 
 
 @njit(cache=True, nogil=True)

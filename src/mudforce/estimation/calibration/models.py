@@ -27,6 +27,7 @@ from mudforce import _kernel as K
 from mudforce.errors import InputError
 from mudforce.estimation.calibration.preprocess import PreparedTrial
 from mudforce.model.baselines import DEFAULT_K_RFT, drft_force, granular_rft_force, maxwell_only_force
+from mudforce.model.equations import array_form, relaxation_time
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import PARAMETER_NAMES, PARAMETER_UNITS, TABLE_I, TABLE_I_WATER_CONTENTS, MudParameters
 from mudforce.steppers.simulation import run_compact, simulate
@@ -219,7 +220,7 @@ def _chen_diagnose(values: np.ndarray, trials: Sequence[PreparedTrial], foot: Fo
             "no trial necked (the suction never reached sigma_y): sigma_y is only known to exceed "
             f"{-suction / foot.area:.4g} Pa, and zeta, omega_0 are not determined by this data")
     else:
-        tau_w = params.b_m_w / params.k_m_w
+        tau_w = array_form(relaxation_time)(params.k_m_w, params.b_m_w)
         if max(necks) < 0.3 * tau_w:
             warnings.append(
                 f"necking comes {max(necks):.3g} s after the reversal, before the withdrawal relaxation time "
