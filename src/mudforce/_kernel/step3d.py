@@ -53,18 +53,22 @@ from numba import prange
 
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import (
+    FREE,
+    S_DEPTH,
+    S_DIRECTION,
+    S_MODE,
+    S_MUD,
+    S_STARTED,
+    S_TIME,
+    S_VELOCITY,
     _compiled,
     load_cache,
     load_params,
     load_state,
     store_state,
 )
-from mudforce._kernel.loops import (
-    _advance_row,
-    foot_force_or_defer,
-    spring_pass,
-)
-from mudforce._kernel.transitions import exact_rule, quiet_step
+from mudforce._kernel.loops import _advance_row
+from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
     element_depth,
@@ -154,52 +158,15 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
 
 
 @_compiled(inline="always")
-def _rotated(ft: np.ndarray, f: int, x: float, y: float, z: float) -> tuple[float, float, float]:
-    """``R (x, y, z)`` with foot ``f``'s rotation of this step (the expressions :func:`_place` evaluates)."""
-    r = (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5], ft[f, F_R + 6],
-         ft[f, F_R + 7], ft[f, F_R + 8])
-    return rotate(r, x, y, z)  # type: ignore[no-any-return]
-
-
-@_compiled(inline="always")
-def _paper(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: np.ndarray, dt: float,
-           stress: np.ndarray, scratch: np.ndarray, index: np.ndarray, lo: int, hi: int) -> int:
-    """The paper's 1-D step of one foot's elements ``lo:hi``: their stresses [Pa] into ``stress``.
-
-    Each started element's depth is first settled (:func:`mudforce.model.law3d.settle_depth`, in ``depths``).
-    Then :func:`mudforce._kernel.loops.run_feet` on the foot's rows, written out
-    so that the foot's params row is loaded once (every element of a foot
-    has the same mud and width: :class:`~mudforce.steppers.contact3d.MudContacts3D`
-    builds them so) and the foot's rows are stepped while they are in the
-    cache: the same calls (:func:`~mudforce._kernel.transitions.quiet_step`,
-    else ``advance`` through ``_advance_row``; ``stress_parts``; Eq. (4) in
-    :func:`~mudforce._kernel.loops.spring_pass`), so the same bits. Returns
-    the first element refused, or -1.
-    """
-    p = load_params(params, lo)
-    quiet = exact_rule(p)
-    m = 0
-    for j in range(lo, hi):
-        s0 = load_state(states, j)
-        if s0.started != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
-            depths[j] = settle_depth(depths[j], s0.depth)
-        ok = False
-        if quiet:
-            r = quiet_step(s0, load_cache(states, j), p, depths[j], dt)
-            ok = r.ok
-            if ok:
-                store_state(states, j, r.state)
-        if not ok:
-            r, _ = _advance_row(states, ring, j, params, depths[j], dt)
-            if not r.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
-                return j
-        m = foot_force_or_defer(scratch, index, m, j, p, r.state, r.velocity, stress)
-    spring_pass(scratch, index, m, stress)
-    return -1
+def _foot_rotation(ft: np.ndarray, f: int) -> tuple[float, float, float, float, float, float, float, float, float]:
+    """Foot ``f``'s rotation of this step (:func:`_place` put it in ``ft``), row by row: loaded once per foot."""
+    return (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5],
+            ft[f, F_R + 6], ft[f, F_R + 7], ft[f, F_R + 8])
 
 
 # rows of the lateral scratch block (one per slice of feet, :func:`lateral_scratch`): a foot's submerged elements
-# side by side, so that the 3-D law runs over them in loops without branches, which the compiler vectorises
+# side by side, so that the spring and the 3-D law run over them in loops without branches, which the compiler
+# vectorises
 L_INDEX = 0  # the element's row in the element block (an integer, exact in a double)
 L_NX, L_NY, L_NZ = 1, 2, 3  # world normal [-]
 L_OX, L_OY, L_OZ = 4, 5, 6  # world offset from the body origin [m]
@@ -210,7 +177,9 @@ L_SPRING = 10  # Eq. (4) at the depth [Pa]
 L_SX, L_SY = 11, 12  # the last slip [m]; then the slip kept
 L_MX, L_MY = 13, 14  # the horizontal displacement since the last step [m]
 L_FX, L_FY, L_FZ = 15, 16, 17  # the element's force [N]
-N_LATERAL = 18
+L_FE1, L_FS = 18, 19  # the paper's stresses but the spring's, f_e1 and f_s [Pa] (stress_parts)
+L_HAS_SPRING = 20  # 1.0 where the paper's stress has the spring of Eq. (4) (CONTACT, intrusion), else 0.0
+N_LATERAL = 21
 
 
 def lateral_scratch(widest: int, slices: int) -> np.ndarray:
@@ -225,80 +194,162 @@ def lateral_scratch(widest: int, slices: int) -> np.ndarray:
     return np.zeros((slices, N_LATERAL, width))
 
 
-@_compiled(inline="always")
-def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, f: int,
-             lo: int, hi: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> None:
-    """Foot ``f``'s elements ``lo:hi`` after the 1-D step: the 3-D law, the wrench, the new lateral state.
+@_compiled()
+def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.ndarray, stress: np.ndarray,
+               lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, f: int, dt: float,
+               forces: np.ndarray, torques: np.ndarray) -> int:
+    """Foot ``f``'s step once placed: its elements' paper step, then the 3-D law; the element refused, or -1.
 
-    :meth:`mudforce.steppers.contact3d.MudContact3D.step` from the paper's stress
-    on, in three passes: place every element, gathering the submerged ones
-    (once the foot has started) into ``lat``; run
-    :func:`~mudforce.model.law3d.spring_stress` and
-    :func:`~mudforce.model.law3d.element_force` over those, in loops without
-    branches (vectorised); scatter their slips and add up the wrench. The
-    others carry :func:`~mudforce.model.law3d.vertical_force` alone, which is
-    what ``element_force`` gives them.
+    :meth:`mudforce.steppers.contact3d.MudContact3D.step` for one foot, in passes over its elements:
+
+    1. each element's paper step: its depth settled
+       (:func:`mudforce.model.law3d.settle_depth`), then the 1-D stepper's
+       calls (:func:`mudforce._kernel.loops.run_feet`'s: :func:`~mudforce._kernel.transitions.quiet_step`,
+       else ``advance`` through ``_advance_row``; ``stress_parts``), with the
+       foot's params row loaded once (every element of a foot has the same
+       mud and width: :class:`~mudforce.steppers.contact3d.MudContacts3D` builds them
+       so). A FREE element that stays FREE (most elements above the
+       surface) stores only the state columns its quiet step changes. An
+       element at or above the surface has its stress at once (no spring
+       there: Eq. (4) is 0), and, once the foot has started, carries
+       :func:`~mudforce.model.law3d.vertical_force` alone, which is what
+       ``element_force`` gives it, without the horizontal law's arithmetic;
+       a submerged one is gathered into ``lat`` with its world geometry;
+    2. over the gathered elements, in loops without branches (vectorised):
+       Eq. (4) once per element (:func:`~mudforce.model.law3d.spring_stress`,
+       which is :func:`~mudforce.model.equations.nonlinear_spring_stress`, the
+       1-D stepper's spring; ``loops.spring_pass`` would compute the same
+       number again), the paper's stress (``total_force``, the spring where the
+       branch has it), then :func:`~mudforce.model.law3d.element_force`;
+    3. their slips scattered and the wrench summed: the elements at or above
+       the surface in element order (during pass 1), then the gathered ones
+       in element order, as :class:`~mudforce.steppers.contact3d.MudContact3D`'s
+       loop does. At a foot's first step no element is loaded sideways: one
+       more pass sums them all in element order.
+
+    The foot's rotation is read once (:func:`_foot_rotation`) and each
+    element's world geometry is recomputed from it where it is used (memory,
+    not arithmetic, bounds a step of thousands of feet). ``ft``'s width,
+    alpha and beta are the params row's (the same numbers).
     """
-    # the geometry of this step, recomputed here rather than stored by _place: memory, not arithmetic, bounds
-    # a step of thousands of feet
+    lo, hi = starts[f], starts[f + 1]
+    p = load_params(params, lo)
+    quiet = exact_rule(p)
+    r = _foot_rotation(ft, f)
     px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
     started = ft[f, F_STARTED] != 0.0
     sfx = sfy = sfz = 0.0
     stx = sty = stz = 0.0
     m = 0
     for i in range(lo, hi):
-        ox, oy, oz = _rotated(ft, f, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+        row = states[i]
+        z = depths[i]
+        if row[S_STARTED] != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
+            z = settle_depth(z, row[S_DEPTH])
+            depths[i] = z
+        # ---- the paper's step of the element (what _kernel.loops.run_feet does for a foot)
+        if quiet and row[S_MODE] == FREE:
+            q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
+            ok = q.ok
+            if ok:  # FREE stays FREE: only these columns change (the others are the state's own)
+                s1 = q.state
+                row[S_STARTED] = s1.started
+                row[S_TIME] = s1.time
+                row[S_DEPTH] = s1.depth
+                row[S_MUD] = s1.mud
+                row[S_DIRECTION] = s1.direction
+                row[S_VELOCITY] = s1.velocity
+        else:
+            ok = False
+            if quiet:
+                q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
+                ok = q.ok
+                if ok:
+                    store_state(states, i, q.state)
+        if not ok:
+            q, _ = _advance_row(states, ring, i, params, z, dt)
+            if not q.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
+                return i
+        fe1, fs, _, spring = stress_parts(p, q.state, q.velocity)
+        # ---- the element's world geometry and the 3-D law's first pass
+        ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
         wx, wy, wz = px + ox, py + oy, pz + oz
-        if started and depths[i] > 0.0:
-            nx, ny, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+        if z > 0.0:  # submerged: gathered for the spring and the lateral law
             lat[L_INDEX, m] = i
-            lat[L_NX, m] = nx
-            lat[L_NY, m] = ny
-            lat[L_NZ, m] = nz
-            lat[L_OX, m] = ox
-            lat[L_OY, m] = oy
-            lat[L_OZ, m] = oz
-            lat[L_AREA, m] = el[i, E_AREA]
-            lat[L_DEPTH, m] = depths[i]
-            lat[L_STRESS, m] = stress[i]
-            lat[L_SX, m] = el[i, E_SLIPX]
-            lat[L_SY, m] = el[i, E_SLIPY]
-            lat[L_MX, m] = wx - el[i, E_CX]
-            lat[L_MY, m] = wy - el[i, E_CY]
+            lat[L_DEPTH, m] = z
+            lat[L_FE1, m] = fe1
+            lat[L_FS, m] = fs
+            lat[L_HAS_SPRING, m] = 1.0 if spring else 0.0
+            if started:
+                nx, ny, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+                lat[L_NX, m] = nx
+                lat[L_NY, m] = ny
+                lat[L_NZ, m] = nz
+                lat[L_OX, m] = ox
+                lat[L_OY, m] = oy
+                lat[L_OZ, m] = oz
+                lat[L_AREA, m] = el[i, E_AREA]
+                lat[L_SX, m] = el[i, E_SLIPX]
+                lat[L_SY, m] = el[i, E_SLIPY]
+                lat[L_MX, m] = wx - el[i, E_CX]
+                lat[L_MY, m] = wy - el[i, E_CY]
             m += 1
-        else:  # what element_force gives an element that carries no horizontal force, without its arithmetic
+        else:  # no spring at or above the surface (Eq. (4) is 0 there): the stress at once
+            sigma = total_force(fe1, 0.0, fs, p.area)
+            stress[i] = sigma
+            if started:  # what element_force gives an element that carries no horizontal force
+                el[i, E_SLIPX] = 0.0
+                el[i, E_SLIPY] = 0.0
+                if sigma != 0.0:  # (most elements above the surface carry none: no force, no moment to add)
+                    _, _, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+                    fz = vertical_force(sigma, el[i, E_AREA], nz)
+                    mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
+                    sfz += fz
+                    stx += mx
+                    sty += my
+                    stz += mz
+        if started:
+            el[i, E_CX] = wx
+            el[i, E_CY] = wy
+            el[i, E_CZ] = wz
+    # ---- the gathered elements: Eq. (4) once each, their paper stress (rows as arrays: the loops vectorise)
+    depth, spring_, area = lat[L_DEPTH], lat[L_SPRING], lat[L_AREA]
+    fe1s, fss, has, stresses = lat[L_FE1], lat[L_FS], lat[L_HAS_SPRING], lat[L_STRESS]
+    alpha, beta, width, area_1d = p.alpha, p.beta, p.width, p.area
+    for j in range(m):  # Eq. (4)
+        spring_[j] = spring_stress(depth[j], alpha, beta, width)
+    for j in range(m):
+        stresses[j] = total_force(fe1s[j], spring_[j] if has[j] != 0.0 else 0.0, fss[j], area_1d)
+    for j in range(m):
+        stress[int(lat[L_INDEX, j])] = stresses[j]
+    if not started:  # a first step: no element is loaded sideways; each carries its vertical force, in order
+        for i in range(lo, hi):
+            ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
             el[i, E_SLIPX] = 0.0
             el[i, E_SLIPY] = 0.0
-            if stress[i] != 0.0:  # (most elements above the surface carry none: no force, no moment to add)
-                _, _, nz = _rotated(ft, f, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
+            if stress[i] != 0.0:
+                _, _, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
                 fz = vertical_force(stress[i], el[i, E_AREA], nz)
                 mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
                 sfz += fz
                 stx += mx
                 sty += my
                 stz += mz
-        el[i, E_CX] = wx
-        el[i, E_CY] = wy
-        el[i, E_CZ] = wz
-    if m > 0:
+            el[i, E_CX] = px + ox
+            el[i, E_CY] = py + oy
+            el[i, E_CZ] = pz + oz
+    elif m > 0:  # the 3-D law on the submerged elements
         k = ft[f, F_STIFFNESS]
         sigma_y = ft[f, F_SIGMA_Y]
-        alpha = ft[f, F_ALPHA]
-        beta = ft[f, F_BETA]
-        width = ft[f, F_WIDTH]
         lambda_ = ft[f, F_LAMBDA]
         rho = ft[f, F_RHO]
         per_dt = 1.0 / dt
-        # rows as arrays of their own (as loops.spring_pass does): loops over them vectorise
-        depth, spring, area = lat[L_DEPTH], lat[L_SPRING], lat[L_AREA]
         nxs, nys, nzs = lat[L_NX], lat[L_NY], lat[L_NZ]
         sxs, sys_, mxs, mys = lat[L_SX], lat[L_SY], lat[L_MX], lat[L_MY]
-        stresses, fxs, fys, fzs = lat[L_STRESS], lat[L_FX], lat[L_FY], lat[L_FZ]
-        for j in range(m):  # Eq. (4)
-            spring[j] = spring_stress(depth[j], alpha, beta, width)
+        fxs, fys, fzs = lat[L_FX], lat[L_FY], lat[L_FZ]
         for j in range(m):  # the 3-D law
             slip_x, slip_y, fx, fy, fz = element_force(
-                stresses[j], spring[j], area[j], nxs[j], nys[j], nzs[j], depth[j], sxs[j], sys_[j], mxs[j], mys[j],
+                stresses[j], spring_[j], area[j], nxs[j], nys[j], nzs[j], depth[j], sxs[j], sys_[j], mxs[j], mys[j],
                 per_dt, True, k, sigma_y, lambda_, rho)
             sxs[j] = slip_x
             sys_[j] = slip_y
@@ -307,9 +358,9 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
             fzs[j] = fz
         for j in range(m):
             i = int(lat[L_INDEX, j])
-            el[i, E_SLIPX] = lat[L_SX, j]
-            el[i, E_SLIPY] = lat[L_SY, j]
-            fx, fy, fz = lat[L_FX, j], lat[L_FY, j], lat[L_FZ, j]
+            el[i, E_SLIPX] = sxs[j]
+            el[i, E_SLIPY] = sys_[j]
+            fx, fy, fz = fxs[j], fys[j], fzs[j]
             mx, my, mz = moment(lat[L_OX, j], lat[L_OY, j], lat[L_OZ, j], fx, fy, fz)
             sfx += fx
             sfy += fy
@@ -324,6 +375,7 @@ def _lateral(el: np.ndarray, ft: np.ndarray, depths: np.ndarray, stress: np.ndar
     torques[f, 1] = sty
     torques[f, 2] = stz
     ft[f, F_STARTED] = 1.0
+    return -1
 
 
 @_compiled()
@@ -354,25 +406,9 @@ def element_forces(stress: np.ndarray, spring: np.ndarray, areas: np.ndarray, nx
 
 
 @_compiled()
-def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.ndarray, stress: np.ndarray,
-               lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
-               index: np.ndarray, f: int, dt: float, forces: np.ndarray, torques: np.ndarray) -> int:
-    """Foot ``f``'s step once placed: its elements' paper step (:func:`_paper`), then the 3-D law
-    (:func:`_lateral`); the element refused, or -1. (Compiled on its own: numba's analysis of parallel loops
-    does not take the state machine inlined.)"""
-    lo, hi = starts[f], starts[f + 1]
-    refused = _paper(states, ring, params, depths, dt, stress, scratch, index, lo, hi)
-    if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
-        return refused
-    _lateral(el, ft, depths, stress, lat, f, lo, hi, dt, forces, torques)
-    return -1
-
-
-@_compiled()
 def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
               starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray,
-              ring: np.ndarray, params: np.ndarray, scratch: np.ndarray, index: np.ndarray, forces: np.ndarray,
-              torques: np.ndarray) -> int:
+              ring: np.ndarray, params: np.ndarray, forces: np.ndarray, torques: np.ndarray) -> int:
     """One step of every foot: the wrench of foot ``f`` [N], [N m] into ``forces[f]`` and ``torques[f]``.
 
     ``positions`` (m, 3) [m] and ``quaternions`` (m, 4) ``(w, x, y, z)``
@@ -380,9 +416,7 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     if no foot has started). ``states``, ``ring`` and ``params`` are the
     1-D stepper's rows, one per element, ``depths`` and ``stress`` its
     depths [m] and forces (on a unit area: the stresses [Pa]); ``lat`` the
-    lateral scratch (:func:`lateral_scratch`, one slice); ``scratch`` and ``index`` the
-    spring pass's (:func:`~mudforce._kernel.loops.new_spring_scratch` for
-    all elements). Returns :data:`OK`; or, having changed nothing, the
+    lateral scratch (:func:`lateral_scratch`, one slice). Returns :data:`OK`; or, having changed nothing, the
     first foot whose pose or depth is refused (see :func:`_place`), or
     :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
     foot has started.
@@ -400,8 +434,7 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     if bad != OK:
         return bad
     for f in range(m):
-        refused = _step_foot(el, ft, starts, depths, stress, lat[0], states, ring, params, scratch, index, f, dt,
-                             forces, torques)
+        refused = _step_foot(el, ft, starts, depths, stress, lat[0], states, ring, params, f, dt, forces, torques)
         if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return refused
     return OK
@@ -421,15 +454,14 @@ def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
 @_compiled(parallel=True)
 def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
                       starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray,
-                      states: np.ndarray, ring: np.ndarray, params: np.ndarray, scratch: np.ndarray,
-                      index: np.ndarray, forces: np.ndarray, torques: np.ndarray, chunks: np.ndarray) -> int:
+                      states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
+                      torques: np.ndarray, chunks: np.ndarray) -> int:
     """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
 
     The checks run first, on the calling thread, over every foot; then
     each slice's elements take their 1-D step and its feet their lateral
     law. The feet are independent, so the results are :func:`step_feet`'s
-    bit for bit. ``scratch`` and ``index`` hold one spring block per slice
-    (:func:`~mudforce._kernel.loops.new_feet_scratch` for all elements).
+    bit for bit. ``lat`` holds one lateral block per slice.
     """
     m = positions.shape[0]
     dt = _checked_dt(ft, m, dt)
@@ -444,8 +476,8 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
         hi = m * (c + 1) // n
         chunks[c] = -1
         for f in range(lo, hi):
-            refused = _step_foot(el, ft, starts, depths, stress, lat[c], states, ring, params, scratch[c], index[c],
-                                 f, dt, forces, torques)
+            refused = _step_foot(el, ft, starts, depths, stress, lat[c], states, ring, params, f, dt, forces,
+                                 torques)
             if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
                 chunks[c] = refused
     for c in range(n):

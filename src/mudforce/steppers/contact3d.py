@@ -534,19 +534,14 @@ class MudContacts3D:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = min(vectorized._resolve_threads(threads, total), m)
         self._chunks = np.empty(self.threads, dtype=np.int64)
-        self._scratch, self._index = K.new_spring_scratch(total)
-        # one spring block per slice of feet, as wide as the slice with the most elements
-        cuts = [int(self._starts[m * c // self.threads]) for c in range(self.threads + 1)]
-        widest = max(cuts[c + 1] - cuts[c] for c in range(self.threads))
-        self._slice_scratch, self._slice_index = K.new_feet_scratch(widest * self.threads, self.threads)
         self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
         self._stress = np.zeros(total)
-        # a foot's submerged elements side by side, for the 3-D law's vectorised loops (one block per slice)
+        # a foot's submerged elements side by side, for the spring's and the 3-D law's vectorised loops (one block
+        # per slice)
         self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
-                             self._ring, self._params_rows, self._scratch, self._index)
-        self._thread_args = (*self._kernel_args[:-2], self._slice_scratch, self._slice_index)
+                             self._ring, self._params_rows)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -666,7 +661,7 @@ class MudContacts3D:
             forces, torques = out
         if self.threads > 1 and not vectorized._forked:
             with vectorized._launch_lock:
-                code = S3.step_feet_threads(p, q, dt, *self._thread_args, forces, torques, self._chunks)
+                code = S3.step_feet_threads(p, q, dt, *self._kernel_args, forces, torques, self._chunks)
         else:
             code = S3.step_feet(p, q, dt, *self._kernel_args, forces, torques)
         if code != S3.OK:

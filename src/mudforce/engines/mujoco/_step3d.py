@@ -30,7 +30,7 @@ from mudforce.model.law3d import (
 )
 
 __all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "add_wrench",
-           "prepare"]
+           "gather_poses", "prepare"]
 
 # columns of the per-foot constants (those of the foot's patch; row ignored off every patch)
 C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO, C_WIDTH = 0, 1, 2, 3, 4, 5
@@ -43,6 +43,22 @@ def add_wrench(xfrc: np.ndarray, bodies: np.ndarray, applied: np.ndarray, sign: 
     for f in range(bodies.shape[0]):
         for j in range(6):
             xfrc[bodies[f], j] += sign * applied[f, j]
+
+
+@_compiled(nogil=False)
+def gather_poses(geom_xpos: np.ndarray, geom_xmat: np.ndarray, gids: np.ndarray, pos: np.ndarray,
+                 mats: np.ndarray) -> None:
+    """The foot geoms' positions [m] and rotation matrices (row by row) into ``pos`` (n, 3) and ``mats`` (n, 9).
+
+    ``geom_xpos`` and ``geom_xmat`` are MuJoCo's ``data`` arrays, ``gids`` the feet's geom ids: the values
+    ``data.geom_xpos[gids]`` and ``data.geom_xmat[gids]`` give, without allocating.
+    """
+    for f in range(gids.shape[0]):
+        g = gids[f]
+        for j in range(3):
+            pos[f, j] = geom_xpos[g, j]
+        for j in range(9):
+            mats[f, j] = geom_xmat[g, j]
 
 
 @_compiled(nogil=False)

@@ -79,6 +79,7 @@ from mudforce.engines.mujoco._step3d import (
     C_WIDTH,
     N_FOOT_CONSTANTS,
     add_wrench,
+    gather_poses,
     prepare,
 )
 from mudforce.errors import InputError, positive_int
@@ -290,6 +291,9 @@ class MudAdapter3D:
         self._anchors = np.array([[i["anchor_z"], i["anchor_u"], i["anchor_v"]] for i in ids], dtype=np.int64)
         self._tendons = np.array([[i["tendon_z"], i["tendon_u"], i["tendon_v"]] for i in ids], dtype=np.int64)
         self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.surface_height) for p in plist]
+        self._rows = [c.kernel_rows() for c in self._contacts]  # read-only views that follow the feet's states
+        # one patch with no extent holds every foot at every step: no feet enter or leave it (a fast path)
+        self._everywhere = len(plist) == 1 and plist[0].extent is None
         sizes = [s.n for s in slist]
         self._foot_of = np.repeat(np.arange(n), sizes)
         self._cb = np.vstack([s.centroids for s in slist])
@@ -312,6 +316,8 @@ class MudAdapter3D:
         self._band = np.zeros((2, n))
         self._pos = np.zeros((n, 3))
         self._mats = np.zeros((n, 9))
+        self._quats = np.zeros((n, 4))
+        self._patch_changed = True  # whether a foot changed patch at the last commit (then _const is refilled)
         self._u = np.tile([1.0, 0.0], (n, 1))  # each foot's last direction of horizontal motion
         self._last_pos = np.zeros((n, 3))
         self._last_applied = np.zeros((n, 6))
@@ -351,8 +357,9 @@ class MudAdapter3D:
             add_wrench(xfrc, self._bodies, self._applied, -1.0)
             if data.ncon:
                 self._check_floor()
-            self._last_applied[:] = self._applied
-            self._last_dirs[:] = self._dirs
+            # the step's wrench and directions become the last ones; _prepare rewrites every entry of the others
+            self._last_applied, self._applied = self._applied, self._last_applied
+            self._last_dirs, self._dirs = self._dirs, self._last_dirs
             self._commit(first=False)
             self._prepare()
 
@@ -367,8 +374,23 @@ class MudAdapter3D:
 
     def _commit(self, *, first: bool) -> None:
         """Step each patch's feet to their poses (their first step when ``first``); reset the feet outside it."""
-        pos, mats, quats = self._poses()
-        self._pos, self._mats = pos, mats.reshape(-1, 9)
+        d = self.data
+        pos, mats, quats = self._pos, self._mats, self._quats
+        gather_poses(d.geom_xpos, d.geom_xmat, self._gids, pos, mats)  # data.geom_xpos[gids], without allocating
+        mat2quat = self._mj.mju_mat2Quat
+        for f in range(len(self.feet)):
+            mat2quat(quats[f], mats[f])
+        dt = float(self.model.opt.timestep)
+        if self._everywhere:  # every foot in the one patch, always: no masks, the wrench written in place
+            self._patch_changed = bool(self._patch[0] != 0)
+            self._patch[:] = 0
+            try:
+                self._contacts[0].step(pos, quats, dt, out=(self.law_forces, self.law_torques))
+            except InputError:
+                self.law_forces[:] = 0.0
+                self.law_torques[:] = 0.0
+                raise
+            return
         n = len(self.feet)
         where = np.full(n, -1, dtype=np.int64)
         for k, p in enumerate(self.patches):
@@ -378,7 +400,6 @@ class MudAdapter3D:
                 x0, x1, y0, y1 = p.extent
                 inside = (where < 0) & (x0 <= pos[:, 0]) & (pos[:, 0] <= x1) & (y0 <= pos[:, 1]) & (pos[:, 1] <= y1)
             where[inside] = k
-        dt = float(self.model.opt.timestep)
         self.law_forces[:] = 0.0
         self.law_torques[:] = 0.0
         for k, c in enumerate(self._contacts):
@@ -394,21 +415,23 @@ class MudAdapter3D:
             if leaving.any():
                 c.reset(leaving)
         self._patch = where
+        self._patch_changed = True
 
     def _prepare(self) -> None:
         """The next step's bands, holds, contact points, anchors and explicit wrench (compiled: ``_step3d.prepare``)."""
         model, d = self.model, self.data
         pos, mats = self._pos, self._mats
         dt = float(model.opt.timestep)
-        for k, c in enumerate(self._contacts):
-            if (self._patch == k).any():
-                states, rows = c.kernel_rows()
+        for k in range(len(self._contacts)):
+            if self._everywhere or (self._patch == k).any():
+                states, rows = self._rows[k]
                 branch_forces(states, rows, dt, 1.0, self._up[k], self._down[k], self._drag[k])
         const = self._const
-        for f in range(len(self.feet)):
-            k = int(self._patch[f])
-            if k >= 0:
-                const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
+        if self._patch_changed:
+            for f in range(len(self.feet)):
+                k = int(self._patch[f])
+                if k >= 0:
+                    const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
                 self._up, self._down, self._drag, self._velocity_z, self._u, d.xipos, d.xpos, d.xmat, self._bodies,
                 self._sites, self._anchors, self._tendons, model.site_pos, model.tendon_frictionloss, ANCHOR_HEIGHT,
