@@ -58,6 +58,10 @@ def _handler(signum: int, frame: Any) -> None:
     raise KeyboardInterrupt
 
 
+def _deliver() -> None:
+    """Nothing: a call, at whose start the interpreter delivers a pending interrupt."""
+
+
 @contextlib.contextmanager
 def watch() -> Iterator[None]:
     """Inside, SIGINT is recorded as well as raised, and one lost where Python cannot raise it is raised again.
@@ -91,8 +95,22 @@ def watch() -> Iterator[None]:
     try:
         yield
     finally:
+        # A retry may have fired already (a loaded machine runs the timer late): its interrupt is delivered at
+        # the main thread's next bytecode. Let it arrive here, while this handler is installed, and drop it: the
+        # interrupt it repeats is already recorded (``_pending``, set before the first was raised) and acted on.
+        # Left for later, it would surface after the command had reported "interrupted" and returned 130, and
+        # Python would end the process by SIGINT instead (exit status -2).
+        # (A Ctrl-C that comes only now, with the command done, is raised again once the handlers are back.)
+        late = False
         for timer in timers:
             timer.cancel()
+        for step in [*(timer.join for timer in timers), _deliver]:
+            try:
+                step()
+            except KeyboardInterrupt:
+                late = True
         sys.unraisablehook = previous_hook
         signal.signal(signal.SIGINT, signal.default_int_handler)
         _pending = False
+        if late and sys.exc_info()[0] is None:
+            raise KeyboardInterrupt
