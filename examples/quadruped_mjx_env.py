@@ -128,15 +128,17 @@ class QuadrupedMudEnv:
     def step(self, state: State, action: jax.Array) -> State:
         """One control step: the servo targets ``action`` (hip and knee [rad] per leg) held for ``substeps``."""
         d0 = state.data.replace(ctrl=jnp.asarray(action, dtype=state.data.ctrl.dtype))
+        # this world's mud; the feet (geoms, bodies, elements) are the model's constants, not traced per world
+        mud = self.mud._replace(elements=state.mud.elements, lateral_stiffness=state.mud.lateral_stiffness)
 
         def physics(carry: tuple[Any, mud3d.MudState3D, jax.Array], _: Any) -> tuple[Any, None]:
-            d, s, acc = carry
-            before = d.geom_xpos[self.toes]
-            d, s, force = mud3d.step(self.m, d, s, state.mud)
-            moved = d.geom_xpos[self.toes] - before
+            d, last, acc = carry
+            d, s, _ = mud3d.step(self.m, d, last, mud)
+            # the toes' motion between the last two commits (the poses the mud saw), under the force of that step
+            moved = jnp.where((last.patch >= 0)[:, None], s.position - last.position, 0.0)
             in_mud = s.depth > -1e-3  # touching or below the surface (NaN off the patch: False)
             slip = jnp.sum(jnp.where(in_mud, jnp.hypot(moved[:, 0], moved[:, 1]), 0.0))
-            energy = -jnp.sum(force * moved)  # the work the mud took from the toes [J]
+            energy = -jnp.sum(last.force * moved)  # the work the mud took from the toes [J]
             sink = jnp.max(jnp.where(in_mud, s.depth, 0.0))
             return (d, s, jnp.stack([acc[0] + slip, acc[1] + energy, jnp.maximum(acc[2], sink)])), None
 
