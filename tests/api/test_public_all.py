@@ -30,6 +30,7 @@ OPTIONAL: dict[str, tuple[str, ...]] = {
     "mudforce.jax.contact3d": ("jax",),
     "mudforce.jax.domain": ("jax",),
     "mudforce.engines.mjx": ("jax", "mujoco", "mujoco.mjx"),
+    "mudforce.engines.mjx3d": ("jax", "mujoco", "mujoco.mjx"),
     "mudforce.engines.mujoco": ("mujoco",),
     "mudforce.engines.mujoco.adapter3d": ("mujoco",),
 }
@@ -173,6 +174,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.jax.contact3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
     "mudforce.jax.domain": ["params_from_water_content"],
     "mudforce.engines.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
+    "mudforce.engines.mjx3d": ["Mud3D", "MudState3D", "add_mud", "init", "set_mud", "step"],
     "mudforce.engines.mujoco": [
         "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudAdapter3D", "MudPatch", "add_mud", "add_mud_3d",
         "drop_model", "foot_of", "simulate_drop", "simulate_drop_3d",

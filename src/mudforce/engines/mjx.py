@@ -223,45 +223,60 @@ _SWEEPS = 24  # projected Gauss-Seidel sweeps over the feet before the exact sol
 
 def _joint_forces(delassus: Array, target: Array, f_up: Array, f_down: Array, drag: Array, feet: mj.State,
                   previous: Array) -> tuple[Array, Array]:
-    """Every foot's mud force [N] for one step, the feet of the world solved together; and which are stuck.
+    """Every foot's vertical mud force [N] for one step, the feet of the world solved together; and which are stuck.
 
-    ``delassus`` (feet, feet) is ``J M^-1 J^T`` [1/kg], the sole velocity each unit force gives every sole
-    in a step of ``dt`` per ``dt``; ``target`` = ``-v_free / dt`` [m/s^2], so that ``delassus @ f = target``
-    brings every sole to rest by the step's end. The result is the box-constrained solution (a mixed
-    linear complementarity problem, as for dry friction): a stuck foot's force is inside its band
-    ``[f_up, f_down] + drag`` and its sole ends the step at rest; any other foot's force is at the
-    band's edge its motion pushes it to (or its branch force for an inverted band, 0 unstarted), each
-    foot's rule being :func:`mudforce.jax.stick_force` given the others' forces. Found by projected
-    Gauss-Seidel from ``previous`` (the last step's forces), then the stuck feet's forces solved exactly
-    (Tikhonov-regularised by ``eps^(3/4)`` of the diagonal, so that redundant feet, four on one rigid
-    body, share the load by the least weighted norm instead of failing on a singular matrix).
+    :func:`_joint_rows` with one row per foot (its vertical band, drag and velocity); an unstarted foot
+    gets 0 (its band is ``(0, 0)``, its drag 0).
+    """
+    unstarted = feet.mode == mj.UNSTARTED
+    return _joint_rows(delassus, target, f_up, f_down, drag, feet.velocity,
+                       jnp.where(unstarted, 0.0, previous).astype(delassus.dtype))
+
+
+def _joint_rows(delassus: Array, target: Array, lo: Array, hi: Array, drag: Array, velocity: Array,
+                previous: Array) -> tuple[Array, Array]:
+    """The force [N] of every row of a world's mud, solved together, and which rows are stuck.
+
+    A row is a direction in which the mud holds a foot: the vertical row of a foot (the band
+    ``[lo, hi] = [F_up, F_down]``, its ``drag``, the foot's ``velocity`` [m/s] positive down, which picks the
+    branch of an inverted band) or, in 3-D (:mod:`mudforce.engines.mjx3d`), a sideways row (the band
+    ``[-hold, hold]``, drag 0). ``delassus`` (rows, rows) is ``J M^-1 J^T`` [1/kg], the velocity each unit
+    force gives every row in a step of ``dt`` per ``dt``; ``target`` = ``-v_free / dt`` [m/s^2], so that
+    ``delassus @ f = target`` brings every row to rest by the step's end. The result is the box-constrained
+    solution (a mixed linear complementarity problem, as for dry friction): a stuck row's force is inside
+    its band ``[lo, hi] + drag`` and the row ends the step at rest; any other row's force is at the band's
+    edge its motion pushes it to (or its branch force for an inverted band), each row's rule being
+    :func:`mudforce.jax.stick_force` given the others' forces. Found by projected Gauss-Seidel from
+    ``previous`` (the last step's forces), then the stuck rows' forces solved exactly (Tikhonov-regularised
+    by ``eps^(3/4)`` of the diagonal, so that redundant rows, four feet on one rigid body, share the load
+    by the least weighted norm instead of failing on a singular matrix). A row that nothing moves (a zero
+    diagonal) gets 0.
     """
     n = delassus.shape[0]
     dtype = delassus.dtype
     diag = jnp.diagonal(delassus)
-    unstarted = feet.mode == mj.UNSTARTED
+    live = diag > 0.0
+    pivot = jnp.where(live, diag, 1.0)
 
-    def foot(i: int, f: Array) -> tuple[Array, Array]:
-        f_stop = (target[i] - delassus[i] @ f + diag[i] * f[i]) / diag[i]  # stop foot i, the others' f given
-        fi, si = mj.stick_force(f_up[i], f_down[i], drag[i], f_stop, feet.velocity[i])
-        return jnp.where(unstarted[i], 0.0, fi), si & ~unstarted[i]
+    def row(i: Array, f: Array) -> tuple[Array, Array]:
+        f_stop = (target[i] - delassus[i] @ f + diag[i] * f[i]) / pivot[i]  # stop row i, the others' f given
+        fi, si = mj.stick_force(lo[i], hi[i], drag[i], f_stop, velocity[i])
+        return jnp.where(live[i], fi, 0.0), si & live[i]
 
     def sweep(_: int, f: Array) -> Array:
-        for i in range(n):
-            f = f.at[i].set(foot(i, f)[0])
-        return f
+        return jax.lax.fori_loop(0, n, lambda i, f: f.at[i].set(row(i, f)[0]), f)
 
-    f = jax.lax.fori_loop(0, _SWEEPS, sweep, jnp.where(unstarted, 0.0, previous).astype(dtype))
-    held = jnp.stack([foot(i, f)[1] for i in range(n)])
-    # the stuck feet exactly at rest: delassus[S, S] f[S] = target[S] - delassus[S, ~S] f[~S]
+    f = jax.lax.fori_loop(0, _SWEEPS, sweep, jnp.asarray(previous, dtype=dtype))
+    held = jax.vmap(lambda i: row(i, f)[1])(jnp.arange(n))
+    # the stuck rows exactly at rest: delassus[S, S] f[S] = target[S] - delassus[S, ~S] f[~S]
     eps = jnp.finfo(dtype).eps ** 0.75
     both = held[:, None] & held[None, :]
-    a = jnp.where(both, delassus, 0.0) + jnp.diag(jnp.where(held, eps, 1.0) * diag)
-    rhs = jnp.where(held, target - jnp.where(held[None, :], 0.0, delassus) @ f, diag * f)
+    a = jnp.where(both, delassus, 0.0) + jnp.diag(jnp.where(held, eps, 1.0) * pivot)
+    rhs = jnp.where(held, target - jnp.where(held[None, :], 0.0, delassus) @ f, pivot * f)
     solved = jnp.linalg.solve(a, rhs)
-    lo, hi = f_up + drag, f_down + drag
-    stuck = held & (solved > lo) & (solved < hi)
-    return jnp.where(held, jnp.clip(solved, lo, hi), f), stuck
+    low, high = lo + drag, hi + drag
+    stuck = held & (solved > low) & (solved < high)
+    return jnp.where(held, jnp.clip(solved, low, high), f), stuck
 
 
 @renamed_keywords(contact="state")

@@ -212,7 +212,7 @@ def reset3d(state: State3D, mask: Array = True) -> State3D:
 
 
 def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
-           dt: Array) -> tuple[State3D, Array, Array]:
+           dt: Array, hold: Array | None = None) -> tuple[State3D, Array, Array]:
     """Move the foot to a pose; returns ``(state, force, torque)``: the mud's wrench, world frame.
 
     Parameters
@@ -229,6 +229,12 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     dt : float or array
         Time since the previous pose [s], within [1e-9, 1e3]; ignored on
         the first step.
+    hold : float or array, optional
+        An element whose depth changed by at most this since the last step
+        keeps its last depth [m] (it is at rest). For an engine that holds
+        a stuck foot still to its own rounding (float32 MJX:
+        :mod:`mudforce.engines.mjx3d`); by default only the rounding of
+        the pose itself (:func:`mudforce.model.law3d.settle_depth`).
 
     Returns
     -------
@@ -276,6 +282,9 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     depth = law3d.element_depth(height, p[2], oz)
     # an element turned about at its depth is at rest, not moving by rounding (MudContact3D.step's rule)
     depth = jnp.where(started, law3d.settle_depth(depth, state.elements.depth), depth)
+    if hold is not None:  # an engine's stuck foot: still to its own rounding
+        still = started & (jnp.abs(depth - state.elements.depth) <= jnp.asarray(hold, dtype=ftype))
+        depth = jnp.where(still, state.elements.depth, depth)
     ok = pose_ok & (~started | dt_ok) & jnp.all(jnp.abs(depth) <= MAX_DEPTH)
 
     # the paper, element by element

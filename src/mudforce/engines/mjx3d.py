@@ -1,0 +1,474 @@
+"""The 3-D law in MJX: feet of any shape, the whole wrench, held in every direction (``pip install 'mudforce[mjx]'``).
+
+Usage (one world; ``jax.vmap`` it over worlds, each with its own mud)::
+
+    import mujoco
+    from mujoco import mjx
+    import mudforce.engines.mjx3d as mud3d
+    from mudforce import MudParameters
+    from mudforce.engines.mujoco import MudPatch
+
+    model = mujoco.MjModel.from_xml_path("robot.xml")          # foot geoms: sphere, capsule, box, ...
+    m = mjx.put_model(model)
+    mud = mud3d.add_mud(model, ["toe_fl", "toe_fr", "toe_hl", "toe_hr"],
+                        MudPatch(MudParameters.from_water_content(0.25)))
+    d = mjx.make_data(m)
+    state = mud3d.init(mud)
+    d, state, forces = mud3d.step(m, d, state, mud)          # instead of mjx.step(m, d); forces (feet, 3) [N]
+
+Per-world mud under ``jit``: ``mud3d.set_mud(mud, mudforce.jax.params_from_water_content(w))``
+(``w`` traced) inside the function you ``vmap`` over worlds.
+
+The feet and the patches are those of :class:`mudforce.engines.mujoco.MudAdapter3D`:
+each foot's surface is its geom's (:func:`mudforce.model.shapes.from_mujoco_geom`;
+a plane or height field, a name that is no geom, a body with several geoms is
+a one-line :class:`~mudforce.errors.InputError`, never silently the paper's
+cuboid), and a foot is in the first :class:`mudforce.engines.mujoco.MudPatch`
+whose extent holds its geom's centre (a patch inside an earlier one misses
+every foot and is refused). Each foot carries the 3-D law's state
+(:func:`mudforce.jax.contact3d.step3d`, every element's paper state), stepped
+on its geom's pose once per physics step.
+
+How the force is applied (docs/engines3d.md, "Mud in 3-D in MJX")
+-----------------------------------------------------------------
+Each call of :func:`step` is one physics step with an implicit (Moreau-Jean)
+treatment of what is set-valued at rest, like dry friction; the rows of
+every foot of a world are solved together, through the world's inverse
+inertia (:func:`mudforce.engines.mjx._joint_rows`, the 1-D MJX step's
+projected Gauss-Seidel, here with three rows per foot):
+
+1. ``mjx.forward`` computes the motion without the mud; each foot's geom
+   pose (``geom_xpos``, the body's ``xquat`` times the geom's ``quat``) is
+   committed to its 3-D state (:func:`mudforce.jax.contact3d.step3d`; a
+   foot that was stuck and moved less than 0.1 um keeps its elements'
+   depths, so that float32 rounding does not pick the paper's branch);
+2. per foot, from its elements (the law's functions of
+   :mod:`mudforce.model.law3d`): the **vertical band** ``[F_up, F_down]``,
+   the sum of each element's band (:func:`mudforce.jax.branch_forces` on its
+   1-D state, the band at the step's start: weight 0 as in
+   :mod:`mudforce.engines.mjx`) times its downward-facing projection
+   ``A_i max(-n_z, 0)``, and the vertical drag; the **sideways holds**
+   along the foot's last horizontal motion ``u`` and across it, the law's
+   lateral capacity (:func:`mudforce.model.law3d.lateral_capacity`) summed
+   over the submerged elements; the **horizontal drag** (Eq. (5),
+   :func:`mudforce.model.law3d.horizontal_drag`), explicit. The world's
+   down direction decides, not the geom's local z;
+3. three rows per foot through its geom's centre, world ``z``, ``u`` and
+   ``v``: the vertical row's force is in ``[F_up, F_down] + drag``
+   (:func:`mudforce.jax.stick_force`), a sideways row's in
+   ``[-hold, hold]`` (a box, as the CPU adapter's two tendons); the rows of
+   every foot are solved jointly for the forces that bring the stuck rows
+   to rest by the step's end, the others at their bound; the forces and the
+   explicit drag are added to ``qfrc_smooth`` (and ``M^-1 J^T f`` to
+   ``qacc``), and the model's integrator (Euler or implicitfast) advances.
+
+So a foot at rest under a load inside its band and holds ends every step at
+rest, with no chatter; beyond them it moves against the band's edge and the
+capacity. As in :class:`mudforce.engines.mujoco.MudAdapter3D`: the law's elastic
+slip before yield is not reproduced (the foot does not deflect before it
+slides), and the law's couple is not applied. *Ours:* the mud's force passes
+through the geom's centre. Held at the contact point (the centroid of the
+loaded area, below the centre), a sphere pushed sideways at its centre by half
+its hold rolled in place without limit (68 rad/s after 0.3 s: nothing in three
+rows at one point resists a rotation about it), and with only the sideways
+rows at the centre an upright capsule tipped over; through the centre,
+neither (a tilted foot gets no righting moment from the mud: neutral). The
+CPU adapter documents the contact point, but for a geom at its body's origin
+MuJoCo keeps its contact site at that origin (``site_sameframe``), so it too
+holds such a foot at its centre. Unlike it: the band is taken at the step's
+start (the CPU adapter commits a step late and takes it at the step's
+predicted end; at 5 ms a 5 kg box (the paper's sole, W = 15 %) rests +2.2 % from
+the exact drop here, +16 % there), and a rigid floor under the mud cannot be seen
+under ``jit``: :func:`add_mud` warns when a foot can collide with a geom that
+is not a foot. Contact constraints computed by ``mjx.forward`` do not respond
+to the mud force within the step. The RK4 integrator is not supported.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+from typing import Any, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+import mudforce.jax as mj
+import mudforce.jax.contact3d as mj3
+from mudforce._plumbing.optional import require
+from mudforce.engines.dynamics.result import REST_SPEED
+from mudforce.engines.mjx import _joint_rows, _mjx
+from mudforce.engines.mujoco import MudPatch
+from mudforce.engines.mujoco.adapter3d import _patch_list, foot_geom
+from mudforce.errors import InputError
+from mudforce.model import law3d
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.model.shapes import Shape, from_mujoco_geom
+
+__all__ = ["Mud3D", "MudState3D", "add_mud", "init", "set_mud", "step"]
+
+Array = Any
+_HOLD = 1e-7  # [m]: a stuck foot's element that moved less than this in a step keeps its depth (float32 rounding)
+
+
+class Mud3D(NamedTuple):
+    """The feet and their mud in one world (a pytree: ``jax.vmap`` over worlds), made by :func:`add_mud`.
+
+    Fields (``F`` feet, ``P`` patches, ``n`` elements per foot: every foot's element list padded to the
+    longest with elements of zero area, which carry nothing):
+    ``geoms``, ``bodies`` (F,) int32, each foot's geom and its body; ``centroids``, ``normals`` (F, n, 3)
+    the elements in the geom's frame [m], [-]; ``areas`` (F, n) [m^2]; ``widths`` (F,) each foot's width
+    ``H`` of Eq. (4) [m]; ``elements`` (:class:`mudforce.jax.Params`, fields (P, F)) each patch's mud on
+    each foot's elements (unit area, width ``H``); ``lateral_stiffness`` (P, F) [Pa/m];
+    ``surface_height`` (P,) [m], each patch's world ``z``; ``extents`` (P, 4) ``(xmin, xmax, ymin, ymax)``
+    [m] (infinite for an unbounded patch).
+    """
+
+    geoms: Array
+    bodies: Array
+    centroids: Array
+    normals: Array
+    areas: Array
+    widths: Array
+    elements: mj.Params
+    lateral_stiffness: Array
+    surface_height: Array
+    extents: Array
+
+
+class MudState3D(NamedTuple):
+    """The mud's state in one world, and what it did in the last step (a pytree: save it by keeping it).
+
+    Fields (F feet): ``feet`` every foot's :class:`mudforce.jax.contact3d.State3D`; ``patch`` (F,) int32,
+    the patch each foot is in (-1 none); ``position`` (F, 3) its geom's centre at the last commit [m];
+    ``direction`` (F, 2) its last horizontal direction of motion ``u`` [-]; ``rows`` (F, 3) the forces of
+    its vertical, ``u`` and across rows in the last step [N]; ``stuck`` (F, 3) bool, which rows held;
+    ``force`` (F, 3) the mud's force on each foot in the last step, world frame [N] (rows and explicit
+    drag: while stuck, the load it carries); ``band`` (F, 2) the vertical band ``(F_up, F_down)`` [N] and
+    ``capacity`` (F, 2) the sideways holds along ``u`` and across it [N] of the last step;
+    ``law_force``, ``law_torque`` (F, 3) the 3-D law's own wrench on the committed pose [N], [N m]
+    (about the geom's centre); ``depth`` (F,) the lowest element's depth below its patch's surface [m]
+    (NaN off every patch).
+    """
+
+    feet: mj3.State3D
+    patch: Array
+    position: Array
+    direction: Array
+    rows: Array
+    stuck: Array
+    force: Array
+    band: Array
+    capacity: Array
+    law_force: Array
+    law_torque: Array
+    depth: Array
+
+
+def _element_params(params: Any, widths: np.ndarray, dtype: Any) -> mj.Params:
+    """A mud's :class:`mudforce.jax.Params` on each foot's elements (unit area, the foot's width): fields (F,)."""
+    if isinstance(params, MudParameters):
+        params = mj.make_params(params, dtype=dtype)
+    if not isinstance(params, mj.Params):
+        raise InputError(f"the mud must be MudParameters or a mudforce.jax.Params, got {type(params).__name__}")
+    n = len(widths)
+    fields = [jnp.broadcast_to(jnp.asarray(f, dtype=dtype), (n,)) for f in params]
+    return mj.Params._make(fields)._replace(area=jnp.ones((n,), dtype=dtype), width=jnp.asarray(widths, dtype=dtype))
+
+
+def _warn_floor(model: Any, gids: list[int]) -> None:
+    """Warn once when a foot geom can collide with a geom that is not a foot (a rigid floor under the mud)."""
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    feet = set(gids)
+    for g in gids:
+        body = int(model.geom_bodyid[g])
+        parent = int(model.body_parentid[body])
+        for o in range(int(model.ngeom)):
+            ob = int(model.geom_bodyid[o])
+            if o in feet or ob in (body, parent) or int(model.body_parentid[ob]) == body:
+                continue
+            if (int(model.geom_contype[g]) & int(model.geom_conaffinity[o])) or \
+                    (int(model.geom_contype[o]) & int(model.geom_conaffinity[g])):
+                name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, o) or f"geom {o}"
+                foot = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or f"geom {g}"
+                warnings.warn(f"foot {foot!r} can collide with {name!r}: where that geom lies under the mud, a rigid "
+                              "contact carries part of the foot's load; turn its collisions off there "
+                              "(contype/conaffinity) (docs/engines3d.md)", RuntimeWarning, stacklevel=3)
+                return
+
+
+def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPatch],
+            shapes: Shape | Sequence[Shape] | None = None, *, resolution: float | None = None,
+            dtype: Any = None) -> Mud3D:
+    """Mud in 3-D under the named foot geoms of a compiled ``mujoco.MjModel``: the :class:`Mud3D` :func:`step` takes.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model (before ``mjx.put_model``); nothing is added to it.
+    feet : sequence of str
+        Foot geoms, or bodies with exactly one geom, of type sphere, capsule, cylinder, box, ellipsoid or mesh.
+    patches : MudPatch or sequence of MudPatch
+        The mud (:class:`mudforce.engines.mujoco.MudPatch`: ``params``, ``surface_height`` [m],
+        ``extent`` [m]); a foot is in the first patch whose extent holds its geom's centre, and feels
+        nothing outside every patch. Per-world mud: :func:`set_mud`.
+    shapes : Shape or sequence of Shape, optional
+        Each foot's surface in its geom's frame [m]; by default its geom's
+        (:func:`mudforce.model.shapes.from_mujoco_geom` at ``resolution`` [m]).
+    resolution : float, optional
+        Element size of the shapes taken from the geoms [m].
+    dtype : dtype, optional
+        Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
+
+    Raises
+    ------
+    InputError
+        One line, for a foot that names no geom (or a body with several), a geom with no surface (a plane,
+        a height field), a patch that misses every foot, or shapes that do not match the feet.
+    """
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    if not isinstance(model, mujoco.MjModel):
+        raise InputError(f"model must be a compiled mujoco.MjModel (before mjx.put_model), got "
+                         f"{type(model).__name__}")
+    names = [feet] if isinstance(feet, str) else list(feet) if isinstance(feet, Sequence) else []
+    if not names or not all(isinstance(f, str) for f in names) or len(set(names)) != len(names):
+        raise InputError(f"feet must be a name or a non-empty sequence of distinct names (str), got {feet!r}")
+    plist = _patch_list(patches)
+    gids = [foot_geom(model, name) for name in names]
+    if shapes is None:
+        slist = [from_mujoco_geom(model, g, resolution=resolution) for g in gids]
+    elif isinstance(shapes, Shape):
+        slist = [shapes] * len(names)
+    elif isinstance(shapes, Sequence) and all(isinstance(s, Shape) for s in shapes):
+        slist = list(shapes)
+    else:
+        raise InputError(f"shapes must be a Shape, a sequence of Shape or None, got {type(shapes).__name__}")
+    if len(slist) != len(names):
+        raise InputError(f"got {len(slist)} shapes for {len(names)} feet")
+    if any(s.width is None for s in slist):
+        raise InputError("a foot's shape has no width H for Eq. (4); build it with a mudforce.model.shapes "
+                         "constructor, which sets it")
+    for s in slist:  # the width H of Eq. (4), checked as make_params3d checks it
+        Foot(area=1.0, width=float(s.width), shape="element")  # type: ignore[arg-type]
+    _warn_floor(model, gids)
+    ftype = mj._float_dtype(dtype)
+    n = max(s.n for s in slist)
+
+    def padded(values: np.ndarray, fill_row: np.ndarray) -> np.ndarray:
+        out = np.repeat(fill_row[None], n, axis=0)
+        out[: len(values)] = values
+        return out
+
+    centroids = np.stack([padded(s.centroids, s.centroids[0]) for s in slist])
+    normals = np.stack([padded(s.normals, s.normals[0]) for s in slist])
+    areas = np.stack([padded(s.areas, np.zeros(())) for s in slist])
+    widths = np.array([float(s.width) for s in slist if s.width is not None])
+    per_patch = [_element_params(p.params, widths, ftype) for p in plist]
+    elements = mj.Params(*(jnp.stack(f) for f in zip(*per_patch, strict=True)))
+    big = math.inf
+    extents = np.array([p.extent if p.extent is not None else (-big, big, -big, big) for p in plist])
+    return Mud3D(
+        geoms=jnp.asarray(gids, dtype=jnp.int32),
+        bodies=jnp.asarray([int(model.geom_bodyid[g]) for g in gids], dtype=jnp.int32),
+        centroids=jnp.asarray(centroids, dtype=ftype), normals=jnp.asarray(normals, dtype=ftype),
+        areas=jnp.asarray(areas, dtype=ftype), widths=jnp.asarray(widths, dtype=ftype), elements=elements,
+        lateral_stiffness=jnp.stack([jnp.broadcast_to(jnp.asarray(p.params.k_m_w, dtype=ftype), (len(gids),))
+                                     for p in plist]),
+        surface_height=jnp.asarray([p.surface_height for p in plist], dtype=ftype),
+        extents=jnp.asarray(extents, dtype=ftype))
+
+
+def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
+    """``mud`` with patch ``patch``'s mud replaced by ``params``: per-world mud under ``jit`` and ``vmap``.
+
+    ``params``: :class:`mudforce.MudParameters`, or a :class:`mudforce.jax.Params` with scalar fields
+    (traced allowed), such as ``mudforce.jax.params_from_water_content(w)`` (its ``area`` and ``width``
+    are ignored: the elements' are the feet's). The lateral stiffness becomes the mud's ``k_m_w``.
+    """
+    count = mud.surface_height.shape[-1]
+    if not isinstance(patch, int) or not 0 <= patch < count:
+        raise InputError(f"patch must be an index 0 to {count - 1}, got {patch!r}")
+    dtype = mud.areas.dtype
+    new = _element_params(params, mud.widths, dtype)
+    elements = mj.Params(*(old.at[patch].set(f) for old, f in zip(mud.elements, new, strict=True)))
+    return mud._replace(elements=elements, lateral_stiffness=mud.lateral_stiffness.at[patch].set(new.k_w))
+
+
+def init(mud: Mud3D) -> MudState3D:
+    """The mud's state at the start of an episode (no foot started: the first step sets each foot's pose)."""
+    f, n = mud.areas.shape[-2], mud.areas.shape[-1]
+    dtype = mud.areas.dtype
+    one = mj.init(n, dtype)
+    feet = mj3.State3D(mj.State(*(jnp.broadcast_to(x, (f, n)).copy() for x in one)),
+                       jnp.zeros((f, n, 2), dtype=dtype), jnp.zeros((f, n, 3), dtype=dtype),
+                       jnp.zeros((f,), dtype=bool))
+    zeros3 = jnp.zeros((f, 3), dtype=dtype)
+    return MudState3D(feet, jnp.full((f,), -1, dtype=jnp.int32), zeros3,
+                      jnp.tile(jnp.asarray([1.0, 0.0], dtype=dtype), (f, 1)), zeros3,
+                      jnp.zeros((f, 3), dtype=bool), zeros3, jnp.zeros((f, 2), dtype=dtype),
+                      jnp.zeros((f, 2), dtype=dtype), zeros3, zeros3, jnp.full((f,), jnp.nan, dtype=dtype))
+
+
+def _quat_mul(a: Array, b: Array) -> Array:
+    """The product ``a b`` of quaternions ``(w, x, y, z)`` [-] (rows)."""
+    aw, ax, ay, az = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
+    bw, bx, by, bz = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
+    return jnp.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                      aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=-1)
+
+
+class _Foot(NamedTuple):
+    """One foot's share of a step (:func:`_prepare`): its band [N], holds [N], drags [N] and depth [m]."""
+
+    f_up: Array
+    f_down: Array
+    drag: Array
+    hold_u: Array
+    hold_v: Array
+    drag_h: Array
+    depth: Array
+
+
+def _prepare(state: mj3.State3D, params: mj3.Params3D, position: Array, quaternion: Array, u: Array,
+             velocity: Array, dt: Array, weight: Array, inside: Array) -> _Foot:
+    """One foot's band, holds and drags for the coming step, from its committed state and pose.
+
+    The sums over the elements of :mod:`mudforce.model.law3d`'s functions, as the CPU adapter's
+    (:mod:`mudforce.engines.mujoco._step3d`) ``prepare``: ``u`` (2,) the last horizontal direction of motion,
+    ``velocity`` (3,) the geom centre's over the last step [m/s]; ``inside`` whether the foot is in a patch.
+    """
+    e = params.elements
+    up, down, drag = mj.branch_forces(state.elements, e, dt, weight)  # each element's band and drag [Pa]
+    r = law3d.rotation(quaternion[0], quaternion[1], quaternion[2], quaternion[3])
+    cb, nb = params.centroids, params.normals
+    _, _, oz = law3d.rotate(r, cb[:, 0], cb[:, 1], cb[:, 2])
+    nx, ny, nz = law3d.rotate(r, nb[:, 0], nb[:, 1], nb[:, 2])
+    depth = law3d.element_depth(params.surface_height, position[2], oz)
+    area = params.areas
+    w = area * law3d.vertical_weight(nz)
+    spring = law3d.spring_stress(depth, e.alpha, e.beta, e.width)
+    ux, uy = u[0], u[1]
+    wet = depth > 0.0
+
+    def hold(dx: Array, dy: Array) -> Array:
+        cap = law3d.lateral_capacity(e.sigma_y, law3d.shear_fraction(nx, ny, nz, dx, dy), spring,
+                                     law3d.bearing_factor(nx, ny, nz, dx, dy))
+        return jnp.sum(jnp.where(wet, area * cap, 0.0))
+
+    gx, gy = law3d.horizontal_drag(e.lam * e.rho_m, 1.0, nx, ny, velocity[0], velocity[1])
+    zero = jnp.zeros((), dtype=area.dtype)
+    keep = inside  # off every patch: nothing
+
+    def only(x: Array) -> Array:
+        return jnp.where(keep, x, zero)
+
+    return _Foot(only(jnp.sum(w * up)), only(jnp.sum(w * down)), only(jnp.sum(w * drag)), only(hold(ux, uy)),
+                 only(hold(-uy, ux)), jnp.stack([only(jnp.sum(jnp.where(wet, area * gx, 0.0))),
+                                                 only(jnp.sum(jnp.where(wet, area * gy, 0.0))), zero]),
+                 jnp.where(keep, jnp.max(depth), jnp.nan))
+
+
+def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> tuple[Any, MudState3D, Array]:
+    """One physics step of an MJX model with the 3-D mud on every foot; replaces ``mjx.step(m, d)``.
+
+    Parameters
+    ----------
+    m, d : mjx.Model, mjx.Data
+        The model and its data (Euler or implicitfast integrator).
+    state : MudState3D
+        The mud's state (:func:`init`).
+    mud : Mud3D
+        The feet and their mud (:func:`add_mud`, :func:`set_mud`).
+    weight : float
+        Where in the step the elements' bands are taken [-] (:func:`mudforce.jax.branch_forces`): 0
+        (default) at its start, as :func:`mudforce.engines.mjx.step`.
+
+    Returns
+    -------
+    d : mjx.Data
+        The data after the step.
+    state : MudState3D
+        The mud's state after the step (its ``force``: what the mud applied in the step).
+    forces : array, shape (feet, 3)
+        The mud's force on each foot during the step [N], world frame, z up.
+    """
+    mjx = _mjx()
+    if m.opt.integrator == mjx.IntegratorType.RK4:
+        raise InputError("mudforce.engines.mjx3d supports the Euler and implicitfast integrators, not RK4")
+    dt = m.opt.timestep
+    d = mjx.forward(m, d)
+    dtype = state.position.dtype
+    nfeet = mud.geoms.shape[-1]
+    feet_axis = jnp.arange(nfeet)
+    pos = d.geom_xpos[mud.geoms].astype(dtype)
+    quat = _quat_mul(d.xquat[mud.bodies], m.geom_quat[mud.geoms]).astype(dtype)
+    quat = quat / jnp.linalg.norm(quat, axis=-1, keepdims=True)
+    # which patch each foot is in: the first whose extent holds its geom's centre
+    ext = mud.extents
+    x, y = pos[:, 0], pos[:, 1]
+    within = (ext[:, 0:1] <= x) & (x <= ext[:, 1:2]) & (ext[:, 2:3] <= y) & (y <= ext[:, 3:4])  # (P, F)
+    patch = jnp.where(within.any(axis=0), jnp.argmax(within, axis=0), -1).astype(jnp.int32)
+    inside = patch >= 0
+    same = patch == state.patch
+    k = jnp.maximum(patch, 0)
+    params = mj3.Params3D(mj.Params(*(f[k, feet_axis] for f in mud.elements)), mud.centroids, mud.normals,
+                          mud.areas, mud.surface_height[k], mud.lateral_stiffness[k, feet_axis])
+    # commit the poses: a foot entering a patch (or leaving it) starts afresh; a stuck foot keeps its depths
+    feet = mj3.reset3d(state.feet, ~same)
+    hold = jnp.where(same & state.stuck[:, 0], _HOLD, 0.0).astype(dtype)
+    dts = jnp.asarray(dt, dtype=dtype)
+    feet, law_force, law_torque = jax.vmap(mj3.step3d, in_axes=(0, 0, 0, 0, None, 0))(feet, params, pos, quat,
+                                                                                        dts, hold)
+    feet = mj3.reset3d(feet, ~inside)
+    law_force = jnp.where(inside[:, None], law_force, 0.0)
+    law_torque = jnp.where(inside[:, None], law_torque, 0.0)
+    velocity = jnp.where((same & inside)[:, None], (pos - state.position) / dts, 0.0)
+    speed2 = velocity[:, 0] ** 2 + velocity[:, 1] ** 2
+    moving = speed2 > REST_SPEED ** 2
+    speed = jnp.sqrt(jnp.where(moving, speed2, 1.0))
+    u = jnp.where(moving[:, None], velocity[:, :2] / speed[:, None], state.direction)
+    foot = jax.vmap(_prepare, in_axes=(0, 0, 0, 0, 0, 0, None, None, 0))(
+        feet, params, pos, quat, u, velocity, dts, jnp.asarray(weight, dtype=dtype), inside)
+    # the rows: world z, u and across u
+    zeros = jnp.zeros((nfeet,), dtype=dtype)
+    ones = jnp.ones((nfeet,), dtype=dtype)
+    dirs = jnp.stack([jnp.stack([zeros, zeros, ones], axis=-1),
+                      jnp.stack([u[:, 0], u[:, 1], zeros], axis=-1),
+                      jnp.stack([-u[:, 1], u[:, 0], zeros], axis=-1)], axis=1)  # (F, 3 rows, 3)
+
+    def point_jacobian(point: Array, body: Array) -> Array:
+        jacp, _ = mjx.jac(m, d, point, body)
+        return jacp  # (nv, 3)
+
+    # the rows act at each foot's geom centre: the mud's force passes through it (the law's couple is not applied)
+    jacp = jax.vmap(point_jacobian)(pos.astype(d.qpos.dtype), mud.bodies)  # (F, nv, 3)
+    jac = jnp.einsum("frk,fvk->frv", dirs.astype(jacp.dtype), jacp).reshape(3 * nfeet, -1)  # (3F, nv): z, u, across
+    explicit = jnp.einsum("fvk,fk->v", jacp, foot.drag_h.astype(jacp.dtype))  # the horizontal drag, generalised
+    mass = mjx.full_m(m, d)
+    if not m.opt.disableflags & mjx.DisableBit.EULERDAMP:
+        mass = mass + jnp.diag(dt * m.dof_damping)
+    qacc = jnp.linalg.solve(mass, d.qfrc_smooth + d.qfrc_constraint + explicit)
+    minv_jt = jnp.linalg.solve(mass, jac.T)  # (nv, 3F)
+    v_free = jac @ (d.qvel + dt * qacc)
+    lo = jnp.stack([foot.f_up, -foot.hold_u, -foot.hold_v], axis=-1).reshape(-1)
+    hi = jnp.stack([foot.f_down, foot.hold_u, foot.hold_v], axis=-1).reshape(-1)
+    drag = jnp.stack([foot.drag, zeros, zeros], axis=-1).reshape(-1)
+    down = jnp.stack([-velocity[:, 2], zeros, zeros], axis=-1).reshape(-1)  # positive down: an inverted band's branch
+    previous = jnp.where(same[:, None], state.rows, 0.0).reshape(-1)
+    rows, stuck = _joint_rows((jac @ minv_jt).astype(dtype), (-v_free / dt).astype(dtype), lo, hi, drag, down,
+                              previous)
+    f = rows.astype(d.qacc.dtype)
+    d = d.replace(qfrc_smooth=d.qfrc_smooth + jac.T @ f + explicit, qacc=qacc + minv_jt @ f)
+    if m.opt.integrator == mjx.IntegratorType.EULER:
+        d = mjx.euler(m, d)
+    else:
+        d = mjx.implicit(m, d)
+    rows = rows.reshape(nfeet, 3)
+    force = jnp.einsum("fr,frk->fk", rows, dirs) + foot.drag_h
+    new = MudState3D(feet, patch, pos, u, rows, stuck.reshape(nfeet, 3), force,
+                     jnp.stack([foot.f_up, foot.f_down], axis=-1), jnp.stack([foot.hold_u, foot.hold_v], axis=-1),
+                     law_force, law_torque, foot.depth)
+    return d, new, force
