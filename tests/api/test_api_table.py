@@ -10,6 +10,7 @@ import pytest
 
 API = Path(__file__).resolve().parents[2] / "docs" / "api.md"
 OPTIONAL = {"mudforce.jax": ("jax",), "mudforce.jax.domain": ("jax",), "mudforce.engines.mjx": ("jax", "mujoco"),
+            "mudforce.engines.mjx3d": ("jax", "mujoco"), "mudforce.jax.contact3d": ("jax",),
             "mudforce.engines.mujoco": ("mujoco",)}
 
 
