@@ -139,7 +139,7 @@ PINNED: dict[str, list[str]] = {
         "neck_filter_sinh_series", "neck_filter_slow_mode", "neck_filter_transition",
         "neck_filter_transition_increment", "neck_filter_update", "neck_filter_update_increment", "necked_mud_motion",
         "necked_stress", "necking_fraction", "necking_time", "necking_velocity", "nonlinear_spring_stress",
-        "piece_midpoint_depth", "post_necking_force", "rest_band_blend", "rest_band_forces",
+        "piece_midpoint_depth", "post_necking_force", "relaxation_time", "rest_band_blend", "rest_band_forces",
         "submerged_drag_stress", "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [
