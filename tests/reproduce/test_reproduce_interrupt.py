@@ -149,3 +149,17 @@ def test_sigkill_during_the_figures(tmp_path: Path) -> None:
     assert removed == left and _staged(out) == []
     assert _old_or_complete_new(out) == "old"
     assert os.listdir(tmp_path) == ["out[1]"]
+
+
+def test_terminate_kills_the_workers_it_does_not_wait_for_their_jobs() -> None:
+    """``jobs.terminate`` once let the workers run their fits to the end (shutdown had dropped its list of them)."""
+    import time as _time
+
+    from mudforce.reproduce.jobs import executor, terminate
+
+    pool = executor(2)
+    futures = [pool.submit(_time.sleep, 60.0) for _ in range(4)]
+    assert _wait_for(lambda: len(pool._processes or {}) == 2 and any(f.running() for f in futures), 30.0)
+    workers = list(pool._processes.values())
+    terminate(pool)
+    assert [w.exitcode for w in workers] == [-signal.SIGTERM, -signal.SIGTERM]  # killed, not finished

@@ -190,10 +190,17 @@ def executor(jobs: int) -> Any:
 
 
 def terminate(pool: Any) -> None:
-    """Stop ``pool`` now: cancel what has not started, kill the workers, reap them."""
-    pool.shutdown(wait=False, cancel_futures=True)
-    # ProcessPoolExecutor has no public terminate(); its worker processes are in _processes
+    """Stop ``pool`` now: cancel what has not started, kill the workers, reap them.
+
+    The pool's parts are taken before ``shutdown``, which drops its references to them (it set
+    ``_processes`` to None, so that the workers were never killed: they ran their fits to the end, and the
+    command took 14-22 s to exit after SIGTERM).
+    """
+    # ProcessPoolExecutor has no public terminate(); its workers are in _processes, its queue in _call_queue
     processes = list((getattr(pool, "_processes", None) or {}).values())
+    call_queue = getattr(pool, "_call_queue", None)
+    manager = getattr(pool, "_executor_manager_thread", None)
+    pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         with contextlib.suppress(Exception):
             process.terminate()
@@ -203,3 +210,11 @@ def terminate(pool: Any) -> None:
             if process.is_alive():  # pragma: no cover - ignored SIGTERM
                 process.kill()
                 process.join(timeout=5.0)
+    # the feeder thread may be blocked writing jobs into a pipe only the dead workers read: close its read
+    # end here (the write then fails and the feeder ends, as the pool does itself when a worker dies), then
+    # let the manager thread see the dead workers and finish (Python's exit joins it)
+    with contextlib.suppress(Exception):
+        call_queue._reader.close()  # type: ignore[union-attr]
+    if manager is not None:
+        with contextlib.suppress(Exception):
+            manager.join(timeout=5.0)
