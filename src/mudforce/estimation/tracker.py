@@ -157,9 +157,13 @@ DEFAULT_FORCE_LAG_ALLOWANCE = 0.01
 _DEPTH_NOISE0 = 3e-5
 #: Memory of the online depth noise estimate [s of contact] (ours).
 _DEPTH_NOISE_MEMORY = 2.0
-#: A step within this many standard deviations of the depth noise (on the difference of two samples) of the rest
-#: speed counts as rest (ours): its branch the depth cannot tell, so it is read through the rest band.
+#: A step within this many standard deviations of the depth noise (on the difference of two samples, the noise in
+#: excess of the branch rule's) of the rest speed counts as rest (ours): its branch the depth cannot tell, so it is
+#: read through the rest band.
 _REST_NOISE_SIGMAS = 2.0
+#: Only the depth noise beyond this many times :data:`_DEPTH_NOISE0` widens the rest test (ours): the bank's branch
+#: rule is built for that noise, and on clean recordings a wider test reads real slow motion as rest.
+_REST_NOISE_EXCESS = 3.0
 
 
 def default_velocity_filter(depth_noise: float = 3e-5, dt: float = 0.01) -> VelocityFilter:
@@ -259,7 +263,8 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             if aux[j, _A_ZN] >= 3.0:
                 d3 = depths[j] - 3.0 * aux[j, _A_ZPREV] + 3.0 * aux[j, _A_Z2] - aux[j, _A_Z3]
                 aux[j, _A_DVAR] = dvar + (min(d3 * d3 / 20.0, 9.0 * dvar) - dvar) * min(1.0, dt / _DEPTH_NOISE_MEMORY)
-            rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * dvar)
+            excess = max(dvar - (_REST_NOISE_EXCESS * _DEPTH_NOISE0) ** 2, 0.0)
+            rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
             if rest:
                 for g in range(G):
                     row = base + g
