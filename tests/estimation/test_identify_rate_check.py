@@ -9,6 +9,8 @@ a truth of 32.79 % (confidently wrong); the same fit with the model on every oth
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -58,4 +60,19 @@ def test_clean_rate_costs_little_width(fine: tuple[np.ndarray, np.ndarray, np.nd
     """100 Hz: the rate check and the episode spread stay small (measured 0.06 and 0.15 points), the truth inside."""
     res = _identify(fine, 100.0, 12)
     assert res.rate_shift < 0.002 and res.episode_half_width < 0.003
+    assert res.misfit_shift == 0.0  # the family explains the data to the floor (misfit ratio 0.71)
     assert res.low <= W <= res.high and res.high - res.low < 0.015
+
+
+def test_an_off_family_mud_widens_by_its_misfit(fine: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
+    """alpha x2 and sigma_y x0.3 along the same path: flagged, and the interval holds +-off_family / rms(dF/dW)."""
+    t, z, _ = fine
+    q = MudParameters.from_water_content(W)
+    odd = dataclasses.replace(q, alpha=2.0 * q.alpha, sigma_y=0.3 * q.sigma_y)
+    force = np.asarray(simulate(t, z, odd, Foot.paper(), velocity_filter="exact").force)
+    res = _identify((t, z, force), 100.0, 13)
+    assert res.model_misses_data and res.off_family > 1.0
+    assert res.misfit_shift > 0.0
+    assert res.low <= max(res.water_content - res.misfit_shift, 0.15) + 1e-12
+    assert res.high >= min(res.water_content + res.misfit_shift, 0.35) - 1e-12
+    assert res.to_dict()["misfit_shift"] == res.misfit_shift

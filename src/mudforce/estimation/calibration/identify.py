@@ -157,6 +157,10 @@ class Identification:
     episode_half_width : float
         The interval's half-width [-] from the spread of the evidence over the contact episodes (a sandwich
         estimate); the interval holds at least this on each side (general path; 0 on a protocol).
+    misfit_shift : float
+        The most a residual of RMS ``off_family`` could move the estimate [-] (``off_family / rms(dF/dW)``,
+        Cauchy-Schwarz on a Gauss-Newton step); the interval holds at least this on each side (general path; 0
+        when the family explains the data to the floor, and on a protocol).
     """
 
     water_content: float
@@ -183,6 +187,7 @@ class Identification:
     rest_fraction: float = 0.0
     rate_shift: float = 0.0
     episode_half_width: float = 0.0
+    misfit_shift: float = 0.0
 
     @property
     def low(self) -> float:
@@ -209,7 +214,7 @@ class Identification:
         ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``,
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
-        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``warnings``.
+        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -239,6 +244,7 @@ class Identification:
             "rest_fraction": self.rest_fraction,
             "rate_shift": self.rate_shift,
             "episode_half_width": self.episode_half_width,
+            "misfit_shift": self.misfit_shift,
             "warnings": list(self.warnings),
         }
 
@@ -522,6 +528,13 @@ def identify_water_content(
     floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
+    # the misfit's worst case: a residual of RMS `off` that the family cannot explain moves the estimate by at most
+    # off / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on each side
+    model_shift = 0.0
+    if general and off > 0.0:
+        sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
+        model_shift = off / sensitivity if sensitivity > 0.0 else hi - lo
+        low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
                         f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through and the "
@@ -558,5 +571,6 @@ def identify_water_content(
         rest_fraction=float(np.mean(rest)),
         rate_shift=rate_shift,
         episode_half_width=sandwich,
+        misfit_shift=model_shift,
     )
 
