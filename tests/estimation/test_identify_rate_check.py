@@ -2,9 +2,9 @@
 
 A gait simulated at 2 kHz along the true path and recorded at 20 Hz through the sensor chain: at that rate the
 model is not the model of the true path, and the estimate is biased by most of a point while the RMSE sits at the
-noise (misfit ratio 0.71, no flag). On the bench's own recording of this gait the interval was [33.21, 34.48] % for
+noise (misfit ratio 0.71, no misfit flag). On the bench's own recording of this gait the interval was [33.21, 34.48] % for
 a truth of 32.79 % (confidently wrong); the same fit with the model on every other sample moves the estimate by
-0.6-1.0 points, and the interval is widened by that.
+0.6-1.0 points; the interval is widened by that, and above 0.5 points identify warns that the rate is too low.
 """
 
 from __future__ import annotations
@@ -45,9 +45,10 @@ def _identify(fine: tuple[np.ndarray, np.ndarray, np.ndarray], rate: float, seed
 
 
 def test_low_rate_interval_widened_to_the_truth(fine: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
-    """20 Hz: 33.64 % for 32.79 %, no flag; the rate check (0.82 points) widens the interval to [31.52, 35.00] %."""
+    """20 Hz: 33.64 % for 32.79 %, misfit quiet; the rate check (0.82 points) widens to [31.52, 35.00] % and warns."""
     res = _identify(fine, 20.0, 12)
-    assert not res.warnings
+    assert not res.model_misses_data  # the misfit statistic is quiet (0.71): only the rate check sees it
+    assert len(res.warnings) == 1 and "sample rate is too low" in res.warnings[0]
     assert abs(res.water_content - W) > 0.006  # biased by the rate (measured 0.85 points)
     assert res.rate_shift > 0.005
     assert res.low <= W <= res.high
@@ -61,6 +62,7 @@ def test_clean_rate_costs_little_width(fine: tuple[np.ndarray, np.ndarray, np.nd
     res = _identify(fine, 100.0, 12)
     assert res.rate_shift < 0.002 and res.episode_half_width < 0.003
     assert res.misfit_shift == 0.0  # the family explains the data to the floor (misfit ratio 0.71)
+    assert not res.warnings
     assert res.low <= W <= res.high and res.high - res.low < 0.015
 
 
