@@ -2,9 +2,10 @@
 
 A gait simulated at 2 kHz along the true path and recorded at 20 Hz through the sensor chain: at that rate the
 model is not the model of the true path, and the estimate is biased by most of a point while the RMSE sits at the
-noise (misfit ratio 0.71, no misfit flag). On the bench's own recording of this gait the interval was [33.21, 34.48] % for
-a truth of 32.79 % (confidently wrong); the same fit with the model on every other sample moves the estimate by
-0.6-1.0 points; the interval is widened by that, and above 0.5 points identify warns that the rate is too low.
+noise (misfit ratio 0.71, no misfit flag). On the bench's own recording of this gait the interval was
+[33.21, 34.48] % for a truth of 32.79 % (confidently wrong); the same fit with the model on every other sample
+moves the estimate by 0.6-1.0 points; the interval is widened by that, and above 0.5 points identify warns that
+the rate is too low.
 """
 
 from __future__ import annotations
