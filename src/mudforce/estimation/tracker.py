@@ -101,7 +101,11 @@ _A_PPREV = 7  # the previous sample's predicted model force, offset excluded [N]
 _A_ZPREV = 8  # the previous sample's depth [m] (the rest test)
 _A_MISFIT = 9  # contact-time average of the clipped squared standardised residual [-] (the misfit flag)
 _A_MISFIT_T = 10  # seconds of contact in that average [s]
-_N_AUX = 11
+_A_Z2 = 11  # the depth two samples back [m] (the depth noise estimate)
+_A_Z3 = 12  # the depth three samples back [m]
+_A_DVAR = 13  # depth noise variance estimate [m^2] (the rest test)
+_A_ZN = 14  # depths seen, capped at 3
+_N_AUX = 15
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -148,6 +152,18 @@ _MISFIT_DISCRETISATION = 3.0
 #: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
 #: model by this much is not read as other mud.
 DEFAULT_FORCE_LAG_ALLOWANCE = 0.01
+
+#: The depth noise assumed before any is measured [m] (that of :func:`default_velocity_filter`'s default).
+_DEPTH_NOISE0 = 3e-5
+#: Memory of the online depth noise estimate [s of contact] (ours).
+_DEPTH_NOISE_MEMORY = 2.0
+#: A step within this many standard deviations of the depth noise (on the difference of two samples, the noise in
+#: excess of the branch rule's) of the rest speed counts as rest (ours): its branch the depth cannot tell, so it is
+#: read through the rest band.
+_REST_NOISE_SIGMAS = 2.0
+#: Only the depth noise beyond this many times :data:`_DEPTH_NOISE0` widens the rest test (ours): the bank's branch
+#: rule is built for that noise, and on clean recordings a wider test reads real slow motion as rest.
+_REST_NOISE_EXCESS = 3.0
 
 
 def default_velocity_filter(depth_noise: float = 3e-5, dt: float = 0.01) -> VelocityFilter:
@@ -242,7 +258,13 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             lag2 = (cfg[_C_LAG] * (pred - aux[j, _A_PPREV]) / dt) ** 2
             # a foot at rest (moved less than the rest speed times the step) carries its load anywhere in
             # the rest band: each model's band [lo, hi] (its own force included), not its branch force
-            rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt
+            # the depth noise, online: third differences (blind to any quadratic motion), each clipped at 3 sigma
+            dvar = aux[j, _A_DVAR]
+            if aux[j, _A_ZN] >= 3.0:
+                d3 = depths[j] - 3.0 * aux[j, _A_ZPREV] + 3.0 * aux[j, _A_Z2] - aux[j, _A_Z3]
+                aux[j, _A_DVAR] = dvar + (min(d3 * d3 / 20.0, 9.0 * dvar) - dvar) * min(1.0, dt / _DEPTH_NOISE_MEMORY)
+            excess = max(dvar - (_REST_NOISE_EXCESS * _DEPTH_NOISE0) ** 2, 0.0)
+            rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
             if rest:
                 for g in range(G):
                     row = base + g
@@ -318,7 +340,10 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
         out[j, _O_MISFIT] = 1.0 if (aux[j, _A_CONTACT] >= _MISFIT_MIN_CONTACT
                                     and aux[j, _A_MISFIT] > cfg[_C_MISFIT_RATIO]) else 0.0
         aux[j, _A_PPREV] = pred
+        aux[j, _A_Z3] = aux[j, _A_Z2]
+        aux[j, _A_Z2] = aux[j, _A_ZPREV]
         aux[j, _A_ZPREV] = depths[j]
+        aux[j, _A_ZN] = min(aux[j, _A_ZN] + 1.0, 3.0)
     return -1
 
 
@@ -608,6 +633,7 @@ class MudTrackers:
         self._P[:] = 1.0 / self.grid.size
         self._aux[:] = 0.0
         self._aux[:, _A_VAR] = self._cfg[_C_NOISE0] ** 2
+        self._aux[:, _A_DVAR] = _DEPTH_NOISE0**2
         self._aux[:, _A_ANCHOR] = np.nan
         self._started = False
 

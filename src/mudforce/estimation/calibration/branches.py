@@ -355,7 +355,8 @@ def corner_preserving_smooth(time: np.ndarray, depth: np.ndarray, width: int = 9
     return out
 
 
-def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None = None) -> np.ndarray:
+def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None = None,
+                  noise: float = math.inf) -> np.ndarray:
     """The depth the model follows [m]: monotone within each run of equal branch, each step's sign its label.
 
     Within each run of steps with the same label, the least-squares
@@ -375,10 +376,15 @@ def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None
         :func:`label_branches` and :func:`rest_steps`.
     time : ndarray, optional
         Sample times [s]; given, the depth is smoothed first.
+    noise : float, optional
+        The depth noise [m]: the smoothing moves no sample by more than three times this (ours). A
+        departure beyond that is not noise but a motion the local quadratics cannot follow (a robot
+        foot's impact, a vibration between a few samples), and rounding it off would change the
+        branch the model takes there.
     """
     z = np.asarray(depth, dtype=np.float64)
     if time is not None:
-        z = corner_preserving_smooth(time, z)
+        z = z + np.clip(corner_preserving_smooth(time, z) - z, -3.0 * noise, 3.0 * noise)
     given = np.asarray(labels, dtype=np.int8)
     lab = np.where(given < 0, -1, 1).astype(np.int8)  # rest steps (0) belong to the intrusion runs
     iso = np.empty_like(z)

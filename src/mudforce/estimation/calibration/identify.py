@@ -54,11 +54,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from numba import njit
 from scipy.optimize import brentq, least_squares, minimize_scalar
 from scipy.stats import chi2
+from scipy.stats import t as student_t
 
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
@@ -95,6 +97,9 @@ MIN_HALF_WIDTH = 0.0025
 MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
 MAX_FORCE_LAG = 0.05
+#: The rate check's shift [-] above which identify warns that the sample rate is too low for the model to follow
+#: the motion (0.5 points; ours: on the sensor-chain bench only 20-Hz recordings and a few at 50 Hz reach it unflagged).
+_RATE_SHIFT_WARNING = 0.005
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,6 +154,17 @@ class Identification:
         enters the misfit statistic sample by sample, excusing only the samples where it is large.
     rest_fraction : float
         Share of the samples taken as the foot at rest in the mud [-] (compared with the rest band).
+    rate_shift : float
+        The rate check [-]: how far the estimate moves when the model runs on every other sample (the even
+        and the odd ones, nuisances refitted): the model's own error at the data's rate, which the interval
+        is widened by on each side (general path; 0 on a protocol).
+    episode_half_width : float
+        The interval's half-width [-] from the spread of the evidence over the contact episodes (a sandwich
+        estimate); the interval holds at least this on each side (general path; 0 on a protocol).
+    misfit_shift : float
+        The most a residual of RMS ``off_family`` could move the estimate [-] (``off_family / rms(dF/dW)``,
+        Cauchy-Schwarz on a Gauss-Newton step); the interval holds at least this on each side (general path; 0
+        when the family explains the data to the floor, and on a protocol).
     """
 
     water_content: float
@@ -173,6 +189,9 @@ class Identification:
     gain_shift: float = 0.0
     discretisation: float = 0.0
     rest_fraction: float = 0.0
+    rate_shift: float = 0.0
+    episode_half_width: float = 0.0
+    misfit_shift: float = 0.0
 
     @property
     def low(self) -> float:
@@ -199,7 +218,7 @@ class Identification:
         ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``,
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
-        ``discretisation_N``, ``rest_fraction``, ``warnings``.
+        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -227,6 +246,9 @@ class Identification:
             "gain_shift": self.gain_shift,
             "discretisation_N": self.discretisation,
             "rest_fraction": self.rest_fraction,
+            "rate_shift": self.rate_shift,
+            "episode_half_width": self.episode_half_width,
+            "misfit_shift": self.misfit_shift,
             "warnings": list(self.warnings),
         }
 
@@ -239,6 +261,32 @@ def _edge(ssr: Callable[[float], float], level: float, inside: float, outward: n
             return float(brentq(lambda x: ssr(x) - level, previous, float(w), xtol=1e-7))
         previous = float(w)
     return float(limit)
+
+
+def _sandwich_half_width(jac: np.ndarray, r: np.ndarray, contact: np.ndarray, level: float) -> float:
+    """Half-width [-] of the water content's interval from the spread of the evidence over the contact episodes (ours).
+
+    A sandwich (cluster-robust) estimate: the fit's score ``J_k r_k`` summed
+    over each contact episode (the samples from one touchdown to the next;
+    eight equal blocks when there are fewer than four), ``cov = A^-1 (sum_b
+    g_b g_b^T) A^-1 B / (B - 1)`` with ``A = J^T J``, and Student's t at
+    ``B - 1`` degrees of freedom. Unlike ``s^2 (J^T J)^-1`` it does not assume
+    the residuals are independent of where the water content is read: a
+    misfit concentrated in the strides that carry the evidence (reversals or
+    touchdowns between two samples) widens it.
+    """
+    n = r.size
+    starts = contact & ~np.concatenate([[False], contact[:-1]])
+    block = np.maximum(np.cumsum(starts) - 1, 0)
+    count = int(block[-1]) + 1 if n else 0
+    if count < 4:
+        count = 8
+        block = (np.arange(n) * count) // max(n, 1)
+    scores = np.zeros((count, jac.shape[1]))
+    np.add.at(scores, block, jac * r[:, None])
+    inv = np.linalg.pinv(jac.T @ jac)
+    cov = inv @ (scores.T @ scores) @ inv * count / (count - 1)
+    return float(student_t.ppf(0.5 + 0.5 * level, count - 1) * math.sqrt(max(float(cov[0, 0]), 0.0)))
 
 
 @njit(cache=True, nogil=True)
@@ -333,36 +381,52 @@ def identify_water_content(
     t = tr.time
     general = tr.motion is None
     raw = tr.trial.force
-    if general:
-        step = np.abs(np.diff(tr.depth))
-        rest = np.concatenate([[False], step <= REST_SPEED * np.diff(t)])
-    else:
-        rest = np.zeros(t.size, dtype=bool)
+
+    def at_rest(time: np.ndarray, depth: np.ndarray) -> np.ndarray:
+        """Samples whose step moved the foot less than the rest speed (general path; none on a protocol)."""
+        if not general:
+            return np.zeros(time.size, dtype=bool)
+        return np.concatenate([[False], np.abs(np.diff(depth)) <= REST_SPEED * np.diff(time)])
+
+    rest = at_rest(t, tr.depth)
     moving = ~rest
 
-    def evaluate(w: float, offset: float, lag: float,
-                 gain: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
-        """Residual (model - measured / gain) [N], model force [N], measured force [N], bias [N], tare count."""
+    def evaluate(w: float, offset: float, lag: float, gain: float = 1.0,
+                 sel: slice = slice(None)) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
+        """Residual (model - measured / gain) [N], model force [N], measured force [N], bias [N], tare count.
+
+        ``sel`` picks the samples the model is run on (every other one for the rate check).
+        """
         if not general:
             f = CHEN2024.force(t, tr.depth, family(w).as_array(), foot)
             r0 = f - tr.force / gain
             return r0 + tare_correction(r0, tr.precontact), f, tr.force, tr.bias, tr.precontact
-        z = tr.depth + offset
-        f, low, high = _force_and_band(t, z, family(w), foot, lag)
+        ts, zs, fs = t[sel], tr.depth[sel] + offset, raw[sel]
+        still = rest if sel == slice(None) else at_rest(ts, zs)
+        f, low, high = _force_and_band(ts, zs, family(w), foot, lag)
         pre, bias = 0, 0.0
         if tr.precontact:  # re-tare from the samples before the first contact of the offset depth
-            first_in = int(np.argmax(z > 0.0))
+            first_in = int(np.argmax(zs > 0.0))
             if first_in >= MIN_PRECONTACT_SAMPLES:
-                pre, bias = first_in, float(np.mean(raw[:first_in]))
-        meas = (raw - bias) / gain
-        c = -float(np.sum((f - meas)[moving])) / (int(np.count_nonzero(moving)) + pre)
+                pre, bias = first_in, float(np.mean(fs[:first_in]))
+        meas = (fs - bias) / gain
+        c = -float(np.sum((f - meas)[~still])) / (int(np.count_nonzero(~still)) + pre)
         meas = meas - c
-        r = np.where(rest, np.clip(meas, low, high), f) - meas  # at rest: anywhere in the band
+        r = np.where(still, np.clip(meas, low, high), f) - meas  # at rest: anywhere in the band
         return r, f, meas, bias + c, pre
 
-    def ssr_at(w: float, offset: float, lag: float, gain: float = 1.0) -> float:
-        r = evaluate(w, offset, lag, gain)[0]
+    def ssr_at(w: float, offset: float, lag: float, gain: float = 1.0, sel: slice = slice(None)) -> float:
+        r = evaluate(w, offset, lag, gain, sel)[0]
         return float(r @ r)
+
+    def best_w(cost: Callable[[float], float]) -> float:
+        """The water content [-] minimising ``cost``: a coarse scan, then a bounded search about its best."""
+        coarse = np.linspace(lo, hi, 21)
+        gc = [cost(float(w)) for w in coarse]
+        j = int(np.argmin(gc))
+        found = minimize_scalar(cost, bounds=(coarse[max(j - 1, 0)], coarse[min(j + 1, 20)]), method="bounded",
+                                options={"xatol": 1e-5})
+        return float(found.x) if float(found.fun) <= gc[j] else float(coarse[j])
 
     offset, lag = 0.0, 0.0
     if general:  # a coarse scan of the surface offset first: a few millimetres move the water content by points
@@ -404,13 +468,7 @@ def identify_water_content(
     # a gain off by +-g: the water content the same fit finds on the force divided by (1 +- g)
     shifts = [0.0]
     for gain in ((1.0 + force_gain_uncertainty, 1.0 - force_gain_uncertainty) if force_gain_uncertainty else ()):
-        coarse = np.linspace(lo, hi, 21)
-        gc = [ssr_at(float(w), offset, lag, gain) for w in coarse]
-        j = int(np.argmin(gc))
-        found = minimize_scalar(lambda x, g=gain: ssr_at(float(x), offset, lag, g),
-                                bounds=(coarse[max(j - 1, 0)], coarse[min(j + 1, 20)]), method="bounded",
-                                options={"xatol": 1e-5})
-        shifts.append(float(found.x) - w_best)
+        shifts.append(best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain)) - w_best)
     shift_down, shift_up = max(-min(shifts), 0.0), max(max(shifts), 0.0)
     gain_shift = max(shift_down, shift_up)
 
@@ -422,11 +480,33 @@ def identify_water_content(
     high = _edge(ssr, c_best + threshold, w_best, grid[grid > w_best], hi)
     # the nuisances' correlation with the water content
     low, high = w_best - inflate * (w_best - low), w_best + inflate * (high - w_best)
+    rate_shift = sandwich = 0.0
+    if general:
+        # the evidence's spread over the contact episodes, in case the misfit sits where the water content is read
+        sandwich = _sandwich_half_width(jac, r, f_best != 0.0, level)
+        low, high = min(low, w_best - sandwich), max(high, w_best + sandwich)
+        # the rate check: the same fit with the model run on every other sample (the even ones, the odd ones).
+        # At the data's rate the model is not the model of the true path (a touchdown or a reversal between two
+        # samples); the estimate's move at half the rate measures that error (Richardson, first order)
+        if n >= 16:
+            halves = []
+            for sel in (slice(0, None, 2), slice(1, None, 2)):
+                w_half = best_w(partial(ssr_at, offset=offset, lag=lag, sel=sel))
+
+                def half_residual(th: np.ndarray, sel: slice = sel) -> np.ndarray:
+                    return evaluate(float(th[0]), float(th[1]), float(th[2]), 1.0, sel)[0]
+
+                refit = least_squares(half_residual,
+                                      np.array([w_half, offset, lag]),
+                                      bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
+                                      x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=20)
+                halves.append(float(refit.x[0]))
+            rate_shift = abs(0.5 * (halves[0] + halves[1]) - w_best) + 0.5 * abs(halves[0] - halves[1])
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
     # labels of a general motion leave small systematic errors that the likelihood does not see;
     # then the gain's shift, which no amount of data reduces
-    low = max(min(low, w_best - MIN_HALF_WIDTH) - shift_down, lo)
-    high = min(max(high, w_best + MIN_HALF_WIDTH) + shift_up, hi)
+    low = max(min(low, w_best - MIN_HALF_WIDTH) - shift_down - rate_shift, lo)
+    high = min(max(high, w_best + MIN_HALF_WIDTH) + shift_up + rate_shift, hi)
     warnings = []
     if w_best - lo < 1e-3 or hi - w_best < 1e-3:
         warnings.append(f"the estimate is at the edge of the searched range [{lo:g}, {hi:g}]: "
@@ -453,6 +533,13 @@ def identify_water_content(
     floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
+    # the misfit's worst case: a residual of RMS `off` that the family cannot explain moves the estimate by at most
+    # off / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on each side
+    model_shift = 0.0
+    if general and off > 0.0:
+        sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
+        model_shift = off / sensitivity if sensitivity > 0.0 else hi - lo
+        low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
                         f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through and the "
@@ -460,6 +547,11 @@ def identify_water_content(
                         f"the data are {off:.3g} N (RMS) off the Table I family (another mud, another foot "
                         "than assumed, or a model error); the estimate is the nearest water content and "
                         "the interval is widened for the misfit")
+    if rate_shift > _RATE_SHIFT_WARNING:
+        warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
+                        "sample: the sample rate is too low for the model to follow this motion (touchdowns and "
+                        "reversals between the samples); the interval is widened by that, but a faster rate is "
+                        "what makes the estimate trustworthy")
     if general and (abs(offset) > 0.95 * MAX_DEPTH_OFFSET or lag > 0.95 * MAX_FORCE_LAG):
         warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
@@ -487,4 +579,8 @@ def identify_water_content(
         gain_shift=gain_shift,
         discretisation=discretisation,
         rest_fraction=float(np.mean(rest)),
+        rate_shift=rate_shift,
+        episode_half_width=sandwich,
+        misfit_shift=model_shift,
     )
+

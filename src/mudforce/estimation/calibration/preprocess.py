@@ -437,7 +437,7 @@ def _prepare_general(trial: Trial) -> PreparedTrial:
     force_noise = estimate_force_noise(t, f)
     labels = label_branches(t, z, f, depth_noise=depth_noise, force_noise=force_noise)
     labels = rest_steps(t, z, labels, depth_noise, f, force_noise)
-    depth = denoise_depth(z, labels, t if depth_noise > 0.0 else None)
+    depth = denoise_depth(z, labels, t if depth_noise > 0.0 else None, noise=depth_noise)
     inside = depth > 0.0
     if not np.any(inside):
         raise InputError(f"{trial.name}: the foot never goes below the surface (deepest "
