@@ -12,13 +12,11 @@ once rather than every combination.
 
 from __future__ import annotations
 
-import concurrent.futures
 import csv
 import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
@@ -28,7 +26,7 @@ import pytest
 from mudforce import Foot, MudParameters, simulate
 from mudforce.cli.simulate import parse_foot
 from mudforce.errors import InputError
-from mudforce_cli_harness import run_cli, snapshot
+from mudforce_cli_harness import Run, run_batch, run_cli, snapshot
 
 PREVIOUS_CSV = b"previous output, must survive any error\n"
 PREVIOUS_PNG = b"not really a PNG, must survive any error\n"
@@ -273,21 +271,19 @@ class BadRun:
         for name, content in files.items():
             (directory / name).write_bytes(content)
         self.before = snapshot(directory)
-        self.proc: subprocess.CompletedProcess[str] | None = None
-
-    def run(self) -> None:
-        self.proc = run_cli(self.argv, self.directory)
+        self.proc: Run | None = None
 
 
 @pytest.fixture(scope="module")
 def bad_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, BadRun]:
-    """All bad-input cases, each its own process, a few at a time (each spends most of its time importing)."""
+    """All bad-input cases in ONE subprocess (``run_batch``: ``mudforce.cli.main`` per case, each in its own
+    folder; a process each spent most of its time importing). Real processes' exit statuses are checked in
+    test_cli_outputs.py::test_refusal_end_to_end_exit_status."""
     runs = {case_id: BadRun(tmp_path_factory.mktemp(f"bad-{i:02d}"), argv, files)
             for i, (case_id, argv, files, _) in enumerate(BAD)}
-    workers = max(1, min(4, os.cpu_count() or 1))
-    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        for future in [pool.submit(r.run) for r in runs.values()]:
-            future.result()
+    done = run_batch([(r.argv, r.directory) for r in runs.values()])
+    for r, result in zip(runs.values(), done, strict=True):
+        r.proc = result
     return runs
 
 
