@@ -83,10 +83,18 @@ def watch() -> Iterator[None]:
         if isinstance(unraisable.exc_value, KeyboardInterrupt):
             # lost in a callback or finaliser: raise it again once the main thread is out of it (not from
             # here: the main thread would act on it at once, inside this hook, and lose it again)
-            timer = threading.Timer(_RETRY_S, _thread.interrupt_main)
-            timer.daemon = True
-            timers.append(timer)
-            timer.start()
+            # A retry of an earlier one may land in here (a loaded machine, matplotlib freeing caches one after
+            # another): it is the same interrupt, already recorded; schedule again and let nothing escape the
+            # hook (Python would print "Exception ignored in sys.unraisablehook" with a traceback).
+            while True:
+                try:
+                    timer = threading.Timer(_RETRY_S, _thread.interrupt_main)
+                    timer.daemon = True
+                    timers.append(timer)
+                    timer.start()
+                    break
+                except KeyboardInterrupt:
+                    continue
         else:
             previous_hook(unraisable)
 
@@ -104,7 +112,7 @@ def watch() -> Iterator[None]:
         late = False
         for timer in timers:
             timer.cancel()
-        for step in [*(timer.join for timer in timers), _deliver]:
+        for step in [*(timer.join for timer in timers if timer.ident is not None), _deliver]:  # started ones
             try:
                 step()
             except KeyboardInterrupt:
