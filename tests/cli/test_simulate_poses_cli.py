@@ -61,6 +61,8 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Run]]:
         "nan.csv": f"{HEADER}\n0,0,0,0,1,0,0,0\n0.1,0,0,nan,1,0,0,0\n",
         "back.csv": f"{HEADER}\n0,0,0,0,1,0,0,0\n0.2,0,0,0,1,0,0,0\n0.1,0,0,0,1,0,0,0\n",
         "norm.csv": f"{HEADER}\n0,0,0,0.1,1,0,0,0\n0.1,0,0,0.1,1,0.1,0,0\n",
+        "deep.csv": f"{HEADER}\n0,0,0,0,1,0,0,0\n0.1,0,0,-150,1,0,0,0\n",
+        "tiny.csv": f"{HEADER}\n0,0,0,0,1,0,0,0\n1e-12,0,0,0,1,0,0,0\n",
     }
     for name, text in bad.items():
         (d / name).write_text(text)
@@ -88,6 +90,8 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Run]]:
         [*MUD, *poses, *sphere, "--velocity-filter", "exact", "--out", "x.csv"],
         [*MUD, *poses, *sphere, "--depth", "20mm", "--out", "x.csv"],
         [*MUD, *poses, *sphere, "--surface-height", "20", "--out", "x.csv"],
+        [*MUD, "--trajectory", "deep.csv", *sphere, "--out", "x.csv"],
+        [*MUD, "--trajectory", "tiny.csv", *sphere, "--out", "x.csv"],
     ]
     return d, run_batch([(argv, d) for argv in cases])
 
@@ -151,6 +155,8 @@ def test_a_sole_moved_straight_down_is_the_1d_force(runs: tuple[Path, list[Run]]
     (17, ("--velocity-filter applies to a depth trajectory",)),
     (18, ("--depth cannot be used with --trajectory",)),
     (19, ("--surface-height", "20")),
+    (20, ("deep.csv: the pose at time 0.1 s (sample 2)", "more than 100 m from the mud surface")),
+    (21, ("tiny.csv: the pose at time 1e-12 s (sample 2)", "within [1e-09, 1000] s")),
 ])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(runs: tuple[Path, list[Run]], case: int,
                                                           words: tuple[str, ...]) -> None:

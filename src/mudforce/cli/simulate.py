@@ -56,6 +56,7 @@ from mudforce.motions.protocol import MAX_SAMPLES  # the bound's home: the proto
 
 if TYPE_CHECKING:
     from mudforce.model.parameters import MudParameters
+    from mudforce.model.shapes import Shape
     from mudforce.steppers.simulation import SimulationResult
 
 __all__ = ["FOOT_EXAMPLES", "HELP", "MAX_SAMPLES", "NAME", "add_arguments", "check_output_path", "parse_foot", "run"]
@@ -256,6 +257,29 @@ _POSE_OUTPUT = ("time_s", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz", "force_x_
                 "torque_x_Nm", "torque_y_Nm", "torque_z_Nm")
 
 
+def _check_poses(path: str, time: np.ndarray, positions: np.ndarray, shape: Shape, surface: float) -> None:
+    """Refuse, naming the sample by its time, a step or a depth the 3-D stepper would refuse without saying where.
+
+    ``time`` [s], ``positions`` [m] (m, 3), ``surface`` [m]: the time steps must lie within
+    ``[MIN_DT, MAX_DT]``, and every point of the shape within ``MAX_DEPTH`` of the surface.
+    """
+    from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+
+    steps = np.diff(time)
+    bad = np.flatnonzero((steps < MIN_DT) | (steps > MAX_DT))
+    if bad.size:
+        k = int(bad[0]) + 1
+        raise InputError(f"{path}: the pose at time {float(time[k])!r} s (sample {k + 1}) comes "
+                         f"{float(steps[k - 1]):g} s after the last; expected time steps within "
+                         f"[{MIN_DT:g}, {MAX_DT:g}] s")
+    reach = float(np.sqrt(np.einsum("ij,ij->i", shape.centroids, shape.centroids)).max())
+    deep = np.flatnonzero(np.abs(surface - positions[:, 2]) + reach > MAX_DEPTH)
+    if deep.size:
+        k = int(deep[0])
+        raise InputError(f"{path}: the pose at time {float(time[k])!r} s (sample {k + 1}) puts the foot more than "
+                         f"{MAX_DEPTH:g} m from the mud surface (z = {float(positions[k, 2]):g} m); check the units")
+
+
 def _run_poses(args: argparse.Namespace, out: Path, plot: Path | None) -> int:
     """A pose trajectory: every option checked, the 3-D law along the poses, the wrench's CSV written atomically."""
     from mudforce._kernel.bounds import MAX_DEPTH
@@ -295,6 +319,7 @@ def _run_poses(args: argparse.Namespace, out: Path, plot: Path | None) -> int:
     from mudforce.steppers.contact3d import simulate_3d
 
     time, positions, quaternions = read_poses(args.trajectory, quaternion_tolerance=QUATERNION_TOLERANCE)
+    _check_poses(args.trajectory, time, positions, shape, surface)
     result = simulate_3d(time, positions, quaternions, params, shape, surface_height=surface)
     if not (np.all(np.isfinite(result.force)) and np.all(np.isfinite(result.torque))):
         raise InputError(f"{args.trajectory}: the wrench is not finite along these poses; check their units")
