@@ -223,7 +223,8 @@ PINNED: dict[str, list[str]] = {
         "MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "STATE_NAMES", "SimulationResult", "simulate",
     ],
     "mudforce.io.tables": [
-        "COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv",
+        "COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "POSE_COLUMNS", "WRITE_BLOCK", "is_pose_trajectory",
+        "read_columns", "read_poses", "read_trajectory", "write_csv",
     ],
     "mudforce.estimation.nuisances": ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED"],
     "mudforce.estimation.tracker": [

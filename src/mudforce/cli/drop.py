@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import argparse
 
+from mudforce.cli._shape import SHAPE_EXAMPLES, parse_shape
 from mudforce.errors import InputError
 from mudforce.io import check_output_path
 from mudforce.io.units import parse_quantity
@@ -68,8 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="release height of the foot's bottom above the surface, 0 to 10m (default: 0mm)")
     parser.add_argument("--shape", default=None, metavar="KIND:SIZE",
                         help="a free foot of this shape through the 3-D MuJoCo adapter (needs --engine mujoco): "
-                             "sphere:40mm, capsule:30mmx60mm (diameter x length), cylinder:30mmx20mm, "
-                             "box:50mmx40mmx20mm")
+                             f"{SHAPE_EXAMPLES} (capsule: diameter x length; a disc is a cylinder)")
     parser.add_argument("--tilt", default=None, metavar="DEG",
                         help="with --shape: the foot's rotation about x in degrees, e.g. 20 or 20deg (default: 0)")
     parser.add_argument("--vx", default=None, metavar="V",
@@ -146,9 +146,6 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-_DIMENSIONS = {"sphere": 1, "capsule": 2, "cylinder": 2, "box": 3}
-
-
 def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, float] | None:
     """``(kind, sizes [m], tilt [rad], vx [m/s])`` from --shape, --tilt, --vx; None without them."""
     import math
@@ -159,17 +156,9 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
         return None
     if args.engine != "mujoco":
         raise InputError(f"--shape needs --engine mujoco (the 3-D adapter), got --engine {args.engine}")
-    kind, _, sizes = str(args.shape).partition(":")
-    if kind not in _DIMENSIONS or not sizes:
-        raise InputError(f"--shape: {args.shape!r} is not KIND:SIZE; expected e.g. sphere:40mm, capsule:30mmx60mm, "
-                         "cylinder:30mmx20mm or box:50mmx40mmx20mm")
-    parts = sizes.replace("×", "x").split("x")
-    if len(parts) != _DIMENSIONS[kind]:
-        raise InputError(f"--shape: a {kind} takes {_DIMENSIONS[kind]} size(s) joined by x, got {sizes!r}; "
-                         "expected e.g. sphere:40mm, capsule:30mmx60mm or box:50mmx40mmx20mm")
-    dims = [parse_quantity(p, "length", name="--shape") for p in parts]
-    if any(d > 1.0 for d in dims):
-        raise InputError(f"--shape: {sizes!r} is larger than 1 m; expected a foot, e.g. sphere:40mm")
+    kind, dims = parse_shape(args.shape)
+    if kind == "disc":  # a disc is a cylinder as high as it is thick (mudforce.model.shapes.disc)
+        kind = "cylinder"
     tilt = 0.0
     if args.tilt is not None:
         text = str(args.tilt).strip().removesuffix("deg")

@@ -1,4 +1,4 @@
-"""Simulate the mud force on a foot for the paper's protocol or a measured trajectory, and write it as CSV.
+"""Simulate the mud force on a foot for the paper's protocol, a depth trajectory or poses, and write it as CSV.
 
 The motion is either the paper's experiment (intrude at --velocity to
 --depth, hold for --hold, withdraw at the same speed to --rise above the
@@ -19,7 +19,23 @@ Output columns: time_s, depth_m, velocity_m_s, mud_displacement_m,
 mud_velocity_m_s, f_e1_Pa, f_e2_Pa, f_s_Pa, force_N (+ up), state
 (FREE, CONTACT or NECKED).
 
-example: mudforce simulate --water-content 25% --depth 20mm --velocity 10mm/s --out force.csv --plot force.png
+Poses (3-D): a --trajectory whose header names time_s, x_m, y_m, z_m, qw,
+qx, qy, qz (x_mm, y_mm, z_mm and time_ms accepted) moves a foot of any
+shape in any way: the body origin's position in a world frame with z up,
+and its orientation as a unit quaternion (w, x, y, z), MuJoCo's order. The
+foot is --shape KIND:SIZE (as `mudforce drop --shape`: sphere:40mm,
+capsule:30mmx60mm, cylinder:30mmx20mm, disc:50mmx5mm, box:50mmx40mmx20mm;
+centred on the body origin, axis along body z) or, with --foot alone, the
+flat sole of that foot (its centre at the body origin, facing body -z);
+the mud surface is at z = --surface-height (default 0mm). The 3-D law
+(mudforce.simulate_3d; docs/model.md, "Mud in 3-D") gives the columns
+time_s, x_m, y_m, z_m, qw, qx, qy, qz, force_x_N, force_y_N, force_z_N,
+torque_x_Nm, torque_y_Nm, torque_z_Nm: the mud's force on the foot and its
+torque about the body origin, world frame, z up.
+
+examples:
+  mudforce simulate --water-content 25% --depth 20mm --velocity 10mm/s --out force.csv --plot force.png
+  mudforce simulate --water-content 25% --trajectory poses.csv --shape sphere:40mm --out wrench.csv
 """
 
 from __future__ import annotations
@@ -31,6 +47,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from mudforce.cli._shape import SHAPE_EXAMPLES, make_shape, parse_shape
 from mudforce.errors import InputError
 from mudforce.io import check_output_path, refuse_overwriting_inputs
 from mudforce.io.units import format_quantity, parse_quantity
@@ -39,6 +56,7 @@ from mudforce.motions.protocol import MAX_SAMPLES  # the bound's home: the proto
 
 if TYPE_CHECKING:
     from mudforce.model.parameters import MudParameters
+    from mudforce.model.shapes import Shape
     from mudforce.steppers.simulation import SimulationResult
 
 __all__ = ["FOOT_EXAMPLES", "HELP", "MAX_SAMPLES", "NAME", "add_arguments", "check_output_path", "parse_foot", "run"]
@@ -85,17 +103,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                             help=f"{text} (default {default})")
     motion.add_argument("--trajectory", metavar="FILE.csv",
                         help="prescribed motion instead: CSV with a header naming time_s and "
-                             "depth_m (or depth_mm), depth positive down; excludes the options above")
+                             "depth_m (or depth_mm), depth positive down; or poses (3-D): time_s, x_m, y_m, z_m, "
+                             "qw, qx, qy, qz (z up, quaternion (w, x, y, z)); excludes the options above")
 
     parser.add_argument("--foot", metavar="SPEC", default=None,
-                        help=f"foot geometry: {FOOT_EXAMPLES} (default: the paper's cuboid:51mmx38mm)")
-    parser.add_argument("--velocity-filter", choices=("auto", "exact"), default="auto",
+                        help=f"foot geometry: {FOOT_EXAMPLES} (default: the paper's cuboid:51mmx38mm); "
+                             "with poses, its flat sole")
+    parser.add_argument("--shape", metavar="KIND:SIZE", default=None,
+                        help=f"with poses: the foot's surface, {SHAPE_EXAMPLES} (as mudforce drop --shape)")
+    parser.add_argument("--surface-height", metavar="Z", default=None,
+                        help="with poses: the height of the mud surface in the world frame, e.g. 0mm (default)")
+    parser.add_argument("--velocity-filter", choices=("auto", "exact"), default=None,
                         help="how the intrusion/withdrawal branch is chosen from the depth: auto "
                              "(exact for clean input of any shape, noise-robust when white noise is found in "
                              "the depth; default; the summary says which) or exact")
     parser.add_argument("--out", metavar="FILE.csv", required=True, help="write the samples here (CSV)")
     parser.add_argument("--plot", metavar="FILE.png", default=None,
-                        help="also draw force over time and depth as PNG (needs matplotlib)")
+                        help="also draw force over time and depth as PNG (needs matplotlib; not with poses)")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
 
 
@@ -184,6 +208,15 @@ def run(args: argparse.Namespace) -> int:
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
     refuse_overwriting_inputs([("--out", out), ("--plot", plot)],
                               [("--trajectory", args.trajectory), ("--params", args.params)])
+    from mudforce.io.tables import is_pose_trajectory
+
+    if args.trajectory is not None and is_pose_trajectory(args.trajectory):
+        return _run_poses(args, out, plot)
+    for option, value in (("--shape", args.shape), ("--surface-height", args.surface_height)):
+        if value is not None:
+            where = "a depth trajectory" if args.trajectory is not None else "the paper's protocol"
+            raise InputError(f"{option} needs a pose trajectory (--trajectory with columns time_s,x_m,y_m,z_m,qw,qx,"
+                             f"qy,qz), not {where}, which moves the flat --foot straight down")
     if plot is not None:
         from mudforce._plumbing.optional import require
 
@@ -194,7 +227,8 @@ def run(args: argparse.Namespace) -> int:
 
     from mudforce.steppers.simulation import simulate
 
-    result = simulate(time, depth, params, foot, velocity_filter=args.velocity_filter)  # refuses a non-finite force
+    # refuses a non-finite force
+    result = simulate(time, depth, params, foot, velocity_filter=args.velocity_filter or "auto")
     png: bytes | None = None
     if plot is not None:
         from mudforce.io.plotting import figure_to_png
@@ -213,4 +247,98 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
     if not args.quiet:
         print(_summary(result, mud, motion, out, plot))
+    return 0
+
+
+# ---------------------------------------------------------------------------- poses (3-D)
+
+#: The columns ``mudforce simulate`` writes for a pose trajectory, in order.
+_POSE_OUTPUT = ("time_s", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz", "force_x_N", "force_y_N", "force_z_N",
+                "torque_x_Nm", "torque_y_Nm", "torque_z_Nm")
+
+
+def _check_poses(path: str, time: np.ndarray, positions: np.ndarray, shape: Shape, surface: float) -> None:
+    """Refuse, naming the sample by its time, a step or a depth the 3-D stepper would refuse without saying where.
+
+    ``time`` [s], ``positions`` [m] (m, 3), ``surface`` [m]: the time steps must lie within
+    ``[MIN_DT, MAX_DT]``, and every point of the shape within ``MAX_DEPTH`` of the surface.
+    """
+    from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+
+    steps = np.diff(time)
+    bad = np.flatnonzero((steps < MIN_DT) | (steps > MAX_DT))
+    if bad.size:
+        k = int(bad[0]) + 1
+        raise InputError(f"{path}: the pose at time {float(time[k])!r} s (sample {k + 1}) comes "
+                         f"{float(steps[k - 1]):g} s after the last; expected time steps within "
+                         f"[{MIN_DT:g}, {MAX_DT:g}] s")
+    reach = float(np.sqrt(np.einsum("ij,ij->i", shape.centroids, shape.centroids)).max())
+    deep = np.flatnonzero(np.abs(surface - positions[:, 2]) + reach > MAX_DEPTH)
+    if deep.size:
+        k = int(deep[0])
+        raise InputError(f"{path}: the pose at time {float(time[k])!r} s (sample {k + 1}) puts the foot more than "
+                         f"{MAX_DEPTH:g} m from the mud surface (z = {float(positions[k, 2]):g} m); check the units")
+
+
+def _run_poses(args: argparse.Namespace, out: Path, plot: Path | None) -> int:
+    """A pose trajectory: every option checked, the 3-D law along the poses, the wrench's CSV written atomically."""
+    from mudforce._kernel.bounds import MAX_DEPTH
+
+    given = [option for attr, option, *_ in _PROTOCOL_OPTIONS if getattr(args, attr) is not None]
+    if given:
+        raise InputError(f"{', '.join(given)} cannot be used with --trajectory (the file sets the motion); "
+                         "give either the protocol options or --trajectory")
+    if plot is not None:
+        raise InputError("--plot is not available with a pose trajectory; plot the CSV's force_x_N, force_y_N "
+                         "and force_z_N columns")
+    if args.velocity_filter is not None:
+        raise InputError("--velocity-filter applies to a depth trajectory; the 3-D law takes each element's "
+                         "velocity from the poses")
+    if args.shape is not None and args.foot is not None:
+        raise InputError("give --shape or --foot with a pose trajectory, not both (--foot: its flat sole)")
+    if args.shape is None and args.foot is None:
+        raise InputError("a pose trajectory needs --shape (e.g. sphere:40mm) or --foot (its flat sole, "
+                         "e.g. cuboid:51mmx38mm)")
+    if args.shape is not None:
+        shape = make_shape(*parse_shape(args.shape))
+    else:
+        from mudforce.model import shapes
+
+        shape = shapes.sole(parse_foot(args.foot))
+    surface = 0.0
+    if args.surface_height is not None:
+        surface = parse_quantity(args.surface_height, "length", name="--surface-height", allow_negative=True,
+                                 allow_zero=True)
+        if abs(surface) > MAX_DEPTH:
+            raise InputError(f"--surface-height: {args.surface_height!r} is beyond +-{MAX_DEPTH:g} m; "
+                             "expected e.g. 0mm")
+    params, mud = _load_params(args)
+
+    from mudforce.io.tables import read_poses, write_csv
+    from mudforce.model.law3d import QUATERNION_TOLERANCE
+    from mudforce.steppers.contact3d import simulate_3d
+
+    time, positions, quaternions = read_poses(args.trajectory, quaternion_tolerance=QUATERNION_TOLERANCE)
+    _check_poses(args.trajectory, time, positions, shape, surface)
+    result = simulate_3d(time, positions, quaternions, params, shape, surface_height=surface)
+    if not (np.all(np.isfinite(result.force)) and np.all(np.isfinite(result.torque))):
+        raise InputError(f"{args.trajectory}: the wrench is not finite along these poses; check their units")
+    columns = dict(zip(_POSE_OUTPUT, [time, *positions.T, *quaternions.T, *result.force.T, *result.torque.T],
+                       strict=True))
+    try:
+        write_csv(out, columns, quiet=args.quiet)
+    except OSError as exc:
+        raise InputError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    if not args.quiet:
+        sideways = np.hypot(result.force[:, 0], result.force[:, 1])
+        k_z = int(np.argmax(np.abs(result.force[:, 2])))
+        k_s = int(np.argmax(sideways))
+        print("\n".join([
+            f"mud: {mud}",
+            f"motion: poses from {args.trajectory}, {time.size} samples over {time[-1] - time[0]:.4g} s",
+            f"foot: {shape.name}; mud surface at z = {format_quantity(surface, 'length')}",
+            f"peak vertical force: {result.force[k_z, 2]:.4g} N at {time[k_z]:.4g} s",
+            f"peak sideways force: {sideways[k_s]:.4g} N at {time[k_s]:.4g} s",
+            f"wrote {time.size} rows to {out}",
+        ]))
     return 0

@@ -1,7 +1,9 @@
 """Reading measured data from CSV files, with one-line errors that name file, row and column; writing columns.
 
 Columns carry their unit in the header (``time_s``, ``depth_m``,
-``depth_mm``, ``force_N``); values are returned in SI. :func:`write_csv`
+``depth_mm``, ``force_N``, ``x_m``); values are returned in SI. A trajectory
+is either a depth (:func:`read_trajectory`, 1-D) or poses
+(:func:`read_poses`, 3-D: position and quaternion). :func:`write_csv`
 writes columns of numbers (``.12g``) at numpy speed.
 """
 
@@ -18,7 +20,8 @@ import numpy as np
 
 from mudforce.errors import InputError
 
-__all__ = ["COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "WRITE_BLOCK", "read_columns", "read_trajectory", "write_csv"]
+__all__ = ["COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "POSE_COLUMNS", "WRITE_BLOCK", "is_pose_trajectory",
+           "read_columns", "read_poses", "read_trajectory", "write_csv"]
 
 #: Accepted header spellings per quantity, with the factor to SI.
 COLUMN_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
@@ -37,6 +40,16 @@ COLUMN_LIMITS: dict[str, float] = {
     "force": 1e7,  # [N], ~1000 t
     "velocity": 1e3,  # [m/s]
     "water_content": 1.0,  # [-]
+    **{f"position {axis}": 1e4 for axis in "xyz"},  # [m], 10 km from the world origin
+}
+
+#: The columns of a pose trajectory (:func:`read_poses`), quantity -> accepted spellings with the factor
+#: to SI: time, the body origin's position (world frame, z up) and its orientation as a unit quaternion
+#: ``(w, x, y, z)`` (MuJoCo's order, no unit).
+POSE_COLUMNS: dict[str, tuple[tuple[str, float], ...]] = {
+    "time": COLUMN_UNITS["time"],
+    **{f"position {axis}": ((f"{axis}_m", 1.0), (f"{axis}_mm", 1e-3)) for axis in "xyz"},
+    **{f"quaternion {part}": ((f"q{part}", 1.0),) for part in "wxyz"},
 }
 
 #: Rows read into Python lists before they are packed into float64 arrays (memory stays ~8 bytes a value).
@@ -251,6 +264,79 @@ def read_trajectory(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
     cols = read_columns(path, {"time": COLUMN_UNITS["time"], "depth": COLUMN_UNITS["depth"]}, matched=matched)
     check_time(path, cols["time"], matched["time"], lines=cols["line"])
     return cols["time"], cols["depth"]
+
+
+def is_pose_trajectory(path: str | os.PathLike[str]) -> bool:
+    """Whether the header of the CSV file ``path`` names a pose column (``x_m``, ``qw``, ...: :data:`POSE_COLUMNS`).
+
+    A file that cannot be read as CSV is not one (False): the reader it is
+    then given says what is wrong with it. A header naming both a depth
+    column and a pose column is refused (:class:`InputError`): a trajectory
+    is either 1-D or 3-D.
+    """
+    try:
+        with Path(path).open(newline="", encoding="utf-8-sig") as handle:
+            for row in csv.reader(handle):
+                if row and any(c.strip() for c in row):
+                    header = [c.strip() for c in row]
+                    break
+            else:
+                return False
+    except (OSError, UnicodeDecodeError, csv.Error, TypeError):
+        return False
+    spellings = {s for q, ss in POSE_COLUMNS.items() if q != "time" for s, _ in ss}
+    poses = [h for h in header if h in spellings]
+    depths = [h for h in header if h in {s for s, _ in COLUMN_UNITS["depth"]}]
+    if poses and depths:
+        raise InputError(f"{path}: the header names both {depths[0]} (a depth trajectory) and {poses[0]} (poses); "
+                         "keep time_s with depth_m, or time_s,x_m,y_m,z_m,qw,qx,qy,qz")
+    return bool(poses)
+
+
+def read_poses(
+    path: str | os.PathLike[str], *, quaternion_tolerance: float | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read a pose trajectory: columns ``time_s, x_m, y_m, z_m, qw, qx, qy, qz`` (:data:`POSE_COLUMNS`).
+
+    Time may be ``time_ms`` and each position ``x_mm`` (etc.); the columns
+    may come in any order, and other columns are ignored. Every error is one
+    line naming the file, row and column (:func:`read_columns`).
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV file.
+    quaternion_tolerance : float or None
+        Refuse, naming its row, a quaternion whose norm differs from 1 by more
+        than this [-]; pass :data:`mudforce.model.law3d.QUATERNION_TOLERANCE`
+        to refuse what the 3-D law would. None: only an all-zero quaternion is
+        refused here.
+
+    Returns
+    -------
+    time : ndarray, shape (m,)
+        [s], strictly increasing.
+    positions : ndarray, shape (m, 3)
+        The body origin [m], world frame, z up.
+    quaternions : ndarray, shape (m, 4)
+        The orientation ``(w, x, y, z)`` [-], as in the file (not normalised).
+    """
+    matched: dict[str, str] = {}
+    cols = read_columns(path, POSE_COLUMNS, matched=matched)
+    check_time(path, cols["time"], matched["time"], lines=cols["line"])
+    positions = np.stack([cols[f"position {axis}"] for axis in "xyz"], axis=1)
+    quaternions = np.stack([cols[f"quaternion {part}"] for part in "wxyz"], axis=1)
+    with np.errstate(over="ignore"):
+        norms = np.sqrt(np.einsum("ij,ij->i", quaternions, quaternions))
+    tol = math.inf if quaternion_tolerance is None else float(quaternion_tolerance)
+    bad = np.flatnonzero(~(np.abs(norms - 1.0) <= tol) | (norms == 0.0))
+    if bad.size:
+        k = int(bad[0])
+        q = ", ".join(f"{v:.9g}" for v in quaternions[k].tolist())
+        within = f" (within {tol:g})" if math.isfinite(tol) else ""
+        raise InputError(f"{path}: row {int(cols['line'][k])}, columns qw,qx,qy,qz: the quaternion ({q}) has norm "
+                         f"{float(norms[k]):.9g}; expected a unit quaternion{within}, (w, x, y, z) as MuJoCo's")
+    return cols["time"], positions, quaternions
 
 
 def write_csv(
