@@ -17,7 +17,7 @@ import pytest
 from mudforce_cli_harness import Run, assert_refused, run_batch
 
 HEADER = "time_s,x_m,y_m,z_m,qw,qx,qy,qz"
-OUT = "time_s,x_m,y_m,z_m,qw,qx,qy,qz,force_x_N,force_y_N,force_z_N,torque_x_Nm,torque_y_Nm,torque_z_Nm"
+OUT = "time_s,x_m,y_m,z_m,qw,qx,qy,qz,force_x_N,force_y_N,force_z_N,torque_x_N_m,torque_y_N_m,torque_z_N_m"
 MUD = ["simulate", "--water-content", "25%"]
 #: a constant tilt of 30 degrees about x: (w, x, y, z)
 QUAT = (math.cos(math.radians(15.0)), math.sin(math.radians(15.0)), 0.0, 0.0)

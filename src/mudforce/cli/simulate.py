@@ -30,7 +30,7 @@ flat sole of that foot (its centre at the body origin, facing body -z);
 the mud surface is at z = --surface-height (default 0mm). The 3-D law
 (mudforce.simulate_3d; docs/model.md, "Mud in 3-D") gives the columns
 time_s, x_m, y_m, z_m, qw, qx, qy, qz, force_x_N, force_y_N, force_z_N,
-torque_x_Nm, torque_y_Nm, torque_z_Nm: the mud's force on the foot and its
+torque_x_N_m, torque_y_N_m, torque_z_N_m: the mud's force on the foot and its
 torque about the body origin, world frame, z up.
 
 examples:
@@ -254,7 +254,7 @@ def run(args: argparse.Namespace) -> int:
 
 #: The columns ``mudforce simulate`` writes for a pose trajectory, in order.
 _POSE_OUTPUT = ("time_s", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz", "force_x_N", "force_y_N", "force_z_N",
-                "torque_x_Nm", "torque_y_Nm", "torque_z_Nm")
+                "torque_x_N_m", "torque_y_N_m", "torque_z_N_m")
 
 
 def _check_poses(path: str, time: np.ndarray, positions: np.ndarray, shape: Shape, surface: float) -> None:
