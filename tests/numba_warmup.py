@@ -69,12 +69,22 @@ def _one_d(tmp: Path) -> list[tuple[str, Callable[[], None]]]:
             _cli("track", str(trial), "--out", str(tmp / "track.csv"))
         _cli("fit", str(tmp / "d"), "--out", str(tmp / "fit.json"), "--quiet")
 
+    def kernel() -> None:  # the compiled single step, called directly by the kernel's tests
+        from mudforce import _kernel as K
+        from mudforce.model.velocity import VelocityFilter
+
+        for window in (1, 4):
+            row = K.params_row(params, mf.Foot.paper(), VelocityFilter(window, 0.0))[None, :]
+            states, out = K.new_states(1), K.new_out(1)
+            K.step(states, K.new_ring(1, window), 0, row, 0.01, 0.01, out, 0)
+
     def baselines() -> None:
         from mudforce.model import baselines
 
         baselines.maxwell_only_force(time_, depth, 1e6, 1e4, 1e6, 1e4)
 
-    return [("1-D steppers", steppers), ("trackers", trackers), ("commands", commands), ("baselines", baselines)]
+    return [("1-D steppers", steppers), ("kernel", kernel), ("trackers", trackers), ("commands", commands),
+            ("baselines", baselines)]
 
 
 def _three_d_and_engines(tmp: Path) -> list[tuple[str, Callable[[], None]]]:
