@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 import mudforce as mf
+from jax_compile import light_jit
 from mudforce.engines.dynamics import REST_SPEED, FootResult, Phase, simulate_foot
 from mudforce.model import shapes
 from mudforce.motions.gait import gait
@@ -216,7 +217,7 @@ def _jax() -> dict[str, Run]:
         dt[1:m, j] = np.diff(tr.time)
     params = mj.make_params([TRAJECTORIES[n].params for n in names])
 
-    @jax.jit
+    @light_jit  # XLA's light compile (tests/jax_compile.py): compiling is most of this path's cost
     def run(params: Any, z: Any, dt: Any) -> Any:
         def body(s: Any, x: Any) -> Any:
             s, f = mj.step(s, params, x[0], x[1])
@@ -323,7 +324,7 @@ def _mjx() -> dict[tuple[float, float], Drop]:
                         [mf.MudParameters.from_water_content(w) for w, _ in DROPS])
     n = round(DROP_DURATION / DT) + 1
 
-    @jax.jit
+    @light_jit  # XLA's light compile (tests/jax_compile.py): compiling is most of this path's cost
     def run(data: Any) -> Any:
         def body(carry: Any, _: Any) -> Any:
             d, c = carry

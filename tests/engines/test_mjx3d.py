@@ -13,6 +13,8 @@ import warnings
 import numpy as np
 import pytest
 
+from jax_compile import light
+
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 import mujoco
@@ -41,7 +43,6 @@ XML = f"""<mujoco><option timestep="{DT!r}" integrator="Euler"/><default><geom c
 <body pos="6 0 0.1"><freejoint/><geom type="box" size="0.2 0.15 0.03" mass="99.8"/>{SOLES}</body>
 </worldbody></mujoco>"""
 LOWEST = np.array([0.02, 0.02, 0.0125, 0.02, 0.045])  # the drops' lowest points at release: depth = this - centre z
-LIGHT = {"xla_backend_optimization_level": 0, "xla_llvm_disable_expensive_passes": True}
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +68,7 @@ def run() -> dict[str, np.ndarray]:
         return (d, s), (d.geom_xpos, d.qvel[6:9], d.qpos[37], force, s.capacity, s.stuck, load)
 
     scan = jax.jit(lambda d: jax.lax.scan(body, (d, mud3d.init(mud)), jnp.arange(SETTLE + PUSH)))
-    _, out = scan.lower(mjx.make_data(m)).compile(LIGHT)(mjx.make_data(m))
+    _, out = scan.lower(mjx.make_data(m)).compile(light())(mjx.make_data(m))
     names = ("xpos", "vel_slide", "torso_z", "force", "capacity", "stuck", "load")
     res = {k: np.asarray(v, dtype=np.float64) for k, v in zip(names, out, strict=True)}
     res["geoms"] = np.array([mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, f) for f in FEET])

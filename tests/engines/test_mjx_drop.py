@@ -4,13 +4,14 @@ one jit."""
 from __future__ import annotations
 
 import csv
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+
+from jax_compile import light_env, light_jit
 
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
@@ -23,7 +24,7 @@ def test_drop_engine_mjx_rests_at_the_exact_depth(tmp_path: Path) -> None:
     out = tmp_path / "drop.csv"
     proc = subprocess.run([sys.executable, "-m", "mudforce", "drop", "--engine", "mjx", "--mass", "10kg",
                            "--water-content", "20%", "--duration", "3s", "--out", str(out)],
-                          capture_output=True, text=True, env=dict(os.environ), timeout=240)
+                          capture_output=True, text=True, env=light_env(), timeout=240)  # light compile
     assert proc.returncode == 0, proc.stderr
     assert "mjx: rest depth" in proc.stdout
     with out.open() as handle:
@@ -60,7 +61,7 @@ def test_worlds_with_their_own_mud_in_one_jit() -> None:
     data = jax.tree_util.tree_map(lambda x: jnp.broadcast_to(x, (len(water), *x.shape)), d0)
     step = jax.vmap(lambda d, c, p: mud.step(m, d, c, p), in_axes=(0, 0, 0))
 
-    @jax.jit
+    @light_jit  # this test is about numbers, not speed
     def run(data):  # type: ignore[no-untyped-def]
         def body(carry, _):  # type: ignore[no-untyped-def]
             d, c = carry

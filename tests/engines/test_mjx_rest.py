@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from jax_compile import light_jit
+
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 
@@ -40,9 +42,8 @@ def test_box_on_four_soles_rests_where_one_sole_under_a_quarter_does() -> None:
         d, c, f = mud.step(m, d, c, patch)
         return (d, c), (d.qpos[2], f, c.stuck)
 
-    z, force, stuck = (np.asarray(a, dtype=np.float64)
-                       for a in jax.jit(lambda d: jax.lax.scan(body, (d, mud.init(patch)), None, length=n)[1])(
-                           mjx.make_data(m)))
+    run = light_jit(lambda d: jax.lax.scan(body, (d, mud.init(patch)), None, length=n)[1])  # numbers, not speed
+    z, force, stuck = (np.asarray(a, dtype=np.float64) for a in run(mjx.make_data(m)))
     t = np.arange(1, n + 1) * dt
     last = t >= t[-1] - 1.0
     creep = -np.polyfit(t[last], z[last], 1)[0]  # [m/s], positive down; was 6.1 mm/s with each foot alone
@@ -68,7 +69,7 @@ def test_joint_forces_are_the_box_constrained_solution() -> None:
         rng = np.random.default_rng(7)
         n = 3
         state = mj.init(n, jnp.float64)._replace(mode=jnp.full((n,), mj.CONTACT, dtype=jnp.int8))
-        solve = jax.jit(lambda *a: _joint_forces(*a, state, jnp.zeros(n)))
+        solve = light_jit(lambda *a: _joint_forces(*a, state, jnp.zeros(n)))
         for _ in range(20):
             j = rng.normal(size=(n, 5))
             delassus = j @ np.diag(rng.uniform(0.01, 0.1, 5)) @ j.T  # J M^-1 J^T [1/kg]

@@ -12,11 +12,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from jax_compile import light
+
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 
 PATH = Path(__file__).resolve().parents[2] / "examples" / "quadruped_mjx_env.py"
-LIGHT = {"xla_backend_optimization_level": 0, "xla_llvm_disable_expensive_passes": True}  # numbers, not speed
 
 
 @pytest.fixture(scope="module")
@@ -31,7 +32,7 @@ def example():  # type: ignore[no-untyped-def]
 
 def test_the_environment_is_finite_reproducible_and_each_world_has_its_own_mud(example) -> None:  # type: ignore[no-untyped-def]
     env = example.QuadrupedMudEnv((0.15, 0.30))
-    rollout = example.compile_rollout(env, 2, 10, LIGHT)
+    rollout = example.compile_rollout(env, 2, 10, light())  # numbers, not speed
     first, again, other = rollout(0), rollout(0), rollout(1)  # seed 0: W = 27.6 % and 15.1 %
     for key in ("sinkage", "slip", "energy", "x", "water_content"):
         assert np.isfinite(first[key]).all()

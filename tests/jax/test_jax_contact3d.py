@@ -4,7 +4,8 @@ bad input.
 JAX compiles each function once per array shape, and compiling costs seconds: every foot here has the capsule's
 element count (the other shapes are padded with inert elements, zero area and a metre above the body origin,
 never in the mud), and two jitted functions serve every comparison: one foot through a trajectory (``RUN``)
-and many feet at once (``RUN_MANY``, ``vmap`` of the same).
+and many feet at once (``RUN_MANY``, ``vmap`` of the same), both compiled with XLA's light options
+(tests/jax_compile.py).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import jax.numpy as jnp  # noqa: E402
 
 import mudforce as mf  # noqa: E402
 import mudforce.jax.contact3d as mj3  # noqa: E402
+from jax_compile import light_jit  # noqa: E402
 from mudforce.errors import InputError  # noqa: E402
 from mudforce.model import shapes  # noqa: E402
 from mudforce.steppers.contact3d import MudContact3D  # noqa: E402
@@ -42,8 +44,8 @@ def _scan(state: mj3.State3D, params: mj3.Params3D, pos: Any, quat: Any, dts: An
     return jax.lax.scan(body, state, (pos, quat, dts))
 
 
-RUN = jax.jit(_scan)  # shared module-wide: one compilation for every single-foot run
-RUN_MANY = jax.jit(jax.vmap(_scan))
+RUN = light_jit(_scan)  # shared module-wide: one compilation for every single-foot run
+RUN_MANY = light_jit(jax.vmap(_scan))
 
 
 def _quat(axis: Any, angle: Any) -> np.ndarray:
@@ -262,7 +264,7 @@ def test_wrong_shapes_and_bad_params_raise() -> None:
 def test_reset_makes_the_next_step_a_first_step() -> None:
     state = mj3.init3d(SPHERE, batch=2)._replace(started=jnp.array([True, True]),
                                                   slip=jnp.ones((2, SPHERE.n, 2)))
-    fresh = mj3.reset3d(state, jnp.array([True, False]))
+    fresh = light_jit(mj3.reset3d)(state, jnp.array([True, False]))  # one compile, not one per operation
     assert np.asarray(fresh.started).tolist() == [False, True]
     assert float(jnp.abs(fresh.slip[0]).max()) == 0.0 and float(fresh.slip[1].min()) == 1.0
     assert (np.asarray(fresh.elements.mode[0]) == -1).all()
@@ -289,7 +291,7 @@ def test_grad_is_finite_and_matches_finite_differences() -> None:
     state, _ = RUN(mj3.init3d(CAPSULE), params, jnp.asarray(pos),
                    jnp.asarray(_quat([0.0, 1.0, 0.0], angle)), jnp.asarray(DTS))
     assert float(jnp.abs(state.slip).max()) > 0.0
-    value_and_grad = jax.jit(jax.value_and_grad(_one_step, argnums=(0, 1, 2, 3, 4)))
+    value_and_grad = light_jit(jax.value_and_grad(_one_step, argnums=(0, 1, 2, 3, 4)))
     args = [jnp.asarray(pos[-1] + [4e-5, 1e-5, 0.0]), 0.302, mud.k_m_w, mud.alpha, state.slip]
     value, grads = value_and_grad(*args, state, params)
     assert np.isfinite(float(value))

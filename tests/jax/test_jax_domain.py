@@ -20,6 +20,7 @@ def test_traced_water_content_gives_the_cpu_parameters() -> None:
     import jax.numpy as jnp
 
     import mudforce.jax as mj
+    from jax_compile import light_jit
     from mudforce.jax.domain import params_from_water_content
 
     was = bool(jax.config.jax_enable_x64)  # put back as found: other modules in this worker run in float64
@@ -27,8 +28,8 @@ def test_traced_water_content_gives_the_cpu_parameters() -> None:
     try:
         foot = Foot.disc(0.04)
 
-        @jax.jit
-        def run(w):  # type: ignore[no-untyped-def]  # one compile: a flat batch, worlds x feet, a gradient
+        @light_jit
+        def run(w):  # type: ignore[no-untyped-def]  # one light compile: flat, worlds x feet, a gradient
             slope = jax.grad(lambda x: jnp.log(params_from_water_content(x).sigma_y))(w[6])
             return params_from_water_content(w, foot), jax.vmap(params_from_water_content)(w[:12].reshape(3, 4)), slope
 

@@ -11,6 +11,7 @@ jax.config.update("jax_enable_x64", True)
 import jax.numpy as jnp  # noqa: E402
 
 import mudforce.jax as mj  # noqa: E402
+from jax_compile import light_jit  # noqa: E402
 from mudforce.model.parameters import MudParameters  # noqa: E402
 
 DT = 2e-3
@@ -38,12 +39,18 @@ def setup():  # type: ignore[no-untyped-def]
         _, (forces, modes) = jax.lax.scan(body, mj.init(z.shape[1]), z)
         return jnp.sum(forces**2) * DT, modes
 
-    def loss(params: mj.Params, z: jax.Array) -> jax.Array:
-        return loss_and_modes(params, z)[0]
+    # one compile (XLA's light one: compiling is most of this module's cost) for the loss, the modes the
+    # trajectory passes and the gradient; the central differences evaluate the loss with the same function
+    value_and_grad = light_jit(jax.value_and_grad(loss_and_modes, argnums=(0, 1), has_aux=True))
 
-    # one compile for the gradient (and the modes the trajectory passes), one for the loss alone
-    grad = jax.jit(jax.grad(loss_and_modes, argnums=(0, 1), has_aux=True))
-    return params, z, jax.jit(loss), grad
+    def grad(params: mj.Params, z: jax.Array) -> tuple[tuple[jax.Array, jax.Array], jax.Array]:
+        (_, modes), g = value_and_grad(params, z)
+        return g, modes
+
+    def loss(params: mj.Params, z: jax.Array) -> jax.Array:
+        return value_and_grad(params, z)[0][0]
+
+    return params, z, loss, grad
 
 
 def test_trajectory_passes_events(setup) -> None:  # type: ignore[no-untyped-def]

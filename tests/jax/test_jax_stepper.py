@@ -11,6 +11,7 @@ jax.config.update("jax_enable_x64", True)  # float64 comparisons; float32 is ask
 import jax.numpy as jnp  # noqa: E402
 
 import mudforce.jax as mj  # noqa: E402
+from jax_compile import light_jit  # noqa: E402
 from mudforce._kernel import layout as K  # noqa: E402  (the state layout's columns, to compare states)
 from mudforce.engines import dynamics  # noqa: E402
 from mudforce.errors import InputError  # noqa: E402
@@ -20,8 +21,8 @@ from mudforce.steppers.many import MudContacts  # noqa: E402
 
 WATER = (0.15, 0.20, 0.25, 0.30, 0.35)
 DT = 1e-3
-STEP = jax.jit(mj.step)  # shared: eager mode would dispatch every operation on its own
-BRANCH_FORCES = jax.jit(mj.branch_forces)
+STEP = light_jit(mj.step)  # shared: eager mode would dispatch every operation on its own
+BRANCH_FORCES = light_jit(mj.branch_forces)
 
 
 def gait(n: int, steps: int, dt: float, seed: int) -> np.ndarray:
@@ -63,25 +64,60 @@ def cpu_run(muds: list[MudParameters], z: np.ndarray, dt: float) -> tuple[np.nda
     return forces, modes, np.array(feet.state[:, : K.N_STATE])
 
 
+def _scan(params: mj.Params, z: jax.Array, dt: jax.Array) -> tuple[mj.State, tuple[jax.Array, jax.Array]]:
+    """Every foot through its depths ``z`` (steps, n) [m], steps ``dt`` (steps, n) [s]: final state, forces, modes."""
+    def body(s: mj.State, x: tuple[jax.Array, jax.Array]) -> tuple[mj.State, tuple[jax.Array, jax.Array]]:
+        s, f = mj.step(s, params, x[0], x[1])
+        return s, (f, s.mode)
+    return jax.lax.scan(body, mj.init(z.shape[1], z.dtype), (z, dt))
+
+
+# one compile per dtype for every trajectory below (each array shape compiles anew: the float64 runs are one batch)
+RUN = light_jit(_scan)
+STEPS = 2000
+PER = 16  # feet per water content in the comparison with the CPU
+PROMISE_PER = 3  # feet per water content for each step size of the promise (0.1 ms, 2 ns)
+PROMISE_DTS = ((1e-4, 1e-12), (2e-9, 1e-10))  # (dt [s], bound on the error / peak)
+
+
 @pytest.fixture(scope="module")
-def compared() -> dict[str, np.ndarray]:
-    per = 16
-    muds = [MudParameters.table_i(w) for w in WATER for _ in range(per)]
-    n = len(muds)
-    z = np.concatenate([gait(per, 1500, DT, seed=i) for i in range(len(WATER))], axis=1)
-    forces, modes, states = cpu_run(muds, z, DT)
-    params = mj.make_params(muds)
+def batch() -> dict[str, object]:
+    """One float64 JAX run of every foot the module compares, side by side: the CPU comparison's (PER per water
+    content, DT, STEPS steps), the promise's (1500 steps of each of PROMISE_DTS, then held), the float32 check's
+    (five, DT) and the vmap check's (five, DT, 200 steps, then held). A later step never changes an earlier
+    one's output: each group is read over its own steps."""
+    groups: dict[str, tuple[list[MudParameters], np.ndarray, float, int]] = {
+        "cpu": ([MudParameters.table_i(w) for w in WATER for _ in range(PER)],
+                np.concatenate([gait(PER, STEPS, DT, seed=i) for i in range(len(WATER))], axis=1), DT, STEPS)}
+    for j, (dt, _) in enumerate(PROMISE_DTS):
+        z = np.concatenate([gait(PROMISE_PER, 1500, dt, seed=10 + i) for i in range(len(WATER))], axis=1)
+        groups[f"promise{j}"] = ([MudParameters.table_i(w) for w in WATER for _ in range(PROMISE_PER)],
+                                 np.concatenate([z, np.repeat(z[-1:], STEPS - 1500, axis=0)]), dt, 1500)
+    groups["f32"] = ([MudParameters.table_i(w) for w in WATER], gait(5, STEPS, DT, seed=5), DT, STEPS)
+    z = gait(5, 200, DT, seed=3)
+    groups["vmap"] = ([MudParameters.table_i(w) for w in WATER], np.concatenate([z, np.repeat(z[-1:], STEPS - 200,
+                                                                                               axis=0)]), DT, 200)
+    muds = [m for g in groups.values() for m in g[0]]
+    z = np.concatenate([g[1] for g in groups.values()], axis=1)
+    dt = np.concatenate([np.full(g[1].shape, g[2]) for g in groups.values()], axis=1)
+    final, (forces, modes) = RUN(mj.make_params(muds), jnp.asarray(z), jnp.asarray(dt))
+    out: dict[str, object] = {}
+    start = 0
+    for name, (group_muds, gz, gdt, used) in groups.items():
+        cols = slice(start, start + gz.shape[1])
+        start = cols.stop
+        out[name] = {"muds": group_muds, "z": gz[:used], "dt": gdt, "jax": np.asarray(forces)[:used, cols],
+                     "jax_modes": np.asarray(modes)[:used, cols],
+                     "final": jax.tree.map(lambda a, c=cols: a[c], final)}
+    return out
 
-    @jax.jit
-    def run(z: jax.Array) -> tuple[mj.State, tuple[jax.Array, jax.Array]]:
-        def body(s: mj.State, zk: jax.Array) -> tuple[mj.State, tuple[jax.Array, jax.Array]]:
-            s, f = mj.step(s, params, zk, DT)
-            return s, (f, s.mode)
-        return jax.lax.scan(body, mj.init(n), z)
 
-    final, (fj, mjm) = run(jnp.asarray(z))
-    return {"cpu": forces, "modes": modes, "states": states, "jax": np.asarray(fj), "jax_modes": np.asarray(mjm),
-            "final": final, "per": np.array(per)}
+@pytest.fixture(scope="module")
+def compared(batch: dict[str, dict[str, object]]) -> dict[str, np.ndarray]:
+    run = batch["cpu"]
+    forces, modes, states = cpu_run(run["muds"], run["z"], DT)  # type: ignore[arg-type]
+    return {"cpu": forces, "modes": modes, "states": states, "jax": run["jax"], "jax_modes": run["jax_modes"],
+            "final": run["final"], "per": np.array(PER)}
 
 
 def test_equal_to_cpu_at_every_water_content(compared: dict[str, np.ndarray]) -> None:
@@ -101,7 +137,7 @@ def test_gaits_pass_every_transition(compared: dict[str, np.ndarray]) -> None:
         m = compared["modes"][:, i * per:(i + 1) * per]
         pairs = {(int(a), int(b)) for a, b in zip(m[:-1].ravel(), m[1:].ravel(), strict=True) if a != b}
         assert pairs == {(0, 1), (1, 0), (1, 2), (2, 0), (2, 1)}, (WATER[i], pairs)
-    assert (np.diff(gait(per, 1500, DT, seed=0), axis=0) == 0.0).any()  # exact holds
+    assert (np.diff(gait(per, STEPS, DT, seed=0), axis=0) == 0.0).any()  # exact holds
 
 
 def test_final_state_equals_cpu(compared: dict[str, np.ndarray]) -> None:
@@ -114,25 +150,19 @@ def test_final_state_equals_cpu(compared: dict[str, np.ndarray]) -> None:
     np.testing.assert_allclose(np.asarray(s.strain)[contact], cpu[contact, K.S_STRAIN], rtol=0, atol=1e-14)
 
 
-def test_the_promise_holds_from_0_1_ms_and_shorter_steps_drift_as_documented() -> None:
+def test_the_promise_holds_from_0_1_ms_and_shorter_steps_drift_as_documented(
+        batch: dict[str, dict[str, object]]) -> None:
     """1e-12 of the peak for dt >= 1e-4 s (README, docs/gpu.md); at 2 ns the CPU's ``1 - exp(-dt/tau)`` loses
     digits (~1e-16 tau/dt) that JAX's expm1 keeps, and the two drift apart, measured 1.6e-12 to 2.5e-11."""
-    per = 3
-    muds = [MudParameters.table_i(w) for w in WATER for _ in range(per)]
-    params = mj.make_params(muds)
-
-    @jax.jit
-    def run(z: jax.Array, dt: jax.Array) -> jax.Array:
-        body = lambda s, zk: mj.step(s, params, zk, dt)  # noqa: E731
-        return jax.lax.scan(body, mj.init(len(muds)), z)[1]
-
-    for dt, bound in ((1e-4, 1e-12), (2e-9, 1e-10)):
-        z = np.concatenate([gait(per, 1500, dt, seed=10 + i) for i in range(len(WATER))], axis=1)
-        cpu, _, _ = cpu_run(muds, z, dt)
-        got = np.asarray(run(jnp.asarray(z), jnp.asarray(dt)))
+    per = PROMISE_PER
+    for j, (dt, bound) in enumerate(PROMISE_DTS):
+        run = batch[f"promise{j}"]
+        assert run["dt"] == dt
+        cpu, _, _ = cpu_run(run["muds"], run["z"], dt)  # type: ignore[arg-type]
+        got = run["jax"]
         for i, w in enumerate(WATER):
             cols = slice(i * per, (i + 1) * per)
-            err = np.abs(got[:, cols] - cpu[:, cols]).max() / np.abs(cpu[:, cols]).max()
+            err = np.abs(got[:, cols] - cpu[:, cols]).max() / np.abs(cpu[:, cols]).max()  # type: ignore[index]
             assert err <= bound, (dt, w, err)
 
 
@@ -148,22 +178,21 @@ def test_first_step_reset_and_bad_input() -> None:
     assert float(s2.depth[0]) == -1e-3  # refused foot unchanged
     s3, f3 = STEP(s, params, jnp.array([1e-3, 1e-3, 6e-3]), 0.0)
     assert np.isnan(np.asarray(f3)).all() and (np.asarray(s3.depth) == np.asarray(s.depth)).all()
-    r = jax.jit(mj.reset)(s2, jnp.array([False, True, False]))
+    r = light_jit(mj.reset)(s2, jnp.array([False, True, False]))
     assert np.asarray(r.mode).tolist() == [mj.FREE, mj.UNSTARTED, mj.CONTACT]
 
 
-def test_vmap_per_foot_params_equals_batch() -> None:
-    muds = [MudParameters.table_i(w) for w in WATER]
-    params = mj.make_params(muds)
-    z = jnp.asarray(gait(5, 200, DT, seed=3))
+def test_vmap_per_foot_params_equals_batch(batch: dict[str, dict[str, object]]) -> None:
+    """``jax.vmap`` of the step over feet (params, depth and dt per foot) equals the batch step, bit for bit."""
+    run = batch["vmap"]
+    single = jax.vmap(mj.step, in_axes=(0, 0, 0, 0))
 
-    def run(step_fn, s):  # type: ignore[no-untyped-def]
-        return jax.lax.scan(lambda s, zk: step_fn(s, params, zk, DT), s, z)[1]
+    def scan_single(params: mj.Params, z: jax.Array, dt: jax.Array) -> jax.Array:
+        return jax.lax.scan(lambda s, x: single(s, params, x[0], x[1]), mj.init(z.shape[1]), (z, dt))[1]
 
-    batch = jax.jit(lambda: run(mj.step, mj.init(5)))()
-    single = jax.vmap(mj.step, in_axes=(0, 0, 0, None))
-    mapped = jax.jit(lambda: run(single, mj.init(5)))()
-    np.testing.assert_array_equal(np.asarray(batch), np.asarray(mapped))
+    z = np.asarray(run["z"])
+    mapped = light_jit(scan_single)(mj.make_params(run["muds"]), jnp.asarray(z), jnp.full(z.shape, DT))
+    np.testing.assert_array_equal(run["jax"], np.asarray(mapped))
 
 
 def test_make_params_shapes_and_errors() -> None:
@@ -195,28 +224,24 @@ def test_rest_band_and_branch_forces_equal_dynamics(compared: dict[str, np.ndarr
         np.testing.assert_allclose(np.asarray(ju), up, rtol=0, atol=1e-12 * scale)
         np.testing.assert_allclose(np.asarray(jd), down, rtol=0, atol=1e-12 * scale)
         np.testing.assert_allclose(np.asarray(jdr), drag, rtol=0, atol=1e-12 * scale)
-    lo, hi = mj.rest_band(mj.make_params(muds[0]), jnp.array(mj.CONTACT), jnp.array(0.01), jnp.array(1e-3),
-                          jnp.array(0.0))
+    lo, hi = light_jit(mj.rest_band)(mj.make_params(muds[0]), jnp.array(mj.CONTACT), jnp.array(0.01),
+                                     jnp.array(1e-3), jnp.array(0.0))  # jitted: one compile, not one per operation
     ref = dynamics.rest_band(rows[0], K.CONTACT, 0.01, 1e-3, 0.0)
     assert float(lo) == pytest.approx(ref[0], rel=1e-14) and float(hi) == pytest.approx(ref[1], rel=1e-14)
-    force, stuck = mj.stick_force(jnp.array(-5.0), jnp.array(20.0), jnp.array(0.0), jnp.array([3.0, 30.0]),
-                                  jnp.array(0.0))
+    force, stuck = light_jit(mj.stick_force)(jnp.array(-5.0), jnp.array(20.0), jnp.array(0.0),
+                                             jnp.array([3.0, 30.0]), jnp.array(0.0))
     assert np.asarray(force).tolist() == [3.0, 20.0] and np.asarray(stuck).tolist() == [True, False]
 
 
-def test_float32_tracks_float64() -> None:
+def test_float32_tracks_float64(batch: dict[str, dict[str, object]]) -> None:
     """A short float32 run stays close to float64 (the 10 s measurement is in benchmarks/bench_gpu.py)."""
-    muds = [MudParameters.table_i(w) for w in WATER]
-    z = gait(5, 2000, DT, seed=5)
-
-    def run(dtype):  # type: ignore[no-untyped-def]
-        params = mj.make_params(muds, dtype=dtype)
-        body = lambda s, zk: mj.step(s, params, zk, jnp.asarray(DT, dtype))  # noqa: E731
-        return np.asarray(jax.jit(lambda z: jax.lax.scan(body, mj.init(5, dtype), z)[1])(jnp.asarray(z, dtype)),
-                          dtype=np.float64)
-
-    f64 = run(jnp.float64)
-    f32 = run(jnp.float32)
+    run = batch["f32"]
+    z = np.asarray(run["z"])
+    f64 = np.asarray(run["jax"])
+    _, (f32, _) = RUN(mj.make_params(run["muds"], dtype=jnp.float32), jnp.asarray(z, jnp.float32),
+                      jnp.full(z.shape, DT, jnp.float32))
+    assert f32.dtype == jnp.float32
+    f32 = np.asarray(f32, dtype=np.float64)
     assert np.abs(f32 - f64).max() <= 1e-4 * np.abs(f64).max()
 
 
@@ -227,7 +252,7 @@ def test_neck_filter_transition_is_the_cpu_matrix_on_short_and_long_steps() -> N
     grid = np.meshgrid([1e-4, 1e-3, 4e-3, 0.05], [0.05, 0.4, 0.99, 1.0, 1.01, 1.8, 6.0], [2.0, 60.0, 400.0, 2000.0],
                        indexing="ij")
     dt, zeta, omega = (g.ravel() for g in grid)
-    got = np.array(jax.jit(mj.neck_filter_transition)(jnp.asarray(dt), jnp.asarray(zeta), jnp.asarray(omega)))
+    got = np.array(light_jit(mj.neck_filter_transition)(jnp.asarray(dt), jnp.asarray(zeta), jnp.asarray(omega)))
     got[0] += 1.0
     got[3] += 1.0
     ref = np.array([eq.neck_filter_transition(z, o, *eq.neck_filter_response(h, z, o))
