@@ -217,7 +217,7 @@ def _jax() -> dict[str, Run]:
         dt[1:m, j] = np.diff(tr.time)
     params = mj.make_params([TRAJECTORIES[n].params for n in names])
 
-    @light_jit  # XLA's light compile (tests/jax_compile.py): compiling is most of this path's cost
+    @jax.jit  # the default compile users get (the other JAX and MJX tests compile light: tests/jax_compile.py)
     def run(params: Any, z: Any, dt: Any) -> Any:
         def body(s: Any, x: Any) -> Any:
             s, f = mj.step(s, params, x[0], x[1])
