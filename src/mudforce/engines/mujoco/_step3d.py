@@ -8,8 +8,8 @@ of :mod:`mudforce.model.law3d` (one element's components; compiled through their
 registration) and Eq. (4) through
 :func:`mudforce.model.equations.nonlinear_spring_stress`, the functions the
 compiled 3-D step (:mod:`mudforce._kernel.step3d`) calls. The 1-D states'
-bands come from :func:`mudforce.engines.dynamics.rest_band.branch_forces`
-(compiled, called by the adapter per patch). :func:`add_wrench` adds (or,
+bands come from :func:`mudforce.engines.dynamics.rest_band.branch_forces_row`
+(:func:`foot_band`: only where they count, summed per foot). :func:`add_wrench` adds (or,
 with ``sign=-1``, takes back) the explicit wrench to ``xfrc_applied``.
 """
 
@@ -20,6 +20,7 @@ import math
 import numpy as np
 
 from mudforce._kernel.layout import _compiled
+from mudforce.engines.dynamics.rest_band import branch_forces_row
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
     bearing_factor,
@@ -30,7 +31,7 @@ from mudforce.model.law3d import (
 )
 
 __all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "add_wrench",
-           "gather_poses", "prepare"]
+           "feet_bands", "foot_band", "gather_poses", "prepare"]
 
 # columns of the per-foot constants (those of the foot's patch; row ignored off every patch)
 C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO, C_WIDTH = 0, 1, 2, 3, 4, 5
@@ -62,10 +63,52 @@ def gather_poses(geom_xpos: np.ndarray, geom_xmat: np.ndarray, gids: np.ndarray,
 
 
 @_compiled(nogil=False)
+def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: int, r: np.ndarray, nb: np.ndarray,
+              area: np.ndarray) -> tuple[float, float, float]:
+    """A foot's vertical band and drag for the coming step [N]: ``(F_up, F_down, F_drag)``.
+
+    The sums over elements ``lo:hi`` of each element's band and drag
+    (:func:`mudforce.engines.dynamics.rest_band.branch_forces_row` on its 1-D state
+    row of ``states``/``params``, weight 1: a stress [Pa]) times its
+    downward-facing area ``A_i max(-n_z, 0)`` (``r`` the foot's rotation, row
+    by row; ``nb``, ``area`` the elements' body-frame normals and areas).
+    An element that faces no way down adds ``0`` times its band, which
+    changes no sum, so its band is not computed; nor is the band at the
+    step's start, which weight 1 multiplies by 0 (see ``branch_forces_row``).
+    The sums are those of ``branch_forces`` over every element, bit for bit.
+    """
+    f_up = f_down = f_drag = 0.0
+    for i in range(lo, hi):
+        nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
+        w = area[i] * vertical_weight(nz)
+        if w != 0.0:
+            up, down, drag = branch_forces_row(states, params, i, dt, 1.0, False)
+            f_up += w * up
+            f_down += w * down
+            f_drag += w * drag
+    return f_up, f_down, f_drag
+
+
+@_compiled(nogil=False)
+def feet_bands(states: np.ndarray, params: np.ndarray, dt: float, patch: np.ndarray, k: int, starts: np.ndarray,
+               mats: np.ndarray, nb: np.ndarray, area: np.ndarray, bands: np.ndarray) -> None:
+    """:func:`foot_band` of every foot in patch ``k`` (``patch[f] == k``) into ``bands[f]`` (n, 3) [N].
+
+    ``states``, ``params``: patch ``k``'s 1-D rows (one per element of every
+    foot); ``mats`` (n, 9) the feet's rotations; ``starts`` each foot's
+    element rows; ``dt`` [s].
+    """
+    for f in range(patch.shape[0]):
+        if patch[f] == k:
+            bands[f, 0], bands[f, 1], bands[f, 2] = foot_band(states, params, dt, starts[f], starts[f + 1], mats[f],
+                                                                nb, area)
+
+
+@_compiled(nogil=False)
 def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, starts: np.ndarray,
             cb: np.ndarray, nb: np.ndarray, area: np.ndarray, patch: np.ndarray, const: np.ndarray,
-            up: np.ndarray, down: np.ndarray, drag: np.ndarray, velocity_z: np.ndarray, u: np.ndarray,
-            xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
+            states: np.ndarray, params: np.ndarray, k_band: int, bands: np.ndarray, velocity_z: np.ndarray,
+            u: np.ndarray, xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
             anchors: np.ndarray, tendons: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray,
             anchor_height: float, rest_speed: float, band: np.ndarray, holds: np.ndarray, applied: np.ndarray,
             dirs: np.ndarray) -> None:
@@ -76,8 +119,10 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
     element rows; ``cb``, ``nb`` (E, 3), ``area`` (E,) the elements in the
     geom's frame [m], [-], [m^2]; ``patch`` (n,) each foot's patch or -1;
     ``const`` (n, ``N_FOOT_CONSTANTS``) its patch's constants (``C_*``);
-    ``up``, ``down``, ``drag`` (P, E) each patch's element bands and drag [Pa]
-    (``branch_forces`` on unit areas); ``velocity_z`` (n,) written [m/s];
+    ``states``, ``params`` patch ``k_band``'s 1-D rows: the band of a foot in
+    that patch is :func:`foot_band` on them, here; that of a foot in another
+    patch was put in ``bands`` (n, 3) [N] by :func:`feet_bands`;
+    ``velocity_z`` (n,) written [m/s];
     ``u`` (n, 2) each foot's last horizontal direction (updated). MuJoCo's
     arrays: ``xipos``, ``xpos``, ``xmat`` (data), ``site_pos``,
     ``frictionloss`` (model, written). Written: ``band`` (2, n) [N],
@@ -100,6 +145,11 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
         r = mats[f]
         lo, hi = starts[f], starts[f + 1]
         f_up = f_down = f_drag = 0.0
+        if k >= 0:
+            if k == k_band:
+                f_up, f_down, f_drag = foot_band(states, params, dt, lo, hi, r, nb, area)
+            else:
+                f_up, f_down, f_drag = bands[f, 0], bands[f, 1], bands[f, 2]
         total = qx = qy = qz = 0.0
         hold_u = hold_v = 0.0
         fx = fy = 0.0
@@ -121,9 +171,6 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
             ny = r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2]
             nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
             w = area[i] * vertical_weight(nz)
-            f_up += w * up[k, i]
-            f_down += w * down[k, i]
-            f_drag += w * drag[k, i]
             depth = surface - cz
             spring = nonlinear_spring_stress(alpha, beta, depth, width)  # Eq. (4); 0 at and above the surface
             wet = w * spring

@@ -25,7 +25,7 @@ explicitly through ``xfrc_applied`` (added for the step, taken back after).
 
 * **Vertically**, the rest band ``[F_up, F_down]`` of the foot is the sum,
   over its elements, of each element's band
-  (:func:`mudforce.engines.dynamics.rest_band.branch_forces` on its 1-D state, a
+  (:func:`mudforce.engines.dynamics.rest_band.branch_forces_row` on its 1-D state, a
   stress) times its downward-facing projection ``A_i max(-n_z, 0)``
   (:func:`mudforce.model.law3d.vertical_weight`): the mid-band force plus the
   drag is applied, and half the band's width is the friction of a vertical
@@ -66,7 +66,6 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.engines.dynamics.rest_band import branch_forces
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
 from mudforce.engines.mujoco._spec import check_prefix, mujoco_module, name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
@@ -79,6 +78,7 @@ from mudforce.engines.mujoco._step3d import (
     C_WIDTH,
     N_FOOT_CONSTANTS,
     add_wrench,
+    feet_bands,
     gather_poses,
     prepare,
 )
@@ -301,10 +301,7 @@ class MudAdapter3D:
         self._area = np.concatenate([s.areas for s in slist])
         self._width = np.array([float(s.width) if s.width is not None else np.nan for s in slist])
         self._starts = np.concatenate(([0], np.cumsum(sizes)))
-        nel = len(self._area)
-        self._up = np.zeros((len(plist), nel))  # each patch's element bands and drag [Pa]
-        self._down = np.zeros((len(plist), nel))
-        self._drag = np.zeros((len(plist), nel))
+        self._bands = np.zeros((n, 3))  # the band (F_up, F_down) and drag [N] of feet in all patches but one
         self._patch_const = np.zeros((len(plist), N_FOOT_CONSTANTS))
         for k, p in enumerate(plist):
             q = p.params
@@ -422,10 +419,19 @@ class MudAdapter3D:
         model, d = self.model, self.data
         pos, mats = self._pos, self._mats
         dt = float(model.opt.timestep)
-        for k in range(len(self._contacts)):
-            if self._everywhere or (self._patch == k).any():
-                states, rows = self._rows[k]
-                branch_forces(states, rows, dt, 1.0, self._up[k], self._down[k], self._drag[k])
+        # the bands of the feet in the first patch that holds any are computed in prepare, the others' here
+        k_band = 0
+        if not self._everywhere:
+            k_band = -1
+            for k in range(len(self._contacts)):
+                if (self._patch == k).any():
+                    if k_band < 0:
+                        k_band = k
+                    else:
+                        states, rows = self._rows[k]
+                        feet_bands(states, rows, dt, self._patch, k, self._starts, mats, self._nb, self._area,
+                                   self._bands)
+        states, rows = self._rows[max(k_band, 0)]
         const = self._const
         if self._patch_changed:
             for f in range(len(self.feet)):
@@ -433,7 +439,7 @@ class MudAdapter3D:
                 if k >= 0:
                     const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
-                self._up, self._down, self._drag, self._velocity_z, self._u, d.xipos, d.xpos, d.xmat, self._bodies,
+                states, rows, k_band, self._bands, self._velocity_z, self._u, d.xipos, d.xpos, d.xmat, self._bodies,
                 self._sites, self._anchors, self._tendons, model.site_pos, model.tendon_frictionloss, ANCHOR_HEIGHT,
                 REST_SPEED, self._band, self.capacity, self._applied, self._dirs)
 
