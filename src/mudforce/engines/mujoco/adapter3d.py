@@ -322,6 +322,13 @@ class MudAdapter3D:
         self._applied = np.zeros((n, 6))  # the explicit force [N] and torque about the COM [N m] of the coming step
         self._dirs = np.zeros((n, 3, 3))  # unit vectors from contact point to each anchor (z, u, v)
         self._patch = np.full(n, -1, dtype=np.int64)
+        # MuJoCo's arrays and options read every step, taken once (views: its buffers do not move for the life of
+        # the model and data; a property read builds a new view each time, ~0.2 us, and model.opt ~1 us)
+        self._opt = model.opt
+        self._geom_xpos, self._geom_xmat = data.geom_xpos, data.geom_xmat
+        self._xipos, self._xpos, self._xmat = data.xipos, data.xpos, data.xmat
+        self._site_pos, self._frictionloss = model.site_pos, model.tendon_frictionloss
+        self._foot_rows = [(self._quats[f], self._mats[f]) for f in range(n)]  # each foot's quaternion and matrix
         self._submerged = np.zeros(n, dtype=bool)
         self._warned: set[str] = set()
         self.law_forces = np.zeros((n, 3))  #: the law's force on each foot at the last committed pose [N]
@@ -339,8 +346,9 @@ class MudAdapter3D:
         self._patch[:] = -1
         self._mj.mj_forward(self.model, self.data)
         self._last_pos[:] = self.data.geom_xpos[self._gids]
-        self._commit(first=True)
-        self._prepare()
+        dt = float(self._opt.timestep)
+        self._commit(dt, first=True)
+        self._prepare(dt)
 
     def step(self, nstep: int = 1) -> None:
         """Advance the simulation ``nstep`` MuJoCo steps with the mud's wrench and holds."""
@@ -348,6 +356,7 @@ class MudAdapter3D:
             nstep = positive_int(nstep, "nstep")
         mj, model, data = self._mj, self.model, self.data
         xfrc = data.xfrc_applied
+        dt = float(self._opt.timestep)
         for _ in range(nstep):
             add_wrench(xfrc, self._bodies, self._applied, 1.0)
             mj.mj_step(model, data)
@@ -357,8 +366,8 @@ class MudAdapter3D:
             # the step's wrench and directions become the last ones; _prepare rewrites every entry of the others
             self._last_applied, self._applied = self._applied, self._last_applied
             self._last_dirs, self._dirs = self._dirs, self._last_dirs
-            self._commit(first=False)
-            self._prepare()
+            self._commit(dt, first=False)
+            self._prepare(dt)
 
     def _poses(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         d = self.data
@@ -369,15 +378,13 @@ class MudAdapter3D:
             self._mj.mju_mat2Quat(quats[f], mats[f].ravel())
         return pos, mats, quats
 
-    def _commit(self, *, first: bool) -> None:
+    def _commit(self, dt: float, *, first: bool) -> None:
         """Step each patch's feet to their poses (their first step when ``first``); reset the feet outside it."""
-        d = self.data
-        pos, mats, quats = self._pos, self._mats, self._quats
-        gather_poses(d.geom_xpos, d.geom_xmat, self._gids, pos, mats)  # data.geom_xpos[gids], without allocating
+        pos, quats = self._pos, self._quats
+        gather_poses(self._geom_xpos, self._geom_xmat, self._gids, pos, self._mats)  # data.geom_xpos[gids] in place
         mat2quat = self._mj.mju_mat2Quat
-        for f in range(len(self.feet)):
-            mat2quat(quats[f], mats[f])
-        dt = float(self.model.opt.timestep)
+        for quat, mat in self._foot_rows:
+            mat2quat(quat, mat)
         if self._everywhere:  # every foot in the one patch, always: no masks, the wrench written in place
             self._patch_changed = bool(self._patch[0] != 0)
             self._patch[:] = 0
@@ -414,11 +421,9 @@ class MudAdapter3D:
         self._patch = where
         self._patch_changed = True
 
-    def _prepare(self) -> None:
+    def _prepare(self, dt: float) -> None:
         """The next step's bands, holds, contact points, anchors and explicit wrench (compiled: ``_step3d.prepare``)."""
-        model, d = self.model, self.data
         pos, mats = self._pos, self._mats
-        dt = float(model.opt.timestep)
         # the bands of the feet in the first patch that holds any are computed in prepare, the others' here
         k_band = 0
         if not self._everywhere:
@@ -439,9 +444,9 @@ class MudAdapter3D:
                 if k >= 0:
                     const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
-                states, rows, k_band, self._bands, self._velocity_z, self._u, d.xipos, d.xpos, d.xmat, self._bodies,
-                self._sites, self._anchors, self._tendons, model.site_pos, model.tendon_frictionloss, ANCHOR_HEIGHT,
-                REST_SPEED, self._band, self.capacity, self._applied, self._dirs)
+                states, rows, k_band, self._bands, self._velocity_z, self._u, self._xipos, self._xpos, self._xmat,
+                self._bodies, self._sites, self._anchors, self._tendons, self._site_pos, self._frictionloss,
+                ANCHOR_HEIGHT, REST_SPEED, self._band, self.capacity, self._applied, self._dirs)
 
     def _check_floor(self) -> None:
         """Warn once per foot that touches a geom that is not a foot while it is in the mud."""
