@@ -30,12 +30,26 @@ from mudforce.model.law3d import (
     vertical_weight,
 )
 
-__all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "add_wrench",
-           "feet_bands", "foot_band", "gather_poses", "prepare"]
+__all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "N_SCRATCH",
+           "add_wrench", "feet_bands", "foot_band", "gather_poses", "prepare", "scratch"]
 
 # columns of the per-foot constants (those of the foot's patch; row ignored off every patch)
 C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO, C_WIDTH = 0, 1, 2, 3, 4, 5
 N_FOOT_CONSTANTS = 6
+#: rows of :func:`prepare`'s scratch
+N_SCRATCH = 14
+
+
+def scratch(widest: int) -> np.ndarray:
+    """:func:`prepare`'s scratch for feet of at most ``widest`` elements: (``N_SCRATCH``, w).
+
+    The rows are padded so that they do not lie a multiple of 4 KiB apart
+    (as :func:`mudforce._kernel.step3d.lateral_scratch`'s, for the same reason).
+    """
+    width = -(-max(widest, 1) // 8) * 8
+    if width % 512 == 0:
+        width += 8
+    return np.zeros((N_SCRATCH, width))
 
 
 @_compiled(nogil=False)
@@ -111,7 +125,7 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
             u: np.ndarray, xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
             anchors: np.ndarray, tendons: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray,
             anchor_height: float, rest_speed: float, band: np.ndarray, holds: np.ndarray, applied: np.ndarray,
-            dirs: np.ndarray) -> None:
+            dirs: np.ndarray, scratch: np.ndarray) -> None:
     """The next step's bands, holds, contact points, anchors and explicit wrench, foot by foot.
 
     ``pos`` (n, 3) [m] and ``mats`` (n, 9) the foot geoms' poses; ``last_pos``
@@ -126,9 +140,15 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
     ``u`` (n, 2) each foot's last horizontal direction (updated). MuJoCo's
     arrays: ``xipos``, ``xpos``, ``xmat`` (data), ``site_pos``,
     ``frictionloss`` (model, written). Written: ``band`` (2, n) [N],
-    ``holds`` (n, 2) [N], ``applied`` (n, 6) [N], [N m], ``dirs`` (n, 3, 3).
+    ``holds`` (n, 2) [N], ``applied`` (n, 6) [N], [N m], ``dirs`` (n, 3, 3);
+    ``scratch`` (:data:`N_SCRATCH`, at least the most elements of a foot):
+    a foot's submerged elements side by side, for loops without branches.
     """
     n = pos.shape[0]
+    # the scratch's rows as arrays of their own (so that the compiler sees them apart and vectorises)
+    s_nx, s_ny, s_nz, s_cx, s_cy, s_cz = scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5]
+    s_depth, s_area, s_spring, s_hu, s_hv = scratch[6], scratch[7], scratch[8], scratch[9], scratch[10]
+    s_gx, s_gy, s_wet = scratch[11], scratch[12], scratch[13]
     for f in range(n):
         px, py, pz = pos[f, 0], pos[f, 1], pos[f, 2]
         vx = (px - last_pos[f, 0]) / dt
@@ -158,6 +178,7 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
         surface = const[f, C_SURFACE]
         sigma_y, alpha, beta = const[f, C_SIGMA_Y], const[f, C_ALPHA], const[f, C_BETA]
         lam_rho, width = const[f, C_LAM_RHO], const[f, C_WIDTH]
+        m = 0  # the foot's submerged elements, gathered into the scratch rows
         for i in range(lo, hi):
             cx = px + r[0] * cb[i, 0] + r[1] * cb[i, 1] + r[2] * cb[i, 2]
             cy = py + r[3] * cb[i, 0] + r[4] * cb[i, 1] + r[5] * cb[i, 2]
@@ -167,25 +188,40 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
                 lx, ly, lz = cx, cy, cz
             if k < 0:
                 continue
-            nx = r[0] * nb[i, 0] + r[1] * nb[i, 1] + r[2] * nb[i, 2]
-            ny = r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2]
-            nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
-            w = area[i] * vertical_weight(nz)
             depth = surface - cz
-            spring = nonlinear_spring_stress(alpha, beta, depth, width)  # Eq. (4); 0 at and above the surface
-            wet = w * spring
+            if depth > 0.0:  # only submerged elements are loaded (Eq. (4) is 0 at and above the surface)
+                nx = r[0] * nb[i, 0] + r[1] * nb[i, 1] + r[2] * nb[i, 2]
+                ny = r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2]
+                nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
+                s_nx[m], s_ny[m], s_nz[m] = nx, ny, nz
+                s_cx[m], s_cy[m], s_cz[m] = cx, cy, cz
+                s_depth[m] = depth
+                s_area[m] = area[i]
+                m += 1
+        # over the gathered elements, in loops without branches (vectorised): Eq. (4), the holds, the drag
+        for j in range(m):
+            s_spring[j] = nonlinear_spring_stress(alpha, beta, s_depth[j], width)
+        for j in range(m):
+            nx, ny, nz, spring, a_j = s_nx[j], s_ny[j], s_nz[j], s_spring[j], s_area[j]
+            s_hu[j] = a_j * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, ux, uy), spring,
+                                             bearing_factor(nx, ny, nz, ux, uy))
+            s_hv[j] = a_j * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, -uy, ux), spring,
+                                             bearing_factor(nx, ny, nz, -uy, ux))
+            gx, gy = horizontal_drag(lam_rho, 1.0, nx, ny, vx, vy)
+            s_gx[j] = gx * a_j
+            s_gy[j] = gy * a_j
+            s_wet[j] = (a_j * vertical_weight(nz)) * spring
+        # summed in element order (an element above the surface would add zeros, which change no sum)
+        for j in range(m):
+            wet = s_wet[j]
             total += wet
-            qx += wet * cx
-            qy += wet * cy
-            qz += wet * cz
-            if depth > 0.0:  # only submerged elements are loaded sideways
-                hold_u += area[i] * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, ux, uy), spring,
-                                                     bearing_factor(nx, ny, nz, ux, uy))
-                hold_v += area[i] * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, -uy, ux), spring,
-                                                     bearing_factor(nx, ny, nz, -uy, ux))
-                gx, gy = horizontal_drag(lam_rho, 1.0, nx, ny, vx, vy)
-                fx += gx * area[i]
-                fy += gy * area[i]
+            qx += wet * s_cx[j]
+            qy += wet * s_cy[j]
+            qz += wet * s_cz[j]
+            hold_u += s_hu[j]
+            hold_v += s_hv[j]
+            fx += s_gx[j]
+            fy += s_gy[j]
         if total > 0.0:
             qx, qy, qz = qx / total, qy / total, qz / total
         else:

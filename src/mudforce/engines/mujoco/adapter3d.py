@@ -81,6 +81,7 @@ from mudforce.engines.mujoco._step3d import (
     feet_bands,
     gather_poses,
     prepare,
+    scratch,
 )
 from mudforce.errors import InputError, positive_int
 from mudforce.model.shapes import Shape, from_mujoco_geom
@@ -301,6 +302,7 @@ class MudAdapter3D:
         self._area = np.concatenate([s.areas for s in slist])
         self._width = np.array([float(s.width) if s.width is not None else np.nan for s in slist])
         self._starts = np.concatenate(([0], np.cumsum(sizes)))
+        self._scratch = scratch(max(sizes))  # prepare's: a foot's submerged elements side by side
         self._bands = np.zeros((n, 3))  # the band (F_up, F_down) and drag [N] of feet in all patches but one
         self._patch_const = np.zeros((len(plist), N_FOOT_CONSTANTS))
         for k, p in enumerate(plist):
@@ -446,7 +448,7 @@ class MudAdapter3D:
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
                 states, rows, k_band, self._bands, self._velocity_z, self._u, self._xipos, self._xpos, self._xmat,
                 self._bodies, self._sites, self._anchors, self._tendons, self._site_pos, self._frictionloss,
-                ANCHOR_HEIGHT, REST_SPEED, self._band, self.capacity, self._applied, self._dirs)
+                ANCHOR_HEIGHT, REST_SPEED, self._band, self.capacity, self._applied, self._dirs, self._scratch)
 
     def _check_floor(self) -> None:
         """Warn once per foot that touches a geom that is not a foot while it is in the mud."""
