@@ -80,6 +80,7 @@ from mudforce.engines.mujoco._step3d import (
     add_wrench,
     feet_bands,
     gather_poses,
+    mat2quat_address,
     prepare,
     scratch,
 )
@@ -330,6 +331,7 @@ class MudAdapter3D:
         self._geom_xpos, self._geom_xmat = data.geom_xpos, data.geom_xmat
         self._xipos, self._xpos, self._xmat = data.xipos, data.xpos, data.xmat
         self._site_pos, self._frictionloss = model.site_pos, model.tendon_frictionloss
+        self._mat2quat = mat2quat_address(mj)  # MuJoCo's mju_mat2Quat, called from compiled code (0: not found)
         self._foot_rows = [(self._quats[f], self._mats[f]) for f in range(n)]  # each foot's quaternion and matrix
         self._submerged = np.zeros(n, dtype=bool)
         self._warned: set[str] = set()
@@ -383,10 +385,12 @@ class MudAdapter3D:
     def _commit(self, dt: float, *, first: bool) -> None:
         """Step each patch's feet to their poses (their first step when ``first``); reset the feet outside it."""
         pos, quats = self._pos, self._quats
-        gather_poses(self._geom_xpos, self._geom_xmat, self._gids, pos, self._mats)  # data.geom_xpos[gids] in place
-        mat2quat = self._mj.mju_mat2Quat
-        for quat, mat in self._foot_rows:
-            mat2quat(quat, mat)
+        # data.geom_xpos[gids] in place, and the quaternions by MuJoCo's mju_mat2Quat
+        gather_poses(self._geom_xpos, self._geom_xmat, self._gids, pos, self._mats, quats, self._mat2quat)
+        if not self._mat2quat:  # its C function not found: through the binding
+            mat2quat = self._mj.mju_mat2Quat
+            for quat, mat in self._foot_rows:
+                mat2quat(quat, mat)
         if self._everywhere:  # every foot in the one patch, always: no masks, the wrench written in place
             self._patch_changed = bool(self._patch[0] != 0)
             self._patch[:] = 0
