@@ -99,13 +99,6 @@ def rest_band(p: np.ndarray, mode: int, depth: float, strain: float, neck_force:
     return f_up, f_down
 
 
-# the same two functions compiled into branch_forces_row's callers rather than called (the same source, so the
-# same arithmetic; ~30 % of a MuJoCo 3-D foot's band: calls the compiler cannot see through, and Eq. (4)'s power
-# computed for a bound that is not used); the built-in engine keeps calling rest_band and necked_force
-_rest_band_inlined = njit(cache=True, nogil=True, inline="always")(rest_band.py_func)
-_necked_force_inlined = njit(cache=True, nogil=True, inline="always")(necked_force.py_func)
-
-
 @njit(cache=True, nogil=True)
 def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: float, f_up: np.ndarray,
                   f_down: np.ndarray, drag: np.ndarray) -> None:
@@ -155,7 +148,7 @@ def branch_forces_row(states: np.ndarray, params: np.ndarray, j: int, dt: float,
         if states[j, S_STARTED] != 0.0 and z + v * dt > 0.0 and weight > 0.0:
             # touchdown within the step: the intrusion force at the predicted end, z_m = 0 at the surface
             z1 = z + v * dt
-            lo, hi = _rest_band_inlined(params[j], ContactMode.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
+            lo, hi = rest_band(params[j], ContactMode.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
             return weight * min(lo, hi), weight * hi, 0.0
         return 0.0, 0.0, 0.0
     s = load_state(states, j)
@@ -173,14 +166,14 @@ def branch_forces_row(states: np.ndarray, params: np.ndarray, j: int, dt: float,
     lo0 = hi0 = 0.0
     if mode == ContactMode.NECKED:
         if start:
-            force0, zm0 = _necked_force_inlined(p, s.neck_v, s.neck_z, s.neck_age)
-            lo0, hi0 = _rest_band_inlined(p, mode, z, z - zm0, force0)
-        lo1, zm1 = _necked_force_inlined(p, s.neck_v, s.neck_z, s.neck_age + dt)
-        _, hi1 = _rest_band_inlined(p, mode, z_dn, z_dn - zm1, 0.0)
+            force0, zm0 = necked_force(p, s.neck_v, s.neck_z, s.neck_age)
+            lo0, hi0 = rest_band(p, mode, z, z - zm0, force0)
+        lo1, zm1 = necked_force(p, s.neck_v, s.neck_z, s.neck_age + dt)
+        _, hi1 = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
     else:
         e0 = z - s.mud
         if start:
-            lo0, hi0 = _rest_band_inlined(p, mode, z, e0, 0.0)
+            lo0, hi0 = rest_band(p, mode, z, e0, 0.0)
         tau_i = q.tau_i
         tau_w = q.tau_w
         cache = load_cache(states, j)
@@ -192,7 +185,7 @@ def branch_forces_row(states: np.ndarray, params: np.ndarray, j: int, dt: float,
             decay_w = math.exp(-dt / tau_w)
         e_dn = maxwell_strain_step(e0, v_dn, tau_i, decay_i)
         e_up = maxwell_strain_step(e0, v_up, tau_w, decay_w)
-        _, hi1 = _rest_band_inlined(p, mode, z_dn, e_dn, 0.0)
-        lo1, _ = _rest_band_inlined(p, mode, z_up, e_up, 0.0)
+        _, hi1 = rest_band(p, mode, z_dn, e_dn, 0.0)
+        lo1, _ = rest_band(p, mode, z_up, e_up, 0.0)
     return (rest_band_blend(weight, lo0, lo1), rest_band_blend(weight, hi0, hi1),
             q.area * submerged_drag_stress(q.lam, q.rho_m, v, z))
