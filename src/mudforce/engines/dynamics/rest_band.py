@@ -161,8 +161,7 @@ def branch_forces_row(states: np.ndarray, params: np.ndarray, j: int, dt: float,
     # down with v >= 0 on the intrusion branch, up with v <= 0 on the withdrawal branch
     v_dn = max(v, 0.0)
     v_up = min(v, 0.0)
-    z_dn = z + v_dn * dt
-    z_up = z + v_up * dt
+    z_dn = z + v_dn * dt  # (the withdrawal bound does not depend on the depth it ends at: no z_up)
     lo0 = hi0 = 0.0
     if mode == ContactMode.NECKED:
         if start:
@@ -186,6 +185,8 @@ def branch_forces_row(states: np.ndarray, params: np.ndarray, j: int, dt: float,
         e_dn = maxwell_strain_step(e0, v_dn, tau_i, decay_i)
         e_up = maxwell_strain_step(e0, v_up, tau_w, decay_w)
         _, hi1 = rest_band(p, mode, z_dn, e_dn, 0.0)
-        lo1, _ = rest_band(p, mode, z_up, e_up, 0.0)
+        # rest_band's F_up of a foot in CONTACT, the withdrawal branch: S k_m_w e, with no spring (Eq. (4) enters
+        # F_down only), so the spring is not computed for it
+        lo1, _ = rest_band_forces(e_up, 0.0, q.k_i, q.k_w, q.area)
     return (rest_band_blend(weight, lo0, lo1), rest_band_blend(weight, hi0, hi1),
             q.area * submerged_drag_stress(q.lam, q.rho_m, v, z))
