@@ -25,6 +25,7 @@ import numpy as np
 from numba import njit
 
 from mudforce._kernel import ContactMode, load_cache, load_state, params_from_row
+from mudforce._kernel.layout import FREE, S_DEPTH, S_MODE, S_STARTED, S_VELOCITY
 from mudforce.model.equations import (
     maxwell_strain_step,
     neck_filter_response,
@@ -35,7 +36,7 @@ from mudforce.model.equations import (
     submerged_drag_stress,
 )
 
-__all__ = ["branch_forces", "necked_force", "rest_band"]
+__all__ = ["branch_forces", "branch_forces_row", "necked_force", "rest_band"]
 
 
 @njit(cache=True, nogil=True)
@@ -126,51 +127,66 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
     adapter's case: a fixed time step), else computed here.
     """
     for j in range(states.shape[0]):
-        s = load_state(states, j)
-        p = params[j]
-        q = params_from_row(p)
-        mode = s.mode
-        z = s.depth
-        v = s.velocity
-        area = q.area
-        if s.started == 0.0 or mode == ContactMode.FREE:
-            f_up[j] = 0.0
-            f_down[j] = 0.0
-            drag[j] = 0.0
-            if s.started != 0.0 and z + v * dt > 0.0 and weight > 0.0:
-                # touchdown within the step: the intrusion force at the predicted end, z_m = 0 at the surface
-                z1 = z + v * dt
-                lo, hi = rest_band(p, ContactMode.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
-                f_down[j] = weight * hi
-                f_up[j] = weight * min(lo, hi)
-            continue
-        # each bound is its own branch's force at the predicted end of the step:
-        # down with v >= 0 on the intrusion branch, up with v <= 0 on the withdrawal branch
-        v_dn = max(v, 0.0)
-        v_up = min(v, 0.0)
-        z_dn = z + v_dn * dt
-        z_up = z + v_up * dt
-        if mode == ContactMode.NECKED:
+        f_up[j], f_down[j], drag[j] = branch_forces_row(states, params, j, dt, weight, True)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def branch_forces_row(states: np.ndarray, params: np.ndarray, j: int, dt: float, weight: float,
+                      start: bool) -> tuple[float, float, float]:
+    """:func:`branch_forces` of row ``j`` alone: ``(f_up, f_down, drag)`` [N] (inlined into its callers).
+
+    ``start=False`` leaves out the band at the step's start (0 in its place), which only
+    ``weight = 1`` allows: ``rest_band_blend(1, a, b)`` is ``0 a + b``, which differs from
+    ``0 + b`` at most in the sign of a zero (for a finite ``a``), and a sum that starts at ``+0``
+    does not see that sign (the MuJoCo 3-D adapter's sums over elements,
+    :mod:`mudforce.engines.mujoco._step3d`). Same arithmetic otherwise.
+    """
+    if states[j, S_STARTED] == 0.0 or states[j, S_MODE] == FREE:
+        # (the two columns read directly: most rows of a 3-D foot are FREE, and this skips the rest of the row)
+        z = states[j, S_DEPTH]
+        v = states[j, S_VELOCITY]
+        if states[j, S_STARTED] != 0.0 and z + v * dt > 0.0 and weight > 0.0:
+            # touchdown within the step: the intrusion force at the predicted end, z_m = 0 at the surface
+            z1 = z + v * dt
+            lo, hi = rest_band(params[j], ContactMode.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
+            return weight * min(lo, hi), weight * hi, 0.0
+        return 0.0, 0.0, 0.0
+    s = load_state(states, j)
+    p = params[j]
+    q = params_from_row(p)
+    mode = s.mode
+    z = s.depth
+    v = s.velocity
+    # each bound is its own branch's force at the predicted end of the step:
+    # down with v >= 0 on the intrusion branch, up with v <= 0 on the withdrawal branch
+    v_dn = max(v, 0.0)
+    v_up = min(v, 0.0)
+    z_dn = z + v_dn * dt  # (the withdrawal bound does not depend on the depth it ends at: no z_up)
+    lo0 = hi0 = 0.0
+    if mode == ContactMode.NECKED:
+        if start:
             force0, zm0 = necked_force(p, s.neck_v, s.neck_z, s.neck_age)
-            lo1, zm1 = necked_force(p, s.neck_v, s.neck_z, s.neck_age + dt)
             lo0, hi0 = rest_band(p, mode, z, z - zm0, force0)
-            _, hi1 = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
-        else:
-            e0 = z - s.mud
+        lo1, zm1 = necked_force(p, s.neck_v, s.neck_z, s.neck_age + dt)
+        _, hi1 = rest_band(p, mode, z_dn, z_dn - zm1, 0.0)
+    else:
+        e0 = z - s.mud
+        if start:
             lo0, hi0 = rest_band(p, mode, z, e0, 0.0)
-            tau_i = q.tau_i
-            tau_w = q.tau_w
-            cache = load_cache(states, j)
-            if cache.dt == dt:
-                decay_i = cache.decay_i
-                decay_w = cache.decay_w
-            else:
-                decay_i = math.exp(-dt / tau_i)
-                decay_w = math.exp(-dt / tau_w)
-            e_dn = maxwell_strain_step(e0, v_dn, tau_i, decay_i)
-            e_up = maxwell_strain_step(e0, v_up, tau_w, decay_w)
-            _, hi1 = rest_band(p, mode, z_dn, e_dn, 0.0)
-            lo1, _ = rest_band(p, mode, z_up, e_up, 0.0)
-        f_up[j] = rest_band_blend(weight, lo0, lo1)
-        f_down[j] = rest_band_blend(weight, hi0, hi1)
-        drag[j] = area * submerged_drag_stress(q.lam, q.rho_m, v, z)
+        tau_i = q.tau_i
+        tau_w = q.tau_w
+        cache = load_cache(states, j)
+        if cache.dt == dt:
+            decay_i = cache.decay_i
+            decay_w = cache.decay_w
+        else:
+            decay_i = math.exp(-dt / tau_i)
+            decay_w = math.exp(-dt / tau_w)
+        e_dn = maxwell_strain_step(e0, v_dn, tau_i, decay_i)
+        e_up = maxwell_strain_step(e0, v_up, tau_w, decay_w)
+        _, hi1 = rest_band(p, mode, z_dn, e_dn, 0.0)
+        # rest_band's F_up of a foot in CONTACT, the withdrawal branch: S k_m_w e, with no spring (Eq. (4) enters
+        # F_down only), so the spring is not computed for it
+        lo1, _ = rest_band_forces(e_up, 0.0, q.k_i, q.k_w, q.area)
+    return (rest_band_blend(weight, lo0, lo1), rest_band_blend(weight, hi0, hi1),
+            q.area * submerged_drag_stress(q.lam, q.rho_m, v, z))

@@ -8,18 +8,26 @@ of :mod:`mudforce.model.law3d` (one element's components; compiled through their
 registration) and Eq. (4) through
 :func:`mudforce.model.equations.nonlinear_spring_stress`, the functions the
 compiled 3-D step (:mod:`mudforce._kernel.step3d`) calls. The 1-D states'
-bands come from :func:`mudforce.engines.dynamics.rest_band.branch_forces`
-(compiled, called by the adapter per patch). :func:`add_wrench` adds (or,
+bands come from :func:`mudforce.engines.dynamics.rest_band.branch_forces_row`
+(:func:`foot_band`: only where they count, summed per foot). :func:`add_wrench` adds (or,
 with ``sign=-1``, takes back) the explicit wrench to ``xfrc_applied``.
 """
 
 from __future__ import annotations
 
+import ctypes
+import glob
 import math
+import os
+from typing import Any
 
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 
 from mudforce._kernel.layout import _compiled
+from mudforce.engines.dynamics.rest_band import branch_forces_row
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
     bearing_factor,
@@ -29,12 +37,26 @@ from mudforce.model.law3d import (
     vertical_weight,
 )
 
-__all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "add_wrench",
-           "gather_poses", "prepare"]
+__all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "N_SCRATCH",
+           "add_wrench", "feet_bands", "foot_band", "gather_poses", "mat2quat_address", "prepare", "scratch"]
 
 # columns of the per-foot constants (those of the foot's patch; row ignored off every patch)
 C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO, C_WIDTH = 0, 1, 2, 3, 4, 5
 N_FOOT_CONSTANTS = 6
+#: rows of :func:`prepare`'s scratch
+N_SCRATCH = 14
+
+
+def scratch(widest: int) -> np.ndarray:
+    """:func:`prepare`'s scratch for feet of at most ``widest`` elements: (``N_SCRATCH``, w).
+
+    The rows are padded so that they do not lie a multiple of 4 KiB apart
+    (as :func:`mudforce._kernel.step3d.lateral_scratch`'s, for the same reason).
+    """
+    width = -(-max(widest, 1) // 8) * 8
+    if width % 512 == 0:
+        width += 8
+    return np.zeros((N_SCRATCH, width))
 
 
 @_compiled(nogil=False)
@@ -45,13 +67,57 @@ def add_wrench(xfrc: np.ndarray, bodies: np.ndarray, applied: np.ndarray, sign: 
             xfrc[bodies[f], j] += sign * applied[f, j]
 
 
+def mat2quat_address(mj: Any) -> int:
+    """The address of MuJoCo's C function ``mju_mat2Quat`` in its shared library, or 0 where it is not found.
+
+    ``mj`` the ``mujoco`` module. The library is the one its bindings load
+    (``libmujoco.so*``, ``libmujoco*.dylib`` or ``mujoco.dll`` beside them):
+    loading it again gives the same one. :func:`gather_poses` calls the
+    function there, once per foot, for ~10 ns instead of the binding's ~1 us:
+    the same code, the same bits.
+    """
+    folder = os.path.dirname(mj.__file__)
+    for pattern in ("libmujoco.so*", "libmujoco*.dylib", "mujoco.dll"):
+        for path in sorted(glob.glob(os.path.join(folder, pattern))):
+            try:
+                fn = ctypes.CDLL(path).mju_mat2Quat
+            except (OSError, AttributeError):
+                continue
+            return int(ctypes.cast(fn, ctypes.c_void_p).value or 0)
+    return 0
+
+
+def _call_pp_typing(typingctx: Any, address: Any, a: Any, b: Any) -> Any:
+    """Typing and code of :data:`_call_pp`."""
+    if not all(isinstance(x, types.Integer) for x in (address, a, b)):
+        return None
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        byte_ptr = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [byte_ptr, byte_ptr])
+        fn = builder.inttoptr(args[0], fnty.as_pointer())
+        builder.call(fn, [builder.inttoptr(args[1], byte_ptr), builder.inttoptr(args[2], byte_ptr)])
+        return context.get_dummy_value()
+
+    return types.void(address, a, b), codegen
+
+
+#: In compiled code, ``f(a, b)`` for the C function ``void f(void *, void *)`` at integer address ``f``, on the
+#: integer addresses ``a`` and ``b`` (numba has no public call through an integer address).
+_call_pp: Any = intrinsic(_call_pp_typing)
+
+
 @_compiled(nogil=False)
 def gather_poses(geom_xpos: np.ndarray, geom_xmat: np.ndarray, gids: np.ndarray, pos: np.ndarray,
-                 mats: np.ndarray) -> None:
-    """The foot geoms' positions [m] and rotation matrices (row by row) into ``pos`` (n, 3) and ``mats`` (n, 9).
+                 mats: np.ndarray, quats: np.ndarray, mat2quat: int) -> None:
+    """The foot geoms' positions [m], rotation matrices (row by row) and quaternions into ``pos`` (n, 3), ``mats``
+    (n, 9) and ``quats`` (n, 4).
 
     ``geom_xpos`` and ``geom_xmat`` are MuJoCo's ``data`` arrays, ``gids`` the feet's geom ids: the values
-    ``data.geom_xpos[gids]`` and ``data.geom_xmat[gids]`` give, without allocating.
+    ``data.geom_xpos[gids]`` and ``data.geom_xmat[gids]`` give, without allocating. The quaternions are
+    MuJoCo's ``mju_mat2Quat`` of the matrices, called at address ``mat2quat``
+    (:func:`mat2quat_address`); with 0, ``quats`` is left alone (the caller calls the binding).
+    ``pos``, ``mats``, ``quats`` must be C-contiguous.
     """
     for f in range(gids.shape[0]):
         g = gids[f]
@@ -59,16 +125,63 @@ def gather_poses(geom_xpos: np.ndarray, geom_xmat: np.ndarray, gids: np.ndarray,
             pos[f, j] = geom_xpos[g, j]
         for j in range(9):
             mats[f, j] = geom_xmat[g, j]
+    if mat2quat != 0:
+        q0 = quats.ctypes.data
+        m0 = mats.ctypes.data
+        for f in range(gids.shape[0]):
+            _call_pp(mat2quat, q0 + 32 * f, m0 + 72 * f)  # rows of 4 and 9 doubles
+
+
+@_compiled(nogil=False)
+def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: int, r: np.ndarray, nb: np.ndarray,
+              area: np.ndarray) -> tuple[float, float, float]:
+    """A foot's vertical band and drag for the coming step [N]: ``(F_up, F_down, F_drag)``.
+
+    The sums over elements ``lo:hi`` of each element's band and drag
+    (:func:`mudforce.engines.dynamics.rest_band.branch_forces_row` on its 1-D state
+    row of ``states``/``params``, weight 1: a stress [Pa]) times its
+    downward-facing area ``A_i max(-n_z, 0)`` (``r`` the foot's rotation, row
+    by row; ``nb``, ``area`` the elements' body-frame normals and areas).
+    An element that faces no way down adds ``0`` times its band, which
+    changes no sum, so its band is not computed; nor is the band at the
+    step's start, which weight 1 multiplies by 0 (see ``branch_forces_row``).
+    The sums are those of ``branch_forces`` over every element, bit for bit.
+    """
+    f_up = f_down = f_drag = 0.0
+    for i in range(lo, hi):
+        nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
+        w = area[i] * vertical_weight(nz)
+        if w != 0.0:
+            up, down, drag = branch_forces_row(states, params, i, dt, 1.0, False)
+            f_up += w * up
+            f_down += w * down
+            f_drag += w * drag
+    return f_up, f_down, f_drag
+
+
+@_compiled(nogil=False)
+def feet_bands(states: np.ndarray, params: np.ndarray, dt: float, patch: np.ndarray, k: int, starts: np.ndarray,
+               mats: np.ndarray, nb: np.ndarray, area: np.ndarray, bands: np.ndarray) -> None:
+    """:func:`foot_band` of every foot in patch ``k`` (``patch[f] == k``) into ``bands[f]`` (n, 3) [N].
+
+    ``states``, ``params``: patch ``k``'s 1-D rows (one per element of every
+    foot); ``mats`` (n, 9) the feet's rotations; ``starts`` each foot's
+    element rows; ``dt`` [s].
+    """
+    for f in range(patch.shape[0]):
+        if patch[f] == k:
+            bands[f, 0], bands[f, 1], bands[f, 2] = foot_band(states, params, dt, starts[f], starts[f + 1], mats[f],
+                                                                nb, area)
 
 
 @_compiled(nogil=False)
 def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, starts: np.ndarray,
             cb: np.ndarray, nb: np.ndarray, area: np.ndarray, patch: np.ndarray, const: np.ndarray,
-            up: np.ndarray, down: np.ndarray, drag: np.ndarray, velocity_z: np.ndarray, u: np.ndarray,
-            xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
+            states: np.ndarray, params: np.ndarray, k_band: int, bands: np.ndarray, velocity_z: np.ndarray,
+            u: np.ndarray, xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
             anchors: np.ndarray, tendons: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray,
             anchor_height: float, rest_speed: float, band: np.ndarray, holds: np.ndarray, applied: np.ndarray,
-            dirs: np.ndarray) -> None:
+            dirs: np.ndarray, scratch: np.ndarray) -> None:
     """The next step's bands, holds, contact points, anchors and explicit wrench, foot by foot.
 
     ``pos`` (n, 3) [m] and ``mats`` (n, 9) the foot geoms' poses; ``last_pos``
@@ -76,14 +189,22 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
     element rows; ``cb``, ``nb`` (E, 3), ``area`` (E,) the elements in the
     geom's frame [m], [-], [m^2]; ``patch`` (n,) each foot's patch or -1;
     ``const`` (n, ``N_FOOT_CONSTANTS``) its patch's constants (``C_*``);
-    ``up``, ``down``, ``drag`` (P, E) each patch's element bands and drag [Pa]
-    (``branch_forces`` on unit areas); ``velocity_z`` (n,) written [m/s];
+    ``states``, ``params`` patch ``k_band``'s 1-D rows: the band of a foot in
+    that patch is :func:`foot_band` on them, here; that of a foot in another
+    patch was put in ``bands`` (n, 3) [N] by :func:`feet_bands`;
+    ``velocity_z`` (n,) written [m/s];
     ``u`` (n, 2) each foot's last horizontal direction (updated). MuJoCo's
     arrays: ``xipos``, ``xpos``, ``xmat`` (data), ``site_pos``,
     ``frictionloss`` (model, written). Written: ``band`` (2, n) [N],
-    ``holds`` (n, 2) [N], ``applied`` (n, 6) [N], [N m], ``dirs`` (n, 3, 3).
+    ``holds`` (n, 2) [N], ``applied`` (n, 6) [N], [N m], ``dirs`` (n, 3, 3);
+    ``scratch`` (:data:`N_SCRATCH`, at least the most elements of a foot):
+    a foot's submerged elements side by side, for loops without branches.
     """
     n = pos.shape[0]
+    # the scratch's rows as arrays of their own (so that the compiler sees them apart and vectorises)
+    s_nx, s_ny, s_nz, s_cx, s_cy, s_cz = scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5]
+    s_depth, s_area, s_spring, s_hu, s_hv = scratch[6], scratch[7], scratch[8], scratch[9], scratch[10]
+    s_gx, s_gy, s_wet = scratch[11], scratch[12], scratch[13]
     for f in range(n):
         px, py, pz = pos[f, 0], pos[f, 1], pos[f, 2]
         vx = (px - last_pos[f, 0]) / dt
@@ -100,6 +221,11 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
         r = mats[f]
         lo, hi = starts[f], starts[f + 1]
         f_up = f_down = f_drag = 0.0
+        if k >= 0:
+            if k == k_band:
+                f_up, f_down, f_drag = foot_band(states, params, dt, lo, hi, r, nb, area)
+            else:
+                f_up, f_down, f_drag = bands[f, 0], bands[f, 1], bands[f, 2]
         total = qx = qy = qz = 0.0
         hold_u = hold_v = 0.0
         fx = fy = 0.0
@@ -108,6 +234,7 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
         surface = const[f, C_SURFACE]
         sigma_y, alpha, beta = const[f, C_SIGMA_Y], const[f, C_ALPHA], const[f, C_BETA]
         lam_rho, width = const[f, C_LAM_RHO], const[f, C_WIDTH]
+        m = 0  # the foot's submerged elements, gathered into the scratch rows
         for i in range(lo, hi):
             cx = px + r[0] * cb[i, 0] + r[1] * cb[i, 1] + r[2] * cb[i, 2]
             cy = py + r[3] * cb[i, 0] + r[4] * cb[i, 1] + r[5] * cb[i, 2]
@@ -117,28 +244,40 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
                 lx, ly, lz = cx, cy, cz
             if k < 0:
                 continue
-            nx = r[0] * nb[i, 0] + r[1] * nb[i, 1] + r[2] * nb[i, 2]
-            ny = r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2]
-            nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
-            w = area[i] * vertical_weight(nz)
-            f_up += w * up[k, i]
-            f_down += w * down[k, i]
-            f_drag += w * drag[k, i]
             depth = surface - cz
-            spring = nonlinear_spring_stress(alpha, beta, depth, width)  # Eq. (4); 0 at and above the surface
-            wet = w * spring
+            if depth > 0.0:  # only submerged elements are loaded (Eq. (4) is 0 at and above the surface)
+                nx = r[0] * nb[i, 0] + r[1] * nb[i, 1] + r[2] * nb[i, 2]
+                ny = r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2]
+                nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
+                s_nx[m], s_ny[m], s_nz[m] = nx, ny, nz
+                s_cx[m], s_cy[m], s_cz[m] = cx, cy, cz
+                s_depth[m] = depth
+                s_area[m] = area[i]
+                m += 1
+        # over the gathered elements, in loops without branches (vectorised): Eq. (4), the holds, the drag
+        for j in range(m):
+            s_spring[j] = nonlinear_spring_stress(alpha, beta, s_depth[j], width)
+        for j in range(m):
+            nx, ny, nz, spring, a_j = s_nx[j], s_ny[j], s_nz[j], s_spring[j], s_area[j]
+            s_hu[j] = a_j * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, ux, uy), spring,
+                                             bearing_factor(nx, ny, nz, ux, uy))
+            s_hv[j] = a_j * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, -uy, ux), spring,
+                                             bearing_factor(nx, ny, nz, -uy, ux))
+            gx, gy = horizontal_drag(lam_rho, 1.0, nx, ny, vx, vy)
+            s_gx[j] = gx * a_j
+            s_gy[j] = gy * a_j
+            s_wet[j] = (a_j * vertical_weight(nz)) * spring
+        # summed in element order (an element above the surface would add zeros, which change no sum)
+        for j in range(m):
+            wet = s_wet[j]
             total += wet
-            qx += wet * cx
-            qy += wet * cy
-            qz += wet * cz
-            if depth > 0.0:  # only submerged elements are loaded sideways
-                hold_u += area[i] * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, ux, uy), spring,
-                                                     bearing_factor(nx, ny, nz, ux, uy))
-                hold_v += area[i] * lateral_capacity(sigma_y, shear_fraction(nx, ny, nz, -uy, ux), spring,
-                                                     bearing_factor(nx, ny, nz, -uy, ux))
-                gx, gy = horizontal_drag(lam_rho, 1.0, nx, ny, vx, vy)
-                fx += gx * area[i]
-                fy += gy * area[i]
+            qx += wet * s_cx[j]
+            qy += wet * s_cy[j]
+            qz += wet * s_cz[j]
+            hold_u += s_hu[j]
+            hold_v += s_hv[j]
+            fx += s_gx[j]
+            fy += s_gy[j]
         if total > 0.0:
             qx, qy, qz = qx / total, qy / total, qz / total
         else:

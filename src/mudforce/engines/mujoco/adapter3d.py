@@ -25,7 +25,7 @@ explicitly through ``xfrc_applied`` (added for the step, taken back after).
 
 * **Vertically**, the rest band ``[F_up, F_down]`` of the foot is the sum,
   over its elements, of each element's band
-  (:func:`mudforce.engines.dynamics.rest_band.branch_forces` on its 1-D state, a
+  (:func:`mudforce.engines.dynamics.rest_band.branch_forces_row` on its 1-D state, a
   stress) times its downward-facing projection ``A_i max(-n_z, 0)``
   (:func:`mudforce.model.law3d.vertical_weight`): the mid-band force plus the
   drag is applied, and half the band's width is the friction of a vertical
@@ -66,7 +66,6 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.engines.dynamics.rest_band import branch_forces
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
 from mudforce.engines.mujoco._spec import check_prefix, mujoco_module, name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
@@ -79,8 +78,11 @@ from mudforce.engines.mujoco._step3d import (
     C_WIDTH,
     N_FOOT_CONSTANTS,
     add_wrench,
+    feet_bands,
     gather_poses,
+    mat2quat_address,
     prepare,
+    scratch,
 )
 from mudforce.errors import InputError, positive_int
 from mudforce.model.shapes import Shape, from_mujoco_geom
@@ -301,10 +303,8 @@ class MudAdapter3D:
         self._area = np.concatenate([s.areas for s in slist])
         self._width = np.array([float(s.width) if s.width is not None else np.nan for s in slist])
         self._starts = np.concatenate(([0], np.cumsum(sizes)))
-        nel = len(self._area)
-        self._up = np.zeros((len(plist), nel))  # each patch's element bands and drag [Pa]
-        self._down = np.zeros((len(plist), nel))
-        self._drag = np.zeros((len(plist), nel))
+        self._scratch = scratch(max(sizes))  # prepare's: a foot's submerged elements side by side
+        self._bands = np.zeros((n, 3))  # the band (F_up, F_down) and drag [N] of feet in all patches but one
         self._patch_const = np.zeros((len(plist), N_FOOT_CONSTANTS))
         for k, p in enumerate(plist):
             q = p.params
@@ -325,6 +325,14 @@ class MudAdapter3D:
         self._applied = np.zeros((n, 6))  # the explicit force [N] and torque about the COM [N m] of the coming step
         self._dirs = np.zeros((n, 3, 3))  # unit vectors from contact point to each anchor (z, u, v)
         self._patch = np.full(n, -1, dtype=np.int64)
+        # MuJoCo's arrays and options read every step, taken once (views: its buffers do not move for the life of
+        # the model and data; a property read builds a new view each time, ~0.2 us, and model.opt ~1 us)
+        self._opt = model.opt
+        self._geom_xpos, self._geom_xmat = data.geom_xpos, data.geom_xmat
+        self._xipos, self._xpos, self._xmat = data.xipos, data.xpos, data.xmat
+        self._site_pos, self._frictionloss = model.site_pos, model.tendon_frictionloss
+        self._mat2quat = mat2quat_address(mj)  # MuJoCo's mju_mat2Quat, called from compiled code (0: not found)
+        self._foot_rows = [(self._quats[f], self._mats[f]) for f in range(n)]  # each foot's quaternion and matrix
         self._submerged = np.zeros(n, dtype=bool)
         self._warned: set[str] = set()
         self.law_forces = np.zeros((n, 3))  #: the law's force on each foot at the last committed pose [N]
@@ -342,8 +350,9 @@ class MudAdapter3D:
         self._patch[:] = -1
         self._mj.mj_forward(self.model, self.data)
         self._last_pos[:] = self.data.geom_xpos[self._gids]
-        self._commit(first=True)
-        self._prepare()
+        dt = float(self._opt.timestep)
+        self._commit(dt, first=True)
+        self._prepare(dt)
 
     def step(self, nstep: int = 1) -> None:
         """Advance the simulation ``nstep`` MuJoCo steps with the mud's wrench and holds."""
@@ -351,6 +360,7 @@ class MudAdapter3D:
             nstep = positive_int(nstep, "nstep")
         mj, model, data = self._mj, self.model, self.data
         xfrc = data.xfrc_applied
+        dt = float(self._opt.timestep)
         for _ in range(nstep):
             add_wrench(xfrc, self._bodies, self._applied, 1.0)
             mj.mj_step(model, data)
@@ -360,8 +370,8 @@ class MudAdapter3D:
             # the step's wrench and directions become the last ones; _prepare rewrites every entry of the others
             self._last_applied, self._applied = self._applied, self._last_applied
             self._last_dirs, self._dirs = self._dirs, self._last_dirs
-            self._commit(first=False)
-            self._prepare()
+            self._commit(dt, first=False)
+            self._prepare(dt)
 
     def _poses(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         d = self.data
@@ -372,15 +382,15 @@ class MudAdapter3D:
             self._mj.mju_mat2Quat(quats[f], mats[f].ravel())
         return pos, mats, quats
 
-    def _commit(self, *, first: bool) -> None:
+    def _commit(self, dt: float, *, first: bool) -> None:
         """Step each patch's feet to their poses (their first step when ``first``); reset the feet outside it."""
-        d = self.data
-        pos, mats, quats = self._pos, self._mats, self._quats
-        gather_poses(d.geom_xpos, d.geom_xmat, self._gids, pos, mats)  # data.geom_xpos[gids], without allocating
-        mat2quat = self._mj.mju_mat2Quat
-        for f in range(len(self.feet)):
-            mat2quat(quats[f], mats[f])
-        dt = float(self.model.opt.timestep)
+        pos, quats = self._pos, self._quats
+        # data.geom_xpos[gids] in place, and the quaternions by MuJoCo's mju_mat2Quat
+        gather_poses(self._geom_xpos, self._geom_xmat, self._gids, pos, self._mats, quats, self._mat2quat)
+        if not self._mat2quat:  # its C function not found: through the binding
+            mat2quat = self._mj.mju_mat2Quat
+            for quat, mat in self._foot_rows:
+                mat2quat(quat, mat)
         if self._everywhere:  # every foot in the one patch, always: no masks, the wrench written in place
             self._patch_changed = bool(self._patch[0] != 0)
             self._patch[:] = 0
@@ -417,15 +427,22 @@ class MudAdapter3D:
         self._patch = where
         self._patch_changed = True
 
-    def _prepare(self) -> None:
+    def _prepare(self, dt: float) -> None:
         """The next step's bands, holds, contact points, anchors and explicit wrench (compiled: ``_step3d.prepare``)."""
-        model, d = self.model, self.data
         pos, mats = self._pos, self._mats
-        dt = float(model.opt.timestep)
-        for k in range(len(self._contacts)):
-            if self._everywhere or (self._patch == k).any():
-                states, rows = self._rows[k]
-                branch_forces(states, rows, dt, 1.0, self._up[k], self._down[k], self._drag[k])
+        # the bands of the feet in the first patch that holds any are computed in prepare, the others' here
+        k_band = 0
+        if not self._everywhere:
+            k_band = -1
+            for k in range(len(self._contacts)):
+                if (self._patch == k).any():
+                    if k_band < 0:
+                        k_band = k
+                    else:
+                        states, rows = self._rows[k]
+                        feet_bands(states, rows, dt, self._patch, k, self._starts, mats, self._nb, self._area,
+                                   self._bands)
+        states, rows = self._rows[max(k_band, 0)]
         const = self._const
         if self._patch_changed:
             for f in range(len(self.feet)):
@@ -433,9 +450,9 @@ class MudAdapter3D:
                 if k >= 0:
                     const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
-                self._up, self._down, self._drag, self._velocity_z, self._u, d.xipos, d.xpos, d.xmat, self._bodies,
-                self._sites, self._anchors, self._tendons, model.site_pos, model.tendon_frictionloss, ANCHOR_HEIGHT,
-                REST_SPEED, self._band, self.capacity, self._applied, self._dirs)
+                states, rows, k_band, self._bands, self._velocity_z, self._u, self._xipos, self._xpos, self._xmat,
+                self._bodies, self._sites, self._anchors, self._tendons, self._site_pos, self._frictionloss,
+                ANCHOR_HEIGHT, REST_SPEED, self._band, self.capacity, self._applied, self._dirs, self._scratch)
 
     def _check_floor(self) -> None:
         """Warn once per foot that touches a geom that is not a foot while it is in the mud."""
