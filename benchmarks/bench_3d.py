@@ -222,12 +222,35 @@ def bench_engines(steps: int, repeats: int) -> None:
     print(f"  ratio mud/rigid                  {m[0] / r[0]:8.2f} {m[1] / r[1]:8.2f}")
 
 
+def bench_mjx_env(worlds: int) -> None:
+    """The MJX quadruped environment: seconds per control step of ``worlds`` worlds, after compiling."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "quadruped_mjx_env.py"
+    spec = importlib.util.spec_from_file_location("quadruped_mjx_env", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    per_step = module.bench(worlds=worlds, steps=50)
+    substeps = module.QuadrupedMudEnv().substeps
+    print(f"MJX quadruped in mud (examples/quadruped_mjx_env.py), {worlds} worlds on {module.jax.default_backend()}: "
+          f"{per_step * 1e3:.2f} ms per control step ({substeps} physics steps), "
+          f"{per_step / worlds / substeps * 1e6:.1f} us per world per physics step")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer steps and repeats, and no 4096-foot run")
     ap.add_argument("--repeats", type=int, default=None)
     ap.add_argument("--engines", action="store_true", help="only the MuJoCo quadruped, mud feet vs rigid ground")
+    ap.add_argument("--mjx-env", type=int, default=None, metavar="WORLDS",
+                    help="only the MJX quadruped environment (examples/quadruped_mjx_env.py), WORLDS worlds "
+                         "(16 on a CPU, 4096 on a GPU)")
     args = ap.parse_args()
+    if args.mjx_env is not None:
+        bench_mjx_env(args.mjx_env)
+        return
     repeats = args.repeats or (3 if args.quick else 7)
     steps = 200 if args.quick else 1000
     if args.engines:
