@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import _thread
+import signal
 import sys
 import threading
 import time
@@ -13,12 +14,20 @@ import pytest
 from mudforce._plumbing import interrupt
 
 
+@pytest.fixture(autouse=True)
+def python_sigint() -> object:
+    """Python's own SIGINT handler while a test runs (watch() acts only under it; a pytest-xdist worker has
+    another), and the worker's back afterwards."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+
 def test_a_retry_that_fired_late_is_absorbed_and_the_interrupt_still_stops_the_command(
         monkeypatch: pytest.MonkeyPatch) -> None:
     """The race a loaded machine showed: a lost interrupt's retry, already running when the command stopped,
     interrupted the main thread after ``main`` had returned 130, and Python ended the process by SIGINT (-2)."""
-    if threading.current_thread() is not threading.main_thread():
-        pytest.skip("watch() acts in the main thread only")
     real = _thread.interrupt_main
 
     def slow_retry() -> None:  # the retry's timer thread, descheduled between its wait and its call
@@ -38,8 +47,6 @@ def test_a_retry_that_fired_late_is_absorbed_and_the_interrupt_still_stops_the_c
 
 
 def test_a_ctrl_c_that_arrives_as_the_command_ends_is_not_swallowed() -> None:
-    if threading.current_thread() is not threading.main_thread():
-        pytest.skip("watch() acts in the main thread only")
     with pytest.raises(KeyboardInterrupt), interrupt.watch():
         _thread.interrupt_main()  # pending at the end of the body
     time.sleep(0.05)
@@ -48,8 +55,6 @@ def test_a_ctrl_c_that_arrives_as_the_command_ends_is_not_swallowed() -> None:
 def test_an_interrupt_that_lands_in_the_hook_itself_does_not_escape_it(monkeypatch: pytest.MonkeyPatch) -> None:
     """A retry delivered while the hook starts the next one: it is absorbed, the retry is scheduled anyway, and
     nothing is printed as "Exception ignored in sys.unraisablehook" (seen once on a loaded machine)."""
-    if threading.current_thread() is not threading.main_thread():
-        pytest.skip("watch() acts in the main thread only")
     real_start = threading.Timer.start
     calls: list[int] = []
 
