@@ -44,7 +44,10 @@ explicitly through ``xfrc_applied`` (added for the step, taken back after).
 * All of it acts at the foot's **contact point**, the centroid of its
   submerged downward-facing area (the lowest element when none is): a
   site the adapter moves there before every step, with the three tendons'
-  anchors 1 m above it and 1 m away along ``u`` and across it.
+  anchors 1 m above it and 1 m away along ``u`` and across it. (For a
+  geom at its body's origin MuJoCo keeps that site at the origin,
+  ``site_sameframe``, so such a foot is held at its geom's centre:
+  docs/engines3d.md says why that is left so.)
 
 After each MuJoCo step the feet's new poses are committed to their 3-D
 states (:attr:`law_forces`, :attr:`law_torques`: the law's own wrench on the
