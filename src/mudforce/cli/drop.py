@@ -1,6 +1,6 @@
-"""Drop a cuboid foot into mud and simulate how it sinks, sticks and settles.
+"""Drop a foot into mud and simulate how it sinks, sticks and settles.
 
-The paper's 51 x 38 mm cuboid foot of the given mass is released at rest
+By default the paper's 51 x 38 mm cuboid foot of the given mass is released at rest
 with its bottom at the mud surface (or --height above it) and falls under
 gravity (9.81 m/s^2) into mud of the given water content (Table I of Chen,
 Yi & Shan 2024, interpolated between rows). The mud force is the model's,
@@ -12,6 +12,11 @@ Engines: "builtin" integrates the one-degree-of-freedom foot event-driven
 (RK4 with event location, 0.1 ms sub-steps); "mujoco" runs MuJoCo (1 ms
 steps) with the mudforce.engines.mujoco adapter (needs: pip install 'mudforce[mujoco]'); "mjx" runs
 MuJoCo's JAX port MJX (1 ms steps, one jitted scan) with mudforce.engines.mjx (needs: pip install 'mudforce[mjx]').
+
+With --shape (sphere:40mm, capsule:30mmx60mm, box:..., cylinder:..., disc:...; --engine mujoco), a free foot
+of that shape goes through the 3-D law in MuJoCo (mudforce.engines.mujoco.MudAdapter3D), optionally
+tilted (--tilt) and moving sideways (--vx); its CSV columns are time_s, x_m, y_m, z_m, depth_m, vx_m_s,
+vz_m_s, force_x_N, force_y_N, force_z_N, tilt_deg.
 
 Output CSV columns: time_s, depth_m (positive down), velocity_m_s
 (positive down), force_N (mud force, positive up), state (FREE, INTRUSION,
@@ -28,6 +33,7 @@ examples:
   mudforce drop --mass 5kg --water-content 25% --out drop.csv
   mudforce drop --engine mujoco --mass 10kg --water-content 20% --duration 4s --out drop.csv --plot drop.png
   mudforce drop --mass 5kg --water-content 15% --height 20mm --out drop.csv
+  mudforce drop --engine mujoco --shape sphere:40mm --tilt 10 --vx 50mm/s --mass 2kg --water-content 25% --out s.csv
 """
 
 from __future__ import annotations
