@@ -422,14 +422,9 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     foot has started.
     """
     m = positions.shape[0]
-    any_started = False
-    for f in range(m):
-        any_started |= ft[f, F_STARTED] != 0.0
-    if any_started:
-        if not MIN_DT <= dt <= MAX_DT:  # False for NaN
-            return BAD_DT
-    else:
-        dt = 1.0  # ignored by every element's first step, as MudContact3D passes it
+    dt = _checked_dt(ft, m, dt)  # 1.0 (ignored by every element's first step) while no foot has started
+    if dt != dt:
+        return BAD_DT
     bad = _place(positions, quaternions, el, ft, starts, depths)
     if bad != OK:
         return bad
