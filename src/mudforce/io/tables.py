@@ -146,6 +146,14 @@ def read_columns(
         raise InputError(f"{p}: cannot read ({exc.strerror})") from None
 
 
+def _header(reader: Iterator[list[str]]) -> list[str] | None:
+    """The first row with a non-blank cell, its cells stripped (the header); None if there is none."""
+    for row in reader:
+        if row and any(c.strip() for c in row):
+            return [c.strip() for c in row]
+    return None
+
+
 def _read(
     p: Path,
     reader: Iterator[list[str]],
@@ -155,13 +163,7 @@ def _read(
     keep_text: Sequence[str],
     matched: dict[str, str] | None,
 ) -> dict[str, np.ndarray]:
-    header: list[str] | None = None
-    line = 0
-    for row in reader:
-        line = reader.line_num  # type: ignore[attr-defined]
-        if row and any(c.strip() for c in row):
-            header = [c.strip() for c in row]
-            break
+    header = _header(reader)
     if header is None:
         raise InputError(f"{p}: file is empty; expected a header row like {example} and data rows")
     named = [h for h in header if h]
@@ -276,13 +278,10 @@ def is_pose_trajectory(path: str | os.PathLike[str]) -> bool:
     """
     try:
         with Path(path).open(newline="", encoding="utf-8-sig") as handle:
-            for row in csv.reader(handle):
-                if row and any(c.strip() for c in row):
-                    header = [c.strip() for c in row]
-                    break
-            else:
-                return False
+            header = _header(csv.reader(handle))
     except (OSError, UnicodeDecodeError, csv.Error, TypeError):
+        return False
+    if header is None:
         return False
     spellings = {s for q, ss in POSE_COLUMNS.items() if q != "time" for s, _ in ss}
     poses = [h for h in header if h in spellings]
