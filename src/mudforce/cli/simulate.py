@@ -138,15 +138,18 @@ def _load_params(args: argparse.Namespace) -> tuple[MudParameters, str]:
     return MudParameters.from_water_content(w), f"{label}, W = {format_quantity(w, 'fraction')}"
 
 
+def _refuse_protocol_options(args: argparse.Namespace) -> None:
+    """With --trajectory (depths or poses) the file sets the motion: any protocol option is refused."""
+    given = [option for attr, option, *_ in _PROTOCOL_OPTIONS if getattr(args, attr) is not None]
+    if given:
+        raise InputError(f"{', '.join(given)} cannot be used with --trajectory (the file sets the motion); "
+                         "give either the protocol options or --trajectory")
+
+
 def _motion(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, str]:
     """Sampled time [s] and depth [m], and a label for the motion."""
-    given = [option for attr, option, *_ in _PROTOCOL_OPTIONS if getattr(args, attr) is not None]
     if args.trajectory is not None:
-        if given:
-            raise InputError(
-                f"{', '.join(given)} cannot be used with --trajectory (the file sets the motion); "
-                f"give either the protocol options or --trajectory"
-            )
+        _refuse_protocol_options(args)
         from mudforce.io.tables import read_trajectory
 
         time, depth = read_trajectory(args.trajectory)
@@ -284,10 +287,7 @@ def _run_poses(args: argparse.Namespace, out: Path, plot: Path | None) -> int:
     """A pose trajectory: every option checked, the 3-D law along the poses, the wrench's CSV written atomically."""
     from mudforce._kernel.bounds import MAX_DEPTH
 
-    given = [option for attr, option, *_ in _PROTOCOL_OPTIONS if getattr(args, attr) is not None]
-    if given:
-        raise InputError(f"{', '.join(given)} cannot be used with --trajectory (the file sets the motion); "
-                         "give either the protocol options or --trajectory")
+    _refuse_protocol_options(args)
     if plot is not None:
         raise InputError("--plot is not available with a pose trajectory; plot the CSV's force_x_N, force_y_N "
                          "and force_z_N columns")
