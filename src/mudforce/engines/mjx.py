@@ -218,6 +218,33 @@ def _sole_kinematics(m: Any, d: Any, patch: MudPatch) -> tuple[Array, Array, Arr
     return patch.surface_height - points[:, 2], jac, jac @ d.qvel
 
 
+def _free_motion(m: Any, d: Any, dt: float, qfrc: Array, jac: Array) -> tuple[Array, Array, Array]:
+    """The step without mud: ``qacc`` from the generalised force ``qfrc``, ``M^-1 J^T`` of the rows ``jac``
+    (rows, nv), and the rows' velocities at the step's end [m/s].
+
+    ``M`` includes the joint damping that Euler integrates implicitly (``M + dt D``), so that a row held at
+    rest by the mud ends the step at rest (the module's docstring). Shared by :func:`step` and
+    :func:`mudforce.engines.mjx3d.step`.
+    """
+    mjx = _mjx()
+    mass = mjx.full_m(m, d)
+    if not m.opt.disableflags & mjx.DisableBit.EULERDAMP:
+        mass = mass + jnp.diag(dt * m.dof_damping)
+    qacc = jnp.linalg.solve(mass, qfrc)
+    minv_jt = jnp.linalg.solve(mass, jac.T)  # (nv, rows)
+    return qacc, minv_jt, jac @ (d.qvel + dt * qacc)
+
+
+def _integrate(m: Any, d: Any, qfrc_smooth: Array, qacc: Array) -> Any:
+    """``d`` with the mud's generalised force in ``qfrc_smooth`` and its ``qacc``, advanced by the model's
+    integrator (Euler or implicitfast). Shared by :func:`step` and :func:`mudforce.engines.mjx3d.step`."""
+    mjx = _mjx()
+    d = d.replace(qfrc_smooth=qfrc_smooth, qacc=qacc)
+    if m.opt.integrator == mjx.IntegratorType.EULER:
+        return mjx.euler(m, d)
+    return mjx.implicit(m, d)
+
+
 _SWEEPS = 24  # projected Gauss-Seidel sweeps over the feet before the exact solve on the stuck set
 
 
@@ -325,12 +352,7 @@ def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) 
     # the band for the coming step and the force that would stop the sole within it
     f_up, f_down, drag = mj.branch_forces(feet, patch.params, dt, weight)
     # the velocity the integrator will give: Euler integrates joint damping implicitly, (M + dt D) qacc = qfrc
-    mass = mjx.full_m(m, d)
-    if not m.opt.disableflags & mjx.DisableBit.EULERDAMP:
-        mass = mass + jnp.diag(dt * m.dof_damping)
-    qacc = jnp.linalg.solve(mass, d.qfrc_smooth + d.qfrc_constraint)
-    minv_jt = jnp.linalg.solve(mass, jac.T)  # (nv, feet)
-    v_free = jac @ (d.qvel + dt * qacc)  # upward sole velocity at the step's end without mud
+    qacc, minv_jt, v_free = _free_motion(m, d, dt, d.qfrc_smooth + d.qfrc_constraint, jac)  # v_free: up, no mud
     if jac.shape[0] == 1:  # one foot: its effective mass 1 / (j M^-1 j^T) is the whole story
         w = jnp.einsum("fv,vf->f", jac, minv_jt)  # 1 / effective mass of the sole [1/kg]
         f_stop = (-v_free / (dt * w)).astype(dtype)
@@ -341,11 +363,7 @@ def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) 
                                      drag, feet, state.force)
     stuck = stuck & ((feet.mode == mj.CONTACT) | (feet.mode == mj.NECKED))
     f = force.astype(d.qacc.dtype)
-    d = d.replace(qfrc_smooth=d.qfrc_smooth + jac.T @ f, qacc=qacc + minv_jt @ f)
-    if m.opt.integrator == mjx.IntegratorType.EULER:
-        d = mjx.euler(m, d)
-    else:
-        d = mjx.implicit(m, d)
+    d = _integrate(m, d, d.qfrc_smooth + jac.T @ f, qacc + minv_jt @ f)
     return d, MudState(feet, stuck, force), force
 
 

@@ -99,7 +99,7 @@ import mudforce.jax as mj
 import mudforce.jax.contact3d as mj3
 from mudforce._plumbing.optional import require
 from mudforce.engines.dynamics.result import REST_SPEED
-from mudforce.engines.mjx import _joint_rows, _mjx
+from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx
 from mudforce.engines.mujoco import MudPatch
 from mudforce.engines.mujoco.adapter3d import _patch_list, foot_geom
 from mudforce.errors import InputError
@@ -447,12 +447,7 @@ def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> 
     jacp = jax.vmap(point_jacobian)(pos.astype(d.qpos.dtype), mud.bodies)  # (F, nv, 3)
     jac = jnp.einsum("frk,fvk->frv", dirs.astype(jacp.dtype), jacp).reshape(3 * nfeet, -1)  # (3F, nv): z, u, across
     explicit = jnp.einsum("fvk,fk->v", jacp, foot.drag_h.astype(jacp.dtype))  # the horizontal drag, generalised
-    mass = mjx.full_m(m, d)
-    if not m.opt.disableflags & mjx.DisableBit.EULERDAMP:
-        mass = mass + jnp.diag(dt * m.dof_damping)
-    qacc = jnp.linalg.solve(mass, d.qfrc_smooth + d.qfrc_constraint + explicit)
-    minv_jt = jnp.linalg.solve(mass, jac.T)  # (nv, 3F)
-    v_free = jac @ (d.qvel + dt * qacc)
+    qacc, minv_jt, v_free = _free_motion(m, d, dt, d.qfrc_smooth + d.qfrc_constraint + explicit, jac)
     lo = jnp.stack([foot.f_up, -foot.hold_u, -foot.hold_v], axis=-1).reshape(-1)
     hi = jnp.stack([foot.f_down, foot.hold_u, foot.hold_v], axis=-1).reshape(-1)
     drag = jnp.stack([foot.drag, zeros, zeros], axis=-1).reshape(-1)
@@ -461,11 +456,7 @@ def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> 
     rows, stuck = _joint_rows((jac @ minv_jt).astype(dtype), (-v_free / dt).astype(dtype), lo, hi, drag, down,
                               previous)
     f = rows.astype(d.qacc.dtype)
-    d = d.replace(qfrc_smooth=d.qfrc_smooth + jac.T @ f + explicit, qacc=qacc + minv_jt @ f)
-    if m.opt.integrator == mjx.IntegratorType.EULER:
-        d = mjx.euler(m, d)
-    else:
-        d = mjx.implicit(m, d)
+    d = _integrate(m, d, d.qfrc_smooth + jac.T @ f + explicit, qacc + minv_jt @ f)
     rows = rows.reshape(nfeet, 3)
     force = jnp.einsum("fr,frk->fk", rows, dirs) + foot.drag_h
     new = MudState3D(feet, patch, pos, u, rows, stuck.reshape(nfeet, 3), force,
