@@ -25,6 +25,7 @@ import math
 import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -165,6 +166,18 @@ def bench_jax(shape: shapes.Shape, feet: int, steps: int, repeats: int) -> tuple
     return best / steps, median / steps
 
 
+def _example(name: str) -> Any:
+    """``examples/NAME.py`` imported as the module ``NAME`` (registered in ``sys.modules``: a dataclass of the
+    script looks itself up there)."""
+    path = Path(__file__).resolve().parents[1] / "examples" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
 def bench_engines(steps: int, repeats: int) -> None:
     """Issue 22, "Speed": the MuJoCo quadruped of examples/quadruped_in_mud.py trotting, four mud feet vs rigid.
 
@@ -175,12 +188,7 @@ def bench_engines(steps: int, repeats: int) -> None:
 
     from mudforce.engines.mujoco import MudAdapter3D, MudPatch
 
-    path = __file__.replace("benchmarks/bench_3d.py", "examples/quadruped_in_mud.py")
-    spec_ = importlib.util.spec_from_file_location("quadruped_in_mud", path)
-    assert spec_ is not None and spec_.loader is not None
-    q = importlib.util.module_from_spec(spec_)
-    sys.modules["quadruped_in_mud"] = q  # its dataclass looks itself up there
-    spec_.loader.exec_module(q)
+    q = _example("quadruped_in_mud")
 
     made: list[Any] = []
 
@@ -224,14 +232,7 @@ def bench_engines(steps: int, repeats: int) -> None:
 
 def bench_mjx_env(worlds: int) -> None:
     """The MJX quadruped environment: seconds per control step of ``worlds`` worlds, after compiling."""
-    import importlib.util
-    from pathlib import Path
-
-    path = Path(__file__).resolve().parents[1] / "examples" / "quadruped_mjx_env.py"
-    spec = importlib.util.spec_from_file_location("quadruped_mjx_env", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = _example("quadruped_mjx_env")
     per_step = module.bench(worlds=worlds, steps=50)
     substeps = module.QuadrupedMudEnv().substeps
     print(f"MJX quadruped in mud (examples/quadruped_mjx_env.py), {worlds} worlds on {module.jax.default_backend()}: "

@@ -2,27 +2,19 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-pytest.importorskip("mujoco")
+from load_example import load_example
 
-PATH = Path(__file__).resolve().parents[2] / "examples" / "quadruped_in_mud.py"
+pytest.importorskip("mujoco")
 
 
 @pytest.fixture(scope="module")
 def example():  # type: ignore[no-untyped-def]
-    spec = importlib.util.spec_from_file_location("quadruped_in_mud", PATH)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["quadruped_in_mud"] = module
-    spec.loader.exec_module(module)
-    return module
+    return load_example("quadruped_in_mud")
 
 
 def test_the_quadruped_sinks_plausibly_and_slips_less_than_on_a_frictionless_floor(example) -> None:  # type: ignore[no-untyped-def]

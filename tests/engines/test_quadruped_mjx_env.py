@@ -5,29 +5,19 @@ Finite, the same for the same seed, and each world's own mud shows: the wetter w
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from jax_compile import light
+from load_example import load_example
 
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 
-PATH = Path(__file__).resolve().parents[2] / "examples" / "quadruped_mjx_env.py"
-
 
 @pytest.fixture(scope="module")
 def example():  # type: ignore[no-untyped-def]
-    spec = importlib.util.spec_from_file_location("quadruped_mjx_env", PATH)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["quadruped_mjx_env"] = module
-    spec.loader.exec_module(module)
-    return module
+    return load_example("quadruped_mjx_env")
 
 
 def test_the_environment_is_finite_reproducible_and_each_world_has_its_own_mud(example) -> None:  # type: ignore[no-untyped-def]
