@@ -46,8 +46,9 @@ def pytest_configure(config: pytest.Config) -> None:
     if not _distributed(config) or os.environ.get("MUDFORCE_NO_WARMUP"):
         return
     script = Path(__file__).resolve().parent / "numba_warmup.py"
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [str(Path(__file__).resolve().parents[1] / "src"), os.environ.get("PYTHONPATH", "")])}
+    from mudforce_cli_harness import cli_env  # the package under test first on the path, as every subprocess
+
+    env = cli_env()
     halves = [subprocess.Popen([sys.executable, str(script), part], env=env, stdin=subprocess.DEVNULL,
                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True) for part in ("a", "b")]
     for proc in halves:
