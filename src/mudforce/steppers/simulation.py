@@ -297,7 +297,7 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int, tim
     Parameters
     ----------
     t, z : ndarray
-        Sample times [s] and depths [m], contiguous float64 (not checked here).
+        Sample times [s] and depths [m], float64 (copied if not contiguous; values not checked here).
     prow : ndarray
         The stepper's constants, shape ``(1, N_PARAMS)`` (:func:`params_row`).
     window : int
@@ -313,6 +313,9 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int, tim
         ``bad`` is the first sample the stepper refused (the arrays are
         then valid before it) or -1.
     """
+    # one compiled specialisation: a strided column (a table's) would compile the loop a second time (~15 s cold)
+    t = np.ascontiguousarray(t, dtype=np.float64)
+    z = np.ascontiguousarray(z, dtype=np.float64)
     n = t.size
     state = np.empty(n, dtype=np.int8)
     mud = np.empty(n, dtype=np.float64)
