@@ -36,3 +36,31 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
     for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco"), strict=True):
         assert_refused(run, word)
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_drop_with_a_shape_in_mjx_and_its_refusals(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``--engine mjx --shape``: the same foot through mudforce.engines.mjx3d (one compile, XLA's light options)."""
+    pytest.importorskip("mujoco.mjx")
+    from jax_compile import light_env
+
+    monkeypatch.setenv("XLA_FLAGS", light_env()["XLA_FLAGS"])  # the harness passes this process's environment on
+    mjx = ["drop", "--engine", "mjx", "--mass", "2kg", "--water-content", "20%", "--duration", "0.1s"]
+    runs = run_batch([
+        ([*mjx, "--shape", "sphere:40mm", "--tilt", "5", "--vx", "20mm/s", "--out", "m.csv"], tmp_path),
+        ([*mjx, "--shape", "sphere:40mm", "--vx", "fast", "--out", "x.csv"], tmp_path),
+        ([*mjx, "--shape", "sphere:40mm", "--tilt", "200", "--out", "x.csv"], tmp_path),
+        ([*mjx, "--shape", "sphere:40mm", "--plot", "x.png", "--out", "x.csv"], tmp_path),
+        ([*mjx[:3], "0.5kg", *mjx[4:], "--shape", "sphere:40mm", "--out", "x.csv"], tmp_path),
+    ])
+    run = runs[0]
+    assert run.returncode == 0 and "mjx 3-D sphere: depth" in run.stdout, run.stderr
+    rows = (tmp_path / "m.csv").read_text().splitlines()
+    assert rows[0] == "time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"
+    assert len(rows) == 102
+    first, last = [float(v) for v in rows[1].split(",")], [float(v) for v in rows[-1].split(",")]
+    assert first[5] == pytest.approx(0.02) and first[10] == pytest.approx(5.0)
+    assert 0.0 < last[1] < 0.01 and last[9] == pytest.approx(2.0 * 9.81, rel=0.02)  # held, carrying m g
+    assert last[4] == pytest.approx(10.7e-3, rel=0.05)  # tests/engines/test_drops3d.py: the exact drop, 10.74 mm
+    for run, word in zip(runs[1:], ("--vx", "--tilt", "--plot", "--mass"), strict=True):
+        assert_refused(run, word)
+    assert not (tmp_path / "x.csv").exists()

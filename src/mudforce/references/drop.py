@@ -202,7 +202,7 @@ def exact_drop_3d(
         raise InputError("the shape has no downward-facing element: nothing carries it")
     ref = float(-depth[0].max()) if bottom is None else finite_number(bottom, "bottom", "m")
     # element depth = reference point's depth + offset, offset = ref - c_z <= 0 for elements above it
-    offset = depth[0, loaded] + ref
+    offset = np.round(depth[0, loaded] + ref, 12)  # one level for elements within 1e-12 m (a rotation's rounding)
     levels, which = np.unique(offset, return_inverse=True)
     summed = np.bincount(which, weights=weights[loaded], minlength=levels.size)
     order = np.argsort(-levels, kind="stable")  # the deepest level first
@@ -461,10 +461,11 @@ def _solve_drop(mass: float, params: MudParameters, offsets: np.ndarray, weights
     depth = np.empty(n)
     vel = np.empty(n)
     frc = np.empty(n)
-    for t0, t1, fn in pieces:
-        sel = (grid >= t0) & (grid <= t1)
+    for k, (t0, t1, fn) in enumerate(pieces):
+        last = k == len(pieces) - 1  # it also takes grid points past the horizon by a rounding (n dt > duration)
+        sel = (grid >= t0) & ((grid <= t1) | last)
         if sel.any():
-            zz, vv, ff = fn(grid[sel])
+            zz, vv, ff = fn(np.minimum(grid[sel], t1))
             depth[sel], vel[sel], frc[sel] = zz, vv, ff
     zend, _, _ = pieces[-1][2](np.array([min(duration, pieces[-1][1])]))
     return ExactDrop(events, grid, depth, vel, frc, float(zend[0]), float(final))
