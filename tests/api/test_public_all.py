@@ -174,7 +174,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.jax.contact3d": ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"],
     "mudforce.jax.domain": ["params_from_water_content"],
     "mudforce.engines.mjx": ["MudPatch", "MudState", "add_mud", "drop_model", "init", "simulate_drop", "step"],
-    "mudforce.engines.mjx3d": ["Mud3D", "MudState3D", "add_mud", "init", "set_mud", "step"],
+    "mudforce.engines.mjx3d": ["Mud3D", "MudState3D", "add_mud", "init", "set_mud", "simulate_drop", "step"],
     "mudforce.engines.mujoco": [
         "ANCHOR_HEIGHT", "STICK_VELOCITY", "MudAdapter", "MudAdapter3D", "MudPatch", "add_mud", "add_mud_3d",
         "drop_model", "foot_of", "simulate_drop", "simulate_drop_3d",
@@ -197,9 +197,9 @@ PINNED: dict[str, list[str]] = {
     "mudforce.motions.quadruped": [
         "FEET", "GAITS", "QUADRUPED_XML", "ROBOT_FOOT", "QuadrupedGait", "RobotWalk", "robot_walk",
     ],
-    "mudforce.references.contact3d": ["Reference3DResult", "reference_simulate_3d"],
+    "mudforce.references.contact3d": ["Reference3DResult", "place", "reference_simulate_3d", "vertical_weights"],
     "mudforce.references.trajectory": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
-    "mudforce.references.drop": ["GRAVITY", "ExactDrop", "exact_drop"],
+    "mudforce.references.drop": ["GRAVITY", "ExactDrop", "exact_drop", "exact_drop_3d"],
     "mudforce.reproduce": [
         "MAX_SEED", "POORLY_DETERMINED", "SCATTERED", "VELOCITY_FREE", "ReproduceConfig", "ReproduceResult",
         "Terminated", "check_output_dir", "check_seed", "determined", "make_experiments", "reproduce",

@@ -10,7 +10,7 @@ pytest.importorskip("mujoco")
 
 from mudforce_cli_harness import assert_refused, run_batch
 
-BASE = ["drop", "--engine", "mujoco", "--mass", "5kg", "--water-content", "20%", "--duration", "0.1s"]
+BASE = ["drop", "--engine", "mujoco", "--mass", "5kg", "--water-content", "20%", "--duration", "0.15s"]
 
 
 def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path: Path) -> None:
@@ -28,11 +28,39 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
     assert box.returncode == 0 and "mujoco 3-D box" in box.stdout, box.stderr
     rows = (tmp_path / "s.csv").read_text().splitlines()
     assert rows[0] == "time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"
-    assert len(rows) == 102
+    assert len(rows) == 152
     last = [float(v) for v in rows[-1].split(",")]
     assert 0.0 < last[1] < 0.01  # slid forward a little, then held by the mud
     assert last[4] > 0.0 and last[9] == pytest.approx(5.0 * 9.81, rel=0.02)
     assert float((tmp_path / "b.csv").read_text().splitlines()[1].split(",")[-1]) == pytest.approx(10.0)
     for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco"), strict=True):
+        assert_refused(run, word)
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_drop_with_a_shape_in_mjx_and_its_refusals(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``--engine mjx --shape``: the same foot through mudforce.engines.mjx3d (one compile, XLA's light options)."""
+    pytest.importorskip("mujoco.mjx")
+    from jax_compile import light_env
+
+    monkeypatch.setenv("XLA_FLAGS", light_env()["XLA_FLAGS"])  # the harness passes this process's environment on
+    mjx = ["drop", "--engine", "mjx", "--mass", "2kg", "--water-content", "20%", "--duration", "0.1s"]
+    runs = run_batch([
+        ([*mjx, "--shape", "sphere:40mm", "--tilt", "5", "--vx", "20mm/s", "--out", "m.csv"], tmp_path),
+        ([*mjx, "--shape", "sphere:40mm", "--vx", "fast", "--out", "x.csv"], tmp_path),
+        ([*mjx, "--shape", "sphere:40mm", "--tilt", "200", "--out", "x.csv"], tmp_path),
+        ([*mjx, "--shape", "sphere:40mm", "--plot", "x.png", "--out", "x.csv"], tmp_path),
+        ([*mjx[:3], "0.5kg", *mjx[4:], "--shape", "sphere:40mm", "--out", "x.csv"], tmp_path),
+    ])
+    run = runs[0]
+    assert run.returncode == 0 and "mjx 3-D sphere: depth" in run.stdout, run.stderr
+    rows = (tmp_path / "m.csv").read_text().splitlines()
+    assert rows[0] == "time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"
+    assert len(rows) == 102
+    first, last = [float(v) for v in rows[1].split(",")], [float(v) for v in rows[-1].split(",")]
+    assert first[5] == pytest.approx(0.02) and first[10] == pytest.approx(5.0)
+    assert 0.0 < last[1] < 0.01 and last[9] == pytest.approx(2.0 * 9.81, rel=0.02)  # held, carrying m g
+    assert last[4] == pytest.approx(10.7e-3, rel=0.05)  # tests/engines/test_drops3d.py: the exact drop, 10.74 mm
+    for run, word in zip(runs[1:], ("--vx", "--tilt", "--plot", "--mass"), strict=True):
         assert_refused(run, word)
     assert not (tmp_path / "x.csv").exists()

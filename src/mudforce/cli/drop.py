@@ -13,8 +13,9 @@ Engines: "builtin" integrates the one-degree-of-freedom foot event-driven
 steps) with the mudforce.engines.mujoco adapter (needs: pip install 'mudforce[mujoco]'); "mjx" runs
 MuJoCo's JAX port MJX (1 ms steps, one jitted scan) with mudforce.engines.mjx (needs: pip install 'mudforce[mjx]').
 
-With --shape (sphere:40mm, capsule:30mmx60mm, box:..., cylinder:..., disc:...; --engine mujoco), a free foot
-of that shape goes through the 3-D law in MuJoCo (mudforce.engines.mujoco.MudAdapter3D), optionally
+With --shape (sphere:40mm, capsule:30mmx60mm, box:..., cylinder:..., disc:...; --engine mujoco or mjx), a free
+foot of that shape goes through the 3-D law in MuJoCo (mudforce.engines.mujoco.MudAdapter3D) or MJX
+(mudforce.engines.mjx3d, one jitted scan: compiling it takes seconds to a minute), 1 ms steps, optionally
 tilted (--tilt) and moving sideways (--vx); its CSV columns are time_s, x_m, y_m, z_m, depth_m, vx_m_s,
 vz_m_s, force_x_N, force_y_N, force_z_N, tilt_deg.
 
@@ -34,6 +35,7 @@ examples:
   mudforce drop --engine mujoco --mass 10kg --water-content 20% --duration 4s --out drop.csv --plot drop.png
   mudforce drop --mass 5kg --water-content 15% --height 20mm --out drop.csv
   mudforce drop --engine mujoco --shape sphere:40mm --tilt 10 --vx 50mm/s --mass 2kg --water-content 25% --out s.csv
+  mudforce drop --engine mjx --shape sphere:40mm --mass 2kg --water-content 20% --duration 0.5s --out s.csv
 """
 
 from __future__ import annotations
@@ -74,7 +76,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--height", default="0mm", metavar="H",
                         help="release height of the foot's bottom above the surface, 0 to 10m (default: 0mm)")
     parser.add_argument("--shape", default=None, metavar="KIND:SIZE",
-                        help="a free foot of this shape through the 3-D MuJoCo adapter (needs --engine mujoco): "
+                        help="a free foot of this shape through the 3-D law (needs --engine mujoco or mjx): "
                              f"{SHAPE_EXAMPLES} (capsule: diameter x length; a disc is a cylinder)")
     parser.add_argument("--tilt", default=None, metavar="DEG",
                         help="with --shape: the foot's rotation about x in degrees, e.g. 20 or 20deg (default: 0)")
@@ -160,8 +162,8 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
         if args.tilt is not None or args.vx is not None:
             raise InputError("--tilt and --vx need --shape (e.g. --shape sphere:40mm)")
         return None
-    if args.engine != "mujoco":
-        raise InputError(f"--shape needs --engine mujoco (the 3-D adapter), got --engine {args.engine}")
+    if args.engine not in ("mujoco", "mjx"):
+        raise InputError(f"--shape needs --engine mujoco or mjx (the 3-D engines), got --engine {args.engine}")
     kind, dims = parse_shape(args.shape)
     if kind == "disc":  # a disc is a cylinder as high as it is thick (mudforce.model.shapes.disc)
         kind = "cylinder"
@@ -184,19 +186,26 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
 
 def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: float, height: float,
             shape3d: tuple[str, list[float], float, float], out: object, plot: object) -> int:
-    """``mudforce drop --shape``: the 3-D MuJoCo adapter; CSV of the foot's pose, velocity and force."""
+    """``mudforce drop --shape``: the 3-D MuJoCo adapter or MJX; CSV of the foot's pose, velocity and force."""
     import math
 
     from mudforce._plumbing.optional import require
-
-    require("mujoco", "mujoco", "--engine mujoco")
-    from mudforce.engines.mujoco import simulate_drop_3d
     from mudforce.io.results import write_text
 
     if plot is not None:
         raise InputError("--plot is not available with --shape; plot the CSV")
     kind, dims, tilt, vx = shape3d
-    res = simulate_drop_3d(mass, params, kind, dims, duration=duration, height=height, tilt=tilt, vx=vx)
+    if args.engine == "mjx":
+        require("jax", "mjx", "--engine mjx")
+        require("mujoco.mjx", "mjx", "--engine mjx")
+        from mudforce.engines.mjx3d import simulate_drop
+
+        res = simulate_drop(mass, params, kind, dims, duration=duration, height=height, tilt=tilt, vx=vx)
+    else:
+        require("mujoco", "mujoco", "--engine mujoco")
+        from mudforce.engines.mujoco import simulate_drop_3d
+
+        res = simulate_drop_3d(mass, params, kind, dims, duration=duration, height=height, tilt=tilt, vx=vx)
     lines = ["time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"]
     for k in range(res.time.size):
         x, y, z = res.position[k]
@@ -209,6 +218,6 @@ def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: flo
         raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
     speed = res.speed(min(0.5, duration / 2))
     state = "at rest" if speed <= 1e-4 else f"moving at {speed * 1e3:.3f} mm/s"
-    print(f"mujoco 3-D {kind}: depth {res.depth[-1] * 1e3:.3f} mm after {duration:g} s, {state}; "
+    print(f"{args.engine} 3-D {kind}: depth {res.depth[-1] * 1e3:.3f} mm after {duration:g} s, {state}; "
           f"drifted {res.position[-1, 0] * 1e3:.3f} mm in x; wrote {out}")
     return 0

@@ -101,14 +101,14 @@ from mudforce._plumbing.optional import require
 from mudforce.engines.dynamics.result import REST_SPEED
 from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx
 from mudforce.engines.mujoco import MudPatch
-from mudforce.engines.mujoco.adapter3d import _patch_list, foot_geom
-from mudforce.errors import InputError
+from mudforce.engines.mujoco.adapter3d import Drop3D, _drop_result, _drop_spec, _patch_list, foot_geom
+from mudforce.errors import InputError, finite_number
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape, from_mujoco_geom
 
-__all__ = ["Mud3D", "MudState3D", "add_mud", "init", "set_mud", "step"]
+__all__ = ["Mud3D", "MudState3D", "add_mud", "init", "set_mud", "simulate_drop", "step"]
 
 Array = Any
 _HOLD = 1e-7  # [m]: a stuck foot's element that moved less than this in a step keeps its depth (float32 rounding)
@@ -463,3 +463,76 @@ def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> 
                      jnp.stack([foot.f_up, foot.f_down], axis=-1), jnp.stack([foot.hold_u, foot.hold_v], axis=-1),
                      law_force, law_torque, foot.depth)
     return d, new, force
+
+
+def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *, duration: float = 2.0,
+                  height: float = 0.0, tilt: float = 0.0, vx: float = 0.0, dt: float = 1e-3,
+                  resolution: float | None = None, compiler_options: dict[str, Any] | None = None) -> Drop3D:
+    """Drop a free foot geom into mud in MJX with :func:`step` (one jitted scan): a
+    :class:`mudforce.engines.mujoco.adapter3d.Drop3D`, as :func:`mudforce.engines.mujoco.simulate_drop_3d` gives.
+
+    Parameters
+    ----------
+    mass : float
+        [kg], > 0.
+    params : MudParameters
+        The mud.
+    shape : str
+        ``sphere``, ``capsule``, ``cylinder`` or ``box`` (MuJoCo's frame: a capsule's and cylinder's axis is z).
+    size : sequence of float
+        Full dimensions [m]: a sphere's diameter; a capsule's or cylinder's diameter and length (a capsule's
+        between its caps' centres); a box's length, width and height.
+    duration : float
+        Simulated time [s], > 0.
+    height : float
+        Release height of the lowest point above the surface [m], >= 0.
+    tilt : float
+        Rotation about the world x axis [rad].
+    vx : float
+        Initial horizontal velocity along x [m/s].
+    dt : float
+        Time step [s], > 0 (1 ms by default, as the CPU adapter's drop; docs/engines3d.md, "The time step").
+    resolution : float, optional
+        Element size of the foot's surface [m].
+    compiler_options : dict, optional
+        XLA's options for the scan's compilation (``jax.jit(...).lower(...).compile(compiler_options)``).
+
+    Returns
+    -------
+    Drop3D
+        One row a step: the pose MJX's data holds after the step (its start, as the CPU adapter's), the
+        velocity after it, and the mud's force in it (float32 unless JAX's x64 is enabled).
+    """
+    mjx = _mjx()
+    if not isinstance(params, MudParameters):
+        raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
+    duration = finite_number(duration, "duration", "s", positive=True)
+    vx = finite_number(vx, "vx", "m/s")
+    spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
+    model = spec.compile()
+    mud = add_mud(model, ["foot"], MudPatch(params), resolution=resolution)
+    m = mjx.put_model(model)
+    d0 = mjx.make_data(m)
+    d0 = d0.replace(qvel=d0.qvel.at[0].set(vx))
+    steps = max(1, round(duration / float(dt)))
+
+    def body(carry: tuple[Any, MudState3D], _: Any) -> tuple[tuple[Any, MudState3D], tuple[Array, ...]]:
+        d, s = carry
+        d, s, force = step(m, d, s, mud)
+        return (d, s), (d.geom_xpos[0], d.geom_xmat[0], d.qvel[:3], force[0])
+
+    def run(d: Any) -> tuple[Array, ...]:
+        _, out = jax.lax.scan(body, (d, init(mud)), None, length=steps)
+        return tuple(out)
+
+    compiled = jax.jit(run).lower(d0).compile(compiler_options)
+    pos, mat, vel, force = (np.asarray(x, dtype=np.float64) for x in compiled(d0))
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    data = mujoco.MjData(model)
+    data.qvel[0] = vx
+    mujoco.mj_forward(model, data)
+    position = np.vstack([np.asarray(data.geom_xpos[0])[None], pos])
+    rots = np.concatenate([np.asarray(data.geom_xmat[0]).reshape(1, 3, 3), mat.reshape(-1, 3, 3)])
+    velocity = np.vstack([np.asarray(data.qvel[:3])[None], vel])
+    forces = np.vstack([np.zeros((1, 3)), force])
+    return _drop_result(shape, model.geom_size[0], float(dt), position, velocity, forces, rots, mass)

@@ -87,7 +87,7 @@ from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.references.trajectory import reference_simulate
 
-__all__ = ["Reference3DResult", "reference_simulate_3d"]
+__all__ = ["Reference3DResult", "place", "reference_simulate_3d", "vertical_weights"]
 
 Float = NDArray[np.float64]
 
@@ -380,6 +380,28 @@ def _segment(step: _Step, a: float, b: float, y: Float, mode: NDArray[np.int8], 
         a = tau
 
 
+def place(shape: Shape, positions: Float, quaternions: Float, surface_height: float) -> tuple[
+        Float, Float, Float, Float]:
+    """The shape's elements at each pose: ``(offsets, centroids, normals, depth)`` [m, m, -, m].
+
+    ``positions`` (m, 3) [m] and unit ``quaternions`` (m, 4) ``(w, x, y, z)``; ``offsets`` (m, n, 3) are the
+    centroids relative to the body origin in the world frame, ``depth`` (m, n) each centroid's depth below
+    ``surface_height`` [m] (positive down).
+    """
+    q = quaternions
+    rot = Rotation.from_quat(np.stack([q[:, 1], q[:, 2], q[:, 3], q[:, 0]], axis=1)).as_matrix()  # (m, 3, 3)
+    offsets = np.einsum("kab,ib->kia", rot, shape.centroids)  # (m, n, 3)
+    centroids = positions[:, None, :] + offsets
+    normals = np.einsum("kab,ib->kia", rot, shape.normals)
+    return offsets, centroids, normals, surface_height - centroids[:, :, 2]
+
+
+def vertical_weights(areas: Float, normals: Float) -> Float:
+    """What carries each element's paper stress vertically: ``A_i max(-n_z, 0)`` [m^2] (its downward projection)."""
+    out: Float = areas * np.maximum(-normals[..., 2], 0.0)
+    return out
+
+
 def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParameters, shape: Shape, *,
                           surface_height: float = 0.0, width: float | None = None,
                           lateral_stiffness: float | None = None) -> Reference3DResult:
@@ -430,11 +452,7 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
     n = shape.n
     areas = np.asarray(shape.areas, dtype=np.float64)
 
-    rot = Rotation.from_quat(np.stack([q[:, 1], q[:, 2], q[:, 3], q[:, 0]], axis=1)).as_matrix()  # (m, 3, 3)
-    offsets = np.einsum("kab,ib->kia", rot, shape.centroids)  # (m, n, 3)
-    centroids = x[:, None, :] + offsets
-    normals = np.einsum("kab,ib->kia", rot, shape.normals)
-    depth = h - centroids[:, :, 2]
+    offsets, centroids, normals, depth = place(shape, x, q, h)
 
     # --- vertical: the 1-D oracle on each element's depth history (identical histories solved once)
     element = Foot(area=1.0, width=h_width, shape="element")
@@ -448,7 +466,7 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
             solved[key] = reference_simulate(t, depth[:, i], params, element).force
         stress[:, i] = solved[key]
     forces = np.zeros((m, n, 3))
-    forces[:, :, 2] = stress * areas * np.maximum(-normals[:, :, 2], 0.0)
+    forces[:, :, 2] = stress * vertical_weights(areas, normals)
 
     # --- horizontal: the rate form, step by step, with events
     slip = np.zeros((m, n, 2))

@@ -293,6 +293,7 @@ class MudAdapter3D:
         self._gids = np.array(gids, dtype=np.int64)
         self._bodies = np.array([int(model.geom_bodyid[g]) for g in gids], dtype=np.int64)
         self._sites = np.array([i["site"] for i in ids], dtype=np.int64)
+        self._sameframe = np.array([int(model.site_sameframe[s]) for s in self._sites], dtype=np.int64)
         self._anchors = np.array([[i["anchor_z"], i["anchor_u"], i["anchor_v"]] for i in ids], dtype=np.int64)
         self._tendons = np.array([[i["tendon_z"], i["tendon_u"], i["tendon_v"]] for i in ids], dtype=np.int64)
         self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.surface_height) for p in plist]
@@ -454,8 +455,9 @@ class MudAdapter3D:
                     const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
                 states, rows, k_band, self._bands, self._velocity_z, self._u, self._xipos, self._xpos, self._xmat,
-                self._bodies, self._sites, self._anchors, self._tendons, self._site_pos, self._frictionloss,
-                ANCHOR_HEIGHT, REST_SPEED, self._band, self.capacity, self._applied, self._dirs, self._scratch)
+                self._bodies, self._sites, self._sameframe, self._anchors, self._tendons, self._site_pos,
+                self._frictionloss, ANCHOR_HEIGHT, REST_SPEED, self._band, self.capacity, self._applied, self._dirs,
+                self._scratch)
 
     def _check_floor(self) -> None:
         """Warn once per foot that touches a geom that is not a foot while it is in the mud."""
@@ -576,6 +578,17 @@ def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: flo
                   dt: float = 1e-3) -> Any:
     """A compiled model of a free foot geom above mud at ``z = 0``, prepared with :func:`add_mud_3d` (foot ``"foot"``).
 
+    Parameters: as :func:`_drop_spec` ([kg], -, [m], [m], [rad], [s]).
+    """
+    spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
+    add_mud_3d(spec, ["foot"])
+    return spec.compile()
+
+
+def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float = 0.0, tilt: float = 0.0,
+              dt: float = 1e-3) -> Any:
+    """The ``mujoco.MjSpec`` of a free foot geom ``"foot"`` above mud at ``z = 0`` (no collisions; not prepared).
+
     Parameters
     ----------
     mass : float
@@ -617,8 +630,7 @@ def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: flo
     body.add_freejoint()
     kind = getattr(mj.mjtGeom, f"mjGEOM_{shape.upper()}")
     body.add_geom(name="foot", type=kind, size=list(half), mass=mass, contype=0, conaffinity=0)
-    add_mud_3d(spec, ["foot"])
-    return spec.compile()
+    return spec
 
 
 def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float], *, duration: float = 2.0,
@@ -650,20 +662,25 @@ def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float]
     data.qvel[0] = vx
     mud = MudAdapter3D(model, data, ["foot"], MudPatch(params), resolution=resolution)
     steps = max(1, round(duration / dt))
-    half = np.asarray(model.geom_size[0], dtype=float)
-    time = np.arange(steps + 1) * dt
     position = np.empty((steps + 1, 3))
     velocity = np.empty((steps + 1, 3))
-    depth = np.empty(steps + 1)
     force = np.zeros((steps + 1, 3))
-    tilt_out = np.empty(steps + 1)
+    rots = np.empty((steps + 1, 3, 3))
     for k in range(steps + 1):
         if k:
             mud.step()
             force[k] = mud.contact_forces[0]
-        rot = np.asarray(data.geom_xmat[0]).reshape(3, 3)
+        rots[k] = np.asarray(data.geom_xmat[0]).reshape(3, 3)
         position[k] = data.geom_xpos[0]
         velocity[k] = data.qvel[:3]
-        depth[k] = -(position[k, 2] - _lowest(shape, half, rot))
-        tilt_out[k] = math.acos(max(-1.0, min(1.0, float(rot[2, 2]))))
-    return Drop3D(time, position, velocity, depth, force, tilt_out, float(mass))
+    return _drop_result(shape, model.geom_size[0], dt, position, velocity, force, rots, mass)
+
+
+def _drop_result(shape: str, half: Any, dt: float, position: np.ndarray, velocity: np.ndarray, force: np.ndarray,
+                rots: np.ndarray, mass: float) -> Drop3D:
+    """A :class:`Drop3D` from the samples of a drop (one row a step): ``half`` the geom's MuJoCo size [m],
+    ``dt`` [s], ``position``, ``velocity``, ``force`` (m, 3) [m, m/s, N], ``rots`` (m, 3, 3) world rotations."""
+    size = np.asarray(half, dtype=float)
+    depth = np.array([-(position[k, 2] - _lowest(shape, size, rots[k])) for k in range(len(rots))])
+    tilt = np.arccos(np.clip(rots[:, 2, 2], -1.0, 1.0))
+    return Drop3D(np.arange(len(rots)) * dt, position, velocity, depth, force, tilt, float(mass))
