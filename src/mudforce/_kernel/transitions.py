@@ -17,8 +17,14 @@ The transitions at a step's start come first (NECKED -> CONTACT/FREE, then
 FREE -> CONTACT from the crossing instant), then the step in the state
 reached, in closed form. Every formula is a function of
 :mod:`mudforce.model.equations`; this module only decides which applies when.
-All of these are compiled ``inline="always"``: the dispatcher and its
-transitions are one function to the compiler, so naming them costs nothing.
+The dispatchers (:func:`advance`, :func:`quiet_step`, :func:`advance_quick`)
+and the output helpers are compiled ``inline="always"``, into each loop that
+calls them. The transitions and the per-state steps are ordinary compiled
+functions, which LLVM inlines into the dispatchers on its own (the same
+speed, measured with ``benchmarks/bench_core.py``): numba's own inlining
+copies and re-processes a callee's IR at every site, nested, and with every
+transition inlined that way the kernel's cold compile took twice as long
+(about 80 s of CPU against 37 s for the 1-D paths the tests use).
 
 :func:`quiet_step` is :func:`advance` for the steps in which nothing
 happens (most steps at a constant rate); it must give the same bits, which
@@ -120,7 +126,7 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
     return sign(velocity)
 
 
-@_compiled(inline="always")
+@_compiled()
 def sign(velocity: float) -> float:
     """``sign(v)``: ``+1``, ``-1``, or ``0`` for ``v == 0`` (the exact rule's branch direction)."""
     # written so that it compiles to selects rather than branches: across
@@ -128,7 +134,7 @@ def sign(velocity: float) -> float:
     return (1.0 if velocity > 0.0 else 0.0) - (1.0 if velocity < 0.0 else 0.0)
 
 
-@_compiled(inline="always")
+@_compiled()
 def ring_start(ring: np.ndarray, j: int, depth: float) -> None:
     """Start the velocity filter's history ``ring[j]`` (a ring buffer) at the first sample ``depth`` [m]."""
     ring[j, R_HEAD] = 0.0
@@ -137,7 +143,7 @@ def ring_start(ring: np.ndarray, j: int, depth: float) -> None:
     ring[j, R_T] = 0.0
 
 
-@_compiled(inline="always")
+@_compiled()
 def ring_velocity(ring: np.ndarray, j: int, window: int, depth: float, time: float) -> float:
     """Add the sample ``(time [s], depth [m])`` to ``ring[j]``; the secant over the last ``window`` steps [m/s].
 
@@ -155,7 +161,7 @@ def ring_velocity(ring: np.ndarray, j: int, window: int, depth: float, time: flo
     return v
 
 
-@_compiled(inline="always")
+@_compiled()
 def step_cache(c: Cache, p: Params, dt: float) -> Cache:
     """The decays and Eq. (7)'s transition matrix for a step of ``dt`` [s]: ``c`` if it is for that length.
 
@@ -173,21 +179,21 @@ def step_cache(c: Cache, p: Params, dt: float) -> Cache:
 
 
 # ---------------------------------------------------------------- the transitions
-@_compiled(inline="always")
+@_compiled()
 def _moved(s: State, mode: int, mud: float, strain: float) -> State:
     """``s`` with a new contact state, ``z_m`` [m] and extension ``z_i - z_m`` [m]."""
     return State(s.started, mode, s.time, s.depth, mud, s.neck_age, s.neck_v, s.neck_z, s.direction, s.velocity,
                  s.neck_g, s.neck_gi, strain)
 
 
-@_compiled(inline="always")
+@_compiled()
 def first_sample(s: State, depth: float) -> State:
     """The state at the first sample ``depth`` [m]: CONTACT, relaxed (``z_m = z_i``), below the surface, else FREE."""
     mode = CONTACT if depth > 0.0 else FREE
     return State(1.0, mode, 0.0, depth, depth, 0.0, 0.0, 0.0, 0.0, 0.0, s.neck_g, s.neck_gi, 0.0)
 
 
-@_compiled(inline="always")
+@_compiled()
 def leave_necked(s: State) -> State:
     """NECKED -> CONTACT (keeping ``z_m``) if the foot is below the surface at the step's start, else FREE.
 
@@ -199,7 +205,7 @@ def leave_necked(s: State) -> State:
     return _moved(s, FREE, z0, s.strain)
 
 
-@_compiled(inline="always")
+@_compiled()
 def touchdown(s: State, v: float) -> tuple[State, float]:
     """FREE -> CONTACT from the instant the foot crosses the surface, with ``z_m = 0`` there.
 
@@ -213,13 +219,13 @@ def touchdown(s: State, v: float) -> tuple[State, float]:
     return _moved(s, CONTACT, 0.0, 0.0), start
 
 
-@_compiled(inline="always")
+@_compiled()
 def free_step(s: State, z1: float) -> State:
     """A step in FREE that stays above the surface (``z1 <= 0`` [m]): the mud surface follows the foot."""
     return _moved(s, FREE, z1, s.strain)
 
 
-@_compiled(inline="always")
+@_compiled()
 def intrusion_step(s: State, c: Cache, p: Params, z1: float, v: float, dt: float, start: float) -> State:
     """CONTACT on the intrusion (or hold) branch from ``start`` [s] into the step to its end at ``z1`` [m].
 
@@ -234,7 +240,7 @@ def intrusion_step(s: State, c: Cache, p: Params, z1: float, v: float, dt: float
     return _moved(s, CONTACT, z1 - strain, strain)
 
 
-@_compiled(inline="always")
+@_compiled()
 def neck(s: State, p: Params, strain: float, z_n: float, offset: float, dt: float) -> State:
     """CONTACT -> NECKED at ``offset`` [s] into a step of ``dt`` [s], the foot at ``z_n`` [m], Eq. (9).
 
@@ -251,7 +257,7 @@ def neck(s: State, p: Params, strain: float, z_n: float, offset: float, dt: floa
                  strain)
 
 
-@_compiled(inline="always")
+@_compiled()
 def withdrawal_step(s: State, c: Cache, p: Params, z_start: float, z1: float, v: float, dt: float, start: float
                     ) -> tuple[State, float]:
     """CONTACT on the withdrawal branch from ``start`` [s] (depth ``z_start`` [m]) to the step's end at ``z1``.
@@ -293,7 +299,7 @@ def withdrawal_step(s: State, c: Cache, p: Params, z_start: float, z1: float, v:
     return _moved(s, CONTACT, z1 - strain, strain), math.nan
 
 
-@_compiled(inline="always")
+@_compiled()
 def piece_drag(p: Params, z_a: float, v: float, length: float) -> float:
     """Drag stress [Pa], Eq. (5), over a withdrawal piece of ``length`` [s] from depth ``z_a`` [m] at ``v`` [m/s].
 
@@ -304,7 +310,7 @@ def piece_drag(p: Params, z_a: float, v: float, length: float) -> float:
     return submerged_drag_stress(p.lam, p.rho_m, v, piece_midpoint_depth(z_a, v, length))
 
 
-@_compiled(inline="always")
+@_compiled()
 def neck_filter_step(c: Cache, p: Params, age: float, gi: float, g: float) -> tuple[float, float]:
     """``(G, g)`` of Eq. (7)'s filter one whole step later, at ``age`` [s]: its exact discrete-time update.
 
@@ -317,7 +323,7 @@ def neck_filter_step(c: Cache, p: Params, age: float, gi: float, g: float) -> tu
     return neck_filter_update(c.phi0, c.phi1, c.phi2, c.phi3, gi, g)
 
 
-@_compiled(inline="always")
+@_compiled()
 def necked_step(s: State, c: Cache, p: Params, dt: float) -> State:
     """A whole step in NECKED: the mud decays by Eq. (7), one step of its exact discrete update."""
     age = s.neck_age + dt

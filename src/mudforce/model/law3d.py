@@ -158,12 +158,16 @@ def _namespace(*values: Any) -> Any:
 
 
 def select(condition: Array, a: Array, b: Array) -> Array:
-    """``a`` where ``condition``, else ``b``: ``where`` on arrays, ``a if condition else b`` compiled."""
+    """``a`` where ``condition``, else ``b``: ``where`` on arrays, ``a if condition else b`` compiled and on scalars."""
+    if isinstance(condition, (bool, np.bool_)):  # a Python or numpy scalar: as compiled (np.where costs ~3 us)
+        return a if condition else b
     return _namespace(condition, a, b).where(condition, a, b)
 
 
 def root(x: Array) -> Array:
-    """The square root of ``x`` (``x >= 0``): ``sqrt`` of numpy or JAX, ``math.sqrt`` compiled."""
+    """The square root of ``x`` (``x >= 0``): ``sqrt`` of numpy or JAX, ``math.sqrt`` compiled and on floats."""
+    if isinstance(x, float):  # also numpy's float64; IEEE's square root, correctly rounded either way
+        return math.sqrt(x)
     return _namespace(x).sqrt(x)
 
 
