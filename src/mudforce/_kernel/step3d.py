@@ -69,6 +69,7 @@ from mudforce._kernel.layout import (
 )
 from mudforce._kernel.loops import _advance_row
 from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
+from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
     element_depth,
@@ -77,7 +78,6 @@ from mudforce.model.law3d import (
     rotate,
     rotation,
     settle_depth,
-    spring_stress,
     vertical_force,
 )
 
@@ -316,8 +316,8 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
     depth, spring_, area = lat[L_DEPTH], lat[L_SPRING], lat[L_AREA]
     fe1s, fss, has, stresses = lat[L_FE1], lat[L_FS], lat[L_HAS_SPRING], lat[L_STRESS]
     alpha, beta, width, area_1d = p.alpha, p.beta, p.width, p.area
-    for j in range(m):  # Eq. (4)
-        spring_[j] = spring_stress(depth[j], alpha, beta, width)
+    for j in range(m):  # Eq. (4), inlined (law3d.spring_stress's compiled form is a call, which does not vectorise)
+        spring_[j] = nonlinear_spring_stress(alpha, beta, depth[j], width)
     for j in range(m):
         stresses[j] = total_force(fe1s[j], spring_[j] if has[j] != 0.0 else 0.0, fss[j], area_1d)
     for j in range(m):
