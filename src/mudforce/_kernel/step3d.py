@@ -216,11 +216,13 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
        ``element_force`` gives it, without the horizontal law's arithmetic;
        a submerged one is gathered into ``lat`` with its world geometry;
     2. over the gathered elements, in loops without branches (vectorised):
-       Eq. (4) once per element (:func:`~mudforce.model.law3d.spring_stress`,
-       which is :func:`~mudforce.model.equations.nonlinear_spring_stress`, the
-       1-D stepper's spring; ``loops.spring_pass`` would compute the same
-       number again), the paper's stress (``total_force``, the spring where the
-       branch has it), then :func:`~mudforce.model.law3d.element_force`;
+       Eq. (4) once per element (:func:`~mudforce.model.equations.nonlinear_spring_stress`,
+       the 1-D stepper's spring, which :func:`~mudforce.model.law3d.spring_stress` is
+       in compiled code: called here itself, inlined, so that the loop
+       vectorises, where ``spring_stress``'s compiled form is a call per
+       element; ``loops.spring_pass`` would compute the same number again),
+       the paper's stress (``total_force``, the spring where the branch has
+       it), then :func:`~mudforce.model.law3d.element_force`;
     3. their slips scattered and the wrench summed: the elements at or above
        the surface in element order (during pass 1), then the gathered ones
        in element order, as :class:`~mudforce.steppers.contact3d.MudContact3D`'s
