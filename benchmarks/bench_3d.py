@@ -105,6 +105,30 @@ def bench_many(shape: shapes.Shape, feet: int, steps: int, repeats: int, threads
     return best / steps, median / steps
 
 
+def bench_kernel(shape: shapes.Shape, steps: int, repeats: int) -> tuple[float, float]:
+    """Seconds per step (best, median) of one foot's compiled step called from Python as ``MudContacts3D.step``
+    calls it, without its checks: what the Python front end adds is the difference from :func:`bench_many`."""
+    from mudforce._kernel import step3d
+
+    params = mf.MudParameters.from_water_content(0.25)
+    pos, quat = walk(1, steps + 1)
+    contacts = MudContacts3D(params, shape, 1)
+    out = (np.empty((1, 3)), np.empty((1, 3)))
+    contacts.step(pos[0], quat[0], 0.0, out=out)
+    start = contacts.state
+    args = contacts._kernel_args  # the compiled step's own arrays (private: a benchmark's look inside)
+    dt = 1.0 / RATE
+
+    def run() -> None:
+        contacts.state = start
+        for k in range(1, steps + 1):
+            step3d.step_feet(pos[k], quat[k], dt, *args, out[0], out[1])
+
+    run()
+    best, median = timings(run, repeats)
+    return best / steps, median / steps
+
+
 def bench_one(shape: shapes.Shape, steps: int, repeats: int) -> tuple[float, float]:
     """Seconds per step (best, median) of the numpy reference, ``MudContact3D.step``, for one foot."""
     params = mf.MudParameters.from_water_content(0.25)
@@ -275,6 +299,8 @@ def main() -> None:
         cases.append(("MudContacts3D, 4096 sphere feet (4 x 1024)", sphere, 4096, max(steps // 20, 20)))
     for label, shape, feet, n_steps in cases:
         row(label, bench_many(shape, feet, n_steps, repeats), feet * shape.n)
+        if feet == 1:
+            row("  its compiled step alone (no Python checks)", bench_kernel(shape, n_steps, repeats), shape.n)
     if not args.quick:
         auto = MudContacts3D(mf.MudParameters.from_water_content(0.25), sphere, 4096, threads=None).threads
         for threads in sorted({1, auto}):

@@ -69,6 +69,7 @@ from mudforce._kernel.layout import (
 )
 from mudforce._kernel.loops import _advance_row
 from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
+from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
     element_depth,
@@ -77,7 +78,6 @@ from mudforce.model.law3d import (
     rotate,
     rotation,
     settle_depth,
-    spring_stress,
     vertical_force,
 )
 
@@ -216,11 +216,13 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
        ``element_force`` gives it, without the horizontal law's arithmetic;
        a submerged one is gathered into ``lat`` with its world geometry;
     2. over the gathered elements, in loops without branches (vectorised):
-       Eq. (4) once per element (:func:`~mudforce.model.law3d.spring_stress`,
-       which is :func:`~mudforce.model.equations.nonlinear_spring_stress`, the
-       1-D stepper's spring; ``loops.spring_pass`` would compute the same
-       number again), the paper's stress (``total_force``, the spring where the
-       branch has it), then :func:`~mudforce.model.law3d.element_force`;
+       Eq. (4) once per element (:func:`~mudforce.model.equations.nonlinear_spring_stress`,
+       the 1-D stepper's spring, which :func:`~mudforce.model.law3d.spring_stress` is
+       in compiled code: called here itself, inlined, so that the loop
+       vectorises, where ``spring_stress``'s compiled form is a call per
+       element; ``loops.spring_pass`` would compute the same number again),
+       the paper's stress (``total_force``, the spring where the branch has
+       it), then :func:`~mudforce.model.law3d.element_force`;
     3. their slips scattered and the wrench summed: the elements at or above
        the surface in element order (during pass 1), then the gathered ones
        in element order, as :class:`~mudforce.steppers.contact3d.MudContact3D`'s
@@ -316,8 +318,8 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
     depth, spring_, area = lat[L_DEPTH], lat[L_SPRING], lat[L_AREA]
     fe1s, fss, has, stresses = lat[L_FE1], lat[L_FS], lat[L_HAS_SPRING], lat[L_STRESS]
     alpha, beta, width, area_1d = p.alpha, p.beta, p.width, p.area
-    for j in range(m):  # Eq. (4)
-        spring_[j] = spring_stress(depth[j], alpha, beta, width)
+    for j in range(m):  # Eq. (4), inlined (law3d.spring_stress's compiled form is a call, which does not vectorise)
+        spring_[j] = nonlinear_spring_stress(alpha, beta, depth[j], width)
     for j in range(m):
         stresses[j] = total_force(fe1s[j], spring_[j] if has[j] != 0.0 else 0.0, fss[j], area_1d)
     for j in range(m):

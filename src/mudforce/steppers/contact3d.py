@@ -408,6 +408,14 @@ def _writable_rows(a: Any, m: int) -> bool:
     return isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == (m, 3) and bool(a.flags.writeable)
 
 
+# :meth:`MudContacts3D.step`'s hot path, as module globals (one look-up each)
+_NDARRAY = np.ndarray
+_FLOAT64 = np.dtype(np.float64)  # numpy's own instance: a float64 array's dtype is this very object
+_OK = S3.OK
+_empty = np.empty
+_step_feet = S3.step_feet
+
+
 class MudContacts3D:
     """Many feet of any shapes in mud, stepped together, one pose each per step (simulators, RL).
 
@@ -542,6 +550,9 @@ class MudContacts3D:
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
                              self._ring, self._params_rows)
+        # what step() reads on every call, in one attribute: the shapes of the positions (and the outputs) and of
+        # the quaternions, whether the feet are stepped on threads, the compiled step's arguments
+        self._hot = ((m, 3), (m, 4), self.threads > 1, self._kernel_args)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -647,24 +658,36 @@ class MudContacts3D:
         torques : ndarray, shape (n, 3)
             Torque on each foot about its body origin [N m], world frame.
         """
-        m = self.n
-        p = _float_rows(positions, "positions", (m, 3), "m")
-        q = _float_rows(quaternions, "quaternions", (m, 4), "-")
+        ps, qs, threaded, args = self._hot
+        # the hot path's checks, cheap (in Python every attribute and call costs ~0.05 us): float64 ndarrays of
+        # the right shapes, as the compiled step takes them; anything else goes through the checks that convert
+        # it or word the error
+        p, q = positions, quaternions
+        if not (type(p) is _NDARRAY and p.dtype is _FLOAT64 and p.shape == ps):
+            p = _float_rows(positions, "positions", ps, "m")
+        if not (type(q) is _NDARRAY and q.dtype is _FLOAT64 and q.shape == qs):
+            q = _float_rows(quaternions, "quaternions", qs, "-")
         if type(dt) is not float:
             dt = real_number(dt, "dt")
         if out is None:
-            forces, torques = np.empty((m, 3)), np.empty((m, 3))
+            forces, torques = _empty(ps), _empty(ps)
         else:
-            if not (isinstance(out, tuple) and len(out) == 2 and _writable_rows(out[0], m)
-                    and _writable_rows(out[1], m)):
-                raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({m}, 3)")
-            forces, torques = out
-        if self.threads > 1 and not vectorized._forked:
+            pair: tuple[Any, Any] = out if type(out) is tuple and len(out) == 2 else (None, None)
+            forces, torques = pair
+            if not (type(forces) is _NDARRAY and forces.dtype is _FLOAT64 and forces.shape == ps
+                    and forces.flags.writeable and type(torques) is _NDARRAY and torques.dtype is _FLOAT64
+                    and torques.shape == ps and torques.flags.writeable):
+                m = self.n
+                if not (isinstance(out, tuple) and len(out) == 2 and _writable_rows(out[0], m)
+                        and _writable_rows(out[1], m)):
+                    raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({m}, 3)")
+                forces, torques = out
+        if threaded and not vectorized._forked:
             with vectorized._launch_lock:
-                code = S3.step_feet_threads(p, q, dt, *self._kernel_args, forces, torques, self._chunks)
+                code = S3.step_feet_threads(p, q, dt, *args, forces, torques, self._chunks)
         else:
-            code = S3.step_feet(p, q, dt, *self._kernel_args, forces, torques)
-        if code != S3.OK:
+            code = _step_feet(p, q, dt, *args, forces, torques)
+        if code != _OK:
             self._refuse(code, p, q, dt)
         return forces, torques
 

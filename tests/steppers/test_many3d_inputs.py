@@ -1,0 +1,65 @@
+"""MudContacts3D.step's two ways in: the hot path (float64 arrays of the right shapes, a float dt, checked cheaply)
+and the path that converts or refuses everything else give the same bits, and a refusal on either changes nothing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mudforce as mf
+from mudforce.errors import InputError
+from mudforce.model import shapes
+from mudforce.steppers.contact3d import ContactStates3D, MudContacts3D
+
+SHAPE = shapes.sphere(0.03, resolution=0.015)
+DT = 1e-3
+
+
+def _same(a: ContactStates3D, b: ContactStates3D) -> bool:
+    return all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
+
+
+def _poses(k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Two feet at step ``k``: going down into the mud and sliding, tilted: positions [m], quaternions."""
+    pos = np.array([[0.001 * k, 0.0, 0.01 - 0.001 * k], [0.0, -0.0005 * k, 0.005 - 0.0008 * k]])
+    tilt = 0.02 * k
+    quat = np.array([[np.cos(tilt), np.sin(tilt), 0.0, 0.0], [np.cos(tilt), 0.0, 0.0, np.sin(tilt)]])
+    return pos, quat
+
+
+def test_both_ways_in_give_the_same_bits_and_refusals_change_nothing() -> None:
+    mud = mf.MudParameters.from_water_content(0.25)
+    hot, other = MudContacts3D(mud, SHAPE, 2), MudContacts3D(mud, SHAPE, 2)
+    out = (np.empty((2, 3)), np.empty((2, 3)))
+    for k in range(8):
+        pos, quat = _poses(k)
+        dt = DT if k else 0.0
+        forces, torques = hot.step(pos, quat, dt, out=out)  # the hot path
+        assert forces is out[0] and torques is out[1]
+        # lists, a numpy scalar dt and fresh outputs: the converting path
+        f2, t2 = other.step(pos.tolist(), [tuple(r) for r in quat], np.float64(dt))
+        assert np.array_equal(forces, f2) and np.array_equal(torques, t2)
+    assert np.abs(out[0][:, 2]).max() > 0.0  # in the mud
+    assert _same(hot.state, other.state)
+    saved = hot.state
+    pos, quat = _poses(8)
+    readonly = np.empty((2, 3))
+    readonly.flags.writeable = False
+    for p, q, dt, kwargs, match in (
+        (pos[:1], quat, DT, {}, "positions must have shape"),
+        (pos, np.zeros((2, 4)), DT, {}, "foot 0: .*quaternion"),
+        (pos.astype(np.float32), quat.astype(np.float32) * 1.1, DT, {}, "foot 0: .*quaternion"),
+        (pos, quat, 2e3, {}, "dt must be within"),
+        (pos, quat, "1ms", {}, "dt must be a real number"),
+        (pos, quat, DT, {"out": [out[0], out[1]]}, "out must be a tuple"),
+        (pos, quat, DT, {"out": (out[0], readonly)}, "out must be a tuple"),
+        (pos, quat, DT, {"out": (out[0], np.empty((3, 3)))}, "out must be a tuple"),
+    ):
+        with pytest.raises(InputError, match=match):
+            hot.step(p, q, dt, **kwargs)
+        assert _same(hot.state, saved)
+    # and then the step as if nothing had been refused
+    got = hot.step(pos, quat, DT, out=out)
+    want = other.step(pos, quat, DT)
+    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
