@@ -11,7 +11,7 @@ import pytest
 
 from mudforce.errors import InputError
 from mudforce.reproduce import ReproduceConfig
-from mudforce_cli_harness import run_cli
+from mudforce_cli_harness import assert_refused, run_batch, run_cli
 
 SEED = "7"
 
@@ -100,21 +100,20 @@ def test_the_number_of_jobs_changes_no_fit_and_no_figure_byte(tmp_path: Path) ->
     assert report(None, tmp_path / "one") == in_two
 
 
-@pytest.mark.parametrize("seed", ["-1", "abc", "1.5", str(2**40)])
-def test_bad_seed_is_one_line_exit_2(tmp_path: Path, seed: str) -> None:
-    proc = _run("--quick", "--seed", seed, "--out", str(tmp_path / "r"))
-    assert proc.returncode == 2
-    assert proc.stderr.count("\n") == 1 and "--seed" in proc.stderr
-    assert not (tmp_path / "r").exists()
-
-
-def test_unwritable_out_is_one_line_exit_2(tmp_path: Path) -> None:
+def test_bad_seeds_and_unwritable_outs_are_one_line_exit_2(tmp_path: Path) -> None:
+    """Each refused in one line, exit 2, before anything is written (one subprocess for all of them)."""
     blocker = tmp_path / "file"
     blocker.write_text("not a directory\n")
-    for out in (blocker, blocker / "sub"):
-        proc = _run("--quick", "--out", str(out))
-        assert proc.returncode == 2, proc.stderr
-        assert proc.stderr.count("\n") == 1 and "--out" in proc.stderr
+    seeds = ["-1", "abc", "1.5", str(2**40)]
+    runs = run_batch([(["reproduce", "--quick", "--seed", seed, "--out", str(tmp_path / "r")], tmp_path)
+                      for seed in seeds]
+                     + [(["reproduce", "--quick", "--out", str(out)], tmp_path) for out in (blocker, blocker / "sub")])
+    for run in runs[:len(seeds)]:
+        assert_refused(run, "--seed")
+    for run in runs[len(seeds):]:
+        assert_refused(run, "--out")
+    assert not (tmp_path / "r").exists()
+    assert blocker.read_text() == "not a directory\n"
 
 
 def test_config_refuses_bad_values() -> None:
