@@ -5,9 +5,7 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
-import pytest
-
-from mudforce_cli_harness import run_cli
+from mudforce_cli_harness import run_batch, run_cli
 
 PREVIOUS = b"previous output, must survive any error\n"
 
@@ -16,24 +14,28 @@ def run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
     return run_cli(["drop", *args], cwd, timeout=120)
 
 
-@pytest.mark.parametrize(
-    ("args", "message"),
-    [
+TOO_LIGHT = [
         # were: 7,991 NaN cells and exit 0; a traceback from MuJoCo
         (["--mass", "1e-8kg"], "--mass: '1e-8kg' is too small"),  # the unit parser's bound on any mass
         (["--mass", "0.01kg"], "--mass: '0.01kg' is less than 0.1 kg"),  # the engine's own
         (["--engine", "mujoco", "--mass", "1e-300kg"], "--mass: '1e-300kg' is too small"),
         (["--engine", "mujoco", "--mass", "0.5kg"], "--mass: '0.5kg' is less than 1 kg"),
-    ],
-)
-def test_too_light_a_foot_is_refused(tmp_path: Path, args: list[str], message: str) -> None:
-    out = tmp_path / "drop.csv"
-    out.write_bytes(PREVIOUS)
-    proc = run([*args, "--water-content", "25%", "--out", "drop.csv"], tmp_path)
-    assert proc.returncode == 2 and proc.stdout == ""
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0] and "Traceback" not in proc.stderr
-    assert out.read_bytes() == PREVIOUS
+]
+
+
+def test_too_light_a_foot_is_refused(tmp_path: Path) -> None:
+    """Were: 7,991 NaN cells and exit 0; a traceback from MuJoCo. All through one subprocess (run_batch)."""
+    folders = [tmp_path / str(i) for i in range(len(TOO_LIGHT))]
+    for folder in folders:
+        folder.mkdir()
+        (folder / "drop.csv").write_bytes(PREVIOUS)
+    runs = run_batch([(["drop", *args, "--water-content", "25%", "--out", "drop.csv"], folder)
+                      for (args, _), folder in zip(TOO_LIGHT, folders, strict=True)])
+    for run, (_, message), folder in zip(runs, TOO_LIGHT, folders, strict=True):
+        assert run.returncode == 2 and run.stdout == "", (message, run.stderr)
+        lines = run.stderr.strip().splitlines()
+        assert len(lines) == 1 and message in lines[0] and "Traceback" not in run.stderr
+        assert (folder / "drop.csv").read_bytes() == PREVIOUS
 
 
 def test_a_foot_still_moving_is_not_called_at_rest(tmp_path: Path) -> None:

@@ -11,7 +11,7 @@ import pytest
 
 from mudforce import MudParameters
 from mudforce.engines.dynamics import exact_drop
-from mudforce_cli_harness import run_cli
+from mudforce_cli_harness import run_batch, run_cli
 
 PREVIOUS = b"previous output, must survive any error\n"
 
@@ -47,22 +47,25 @@ def test_drop_writes_the_csv(tmp_path: Path, engine: str) -> None:
         assert (tmp_path / "drop.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-@pytest.mark.parametrize(
-    ("args", "message"),
-    [
+BAD_INPUTS = [
         (["--mass", "5", "--water-content", "25%"], "--mass: '5' has no unit"),
         (["--mass", "5kg", "--water-content", "25%", "--duration", "8"], "--duration: '8' has no unit"),
         (["--mass", "5kg", "--water-content", "50%"], "outside Table I's range"),
         (["--mass", "5kg", "--water-content", "25%", "--height=-3mm"], "must not be negative"),
-    ],
-)
-def test_bad_input_exit_2_one_line_output_untouched(tmp_path: Path, args: list[str], message: str) -> None:
-    out = tmp_path / "drop.csv"
-    out.write_bytes(PREVIOUS)
-    proc = run([*args, "--out", "drop.csv"], tmp_path)
-    assert proc.returncode == 2
-    assert proc.stdout == ""
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0] and "Traceback" not in proc.stderr
-    assert out.read_bytes() == PREVIOUS
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["drop.csv"]
+]
+
+
+def test_bad_input_exit_2_one_line_output_untouched(tmp_path: Path) -> None:
+    """Each in its own folder, all through one subprocess (run_batch): one line, exit 2, the output untouched."""
+    folders = [tmp_path / str(i) for i in range(len(BAD_INPUTS))]
+    for folder in folders:
+        folder.mkdir()
+        (folder / "drop.csv").write_bytes(PREVIOUS)
+    runs = run_batch([(["drop", *args, "--out", "drop.csv"], folder)
+                      for (args, _), folder in zip(BAD_INPUTS, folders, strict=True)])
+    for run, (_, message), folder in zip(runs, BAD_INPUTS, folders, strict=True):
+        assert run.returncode == 2 and run.stdout == "", (message, run.stderr)
+        lines = run.stderr.strip().splitlines()
+        assert len(lines) == 1 and message in lines[0] and "Traceback" not in run.stderr
+        assert (folder / "drop.csv").read_bytes() == PREVIOUS
+        assert sorted(p.name for p in folder.iterdir()) == ["drop.csv"]

@@ -10,7 +10,7 @@ import pytest
 
 from mudforce.estimation.tracker import track
 from mudforce.motions.gait import walk
-from mudforce_cli_harness import run_cli, snapshot
+from mudforce_cli_harness import run_batch, run_cli, snapshot
 
 EXPECTED = ["time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
             "changed", "misfit"]
@@ -54,7 +54,7 @@ def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
     assert (folder / "track.png").read_bytes().startswith(b"\x89PNG")
 
 
-@pytest.mark.parametrize(("make", "args", "message"), [
+BAD_INPUTS = [
     (None, ["missing.csv", "--out", "o.csv"], "file not found"),
     ("time_s,depth_m\n0,0\n0.01,0\n", ["in.csv", "--out", "o.csv"], "missing column force_N"),
     ("time_s,depth_m,force_N\n0,0,0\n0,0,0\n", ["in.csv", "--out", "o.csv"], "time repeats"),
@@ -63,16 +63,24 @@ def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
     ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "in.csv"], "is the input file"),
     ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--plot", "o.jpg"], ".png"),
     ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--foot", "blob"], "--foot"),
-])
-def test_bad_input_exits_2_with_one_line_and_clobbers_nothing(tmp_path: Path, make: str | None,
-                                                              args: list[str], message: str) -> None:
-    if make is not None:
-        (tmp_path / "in.csv").write_text(make)
-    (tmp_path / "o.csv").write_bytes(b"previous output\n")
-    before = snapshot(tmp_path)
-    proc = run_cli(["track", *args], tmp_path)
-    assert proc.returncode == 2
-    assert proc.stdout == ""
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0], proc.stderr
-    assert snapshot(tmp_path) == before
+]
+
+
+def test_bad_input_exits_2_with_one_line_and_clobbers_nothing(tmp_path: Path) -> None:
+    """Each case in its own folder, all of them through one subprocess (run_batch)."""
+    folders, befores = [], []
+    for i, (make, _, _) in enumerate(BAD_INPUTS):
+        folder = tmp_path / str(i)
+        folder.mkdir()
+        if make is not None:
+            (folder / "in.csv").write_text(make)
+        (folder / "o.csv").write_bytes(b"previous output\n")
+        folders.append(folder)
+        befores.append(snapshot(folder))
+    runs = run_batch([(["track", *args], folder) for (_, args, _), folder in zip(BAD_INPUTS, folders, strict=True)])
+    for run, (_, _, message), folder, before in zip(runs, BAD_INPUTS, folders, befores, strict=True):
+        assert run.returncode == 2, (message, run.stderr)
+        assert run.stdout == ""
+        lines = run.stderr.strip().splitlines()
+        assert len(lines) == 1 and message in lines[0], run.stderr
+        assert snapshot(folder) == before
