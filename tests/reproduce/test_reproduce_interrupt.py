@@ -1,8 +1,9 @@
 """``mudforce reproduce`` stopped partway: no worker survives it, and the folder holds the old report or the new.
 
 Linux only (processes are found through /proc). Each test runs one quick
-report in a subprocess and kills it as soon as it reaches the stage under
-test, so they cost a few seconds each.
+report in a subprocess (of two water contents rather than five: a
+``sitecustomize`` put before the package on the path) and kills it as soon
+as it reaches the stage under test, so they cost a few seconds each.
 """
 
 from __future__ import annotations
@@ -78,11 +79,36 @@ def _wait_for(condition, timeout: float) -> bool:  # type: ignore[no-untyped-def
     return False
 
 
-def _start(out: Path) -> subprocess.Popen[str]:
+#: Makes ``--quick`` smaller still: two water contents instead of five, so that the figures (the stage under
+#: test) start after a third of the fits. Put before the package on the path by a ``sitecustomize``.
+HOOK = '''
+import dataclasses
+
+from mudforce.reproduce import experiments
+
+_quick = experiments.ReproduceConfig.quick_config.__func__
+
+
+def _smaller(cls, seed=0):
+    return dataclasses.replace(_quick(cls, seed), water_contents=(0.2, 0.25))
+
+
+experiments.ReproduceConfig.quick_config = classmethod(_smaller)
+'''
+
+
+@pytest.fixture(scope="module")
+def hook(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("hook")
+    (folder / "sitecustomize.py").write_text(HOOK)
+    return folder
+
+
+def _start(out: Path, hook: Path) -> subprocess.Popen[str]:
     out.mkdir()
     for name, text in OLD.items():
         (out / name).write_text(text)
-    return start_cli(["reproduce", "--quick", "--jobs", "2", "--quiet", "--out", str(out)])
+    return start_cli(["reproduce", "--quick", "--jobs", "2", "--quiet", "--out", str(out)], path_first=[hook])
 
 
 def _old_or_complete_new(out: Path) -> str:
@@ -106,9 +132,9 @@ def _no_worker_survives(workers: dict[int, str]) -> None:
         f"workers still running: {[p for p, s in workers.items() if _alive(p, s)]}"
 
 
-def test_sigterm_during_the_fits(tmp_path: Path) -> None:
+def test_sigterm_during_the_fits(tmp_path: Path, hook: Path) -> None:
     out = tmp_path / "out"
-    proc = _start(out)
+    proc = _start(out, hook)
     try:
         assert _wait_for(lambda: len(_children(proc.pid)) >= 2 or proc.poll() is not None, 120.0)
         workers = _children(proc.pid)
@@ -124,9 +150,9 @@ def test_sigterm_during_the_fits(tmp_path: Path) -> None:
     assert _staged(out) == []  # its unfinished folder removed
 
 
-def test_sigkill_during_the_figures(tmp_path: Path) -> None:
+def test_sigkill_during_the_figures(tmp_path: Path, hook: Path) -> None:
     out = tmp_path / "out[1]"  # a name a glob pattern would not match (its staged folder was never removed)
-    proc = _start(out)
+    proc = _start(out, hook)
     try:
         # the figures are being written once the staged folder holds a PNG
         assert _wait_for(lambda: any(any(p.glob("*.png")) for p in _staged(out)) or proc.poll() is not None, 240.0)
