@@ -179,6 +179,50 @@ def _level_change(time: np.ndarray, force: np.ndarray, noise: float) -> np.ndarr
     return out
 
 
+def _free_level(force: np.ndarray, noise: float) -> float:
+    """The force a free foot reads [N] (the sensor's bias), from the samples out of the mud (ours).
+
+    The most frequent level: the median of the samples in the most populated
+    bin of width four noises (a suction decaying after a neck spreads over
+    many bins, a free foot's constant bias fills one), widened by half a bin
+    on each side. On a foot that is rarely free the median of all would be a
+    suction, not the free level.
+    """
+    width = max(4.0 * noise, 1e-9 * max(1.0, float(np.max(np.abs(force)))))
+    lo, hi = float(np.min(force)), float(np.max(force))
+    bins = max(int(math.ceil((hi - lo) / width)), 1)
+    counts, edges = np.histogram(force, bins=bins, range=(lo, lo + bins * width))
+    k = int(np.argmax(counts))
+    near = force[(force >= edges[k] - 0.5 * width) & (force <= edges[k + 1] + 0.5 * width)]
+    return float(np.median(near))
+
+
+def _cut_steps(depth: np.ndarray, force: np.ndarray, jump: np.ndarray, level: np.ndarray,
+               depth_noise: float, force_noise: float) -> np.ndarray:
+    """Steps out of the mud where the force jumps back to its free level: a suction cut off (``n - 1`` values) [-].
+
+    Out of the mud the model's force is zero (plus the sensor's bias) except
+    while clinging mud still pulls (a withdrawal before necking) or a broken
+    neck's suction decays (ours: ``docs/model.md``, the contact state
+    machine); both end at the first step that goes down, and nothing else
+    out of the mud makes the force jump. A downward step there can be far
+    below the depth noise (a foot turning over at the top of a lift), so the
+    force alone shows it: a confirmed jump (:func:`_jump_statistic` beyond 6,
+    a level change) from a force more than six noises from the free level
+    (:func:`_free_level`) to within half that distance of it.
+    """
+    z = np.asarray(depth, dtype=np.float64)
+    f = np.asarray(force, dtype=np.float64)
+    out_of_mud = z <= 3.0 * depth_noise
+    if jump.size == 0 or not np.any(out_of_mud):
+        return np.zeros(jump.size, dtype=bool)
+    free = _free_level(f[out_of_mud], force_noise)
+    before, after = np.abs(f[:-1] - free), np.abs(f[1:] - free)
+    cut: np.ndarray = (out_of_mud[:-1] & out_of_mud[1:] & (np.abs(jump) > 6.0) & (level > _LEVEL_SIGMAS)
+                       & (before > 6.0 * force_noise) & (after < 0.5 * before))
+    return cut
+
+
 @njit(cache=True)
 def _viterbi(plus: np.ndarray, minus: np.ndarray, down: np.ndarray, up: np.ndarray, start_minus: float) -> np.ndarray:
     """Most likely two-state path: ``plus/minus`` per-step scores, ``down/up`` switch scores at each step."""
@@ -247,6 +291,9 @@ def label_branches(time: np.ndarray, depth: np.ndarray, force: np.ndarray, *,
     # ... and only where the force's level changes (a kink, where a fast descent stops, is no switch)
     level = np.abs(_level_change(np.asarray(time, dtype=np.float64), force, force_noise))
     level[np.isnan(level)] = np.inf  # near the ends the level cannot be checked: the jump alone decides
+    # out of the mud, a suction cut off by a downward step: evidence for an upward switch only
+    cut = _cut_steps(z, force, jump, level, depth_noise, force_noise)
+    cut_reward = np.where(cut, reward, 0.0)
     confirmed = level > _LEVEL_SIGMAS
     confirmed[1:] |= level[:-1] > _LEVEL_SIGMAS
     confirmed[:-1] |= level[1:] > _LEVEL_SIGMAS
@@ -260,14 +307,19 @@ def label_branches(time: np.ndarray, depth: np.ndarray, force: np.ndarray, *,
         near[i:i + _TOUCHDOWN_SAMPLES] = True
     reward[near] = 0.0
     switch = reward - SWITCH_COST
-    path = _viterbi(plus, minus, switch, switch, -0.5 * SWITCH_COST)
+    # a downward switch (to withdrawal) clear of the mud changes nothing in the model (the foot is free there once
+    # any step has gone down), so it costs nothing: a cut suction is then not held back by the lift that follows
+    down = switch.copy()
+    down[(z[:-1] < -3.0 * depth_noise) & (z[1:] < -3.0 * depth_noise)] = 0.0
+    path = _viterbi(plus, minus, down, np.maximum(reward, cut_reward) - SWITCH_COST, -0.5 * SWITCH_COST)
     labels = np.where(path == 0, 1, -1).astype(np.int8)
     # a run of one or two steps that the depth does not support is a kink of the force, not two switches
+    # (but a suction cut off out of the mud is a switch: a downward motion between the samples)
     change = np.flatnonzero(np.diff(labels) != 0) + 1
     starts = np.concatenate([[0], change])
     ends = np.concatenate([change, [labels.size]])
     for a, b in zip(starts[1:-1], ends[1:-1], strict=True):
-        if b - a <= 2 and np.all(labels[a] * d[a:b] < 2.0 * scale):
+        if b - a <= 2 and np.all(labels[a] * d[a:b] < 2.0 * scale) and not np.any(cut[a:b]):
             labels[a:b] = -labels[a]
     return labels
 
@@ -419,7 +471,9 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     tenth of a step); the steps before the one that contains the corner
     are at rest, unless the line does not go down significantly (then all
     are). Given the force, a clear jump of it within a step of the corner
-    (a broken neck's decay cut off) places the start to the sample.
+    (a broken neck's decay cut off) places the start to the sample, and a
+    suction cut off earlier in the run (:func:`_cut_steps`: the force back
+    at its free level) starts the descent there, however flat the depth.
     """
     lab: np.ndarray = np.asarray(labels, dtype=np.int8).copy()
     t = np.asarray(time, dtype=np.float64)
@@ -430,11 +484,21 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     if depth_noise <= NOISE_FLOOR_M:  # noise-free: the steps' own signs, zero included
         lab[(lab > 0) & (np.diff(z) == 0.0)] = 0
         return lab
-    jump = None if force is None else _jump_statistic(t, np.asarray(force, dtype=np.float64), force_noise)
+    jump = cut = None
+    if force is not None:
+        f = np.asarray(force, dtype=np.float64)
+        jump = _jump_statistic(t, f, force_noise)
+        level = np.abs(_level_change(t, f, force_noise))
+        level[np.isnan(level)] = np.inf
+        cut = _cut_steps(z, f, jump, level, depth_noise, force_noise)
     candidate = (lab > 0) & out
     edges = np.flatnonzero(np.diff(np.concatenate([[0], candidate.astype(np.int8), [0]])))
     for a, b in zip(edges[::2], edges[1::2], strict=True):  # steps a .. b-1, samples a .. b
         first = _hinge_start(t[a:b + 1], z[a:b + 1], depth_noise)
+        cuts = np.flatnonzero(cut[a:b]) if cut is not None else np.zeros(0, dtype=np.int64)
+        if cuts.size and (first is None or cuts[0] < first):  # a suction cut off: the descent starts there
+            lab[a:a + int(cuts[0])] = 0
+            continue
         if first is None:
             lab[a:b] = 0
             continue
