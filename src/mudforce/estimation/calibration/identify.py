@@ -32,12 +32,15 @@ error cannot be told from stiffer mud; its uncertainty is an input
 and the interval is widened on each side by the water-content shift that a
 gain change of that size causes (the same fit on the force divided by ``1 +- g``). A sample where
 the foot is at rest in the mud (it moved less than :data:`REST_SPEED` times
-the step) constrains the mud only through the rest band it must lie in
+the step, plus 1.5 depth noises) constrains the mud only through the rest band it must lie in
 (:func:`mudforce.model.equations.rest_band_forces`): its residual is the
-distance of the force outside the band, zero inside. The noise floor of the
+distance of the force outside the band, zero inside. So does a sample where
+the motion changes direction or stops (the change happened anywhere between
+its neighbours, so at the sample the foot may be on either branch). The noise floor of the
 misfit flag includes the model's own discretisation error at the data's
-rate, estimated from the data (the model on every other sample against the
-model on every sample), sample by sample: the misfit statistic is the RMS
+rate, estimated from the data (the model on the even samples and on the odd
+ones against the model on every sample, each sample taking the largest of
+itself and its neighbours), sample by sample: the misfit statistic is the RMS
 of the residuals each divided by its own floor, so that a local
 discretisation error (a branch switch a sample late) excuses only the
 samples where it is large, not an off-family mud everywhere.
@@ -100,6 +103,10 @@ MAX_FORCE_LAG = 0.05
 #: The rate check's shift [-] above which identify warns that the sample rate is too low for the model to follow
 #: the motion (0.5 points; ours: on the sensor-chain bench only 20-Hz recordings and a few at 50 Hz reach it unflagged).
 _RATE_SHIFT_WARNING = 0.005
+#: A step in the mud within this many depth noises (beyond the rest speed) of no motion counts as rest [-] (ours):
+#: on a robot foot at rest the depth the model follows still moves by about a depth noise from sample to sample,
+#: and a branch the depth cannot tell is read through the rest band.
+_REST_NOISE_SIGMAS = 1.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,7 +160,8 @@ class Identification:
         The model's own discretisation error at the data's rate [N] (RMS over the samples); it
         enters the misfit statistic sample by sample, excusing only the samples where it is large.
     rest_fraction : float
-        Share of the samples taken as the foot at rest in the mud [-] (compared with the rest band).
+        Share of the samples read through the rest band [-]: the foot at rest in the mud, or its motion
+        changing direction or stopping at the sample.
     rate_shift : float
         The rate check [-]: how far the estimate moves when the model runs on every other sample (the even
         and the odd ones, nuisances refitted): the model's own error at the data's rate, which the interval
@@ -383,10 +391,19 @@ def identify_water_content(
     raw = tr.trial.force
 
     def at_rest(time: np.ndarray, depth: np.ndarray) -> np.ndarray:
-        """Samples whose step moved the foot less than the rest speed (general path; none on a protocol)."""
+        """Samples read through the rest band (general path; none on a protocol): those whose step moved the foot
+        less than the rest speed (and the depth noise), and those where the motion changes direction or stops."""
         if not general:
             return np.zeros(time.size, dtype=bool)
-        return np.concatenate([[False], np.abs(np.diff(depth)) <= REST_SPEED * np.diff(time)])
+        step = np.diff(depth)
+        tol = REST_SPEED * np.diff(time) + _REST_NOISE_SIGMAS * tr.depth_noise
+        slow = np.abs(step) <= tol
+        still = np.concatenate([[False], slow])
+        # where the motion changes (down, rest, up) at a sample, the change happened anywhere between its two
+        # neighbours: at the sample the foot may already be on the other branch, so the band is all it tells
+        motion = np.where(slow, 0, np.where(step > 0.0, 1, -1))
+        still[1:-1] |= motion[:-1] != motion[1:]
+        return still
 
     rest = at_rest(t, tr.depth)
     moving = ~rest
@@ -518,11 +535,14 @@ def identify_water_content(
     # carried through, and the model's own discretisation error at the data's rate
     var = noise_floor(tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))
     disc2 = np.zeros(n)
-    if general and n >= 8:  # the model at half the rate against the model at the data's rate
-        half = _force_and_band(t[::2], tr.depth[::2] + offset, family(w_best), foot, lag)[0]
-        d2 = np.where(moving[::2], half - f_best[::2], 0.0) ** 2 / 2.0
-        disc2[::2] = d2
-        disc2[1::2] = d2[: disc2[1::2].size]
+    if general and n >= 8:
+        # the model at half the rate (the even samples, the odd ones) against the model at the data's rate; an
+        # event between two samples (a touchdown, a reversal, a neck) moves the half-rate model at a neighbour
+        # of the sample it moves the data at, so each sample takes the largest of itself and its two neighbours
+        for sel in (slice(0, None, 2), slice(1, None, 2)):
+            half = _force_and_band(t[sel], tr.depth[sel] + offset, family(w_best), foot, lag)[0]
+            disc2[sel] = np.where(moving[sel], half - f_best[sel], 0.0) ** 2
+        disc2[1:-1] = np.maximum(disc2[1:-1], np.maximum(disc2[2:], disc2[:-2]))
     discretisation = math.sqrt(float(np.mean(disc2)))
     # the statistic: the RMS of the residuals each divided by its own floor. The discretisation error
     # is local (a branch switch or a necking a sample early or late can move the half-rate model by
