@@ -32,16 +32,18 @@ error cannot be told from stiffer mud; its uncertainty is an input
 and the interval is widened on each side by the water-content shift that a
 gain change of that size causes (the same fit on the force divided by ``1 +- g``). A sample where
 the foot is at rest in the mud (it moved less than :data:`REST_SPEED` times
-the step, plus 1.5 depth noises) constrains the mud only through the rest band it must lie in
+the step, plus half a depth noise) constrains the mud only through the rest band it must lie in
 (:func:`mudforce.model.equations.rest_band_forces`): its residual is the
 distance of the force outside the band, zero inside. So does a sample where
-the motion changes direction or stops (the change happened anywhere between
-its neighbours, so at the sample the foot may be on either branch). The noise floor of the
+the motion changes direction or stops beside a step clear of the depth noise
+(the change happened anywhere between its neighbours, so at the sample the
+foot may be on either branch). The noise floor of the
 misfit flag includes the model's own discretisation error at the data's
 rate, estimated from the data (the model on the even samples and on the odd
 ones against the model on every sample, each sample taking the largest of
 itself and its neighbours), sample by sample: the misfit statistic is the RMS
-of the residuals each divided by its own floor, so that a local
+of the residuals each divided by its own floor (each sample counting at most
+five floors), so that a local
 discretisation error (a branch switch a sample late) excuses only the
 samples where it is large, not an off-family mud everywhere.
 
@@ -104,9 +106,16 @@ MAX_FORCE_LAG = 0.05
 #: the motion (0.5 points; ours: on the sensor-chain bench only 20-Hz recordings and a few at 50 Hz reach it unflagged).
 _RATE_SHIFT_WARNING = 0.005
 #: A step in the mud within this many depth noises (beyond the rest speed) of no motion counts as rest [-] (ours):
-#: on a robot foot at rest the depth the model follows still moves by about a depth noise from sample to sample,
-#: and a branch the depth cannot tell is read through the rest band.
-_REST_NOISE_SIGMAS = 1.5
+#: on a robot foot at rest the depth the model follows still moves by a fraction of a depth noise from sample to
+#: sample, and a branch the depth cannot tell is read through the rest band.
+_REST_NOISE_SIGMAS = 0.5
+#: A sample where the motion changes (down, rest, up) is read through the rest band when a step beside it moves by
+#: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
+#: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
+_TURN_SIGMAS = 3.0
+#: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
+#: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
+_MISFIT_CLIP = 25.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,7 +142,8 @@ class Identification:
         force noise, the depth noise carried through and the model's
         discretisation error, each at its own sample (``rmse / misfit_ratio``).
     misfit_ratio : float
-        The RMS of the residuals each divided by its own floor [-] (so ``rmse / noise_floor``):
+        The RMS of the residuals each divided by its own floor [-] (so ``rmse / noise_floor``), each sample
+        counting at most five floors (a sample whose branch the labels got wrong is not an off-family mud):
         about 1 when the family explains the trial to the noise.
     off_family : float
         How far the data are off the family [N]: the RMS of the residual in
@@ -402,7 +412,8 @@ def identify_water_content(
         # where the motion changes (down, rest, up) at a sample, the change happened anywhere between its two
         # neighbours: at the sample the foot may already be on the other branch, so the band is all it tells
         motion = np.where(slow, 0, np.where(step > 0.0, 1, -1))
-        still[1:-1] |= motion[:-1] != motion[1:]
+        clear = np.abs(step) > _TURN_SIGMAS * tr.depth_noise
+        still[1:-1] |= (motion[:-1] != motion[1:]) & (clear[:-1] | clear[1:])
         return still
 
     rest = at_rest(t, tr.depth)
@@ -549,7 +560,7 @@ def identify_water_content(
     # tens of newtons over a few strides), so it excuses the samples where it is large and no others;
     # added in quadrature to one global floor it would excuse an off-family mud everywhere.
     var = np.maximum(var + disc2, max((1e-4 * scale) ** 2, 1e-18))
-    standardised = math.sqrt(float(np.mean(r**2 / var)))
+    standardised = math.sqrt(float(np.mean(np.minimum(r**2 / var, _MISFIT_CLIP))))
     floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
