@@ -74,8 +74,8 @@ _TOUCHDOWN_SAMPLES = 5
 #: Samples the force must stay at its free level after a suction cut off out of the mud (:func:`_cut_steps`) [-].
 _CUT_HOLD = 3
 #: Fewest selected third differences :func:`estimate_force_noise` takes the noise from [-] (the median of fewer
-#: would scatter by more than 15 %; it is taken only where it differs from the whole by a factor over 1.5).
-_NOISE_WINDOWS = 50
+#: would scatter by more than 25 %; it is taken only where it differs from the whole by a factor over 1.5).
+_NOISE_WINDOWS = 20
 #: Log-likelihood a suction cut off out of the mud gives its upward switch [-]: more than any depth step can take away.
 _CUT_REWARD = 1000.0
 

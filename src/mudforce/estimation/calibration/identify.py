@@ -180,9 +180,10 @@ class Identification:
         The interval's half-width [-] from the spread of the evidence over the contact episodes (a sandwich
         estimate); the interval holds at least this on each side (general path; 0 on a protocol).
     misfit_shift : float
-        The most a residual of RMS ``off_family`` could move the estimate [-] (``off_family / rms(dF/dW)``,
-        Cauchy-Schwarz on a Gauss-Newton step); the interval holds at least this on each side (general path; 0
-        when the family explains the data to the floor, and on a protocol).
+        The most the residual the noise does not explain could move the estimate [-] (its RMS, the larger of
+        ``off_family`` and the moving samples' excess over the force and depth noise, the discretisation error
+        included, over ``rms(dF/dW)``: Cauchy-Schwarz on a Gauss-Newton step); the interval holds at least this
+        on each side (general path; 0 when the family explains the data to the noise, and on a protocol).
     """
 
     water_content: float
@@ -400,15 +401,18 @@ def identify_water_content(
     general = tr.motion is None
     raw = tr.trial.force
 
-    def at_rest(time: np.ndarray, depth: np.ndarray) -> np.ndarray:
+    def at_rest(time: np.ndarray, depth: np.ndarray, turns: bool = True) -> np.ndarray:
         """Samples read through the rest band (general path; none on a protocol): those whose step moved the foot
-        less than the rest speed (and the depth noise), and those where the motion changes direction or stops."""
+        less than the rest speed (and the depth noise), and (``turns``) those where the motion changes direction or
+        stops."""
         if not general:
             return np.zeros(time.size, dtype=bool)
         step = np.diff(depth)
         tol = REST_SPEED * np.diff(time) + _REST_NOISE_SIGMAS * tr.depth_noise
         slow = np.abs(step) <= tol
         still = np.concatenate([[False], slow])
+        if not turns:
+            return still
         # where the motion changes (down, rest, up) at a sample, the change happened anywhere between its two
         # neighbours: at the sample the foot may already be on the other branch, so the band is all it tells
         motion = np.where(slow, 0, np.where(step > 0.0, 1, -1))
@@ -430,7 +434,9 @@ def identify_water_content(
             r0 = f - tr.force / gain
             return r0 + tare_correction(r0, tr.precontact), f, tr.force, tr.bias, tr.precontact
         ts, zs, fs = t[sel], tr.depth[sel] + offset, raw[sel]
-        still = rest if sel == slice(None) else at_rest(ts, zs)
+        # the rate check's half-rate fits read the turns on their branches: what the model at a rate does at a turn
+        # between two samples is the error the check measures, so it must not be excused there
+        still = rest if sel == slice(None) else at_rest(ts, zs, turns=False)
         f, low, high = _force_and_band(ts, zs, family(w), foot, lag)
         pre, bias = 0, 0.0
         if tr.precontact:  # re-tare from the samples before the first contact of the offset depth
@@ -559,17 +565,21 @@ def identify_water_content(
     # is local (a branch switch or a necking a sample early or late can move the half-rate model by
     # tens of newtons over a few strides), so it excuses the samples where it is large and no others;
     # added in quadrature to one global floor it would excuse an off-family mud everywhere.
+    noise_var = var
     var = np.maximum(var + disc2, max((1e-4 * scale) ** 2, 1e-18))
     standardised = math.sqrt(float(np.mean(np.minimum(r**2 / var, _MISFIT_CLIP))))
     floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
-    # the misfit's worst case: a residual of RMS `off` that the family cannot explain moves the estimate by at most
-    # off / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on each side
+    # the misfit's worst case: a residual of RMS `unexplained` that the family cannot explain moves the estimate by
+    # at most unexplained / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on
+    # each side. What the noise does not explain counts, the discretisation error included: the flag excuses it as
+    # no sign of another mud, but at this rate it is a model error all the same and can move the estimate
     model_shift = 0.0
-    if general and off > 0.0:
+    unexplained = math.sqrt(max(off**2, float(np.sum(r[moving] ** 2) - np.sum(noise_var[moving])) / n))
+    if general and unexplained > 0.0:
         sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
-        model_shift = off / sensitivity if sensitivity > 0.0 else hi - lo
+        model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
         low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
