@@ -69,6 +69,10 @@ def test_force_noise_from_where_the_force_is_simple() -> None:
     f = np.where(clear, 0.0, 20.0 + 15.0 * (rng.random(t.size) < 0.5)) + 0.2 * rng.standard_normal(t.size)
     assert estimate_force_noise(t, f) > 1.0  # measured 4.8 for 0.2
     assert abs(estimate_force_noise(t, f, where=clear) / 0.2 - 1.0) < 0.15
+    # clear of the mud a suction may still decay (here one every 0.25 s, 50 ms): only the free level's samples
+    # count (measured 0.215; 0.251 from all the clear samples)
+    decays = np.where(clear, -10.0 * np.exp(-(t % 0.25) / 0.05), 0.0)
+    assert abs(estimate_force_noise(t, f + decays, where=clear) / 0.2 - 1.0) < 0.1
     # a smooth force elsewhere: the estimate over all samples stands (more of them)
     smooth = np.where(clear, 0.0, 20.0 * np.sin(t)) + 0.2 * rng.standard_normal(t.size)
     assert estimate_force_noise(t, smooth, where=clear) == estimate_force_noise(t, smooth)

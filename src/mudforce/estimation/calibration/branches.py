@@ -96,12 +96,13 @@ def estimate_force_noise(time: np.ndarray, force: np.ndarray, where: np.ndarray 
     force : ndarray
         Measured force [N].
     where : ndarray of bool, optional
-        Samples where the signal is known to be smooth (e.g. the foot clear of the mud, where the force
+        Samples where the signal is known to be simple (e.g. the foot clear of the mud, where the force
         is the sensor's bias and its noise): when the estimate over all differences exceeds 1.5 times
-        the one over the differences whose four samples are all selected (at least
-        :data:`_NOISE_WINDOWS` of them), the signal elsewhere has structure between its samples that the
-        median cannot ignore (a robot's foot in the mud flicking between the rest band's edges), and the
-        selected estimate is returned.
+        the one over the differences whose four samples are all selected and within three noises of
+        the selected samples' most frequent level (at least :data:`_NOISE_WINDOWS` of them; the level
+        and the noise refined together three times), the signal elsewhere has structure between its
+        samples that the median cannot ignore (a robot's foot in the mud flicking between the rest
+        band's edges), and the selected estimate is returned.
     """
     t = np.asarray(time, dtype=np.float64)
     f = np.asarray(force, dtype=np.float64)
@@ -114,6 +115,14 @@ def estimate_force_noise(time: np.ndarray, force: np.ndarray, where: np.ndarray 
         full = sel[:-3] & sel[1:-2] & sel[2:-1] & sel[3:]
         if int(np.count_nonzero(full)) >= _NOISE_WINDOWS:
             selected = float(np.median(values[full]) / 0.6744897501960817)
+            # the selected samples at their most frequent level only (clear of the mud a suction may still decay)
+            for _ in range(3):
+                level = _free_level(f[sel], selected)
+                near = sel & (np.abs(f - level) < 3.0 * selected)
+                full = near[:-3] & near[1:-2] & near[2:-1] & near[3:]
+                if int(np.count_nonzero(full)) < _NOISE_WINDOWS:
+                    break
+                selected = min(selected, float(np.median(values[full]) / 0.6744897501960817))
             if noise > 1.5 * selected:  # the rest of the signal is not smooth between its samples
                 return selected
     return noise
