@@ -49,6 +49,7 @@ from scipy.special import log_ndtr
 from mudforce.model.velocity import NOISE_FLOOR_M
 
 __all__ = [
+    "CUT",
     "JUMP_REWARD_CAP",
     "SWITCH_COST",
     "corner_preserving_smooth",
@@ -58,6 +59,8 @@ __all__ = [
     "rest_steps",
 ]
 
+#: The label of an intrusion step that cuts off a suction out of the mud (:func:`label_branches`) [-].
+CUT = 2
 #: Largest log-likelihood ratio one force jump contributes to a branch switch [-].
 JUMP_REWARD_CAP = 50.0
 #: Prior cost of one branch switch, in log-likelihood [-] (a 6-sigma jump pays for it).
@@ -68,9 +71,16 @@ _TREND_HALF_WIDTH = 2
 _LEVEL_SIGMAS = 4.0
 #: Steps after the foot enters the mud in which a force jump is the touchdown's onset, not a switch [-].
 _TOUCHDOWN_SAMPLES = 5
+#: Samples the force must stay at its free level after a suction cut off out of the mud (:func:`_cut_steps`) [-].
+_CUT_HOLD = 3
+#: Fewest selected third differences :func:`estimate_force_noise` takes the noise from [-] (the median of fewer
+#: would scatter by more than 25 %; it is taken only where it differs from the whole by a factor over 1.5).
+_NOISE_WINDOWS = 20
+#: Log-likelihood a suction cut off out of the mud gives its upward switch [-]: more than any depth step can take away.
+_CUT_REWARD = 1000.0
 
 
-def estimate_force_noise(time: np.ndarray, force: np.ndarray) -> float:
+def estimate_force_noise(time: np.ndarray, force: np.ndarray, where: np.ndarray | None = None) -> float:
     """Standard deviation of white noise on a sampled force [N] (or any signal), independent of any model.
 
     The third divided difference over four consecutive samples, scaled to
@@ -85,11 +95,41 @@ def estimate_force_noise(time: np.ndarray, force: np.ndarray) -> float:
         Sample times [s], strictly increasing (any spacing).
     force : ndarray
         Measured force [N].
+    where : ndarray of bool, optional
+        Samples where the signal is known to be simple (e.g. the foot clear of the mud, where the force
+        is the sensor's bias and its noise): when the estimate over all differences exceeds 1.5 times
+        the one over the differences whose four samples are all selected and within three noises of
+        the selected samples' most frequent level (at least :data:`_NOISE_WINDOWS` of them; the level
+        and the noise refined together three times), the signal elsewhere has structure between its
+        samples that the median cannot ignore (a robot's foot in the mud flicking between the rest
+        band's edges), and the selected estimate is returned.
     """
     t = np.asarray(time, dtype=np.float64)
     f = np.asarray(force, dtype=np.float64)
     if f.size < 8:
         return 0.0
+    values = np.abs(_third_differences(t, f))
+    noise = float(np.median(values) / 0.6744897501960817)
+    if where is not None:
+        sel = np.asarray(where, dtype=bool)
+        full = sel[:-3] & sel[1:-2] & sel[2:-1] & sel[3:]
+        if int(np.count_nonzero(full)) >= _NOISE_WINDOWS:
+            selected = float(np.median(values[full]) / 0.6744897501960817)
+            # the selected samples at their most frequent level only (clear of the mud a suction may still decay)
+            for _ in range(3):
+                level = _free_level(f[sel], selected)
+                near = sel & (np.abs(f - level) < 3.0 * selected)
+                full = near[:-3] & near[1:-2] & near[2:-1] & near[3:]
+                if int(np.count_nonzero(full)) < _NOISE_WINDOWS:
+                    break
+                selected = min(selected, float(np.median(values[full]) / 0.6744897501960817))
+            if noise > 1.5 * selected:  # the rest of the signal is not smooth between its samples
+                return selected
+    return noise
+
+
+def _third_differences(t: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Third divided differences of ``f`` over each four consecutive samples, scaled to unit norm [same as f]."""
     n = f.size - 3
     coef = np.ones((n, 4))
     for i in range(4):
@@ -97,8 +137,8 @@ def estimate_force_noise(time: np.ndarray, force: np.ndarray) -> float:
             if i != j:
                 coef[:, i] = coef[:, i] / (t[i:i + n] - t[j:j + n])
     coef /= np.sqrt(np.sum(coef**2, axis=1))[:, None]
-    values = np.sum(coef * np.column_stack([f[i:i + n] for i in range(4)]), axis=1)
-    return float(np.median(np.abs(values)) / 0.6744897501960817)
+    values: np.ndarray = np.sum(coef * np.column_stack([f[i:i + n] for i in range(4)]), axis=1)
+    return values
 
 
 def _jump_statistic(time: np.ndarray, force: np.ndarray, noise: float) -> np.ndarray:
@@ -179,6 +219,55 @@ def _level_change(time: np.ndarray, force: np.ndarray, noise: float) -> np.ndarr
     return out
 
 
+def _free_level(force: np.ndarray, noise: float) -> float:
+    """The force a free foot reads [N] (the sensor's bias), from the samples out of the mud (ours).
+
+    The most frequent level: the median of the samples in the most populated
+    bin of width four noises (a suction decaying after a neck spreads over
+    many bins, a free foot's constant bias fills one), widened by half a bin
+    on each side. On a foot that is rarely free the median of all would be a
+    suction, not the free level.
+    """
+    lo, hi = float(np.min(force)), float(np.max(force))
+    width = max(4.0 * noise, (hi - lo) / 1000.0, 1e-9 * max(1.0, abs(lo), abs(hi)))  # at most 1000 bins
+    bins = max(math.ceil((hi - lo) / width), 1)
+    counts, edges = np.histogram(force, bins=bins, range=(lo, lo + bins * width))
+    k = int(np.argmax(counts))
+    near = force[(force >= edges[k] - 0.5 * width) & (force <= edges[k + 1] + 0.5 * width)]
+    return float(np.median(near))
+
+
+def _cut_steps(depth: np.ndarray, force: np.ndarray, jump: np.ndarray, depth_noise: float,
+               force_noise: float) -> np.ndarray:
+    """Steps out of the mud where the force jumps back to its free level: a suction cut off (``n - 1`` values) [-].
+
+    Out of the mud the model's force is zero (plus the sensor's bias) except
+    while clinging mud still pulls (a withdrawal before necking) or a broken
+    neck's suction decays (ours: ``docs/model.md``, the contact state
+    machine); both end at the first step that goes down, and nothing else
+    out of the mud makes the force jump. A downward step there can be far
+    below the depth noise (a foot turning over at the top of a lift, or
+    ringing between the samples), so the force alone shows it: a sharp jump
+    (:func:`_jump_statistic` beyond 4) from a force more than six noises off
+    the free level (:func:`_free_level`) to within three noises of it, where
+    it stays for the next :data:`_CUT_HOLD` samples.
+    """
+    z = np.asarray(depth, dtype=np.float64)
+    f = np.asarray(force, dtype=np.float64)
+    out_of_mud = z <= 3.0 * depth_noise
+    m = jump.size
+    cut = np.zeros(m, dtype=bool)
+    if m == 0 or not np.any(out_of_mud):
+        return cut
+    off = np.abs(f - _free_level(f[out_of_mud], force_noise))
+    settled = (off < 3.0 * force_noise) & out_of_mud
+    held = np.ones(m, dtype=bool)  # samples k+1 .. k+_CUT_HOLD at the free level (as far as the record goes)
+    for i in range(1, _CUT_HOLD + 1):
+        held[: m - i + 1] &= settled[i:m + 1]
+    cut[:] = (out_of_mud[:-1] & out_of_mud[1:] & (np.abs(jump) > 4.0) & (off[:-1] > 6.0 * force_noise) & held)
+    return cut
+
+
 @njit(cache=True)
 def _viterbi(plus: np.ndarray, minus: np.ndarray, down: np.ndarray, up: np.ndarray, start_minus: float) -> np.ndarray:
     """Most likely two-state path: ``plus/minus`` per-step scores, ``down/up`` switch scores at each step."""
@@ -231,7 +320,8 @@ def label_branches(time: np.ndarray, depth: np.ndarray, force: np.ndarray, *,
     Returns
     -------
     ndarray of int8, ``n - 1`` values
-        The branch of the step from sample ``k`` to ``k + 1``.
+        The branch of the step from sample ``k`` to ``k + 1``; :data:`CUT` (an intrusion step) where
+        the step cuts off a suction out of the mud (:func:`_cut_steps`): the foot is free after it.
     """
     z = np.asarray(depth, dtype=np.float64)
     d = np.diff(z)
@@ -247,28 +337,41 @@ def label_branches(time: np.ndarray, depth: np.ndarray, force: np.ndarray, *,
     # ... and only where the force's level changes (a kink, where a fast descent stops, is no switch)
     level = np.abs(_level_change(np.asarray(time, dtype=np.float64), force, force_noise))
     level[np.isnan(level)] = np.inf  # near the ends the level cannot be checked: the jump alone decides
+    # out of the mud, a suction cut off by a downward step: evidence for an upward switch only
+    cut = _cut_steps(z, force, jump, depth_noise, force_noise)
+    # decisive: the model cannot cut a suction otherwise, however fast the foot rises over the step (it went down
+    # between the samples)
+    cut_reward = np.where(cut, _CUT_REWARD, 0.0)
     confirmed = level > _LEVEL_SIGMAS
     confirmed[1:] |= level[:-1] > _LEVEL_SIGMAS
     confirmed[:-1] |= level[1:] > _LEVEL_SIGMAS
     reward[~confirmed] = 0.0
     # the force's onset at touchdown (z^beta) is not a switch: no reward for
-    # jumps out of the mud or within a few samples of entering it
+    # jumps out of the mud or within a few samples of entering it; but a drop of the force there is no onset:
+    # a fast foot can reverse one or two samples after touchdown (a withdrawal switch between the samples)
     inside = z > 3.0 * depth_noise
     entered = np.flatnonzero(inside[1:] & ~inside[:-1])
-    near = ~(inside[:-1] & inside[1:])
+    out = ~(inside[:-1] & inside[1:])
+    onset = np.zeros_like(out)
     for i in entered:
-        near[i:i + _TOUCHDOWN_SAMPLES] = True
-    reward[near] = 0.0
-    switch = reward - SWITCH_COST
-    path = _viterbi(plus, minus, switch, switch, -0.5 * SWITCH_COST)
+        onset[i:i + _TOUCHDOWN_SAMPLES] = True
+    down_reward = np.where(out | (onset & (jump >= 0.0)), 0.0, reward)
+    reward[out | onset] = 0.0
+    # a downward switch (to withdrawal) clear of the mud changes nothing in the model (the foot is free there once
+    # any step has gone down), so it costs nothing: a cut suction is then not held back by the lift that follows
+    down = down_reward - SWITCH_COST
+    down[(z[:-1] < -3.0 * depth_noise) & (z[1:] < -3.0 * depth_noise)] = 0.0
+    path = _viterbi(plus, minus, down, np.maximum(reward, cut_reward) - SWITCH_COST, -0.5 * SWITCH_COST)
     labels = np.where(path == 0, 1, -1).astype(np.int8)
     # a run of one or two steps that the depth does not support is a kink of the force, not two switches
+    # (but a suction cut off out of the mud is a switch: a downward motion between the samples)
     change = np.flatnonzero(np.diff(labels) != 0) + 1
     starts = np.concatenate([[0], change])
     ends = np.concatenate([change, [labels.size]])
     for a, b in zip(starts[1:-1], ends[1:-1], strict=True):
-        if b - a <= 2 and np.all(labels[a] * d[a:b] < 2.0 * scale):
+        if b - a <= 2 and np.all(labels[a] * d[a:b] < 2.0 * scale) and not np.any(cut[a:b]):
             labels[a:b] = -labels[a]
+    labels[cut & (labels > 0)] = CUT
     return labels
 
 
@@ -372,7 +475,7 @@ def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None
     depth : ndarray
         Measured depth [m] (``n`` samples).
     labels : ndarray
-        Branch of each step (``n - 1`` values of +1, 0 (rest) or -1), from
+        Branch of each step (``n - 1`` values of +1, :data:`CUT`, 0 (rest) or -1), from
         :func:`label_branches` and :func:`rest_steps`.
     time : ndarray, optional
         Sample times [s]; given, the depth is smoothed first.
@@ -401,6 +504,10 @@ def denoise_depth(depth: np.ndarray, labels: np.ndarray, time: np.ndarray | None
     if lab.size == 0:
         iso[:] = z
     eps = 1e-12
+    # a suction cut off out of the mud: the step starts and ends clear of the surface, so that the model is free
+    # after it (a downward step that ended in the mud would keep the mud clinging)
+    cuts = np.flatnonzero(given == CUT)
+    iso[cuts] = np.minimum(iso[cuts], -2.0 * eps)
     out: np.ndarray = _enforce(iso, given, float(iso[0]), eps)
     return out
 
@@ -419,7 +526,9 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     tenth of a step); the steps before the one that contains the corner
     are at rest, unless the line does not go down significantly (then all
     are). Given the force, a clear jump of it within a step of the corner
-    (a broken neck's decay cut off) places the start to the sample.
+    (a broken neck's decay cut off) places the start to the sample, and a
+    suction cut off earlier in the run (:func:`_cut_steps`: the force back
+    at its free level) starts the descent there, however flat the depth.
     """
     lab: np.ndarray = np.asarray(labels, dtype=np.int8).copy()
     t = np.asarray(time, dtype=np.float64)
@@ -430,11 +539,19 @@ def rest_steps(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_no
     if depth_noise <= NOISE_FLOOR_M:  # noise-free: the steps' own signs, zero included
         lab[(lab > 0) & (np.diff(z) == 0.0)] = 0
         return lab
-    jump = None if force is None else _jump_statistic(t, np.asarray(force, dtype=np.float64), force_noise)
+    jump = cut = None
+    if force is not None:
+        f = np.asarray(force, dtype=np.float64)
+        jump = _jump_statistic(t, f, force_noise)
+        cut = _cut_steps(z, f, jump, depth_noise, force_noise)
     candidate = (lab > 0) & out
     edges = np.flatnonzero(np.diff(np.concatenate([[0], candidate.astype(np.int8), [0]])))
     for a, b in zip(edges[::2], edges[1::2], strict=True):  # steps a .. b-1, samples a .. b
         first = _hinge_start(t[a:b + 1], z[a:b + 1], depth_noise)
+        cuts = np.flatnonzero(cut[a:b]) if cut is not None else np.zeros(0, dtype=np.int64)
+        if cuts.size and (first is None or cuts[0] < first):  # a suction cut off: the descent starts there
+            lab[a:a + int(cuts[0])] = 0
+            continue
         if first is None:
             lab[a:b] = 0
             continue

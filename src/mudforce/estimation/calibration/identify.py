@@ -32,13 +32,18 @@ error cannot be told from stiffer mud; its uncertainty is an input
 and the interval is widened on each side by the water-content shift that a
 gain change of that size causes (the same fit on the force divided by ``1 +- g``). A sample where
 the foot is at rest in the mud (it moved less than :data:`REST_SPEED` times
-the step) constrains the mud only through the rest band it must lie in
+the step, plus half a depth noise) constrains the mud only through the rest band it must lie in
 (:func:`mudforce.model.equations.rest_band_forces`): its residual is the
-distance of the force outside the band, zero inside. The noise floor of the
+distance of the force outside the band, zero inside. So does a sample where
+the motion changes direction or stops beside a step clear of the depth noise
+(the change happened anywhere between its neighbours, so at the sample the
+foot may be on either branch). The noise floor of the
 misfit flag includes the model's own discretisation error at the data's
-rate, estimated from the data (the model on every other sample against the
-model on every sample), sample by sample: the misfit statistic is the RMS
-of the residuals each divided by its own floor, so that a local
+rate, estimated from the data (the model on the even samples and on the odd
+ones against the model on every sample, each sample taking the largest of
+itself and its neighbours), sample by sample: the misfit statistic is the RMS
+of the residuals each divided by its own floor (each sample counting at most
+five floors), so that a local
 discretisation error (a branch switch a sample late) excuses only the
 samples where it is large, not an off-family mud everywhere.
 
@@ -100,6 +105,17 @@ MAX_FORCE_LAG = 0.05
 #: The rate check's shift [-] above which identify warns that the sample rate is too low for the model to follow
 #: the motion (0.5 points; ours: on the sensor-chain bench only 20-Hz recordings and a few at 50 Hz reach it unflagged).
 _RATE_SHIFT_WARNING = 0.005
+#: A step in the mud within this many depth noises (beyond the rest speed) of no motion counts as rest [-] (ours):
+#: on a robot foot at rest the depth the model follows still moves by a fraction of a depth noise from sample to
+#: sample, and a branch the depth cannot tell is read through the rest band.
+_REST_NOISE_SIGMAS = 0.5
+#: A sample where the motion changes (down, rest, up) is read through the rest band when a step beside it moves by
+#: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
+#: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
+_TURN_SIGMAS = 3.0
+#: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
+#: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
+_MISFIT_CLIP = 25.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,7 +142,8 @@ class Identification:
         force noise, the depth noise carried through and the model's
         discretisation error, each at its own sample (``rmse / misfit_ratio``).
     misfit_ratio : float
-        The RMS of the residuals each divided by its own floor [-] (so ``rmse / noise_floor``):
+        The RMS of the residuals each divided by its own floor [-] (so ``rmse / noise_floor``), each sample
+        counting at most five floors (a sample whose branch the labels got wrong is not an off-family mud):
         about 1 when the family explains the trial to the noise.
     off_family : float
         How far the data are off the family [N]: the RMS of the residual in
@@ -153,7 +170,8 @@ class Identification:
         The model's own discretisation error at the data's rate [N] (RMS over the samples); it
         enters the misfit statistic sample by sample, excusing only the samples where it is large.
     rest_fraction : float
-        Share of the samples taken as the foot at rest in the mud [-] (compared with the rest band).
+        Share of the samples read through the rest band [-]: the foot at rest in the mud, or its motion
+        changing direction or stopping at the sample.
     rate_shift : float
         The rate check [-]: how far the estimate moves when the model runs on every other sample (the even
         and the odd ones, nuisances refitted): the model's own error at the data's rate, which the interval
@@ -162,9 +180,10 @@ class Identification:
         The interval's half-width [-] from the spread of the evidence over the contact episodes (a sandwich
         estimate); the interval holds at least this on each side (general path; 0 on a protocol).
     misfit_shift : float
-        The most a residual of RMS ``off_family`` could move the estimate [-] (``off_family / rms(dF/dW)``,
-        Cauchy-Schwarz on a Gauss-Newton step); the interval holds at least this on each side (general path; 0
-        when the family explains the data to the floor, and on a protocol).
+        The most the residual the noise does not explain could move the estimate [-] (its RMS, the larger of
+        ``off_family`` and the moving samples' excess over the force and depth noise, the discretisation error
+        included, over ``rms(dF/dW)``: Cauchy-Schwarz on a Gauss-Newton step); the interval holds at least this
+        on each side (general path; 0 when the family explains the data to the noise, and on a protocol).
     """
 
     water_content: float
@@ -382,11 +401,24 @@ def identify_water_content(
     general = tr.motion is None
     raw = tr.trial.force
 
-    def at_rest(time: np.ndarray, depth: np.ndarray) -> np.ndarray:
-        """Samples whose step moved the foot less than the rest speed (general path; none on a protocol)."""
+    def at_rest(time: np.ndarray, depth: np.ndarray, turns: bool = True) -> np.ndarray:
+        """Samples read through the rest band (general path; none on a protocol): those whose step moved the foot
+        less than the rest speed (and the depth noise), and (``turns``) those where the motion changes direction or
+        stops."""
         if not general:
             return np.zeros(time.size, dtype=bool)
-        return np.concatenate([[False], np.abs(np.diff(depth)) <= REST_SPEED * np.diff(time)])
+        step = np.diff(depth)
+        tol = REST_SPEED * np.diff(time) + _REST_NOISE_SIGMAS * tr.depth_noise
+        slow = np.abs(step) <= tol
+        still = np.concatenate([[False], slow])
+        if not turns:
+            return still
+        # where the motion changes (down, rest, up) at a sample, the change happened anywhere between its two
+        # neighbours: at the sample the foot may already be on the other branch, so the band is all it tells
+        motion = np.where(slow, 0, np.where(step > 0.0, 1, -1))
+        clear = np.abs(step) > _TURN_SIGMAS * tr.depth_noise
+        still[1:-1] |= (motion[:-1] != motion[1:]) & (clear[:-1] | clear[1:])
+        return still
 
     rest = at_rest(t, tr.depth)
     moving = ~rest
@@ -402,7 +434,9 @@ def identify_water_content(
             r0 = f - tr.force / gain
             return r0 + tare_correction(r0, tr.precontact), f, tr.force, tr.bias, tr.precontact
         ts, zs, fs = t[sel], tr.depth[sel] + offset, raw[sel]
-        still = rest if sel == slice(None) else at_rest(ts, zs)
+        # the rate check's half-rate fits read the turns on their branches: what the model at a rate does at a turn
+        # between two samples is the error the check measures, so it must not be excused there
+        still = rest if sel == slice(None) else at_rest(ts, zs, turns=False)
         f, low, high = _force_and_band(ts, zs, family(w), foot, lag)
         pre, bias = 0, 0.0
         if tr.precontact:  # re-tare from the samples before the first contact of the offset depth
@@ -518,27 +552,34 @@ def identify_water_content(
     # carried through, and the model's own discretisation error at the data's rate
     var = noise_floor(tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))
     disc2 = np.zeros(n)
-    if general and n >= 8:  # the model at half the rate against the model at the data's rate
-        half = _force_and_band(t[::2], tr.depth[::2] + offset, family(w_best), foot, lag)[0]
-        d2 = np.where(moving[::2], half - f_best[::2], 0.0) ** 2 / 2.0
-        disc2[::2] = d2
-        disc2[1::2] = d2[: disc2[1::2].size]
+    if general and n >= 8:
+        # the model at half the rate (the even samples, the odd ones) against the model at the data's rate; an
+        # event between two samples (a touchdown, a reversal, a neck) moves the half-rate model at a neighbour
+        # of the sample it moves the data at, so each sample takes the largest of itself and its two neighbours
+        for sel in (slice(0, None, 2), slice(1, None, 2)):
+            half = _force_and_band(t[sel], tr.depth[sel] + offset, family(w_best), foot, lag)[0]
+            disc2[sel] = np.where(moving[sel], half - f_best[sel], 0.0) ** 2
+        disc2[1:-1] = np.maximum(disc2[1:-1], np.maximum(disc2[2:], disc2[:-2]))
     discretisation = math.sqrt(float(np.mean(disc2)))
     # the statistic: the RMS of the residuals each divided by its own floor. The discretisation error
     # is local (a branch switch or a necking a sample early or late can move the half-rate model by
     # tens of newtons over a few strides), so it excuses the samples where it is large and no others;
     # added in quadrature to one global floor it would excuse an off-family mud everywhere.
+    noise_var = var
     var = np.maximum(var + disc2, max((1e-4 * scale) ** 2, 1e-18))
-    standardised = math.sqrt(float(np.mean(r**2 / var)))
+    standardised = math.sqrt(float(np.mean(np.minimum(r**2 / var, _MISFIT_CLIP))))
     floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
-    # the misfit's worst case: a residual of RMS `off` that the family cannot explain moves the estimate by at most
-    # off / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on each side
+    # the misfit's worst case: a residual of RMS `unexplained` that the family cannot explain moves the estimate by
+    # at most unexplained / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on
+    # each side. What the noise does not explain counts, the discretisation error included: the flag excuses it as
+    # no sign of another mud, but at this rate it is a model error all the same and can move the estimate
     model_shift = 0.0
-    if general and off > 0.0:
+    unexplained = math.sqrt(max(off**2, float(np.sum(r[moving] ** 2) - np.sum(noise_var[moving])) / n))
+    if general and unexplained > 0.0:
         sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
-        model_shift = off / sensitivity if sensitivity > 0.0 else hi - lo
+        model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
         low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "

@@ -434,7 +434,9 @@ def _prepare_general(trial: Trial) -> PreparedTrial:
     depth_noise = estimate_force_noise(t, z)
     if depth_noise < CLEAN_DEPTH_M:  # a computed, noise-free trajectory: the paper's exact rule
         depth_noise = 0.0
-    force_noise = estimate_force_noise(t, f)
+    # the sensor's noise where the force is simplest: the foot clear of the mud (a robot's foot in the mud flicks
+    # between the rest band's edges between the samples, which the differences would take for noise)
+    force_noise = estimate_force_noise(t, f, where=z < -3.0 * depth_noise if depth_noise > 0.0 else z < 0.0)
     labels = label_branches(t, z, f, depth_noise=depth_noise, force_noise=force_noise)
     labels = rest_steps(t, z, labels, depth_noise, f, force_noise)
     depth = denoise_depth(z, labels, t if depth_noise > 0.0 else None, noise=depth_noise)
