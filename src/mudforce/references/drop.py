@@ -114,6 +114,14 @@ def exact_drop(
         foot = Foot.paper()
     elif not isinstance(foot, Foot):
         raise InputError(f"foot must be a Foot (or None for the paper's cuboid), got {type(foot).__name__}")
+    mass, duration, height, dt, gravity, rtol = _checked_numbers(mass, duration, height, dt, gravity, rtol)
+    return _solve_drop(mass, params, np.zeros(1), np.array([foot.area]), foot.width, duration=duration,
+                       height=height, dt=dt, gravity=gravity, rtol=rtol)
+
+
+def _checked_numbers(mass: Any, duration: Any, height: Any, dt: Any, gravity: Any, rtol: Any
+                     ) -> tuple[float, float, float, float, float, float]:
+    """A drop's numbers as floats, each refused in one line if it is not finite or out of its range."""
     mass = finite_number(mass, "mass", "kg", positive=True)
     duration = finite_number(duration, "duration", "s", positive=True)
     height = finite_number(height, "height", "m", nonnegative=True)
@@ -122,8 +130,7 @@ def exact_drop(
     rtol = finite_number(rtol, "rtol", "-", positive=True)
     if not duration / dt < 1e8:
         raise InputError(f"duration / dt = {duration / dt:.3g} is too many output points (at most 1e8)")
-    return _solve_drop(mass, params, np.zeros(1), np.array([foot.area]), foot.width, duration=duration,
-                       height=height, dt=dt, gravity=gravity, rtol=rtol)
+    return mass, duration, height, dt, gravity, rtol
 
 
 def exact_drop_3d(
@@ -184,14 +191,7 @@ def exact_drop_3d(
         raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
     if shape.width is None:
         raise InputError("this shape has no width H for Eq. (4); build it with a mudforce.model.shapes constructor")
-    mass = finite_number(mass, "mass", "kg", positive=True)
-    duration = finite_number(duration, "duration", "s", positive=True)
-    height = finite_number(height, "height", "m", nonnegative=True)
-    dt = finite_number(dt, "dt", "s", positive=True)
-    gravity = finite_number(gravity, "gravity", "m/s^2", positive=True)
-    rtol = finite_number(rtol, "rtol", "-", positive=True)
-    if not duration / dt < 1e8:
-        raise InputError(f"duration / dt = {duration / dt:.3g} is too many output points (at most 1e8)")
+    mass, duration, height, dt, gravity, rtol = _checked_numbers(mass, duration, height, dt, gravity, rtol)
     quat = real_array(orientation, "orientation", "-")
     if quat.shape != (4,) or not np.all(np.isfinite(quat)) or abs(float(np.sqrt(np.sum(quat * quat))) - 1.0) > 1e-6:
         raise InputError(f"orientation must be a unit quaternion (w, x, y, z), got {orientation!r}")
