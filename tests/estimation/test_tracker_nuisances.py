@@ -53,3 +53,31 @@ def test_estimate_carries_the_flag() -> None:
     assert e.misfit is False
     with pytest.raises(AttributeError):
         e.misfit = True  # type: ignore[misc]
+
+
+def test_interval_widens_with_the_misfit_average() -> None:
+    """A misfit average above its reference widens the reported interval (a scale mixture), not the change flag's."""
+    import dataclasses
+
+    from mudforce.estimation import tracker as T
+    from mudforce.motions.gait import walk
+
+    wk = walk(0.25, seed=3, duration=6.0, force_noise=0.2, bias=0.5)
+    tracker = T.MudTracker()
+    previous = wk.time[0]
+    for t, z, f in zip(wk.time.tolist()[:-1], wk.depth.tolist()[:-1], wk.force.tolist()[:-1], strict=True):
+        tracker.update(z, f, t - previous)
+        previous = t
+    state = tracker.state
+    last = (float(wk.depth[-1]), float(wk.force[-1]), float(wk.time[-1] - previous))
+    plain = tracker.update(*last)
+    aux = np.array(state.aux)
+    for ratio, factor in ((1.0, 1.0), (9.0 * T._MISFIT_BLUR_REF, 3.0)):
+        aux[0, T._A_MISFIT] = ratio
+        tracker.state = dataclasses.replace(state, aux=aux)
+        est = tracker.update(*last)
+        if factor == 1.0:
+            assert (est.low, est.high) == (plain.low, plain.high)  # nothing widened below the reference
+        else:  # the blur's spread x3: the interval about three times wider (the fit's own width adds a little)
+            assert 2.5 * (plain.high - plain.low) <= est.high - est.low <= 3.2 * (plain.high - plain.low)
+            assert est.low <= plain.low and est.high >= plain.high

@@ -135,7 +135,9 @@ _C_LAG = 12  # force lag allowance [s]: the model's force change over it is adde
 _C_REST = 13  # rest speed [m/s]: a slower sample constrains the mud only through the rest band
 _C_MISFIT_RATIO = 14  # misfit flag threshold on the average squared standardised residual [-]
 _C_DISC = 15  # discretisation allowance [samples]: the model at the rate may be off by this many steps' force change
-_N_CFG = 16
+_C_INFLATE = 16  # misfit average [-] above which the posterior is tempered by the excess (a scale mixture)
+_C_TEMPER = 17  # misfit average [-] above which the fit's posterior is tempered by the excess
+_N_CFG = 18
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -148,6 +150,17 @@ _MISFIT_MIN_CONTACT = 1.0  # [s] of contact before the flag may fire
 #: true path (a touchdown between two samples, a reversal seen late), an error of about a few samples' change of
 #: the predicted force; the flag's scale holds this many.
 _MISFIT_DISCRETISATION = 3.0
+
+#: The misfit average [-] above which the fit's posterior is tempered (ours): its log is divided by the average over
+#: this, a scale mixture (residuals larger than the scale says make each sample that much weaker evidence). In-family
+#: gait() walks average 1 to 2.
+_MISFIT_TEMPER_REF = 2.0
+#: The misfit average [-] above which the reported posterior's blur widens (ours), by the square root of the excess.
+_MISFIT_BLUR_REF = 3.0
+#: The spreads of the reported posterior's blurs, in units of ``discrepancy`` (ours): the blur is widened by the
+#: square root of the misfit's excess over its reference, rounded up to one of these (precomputed, so the update's
+#: cost does not depend on it).
+_BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0])
 
 #: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
 #: model by this much is not read as other mud.
@@ -296,46 +309,66 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                     L[j, h * G + g] = v
                     if v > best:
                         best = v
-            # the posterior of W, the gain marginalised: a gain error cannot be told from stiffer mud,
-            # so the interval spans what each gain hypothesis would read
-            total = 0.0
-            for g in range(G):
-                v = 0.0
-                for h in range(H):
-                    v += math.exp(L[j, h * G + g] - best)
-                P[j, g] = v
-                total += v
-            for g in range(G):
-                P[j, g] /= total
             # the flag's floor: the model's own discretisation error at the rate (ours, see _MISFIT_DISCRETISATION)
             mis_s2 += (cfg[_C_DISC] * (pred - aux[j, _A_PPREV])) ** 2
             # the misfit average over the last tau seconds of contact
             z2 = min(mis_r * mis_r / mis_s2, _MISFIT_CLIP)
             aux[j, _A_MISFIT_T] = min(aux[j, _A_MISFIT_T] + dt, tau)
             aux[j, _A_MISFIT] += (z2 - aux[j, _A_MISFIT]) * dt / aux[j, _A_MISFIT_T]
-        # the reported posterior: the fit's, blurred by the model discrepancy (Q = blur @ P)
+            # the posterior of W, the gain marginalised: a gain error cannot be told from stiffer mud,
+            # so the interval spans what each gain hypothesis would read; tempered by the misfit (a scale mixture:
+            # residuals larger than the scale explains make every sample that much weaker evidence)
+            inv = 1.0 / max(1.0, aux[j, _A_MISFIT] / cfg[_C_TEMPER])
+            total = 0.0
+            for g in range(G):
+                v = 0.0
+                for h in range(H):
+                    v += math.exp((L[j, h * G + g] - best) * inv)
+                P[j, g] = v
+                total += v
+            for g in range(G):
+                P[j, g] /= total
+        # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         for g in range(G):
             acc = 0.0
             for h in range(G):
-                acc += blur[g, h] * P[j, h]
+                acc += blur[0, g, h] * P[j, h]
             Q[g] = acc
-        out[j, _O_W] = _quantile(Q, edges, 0.5)
-        out[j, _O_LOW] = _quantile(Q, edges, half)
-        out[j, _O_HIGH] = _quantile(Q, edges, 1.0 - half)
-        out[j, _O_BIAS] = aux[j, _A_BIAS]
-        out[j, _O_NOISE] = math.sqrt(aux[j, _A_VAR])
+        w_mid = _quantile(Q, edges, 0.5)
+        w_low = _quantile(Q, edges, half)
+        w_high = _quantile(Q, edges, 1.0 - half)
         # change flag: a settled estimate that leaves the anchor behind
         changed = 0.0
         # (only once the offset has been tared: before, an estimate may still move with it)
-        if out[j, _O_HIGH] - out[j, _O_LOW] <= cfg[_C_SETTLE] and aux[j, _A_NFREE] >= 10.0:
+        if w_high - w_low <= cfg[_C_SETTLE] and aux[j, _A_NFREE] >= 10.0:
             anchor = aux[j, _A_ANCHOR]
             if math.isnan(anchor) or aux[j, _A_HOLD] > 0.0:
                 # the first settled estimate, or the estimate still settling after a flag: follow it
-                aux[j, _A_ANCHOR] = out[j, _O_W]
-            elif anchor < out[j, _O_LOW] - cfg[_C_MARGIN] or anchor > out[j, _O_HIGH] + cfg[_C_MARGIN]:
+                aux[j, _A_ANCHOR] = w_mid
+            elif anchor < w_low - cfg[_C_MARGIN] or anchor > w_high + cfg[_C_MARGIN]:
                 changed = 1.0
-                aux[j, _A_ANCHOR] = out[j, _O_W]
+                aux[j, _A_ANCHOR] = w_mid
                 aux[j, _A_HOLD] = tau
+        # the reported posterior: that blur widened with the misfit, the smallest of _BLUR_FACTORS at or above the
+        # square root of the misfit average's excess over its reference (a scale mixture, see _MISFIT_BLUR_REF)
+        excess = math.sqrt(max(1.0, aux[j, _A_MISFIT] / cfg[_C_INFLATE]))
+        b = 0
+        while b < blur.shape[0] - 1 and _BLUR_FACTORS[b] < excess:
+            b += 1
+        if b > 0:
+            for g in range(G):
+                acc = 0.0
+                for h in range(G):
+                    acc += blur[b, g, h] * P[j, h]
+                Q[g] = acc
+            w_mid = _quantile(Q, edges, 0.5)
+            w_low = _quantile(Q, edges, half)
+            w_high = _quantile(Q, edges, 1.0 - half)
+        out[j, _O_W] = w_mid
+        out[j, _O_LOW] = w_low
+        out[j, _O_HIGH] = w_high
+        out[j, _O_BIAS] = aux[j, _A_BIAS]
+        out[j, _O_NOISE] = math.sqrt(aux[j, _A_VAR])
         out[j, _O_CHANGED] = changed
         out[j, _O_MISFIT] = 1.0 if (aux[j, _A_CONTACT] >= _MISFIT_MIN_CONTACT
                                     and aux[j, _A_MISFIT] > cfg[_C_MISFIT_RATIO]) else 0.0
@@ -599,6 +632,8 @@ class MudTrackers:
         cfg[_C_REST] = REST_SPEED
         cfg[_C_MISFIT_RATIO] = MISFIT_THRESHOLD
         cfg[_C_DISC] = _MISFIT_DISCRETISATION
+        cfg[_C_INFLATE] = _MISFIT_BLUR_REF
+        cfg[_C_TEMPER] = _MISFIT_TEMPER_REF
         self._cfg = cfg
         G = self.grid.size
         mids = 0.5 * (self.grid[1:] + self.grid[:-1])
@@ -608,7 +643,8 @@ class MudTrackers:
             self.discrepancy = 0.0
         else:
             self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
-        self._blur = _blur_matrix(self.grid, self._edges, self.discrepancy)
+        self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k))
+                                                    for k in _BLUR_FACTORS]))
         self._Q = np.zeros(G, dtype=np.float64)
         self._lo = np.zeros(G, dtype=np.float64)  # the rest band of each model, scratch of the compiled step
         self._hi = np.zeros(G, dtype=np.float64)
