@@ -19,13 +19,6 @@ _TESTS = str(Path(__file__).resolve().parent)
 if _TESTS not in sys.path:
     sys.path.insert(0, _TESTS)
 
-# JAX's CPU backend on one thread in each test process (the workers and the command lines they start): the run
-# already keeps one process per core busy, and XLA's own thread pool on top of it costs CPU in contention
-# (measured: the three heaviest JAX/MJX modules 4-15 % less CPU). Set before anything imports jax.
-_XLA_ONE_THREAD = "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1"
-if "xla_cpu_multi_thread_eigen" not in os.environ.get("XLA_FLAGS", ""):
-    os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {_XLA_ONE_THREAD}".strip()
-
 # CI (and anyone who sets CI=true) runs the same examples every time; a
 # developer's run explores new ones (MUDFORCE_EXAMPLES sets how many).
 settings.register_profile("ci", derandomize=True, print_blob=True)
