@@ -189,3 +189,27 @@ def test_terminate_kills_the_workers_it_does_not_wait_for_their_jobs() -> None:
     workers = list(pool._processes.values())
     terminate(pool)
     assert [w.exitcode for w in workers] == [-signal.SIGTERM, -signal.SIGTERM]  # killed, not finished
+
+
+def test_a_process_with_jax_loaded_starts_its_workers_fresh(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Forked workers of a process running JAX's threads can hang on a lock copied mid-use (JAX warns of it):
+    such a process spawns them instead, and they still run its jobs and die with it (each is its child)."""
+    import sys
+    import types
+
+    from mudforce.reproduce.jobs import executor, start_method, terminate
+
+    monkeypatch.delitem(sys.modules, "jax", raising=False)
+    monkeypatch.delitem(sys.modules, "jaxlib", raising=False)
+    monkeypatch.delitem(sys.modules, "torch", raising=False)
+    assert start_method() == "fork"
+    monkeypatch.setitem(sys.modules, "jax", types.ModuleType("jax"))
+    assert start_method() == "spawn"
+    pool = executor(2)
+    try:
+        pids = {pool.submit(os.getpid).result(timeout=60) for _ in range(4)}
+        workers = _children(os.getpid())
+        assert pids and os.getpid() not in pids and pids <= set(workers)  # this process's children
+    finally:
+        terminate(pool)
+    _no_worker_survives({p: workers[p] for p in pids})

@@ -34,7 +34,8 @@ from mudforce.model.baselines import BASELINE_NAMES
 from mudforce.model.foot import Foot
 from mudforce.reproduce.experiments import ReproduceConfig
 
-__all__ = ["VELOCITY_FREE", "Job", "count_fits", "executor", "run_fits", "sort_fits", "terminate"]
+__all__ = ["THREADED_RUNTIMES", "VELOCITY_FREE", "Job", "count_fits", "executor", "run_fits", "sort_fits",
+           "start_method", "terminate"]
 
 #: A fit job: (kind "table" | "velocity" | "baseline", model, water content [-], speed [m/s]; 0 for all speeds).
 Job = tuple[str, str, float, float]
@@ -173,18 +174,35 @@ def _worker_init(parent: int) -> None:
                      daemon=True).start()
 
 
-def executor(jobs: int) -> Any:
-    """A process pool of ``jobs`` workers (forked where the platform allows), or None for ``jobs == 1``.
+#: Libraries that run threads of their own once imported: a process that has one loaded is not forked (a fork
+#: copies a lock one of those threads may hold, and the child can hang on it; JAX warns of exactly this).
+THREADED_RUNTIMES = ("jax", "jaxlib", "torch")
 
-    Its workers die with this process (see the module's docstring).
+
+def start_method() -> str | None:
+    """How the workers start: ``"fork"`` (instant, nothing to import again) where the platform has it and no
+    threaded runtime (:data:`THREADED_RUNTIMES`) is loaded in this process, else ``"spawn"`` where the
+    platform has it (a fresh interpreter per worker, a second or two to import), else the default (None)."""
+    import multiprocessing
+
+    methods = multiprocessing.get_all_start_methods()
+    if "fork" in methods and not any(name in sys.modules for name in THREADED_RUNTIMES):
+        return "fork"
+    return "spawn" if "spawn" in methods else None
+
+
+def executor(jobs: int) -> Any:
+    """A process pool of ``jobs`` workers (:func:`start_method`), or None for ``jobs == 1``.
+
+    Its workers die with this process (see the module's docstring): each is a child of this process, with
+    either start method.
     """
     if jobs <= 1:
         return None
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    methods = multiprocessing.get_all_start_methods()
-    context = multiprocessing.get_context("fork" if "fork" in methods else None)
+    context = multiprocessing.get_context(start_method())
     return ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=_worker_init,
                                initargs=(os.getpid(),))
 
