@@ -135,7 +135,7 @@ _C_LAG = 12  # force lag allowance [s]: the model's force change over it is adde
 _C_REST = 13  # rest speed [m/s]: a slower sample constrains the mud only through the rest band
 _C_MISFIT_RATIO = 14  # misfit flag threshold on the average squared standardised residual [-]
 _C_DISC = 15  # discretisation allowance [samples]: the model at the rate may be off by this many steps' force change
-_C_INFLATE = 16  # misfit average [-] above which the posterior is tempered by the excess (a scale mixture)
+_C_BLUR_REF = 16  # misfit average [-] above which the reported posterior's blur widens (_MISFIT_BLUR_REF)
 _C_TEMPER = 17  # misfit average [-] above which the fit's posterior is tempered by the excess
 _N_CFG = 18
 
@@ -196,6 +196,19 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
             return float(edges[g] + (q - c) / p[g] * (edges[g + 1] - edges[g]))
         c += p[g]
     return float(edges[G])
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _blurred_quantiles(blur: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np.ndarray, half: float
+                       ) -> tuple[float, float, float]:
+    """The median and the ``half``, ``1 - half`` quantiles [-] of ``blur @ p`` (written into the scratch ``q``)."""
+    G = p.shape[0]
+    for g in range(G):
+        acc = 0.0
+        for h in range(G):
+            acc += blur[g, h] * p[h]
+        q[g] = acc
+    return _quantile(q, edges, 0.5), _quantile(q, edges, half), _quantile(q, edges, 1.0 - half)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -329,14 +342,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             for g in range(G):
                 P[j, g] /= total
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
-        for g in range(G):
-            acc = 0.0
-            for h in range(G):
-                acc += blur[0, g, h] * P[j, h]
-            Q[g] = acc
-        w_mid = _quantile(Q, edges, 0.5)
-        w_low = _quantile(Q, edges, half)
-        w_high = _quantile(Q, edges, 1.0 - half)
+        w_mid, w_low, w_high = _blurred_quantiles(blur[0], P[j], Q, edges, half)
         # change flag: a settled estimate that leaves the anchor behind
         changed = 0.0
         # (only once the offset has been tared: before, an estimate may still move with it)
@@ -351,19 +357,12 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_HOLD] = tau
         # the reported posterior: that blur widened with the misfit, the smallest of _BLUR_FACTORS at or above the
         # square root of the misfit average's excess over its reference (a scale mixture, see _MISFIT_BLUR_REF)
-        excess = math.sqrt(max(1.0, aux[j, _A_MISFIT] / cfg[_C_INFLATE]))
+        excess = math.sqrt(max(1.0, aux[j, _A_MISFIT] / cfg[_C_BLUR_REF]))
         b = 0
         while b < blur.shape[0] - 1 and _BLUR_FACTORS[b] < excess:
             b += 1
         if b > 0:
-            for g in range(G):
-                acc = 0.0
-                for h in range(G):
-                    acc += blur[b, g, h] * P[j, h]
-                Q[g] = acc
-            w_mid = _quantile(Q, edges, 0.5)
-            w_low = _quantile(Q, edges, half)
-            w_high = _quantile(Q, edges, 1.0 - half)
+            w_mid, w_low, w_high = _blurred_quantiles(blur[b], P[j], Q, edges, half)
         out[j, _O_W] = w_mid
         out[j, _O_LOW] = w_low
         out[j, _O_HIGH] = w_high
@@ -632,7 +631,7 @@ class MudTrackers:
         cfg[_C_REST] = REST_SPEED
         cfg[_C_MISFIT_RATIO] = MISFIT_THRESHOLD
         cfg[_C_DISC] = _MISFIT_DISCRETISATION
-        cfg[_C_INFLATE] = _MISFIT_BLUR_REF
+        cfg[_C_BLUR_REF] = _MISFIT_BLUR_REF
         cfg[_C_TEMPER] = _MISFIT_TEMPER_REF
         self._cfg = cfg
         G = self.grid.size
