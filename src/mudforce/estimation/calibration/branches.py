@@ -109,23 +109,32 @@ def estimate_force_noise(time: np.ndarray, force: np.ndarray, where: np.ndarray 
     if f.size < 8:
         return 0.0
     values = np.abs(_third_differences(t, f))
-    noise = float(np.median(values) / 0.6744897501960817)
+    noise = _sigma(values)
     if where is not None:
         sel = np.asarray(where, dtype=bool)
-        full = sel[:-3] & sel[1:-2] & sel[2:-1] & sel[3:]
+        full = _all_four(sel)
         if int(np.count_nonzero(full)) >= _NOISE_WINDOWS:
-            selected = float(np.median(values[full]) / 0.6744897501960817)
+            selected = _sigma(values[full])
             # the selected samples at their most frequent level only (clear of the mud a suction may still decay)
             for _ in range(3):
                 level = _free_level(f[sel], selected)
-                near = sel & (np.abs(f - level) < 3.0 * selected)
-                full = near[:-3] & near[1:-2] & near[2:-1] & near[3:]
+                full = _all_four(sel & (np.abs(f - level) < 3.0 * selected))
                 if int(np.count_nonzero(full)) < _NOISE_WINDOWS:
                     break
-                selected = min(selected, float(np.median(values[full]) / 0.6744897501960817))
+                selected = min(selected, _sigma(values[full]))
             if noise > 1.5 * selected:  # the rest of the signal is not smooth between its samples
                 return selected
     return noise
+
+
+def _sigma(values: np.ndarray) -> float:
+    """The standard deviation of white noise from the absolute values of its unit-norm differences [same]."""
+    return float(np.median(values) / 0.6744897501960817)
+
+
+def _all_four(mask: np.ndarray) -> np.ndarray:
+    """Whether each four consecutive samples (one third difference's) are all in ``mask`` (``n - 3`` values)."""
+    return np.asarray(mask[:-3] & mask[1:-2] & mask[2:-1] & mask[3:], dtype=bool)
 
 
 def _third_differences(t: np.ndarray, f: np.ndarray) -> np.ndarray:
