@@ -5,7 +5,7 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
-from mudforce_cli_harness import run_batch, run_cli
+from mudforce_cli_harness import assert_refused, run_batch, run_cli
 
 PREVIOUS = b"previous output, must survive any error\n"
 
@@ -32,9 +32,7 @@ def test_too_light_a_foot_is_refused(tmp_path: Path) -> None:
     runs = run_batch([(["drop", *args, "--water-content", "25%", "--out", "drop.csv"], folder)
                       for (args, _), folder in zip(TOO_LIGHT, folders, strict=True)])
     for run, (_, message), folder in zip(runs, TOO_LIGHT, folders, strict=True):
-        assert run.returncode == 2 and run.stdout == "", (message, run.stderr)
-        lines = run.stderr.strip().splitlines()
-        assert len(lines) == 1 and message in lines[0] and "Traceback" not in run.stderr
+        assert_refused(run, message)
         assert (folder / "drop.csv").read_bytes() == PREVIOUS
 
 

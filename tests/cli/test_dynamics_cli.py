@@ -11,7 +11,7 @@ import pytest
 
 from mudforce import MudParameters
 from mudforce.engines.dynamics import exact_drop
-from mudforce_cli_harness import run_batch, run_cli
+from mudforce_cli_harness import assert_refused, run_batch, run_cli
 
 PREVIOUS = b"previous output, must survive any error\n"
 
@@ -64,8 +64,6 @@ def test_bad_input_exit_2_one_line_output_untouched(tmp_path: Path) -> None:
     runs = run_batch([(["drop", *args, "--out", "drop.csv"], folder)
                       for (args, _), folder in zip(BAD_INPUTS, folders, strict=True)])
     for run, (_, message), folder in zip(runs, BAD_INPUTS, folders, strict=True):
-        assert run.returncode == 2 and run.stdout == "", (message, run.stderr)
-        lines = run.stderr.strip().splitlines()
-        assert len(lines) == 1 and message in lines[0] and "Traceback" not in run.stderr
+        assert_refused(run, message)
         assert (folder / "drop.csv").read_bytes() == PREVIOUS
         assert sorted(p.name for p in folder.iterdir()) == ["drop.csv"]

@@ -10,7 +10,7 @@ import pytest
 
 from mudforce.estimation.tracker import track
 from mudforce.motions.gait import walk
-from mudforce_cli_harness import run_batch, run_cli, snapshot
+from mudforce_cli_harness import assert_refused, run_batch, run_cli, snapshot
 
 EXPECTED = ["time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
             "changed", "misfit"]
@@ -79,8 +79,5 @@ def test_bad_input_exits_2_with_one_line_and_clobbers_nothing(tmp_path: Path) ->
         befores.append(snapshot(folder))
     runs = run_batch([(["track", *args], folder) for (_, args, _), folder in zip(BAD_INPUTS, folders, strict=True)])
     for run, (_, _, message), folder, before in zip(runs, BAD_INPUTS, folders, befores, strict=True):
-        assert run.returncode == 2, (message, run.stderr)
-        assert run.stdout == ""
-        lines = run.stderr.strip().splitlines()
-        assert len(lines) == 1 and message in lines[0], run.stderr
+        assert_refused(run, message)
         assert snapshot(folder) == before
