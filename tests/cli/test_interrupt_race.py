@@ -72,3 +72,28 @@ def test_an_interrupt_that_lands_in_the_hook_itself_does_not_escape_it(monkeypat
         sys.unraisablehook(lost)  # no exception escapes the hook
         assert len(calls) == 2  # scheduled on the second try
         raise KeyboardInterrupt
+
+
+def test_a_retry_lost_again_while_watch_ends_is_not_retried_after_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A retry that lands in a callback while watch() joins its timers (seen once, a loaded full run: the command
+    printed "mudforce: interrupted" and the process still ended by SIGINT, -2): it is acted on inside watch(),
+    and no new retry is left to fire after the command has returned."""
+    monkeypatch.setattr(interrupt, "_RETRY_S", 0.05)
+    lost = SimpleNamespace(exc_type=KeyboardInterrupt, exc_value=KeyboardInterrupt(), exc_traceback=None,
+                           err_msg=None, object=None)
+    real_deliver = interrupt._deliver
+
+    def lost_while_closing() -> None:  # the finally clause's last step, inside a callback that loses it again
+        sys.unraisablehook(lost)
+        real_deliver()
+
+    monkeypatch.setattr(interrupt, "_deliver", lost_while_closing)
+    before = threading.active_count()
+    with pytest.raises(KeyboardInterrupt), interrupt.watch():
+        pass  # the command itself ended normally
+    arrived = False
+    try:
+        time.sleep(0.3)  # a retry scheduled by the hook would fire here, after watch()
+    except KeyboardInterrupt:
+        arrived = True
+    assert not arrived and threading.active_count() == before

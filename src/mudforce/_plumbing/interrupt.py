@@ -78,9 +78,17 @@ def watch() -> Iterator[None]:
         return
     previous_hook = sys.unraisablehook
     timers: list[threading.Timer] = []
+    closing = False  # watch() is ending: a lost interrupt is no longer retried (see the finally clause)
+    lost_while_closing = False
 
     def hook(unraisable: Any) -> None:
-        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+        nonlocal lost_while_closing
+        if isinstance(unraisable.exc_value, KeyboardInterrupt) and closing:
+            # a retry lost in a callback while the timers are joined: a timer started now would fire after the
+            # handlers are restored, once the command has returned (exit by SIGINT, -2); the interrupt is acted
+            # on below instead, as one delivered there
+            lost_while_closing = True
+        elif isinstance(unraisable.exc_value, KeyboardInterrupt):
             # lost in a callback or finaliser: raise it again once the main thread is out of it (not from
             # here: the main thread would act on it at once, inside this hook, and lose it again)
             # A retry of an earlier one may land in here (a loaded machine, matplotlib freeing caches one after
@@ -109,6 +117,7 @@ def watch() -> Iterator[None]:
         # Left for later, it would surface after the command had reported "interrupted" and returned 130, and
         # Python would end the process by SIGINT instead (exit status -2).
         # (A Ctrl-C that comes only now, with the command done, is raised again once the handlers are back.)
+        closing = True
         late = False
         for timer in timers:
             timer.cancel()
@@ -120,5 +129,5 @@ def watch() -> Iterator[None]:
         sys.unraisablehook = previous_hook
         signal.signal(signal.SIGINT, signal.default_int_handler)
         _pending = False
-        if late and sys.exc_info()[0] is None:
+        if (late or lost_while_closing) and sys.exc_info()[0] is None:
             raise KeyboardInterrupt
