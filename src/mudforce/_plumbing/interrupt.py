@@ -106,26 +106,31 @@ def watch() -> Iterator[None]:
         else:
             previous_hook(unraisable)
 
+    late = False
+
+    def absorb(signum: int, frame: Any) -> None:
+        nonlocal late
+        late = True
+
     signal.signal(signal.SIGINT, _handler)
     sys.unraisablehook = hook
     try:
         yield
     finally:
-        # A retry may have fired already (a loaded machine runs the timer late): its interrupt is delivered at
-        # the main thread's next bytecode. Let it arrive here, while this handler is installed, and drop it: the
-        # interrupt it repeats is already recorded (``_pending``, set before the first was raised) and acted on.
-        # Left for later, it would surface after the command had reported "interrupted" and returned 130, and
-        # Python would end the process by SIGINT instead (exit status -2).
-        # (A Ctrl-C that comes only now, with the command done, is raised again once the handlers are back.)
+        # From here on an interrupt only records itself (``absorb``): a retry that fires now (a loaded machine runs
+        # its timer late) or one already tripped. Raised in this clause, between two of its statements, it would
+        # skip the rest: a timer left unjoined would interrupt the main thread after the command had reported
+        # "interrupted" and returned 130, and Python would end the process by SIGINT instead (exit status -2). The
+        # interrupt a retry repeats is already recorded (``_pending``) and acted on; a Ctrl-C that comes only now,
+        # with the command done, is raised at the end, once the handlers are back.
+        signal.signal(signal.SIGINT, absorb)
         closing = True
-        late = False
         for timer in timers:
             timer.cancel()
-        for step in [*(timer.join for timer in timers if timer.ident is not None), _deliver]:  # started ones
-            try:
-                step()
-            except KeyboardInterrupt:
-                late = True
+        for timer in timers:
+            if timer.ident is not None:  # started: wait until it has run or seen its cancellation
+                timer.join()
+        _deliver()  # a signal the last of them tripped is handled here, by ``absorb``
         sys.unraisablehook = previous_hook
         signal.signal(signal.SIGINT, signal.default_int_handler)
         _pending = False
