@@ -16,19 +16,40 @@ from mudforce_cli_harness import assert_refused, run_batch, run_cli
 SEED = "7"
 
 
-def _run(*args: str) -> subprocess.CompletedProcess[str]:
-    return run_cli(["reproduce", *args], env={"PYTHONHASHSEED": "0"}, timeout=240)
+def _run(*args: str, path_first: tuple[Path, ...] = ()) -> subprocess.CompletedProcess[str]:
+    return run_cli(["reproduce", *args], env={"PYTHONHASHSEED": "0"}, timeout=240, path_first=path_first)
+
+
+#: ``--quick`` of three water contents instead of five (the driest, the middle and the wettest): every stage,
+#: table and figure of the report, for 60 % of its fits. Put before the package on the path by a
+#: ``sitecustomize``; that ``--quick`` itself has all five is checked by test_quick_has_every_water_content.
+HOOK = """
+import dataclasses
+from mudforce.reproduce import experiments
+_quick = experiments.ReproduceConfig.quick_config.__func__
+def _smaller(cls, seed=0):
+    return dataclasses.replace(_quick(cls, seed), water_contents=(0.15, 0.25, 0.35))
+experiments.ReproduceConfig.quick_config = classmethod(_smaller)
+"""
+WATER = [0.15, 0.25, 0.35]
 
 
 @pytest.fixture(scope="module")
 def reports(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """One quick report, in two worker processes (that the number of jobs changes nothing is checked below,
     at the level of the fits and the figures, for a fraction of a second report's cost)."""
+    hook = tmp_path_factory.mktemp("hook")
+    (hook / "sitecustomize.py").write_text(HOOK)
     out = tmp_path_factory.mktemp("reproduce") / "a"
-    proc = _run("--quick", "--seed", SEED, "--out", str(out), "--jobs", "2")
+    proc = _run("--quick", "--seed", SEED, "--out", str(out), "--jobs", "2", path_first=(hook,))
     assert proc.returncode == 0, proc.stderr
     assert "wrote" in proc.stdout
     return out
+
+
+def test_quick_has_every_water_content() -> None:
+    config = ReproduceConfig.quick_config()
+    assert config.water_contents == (0.15, 0.2, 0.25, 0.3, 0.35) and config.quick
 
 
 def test_report_files_and_keys(reports: Path) -> None:
@@ -38,7 +59,7 @@ def test_report_files_and_keys(reports: Path) -> None:
     summary = json.loads((out / "summary.json").read_text())
     assert summary["config"]["seed"] == int(SEED) and summary["config"]["quick"] is True
     rows = summary["table_i"]
-    assert [r["water_content"] for r in rows] == [0.15, 0.2, 0.25, 0.3, 0.35]
+    assert [r["water_content"] for r in rows] == WATER
     for row in rows:
         assert set(row["fitted"]) >= {"k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "beta", "sigma_y", "zeta",
                                       "omega_0"}
