@@ -606,7 +606,23 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
     x = _least_squares(obj, np.array(x0), lo, hi, options.max_nfev * 2)
     residual = obj(x)
     values = obj.values(x)
-    cov, determined = covariance(jacobian(obj, x), residual, motion_sensitivity(model, foot, groups, values))
+    jac = jacobian(obj, x)
+    cov, determined = covariance(jac, residual, motion_sensitivity(model, foot, groups, values))
+    # as for one condition: the jackknife over every trial of every condition, and the profile likelihood
+    # (a shared parameter is profiled once, for the first condition that asks, with every other parameter refitted)
+    sizes = [tr.time.size for group in groups for tr in group]
+    n_data = residual.size - len(sizes)
+    starts = np.cumsum([0, *sizes])
+    rows = [np.append(np.arange(starts[i], starts[i + 1]), n_data + i) for i in range(len(sizes))]
+    spread = jackknife_variance(jac, residual, rows)
+    one = _profiler(obj, x, jac, lo, hi, max(options.max_nfev // 4, 20))
+    seen: dict[int, tuple[float, float | None]] = {}
+
+    def profile(j: int, se_log: float) -> tuple[float, float | None]:
+        if j not in seen:
+            seen[j] = one(j, se_log)
+        return seen[j]
+
     out = []
     for g, prepared in enumerate(groups):
         cols = [j for j, (owner, _) in enumerate(labels) if owner is None or owner == g]
@@ -616,6 +632,6 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
         cols = [cols[k] for k in perm]
         fnames = tuple(order[k] for k in perm)
         out.append(_condition_from(model, foot, prepared, values[g], fnames, cov, determined, cols,
-                                   {**fits[g].stage_rmse, "shared": _rms(residual)}))
+                                   {**fits[g].stage_rmse, "shared": _rms(residual)}, spread, profile))
     return out
 
