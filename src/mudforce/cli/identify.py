@@ -44,6 +44,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print JSON")
 
 
+def _force_gain_uncertainty(value: str) -> float:
+    """``--force-gain-uncertainty`` (identify's and fit's) as a fraction [-] in [0, 0.5), or a one-line error."""
+    from mudforce.errors import InputError
+    from mudforce.io.units import parse_quantity
+
+    text = str(value).strip()
+    gain = 0.0 if text in ("0", "0%") else parse_quantity(text, "fraction", name="--force-gain-uncertainty")
+    if not 0.0 <= gain < 0.5:
+        raise InputError(f"--force-gain-uncertainty: {value!r} must be in [0%, 50%), e.g. 5%")
+    return gain
+
+
 def run(args: argparse.Namespace) -> int:
     """Read the trial, identify, print."""
     from mudforce.errors import InputError
@@ -54,10 +66,7 @@ def run(args: argparse.Namespace) -> int:
     level = round(parse_quantity(args.level, "fraction", name="--level"), 9)
     if not 0.0 < level < 1.0:
         raise InputError(f"--level: {args.level!r} must be between 0% and 100%, e.g. 95%")
-    text = str(args.force_gain_uncertainty).strip()
-    gain = 0.0 if text in ("0", "0%") else parse_quantity(text, "fraction", name="--force-gain-uncertainty")
-    if not 0.0 <= gain < 0.5:
-        raise InputError(f"--force-gain-uncertainty: {args.force_gain_uncertainty!r} must be in [0%, 50%), e.g. 5%")
+    gain = _force_gain_uncertainty(args.force_gain_uncertainty)
     foot = parse_foot(args.foot if args.foot is not None else "paper")
     result = identify_water_content(load_trial(args.trial), foot, level=level, force_gain_uncertainty=gain)
     listed = _manifest_foot(args.trial)
