@@ -7,13 +7,23 @@ the gain's uncertainty enters those parameters' standard errors, fully correlate
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from mudforce.errors import InputError
-from mudforce.estimation.calibration import ConditionFit, FitOptions, Trial, fit_condition, synthesize
+from mudforce.estimation.calibration import (
+    ConditionFit,
+    FitOptions,
+    Trial,
+    fit_condition,
+    fit_dataset,
+    load_fit,
+    synthesize,
+)
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -64,6 +74,15 @@ def test_a_gain_error_is_within_the_standard_errors(fits: tuple[dict[str, float]
             assert se / with_gain.parameters[n] >= math.log(GAIN) / 1.96 - 1e-12
     # the same values: the gain changes the standard errors, not the fit
     assert with_gain.parameters == without.parameters
+
+
+def test_fit_json_records_the_gain_uncertainty(tmp_path: Path) -> None:
+    ds = synthesize(water_contents=[0.25], velocities=[0.04], repeats=1, seed=3, force_noise=0.2)
+    result = fit_dataset(ds, seed=1, options=FitOptions(popsize=4, maxiter=3, max_nfev=30), quiet=True,
+                         force_gain_uncertainty=0.1)
+    result.save(tmp_path / "fit.json")
+    assert load_fit(tmp_path / "fit.json").force_gain_uncertainty == 0.1
+    assert json.loads((tmp_path / "fit.json").read_text())["force_gain_uncertainty"] == 0.1
 
 
 def test_the_gain_uncertainty_is_checked() -> None:

@@ -180,6 +180,9 @@ class Identification:
     episode_half_width : float
         The interval's half-width [-] from the spread of the evidence over the contact episodes (a sandwich
         estimate); the interval holds at least this on each side (general path; 0 on a protocol).
+    depth_noise : float
+        The depth noise the trial was read with [m]: given, or estimated from the depth (general path; 0 on a
+        protocol, whose fitted motion carries its own uncertainty).
     misfit_shift : float
         The most the residual the noise does not explain could move the estimate [-] (its RMS, the larger of
         ``off_family`` and the moving samples' excess over the force and depth noise, the discretisation error
@@ -212,6 +215,7 @@ class Identification:
     rate_shift: float = 0.0
     episode_half_width: float = 0.0
     misfit_shift: float = 0.0
+    depth_noise: float = math.nan
 
     @property
     def low(self) -> float:
@@ -238,7 +242,8 @@ class Identification:
         ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``,
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
-        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``, ``warnings``.
+        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
+        ``depth_noise_m``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -269,6 +274,7 @@ class Identification:
             "rate_shift": self.rate_shift,
             "episode_half_width": self.episode_half_width,
             "misfit_shift": self.misfit_shift,
+            "depth_noise_m": finite(self.depth_noise),
             "warnings": list(self.warnings),
         }
 
@@ -383,6 +389,7 @@ def identify_water_content(
     level: float = 0.95,
     points: int = 81,
     force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
+    depth_noise: float | None = None,
 ) -> Identification:
     """Estimate the water content of one trial from a one-parameter family of parameter sets.
 
@@ -405,6 +412,11 @@ def identify_water_content(
         error reads as stiffer or softer mud, so the interval is widened by the water-content
         shift a gain change of this size causes.
 
+    depth_noise : float, optional
+        The depth's noise [m] when the recording system knows it (:func:`prepare_trial
+        <mudforce.estimation.calibration.preprocess.prepare_trial>`); None (default): estimated from the depth.
+        Only for a raw :class:`Trial` (a prepared one already holds its noise).
+
     Returns
     -------
     Identification
@@ -415,7 +427,11 @@ def identify_water_content(
         raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), "
                          f"got {force_gain_uncertainty!r}")
     foot = Foot.paper() if foot is None else foot
-    tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial)
+    if isinstance(trial, PreparedTrial) and depth_noise is not None:
+        raise InputError(f"{trial.trial.name}: a prepared trial already holds its depth noise "
+                         f"({trial.depth_noise * 1e3:.3g} mm); pass the raw Trial with depth_noise=, or prepare it "
+                         "with prepare_trial(trial, depth_noise=...)")
+    tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial, depth_noise=depth_noise)
     if not np.any(tr.trial.force != tr.trial.force[0]):
         raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
                          "the trial carries no force to identify a water content from (is the column right?)")
@@ -654,5 +670,6 @@ def identify_water_content(
         rate_shift=rate_shift,
         episode_half_width=sandwich,
         misfit_shift=model_shift,
+        depth_noise=tr.depth_noise,
     )
 
