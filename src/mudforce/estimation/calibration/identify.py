@@ -357,6 +357,14 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     return force, low, high
 
 
+def _with_neighbours(x: np.ndarray) -> np.ndarray:
+    """Each sample the largest of itself and its two neighbours (an event between two samples moves a coarser
+    model at a neighbour of the sample it moves the data at)."""
+    out: np.ndarray = x.copy()
+    out[1:-1] = np.maximum(x[1:-1], np.maximum(x[2:], x[:-2]))
+    return out
+
+
 #: Samples the refined interpolation puts in each step of the recording [-] (ours): the model's error at the data's
 #: rate is the difference of the model on the recording and on the refinement (Richardson); more changes it little.
 _REFINE = 4
@@ -591,6 +599,7 @@ def identify_water_content(
     # carried through, and the model's own discretisation error at the data's rate
     var = noise_floor(tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))
     disc2 = np.zeros(n)
+    half2 = disc2  # the half-rate part alone (the interval's measure of the misfit, below)
     if general and n >= 8:
         # the model at half the rate (the even samples, the odd ones) against the model at the data's rate; an
         # event between two samples (a touchdown, a reversal, a neck) moves the half-rate model at a neighbour
@@ -605,25 +614,33 @@ def identify_water_content(
         ref = _refined_force_and_band(t, tr.depth + offset, family(w_best), foot, lag)
         own = _force_and_band(t, tr.depth + offset, family(w_best), foot, lag)
         edges = np.maximum((ref[1] - own[1]) ** 2, (ref[2] - own[2]) ** 2)
-        disc2 = np.maximum(disc2, np.where(rest, edges, (ref[0] - own[0]) ** 2))
-        disc2[1:-1] = np.maximum(disc2[1:-1], np.maximum(disc2[2:], disc2[:-2]))
+        half2 = _with_neighbours(disc2)
+        disc2 = _with_neighbours(np.maximum(disc2, np.where(rest, edges, (ref[0] - own[0]) ** 2)))
     discretisation = math.sqrt(float(np.mean(disc2)))
     # the statistic: the RMS of the residuals each divided by its own floor. The discretisation error
     # is local (a branch switch or a necking a sample early or late can move the half-rate model by
     # tens of newtons over a few strides), so it excuses the samples where it is large and no others;
     # added in quadrature to one global floor it would excuse an off-family mud everywhere.
     noise_var = var
-    var = np.maximum(var + disc2, max((1e-4 * scale) ** 2, 1e-18))
-    standardised = math.sqrt(float(np.mean(np.minimum(r**2 / var, _MISFIT_CLIP))))
-    floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
+    least = max((1e-4 * scale) ** 2, 1e-18)
+
+    def floor_of(extra: np.ndarray) -> float:
+        """The RMSE over the RMS of the residuals each divided by its floor (noise plus ``extra``) [N]."""
+        v = np.maximum(noise_var + extra, least)
+        standardised = math.sqrt(float(np.mean(np.minimum(r**2 / v, _MISFIT_CLIP))))
+        return rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(v)))
+
+    floor = floor_of(disc2)
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     # the misfit's worst case: a residual of RMS `unexplained` that the family cannot explain moves the estimate by
     # at most unexplained / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on
     # each side. What the noise does not explain counts, the discretisation error included: the flag excuses it as
-    # no sign of another mud, but at this rate it is a model error all the same and can move the estimate
+    # no sign of another mud, but at this rate it is a model error all the same and can move the estimate. So the
+    # interval reads the misfit against the half-rate floor alone, not the refined model's: that one serves the flag
     model_shift = 0.0
-    unexplained = math.sqrt(max(off**2, float(np.sum(r[moving] ** 2) - np.sum(noise_var[moving])) / n))
+    off_interval = math.sqrt(max(rmse**2 - floor_of(half2) ** 2, 0.0))
+    unexplained = math.sqrt(max(off_interval**2, float(np.sum(r[moving] ** 2) - np.sum(noise_var[moving])) / n))
     if general and unexplained > 0.0:
         sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
         model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
