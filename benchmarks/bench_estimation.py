@@ -36,6 +36,12 @@ markdown tables of right, honest and confidently wrong by corruption;
 asserts nothing::
 
     python benchmarks/bench_estimation.py --sensor-chain [--jobs 2] [--quiet]
+
+``--sensor-chain --misfit-flag`` prints identify's misfit flag instead: on the clean recordings (in family) and on
+two off-family muds along the same paths (``F = k z``, and ``alpha`` x2 with ``sigma_y`` x0.3), at each of
+``--flag-rates``, with the depth noise estimated or (``--known-depth-noise``) given::
+
+    python benchmarks/bench_estimation.py --sensor-chain --misfit-flag --robots 4 --walks 2 --duration 10s
 """
 
 from __future__ import annotations
@@ -81,13 +87,19 @@ def main() -> int:
                         help="--sensor-chain: recordings of each source fitted, on the fit rows (default 2)")
     parser.add_argument("--jobs", type=int, default=1, help="--sensor-chain: worker processes (default 1)")
     parser.add_argument("--quiet", action="store_true", help="--sensor-chain: no progress line")
+    parser.add_argument("--misfit-flag", action="store_true",
+                        help="--sensor-chain: identify's misfit flag on clean recordings and on two off-family muds "
+                             "along the same paths, by rate (issue 23, point 4), instead of the corruption tables")
+    parser.add_argument("--flag-rates", default="50Hz,100Hz,1000Hz", help="--misfit-flag: the rates")
+    parser.add_argument("--known-depth-noise", action="store_true",
+                        help="--misfit-flag: give identify the chain's depth noise (as a robot that logs it)")
     parser.add_argument("--tracker-only", action="store_true",
                         help="--sensor-chain: only the MudTracker rows (identify and fit skipped)")
     args = parser.parse_args()
     if args.sensor_chain:
-        from sensor_chain_bench import run_bench
+        from sensor_chain_bench import run_bench, run_flag_bench
 
-        return run_bench(args)
+        return run_flag_bench(args) if args.misfit_flag else run_bench(args)
     duration = parse_quantity(args.duration or "25s", "time")
     rng = np.random.default_rng(args.seed)
 

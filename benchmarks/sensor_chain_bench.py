@@ -296,3 +296,86 @@ def run_bench(args: argparse.Namespace) -> int:
     print()
     print(f"wall time {elapsed:.0f} s with --jobs {args.jobs}")
     return 0
+
+
+# ---------------------------------------------------------------------------- the misfit flag (issue 23, point 4)
+FLAG_SOURCES = ("gait", "robot", "robot-model", "F = kz (gait)", "alpha x2, sigma_y x0.3 (gait)",
+                "F = kz (robot)", "alpha x2, sigma_y x0.3 (robot)")
+
+
+def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequence[float],
+                  known_depth_noise: bool) -> list[dict[str, Any]]:
+    """identify's misfit flag on one unit's clean recordings and on two off-family muds along the same path.
+
+    Off family: a granular law ``F = k z`` (``k`` matching the model's peak) and the mud with ``alpha`` x2 and
+    ``sigma_y`` x0.3, each simulated at 2 kHz along the true path; every force through ``SensorChain(force_noise,
+    depth_noise, force_bias, rate)`` at each rate (seeded per unit, source and rate).
+    """
+    import dataclasses
+
+    out = []
+    recs = _clean(kind, index, seed, duration)
+    _, w, foot, t, z, model_force = recs[-1]
+    q = MudParameters.from_water_content(w)
+    odd = dataclasses.replace(q, alpha=2.0 * q.alpha, sigma_y=0.3 * q.sigma_y)
+    depth_in = np.maximum(z, 0.0)
+    path = "robot" if kind == "robot" else "gait"
+    forces = [(s, f) for s, *_, f in recs] + [
+        (f"F = kz ({path})", float(np.max(model_force)) / float(np.max(depth_in)) * depth_in),
+        (f"alpha x2, sigma_y x0.3 ({path})", np.asarray(simulate(t, z, odd, foot, velocity_filter="exact").force))]
+    for s, (source, f) in enumerate(forces):  # s: the source's place in the unit (seeds the chain)
+        bias = float(np.random.default_rng([seed, 2, index, s]).uniform(-1.0, 1.0))
+        for rate in rates:
+            chain = SensorChain(force_noise=FORCE_NOISE, depth_noise=DEPTH_NOISE, force_bias=bias, rate=rate)
+            cseed = int(np.random.default_rng([seed, 5, index, s, int(rate)]).integers(0, 2**32 - 1))
+            tt, zz, ff = apply(t, z, f, chain, cseed)
+            try:
+                res = identify_water_content(Trial(f"{source}{index}", w, tt, zz, ff), foot,
+                                             depth_noise=DEPTH_NOISE if known_depth_noise else None)
+            except InputError:
+                out.append({"source": source, "rate": rate, "refused": True})
+                continue
+            covered = res.interval[0] <= w <= res.interval[1]
+            out.append({"source": source, "rate": rate, "refused": False, "ratio": res.misfit_ratio,
+                        "flag": res.model_misses_data, "covered": covered,
+                        "wrong": not covered and not res.warnings})
+    return out
+
+
+def run_flag_bench(args: argparse.Namespace) -> int:
+    """The misfit flag's table: in family (gait, robot, robot-model) it should stay quiet, off family fire."""
+    from mudforce.io.units import parse_quantity
+
+    duration = parse_quantity(args.duration or "10s", "time", name="--duration")
+    rates = [parse_quantity(r, "frequency", name="--flag-rates") for r in args.flag_rates.split(",")]
+    units = _units(args)
+    start = time.perf_counter()
+    results: list[dict[str, Any]] = []
+    with Progress(len(units), "misfit-flag bench", quiet=args.quiet) as progress:
+        for kind, i in units:
+            results += run_flag_unit(kind, i, args.seed, duration, rates, args.known_depth_noise)
+            progress.update(1, f"{kind} {i}")
+    print(f"## identify's misfit flag: {args.robots} MuJoCo runs, {args.walks} gait walks of {duration:g} s, "
+          f"seed {args.seed}; depth noise {'given' if args.known_depth_noise else 'estimated'}")
+    print()
+    print(f"Force noise {FORCE_NOISE:g} N, depth noise {DEPTH_NOISE * 1e3:g} mm, a bias in [-1, 1] N. Each cell: "
+          "misfit ratio min-max, flagged (> 1.25) / recordings; covered; confidently wrong (refused).")
+    print()
+    print("| source | " + " | ".join(f"{r:g} Hz" for r in rates) + " |")
+    print("|---|" + "---|" * len(rates))
+    for source in FLAG_SOURCES:
+        cells = []
+        for rate in rates:
+            rs = [x for x in results if x["source"] == source and x["rate"] == rate]
+            if not rs:
+                break
+            ok = [x for x in rs if not x["refused"]]
+            ratios = [x["ratio"] for x in ok]
+            span = f"{min(ratios):.2f}-{max(ratios):.2f}" if ratios else "-"
+            cells.append(f"{span}, {sum(x['flag'] for x in ok)}/{len(rs)}; covered {sum(x['covered'] for x in ok)}; "
+                         f"wrong {sum(x['wrong'] for x in ok)} ({len(rs) - len(ok)})")
+        if cells:
+            print(f"| {source} | " + " | ".join(cells) + " |")
+    print()
+    print(f"wall time {time.perf_counter() - start:.0f} s")
+    return 0

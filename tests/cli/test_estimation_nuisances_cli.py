@@ -1,10 +1,14 @@
 """identify's --force-gain-uncertainty from the command line (issue 23, point 3): the interval widens
-by the shift a gain error causes; 0% turns it off; a bad value is refused in one line."""
+by the shift a gain error causes; 0% turns it off; a bad value is refused in one line. identify's
+--depth-noise (point 7: what a robot should log) is used and reported; fit's --force-gain-uncertainty and
+identify's --depth-noise refuse a bad value in one line, writing nothing."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
+
+import pytest
 
 from mudforce_cli_harness import assert_refused, run_batch
 
@@ -17,6 +21,9 @@ def test_force_gain_uncertainty_widens_identify(tmp_path: Path) -> None:
         (["identify", "walks/w22_gait_r1.csv", "--json", "--force-gain-uncertainty", "10%"], tmp_path),
         (["identify", "walks/w22_gait_r1.csv", "--json", "--force-gain-uncertainty", "0%"], tmp_path),
         (["identify", "walks/w22_gait_r1.csv", "--force-gain-uncertainty", "80%"], tmp_path),
+        (["identify", "walks/w22_gait_r1.csv", "--json", "--depth-noise", "0.05mm"], tmp_path),
+        (["identify", "walks/w22_gait_r1.csv", "--depth-noise", "20mm"], tmp_path),
+        (["fit", "walks", "--out", "bad.json", "--force-gain-uncertainty", "80%"], tmp_path),
     ])
     assert runs[0].returncode == 0, runs[0].stderr
     default, ten, none = (json.loads(r.stdout) for r in runs[1:4])
@@ -28,3 +35,9 @@ def test_force_gain_uncertainty_widens_identify(tmp_path: Path) -> None:
         assert d["interval"][0] <= 0.22 <= d["interval"][1]
         assert {"depth_offset_m", "force_lag_s", "discretisation_N", "rest_fraction"} <= set(d)
     assert_refused(runs[4], "--force-gain-uncertainty")
+    given = json.loads(runs[5].stdout)
+    assert given["depth_noise_m"] == pytest.approx(5e-5) and default["depth_noise_m"] < 5e-5
+    assert given["interval"][0] <= 0.22 <= given["interval"][1]
+    assert_refused(runs[6], "depth noise")
+    assert_refused(runs[7], "--force-gain-uncertainty")
+    assert not (tmp_path / "bad.json").exists()

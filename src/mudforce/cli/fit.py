@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from mudforce.cli.identify import _force_gain_uncertainty
 from mudforce.errors import InputError, seed_int
 from mudforce.io import StagedOutputs, check_output_path, check_replaceable_dir, refuse_overwriting_inputs
 from mudforce.model.foot import FOOT_EXAMPLES
@@ -87,6 +88,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--model", default="chen2024", help="force model to fit (default chen2024)")
     parser.add_argument("--foot", help=f"foot of a tidy CSV: {FOOT_EXAMPLES}")
     parser.add_argument("--seed", type=int, default=0, help="seed of the global search (default 0)")
+    parser.add_argument("--force-gain-uncertainty", default="5%",
+                        help="relative uncertainty of the force sensor's gain (default 5%%): a gain error reads as "
+                             "every stiffness, viscosity, alpha and sigma_y off by as much, so their standard errors "
+                             "are widened by it")
     parser.add_argument("--quiet", action="store_true", help="no progress, no summary")
 
 
@@ -103,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
     # refuse unusable outputs before the fit, not after it
     out = check_output_path(args.out, "--out")
     seed = seed_int(args.seed)
+    gain = _force_gain_uncertainty(args.force_gain_uncertainty)
     if args.report is not None:
         refuse_overwriting_inputs([("--out", out)], [], [("--report", args.report)])
     model = get_model(args.model)
@@ -124,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--free {name} and --fix {name}=... conflict; give one of them")
     if report is None:
         result = fit_dataset(dataset, model=model, free=free, fixed=fixed, shared=_names(args.shared, "--shared"),
-                             seed=seed, quiet=args.quiet)
+                             seed=seed, quiet=args.quiet, force_gain_uncertainty=gain)
         result.save(out)
     else:
         from mudforce.estimation.calibration.report import write_report
@@ -133,10 +139,11 @@ def run(args: argparse.Namespace) -> int:
         # leaves the old pair (or, once swapped, the new one), and the next run removes what a killed one left
         with StagedOutputs(_TAG, folders=[report], files=[out]) as staged:
             result = fit_dataset(dataset, model=model, free=free, fixed=fixed,
-                                 shared=_names(args.shared, "--shared"), seed=seed, quiet=args.quiet)
+                                 shared=_names(args.shared, "--shared"), seed=seed, quiet=args.quiet,
+                                 force_gain_uncertainty=gain)
             speeds = {speed_key(t.nominal_velocity, t.velocity) for c in result.conditions for t in c.trials}
             per_speed = fit_by_velocity(dataset, model=model, free=free, fixed=fixed, seed=seed,
-                                        quiet=args.quiet) if len(speeds) > 1 else []
+                                        quiet=args.quiet, force_gain_uncertainty=gain) if len(speeds) > 1 else []
             result.save(staged.staged_path(out))
             write_report(result, staged.staged_path(report), velocity_fits=per_speed)
             staged.commit()

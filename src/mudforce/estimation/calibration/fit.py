@@ -73,6 +73,7 @@ from mudforce.estimation.calibration.uncertainty import (
     motion_sensitivity,
     profiled,
 )
+from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY
 from mudforce.model.foot import Foot
 
 # the results and the uncertainty live in their own modules; their names stay importable from here
@@ -338,7 +339,7 @@ def _rms(r: np.ndarray) -> float:
 def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
                     free: Sequence[str], cov: np.ndarray, determined: np.ndarray, free_cols: Sequence[int],
                     stage_rmse: dict[str, float], spread: np.ndarray | None = None,
-                    profile: _Profile | None = None) -> ConditionFit:
+                    profile: _Profile | None = None, force_gain_uncertainty: float = 0.0) -> ConditionFit:
     names = model.parameter_names
     params = {n: float(v) for n, v in zip(names, values, strict=True)}
     stderr: dict[str, float | None] = {n: None for n in names}
@@ -351,6 +352,11 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
         wider = np.sqrt(np.maximum(spread[list(free_cols)], var) / np.where(var > 0, var, 1.0))
         wider = np.where(np.isfinite(wider) & (var > 0), wider, 1.0)
         sub = sub * np.outer(wider, wider)
+    # a force gain off by 1 + g reads as every force-scale parameter off by 1 + g, together: g is taken as the
+    # bound at 95 % (as identify's interval takes it), a standard error of log(1 + g) / 1.96 on their logarithms
+    gain_se = math.log1p(force_gain_uncertainty) / 1.959963984540054
+    scaled = np.array([n in model.force_scale for n in free], dtype=np.float64)
+    sub = sub + gain_se**2 * np.outer(scaled, scaled)
     for k, (n, col) in enumerate(zip(free, free_cols, strict=True)):
         value = params[n]
         if not determined[col]:
@@ -359,8 +365,8 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
         se_log = math.sqrt(max(float(sub[k, k]), 0.0))
         stderr[n] = value * se_log
         if profile is not None and se_log > 0:
-            widened, edge = profile(col, se_log)
-            stderr[n] = max(value * se_log, widened)
+            widened, edge = profile(col, math.sqrt(max(se_log**2 - scaled[k] * gain_se**2, 0.0)))
+            stderr[n] = max(value * se_log, math.hypot(widened, scaled[k] * gain_se * value))
             if edge is not None:
                 warnings.append(f"{n} is not bounded {'above' if edge > value else 'below'} by this data: the "
                                 f"likelihood stays within 3 standard errors of its best out to {n} = {edge:.4g} "
@@ -427,6 +433,7 @@ def fit_condition(
     seed: int = 0,
     options: FitOptions | None = None,
     progress: Progress | None = None,
+    force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
 ) -> ConditionFit:
     """Fit a model to the trials of one condition.
 
@@ -452,11 +459,18 @@ def fit_condition(
         Optimiser budget.
     progress : Progress, optional
         Advanced by one per stage.
+    force_gain_uncertainty : float
+        Relative uncertainty of the force sensor's gain [-], in [0, 0.5) (default 5 %, as identify's): a gain
+        error cannot be told from a mud whose force-scale parameters (:attr:`ForceModel.force_scale
+        <mudforce.estimation.calibration.models.ForceModel.force_scale>`: the stiffnesses, viscosities, ``alpha``
+        and ``sigma_y`` of the paper's model) are all off by as much, so it is taken as their error bound at
+        95 %: their standard errors on the logarithm gain ``log(1 + g) / 1.96`` in quadrature, fully correlated.
 
     Returns
     -------
     ConditionFit
     """
+    _check_gain(force_gain_uncertainty)
     m = get_model(model)
     foot = Foot.paper() if foot is None else foot
     options = FitOptions() if options is None else options
@@ -493,7 +507,12 @@ def fit_condition(
     if progress is not None:
         progress.update(1, "joint polish")
     return _condition_from(m, foot, prepared, values, free_names, cov, determined, list(range(len(idx_all))),
-                           stage_rmse, spread, profile)
+                           stage_rmse, spread, profile, force_gain_uncertainty)
+
+
+def _check_gain(g: float) -> None:
+    if not 0.0 <= g < 0.5:
+        raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got {g!r}")
 
 
 # ---------------------------------------------------------------------------- a dataset
@@ -508,6 +527,7 @@ def fit_dataset(
     seed: int = 0,
     options: FitOptions | None = None,
     quiet: bool = False,
+    force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
 ) -> FitResult:
     """Fit every water content of a dataset; optionally share some parameters across them.
 
@@ -523,11 +543,14 @@ def fit_dataset(
         conditions are first fitted independently, then jointly with these tied.
     quiet : bool
         No progress on the terminal.
+    force_gain_uncertainty : float
+        As for :func:`fit_condition` [-]; recorded in the result.
 
     Returns
     -------
     FitResult
     """
+    _check_gain(force_gain_uncertainty)
     m = get_model(model)
     free_names = _resolve_free(m, free, fixed)
     for n in shared:
@@ -543,11 +566,14 @@ def fit_dataset(
             prepared = _prepare(trials)
             prepared_groups.append(prepared)
             fits.append(fit_condition(prepared, dataset.foot, model=m, free=free_names, fixed=fixed,
-                                      seed=seed + 104729 * ci, options=options, progress=progress))
+                                      seed=seed + 104729 * ci, options=options, progress=progress,
+                                      force_gain_uncertainty=force_gain_uncertainty))
         if shared and len(fits) > 1:
-            fits = _fit_shared(m, dataset.foot, prepared_groups, fits, free_names, tuple(shared), options)
+            fits = _fit_shared(m, dataset.foot, prepared_groups, fits, free_names, tuple(shared), options,
+                               force_gain_uncertainty)
             progress.update(1, "shared")
-    return FitResult(conditions=tuple(fits), model=m.name, shared=tuple(shared), seed=seed, foot=dataset.foot)
+    return FitResult(conditions=tuple(fits), model=m.name, shared=tuple(shared), seed=seed, foot=dataset.foot,
+                     force_gain_uncertainty=force_gain_uncertainty)
 
 
 @one_blas_thread
@@ -560,6 +586,7 @@ def fit_by_velocity(
     seed: int = 0,
     options: FitOptions | None = None,
     quiet: bool = False,
+    force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
 ) -> list[tuple[float, ConditionFit]]:
     """Fit each (water content, speed) on its own trials, for parameter-against-speed plots (Fig. 10 of [1]).
 
@@ -577,12 +604,14 @@ def fit_by_velocity(
     with Progress(len(groups) * (len(m.stages) + 1), "fitting per speed", quiet=quiet) as progress:
         for i, ((_, v), prepared) in enumerate(sorted(groups.items())):
             out.append((v, fit_condition(prepared, dataset.foot, model=m, free=free, fixed=fixed,
-                                         seed=seed + 15485863 * (i + 1), options=options, progress=progress)))
+                                         seed=seed + 15485863 * (i + 1), options=options, progress=progress,
+                                         force_gain_uncertainty=force_gain_uncertainty)))
     return out
 
 
 def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]], fits: list[ConditionFit],
-                free: Sequence[str], shared: tuple[str, ...], options: FitOptions | None) -> list[ConditionFit]:
+                free: Sequence[str], shared: tuple[str, ...], options: FitOptions | None,
+                force_gain_uncertainty: float = 0.0) -> list[ConditionFit]:
     """Refit all conditions jointly, with the ``shared`` parameters tied across them."""
     options = FitOptions() if options is None else options
     names = model.parameter_names
@@ -606,7 +635,23 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
     x = _least_squares(obj, np.array(x0), lo, hi, options.max_nfev * 2)
     residual = obj(x)
     values = obj.values(x)
-    cov, determined = covariance(jacobian(obj, x), residual, motion_sensitivity(model, foot, groups, values))
+    jac = jacobian(obj, x)
+    cov, determined = covariance(jac, residual, motion_sensitivity(model, foot, groups, values))
+    # as for one condition: the jackknife over every trial of every condition, and the profile likelihood
+    # (a shared parameter is profiled once, for the first condition that asks, with every other parameter refitted)
+    sizes = [tr.time.size for group in groups for tr in group]
+    n_data = residual.size - len(sizes)
+    starts = np.cumsum([0, *sizes])
+    rows = [np.append(np.arange(starts[i], starts[i + 1]), n_data + i) for i in range(len(sizes))]
+    spread = jackknife_variance(jac, residual, rows)
+    one = _profiler(obj, x, jac, lo, hi, max(options.max_nfev // 4, 20))
+    seen: dict[int, tuple[float, float | None]] = {}
+
+    def profile(j: int, se_log: float) -> tuple[float, float | None]:
+        if j not in seen:
+            seen[j] = one(j, se_log)
+        return seen[j]
+
     out = []
     for g, prepared in enumerate(groups):
         cols = [j for j, (owner, _) in enumerate(labels) if owner is None or owner == g]
@@ -616,6 +661,7 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
         cols = [cols[k] for k in perm]
         fnames = tuple(order[k] for k in perm)
         out.append(_condition_from(model, foot, prepared, values[g], fnames, cov, determined, cols,
-                                   {**fits[g].stage_rmse, "shared": _rms(residual)}))
+                                   {**fits[g].stage_rmse, "shared": _rms(residual)}, spread, profile,
+                                   force_gain_uncertainty))
     return out
 

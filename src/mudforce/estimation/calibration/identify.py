@@ -63,6 +63,7 @@ from functools import partial
 
 import numpy as np
 from numba import njit
+from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq, least_squares, minimize_scalar
 from scipy.stats import chi2
 from scipy.stats import t as student_t
@@ -179,6 +180,9 @@ class Identification:
     episode_half_width : float
         The interval's half-width [-] from the spread of the evidence over the contact episodes (a sandwich
         estimate); the interval holds at least this on each side (general path; 0 on a protocol).
+    depth_noise : float
+        The depth noise the trial was read with [m]: given, or estimated from the depth (general path; 0 on a
+        protocol, whose fitted motion carries its own uncertainty).
     misfit_shift : float
         The most the residual the noise does not explain could move the estimate [-] (its RMS, the larger of
         ``off_family`` and the moving samples' excess over the force and depth noise, the discretisation error
@@ -211,6 +215,7 @@ class Identification:
     rate_shift: float = 0.0
     episode_half_width: float = 0.0
     misfit_shift: float = 0.0
+    depth_noise: float = math.nan
 
     @property
     def low(self) -> float:
@@ -237,7 +242,8 @@ class Identification:
         ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``,
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
-        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``, ``warnings``.
+        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
+        ``depth_noise_m``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -268,6 +274,7 @@ class Identification:
             "rate_shift": self.rate_shift,
             "episode_half_width": self.episode_half_width,
             "misfit_shift": self.misfit_shift,
+            "depth_noise_m": finite(self.depth_noise),
             "warnings": list(self.warnings),
         }
 
@@ -350,6 +357,36 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     return force, low, high
 
 
+def _with_neighbours(x: np.ndarray) -> np.ndarray:
+    """Each sample the largest of itself and its two neighbours (an event between two samples moves a coarser
+    model at a neighbour of the sample it moves the data at)."""
+    out: np.ndarray = x.copy()
+    out[1:-1] = np.maximum(x[1:-1], np.maximum(x[2:], x[:-2]))
+    return out
+
+
+#: Samples the refined interpolation puts in each step of the recording [-] (ours): the model's error at the data's
+#: rate is the difference of the model on the recording and on the refinement (Richardson); more changes it little.
+_REFINE = 4
+
+
+def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
+                            lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_force_and_band` [N] at the samples, the model run on a cubic spline of ``depth`` [m] through them.
+
+    The spline (not-a-knot) puts :data:`_REFINE` steps in each step of the recording; it passes through every
+    sample, and between them it follows the motion's curvature where the stepper alone takes the depth as linear.
+    """
+    if time.size < 4:
+        return _force_and_band(time, depth, q, foot, lag)
+    frac = np.arange(_REFINE) / _REFINE
+    fine_t = np.concatenate([(time[:-1, None] + frac[None, :] * np.diff(time)[:, None]).ravel(), time[-1:]])
+    fine_z = CubicSpline(time, depth)(fine_t)
+    fine_z[::_REFINE] = depth
+    f, low, high = _force_and_band(fine_t, fine_z, q, foot, lag)
+    return f[::_REFINE], low[::_REFINE], high[::_REFINE]
+
+
 @one_blas_thread
 def identify_water_content(
     trial: Trial | PreparedTrial,
@@ -360,6 +397,7 @@ def identify_water_content(
     level: float = 0.95,
     points: int = 81,
     force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
+    depth_noise: float | None = None,
 ) -> Identification:
     """Estimate the water content of one trial from a one-parameter family of parameter sets.
 
@@ -382,6 +420,11 @@ def identify_water_content(
         error reads as stiffer or softer mud, so the interval is widened by the water-content
         shift a gain change of this size causes.
 
+    depth_noise : float, optional
+        The depth's noise [m] when the recording system knows it (:func:`prepare_trial
+        <mudforce.estimation.calibration.preprocess.prepare_trial>`); None (default): estimated from the depth.
+        Only for a raw :class:`Trial` (a prepared one already holds its noise).
+
     Returns
     -------
     Identification
@@ -392,7 +435,11 @@ def identify_water_content(
         raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), "
                          f"got {force_gain_uncertainty!r}")
     foot = Foot.paper() if foot is None else foot
-    tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial)
+    if isinstance(trial, PreparedTrial) and depth_noise is not None:
+        raise InputError(f"{trial.trial.name}: a prepared trial already holds its depth noise "
+                         f"({trial.depth_noise * 1e3:.3g} mm); pass the raw Trial with depth_noise=, or prepare it "
+                         "with prepare_trial(trial, depth_noise=...)")
+    tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial, depth_noise=depth_noise)
     if not np.any(tr.trial.force != tr.trial.force[0]):
         raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
                          "the trial carries no force to identify a water content from (is the column right?)")
@@ -552,6 +599,7 @@ def identify_water_content(
     # carried through, and the model's own discretisation error at the data's rate
     var = noise_floor(tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))
     disc2 = np.zeros(n)
+    half2 = disc2  # the half-rate part alone (the interval's measure of the misfit, below)
     if general and n >= 8:
         # the model at half the rate (the even samples, the odd ones) against the model at the data's rate; an
         # event between two samples (a touchdown, a reversal, a neck) moves the half-rate model at a neighbour
@@ -559,24 +607,40 @@ def identify_water_content(
         for sel in (slice(0, None, 2), slice(1, None, 2)):
             half = _force_and_band(t[sel], tr.depth[sel] + offset, family(w_best), foot, lag)[0]
             disc2[sel] = np.where(moving[sel], half - f_best[sel], 0.0) ** 2
-        disc2[1:-1] = np.maximum(disc2[1:-1], np.maximum(disc2[2:], disc2[:-2]))
+        # and the model on the recording against the model on a refined cubic interpolation of it: the stepper
+        # takes the depth as linear between the samples, the spline follows the motion's curvature (the speed
+        # changing within a step, an apex or a stop between two samples); their difference is the model's error
+        # at the data's rate to leading order. At rest the band's edges are compared (the band is what is read)
+        ref = _refined_force_and_band(t, tr.depth + offset, family(w_best), foot, lag)
+        own = _force_and_band(t, tr.depth + offset, family(w_best), foot, lag)
+        edges = np.maximum((ref[1] - own[1]) ** 2, (ref[2] - own[2]) ** 2)
+        half2 = _with_neighbours(disc2)
+        disc2 = _with_neighbours(np.maximum(disc2, np.where(rest, edges, (ref[0] - own[0]) ** 2)))
     discretisation = math.sqrt(float(np.mean(disc2)))
     # the statistic: the RMS of the residuals each divided by its own floor. The discretisation error
     # is local (a branch switch or a necking a sample early or late can move the half-rate model by
     # tens of newtons over a few strides), so it excuses the samples where it is large and no others;
     # added in quadrature to one global floor it would excuse an off-family mud everywhere.
     noise_var = var
-    var = np.maximum(var + disc2, max((1e-4 * scale) ** 2, 1e-18))
-    standardised = math.sqrt(float(np.mean(np.minimum(r**2 / var, _MISFIT_CLIP))))
-    floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(var)))
+    least = max((1e-4 * scale) ** 2, 1e-18)
+
+    def floor_of(extra: np.ndarray) -> float:
+        """The RMSE over the RMS of the residuals each divided by its floor (noise plus ``extra``) [N]."""
+        v = np.maximum(noise_var + extra, least)
+        standardised = math.sqrt(float(np.mean(np.minimum(r**2 / v, _MISFIT_CLIP))))
+        return rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(v)))
+
+    floor = floor_of(disc2)
     ratio = misfit_ratio(rmse, floor, scale)
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     # the misfit's worst case: a residual of RMS `unexplained` that the family cannot explain moves the estimate by
     # at most unexplained / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on
     # each side. What the noise does not explain counts, the discretisation error included: the flag excuses it as
-    # no sign of another mud, but at this rate it is a model error all the same and can move the estimate
+    # no sign of another mud, but at this rate it is a model error all the same and can move the estimate. So the
+    # interval reads the misfit against the half-rate floor alone, not the refined model's: that one serves the flag
     model_shift = 0.0
-    unexplained = math.sqrt(max(off**2, float(np.sum(r[moving] ** 2) - np.sum(noise_var[moving])) / n))
+    off_interval = math.sqrt(max(rmse**2 - floor_of(half2) ** 2, 0.0))
+    unexplained = math.sqrt(max(off_interval**2, float(np.sum(r[moving] ** 2) - np.sum(noise_var[moving])) / n))
     if general and unexplained > 0.0:
         sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
         model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
@@ -623,5 +687,6 @@ def identify_water_content(
         rate_shift=rate_shift,
         episode_half_width=sandwich,
         misfit_shift=model_shift,
+        depth_noise=tr.depth_noise,
     )
 

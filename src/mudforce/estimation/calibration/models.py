@@ -112,6 +112,10 @@ class ForceModel:
         ``[:k]`` once and return ``tail(values) -> force[k:]`` [N] for values
         that differ only in parameters that do not act before sample ``k``
         (a speed-up for stages with ``prefix_fixed``).
+    force_scale : tuple of str
+        The parameters the force is jointly proportional to (``F(c p) = c F(p)`` when each of them is
+        multiplied by ``c``): a force sensor whose gain is off by ``1 + g`` reads as all of them off by
+        ``1 + g``, so the fit widens their standard errors by the gain's uncertainty.
     """
 
     name: str
@@ -126,6 +130,7 @@ class ForceModel:
     diagnose: Callable[[np.ndarray, Sequence[PreparedTrial], Foot], list[str]] | None = None
     units: Mapping[str, str] = field(default_factory=dict)
     resume: Callable[[np.ndarray, np.ndarray, np.ndarray, Foot, int], Callable[[np.ndarray], np.ndarray]] | None = None
+    force_scale: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         names = set(self.parameter_names)
@@ -136,6 +141,10 @@ class ForceModel:
         for n, (lo, hi) in self.bounds.items():
             if not 0.0 < lo < hi:
                 raise InputError(f"model {self.name}: bounds of {n} must satisfy 0 < low < high, got {lo}, {hi}")
+        unknown = set(self.force_scale) - names
+        if unknown:
+            raise InputError(f"model {self.name}: force_scale names {', '.join(sorted(unknown))}, "
+                             f"not among its parameters {', '.join(self.parameter_names)}")
 
     def vector(self, values: Mapping[str, float]) -> np.ndarray:
         """The parameter vector [SI] from a name -> value mapping (missing names from ``defaults``)."""
@@ -249,6 +258,8 @@ CHEN2024 = ForceModel(
     diagnose=_chen_diagnose,
     resume=_chen_resume,
     units=PARAMETER_UNITS,
+    # every stress of Eqs. (1)-(9) is linear in these jointly (the necking test compares two of them)
+    force_scale=("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y", "rho_m"),
 )
 
 # ---------------------------------------------------------------------------- the baselines

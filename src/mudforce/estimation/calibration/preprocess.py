@@ -53,6 +53,8 @@ __all__ = [
 MIN_PRECONTACT_SAMPLES = 3
 #: Depth noise [m] below which a trial of any motion counts as noise-free (0.1 um; motion capture gives ~30 um).
 CLEAN_DEPTH_M = 1e-7
+#: Largest depth noise :func:`prepare_trial` accepts as known [m] (10 mm: beyond it the depth tells nothing).
+_MAX_DEPTH_NOISE_M = 0.01
 
 
 @dataclass(frozen=True)
@@ -428,10 +430,10 @@ def _prepare_protocol(trial: Trial, motion: Motion) -> PreparedTrial:
     )
 
 
-def _prepare_general(trial: Trial) -> PreparedTrial:
+def _prepare_general(trial: Trial, known_depth_noise: float | None = None) -> PreparedTrial:
     t, z, f = trial.time, trial.depth, trial.force
     # third divided differences: blind to the stances' smooth sway, unlike a line through three samples
-    depth_noise = estimate_force_noise(t, z)
+    depth_noise = estimate_force_noise(t, z) if known_depth_noise is None else known_depth_noise
     if depth_noise < CLEAN_DEPTH_M:  # a computed, noise-free trajectory: the paper's exact rule
         depth_noise = 0.0
     # the sensor's noise where the force is simplest: the foot clear of the mud (a robot's foot in the mud flicks
@@ -468,7 +470,7 @@ def _prepare_general(trial: Trial) -> PreparedTrial:
     )
 
 
-def prepare_trial(trial: Trial, *, protocol: bool | None = None) -> PreparedTrial:
+def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: float | None = None) -> PreparedTrial:
     """Ready a trial for fitting: the depth the model follows, the branch at every step, the force tared.
 
     Parameters
@@ -479,6 +481,12 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None) -> PreparedTria
         None (default): use the protocol refinement when the trial is an
         intrude/hold/withdraw protocol (:func:`is_protocol`), else the general
         path. True: require a protocol. False: always the general path.
+    depth_noise : float, optional
+        The depth's noise [m] (standard deviation), when the recording system knows it (the surface estimate's
+        and the leg kinematics'); used on the general path in place of the estimate from the depth's third
+        differences. At 50-100 Hz a robot foot's ringing and impacts between the samples make those differences
+        read 2-60 times the true noise (docs/estimation.md), and the branch labels then distrust real steps of
+        millimetres. None (default): estimated. A protocol trial fits its own motion and ignores it.
 
     Notes
     -----
@@ -491,13 +499,16 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None) -> PreparedTria
     the four corners of the motion and carries their uncertainty into the
     standard errors (``docs/calibration.md``).
     """
+    if depth_noise is not None and not 0.0 <= depth_noise <= _MAX_DEPTH_NOISE_M:
+        raise InputError(f"{trial.name}: depth noise must be between 0 and {_MAX_DEPTH_NOISE_M * 1e3:g} mm "
+                         f"(e.g. 0.03 mm), got {depth_noise!r} m")
     if protocol is False:
-        return _prepare_general(trial)
+        return _prepare_general(trial, depth_noise)
     if protocol:
         motion = fit_motion(trial.time, trial.depth, name=trial.name)
         return _prepare_protocol(trial, motion)
     found = is_protocol(trial)
-    return _prepare_protocol(trial, found) if found is not None else _prepare_general(trial)
+    return _prepare_protocol(trial, found) if found is not None else _prepare_general(trial, depth_noise)
 
 
 def noise_floor(prepared: PreparedTrial, force: np.ndarray, force_at: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:

@@ -249,6 +249,9 @@ class FitResult:
         The seed used.
     foot : Foot
         The foot of the dataset.
+    force_gain_uncertainty : float
+        The force sensor's gain uncertainty assumed [-] (0.05: 5 %), in the standard errors of the parameters the
+        force is proportional to (:attr:`~mudforce.estimation.calibration.models.ForceModel.force_scale`).
     """
 
     conditions: tuple[ConditionFit, ...]
@@ -256,6 +259,7 @@ class FitResult:
     shared: tuple[str, ...]
     seed: int
     foot: Foot
+    force_gain_uncertainty: float = 0.0
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> FitResult:
@@ -263,7 +267,8 @@ class FitResult:
         foot = data["foot"]
         return cls(conditions=tuple(ConditionFit.from_dict(c) for c in data["conditions"]), model=str(data["model"]),
                    shared=tuple(data["shared"]), seed=int(data["seed"]),
-                   foot=Foot(float(foot["area_m2"]), float(foot["width_m"])))
+                   foot=Foot(float(foot["area_m2"]), float(foot["width_m"])),
+                   force_gain_uncertainty=float(data.get("force_gain_uncertainty", 0.0)))
 
     def to_dict(self) -> dict[str, Any]:
         """The ``fit.json`` object."""
@@ -271,6 +276,7 @@ class FitResult:
             "model": self.model,
             "seed": self.seed,
             "shared": list(self.shared),
+            "force_gain_uncertainty": self.force_gain_uncertainty,
             "foot": {"area_m2": self.foot.area, "width_m": self.foot.width},
             "conditions": [c.to_dict() for c in self.conditions],
         }
