@@ -43,6 +43,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -306,6 +307,7 @@ class _WarmParent:
 
 
 _WARM_PARENTS: list[_WarmParent] = []
+_NO_WARM_PARENT: list[str] = []  # why a warm parent could not start in this process, once it has failed
 
 
 def _warm_parent(env: Mapping[str, str]) -> _WarmParent | None:
@@ -316,7 +318,14 @@ def _warm_parent(env: Mapping[str, str]) -> _WarmParent | None:
         return _WARM_PARENTS[0]
     if _WARM_PARENTS and _WARM_PARENTS[0].pid == os.getpid() and _WARM_PARENTS[0].proc.poll() is None:
         return None  # alive, but started in another environment: this run is fresh
-    parent = _WarmParent(cli_env())
+    if _NO_WARM_PARENT:
+        return None
+    try:
+        parent = _WarmParent(cli_env())
+    except RuntimeError as err:  # no warm parent here: every run fresh, said once (pytest lists the warning)
+        _NO_WARM_PARENT.append(str(err))
+        warnings.warn(f"command-line tests run fresh: {err}", stacklevel=2)
+        return None
     _WARM_PARENTS[:] = [parent]
     return parent if parent.fits(env) else None
 
