@@ -47,6 +47,7 @@ here whatever the other feet are.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numba import prange
@@ -83,10 +84,12 @@ from mudforce.model.law3d import (
 
 __all__ = [
     "BAD_DT",
+    "BAD_SHAPE",
     "N_ELEMENT_COLUMNS",
     "N_FOOT_COLUMNS",
     "OK",
     "element_forces",
+    "fixed_types",
     "lateral_scratch",
     "step_feet",
     "step_feet_threads",
@@ -117,6 +120,7 @@ N_FOOT_COLUMNS = 21
 #: :func:`step_feet`'s return values other than a foot's index
 OK = -1
 BAD_DT = -2
+BAD_SHAPE = -3
 
 
 @_compiled()
@@ -419,11 +423,16 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     1-D stepper's rows, one per element, ``depths`` and ``stress`` its
     depths [m] and forces (on a unit area: the stresses [Pa]); ``lat`` the
     lateral scratch (:func:`lateral_scratch`, one slice). Returns :data:`OK`; or, having changed nothing, the
-    first foot whose pose or depth is refused (see :func:`_place`), or
+    first foot whose pose or depth is refused (see :func:`_place`),
     :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
-    foot has started.
+    foot has started, or :data:`BAD_SHAPE` if the poses or the outputs are
+    not one row per foot (``ft``'s rows): (m, 3), (m, 4), (m, 3), (m, 3).
     """
-    m = positions.shape[0]
+    m = ft.shape[0]
+    if not (positions.shape[0] == m and positions.shape[1] == 3 and quaternions.shape[0] == m
+            and quaternions.shape[1] == 4 and forces.shape[0] == m and forces.shape[1] == 3
+            and torques.shape[0] == m and torques.shape[1] == 3):
+        return BAD_SHAPE
     dt = _checked_dt(ft, m, dt)  # 1.0 (ignored by every element's first step) while no foot has started
     if dt != dt:
         return BAD_DT
@@ -481,3 +490,21 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
         if chunks[c] >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return int(chunks[c])
     return OK
+
+
+def fixed_types(dispatcher: Any) -> Any:
+    """A dispatcher of ``dispatcher``'s compiled code that compiles nothing new: other argument types raise TypeError.
+
+    Speed plumbing for :meth:`mudforce.steppers.contact3d.MudContacts3D.step`'s hot path. numba's dispatcher
+    types every argument in C (its dtype, number of dimensions, layout, alignment and writeability: ~30 ns an
+    array) before it picks the compiled code; with compiling disabled, an argument of any other type (a list, a
+    float32, a strided or read-only array, ...) raises ``TypeError`` before anything runs, instead of compiling a
+    new specialisation. So the caller checks nothing but what the types do not say (the shapes: :data:`BAD_SHAPE`
+    from :func:`step_feet`) and sends anything refused to its checks that convert or word the error. The
+    compiled code is ``dispatcher``'s own (the same bits); call ``dispatcher`` once first, so that it has some.
+    """
+    fixed = type(dispatcher)(dispatcher.py_func, targetoptions=dispatcher.targetoptions)
+    for compiled in dispatcher.overloads.values():
+        fixed.add_overload(compiled)
+    fixed.disable_compile()
+    return fixed

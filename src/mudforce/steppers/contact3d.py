@@ -403,6 +403,12 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     return array
 
 
+def _plain(a: np.ndarray) -> np.ndarray:
+    """``a`` if it is C-contiguous, aligned and writable, else such a copy of it."""
+    flags = a.flags
+    return a if flags.c_contiguous and flags.aligned and flags.writeable else np.array(a, order="C")
+
+
 def _writable_rows(a: Any, m: int) -> bool:
     """Whether ``a`` can receive (m, 3) float64 results in place."""
     return isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == (m, 3) and bool(a.flags.writeable)
@@ -414,6 +420,15 @@ _FLOAT64 = np.dtype(np.float64)  # numpy's own instance: a float64 array's dtype
 _OK = S3.OK
 _empty = np.empty
 _step_feet = S3.step_feet
+_dispatcher: Any = S3.step_feet  # (numba's dispatcher: its compiled versions)
+_fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and S3.fixed_types of it then
+
+
+def _fixed_step() -> Any:
+    """:func:`mudforce._kernel.step3d.fixed_types` of the compiled step (made again when numba has compiled more)."""
+    if _fixed[0] != len(_dispatcher.overloads):
+        _fixed[:] = [len(_dispatcher.overloads), S3.fixed_types(_dispatcher)]
+    return _fixed[1]
 
 
 class MudContacts3D:
@@ -550,9 +565,9 @@ class MudContacts3D:
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
                              self._ring, self._params_rows)
-        # what step() reads on every call, in one attribute: the shapes of the positions (and the outputs) and of
-        # the quaternions, whether the feet are stepped on threads, the compiled step's arguments
-        self._hot = ((m, 3), (m, 4), self.threads > 1, self._kernel_args)
+        # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
+        # and the dispatcher of its hot path (None until the first step has compiled the step, and with threads)
+        self._hot: tuple[tuple[int, int], tuple[np.ndarray, ...], Any] = ((m, 3), self._kernel_args, None)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -658,10 +673,31 @@ class MudContacts3D:
         torques : ndarray, shape (n, 3)
             Torque on each foot about its body origin [N m], world frame.
         """
-        ps, qs, threaded, args = self._hot
-        # the hot path's checks, cheap (in Python every attribute and call costs ~0.05 us): float64 ndarrays of
-        # the right shapes, as the compiled step takes them; anything else goes through the checks that convert
-        # it or word the error
+        ps, args, fixed = self._hot
+        # the hot path: the compiled step through a dispatcher that takes only float64 C-contiguous arrays (of
+        # writable outputs) and a float dt, typed by numba in C; what the types do not say (the shapes, the poses'
+        # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
+        # refuses, goes through _step_checked's checks, which convert it or word the error.
+        if out is None:
+            forces, torques = _empty(ps), _empty(ps)
+        elif type(out) is tuple and len(out) == 2:
+            forces, torques = out
+        else:
+            return self._step_checked(positions, quaternions, dt, out)
+        if type(dt) is float and fixed is not None:
+            try:
+                code = fixed(positions, quaternions, dt, *args, forces, torques)
+            except TypeError:  # numba's "no matching definition": another type of argument
+                code = S3.BAD_SHAPE
+            if code == _OK:
+                return forces, torques
+        return self._step_checked(positions, quaternions, dt, out)
+
+    def _step_checked(self, positions: Any, quaternions: Any, dt: Any,
+                      out: tuple[np.ndarray, np.ndarray] | None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`step` with every argument checked in Python (converted, or refused with a one-line error)."""
+        ps, qs, threaded = (self.n, 3), (self.n, 4), self.threads > 1
+        args = self._kernel_args
         p, q = positions, quaternions
         if not (type(p) is _NDARRAY and p.dtype is _FLOAT64 and p.shape == ps):
             p = _float_rows(positions, "positions", ps, "m")
@@ -669,26 +705,30 @@ class MudContacts3D:
             q = _float_rows(quaternions, "quaternions", qs, "-")
         if type(dt) is not float:
             dt = real_number(dt, "dt")
-        if out is None:
-            forces, torques = _empty(ps), _empty(ps)
-        else:
+        if out is not None:
             pair: tuple[Any, Any] = out if type(out) is tuple and len(out) == 2 else (None, None)
-            forces, torques = pair
-            if not (type(forces) is _NDARRAY and forces.dtype is _FLOAT64 and forces.shape == ps
-                    and forces.flags.writeable and type(torques) is _NDARRAY and torques.dtype is _FLOAT64
-                    and torques.shape == ps and torques.flags.writeable):
-                m = self.n
-                if not (isinstance(out, tuple) and len(out) == 2 and _writable_rows(out[0], m)
-                        and _writable_rows(out[1], m)):
-                    raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({m}, 3)")
-                forces, torques = out
+            if not (_writable_rows(pair[0], self.n) and _writable_rows(pair[1], self.n)):
+                raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({self.n}, 3)")
+        # the compiled step's one version takes C-contiguous, aligned, writable arrays: others are copied (numba
+        # would compile another version of the step for them, for seconds); so are the results into such an out
+        p, q = _plain(p), _plain(q)
+        if out is not None and _plain(out[0]) is out[0] and _plain(out[1]) is out[1]:
+            forces, torques = out
+        else:
+            forces, torques = _empty(ps), _empty(ps)
         if threaded and not vectorized._forked:
             with vectorized._launch_lock:
                 code = S3.step_feet_threads(p, q, dt, *args, forces, torques, self._chunks)
         else:
             code = _step_feet(p, q, dt, *args, forces, torques)
+            if self._hot[2] is None:  # compiled now: the hot path can take the same code
+                self._hot = (ps, args, _fixed_step())
         if code != _OK:
             self._refuse(code, p, q, dt)
+        if out is not None and forces is not out[0]:
+            out[0][...] = forces
+            out[1][...] = torques
+            forces, torques = out
         return forces, torques
 
     def _refuse(self, code: int, p: np.ndarray, q: np.ndarray, dt: float) -> None:
