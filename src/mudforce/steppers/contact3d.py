@@ -155,11 +155,40 @@ class MudContact3D:
         if not is_real(k) or not math.isfinite(k) or k <= 0.0:
             raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
         self.lateral_stiffness = float(k)
-        self._slip = np.zeros((shape.n, 2))
-        self._centroids = np.zeros((shape.n, 3))
-        self._started = False
+        n = shape.n
+        # the step's arrays (mudforce._kernel.step3d.contact_step's layout; the numpy step uses the same)
+        self._consts = np.zeros(S3.N_CONTACT_CONSTANTS)
+        self._consts[[S3.C_SURFACE, S3.C_WIDTH, S3.C_STIFFNESS, S3.C_SIGMA_Y, S3.C_ALPHA, S3.C_BETA, S3.C_LAMBDA,
+                      S3.C_RHO]] = (self.surface_height, self.width, self.lateral_stiffness, params.sigma_y,
+                                    params.alpha, params.beta, params.lambda_, params.rho_m)
+        body = np.zeros((n, S3.N_BODY_COLUMNS))
+        body[:, S3.B_CX:S3.B_CZ + 1] = shape.centroids
+        body[:, S3.B_NX:S3.B_NZ + 1] = shape.normals
+        body[:, S3.B_AREA] = shape.areas
+        self._slip = np.zeros((n, 2))
+        self._centroids = body[:, S3.B_WX:S3.B_WZ + 1]  # a view: the world centroids at the last step [m]
+        work = np.zeros((S3.N_WORK, n))
+        work[S3.W_AREA] = shape.areas
+        self._areas = work[S3.W_AREA]  # the areas [m^2] as the compiled step has them (writable, as numba types them)
+        e = self._elements
+        # the three compiled calls' arguments (S3.contact_place, K.run_feet, S3.contact_law), but the pose, dt and
+        # the outputs
+        self._args = ((self._consts, body, e._states, work), (e._states, e.ring, e.params_array, work[S3.W_DEPTH]),
+                      (e.forces, e._scratch[0], e._index[0]),
+                      (self._consts, body, self._slip, e.forces, work, np.zeros((n, 2)), np.zeros((2 * n, 8))))
+        self._n3 = (n, 3)
+        self._fixed: Any = None  # the three's fixed-type dispatchers (S3.fixed_types), once the numpy step has run
         #: the last step's force on every element [N], world frame, shape (n, 3)
-        self.element_forces = np.zeros((shape.n, 3))
+        self.element_forces = np.zeros((n, 3))
+
+    @property
+    def _started(self) -> bool:
+        """Whether the contact has taken its first step."""
+        return bool(self._consts[S3.C_STARTED] != 0.0)
+
+    @_started.setter
+    def _started(self, started: bool) -> None:
+        self._consts[S3.C_STARTED] = 1.0 if started else 0.0
 
     # ------------------------------------------------------------------ state
     @property
@@ -180,8 +209,8 @@ class MudContact3D:
         if not (np.all(np.isfinite(slip)) and np.all(np.isfinite(centroids))):
             raise InputError("a state's slips and centroids must be finite")
         self._elements.state = saved.elements  # validated; refuses without changing anything
-        self._slip = slip.copy()
-        self._centroids = centroids.copy()
+        self._slip[:] = slip
+        self._centroids[:] = centroids
         self._started = bool(saved.started)
 
     @property
@@ -212,6 +241,33 @@ class MudContact3D:
         Wrench
             Force [N] and torque about the body origin [N m], world frame.
         """
+        # compiled (mudforce._kernel.step3d.contact_step: the numpy step below, its bits) for float64 arrays and a
+        # float dt, typed by numba (as MudContacts3D.step's hot path); anything else, or a step it refuses, goes
+        # through the numpy step, which converts it or words the error
+        fixed = self._fixed
+        if type(dt) is float and fixed is not None:
+            place, run, law = fixed
+            place_args, run_args, run_outputs, law_args = self._args
+            try:
+                code = place(position, quaternion, dt, *place_args)
+            except TypeError:  # numba's "no matching definition": another type of argument
+                code = S3.BAD_SHAPE
+            if code == _OK or code == _FIRST:  # placed, nothing changed yet; the elements' 1-D step, then the law
+                h = dt if code == _OK else 1.0  # (ignored by the elements' first step)
+                if run(*run_args, h, *run_outputs) >= 0:  # pragma: no cover - every depth was checked
+                    raise InputError("an element's depth must be finite [m]")
+                forces, wrench = _empty(self._n3), _empty((2, 3))
+                law(h, *law_args, forces, wrench)
+                self.element_forces = forces
+                return Wrench(wrench[0], wrench[1])
+        return self._step_numpy(position, quaternion, dt)
+
+    def _step_numpy(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
+        """:meth:`step` on numpy arrays, every argument checked (converted, or refused with a one-line error).
+
+        The law's functions on the elements' columns, the reference that :func:`S3.contact_step` compiles bit
+        for bit; once it has stepped, :meth:`step` takes the compiled step.
+        """
         p, rotation = _pose(position, quaternion)
         if self._started:
             if not is_real(dt) or not MIN_DT <= float(dt) <= MAX_DT:
@@ -235,7 +291,7 @@ class MudContact3D:
         if self._started:  # law3d.element_force and law3d.moment on every element, compiled (S3.element_forces)
             spring = law3d.spring_stress(depth, q.alpha, q.beta, self.width)
             out = np.empty((shape.n, 8))
-            S3.element_forces(stress, spring, shape.areas, nx, ny, nz, ox, oy, oz, depth, self._slip, mx, my,
+            S3.element_forces(stress, spring, self._areas, nx, ny, nz, ox, oy, oz, depth, self._slip, mx, my,
                               1.0 / dt, self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m, out)
             slip_x, slip_y = out[:, 0], out[:, 1]
             forces = out[:, 2:5]
@@ -246,11 +302,29 @@ class MudContact3D:
             fz = law3d.vertical_force(stress, shape.areas, nz)
             forces = np.stack([zero, zero, fz], axis=1)
             torques = np.stack(law3d.moment(ox, oy, oz, zero, zero, fz), axis=1)
-        self._slip = np.stack([slip_x, slip_y], axis=1)
-        self._centroids = np.stack([wx, wy, wz], axis=1)
+        self._slip[:, 0] = slip_x
+        self._slip[:, 1] = slip_y
+        self._centroids[:, 0] = wx
+        self._centroids[:, 1] = wy
+        self._centroids[:, 2] = wz
         self._started = True
         self.element_forces = forces
+        if self._fixed is None:  # the 1-D stepper has compiled: the compiled step can be taken from now on
+            self._fixed = self._fixed_types()
         return Wrench(forces.sum(axis=0), torques.sum(axis=0))
+
+    def _fixed_types(self) -> tuple[Any, Any, Any]:
+        """The compiled step's three calls as :func:`mudforce._kernel.step3d.fixed_types` (compiled, or loaded from
+        numba's cache, for this contact's arrays)."""
+        if not _fixed_contact:
+            place_args, run_args, run_outputs, law_args = self._args
+            pose = (np.zeros(3), np.zeros(4), 1.0)
+            outputs = (np.zeros(self._n3), np.zeros((2, 3)))
+            _fixed_contact.extend((S3.fixed_types(S3.contact_place, *pose, *place_args),
+                                   S3.fixed_types(K.run_feet, *run_args, 1.0, *run_outputs),
+                                   S3.fixed_types(S3.contact_law, 1.0, *law_args, *outputs)))
+        place, run, law = _fixed_contact
+        return place, run, law
 
     def reset(self) -> None:
         """Forget the history: the next step is a first step."""
@@ -422,6 +496,8 @@ _empty = np.empty
 _step_feet = S3.step_feet
 _dispatcher: Any = S3.step_feet  # (numba's dispatcher: its compiled versions)
 _fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and S3.fixed_types of it then
+_FIRST = S3.FIRST
+_fixed_contact: list[Any] = []  # MudContact3D's three compiled calls, fixed-type (MudContact3D._fixed_types)
 
 
 def _fixed_step() -> Any:
