@@ -177,7 +177,7 @@ class MudContact3D:
                       (e.forces, e._scratch[0], e._index[0]),
                       (self._consts, body, self._slip, e.forces, work, np.zeros((n, 2)), np.zeros((2 * n, 8))))
         self._n3 = (n, 3)
-        self._fixed: Any = None  # the three's fixed-type dispatchers (S3.fixed_types), once the numpy step has run
+        self._fixed: Any = None  # the three's compiled code (MudContact3D._fixed_types), once the numpy step has run
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
 
@@ -314,15 +314,18 @@ class MudContact3D:
         return Wrench(forces.sum(axis=0), torques.sum(axis=0))
 
     def _fixed_types(self) -> tuple[Any, Any, Any]:
-        """The compiled step's three calls as :func:`mudforce._kernel.step3d.fixed_types` (compiled, or loaded from
-        numba's cache, for this contact's arrays)."""
+        """The compiled step's three calls, compiled (or loaded from numba's cache) for this contact's arrays: the
+        first, which takes the caller's pose, as :func:`mudforce._kernel.step3d.fixed_types`, the others'
+        :func:`~mudforce._kernel.step3d.entry_point` (every contact makes its arrays alike)."""
         if not _fixed_contact:
             place_args, run_args, run_outputs, law_args = self._args
             pose = (np.zeros(3), np.zeros(4), 1.0)
             outputs = (np.zeros(self._n3), np.zeros((2, 3)))
+            # the pose is the caller's: typed by numba; the other two calls take only this contact's own arrays
+            # (made here, of these very types) and floats: their entry points, untyped
             _fixed_contact.extend((S3.fixed_types(S3.contact_place, *pose, *place_args),
-                                   S3.fixed_types(K.run_feet, *run_args, 1.0, *run_outputs),
-                                   S3.fixed_types(S3.contact_law, 1.0, *law_args, *outputs)))
+                                   S3.entry_point(K.run_feet, *run_args, 1.0, *run_outputs),
+                                   S3.entry_point(S3.contact_law, 1.0, *law_args, *outputs)))
         place, run, law = _fixed_contact
         return place, run, law
 
@@ -497,7 +500,7 @@ _step_feet = S3.step_feet
 _dispatcher: Any = S3.step_feet  # (numba's dispatcher: its compiled versions)
 _fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and S3.fixed_types of it then
 _FIRST = S3.FIRST
-_fixed_contact: list[Any] = []  # MudContact3D's three compiled calls, fixed-type (MudContact3D._fixed_types)
+_fixed_contact: list[Any] = []  # MudContact3D's three compiled calls (MudContact3D._fixed_types)
 
 
 def _fixed_step() -> Any:
