@@ -37,11 +37,15 @@ differs only in where things are kept:
 
 :func:`step_feet` checks every foot's pose, every element's depth and the
 step length before anything moves (so a refused step changes nothing),
-then steps. It does not use BLAS or numpy's sums, so it does not give
-:class:`~mudforce.steppers.contact3d.MudContact3D`'s bits (which has its rotations
-from BLAS): the two agree to rounding, about 1e-15 of the peak force
+then steps. It sums each foot's wrench in another order than
+:class:`~mudforce.steppers.contact3d.MudContact3D` (numpy's ``sum(axis=0)``), so the
+two agree to rounding, about 1e-15 of the peak force
 (``tests/steppers/test_many3d.py``); the same foot gives the same bits
 here whatever the other feet are.
+
+:func:`contact_place` and :func:`contact_law`, with the 1-D stepper
+between them, are :class:`~mudforce.steppers.contact3d.MudContact3D`'s own step
+compiled: its numpy step's arithmetic in its order, its bits.
 """
 
 from __future__ import annotations

@@ -13,7 +13,10 @@ rule: each element's displacement over the step, first-order hold). The
 law, the placing of the elements and the wrench's moments are
 :mod:`mudforce.model.law3d`'s functions: :class:`MudContact3D` places its
 elements with them on numpy arrays and runs the law over them compiled
-(:func:`mudforce._kernel.step3d.element_forces`), :class:`MudContacts3D` has
+(:func:`mudforce._kernel.step3d.element_forces`), and, from its second step
+on, takes the same arithmetic in the same order compiled, the same bits
+(:func:`mudforce._kernel.step3d.contact_place` and
+:func:`~mudforce._kernel.step3d.contact_law`); :class:`MudContacts3D` has
 them compiled in (:mod:`mudforce._kernel.step3d`) and
 :mod:`mudforce.jax.contact3d` calls them on JAX arrays.
 
@@ -138,10 +141,10 @@ class MudContact3D:
             raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
         if not isinstance(shape, Shape):
             raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
-        self.params = params
-        self.shape = shape
-        self.surface_height = finite_number(surface_height, "surface_height", "m")
-        if abs(self.surface_height) > MAX_DEPTH:
+        self._params = params
+        self._shape = shape
+        self._surface_height = finite_number(surface_height, "surface_height", "m")
+        if abs(self._surface_height) > MAX_DEPTH:
             raise InputError(f"surface_height must be within +-{MAX_DEPTH:g} m, got {surface_height!r}")
         h = width if width is not None else shape.width
         if h is None:
@@ -150,16 +153,17 @@ class MudContact3D:
         # each element's paper state, stepped with a unit area so that the 1-D force is the stress [Pa]
         element = Foot(area=1.0, width=h, shape="element")  # checks H
         self._elements = MudContacts(params, shape.n, element, threads=1)
-        self.width = element.width  #: H of Eq. (4) [m]
+        self._width = element.width
         k = params.k_m_w if lateral_stiffness is None else lateral_stiffness
         if not is_real(k) or not math.isfinite(k) or k <= 0.0:
             raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
-        self.lateral_stiffness = float(k)
+        self._lateral_stiffness = float(k)
         n = shape.n
-        # the step's arrays (mudforce._kernel.step3d.contact_step's layout; the numpy step uses the same)
+        # the step's arrays (the layout of mudforce._kernel.step3d.contact_place and contact_law; the numpy step uses
+        # the same)
         self._consts = np.zeros(S3.N_CONTACT_CONSTANTS)
         self._consts[[S3.C_SURFACE, S3.C_WIDTH, S3.C_STIFFNESS, S3.C_SIGMA_Y, S3.C_ALPHA, S3.C_BETA, S3.C_LAMBDA,
-                      S3.C_RHO]] = (self.surface_height, self.width, self.lateral_stiffness, params.sigma_y,
+                      S3.C_RHO]] = (self._surface_height, self._width, self._lateral_stiffness, params.sigma_y,
                                     params.alpha, params.beta, params.lambda_, params.rho_m)
         body = np.zeros((n, S3.N_BODY_COLUMNS))
         body[:, S3.B_CX:S3.B_CZ + 1] = shape.centroids
@@ -180,6 +184,32 @@ class MudContact3D:
         self._fixed: Any = None  # the three's compiled code (MudContact3D._fixed_types), once the numpy step has run
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
+
+    # what the contact was made with: read-only (the compiled step holds them; a change would reach one path)
+    @property
+    def params(self) -> MudParameters:
+        """The mud."""
+        return self._params
+
+    @property
+    def shape(self) -> Shape:
+        """The foot's surface, body frame."""
+        return self._shape
+
+    @property
+    def surface_height(self) -> float:
+        """Height of the undisturbed mud surface in the world frame [m]."""
+        return self._surface_height
+
+    @property
+    def width(self) -> float:
+        """The intruder width ``H`` of Eq. (4) [m]."""
+        return self._width
+
+    @property
+    def lateral_stiffness(self) -> float:
+        """Stiffness of the horizontal elastic slip [Pa/m]."""
+        return self._lateral_stiffness
 
     @property
     def _started(self) -> bool:
