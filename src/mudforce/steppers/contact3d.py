@@ -353,9 +353,10 @@ class MudContact3D:
             outputs = (np.zeros(self._n3), np.zeros((2, 3)))
             # the pose is the caller's: typed by numba; the other two calls take only this contact's own arrays
             # (made here, of these very types) and floats: their entry points, untyped
-            _fixed_contact.extend((S3.fixed_types(S3.contact_place, *pose, *place_args),
-                                   S3.entry_point(K.run_feet, *run_args, 1.0, *run_outputs),
-                                   S3.entry_point(S3.contact_law, 1.0, *law_args, *outputs)))
+            made = (S3.fixed_types(S3.contact_place, *pose, *place_args),
+                    S3.entry_point(K.run_feet, *run_args, 1.0, *run_outputs),
+                    S3.entry_point(S3.contact_law, 1.0, *law_args, *outputs))
+            _fixed_contact[:] = made  # (one assignment: two threads making them at once make the same three)
         place, run, law = _fixed_contact
         return place, run, law
 
