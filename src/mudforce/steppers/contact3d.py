@@ -271,9 +271,9 @@ class MudContact3D:
         Wrench
             Force [N] and torque about the body origin [N m], world frame.
         """
-        # compiled (mudforce._kernel.step3d.contact_step: the numpy step below, its bits) for float64 arrays and a
-        # float dt, typed by numba (as MudContacts3D.step's hot path); anything else, or a step it refuses, goes
-        # through the numpy step, which converts it or words the error
+        # compiled (S3.contact_place, the 1-D stepper, S3.contact_law: the numpy step below, its bits) for float64
+        # arrays and a float dt, typed by numba (as MudContacts3D.step's hot path); anything else, or a step it
+        # refuses, goes through the numpy step, which converts it or words the error
         fixed = self._fixed
         if type(dt) is float and fixed is not None:
             place, run, law = fixed
@@ -295,7 +295,7 @@ class MudContact3D:
     def _step_numpy(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
         """:meth:`step` on numpy arrays, every argument checked (converted, or refused with a one-line error).
 
-        The law's functions on the elements' columns, the reference that :func:`S3.contact_step` compiles bit
+        The law's functions on the elements' columns, the reference that :meth:`step` takes compiled bit
         for bit; once it has stepped, :meth:`step` takes the compiled step.
         """
         p, rotation = _pose(position, quaternion)
