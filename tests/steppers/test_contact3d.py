@@ -235,3 +235,50 @@ def test_many_feet_settle_an_element_turned_about_as_one_foot_does() -> None:
         w = one.step(position, quat, 0.01 if k else 0.0)
         forces, _ = many.step(np.array([position]), np.array([quat]), 0.01 if k else 0.0)
         assert forces[0] == pytest.approx(w.force, rel=1e-12, abs=1e-12)
+
+
+def test_the_compiled_step_is_the_numpy_step_bit_for_bit_and_refuses_as_it_does() -> None:
+    """MudContact3D.step runs float64 poses through mudforce._kernel.step3d.contact_step: every wrench, element
+    force and state equals the numpy step's (its reference, _step_numpy) to the bit, through first steps, a
+    reset, a restored state and uneven dt; a bad pose, a zero dt or a depth out of bounds given as float64
+    arrays (the compiled step's own checks) is refused with the numpy step's error, changing nothing."""
+    params = mf.MudParameters.from_water_content(0.25)
+    for shape in (SPHERE, SOLE):
+        fast, slow = MudContact3D(params, shape, 0.002), MudContact3D(params, shape, 0.002)
+        peak = sideways = 0.0
+        for k in range(120):
+            if k == 70:
+                fast.reset()
+                slow.reset()
+            if k == 90:
+                fast.state = slow.state
+            tilt = 0.3 * math.sin(k / 15)
+            position = np.array([0.02 * math.sin(k / 20), 0.001 * k, 0.01 - 0.025 * math.sin(k / 25)])
+            quaternion = np.array([math.cos(tilt / 2), math.sin(tilt / 2), 0.0, 0.0])
+            dt = 1e-3 * (1.5 if k % 4 == 0 else 1.0)
+            a = fast.step(position, quaternion, dt)
+            b = slow._step_numpy(position, quaternion, dt)
+            assert np.array_equal(a.force, b.force) and np.array_equal(a.torque, b.torque)
+            assert np.array_equal(fast.element_forces, slow.element_forces)
+            for x, y in zip(fast.state, slow.state, strict=True):
+                assert np.array_equal(x, y)
+            peak = max(peak, a.force[2])
+            sideways = max(sideways, np.abs(fast.element_forces[:, :2]).max())
+        assert fast._fixed is not None  # the compiled step was taken
+        assert peak > 1.0 and sideways > 0.0  # in the mud, sliding
+    saved, forces = fast.state, fast.element_forces
+    down = np.array([0.0, 0.0, -0.01])
+    for position, quaternion, dt, match in (
+        (np.array([0.0, math.nan, -0.01]), UPRIGHT, 0.01, "position"),
+        (down, np.array([1.001, 0.0, 0.0, 0.0]), 0.01, "norm 1"),
+        (down, np.array([1.0, 0.0, math.inf, 0.0]), 0.01, "quaternion"),
+        (down, UPRIGHT, 0.0, "dt"),
+        (np.array([0.0, 0.0, -200.0]), UPRIGHT, 0.01, "depth"),
+        (np.zeros(2), UPRIGHT, 0.01, "position"),
+        (down, UPRIGHT[:3], 0.01, "quaternion"),
+    ):
+        with pytest.raises(InputError, match=match):
+            fast.step(position, quaternion, dt)
+        for x, y in zip(fast.state, saved, strict=True):
+            assert np.array_equal(x, y)
+        assert fast.element_forces is forces

@@ -63,3 +63,41 @@ def test_both_ways_in_give_the_same_bits_and_refusals_change_nothing() -> None:
     got = hot.step(pos, quat, DT, out=out)
     want = other.step(pos, quat, DT)
     assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
+
+
+def test_any_layout_gives_the_same_bits_without_compiling_the_step_again() -> None:
+    """Strided, Fortran-ordered and read-only poses and a strided out take the checked path (copied to the one
+    layout the compiled step has), give the hot path's bits, and compile nothing; a refused hot step (NaN, a
+    quaternion off unit norm, dt = 0) leaves the feet and the given out as they were."""
+    from mudforce._kernel import step3d
+
+    mud = mf.MudParameters.from_water_content(0.25)
+    hot, other = MudContacts3D(mud, SHAPE, 2), MudContacts3D(mud, SHAPE, 2)
+    out = (np.empty((2, 3)), np.empty((2, 3)))
+    wide = (np.empty((2, 6)), np.empty((2, 6)))
+    strided = (wide[0][:, ::2], wide[1][:, ::2])
+    for k in range(6):
+        pos, quat = _poses(k)
+        dt = DT if k else 0.0
+        hot.step(pos, quat, dt, out=out)
+        compiled = len(step3d.step_feet.overloads)
+        p = np.zeros((2, 6))
+        p[:, ::2] = pos
+        q = np.asfortranarray(quat)
+        q.flags.writeable = False
+        got = other.step(p[:, ::2], q, dt, out=strided)
+        assert got[0] is strided[0] and got[1] is strided[1]
+        assert np.array_equal(got[0], out[0]) and np.array_equal(got[1], out[1])
+        assert len(step3d.step_feet.overloads) == compiled
+    assert _same(hot.state, other.state)
+    saved = hot.state
+    kept = (out[0].copy(), out[1].copy())
+    pos, quat = _poses(6)
+    bad_pos = pos.copy()
+    bad_pos[1, 2] = np.nan
+    for p, q, dt, match in ((bad_pos, quat, DT, "foot 1: position"), (pos, quat * 1.001, DT, "foot 0: .*norm 1"),
+                            (pos, quat, 0.0, "dt must be within")):
+        with pytest.raises(InputError, match=match):
+            hot.step(p, q, dt, out=out)
+        assert _same(hot.state, saved)
+        assert np.array_equal(out[0], kept[0]) and np.array_equal(out[1], kept[1])

@@ -13,7 +13,10 @@ rule: each element's displacement over the step, first-order hold). The
 law, the placing of the elements and the wrench's moments are
 :mod:`mudforce.model.law3d`'s functions: :class:`MudContact3D` places its
 elements with them on numpy arrays and runs the law over them compiled
-(:func:`mudforce._kernel.step3d.element_forces`), :class:`MudContacts3D` has
+(:func:`mudforce._kernel.step3d.element_forces`), and, from its second step
+on, takes the same arithmetic in the same order compiled, the same bits
+(:func:`mudforce._kernel.step3d.contact_place` and
+:func:`~mudforce._kernel.step3d.contact_law`); :class:`MudContacts3D` has
 them compiled in (:mod:`mudforce._kernel.step3d`) and
 :mod:`mudforce.jax.contact3d` calls them on JAX arrays.
 
@@ -138,10 +141,10 @@ class MudContact3D:
             raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
         if not isinstance(shape, Shape):
             raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
-        self.params = params
-        self.shape = shape
-        self.surface_height = finite_number(surface_height, "surface_height", "m")
-        if abs(self.surface_height) > MAX_DEPTH:
+        self._params = params
+        self._shape = shape
+        self._surface_height = finite_number(surface_height, "surface_height", "m")
+        if abs(self._surface_height) > MAX_DEPTH:
             raise InputError(f"surface_height must be within +-{MAX_DEPTH:g} m, got {surface_height!r}")
         h = width if width is not None else shape.width
         if h is None:
@@ -150,16 +153,72 @@ class MudContact3D:
         # each element's paper state, stepped with a unit area so that the 1-D force is the stress [Pa]
         element = Foot(area=1.0, width=h, shape="element")  # checks H
         self._elements = MudContacts(params, shape.n, element, threads=1)
-        self.width = element.width  #: H of Eq. (4) [m]
+        self._width = element.width
         k = params.k_m_w if lateral_stiffness is None else lateral_stiffness
         if not is_real(k) or not math.isfinite(k) or k <= 0.0:
             raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
-        self.lateral_stiffness = float(k)
-        self._slip = np.zeros((shape.n, 2))
-        self._centroids = np.zeros((shape.n, 3))
-        self._started = False
+        self._lateral_stiffness = float(k)
+        n = shape.n
+        # the step's arrays (the layout of mudforce._kernel.step3d.contact_place and contact_law; the numpy step uses
+        # the same)
+        self._consts = np.zeros(S3.N_CONTACT_CONSTANTS)
+        self._consts[[S3.C_SURFACE, S3.C_WIDTH, S3.C_STIFFNESS, S3.C_SIGMA_Y, S3.C_ALPHA, S3.C_BETA, S3.C_LAMBDA,
+                      S3.C_RHO]] = (self._surface_height, self._width, self._lateral_stiffness, params.sigma_y,
+                                    params.alpha, params.beta, params.lambda_, params.rho_m)
+        body = np.zeros((n, S3.N_BODY_COLUMNS))
+        body[:, S3.B_CX:S3.B_CZ + 1] = shape.centroids
+        body[:, S3.B_NX:S3.B_NZ + 1] = shape.normals
+        body[:, S3.B_AREA] = shape.areas
+        self._slip = np.zeros((n, 2))
+        self._centroids = body[:, S3.B_WX:S3.B_WZ + 1]  # a view: the world centroids at the last step [m]
+        work = np.zeros((S3.N_WORK, n))
+        work[S3.W_AREA] = shape.areas
+        self._areas = work[S3.W_AREA]  # the areas [m^2] as the compiled step has them (writable, as numba types them)
+        e = self._elements
+        # the three compiled calls' arguments (S3.contact_place, K.run_feet, S3.contact_law), but the pose, dt and
+        # the outputs
+        self._args = ((self._consts, body, e._states, work), (e._states, e.ring, e.params_array, work[S3.W_DEPTH]),
+                      (e.forces, e._scratch[0], e._index[0]),
+                      (self._consts, body, self._slip, e.forces, work, np.zeros((n, 2)), np.zeros((2 * n, 8))))
+        self._n3 = (n, 3)
+        self._fixed: Any = None  # the three's compiled code (MudContact3D._fixed_types), once the numpy step has run
         #: the last step's force on every element [N], world frame, shape (n, 3)
-        self.element_forces = np.zeros((shape.n, 3))
+        self.element_forces = np.zeros((n, 3))
+
+    # what the contact was made with: read-only (the compiled step holds them; a change would reach one path)
+    @property
+    def params(self) -> MudParameters:
+        """The mud."""
+        return self._params
+
+    @property
+    def shape(self) -> Shape:
+        """The foot's surface, body frame."""
+        return self._shape
+
+    @property
+    def surface_height(self) -> float:
+        """Height of the undisturbed mud surface in the world frame [m]."""
+        return self._surface_height
+
+    @property
+    def width(self) -> float:
+        """The intruder width ``H`` of Eq. (4) [m]."""
+        return self._width
+
+    @property
+    def lateral_stiffness(self) -> float:
+        """Stiffness of the horizontal elastic slip [Pa/m]."""
+        return self._lateral_stiffness
+
+    @property
+    def _started(self) -> bool:
+        """Whether the contact has taken its first step."""
+        return bool(self._consts[S3.C_STARTED] != 0.0)
+
+    @_started.setter
+    def _started(self, started: bool) -> None:
+        self._consts[S3.C_STARTED] = 1.0 if started else 0.0
 
     # ------------------------------------------------------------------ state
     @property
@@ -180,8 +239,8 @@ class MudContact3D:
         if not (np.all(np.isfinite(slip)) and np.all(np.isfinite(centroids))):
             raise InputError("a state's slips and centroids must be finite")
         self._elements.state = saved.elements  # validated; refuses without changing anything
-        self._slip = slip.copy()
-        self._centroids = centroids.copy()
+        self._slip[:] = slip
+        self._centroids[:] = centroids
         self._started = bool(saved.started)
 
     @property
@@ -212,6 +271,33 @@ class MudContact3D:
         Wrench
             Force [N] and torque about the body origin [N m], world frame.
         """
+        # compiled (S3.contact_place, the 1-D stepper, S3.contact_law: the numpy step below, its bits) for float64
+        # arrays and a float dt, typed by numba (as MudContacts3D.step's hot path); anything else, or a step it
+        # refuses, goes through the numpy step, which converts it or words the error
+        fixed = self._fixed
+        if type(dt) is float and fixed is not None:
+            place, run, law = fixed
+            place_args, run_args, run_outputs, law_args = self._args
+            try:
+                code = place(position, quaternion, dt, *place_args)
+            except TypeError:  # numba's "no matching definition": another type of argument
+                code = S3.BAD_SHAPE
+            if code == _OK or code == _FIRST:  # placed, nothing changed yet; the elements' 1-D step, then the law
+                h = dt if code == _OK else 1.0  # (ignored by the elements' first step)
+                if run(*run_args, h, *run_outputs) >= 0:  # pragma: no cover - every depth was checked
+                    raise InputError("an element's depth must be finite [m]")
+                forces, wrench = _empty(self._n3), _empty((2, 3))
+                law(h, *law_args, forces, wrench)
+                self.element_forces = forces
+                return Wrench(wrench[0], wrench[1])
+        return self._step_numpy(position, quaternion, dt)
+
+    def _step_numpy(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
+        """:meth:`step` on numpy arrays, every argument checked (converted, or refused with a one-line error).
+
+        The law's functions on the elements' columns, the reference that :meth:`step` takes compiled bit
+        for bit; once it has stepped, :meth:`step` takes the compiled step.
+        """
         p, rotation = _pose(position, quaternion)
         if self._started:
             if not is_real(dt) or not MIN_DT <= float(dt) <= MAX_DT:
@@ -235,7 +321,7 @@ class MudContact3D:
         if self._started:  # law3d.element_force and law3d.moment on every element, compiled (S3.element_forces)
             spring = law3d.spring_stress(depth, q.alpha, q.beta, self.width)
             out = np.empty((shape.n, 8))
-            S3.element_forces(stress, spring, shape.areas, nx, ny, nz, ox, oy, oz, depth, self._slip, mx, my,
+            S3.element_forces(stress, spring, self._areas, nx, ny, nz, ox, oy, oz, depth, self._slip, mx, my,
                               1.0 / dt, self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m, out)
             slip_x, slip_y = out[:, 0], out[:, 1]
             forces = out[:, 2:5]
@@ -246,11 +332,33 @@ class MudContact3D:
             fz = law3d.vertical_force(stress, shape.areas, nz)
             forces = np.stack([zero, zero, fz], axis=1)
             torques = np.stack(law3d.moment(ox, oy, oz, zero, zero, fz), axis=1)
-        self._slip = np.stack([slip_x, slip_y], axis=1)
-        self._centroids = np.stack([wx, wy, wz], axis=1)
+        self._slip[:, 0] = slip_x
+        self._slip[:, 1] = slip_y
+        self._centroids[:, 0] = wx
+        self._centroids[:, 1] = wy
+        self._centroids[:, 2] = wz
         self._started = True
         self.element_forces = forces
+        if self._fixed is None:  # the 1-D stepper has compiled: the compiled step can be taken from now on
+            self._fixed = self._fixed_types()
         return Wrench(forces.sum(axis=0), torques.sum(axis=0))
+
+    def _fixed_types(self) -> tuple[Any, Any, Any]:
+        """The compiled step's three calls, compiled (or loaded from numba's cache) for this contact's arrays: the
+        first, which takes the caller's pose, as :func:`mudforce._kernel.step3d.fixed_types`, the others'
+        :func:`~mudforce._kernel.step3d.entry_point` (every contact makes its arrays alike)."""
+        if not _fixed_contact:
+            place_args, run_args, run_outputs, law_args = self._args
+            pose = (np.zeros(3), np.zeros(4), 1.0)
+            outputs = (np.zeros(self._n3), np.zeros((2, 3)))
+            # the pose is the caller's: typed by numba; the other two calls take only this contact's own arrays
+            # (made here, of these very types) and floats: their entry points, untyped
+            made = (S3.fixed_types(S3.contact_place, *pose, *place_args),
+                    S3.entry_point(K.run_feet, *run_args, 1.0, *run_outputs),
+                    S3.entry_point(S3.contact_law, 1.0, *law_args, *outputs))
+            _fixed_contact[:] = made  # (one assignment: two threads making them at once make the same three)
+        place, run, law = _fixed_contact
+        return place, run, law
 
     def reset(self) -> None:
         """Forget the history: the next step is a first step."""
@@ -403,6 +511,12 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     return array
 
 
+def _plain(a: np.ndarray) -> np.ndarray:
+    """``a`` if it is C-contiguous, aligned and writable, else such a copy of it."""
+    flags = a.flags
+    return a if flags.c_contiguous and flags.aligned and flags.writeable else np.array(a, order="C")
+
+
 def _writable_rows(a: Any, m: int) -> bool:
     """Whether ``a`` can receive (m, 3) float64 results in place."""
     return isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == (m, 3) and bool(a.flags.writeable)
@@ -414,6 +528,17 @@ _FLOAT64 = np.dtype(np.float64)  # numpy's own instance: a float64 array's dtype
 _OK = S3.OK
 _empty = np.empty
 _step_feet = S3.step_feet
+_dispatcher: Any = S3.step_feet  # (numba's dispatcher: its compiled versions)
+_fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and S3.fixed_types of it then
+_FIRST = S3.FIRST
+_fixed_contact: list[Any] = []  # MudContact3D's three compiled calls (MudContact3D._fixed_types)
+
+
+def _fixed_step() -> Any:
+    """:func:`mudforce._kernel.step3d.fixed_types` of the compiled step (made again when numba has compiled more)."""
+    if _fixed[0] != len(_dispatcher.overloads):
+        _fixed[:] = [len(_dispatcher.overloads), S3.fixed_types(_dispatcher)]
+    return _fixed[1]
 
 
 class MudContacts3D:
@@ -550,9 +675,9 @@ class MudContacts3D:
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
                              self._ring, self._params_rows)
-        # what step() reads on every call, in one attribute: the shapes of the positions (and the outputs) and of
-        # the quaternions, whether the feet are stepped on threads, the compiled step's arguments
-        self._hot = ((m, 3), (m, 4), self.threads > 1, self._kernel_args)
+        # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
+        # and the dispatcher of its hot path (None until the first step has compiled the step, and with threads)
+        self._hot: tuple[tuple[int, int], tuple[np.ndarray, ...], Any] = ((m, 3), self._kernel_args, None)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -658,10 +783,31 @@ class MudContacts3D:
         torques : ndarray, shape (n, 3)
             Torque on each foot about its body origin [N m], world frame.
         """
-        ps, qs, threaded, args = self._hot
-        # the hot path's checks, cheap (in Python every attribute and call costs ~0.05 us): float64 ndarrays of
-        # the right shapes, as the compiled step takes them; anything else goes through the checks that convert
-        # it or word the error
+        ps, args, fixed = self._hot
+        # the hot path: the compiled step through a dispatcher that takes only float64 C-contiguous arrays (of
+        # writable outputs) and a float dt, typed by numba in C; what the types do not say (the shapes, the poses'
+        # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
+        # refuses, goes through _step_checked's checks, which convert it or word the error.
+        if out is None:
+            forces, torques = _empty(ps), _empty(ps)
+        elif type(out) is tuple and len(out) == 2:
+            forces, torques = out
+        else:
+            return self._step_checked(positions, quaternions, dt, out)
+        if type(dt) is float and fixed is not None:
+            try:
+                code = fixed(positions, quaternions, dt, *args, forces, torques)
+            except TypeError:  # numba's "no matching definition": another type of argument
+                code = S3.BAD_SHAPE
+            if code == _OK:
+                return forces, torques
+        return self._step_checked(positions, quaternions, dt, out)
+
+    def _step_checked(self, positions: Any, quaternions: Any, dt: Any,
+                      out: tuple[np.ndarray, np.ndarray] | None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`step` with every argument checked in Python (converted, or refused with a one-line error)."""
+        ps, qs, threaded = (self.n, 3), (self.n, 4), self.threads > 1
+        args = self._kernel_args
         p, q = positions, quaternions
         if not (type(p) is _NDARRAY and p.dtype is _FLOAT64 and p.shape == ps):
             p = _float_rows(positions, "positions", ps, "m")
@@ -669,26 +815,30 @@ class MudContacts3D:
             q = _float_rows(quaternions, "quaternions", qs, "-")
         if type(dt) is not float:
             dt = real_number(dt, "dt")
-        if out is None:
-            forces, torques = _empty(ps), _empty(ps)
-        else:
+        if out is not None:
             pair: tuple[Any, Any] = out if type(out) is tuple and len(out) == 2 else (None, None)
-            forces, torques = pair
-            if not (type(forces) is _NDARRAY and forces.dtype is _FLOAT64 and forces.shape == ps
-                    and forces.flags.writeable and type(torques) is _NDARRAY and torques.dtype is _FLOAT64
-                    and torques.shape == ps and torques.flags.writeable):
-                m = self.n
-                if not (isinstance(out, tuple) and len(out) == 2 and _writable_rows(out[0], m)
-                        and _writable_rows(out[1], m)):
-                    raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({m}, 3)")
-                forces, torques = out
+            if not (_writable_rows(pair[0], self.n) and _writable_rows(pair[1], self.n)):
+                raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({self.n}, 3)")
+        # the compiled step's one version takes C-contiguous, aligned, writable arrays: others are copied (numba
+        # would compile another version of the step for them, for seconds); so are the results into such an out
+        p, q = _plain(p), _plain(q)
+        if out is not None and _plain(out[0]) is out[0] and _plain(out[1]) is out[1]:
+            forces, torques = out
+        else:
+            forces, torques = _empty(ps), _empty(ps)
         if threaded and not vectorized._forked:
             with vectorized._launch_lock:
                 code = S3.step_feet_threads(p, q, dt, *args, forces, torques, self._chunks)
         else:
             code = _step_feet(p, q, dt, *args, forces, torques)
+            if self._hot[2] is None:  # compiled now: the hot path can take the same code
+                self._hot = (ps, args, _fixed_step())
         if code != _OK:
             self._refuse(code, p, q, dt)
+        if out is not None and forces is not out[0]:
+            out[0][...] = forces
+            out[1][...] = torques
+            forces, torques = out
         return forces, torques
 
     def _refuse(self, code: int, p: np.ndarray, q: np.ndarray, dt: float) -> None:
