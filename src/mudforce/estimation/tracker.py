@@ -116,7 +116,9 @@ _O_CHANGED = 4
 _O_BIAS = 5
 _O_NOISE = 6
 _O_MISFIT = 7  # 1 where the model misses the force beyond its noise floor
-_N_OUT = 8
+_O_OFFSET = 8  # posterior mean of the surface offset [m] (the model follows the depth plus it)
+_O_OFFSET_SD = 9  # its posterior standard deviation [m]
+_N_OUT = 10
 
 # configuration vector, entries of MudTrackers._cfg
 _C_TAU = 0
@@ -137,7 +139,8 @@ _C_MISFIT_RATIO = 14  # misfit flag threshold on the average squared standardise
 _C_DISC = 15  # discretisation allowance [samples]: the model at the rate may be off by this many steps' force change
 _C_BLUR_REF = 16  # misfit average [-] above which the reported posterior's blur widens (_MISFIT_BLUR_REF)
 _C_TEMPER = 17  # misfit average [-] above which the fit's posterior is tempered by the excess
-_N_CFG = 18
+_C_OFFSET_TEMPER = 18  # the surface offsets' evidence is divided by this [-] (_OFFSET_TEMPER)
+_N_CFG = 19
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -165,6 +168,22 @@ _BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0])
 #: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
 #: model by this much is not read as other mud.
 DEFAULT_FORCE_LAG_ALLOWANCE = 0.01
+
+#: Default surface offset hypotheses [m] (ours): the bank holds each grid model at each, stepped on the measured
+#: depth plus the offset, and the water content's posterior sums over them (so the offset's uncertainty widens
+#: the interval). A robot's surface estimate is off by a few millimetres (issue 23).
+DEFAULT_DEPTH_OFFSETS: tuple[float, ...] = (-0.006, -0.003, 0.0, 0.003, 0.006)
+#: Default prior standard deviation of the surface offset [m] (ours).
+DEFAULT_DEPTH_OFFSET_PRIOR = 0.004
+#: The surface offsets' evidence is divided by this [-] (ours): a wrong offset is a misfit that persists over a
+#: whole stance, far longer than ``correlation_time``, so its evidence is worth that much less; untempered, the
+#: posterior jumped between neighbouring offsets, moving the estimate by points with a narrow interval each time.
+_OFFSET_TEMPER = 4.0
+
+#: The force offset is tared on a sample where the models of every surface offset holding at least this share of
+#: the posterior say zero force [-] (ours): with the models of an unlikely offset of +6 mm in contact whenever the
+#: foot is within 6 mm of the surface, a swing would otherwise leave few samples to tare on.
+_TARE_MASS = 0.01
 
 #: The depth noise assumed before any is measured [m] (that of :func:`default_velocity_filter`'s default).
 _DEPTH_NOISE0 = 3e-5
@@ -216,22 +235,32 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, depths: np.ndarray,
                 measured: np.ndarray, edges: np.ndarray, L: np.ndarray, P: np.ndarray, aux: np.ndarray,
                 cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray, scratch_lo: np.ndarray,
-                scratch_hi: np.ndarray) -> int:
+                scratch_hi: np.ndarray, offsets: np.ndarray, log_prior: np.ndarray, work: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
 
-    ``depths``/``measured`` [m]/[N], shape (n,); the bank has ``n * G``
-    rows, foot ``j``'s models in rows ``j * G .. j * G + G - 1``. Returns the
+    ``depths``/``measured`` [m]/[N], shape (n,). The bank has ``n * NO * G``
+    rows: foot ``j``'s model of grid water content ``g`` under the surface
+    offset ``offsets[o]`` [m] (the model follows the depth plus it) in row
+    ``(j * NO + o) * G + g``. ``P[j]`` is foot ``j``'s joint posterior over
+    (offset, water content), ``log_prior`` the offsets' log prior [-],
+    ``work`` scratch of ``G + NO`` entries. Returns the
     first foot whose sample is not finite (nothing is changed then), else -1.
     """
     n = depths.shape[0]
-    G = P.shape[1]
-    H = L.shape[1] // G  # gain hypotheses
+    G = edges.shape[0] - 1
+    M = P.shape[1]  # models per foot
+    NO = M // G  # surface offset hypotheses
+    H = L.shape[1] // M  # gain hypotheses
+    marginal = work[:G]  # the water content's posterior
+    evidence = work[G:G + NO]  # each offset's
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
     for j in range(n):
-        for g in range(G):
-            zbuf[j * G + g] = depths[j]
+        for o in range(NO):
+            zo = depths[j] + offsets[o]
+            for g in range(G):
+                zbuf[(j * NO + o) * G + g] = zo
     K.run_feet(states, ring, params, zbuf, dt, forces, scratch, index)
     tau = cfg[_C_TAU]
     misfit2 = cfg[_C_MISFIT] * cfg[_C_MISFIT]
@@ -241,22 +270,31 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
     weight = min(1.0, dt / cfg[_C_TEMP])
     half = 0.5 * (1.0 - cfg[_C_LEVEL])
     for j in range(n):
-        base = j * G
+        base = j * M
         first = aux[j, _A_STARTED] == 0.0
         aux[j, _A_STARTED] = 1.0
         f = measured[j]
         # one-step-ahead prediction: the models' forces under the posterior before this sample
         pred = 0.0
-        free = True
-        for g in range(G):
-            fg = forces[base + g]
-            pred += P[j, g] * fg
-            if fg != 0.0:
+        free = True  # every model says zero force: the sample says nothing of the mud
+        tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
+        for o in range(NO):
+            po = 0.0
+            zero = True
+            for g in range(G):
+                fg = forces[base + o * G + g]
+                pred += P[j, o * G + g] * fg
+                po += P[j, o * G + g]
+                if fg != 0.0:
+                    zero = False
+            if not zero:
                 free = False
+                if po >= _TARE_MASS:
+                    tare = False
         out[j, _O_PRED] = pred + aux[j, _A_BIAS]
         if first:
             aux[j, _A_PPREV] = pred
-        if free:
+        if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
             aux[j, _A_NFREE] = nfree
@@ -271,7 +309,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_BIAS] += e_c / nfree
                 # the running variance, from the residual against the offset before this sample
                 aux[j, _A_VAR] = var + (e2 * (nfree - 1.0) / nfree - var) / nfree
-        elif not first:
+        if not free and not first:
             bias = aux[j, _A_BIAS]
             nfree = aux[j, _A_NFREE]
             var = aux[j, _A_VAR]
@@ -292,34 +330,34 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             excess = max(dvar - (_REST_NOISE_EXCESS * _DEPTH_NOISE0) ** 2, 0.0)
             rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
             if rest:
-                for g in range(G):
-                    row = base + g
+                for m in range(M):
+                    row = base + m
                     st = K.load_state(states, row)
                     lo = hi = forces[row]
                     if st.mode != 0:  # not FREE (K.ContactMode.FREE)
                         up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
                         lo = min(lo, up, down)
                         hi = max(hi, up, down)
-                    scratch_lo[g] = lo
-                    scratch_hi[g] = hi
+                    scratch_lo[m] = lo
+                    scratch_hi[m] = hi
             # the misfit statistic: the squared standardised residual of the posterior's mean model
             mis_r = 0.0
             mis_s2 = 0.0
             best = -1e300
             for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
                 gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
-                for g in range(G):
-                    fg = gain * forces[base + g]
+                for m in range(M):
+                    fg = gain * forces[base + m]
                     if rest:
-                        fg = min(max(f - bias, gain * scratch_lo[g]), gain * scratch_hi[g])
+                        fg = min(max(f - bias, gain * scratch_lo[m]), gain * scratch_hi[m])
                     r = f - bias - fg
                     s2 = var + bias_var + floor2 + misfit2 * fg * fg + lag2
                     if h == (H - 1) // 2:
-                        mis_r += P[j, g] * r
-                        mis_s2 += P[j, g] * s2
+                        mis_r += P[j, m] * r
+                        mis_s2 += P[j, m] * s2
                     ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
-                    v = keep * L[j, h * G + g] + ll * weight
-                    L[j, h * G + g] = v
+                    v = keep * L[j, h * M + m] + ll * weight
+                    L[j, h * M + m] = v
                     if v > best:
                         best = v
             # the flag's floor: the model's own discretisation error at the rate (ours, see _MISFIT_DISCRETISATION)
@@ -328,21 +366,53 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             z2 = min(mis_r * mis_r / mis_s2, _MISFIT_CLIP)
             aux[j, _A_MISFIT_T] = min(aux[j, _A_MISFIT_T] + dt, tau)
             aux[j, _A_MISFIT] += (z2 - aux[j, _A_MISFIT]) * dt / aux[j, _A_MISFIT_T]
-            # the posterior of W, the gain marginalised: a gain error cannot be told from stiffer mud,
+            # the joint posterior, the gain marginalised: a gain error cannot be told from stiffer mud,
             # so the interval spans what each gain hypothesis would read; tempered by the misfit (a scale mixture:
-            # residuals larger than the scale explains make every sample that much weaker evidence)
+            # residuals larger than the scale explains make every sample that much weaker evidence); the surface
+            # offsets' prior (never forgotten) added after the tempering
             inv = 1.0 / max(1.0, aux[j, _A_MISFIT] / cfg[_C_TEMPER])
+            # each offset's evidence (the water content and gain summed over), as a log
+            top = -1e300
+            for o in range(NO):
+                z = 0.0
+                for g in range(G):
+                    m = o * G + g
+                    v = 0.0
+                    for h in range(H):
+                        v += math.exp((L[j, h * M + m] - best) * inv)
+                    P[j, m] = v
+                    z += v
+                for g in range(G):
+                    P[j, o * G + g] /= z
+                # the offsets' evidence tempered by _C_OFFSET_TEMPER: a wrong offset is a misfit that persists
+                # for a whole stance, far longer than the correlation time, so its evidence counts that much less
+                lz = math.log(z) / cfg[_C_OFFSET_TEMPER] + log_prior[o]
+                evidence[o] = lz
+                top = max(top, lz)
             total = 0.0
+            for o in range(NO):
+                evidence[o] = math.exp(evidence[o] - top)
+                total += evidence[o]
+            for o in range(NO):
+                w_o = evidence[o] / total
+                for g in range(G):
+                    P[j, o * G + g] *= w_o
+        # the water content's posterior: the joint one summed over the surface offsets; and the offset's moments
+        om = 0.0
+        o2 = 0.0
+        for g in range(G):
+            marginal[g] = 0.0
+        for o in range(NO):
+            po = 0.0
             for g in range(G):
-                v = 0.0
-                for h in range(H):
-                    v += math.exp((L[j, h * G + g] - best) * inv)
-                P[j, g] = v
-                total += v
-            for g in range(G):
-                P[j, g] /= total
+                po += P[j, o * G + g]
+                marginal[g] += P[j, o * G + g]
+            om += po * offsets[o]
+            o2 += po * offsets[o] * offsets[o]
+        out[j, _O_OFFSET] = om
+        out[j, _O_OFFSET_SD] = math.sqrt(max(o2 - om * om, 0.0))
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
-        w_mid, w_low, w_high = _blurred_quantiles(blur[0], P[j], Q, edges, half)
+        w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         # change flag: a settled estimate that leaves the anchor behind
         changed = 0.0
         # (only once the offset has been tared: before, an estimate may still move with it)
@@ -362,7 +432,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
         while b < blur.shape[0] - 1 and _BLUR_FACTORS[b] < excess:
             b += 1
         if b > 0:
-            w_mid, w_low, w_high = _blurred_quantiles(blur[b], P[j], Q, edges, half)
+            w_mid, w_low, w_high = _blurred_quantiles(blur[b], marginal, Q, edges, half)
         out[j, _O_W] = w_mid
         out[j, _O_LOW] = w_low
         out[j, _O_HIGH] = w_high
@@ -422,6 +492,11 @@ class TrackEstimate:
         in units of the likelihood's scale, above :data:`MISFIT_THRESHOLD`):
         the mud is off the model's family, or the sensors are corrupted
         beyond the allowances; the interval is then not to be trusted.
+    depth_offset, depth_offset_stderr : float
+        Posterior mean and standard deviation of the surface offset [m]
+        over the tracker's ``depth_offsets``: the model follows the measured
+        depth plus it (as ``identify``'s ``depth_offset``), so a depth that
+        reads 5 mm too deep gives about -0.005.
     """
 
     water_content: float
@@ -432,6 +507,8 @@ class TrackEstimate:
     bias: float
     noise: float
     misfit: bool = False
+    depth_offset: float = 0.0
+    depth_offset_stderr: float = 0.0
 
     @property
     def interval(self) -> tuple[float, float]:
@@ -456,6 +533,8 @@ class TrackEstimates:
         Estimated sensor offset [N] and noise standard deviation [N].
     misfit : numpy.ndarray of bool
         Where the model misses the force beyond its noise floor (see :class:`TrackEstimate`).
+    depth_offset, depth_offset_stderr : numpy.ndarray
+        Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
     """
 
     water_content: np.ndarray
@@ -466,6 +545,8 @@ class TrackEstimates:
     bias: np.ndarray
     noise: np.ndarray
     misfit: np.ndarray | None = None
+    depth_offset: np.ndarray | None = None
+    depth_offset_stderr: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -503,6 +584,18 @@ def _non_negative(value: Any, name: str, unit: str) -> float:
     if not (x >= 0.0 and math.isfinite(x)):
         raise InputError(f"{name} must be finite and >= 0 [{unit}], got {value!r}")
     return x
+
+
+def _offsets(depth_offsets: Sequence[float] | None) -> np.ndarray:
+    """The surface offset hypotheses [m], as an array; refused in one line unless finite, increasing, within 20 mm."""
+    if depth_offsets is None:
+        return np.array(DEFAULT_DEPTH_OFFSETS, dtype=np.float64)
+    d = np.array(real_array(depth_offsets, "depth_offsets", "m"), dtype=np.float64)
+    if d.ndim != 1 or d.size < 1 or not np.all(np.isfinite(d)) or np.any(np.diff(d) <= 0.0) \
+            or np.any(np.abs(d) > 0.02):
+        raise InputError(f"depth_offsets must list at least one surface offset [m], finite, strictly increasing and "
+                         f"within 20 mm (e.g. (-0.003, 0.0, 0.003)), got {depth_offsets!r}")
+    return np.ascontiguousarray(d)
 
 
 def _grid(water_contents: Sequence[float] | None) -> np.ndarray:
@@ -598,6 +691,8 @@ class MudTrackers:
         discrepancy: float = 0.0075,
         force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
         force_lag: float = DEFAULT_FORCE_LAG_ALLOWANCE,
+        depth_offsets: Sequence[float] | None = None,
+        depth_offset_prior: float = DEFAULT_DEPTH_OFFSET_PRIOR,
     ) -> None:
         self.n = positive_int(n, "the number of feet n")
         if foot is not None and not isinstance(foot, Foot):
@@ -633,8 +728,14 @@ class MudTrackers:
         cfg[_C_DISC] = _MISFIT_DISCRETISATION
         cfg[_C_BLUR_REF] = _MISFIT_BLUR_REF
         cfg[_C_TEMPER] = _MISFIT_TEMPER_REF
+        cfg[_C_OFFSET_TEMPER] = _OFFSET_TEMPER
         self._cfg = cfg
+        self.depth_offsets = _offsets(depth_offsets)
+        prior = positive_number(depth_offset_prior, "depth_offset_prior", "m")
+        self._log_prior = np.ascontiguousarray(-0.5 * (self.depth_offsets / prior) ** 2)
+        self.depth_offset_prior = prior
         G = self.grid.size
+        M = self.depth_offsets.size * G  # models per foot
         mids = 0.5 * (self.grid[1:] + self.grid[:-1])
         self._edges = np.concatenate(([self.grid[0] - (mids[0] - self.grid[0])], mids,
                                       [self.grid[-1] + (self.grid[-1] - mids[-1])]))
@@ -645,16 +746,17 @@ class MudTrackers:
         self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k))
                                                     for k in _BLUR_FACTORS]))
         self._Q = np.zeros(G, dtype=np.float64)
-        self._lo = np.zeros(G, dtype=np.float64)  # the rest band of each model, scratch of the compiled step
-        self._hi = np.zeros(G, dtype=np.float64)
+        self._work = np.zeros(G + self.depth_offsets.size, dtype=np.float64)  # scratch of the compiled step
+        self._lo = np.zeros(M, dtype=np.float64)  # the rest band of each model, scratch of the compiled step
+        self._hi = np.zeros(M, dtype=np.float64)
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.steppers.many import MudContacts
 
-        self._bank = MudContacts(mud * self.n, self.n * G, self.foot, velocity_filter=self.velocity_filter,
-                                 threads=1)
-        self._zbuf = np.zeros(self.n * G, dtype=np.float64)
-        self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * G), dtype=np.float64)
-        self._P = np.zeros((self.n, G), dtype=np.float64)
+        rows = self.n * self.depth_offsets.size
+        self._bank = MudContacts(mud * rows, rows * G, self.foot, velocity_filter=self.velocity_filter, threads=1)
+        self._zbuf = np.zeros(rows * G, dtype=np.float64)
+        self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
+        self._P = np.zeros((self.n, M), dtype=np.float64)
         self._aux = np.zeros((self.n, _N_AUX), dtype=np.float64)
         self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
@@ -665,7 +767,8 @@ class MudTrackers:
         """Forget everything: the next update is a first sample, the posterior uniform."""
         self._bank.reset()
         self._L[:] = 0.0
-        self._P[:] = 1.0 / self.grid.size
+        prior = np.exp(self._log_prior)
+        self._P[:] = np.repeat(prior / (prior.sum() * self.grid.size), self.grid.size)
         self._aux[:] = 0.0
         self._aux[:, _A_VAR] = self._cfg[_C_NOISE0] ** 2
         self._aux[:, _A_DVAR] = _DEPTH_NOISE0**2
@@ -681,7 +784,8 @@ class MudTrackers:
         bank = self._bank
         bad = _track_step(bank._states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
                           bank._scratch[0], bank._index[0], self._depths, self._forces, self._edges, self._L,
-                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out, self._lo, self._hi)
+                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out, self._lo, self._hi,
+                          self.depth_offsets, self._log_prior, self._work)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{self._depths[bad]!r} and {self._forces[bad]!r}")
@@ -713,11 +817,11 @@ class MudTrackers:
         o = self._out
         return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
                               o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy(),
-                              o[:, _O_MISFIT] != 0.0)
+                              o[:, _O_MISFIT] != 0.0, o[:, _O_OFFSET].copy(), o[:, _O_OFFSET_SD].copy())
 
     def _key(self) -> bytes:
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
-                         self._bank.params_array.tobytes()))
+                         self.depth_offsets.tobytes(), self._log_prior.tobytes(), self._bank.params_array.tobytes()))
 
     @property
     def state(self) -> TrackerState:
@@ -748,8 +852,11 @@ class MudTrackers:
 
     @property
     def posterior(self) -> np.ndarray:
-        """Each foot's posterior probability of each grid water content, shape (n, G) (a copy)."""
-        p: np.ndarray = np.array(self._P, dtype=np.float64)
+        """Each foot's posterior probability of each grid water content, shape (n, G) (a copy).
+
+        The surface offsets summed over: :attr:`TrackerState.posterior` holds the joint one.
+        """
+        p: np.ndarray = self._P.reshape(self.n, self.depth_offsets.size, self.grid.size).sum(axis=1)
         return p
 
     def __len__(self) -> int:
@@ -836,7 +943,7 @@ class MudTracker:
         o = b._out[0]
         return TrackEstimate(float(o[_O_W]), float(o[_O_LOW]), float(o[_O_HIGH]), float(o[_O_PRED]),
                              bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]),
-                             bool(o[_O_MISFIT] != 0.0))
+                             bool(o[_O_MISFIT] != 0.0), float(o[_O_OFFSET]), float(o[_O_OFFSET_SD]))
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample."""
@@ -854,7 +961,7 @@ class MudTracker:
     @property
     def posterior(self) -> np.ndarray:
         """The posterior probability of each grid water content, shape (G,) (a copy)."""
-        p: np.ndarray = np.array(self._bank._P[0], dtype=np.float64)
+        p: np.ndarray = self._bank.posterior[0]
         return p
 
     def __repr__(self) -> str:
@@ -880,6 +987,8 @@ class TrackResult:
         Estimated offset and noise [N].
     misfit : numpy.ndarray of bool
         Samples where the model missed the force beyond its noise floor (see :class:`TrackEstimate`).
+    depth_offset, depth_offset_stderr : numpy.ndarray
+        Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
     """
 
     time: np.ndarray
@@ -893,6 +1002,8 @@ class TrackResult:
     bias: np.ndarray
     noise: np.ndarray
     misfit: np.ndarray | None = None
+    depth_offset: np.ndarray | None = None
+    depth_offset_stderr: np.ndarray | None = None
 
     #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
@@ -982,4 +1093,5 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         cols[k] = tracker._out[0]
         previous = t[k]
     return TrackResult(t, z, f, cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
-                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0)
+                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0,
+                       cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD])
