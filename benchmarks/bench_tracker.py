@@ -62,7 +62,8 @@ def cost(calls: int, feet: int) -> None:
             update(z[k], f[k], 0.01)
 
     best, med = timings(one, 5)
-    print(f"MudTracker.update (one foot, {tracker.grid.size} models): {best / calls * 1e6:.2f} us/update "
+    models = tracker.grid.size * len(tracker._bank.depth_offsets)
+    print(f"MudTracker.update (one foot, {models} models): {best / calls * 1e6:.2f} us/update "
           f"(median {med / calls * 1e6:.2f})")
 
     many = MudTrackers(feet)
@@ -76,7 +77,8 @@ def cost(calls: int, feet: int) -> None:
             many.update(zz[k], ff[k], 0.01)
 
     best, med = timings(vec, 3)
-    print(f"MudTrackers.update ({feet} feet x {many.grid.size} models): {best / rows * 1e6:.1f} us/update, "
+    print(f"MudTrackers.update ({feet} feet x {many.grid.size * len(many.depth_offsets)} models): "
+          f"{best / rows * 1e6:.1f} us/update, "
           f"{best / rows / feet * 1e6:.2f} us per foot (median {med / rows / feet * 1e6:.2f})")
 
 

@@ -13,6 +13,11 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   stepped on the same measured depth with the noise-robust branch rule
   (:class:`mudforce.VelocityFilter`). Each row's force is that model's
   prediction for the sample.
+* **Surface offset.** The bank holds the grid once per surface offset
+  hypothesis (``depth_offsets``), each stepped on the depth plus its
+  offset; the posterior is joint, each offset's evidence tempered (a wrong
+  offset is a misfit that lasts a stance), and the water content's is the
+  sum over the offsets, so the offset's uncertainty enters the interval.
 * **Sensor offset (bias) and noise.** While every model is FREE (foot
   above the surface, the mud let go), the model force is exactly zero, so
   the measured force is offset plus noise: the offset is their running
@@ -73,6 +78,8 @@ from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
 
 __all__ = [
+    "DEFAULT_DEPTH_OFFSETS",
+    "DEFAULT_DEPTH_OFFSET_PRIOR",
     "DEFAULT_FORCE_LAG_ALLOWANCE",
     "DEFAULT_GRID",
     "MISFIT_THRESHOLD",
@@ -560,9 +567,9 @@ class TrackerState:
 
     #: the bank's contact states, as :attr:`mudforce.MudContacts.state`
     bank: np.ndarray
-    #: each foot's log-posterior over the grid, shape (n, G)
+    #: each foot's log-likelihood over the gains, surface offsets and grid, shape (n, gains * offsets * G)
     log_posterior: np.ndarray
-    #: each foot's posterior over the grid, shape (n, G)
+    #: each foot's joint posterior over the surface offsets and grid, shape (n, offsets * G)
     posterior: np.ndarray
     #: each foot's offset, noise, contact time and change-flag state
     aux: np.ndarray
@@ -667,10 +674,21 @@ class MudTrackers:
         10 ms): the predicted force's change over this time is added to the
         likelihood's scale, so a low-passed or delayed force sensor is not
         read as other mud (0: none).
+    depth_offsets : sequence of float, optional
+        Surface offset hypotheses [m], increasing, within 20 mm
+        (:data:`DEFAULT_DEPTH_OFFSETS`: -6, -3, 0, +3, +6 mm by default): the
+        bank holds every grid model once per offset, stepped on the measured
+        depth plus it, and the water content's posterior sums over them
+        (each offset's evidence tempered), so an unknown surface height widens
+        the interval instead of biasing it; the estimate reports the offset's
+        posterior mean and spread. ``[0.0]``: the depth is taken as exact.
+    depth_offset_prior : float
+        Prior standard deviation of the surface offset [m], > 0 (default
+        :data:`DEFAULT_DEPTH_OFFSET_PRIOR`, 4 mm).
 
     Notes
     -----
-    One update steps ``n * len(water_contents)`` models in compiled code.
+    One update steps ``n * len(depth_offsets) * len(water_contents)`` models in compiled code.
     """
 
     def __init__(
