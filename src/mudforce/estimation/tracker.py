@@ -112,7 +112,8 @@ _A_Z2 = 11  # the depth two samples back [m] (the depth noise estimate)
 _A_Z3 = 12  # the depth three samples back [m]
 _A_DVAR = 13  # depth noise variance estimate [m^2] (the rest test)
 _A_ZN = 14  # depths seen, capped at 3
-_N_AUX = 15
+_A_TURN = 15  # samples of contact seen, modulo: whose turn it is to be scored among the spared models
+_N_AUX = 16  # then one column per model: the contact time [s] at which it was last scored (_SPARE_MASS)
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -192,6 +193,14 @@ _OFFSET_TEMPER = 4.0
 #: foot is within 6 mm of the surface, a swing would otherwise leave few samples to tare on.
 _TARE_MASS = 0.01
 
+#: A model of a surface offset other than the most probable one that holds less than this share of the posterior
+#: [-] (ours) is spared: scored on one sample in ``correlation_time / dt`` only, in turn, its score then standing
+#: for the contact time since its last (the decay over it, and a weight of that time over ``correlation_time``,
+#: at most 1), as the likelihood counts the samples within a correlation time as one; its posterior is 0 until
+#: then. Its share is below any figure the estimate shows, and the score keeps it ready for when the data turn to
+#: it. With one offset nothing is spared (the tracker is the single-offset one number for number).
+_SPARE_MASS = 1e-12
+
 #: The depth noise assumed before any is measured [m] (that of :func:`default_velocity_filter`'s default).
 _DEPTH_NOISE0 = 3e-5
 #: Memory of the online depth noise estimate [s of contact] (ours).
@@ -238,11 +247,11 @@ def _blurred_quantiles(blur: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: np.ndarray, dt: float,
+def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: np.ndarray,
                 forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, depths: np.ndarray,
                 measured: np.ndarray, edges: np.ndarray, L: np.ndarray, P: np.ndarray, aux: np.ndarray,
-                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray, scratch_lo: np.ndarray,
-                scratch_hi: np.ndarray, offsets: np.ndarray, log_prior: np.ndarray, work: np.ndarray) -> int:
+                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray, scored: np.ndarray,
+                offsets: np.ndarray, log_prior: np.ndarray, work: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
 
     ``depths``/``measured`` [m]/[N], shape (n,). The bank has ``n * NO * G``
@@ -250,7 +259,8 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
     offset ``offsets[o]`` [m] (the model follows the depth plus it) in row
     ``(j * NO + o) * G + g``. ``P[j]`` is foot ``j``'s joint posterior over
     (offset, water content), ``log_prior`` the offsets' log prior [-],
-    ``work`` scratch of ``G + NO`` entries. Returns the
+    ``work`` scratch of ``G + NO`` entries, ``scored`` of ``NO * G``. ``aux[j, _N_AUX + m]``
+    is the contact time [s] at which model ``m`` was last scored (see :data:`_SPARE_MASS`). Returns the
     first foot whose sample is not finite (nothing is changed then), else -1.
     """
     n = depths.shape[0]
@@ -260,6 +270,9 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
     H = L.shape[1] // M  # gain hypotheses
     marginal = work[:G]  # the water content's posterior
     evidence = work[G:G + NO]  # each offset's
+    # the models of an offset other than the most probable one, holding less than _SPARE_MASS of the posterior, are
+    # scored on every `spare`-th sample only (in turn), each score standing for the contact time since the last
+    spare = max(1, int(cfg[_C_TEMP] / dt + 0.5))
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
@@ -285,6 +298,8 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
         pred = 0.0
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
+        o_map = 0  # the most probable surface offset (before this sample)
+        p_map = -1.0
         for o in range(NO):
             po = 0.0
             zero = True
@@ -298,6 +313,9 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 free = False
                 if po >= _TARE_MASS:
                     tare = False
+            if po > p_map:
+                p_map = po
+                o_map = o
         out[j, _O_PRED] = pred + aux[j, _A_BIAS]
         if first:
             aux[j, _A_PPREV] = pred
@@ -323,7 +341,11 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             # the offset's uncertainty: its prior spread before any tare, then var / n
             bias_var = cfg[_C_BIAS0] * cfg[_C_BIAS0] if nfree < 2.0 else var / nfree
             keep = math.exp(-dt / tau)
+            c_prev = aux[j, _A_CONTACT]
             aux[j, _A_CONTACT] += dt
+            c_now = aux[j, _A_CONTACT]
+            turn = int(aux[j, _A_TURN])
+            aux[j, _A_TURN] = float((turn + 1) % (spare * G))
             aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
             # a sensor lagging by up to cfg[_C_LAG]: the force's change over that time, in quadrature
             lag2 = (cfg[_C_LAG] * (pred - aux[j, _A_PPREV]) / dt) ** 2
@@ -336,34 +358,44 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_DVAR] = dvar + (min(d3 * d3 / 20.0, 9.0 * dvar) - dvar) * min(1.0, dt / _DEPTH_NOISE_MEMORY)
             excess = max(dvar - (_REST_NOISE_EXCESS * _DEPTH_NOISE0) ** 2, 0.0)
             rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
-            if rest:
-                for m in range(M):
-                    row = base + m
-                    st = K.load_state(states, row)
-                    lo = hi = forces[row]
-                    if st.mode != 0:  # not FREE (K.ContactMode.FREE)
-                        up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
-                        lo = min(lo, up, down)
-                        hi = max(hi, up, down)
-                    scratch_lo[m] = lo
-                    scratch_hi[m] = hi
             # the misfit statistic: the squared standardised residual of the posterior's mean model
             mis_r = 0.0
             mis_s2 = 0.0
             best = -1e300
-            for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
-                gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
-                for m in range(M):
-                    fg = gain * forces[base + m]
+            for m in range(M):
+                # a model of another offset than the most probable one, holding less than _SPARE_MASS, is scored on
+                # its turn only (every `spare`-th sample), its score standing for the contact time since its last
+                if not (m // G == o_map or P[j, m] >= _SPARE_MASS or (turn + m) % spare == 0):
+                    scored[m] = 0.0
+                    continue
+                scored[m] = 1.0
+                km = keep
+                wm = weight
+                last = aux[j, _N_AUX + m]
+                if last != c_prev:  # not scored on the previous sample of contact
+                    km = math.exp(-(c_now - last) / tau)
+                    wm = min(1.0, (c_now - last) / cfg[_C_TEMP])
+                aux[j, _N_AUX + m] = c_now
+                row = base + m
+                lo = hi = forces[row]
+                if rest:
+                    st = K.load_state(states, row)
+                    if st.mode != 0:  # not FREE (K.ContactMode.FREE)
+                        up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
+                        lo = min(lo, up, down)
+                        hi = max(hi, up, down)
+                for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
+                    gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
+                    fg = gain * forces[row]
                     if rest:
-                        fg = min(max(f - bias, gain * scratch_lo[m]), gain * scratch_hi[m])
+                        fg = min(max(f - bias, gain * lo), gain * hi)
                     r = f - bias - fg
                     s2 = var + bias_var + floor2 + misfit2 * fg * fg + lag2
                     if h == (H - 1) // 2:
                         mis_r += P[j, m] * r
                         mis_s2 += P[j, m] * s2
                     ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
-                    v = keep * L[j, h * M + m] + ll * weight
+                    v = km * L[j, h * M + m] + ll * wm
                     L[j, h * M + m] = v
                     if v > best:
                         best = v
@@ -385,15 +417,17 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 for g in range(G):
                     m = o * G + g
                     v = 0.0
-                    for h in range(H):
-                        v += math.exp((L[j, h * M + m] - best) * inv)
+                    if scored[m] != 0.0:  # a model not scored on this sample holds less than _SPARE_MASS: none
+                        for h in range(H):
+                            v += math.exp((L[j, h * M + m] - best) * inv)
                     P[j, m] = v
                     z += v
-                for g in range(G):
-                    P[j, o * G + g] /= z
+                if z > 0.0:
+                    for g in range(G):
+                        P[j, o * G + g] /= z
                 # the offsets' evidence tempered by _C_OFFSET_TEMPER: a wrong offset is a misfit that persists
                 # for a whole stance, far longer than the correlation time, so its evidence counts that much less
-                lz = math.log(z) / cfg[_C_OFFSET_TEMPER] + log_prior[o]
+                lz = math.log(z) / cfg[_C_OFFSET_TEMPER] + log_prior[o] if z > 0.0 else -math.inf
                 evidence[o] = lz
                 top = max(top, lz)
             total = 0.0
@@ -765,8 +799,7 @@ class MudTrackers:
                                                     for k in _BLUR_FACTORS]))
         self._Q = np.zeros(G, dtype=np.float64)
         self._work = np.zeros(G + self.depth_offsets.size, dtype=np.float64)  # scratch of the compiled step
-        self._lo = np.zeros(M, dtype=np.float64)  # the rest band of each model, scratch of the compiled step
-        self._hi = np.zeros(M, dtype=np.float64)
+        self._scored = np.zeros(M, dtype=np.float64)  # the models scored on this sample, scratch of the compiled step
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.steppers.many import MudContacts
 
@@ -775,10 +808,15 @@ class MudTrackers:
         self._zbuf = np.zeros(rows * G, dtype=np.float64)
         self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
         self._P = np.zeros((self.n, M), dtype=np.float64)
-        self._aux = np.zeros((self.n, _N_AUX), dtype=np.float64)
+        self._aux = np.zeros((self.n, _N_AUX + M), dtype=np.float64)
         self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
+        bank = self._bank
+        # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
+        self._args = (bank._states, bank.ring, bank.params_array, self._zbuf, bank.forces, bank._scratch[0],
+                      bank._index[0], self._depths, self._forces, self._edges, self._L, self._P, self._aux, self._cfg,
+                      self._blur, self._Q, self._out, self._scored, self.depth_offsets, self._log_prior, self._work)
         self.reset()
 
     def reset(self) -> None:
@@ -799,11 +837,7 @@ class MudTrackers:
                 raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
         else:
             dt = 1.0  # the first sample's dt is ignored
-        bank = self._bank
-        bad = _track_step(bank._states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
-                          bank._scratch[0], bank._index[0], self._depths, self._forces, self._edges, self._L,
-                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out, self._lo, self._hi,
-                          self.depth_offsets, self._log_prior, self._work)
+        bad = _track_step(dt, *self._args)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{self._depths[bad]!r} and {self._forces[bad]!r}")
