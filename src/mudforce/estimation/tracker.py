@@ -62,7 +62,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 import numpy as np
@@ -194,12 +194,15 @@ _OFFSET_TEMPER = 4.0
 _TARE_MASS = 0.01
 
 #: A model of a surface offset other than the most probable one that holds less than this share of the posterior
-#: [-] (ours) is spared: scored on one sample in ``correlation_time / dt`` only, in turn, its score then standing
-#: for the contact time since its last (the decay over it, and a weight of that time over ``correlation_time``,
-#: at most 1), as the likelihood counts the samples within a correlation time as one; its posterior is 0 until
-#: then. Its share is below any figure the estimate shows, and the score keeps it ready for when the data turn to
-#: it. With one offset nothing is spared (the tracker is the single-offset one number for number).
+#: [-] (ours) is spared: scored on one sample in ``_SPARE_TURN * correlation_time / dt`` only, in turn, its score
+#: then standing for the contact time since its last (the decay over it, and a weight of that time over
+#: ``correlation_time``: the likelihood counts a correlation time's samples as one); its posterior is 0 until then.
+#: Its share is below any figure the estimate shows, and the score keeps it ready for when the data turn to it
+#: (it is scored on every sample again once it holds this share). With one offset nothing is spared (the tracker
+#: is the single-offset one number for number).
 _SPARE_MASS = 1e-12
+#: A spared model is scored once per this many correlation times [-] (ours).
+_SPARE_TURN = 2.0
 
 #: The depth noise assumed before any is measured [m] (that of :func:`default_velocity_filter`'s default).
 _DEPTH_NOISE0 = 3e-5
@@ -272,7 +275,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     evidence = work[G:G + NO]  # each offset's
     # the models of an offset other than the most probable one, holding less than _SPARE_MASS of the posterior, are
     # scored on every `spare`-th sample only (in turn), each score standing for the contact time since the last
-    spare = max(1, int(cfg[_C_TEMP] / dt + 0.5))
+    spare = max(1, int(_SPARE_TURN * cfg[_C_TEMP] / dt + 0.5))
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
@@ -346,6 +349,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             c_now = aux[j, _A_CONTACT]
             turn = int(aux[j, _A_TURN])
             aux[j, _A_TURN] = float((turn + 1) % (spare * G))
+            map_lo = o_map * G  # the most probable offset's models: always scored
+            map_hi = map_lo + G
             aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
             # a sensor lagging by up to cfg[_C_LAG]: the force's change over that time, in quadrature
             lag2 = (cfg[_C_LAG] * (pred - aux[j, _A_PPREV]) / dt) ** 2
@@ -362,19 +367,29 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             mis_r = 0.0
             mis_s2 = 0.0
             best = -1e300
+            last_spared = -1.0  # the decay and weight of the last spared model scored, for the next of the same time
+            keep_spared = weight_spared = 0.0
+            r_last = s2_last = ll = math.nan  # the last log-likelihood and its residual and scale
+            due = turn % spare  # (turn + m) % spare, kept without a division per model
             for m in range(M):
                 # a model of another offset than the most probable one, holding less than _SPARE_MASS, is scored on
                 # its turn only (every `spare`-th sample), its score standing for the contact time since its last
-                if not (m // G == o_map or P[j, m] >= _SPARE_MASS or (turn + m) % spare == 0):
+                if m > 0:
+                    due = due + 1 if due + 1 < spare else 0
+                if not (due == 0 or P[j, m] >= _SPARE_MASS or (m >= map_lo and m < map_hi)):
                     scored[m] = 0.0
                     continue
                 scored[m] = 1.0
                 km = keep
                 wm = weight
                 last = aux[j, _N_AUX + m]
-                if last != c_prev:  # not scored on the previous sample of contact
-                    km = math.exp(-(c_now - last) / tau)
-                    wm = min(1.0, (c_now - last) / cfg[_C_TEMP])
+                if last != c_prev:  # not scored on the previous sample of contact: the time since stands for itself
+                    if last != last_spared:
+                        last_spared = last
+                        keep_spared = math.exp(-(c_now - last) / tau)
+                        weight_spared = (c_now - last) / cfg[_C_TEMP]
+                    km = keep_spared
+                    wm = weight_spared
                 aux[j, _N_AUX + m] = c_now
                 row = base + m
                 lo = hi = forces[row]
@@ -394,7 +409,10 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                     if h == (H - 1) // 2:
                         mis_r += P[j, m] * r
                         mis_s2 += P[j, m] * s2
-                    ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
+                    if r != r_last or s2 != s2_last:  # else the same as the last (at rest within the band, FREE)
+                        r_last = r
+                        s2_last = s2
+                        ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
                     v = km * L[j, h * M + m] + ll * wm
                     L[j, h * M + m] = v
                     if v > best:
@@ -832,11 +850,10 @@ class MudTrackers:
         self._started = False
 
     def _step(self, dt: float) -> None:
-        if self._started:
-            if not (dt > 0.0 and dt < math.inf):
-                raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        else:
+        if not self._started:
             dt = 1.0  # the first sample's dt is ignored
+        elif not (dt > 0.0 and dt < math.inf):
+            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
         bad = _track_step(dt, *self._args)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
@@ -919,6 +936,8 @@ class MudTrackers:
 
 
 _MISSING: Any = object()  # an argument not given (MudTracker.update's defaults)
+_ESTIMATE_FIELDS = tuple(f.name for f in fields(TrackEstimate))  # the columns of MudTrackers._out, in order
+_new_object = object.__new__
 
 
 def _old_update_keywords(depth: Any, force: Any, dt: Any, given: dict[str, Any]) -> tuple[Any, Any, Any]:
@@ -992,10 +1011,14 @@ class MudTracker:
         b._depths[0] = depth
         b._forces[0] = force
         b._step(dt)
-        o = b._out[0]
-        return TrackEstimate(float(o[_O_W]), float(o[_O_LOW]), float(o[_O_HIGH]), float(o[_O_PRED]),
-                             bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]),
-                             bool(o[_O_MISFIT] != 0.0), float(o[_O_OFFSET]), float(o[_O_OFFSET_SD]))
+        # the columns _O_W .. _O_OFFSET_SD are TrackEstimate's fields in order (a test pins it); built without the
+        # frozen dataclass's __init__ (ten object.__setattr__ calls, about a microsecond of the update)
+        o = b._out[0].tolist()
+        o[_O_CHANGED] = o[_O_CHANGED] != 0.0
+        o[_O_MISFIT] = o[_O_MISFIT] != 0.0
+        e = _new_object(TrackEstimate)
+        e.__dict__.update(zip(_ESTIMATE_FIELDS, o, strict=True))
+        return e
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample."""
