@@ -69,6 +69,8 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
+from mudforce._kernel.layout import S_CACHE_DT, store_cache
+from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines.dynamics.rest_band import rest_band
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
@@ -508,6 +510,65 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     return -1
 
 
+@njit(cache=True, nogil=True, error_model="numpy")
+def _track_packed(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
+                  scratch: np.ndarray, index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
+    """:func:`_track_step` with the tracker's own arrays as views of one buffer (fewer arguments to pass in).
+
+    ``layout[k]`` is ``(start, d0, d1, d2)`` of the ``k``-th array in ``buf``
+    (:data:`_PACKED`'s order; ``d1 = d2 = 0`` for 1-D, ``d2 = 0`` for 2-D).
+    """
+    def v1(k: int) -> np.ndarray:
+        return buf[layout[k, 0]:layout[k, 0] + layout[k, 1]]
+
+    def v2(k: int) -> np.ndarray:
+        return buf[layout[k, 0]:layout[k, 0] + layout[k, 1] * layout[k, 2]].reshape((layout[k, 1], layout[k, 2]))
+
+    blur = buf[layout[8, 0]:layout[8, 0] + layout[8, 1] * layout[8, 2] * layout[8, 3]].reshape(
+        (layout[8, 1], layout[8, 2], layout[8, 3]))
+    return _track_step(dt, states, ring, params, v1(0), forces, scratch, index, v1(1), v1(2), v1(3), v2(4), v2(5),
+                       v2(6), v1(7), blur, v1(9), v2(10), v1(11), v1(12), v1(13), v1(14))
+
+
+@njit(cache=True, nogil=True)
+def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray) -> None:
+    """Each row's step-length cache recomputed for the step length ``dts[j]`` [s] it was for (skipped unless > 0).
+
+    The cache is a function of that length and the row's constants (:func:`~mudforce._kernel.transitions.step_cache`),
+    so a restored tracker replays its snapshot bit for bit (a cache dropped instead is recomputed for the next step's
+    length, which may differ from the cached one in the last bits).
+    """
+    for j in range(states.shape[0]):
+        dt = dts[j]
+        if dt > 0.0 and math.isfinite(dt):
+            none = K.Cache(-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            store_cache(states, j, step_cache(none, K.load_params(params, j), dt))
+
+
+#: The tracker's own arrays packed for :func:`_track_packed`, in its order.
+_PACKED = ("_zbuf", "_depths", "_forces", "_edges", "_L", "_P", "_aux", "_cfg", "_blur", "_Q", "_out", "_scored",
+           "depth_offsets", "_log_prior", "_work")
+
+
+def _pack(owner: object) -> tuple[np.ndarray, np.ndarray]:
+    """Copy ``owner``'s arrays named in :data:`_PACKED` into one buffer and rebind them to its views.
+
+    Returns the buffer and its layout (see :func:`_track_packed`).
+    """
+    arrays = [np.ascontiguousarray(getattr(owner, name), dtype=np.float64) for name in _PACKED]
+    buf = np.zeros(sum(a.size for a in arrays), dtype=np.float64)
+    layout = np.zeros((len(arrays), 4), dtype=np.int64)
+    start = 0
+    for k, (name, a) in enumerate(zip(_PACKED, arrays, strict=True)):
+        view = buf[start:start + a.size].reshape(a.shape)
+        view[...] = a
+        layout[k, 0] = start
+        layout[k, 1:1 + a.ndim] = a.shape
+        setattr(owner, name, view)
+        start += a.size
+    return buf, layout
+
+
 def _blur_matrix(grid: np.ndarray, edges: np.ndarray, sd: float) -> np.ndarray:
     """``B[g, h]``: the share of a normal of standard deviation ``sd`` [-] around ``grid[h]`` in cell ``g``.
 
@@ -831,10 +892,10 @@ class MudTrackers:
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
         bank = self._bank
+        buf, layout = _pack(self)  # the arrays above become views of one buffer
         # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
-        self._args = (bank._states, bank.ring, bank.params_array, self._zbuf, bank.forces, bank._scratch[0],
-                      bank._index[0], self._depths, self._forces, self._edges, self._L, self._P, self._aux, self._cfg,
-                      self._blur, self._Q, self._out, self._scored, self.depth_offsets, self._log_prior, self._work)
+        self._args = (bank._states, bank.ring, bank.params_array, bank.forces, bank._scratch[0], bank._index[0], buf,
+                      layout)
         self.reset()
 
     def reset(self) -> None:
@@ -854,7 +915,7 @@ class MudTrackers:
             dt = 1.0  # the first sample's dt is ignored
         elif not (dt > 0.0 and dt < math.inf):
             raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        bad = _track_step(dt, *self._args)
+        bad = _track_packed(dt, *self._args)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{self._depths[bad]!r} and {self._forces[bad]!r}")
@@ -914,6 +975,8 @@ class MudTrackers:
                 and np.isfinite(np.delete(value.aux, _A_ANCHOR, axis=1)).all()):
             raise InputError("a TrackerState holds non-finite values; expected one taken from a tracker")
         self._bank.state = value.bank  # validated there before anything changes (else it raises here)
+        bank = self._bank
+        _restore_step_cache(bank._states, bank.params_array, np.ascontiguousarray(value.bank[:, S_CACHE_DT]))
         self._L[:] = value.log_posterior
         self._P[:] = value.posterior
         self._aux[:] = value.aux
