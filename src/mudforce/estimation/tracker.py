@@ -18,6 +18,11 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   offset; the posterior is joint, each offset's evidence tempered (a wrong
   offset is a misfit that lasts a stance), and the water content's is the
   sum over the offsets, so the offset's uncertainty enters the interval.
+  The models of an offset other than the most probable one that hold less
+  than 1e-12 of the posterior are spared: scored in turn once per two
+  correlation times, each score standing for the contact time since its
+  last (decay and weight), their posterior 0 in between. With one offset
+  nothing is spared.
 * **Sensor offset (bias) and noise.** While every model is FREE (foot
   above the surface, the mud let go), the model force is exactly zero, so
   the measured force is offset plus noise: the offset is their running
@@ -252,12 +257,13 @@ def _blurred_quantiles(blur: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: np.ndarray,
-                forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, depths: np.ndarray,
-                measured: np.ndarray, edges: np.ndarray, L: np.ndarray, P: np.ndarray, aux: np.ndarray,
-                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray, scored: np.ndarray,
-                offsets: np.ndarray, log_prior: np.ndarray, work: np.ndarray) -> int:
+def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
+                scratch: np.ndarray, index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
+
+    The bank's arrays, then the tracker's own as views of one buffer ``buf`` (fewer arguments to pass in):
+    ``layout[k]`` is ``(start, d0, d1, d2)`` of the ``k``-th of :data:`_PACKED` (``d1 = d2 = 0`` for 1-D,
+    ``d2 = 0`` for 2-D), unpacked below under the names used here.
 
     ``depths``/``measured`` [m]/[N], shape (n,). The bank has ``n * NO * G``
     rows: foot ``j``'s model of grid water content ``g`` under the surface
@@ -268,6 +274,25 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     is the contact time [s] at which model ``m`` was last scored (see :data:`_SPARE_MASS`). Returns the
     first foot whose sample is not finite (nothing is changed then), else -1.
     """
+    a = layout[:, 0]
+    d0 = layout[:, 1]
+    d1 = layout[:, 2]
+    d2 = layout[:, 3]
+    zbuf = buf[a[0]:a[0] + d0[0]]
+    depths = buf[a[1]:a[1] + d0[1]]
+    measured = buf[a[2]:a[2] + d0[2]]
+    edges = buf[a[3]:a[3] + d0[3]]
+    L = buf[a[4]:a[4] + d0[4] * d1[4]].reshape((d0[4], d1[4]))
+    P = buf[a[5]:a[5] + d0[5] * d1[5]].reshape((d0[5], d1[5]))
+    aux = buf[a[6]:a[6] + d0[6] * d1[6]].reshape((d0[6], d1[6]))
+    cfg = buf[a[7]:a[7] + d0[7]]
+    blur = buf[a[8]:a[8] + d0[8] * d1[8] * d2[8]].reshape((d0[8], d1[8], d2[8]))
+    Q = buf[a[9]:a[9] + d0[9]]
+    out = buf[a[10]:a[10] + d0[10] * d1[10]].reshape((d0[10], d1[10]))
+    scored = buf[a[11]:a[11] + d0[11]]
+    offsets = buf[a[12]:a[12] + d0[12]]
+    log_prior = buf[a[13]:a[13] + d0[13]]
+    work = buf[a[14]:a[14] + d0[14]]
     n = depths.shape[0]
     G = edges.shape[0] - 1
     M = P.shape[1]  # models per foot
@@ -510,26 +535,6 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     return -1
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def _track_packed(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
-                  scratch: np.ndarray, index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
-    """:func:`_track_step` with the tracker's own arrays as views of one buffer (fewer arguments to pass in).
-
-    ``layout[k]`` is ``(start, d0, d1, d2)`` of the ``k``-th array in ``buf``
-    (:data:`_PACKED`'s order; ``d1 = d2 = 0`` for 1-D, ``d2 = 0`` for 2-D).
-    """
-    def v1(k: int) -> np.ndarray:
-        return buf[layout[k, 0]:layout[k, 0] + layout[k, 1]]
-
-    def v2(k: int) -> np.ndarray:
-        return buf[layout[k, 0]:layout[k, 0] + layout[k, 1] * layout[k, 2]].reshape((layout[k, 1], layout[k, 2]))
-
-    blur = buf[layout[8, 0]:layout[8, 0] + layout[8, 1] * layout[8, 2] * layout[8, 3]].reshape(
-        (layout[8, 1], layout[8, 2], layout[8, 3]))
-    return _track_step(dt, states, ring, params, v1(0), forces, scratch, index, v1(1), v1(2), v1(3), v2(4), v2(5),
-                       v2(6), v1(7), blur, v1(9), v2(10), v1(11), v1(12), v1(13), v1(14))
-
-
 @njit(cache=True, nogil=True)
 def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray) -> None:
     """Each row's step-length cache recomputed for the step length ``dts[j]`` [s] it was for (skipped unless > 0).
@@ -545,7 +550,7 @@ def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray)
             store_cache(states, j, step_cache(none, K.load_params(params, j), dt))
 
 
-#: The tracker's own arrays packed for :func:`_track_packed`, in its order.
+#: The tracker's own arrays packed for :func:`_track_step`, in its order.
 _PACKED = ("_zbuf", "_depths", "_forces", "_edges", "_L", "_P", "_aux", "_cfg", "_blur", "_Q", "_out", "_scored",
            "depth_offsets", "_log_prior", "_work")
 
@@ -553,7 +558,7 @@ _PACKED = ("_zbuf", "_depths", "_forces", "_edges", "_L", "_P", "_aux", "_cfg", 
 def _pack(owner: object) -> tuple[np.ndarray, np.ndarray]:
     """Copy ``owner``'s arrays named in :data:`_PACKED` into one buffer and rebind them to its views.
 
-    Returns the buffer and its layout (see :func:`_track_packed`).
+    Returns the buffer and its layout (see :func:`_track_step`).
     """
     arrays = [np.ascontiguousarray(getattr(owner, name), dtype=np.float64) for name in _PACKED]
     buf = np.zeros(sum(a.size for a in arrays), dtype=np.float64)
@@ -684,7 +689,8 @@ class TrackerState:
     log_posterior: np.ndarray
     #: each foot's joint posterior over the surface offsets and grid, shape (n, offsets * G)
     posterior: np.ndarray
-    #: each foot's offset, noise, contact time and change-flag state
+    #: each foot's offset, noise, contact time and change-flag state, then the contact time at which each model
+    #: was last scored (the spared models', see the module docstring)
     aux: np.ndarray
     #: False before the first sample
     started: bool
@@ -801,7 +807,10 @@ class MudTrackers:
 
     Notes
     -----
-    One update steps ``n * len(depth_offsets) * len(water_contents)`` models in compiled code.
+    One update steps ``n * len(depth_offsets) * len(water_contents)`` models in compiled code and
+    scores those of the most probable offset and the others that hold at least 1e-12 of the
+    posterior; the rest are spared, scored in turn once per two ``correlation_time`` (see the
+    module docstring).
     """
 
     def __init__(
@@ -915,7 +924,7 @@ class MudTrackers:
             dt = 1.0  # the first sample's dt is ignored
         elif not (dt > 0.0 and dt < math.inf):
             raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        bad = _track_packed(dt, *self._args)
+        bad = _track_step(dt, *self._args)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{self._depths[bad]!r} and {self._forces[bad]!r}")
