@@ -62,8 +62,20 @@ def cost(calls: int, feet: int) -> None:
             update(z[k], f[k], 0.01)
 
     best, med = timings(one, 5)
-    print(f"MudTracker.update (one foot, {tracker.grid.size} models): {best / calls * 1e6:.2f} us/update "
+    models = tracker.grid.size * len(tracker._bank.depth_offsets)
+    print(f"MudTracker.update (one foot, {models} models): {best / calls * 1e6:.2f} us/update "
           f"(median {med / calls * 1e6:.2f})")
+    # the models scored per sample of contact (the others are spared: tracker.py's _SPARE_MASS), untimed
+    bank = tracker._bank
+    bank.reset()
+    scored = []
+    for k in range(calls):
+        contact = bank._aux[0, 4]  # _A_CONTACT: grows on the samples the likelihood is updated
+        tracker.update(z[k], f[k], 0.01)
+        if bank._aux[0, 4] != contact:
+            scored.append(bank._scored.sum())
+    print(f"  models scored per sample of contact: mean {np.mean(scored):.0f} of {models} "
+          f"(median {np.median(scored):.0f}, max {np.max(scored):.0f})")
 
     many = MudTrackers(feet)
     zz = np.tile(np.asarray(w.depth[:calls])[:, None], (1, feet))
@@ -76,7 +88,8 @@ def cost(calls: int, feet: int) -> None:
             many.update(zz[k], ff[k], 0.01)
 
     best, med = timings(vec, 3)
-    print(f"MudTrackers.update ({feet} feet x {many.grid.size} models): {best / rows * 1e6:.1f} us/update, "
+    print(f"MudTrackers.update ({feet} feet x {many.grid.size * len(many.depth_offsets)} models): "
+          f"{best / rows * 1e6:.1f} us/update, "
           f"{best / rows / feet * 1e6:.2f} us per foot (median {med / rows / feet * 1e6:.2f})")
 
 

@@ -13,6 +13,16 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   stepped on the same measured depth with the noise-robust branch rule
   (:class:`mudforce.VelocityFilter`). Each row's force is that model's
   prediction for the sample.
+* **Surface offset.** The bank holds the grid once per surface offset
+  hypothesis (``depth_offsets``), each stepped on the depth plus its
+  offset; the posterior is joint, each offset's evidence tempered (a wrong
+  offset is a misfit that lasts a stance), and the water content's is the
+  sum over the offsets, so the offset's uncertainty enters the interval.
+  The models of an offset other than the most probable one that hold less
+  than 1e-12 of the posterior are spared: scored in turn once per two
+  correlation times, each score standing for the contact time since its
+  last (decay and weight), their posterior 0 in between. With one offset
+  nothing is spared.
 * **Sensor offset (bias) and noise.** While every model is FREE (foot
   above the surface, the mud let go), the model force is exactly zero, so
   the measured force is offset plus noise: the offset is their running
@@ -57,13 +67,15 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
+from mudforce._kernel.layout import S_CACHE_DT, store_cache
+from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines.dynamics.rest_band import rest_band
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
@@ -73,6 +85,8 @@ from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
 
 __all__ = [
+    "DEFAULT_DEPTH_OFFSETS",
+    "DEFAULT_DEPTH_OFFSET_PRIOR",
     "DEFAULT_FORCE_LAG_ALLOWANCE",
     "DEFAULT_GRID",
     "MISFIT_THRESHOLD",
@@ -105,7 +119,8 @@ _A_Z2 = 11  # the depth two samples back [m] (the depth noise estimate)
 _A_Z3 = 12  # the depth three samples back [m]
 _A_DVAR = 13  # depth noise variance estimate [m^2] (the rest test)
 _A_ZN = 14  # depths seen, capped at 3
-_N_AUX = 15
+_A_TURN = 15  # samples of contact seen, modulo: whose turn it is to be scored among the spared models
+_N_AUX = 16  # then one column per model: the contact time [s] at which it was last scored (_SPARE_MASS)
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -116,7 +131,9 @@ _O_CHANGED = 4
 _O_BIAS = 5
 _O_NOISE = 6
 _O_MISFIT = 7  # 1 where the model misses the force beyond its noise floor
-_N_OUT = 8
+_O_OFFSET = 8  # posterior mean of the surface offset [m] (the model follows the depth plus it)
+_O_OFFSET_SD = 9  # its posterior standard deviation [m]
+_N_OUT = 10
 
 # configuration vector, entries of MudTrackers._cfg
 _C_TAU = 0
@@ -137,7 +154,8 @@ _C_MISFIT_RATIO = 14  # misfit flag threshold on the average squared standardise
 _C_DISC = 15  # discretisation allowance [samples]: the model at the rate may be off by this many steps' force change
 _C_BLUR_REF = 16  # misfit average [-] above which the reported posterior's blur widens (_MISFIT_BLUR_REF)
 _C_TEMPER = 17  # misfit average [-] above which the fit's posterior is tempered by the excess
-_N_CFG = 18
+_C_OFFSET_TEMPER = 18  # the surface offsets' evidence is divided by this [-] (_OFFSET_TEMPER)
+_N_CFG = 19
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -165,6 +183,33 @@ _BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0])
 #: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
 #: model by this much is not read as other mud.
 DEFAULT_FORCE_LAG_ALLOWANCE = 0.01
+
+#: Default surface offset hypotheses [m] (ours): the bank holds each grid model at each, stepped on the measured
+#: depth plus the offset, and the water content's posterior sums over them (so the offset's uncertainty widens
+#: the interval). A robot's surface estimate is off by a few millimetres (issue 23).
+DEFAULT_DEPTH_OFFSETS: tuple[float, ...] = (-0.006, -0.003, 0.0, 0.003, 0.006)
+#: Default prior standard deviation of the surface offset [m] (ours).
+DEFAULT_DEPTH_OFFSET_PRIOR = 0.004
+#: The surface offsets' evidence is divided by this [-] (ours): a wrong offset is a misfit that persists over a
+#: whole stance, far longer than ``correlation_time``, so its evidence is worth that much less; untempered, the
+#: posterior jumped between neighbouring offsets, moving the estimate by points with a narrow interval each time.
+_OFFSET_TEMPER = 4.0
+
+#: The force offset is tared on a sample where the models of every surface offset holding at least this share of
+#: the posterior say zero force [-] (ours): with the models of an unlikely offset of +6 mm in contact whenever the
+#: foot is within 6 mm of the surface, a swing would otherwise leave few samples to tare on.
+_TARE_MASS = 0.01
+
+#: A model of a surface offset other than the most probable one that holds less than this share of the posterior
+#: [-] (ours) is spared: scored on one sample in ``_SPARE_TURN * correlation_time / dt`` only, in turn, its score
+#: then standing for the contact time since its last (the decay over it, and a weight of that time over
+#: ``correlation_time``: the likelihood counts a correlation time's samples as one); its posterior is 0 until then.
+#: Its share is below any figure the estimate shows, and the score keeps it ready for when the data turn to it
+#: (it is scored on every sample again once it holds this share). With one offset nothing is spared (the tracker
+#: is the single-offset one number for number).
+_SPARE_MASS = 1e-12
+#: A spared model is scored once per this many correlation times [-] (ours).
+_SPARE_TURN = 2.0
 
 #: The depth noise assumed before any is measured [m] (that of :func:`default_velocity_filter`'s default).
 _DEPTH_NOISE0 = 3e-5
@@ -212,26 +257,60 @@ def _blurred_quantiles(blur: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: np.ndarray, dt: float,
-                forces: np.ndarray, scratch: np.ndarray, index: np.ndarray, depths: np.ndarray,
-                measured: np.ndarray, edges: np.ndarray, L: np.ndarray, P: np.ndarray, aux: np.ndarray,
-                cfg: np.ndarray, blur: np.ndarray, Q: np.ndarray, out: np.ndarray, scratch_lo: np.ndarray,
-                scratch_hi: np.ndarray) -> int:
+def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
+                scratch: np.ndarray, index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
 
-    ``depths``/``measured`` [m]/[N], shape (n,); the bank has ``n * G``
-    rows, foot ``j``'s models in rows ``j * G .. j * G + G - 1``. Returns the
+    The bank's arrays, then the tracker's own as views of one buffer ``buf`` (fewer arguments to pass in):
+    ``layout[k]`` is ``(start, d0, d1, d2)`` of the ``k``-th of :data:`_PACKED` (``d1 = d2 = 0`` for 1-D,
+    ``d2 = 0`` for 2-D), unpacked below under the names used here.
+
+    ``depths``/``measured`` [m]/[N], shape (n,). The bank has ``n * NO * G``
+    rows: foot ``j``'s model of grid water content ``g`` under the surface
+    offset ``offsets[o]`` [m] (the model follows the depth plus it) in row
+    ``(j * NO + o) * G + g``. ``P[j]`` is foot ``j``'s joint posterior over
+    (offset, water content), ``log_prior`` the offsets' log prior [-],
+    ``work`` scratch of ``G + NO`` entries, ``scored`` of ``NO * G``. ``aux[j, _N_AUX + m]``
+    is the contact time [s] at which model ``m`` was last scored (see :data:`_SPARE_MASS`). Returns the
     first foot whose sample is not finite (nothing is changed then), else -1.
     """
+    a = layout[:, 0]
+    d0 = layout[:, 1]
+    d1 = layout[:, 2]
+    d2 = layout[:, 3]
+    zbuf = buf[a[0]:a[0] + d0[0]]
+    depths = buf[a[1]:a[1] + d0[1]]
+    measured = buf[a[2]:a[2] + d0[2]]
+    edges = buf[a[3]:a[3] + d0[3]]
+    L = buf[a[4]:a[4] + d0[4] * d1[4]].reshape((d0[4], d1[4]))
+    P = buf[a[5]:a[5] + d0[5] * d1[5]].reshape((d0[5], d1[5]))
+    aux = buf[a[6]:a[6] + d0[6] * d1[6]].reshape((d0[6], d1[6]))
+    cfg = buf[a[7]:a[7] + d0[7]]
+    blur = buf[a[8]:a[8] + d0[8] * d1[8] * d2[8]].reshape((d0[8], d1[8], d2[8]))
+    Q = buf[a[9]:a[9] + d0[9]]
+    out = buf[a[10]:a[10] + d0[10] * d1[10]].reshape((d0[10], d1[10]))
+    scored = buf[a[11]:a[11] + d0[11]]
+    offsets = buf[a[12]:a[12] + d0[12]]
+    log_prior = buf[a[13]:a[13] + d0[13]]
+    work = buf[a[14]:a[14] + d0[14]]
     n = depths.shape[0]
-    G = P.shape[1]
-    H = L.shape[1] // G  # gain hypotheses
+    G = edges.shape[0] - 1
+    M = P.shape[1]  # models per foot
+    NO = M // G  # surface offset hypotheses
+    H = L.shape[1] // M  # gain hypotheses
+    marginal = work[:G]  # the water content's posterior
+    evidence = work[G:G + NO]  # each offset's
+    # the models of an offset other than the most probable one, holding less than _SPARE_MASS of the posterior, are
+    # scored on every `spare`-th sample only (in turn), each score standing for the contact time since the last
+    spare = max(1, int(_SPARE_TURN * cfg[_C_TEMP] / dt + 0.5))
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
     for j in range(n):
-        for g in range(G):
-            zbuf[j * G + g] = depths[j]
+        for o in range(NO):
+            zo = depths[j] + offsets[o]
+            for g in range(G):
+                zbuf[(j * NO + o) * G + g] = zo
     K.run_feet(states, ring, params, zbuf, dt, forces, scratch, index)
     tau = cfg[_C_TAU]
     misfit2 = cfg[_C_MISFIT] * cfg[_C_MISFIT]
@@ -241,22 +320,36 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
     weight = min(1.0, dt / cfg[_C_TEMP])
     half = 0.5 * (1.0 - cfg[_C_LEVEL])
     for j in range(n):
-        base = j * G
+        base = j * M
         first = aux[j, _A_STARTED] == 0.0
         aux[j, _A_STARTED] = 1.0
         f = measured[j]
         # one-step-ahead prediction: the models' forces under the posterior before this sample
         pred = 0.0
-        free = True
-        for g in range(G):
-            fg = forces[base + g]
-            pred += P[j, g] * fg
-            if fg != 0.0:
+        free = True  # every model says zero force: the sample says nothing of the mud
+        tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
+        o_map = 0  # the most probable surface offset (before this sample)
+        p_map = -1.0
+        for o in range(NO):
+            po = 0.0
+            zero = True
+            for g in range(G):
+                fg = forces[base + o * G + g]
+                pred += P[j, o * G + g] * fg
+                po += P[j, o * G + g]
+                if fg != 0.0:
+                    zero = False
+            if not zero:
                 free = False
+                if po >= _TARE_MASS:
+                    tare = False
+            if po > p_map:
+                p_map = po
+                o_map = o
         out[j, _O_PRED] = pred + aux[j, _A_BIAS]
         if first:
             aux[j, _A_PPREV] = pred
-        if free:
+        if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
             aux[j, _A_NFREE] = nfree
@@ -271,14 +364,20 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_BIAS] += e_c / nfree
                 # the running variance, from the residual against the offset before this sample
                 aux[j, _A_VAR] = var + (e2 * (nfree - 1.0) / nfree - var) / nfree
-        elif not first:
+        if not free and not first:
             bias = aux[j, _A_BIAS]
             nfree = aux[j, _A_NFREE]
             var = aux[j, _A_VAR]
             # the offset's uncertainty: its prior spread before any tare, then var / n
             bias_var = cfg[_C_BIAS0] * cfg[_C_BIAS0] if nfree < 2.0 else var / nfree
             keep = math.exp(-dt / tau)
+            c_prev = aux[j, _A_CONTACT]
             aux[j, _A_CONTACT] += dt
+            c_now = aux[j, _A_CONTACT]
+            turn = int(aux[j, _A_TURN])
+            aux[j, _A_TURN] = float((turn + 1) % (spare * G))
+            map_lo = o_map * G  # the most probable offset's models: always scored
+            map_hi = map_lo + G
             aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
             # a sensor lagging by up to cfg[_C_LAG]: the force's change over that time, in quadrature
             lag2 = (cfg[_C_LAG] * (pred - aux[j, _A_PPREV]) / dt) ** 2
@@ -291,35 +390,58 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
                 aux[j, _A_DVAR] = dvar + (min(d3 * d3 / 20.0, 9.0 * dvar) - dvar) * min(1.0, dt / _DEPTH_NOISE_MEMORY)
             excess = max(dvar - (_REST_NOISE_EXCESS * _DEPTH_NOISE0) ** 2, 0.0)
             rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
-            if rest:
-                for g in range(G):
-                    row = base + g
-                    st = K.load_state(states, row)
-                    lo = hi = forces[row]
-                    if st.mode != 0:  # not FREE (K.ContactMode.FREE)
-                        up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
-                        lo = min(lo, up, down)
-                        hi = max(hi, up, down)
-                    scratch_lo[g] = lo
-                    scratch_hi[g] = hi
             # the misfit statistic: the squared standardised residual of the posterior's mean model
             mis_r = 0.0
             mis_s2 = 0.0
             best = -1e300
-            for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
-                gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
-                for g in range(G):
-                    fg = gain * forces[base + g]
+            last_spared = -1.0  # the decay and weight of the last spared model scored, for the next of the same time
+            keep_spared = weight_spared = 0.0
+            r_last = s2_last = ll = math.nan  # the last log-likelihood and its residual and scale
+            due = turn % spare  # (turn + m) % spare, kept without a division per model
+            for m in range(M):
+                # a model of another offset than the most probable one, holding less than _SPARE_MASS, is scored on
+                # its turn only (every `spare`-th sample), its score standing for the contact time since its last
+                if m > 0:
+                    due = due + 1 if due + 1 < spare else 0
+                if not (due == 0 or P[j, m] >= _SPARE_MASS or (m >= map_lo and m < map_hi)):
+                    scored[m] = 0.0
+                    continue
+                scored[m] = 1.0
+                km = keep
+                wm = weight
+                last = aux[j, _N_AUX + m]
+                if last != c_prev:  # not scored on the previous sample of contact: the time since stands for itself
+                    if last != last_spared:
+                        last_spared = last
+                        keep_spared = math.exp(-(c_now - last) / tau)
+                        weight_spared = (c_now - last) / cfg[_C_TEMP]
+                    km = keep_spared
+                    wm = weight_spared
+                aux[j, _N_AUX + m] = c_now
+                row = base + m
+                lo = hi = forces[row]
+                if rest:
+                    st = K.load_state(states, row)
+                    if st.mode != 0:  # not FREE (K.ContactMode.FREE)
+                        up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
+                        lo = min(lo, up, down)
+                        hi = max(hi, up, down)
+                for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
+                    gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
+                    fg = gain * forces[row]
                     if rest:
-                        fg = min(max(f - bias, gain * scratch_lo[g]), gain * scratch_hi[g])
+                        fg = min(max(f - bias, gain * lo), gain * hi)
                     r = f - bias - fg
                     s2 = var + bias_var + floor2 + misfit2 * fg * fg + lag2
                     if h == (H - 1) // 2:
-                        mis_r += P[j, g] * r
-                        mis_s2 += P[j, g] * s2
-                    ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
-                    v = keep * L[j, h * G + g] + ll * weight
-                    L[j, h * G + g] = v
+                        mis_r += P[j, m] * r
+                        mis_s2 += P[j, m] * s2
+                    if r != r_last or s2 != s2_last:  # else the same as the last (at rest within the band, FREE)
+                        r_last = r
+                        s2_last = s2
+                        ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
+                    v = km * L[j, h * M + m] + ll * wm
+                    L[j, h * M + m] = v
                     if v > best:
                         best = v
             # the flag's floor: the model's own discretisation error at the rate (ours, see _MISFIT_DISCRETISATION)
@@ -328,21 +450,55 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
             z2 = min(mis_r * mis_r / mis_s2, _MISFIT_CLIP)
             aux[j, _A_MISFIT_T] = min(aux[j, _A_MISFIT_T] + dt, tau)
             aux[j, _A_MISFIT] += (z2 - aux[j, _A_MISFIT]) * dt / aux[j, _A_MISFIT_T]
-            # the posterior of W, the gain marginalised: a gain error cannot be told from stiffer mud,
+            # the joint posterior, the gain marginalised: a gain error cannot be told from stiffer mud,
             # so the interval spans what each gain hypothesis would read; tempered by the misfit (a scale mixture:
-            # residuals larger than the scale explains make every sample that much weaker evidence)
+            # residuals larger than the scale explains make every sample that much weaker evidence); the surface
+            # offsets' prior (never forgotten) added after the tempering
             inv = 1.0 / max(1.0, aux[j, _A_MISFIT] / cfg[_C_TEMPER])
+            # each offset's evidence (the water content and gain summed over), as a log
+            top = -1e300
+            for o in range(NO):
+                z = 0.0
+                for g in range(G):
+                    m = o * G + g
+                    v = 0.0
+                    if scored[m] != 0.0:  # a model not scored on this sample holds less than _SPARE_MASS: none
+                        for h in range(H):
+                            v += math.exp((L[j, h * M + m] - best) * inv)
+                    P[j, m] = v
+                    z += v
+                if z > 0.0:
+                    for g in range(G):
+                        P[j, o * G + g] /= z
+                # the offsets' evidence tempered by _C_OFFSET_TEMPER: a wrong offset is a misfit that persists
+                # for a whole stance, far longer than the correlation time, so its evidence counts that much less
+                lz = math.log(z) / cfg[_C_OFFSET_TEMPER] + log_prior[o] if z > 0.0 else -math.inf
+                evidence[o] = lz
+                top = max(top, lz)
             total = 0.0
+            for o in range(NO):
+                evidence[o] = math.exp(evidence[o] - top)
+                total += evidence[o]
+            for o in range(NO):
+                w_o = evidence[o] / total
+                for g in range(G):
+                    P[j, o * G + g] *= w_o
+        # the water content's posterior: the joint one summed over the surface offsets; and the offset's moments
+        om = 0.0
+        o2 = 0.0
+        for g in range(G):
+            marginal[g] = 0.0
+        for o in range(NO):
+            po = 0.0
             for g in range(G):
-                v = 0.0
-                for h in range(H):
-                    v += math.exp((L[j, h * G + g] - best) * inv)
-                P[j, g] = v
-                total += v
-            for g in range(G):
-                P[j, g] /= total
+                po += P[j, o * G + g]
+                marginal[g] += P[j, o * G + g]
+            om += po * offsets[o]
+            o2 += po * offsets[o] * offsets[o]
+        out[j, _O_OFFSET] = om
+        out[j, _O_OFFSET_SD] = math.sqrt(max(o2 - om * om, 0.0))
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
-        w_mid, w_low, w_high = _blurred_quantiles(blur[0], P[j], Q, edges, half)
+        w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         # change flag: a settled estimate that leaves the anchor behind
         changed = 0.0
         # (only once the offset has been tared: before, an estimate may still move with it)
@@ -362,7 +518,7 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
         while b < blur.shape[0] - 1 and _BLUR_FACTORS[b] < excess:
             b += 1
         if b > 0:
-            w_mid, w_low, w_high = _blurred_quantiles(blur[b], P[j], Q, edges, half)
+            w_mid, w_low, w_high = _blurred_quantiles(blur[b], marginal, Q, edges, half)
         out[j, _O_W] = w_mid
         out[j, _O_LOW] = w_low
         out[j, _O_HIGH] = w_high
@@ -377,6 +533,45 @@ def _track_step(states: np.ndarray, ring: np.ndarray, params: np.ndarray, zbuf: 
         aux[j, _A_ZPREV] = depths[j]
         aux[j, _A_ZN] = min(aux[j, _A_ZN] + 1.0, 3.0)
     return -1
+
+
+@njit(cache=True, nogil=True)
+def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray) -> None:
+    """Each row's step-length cache recomputed for the step length ``dts[j]`` [s] it was for (skipped unless > 0).
+
+    The cache is a function of that length and the row's constants (:func:`~mudforce._kernel.transitions.step_cache`),
+    so a restored tracker replays its snapshot bit for bit (a cache dropped instead is recomputed for the next step's
+    length, which may differ from the cached one in the last bits).
+    """
+    for j in range(states.shape[0]):
+        dt = dts[j]
+        if dt > 0.0 and math.isfinite(dt):
+            none = K.Cache(-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            store_cache(states, j, step_cache(none, K.load_params(params, j), dt))
+
+
+#: The tracker's own arrays packed for :func:`_track_step`, in its order.
+_PACKED = ("_zbuf", "_depths", "_forces", "_edges", "_L", "_P", "_aux", "_cfg", "_blur", "_Q", "_out", "_scored",
+           "depth_offsets", "_log_prior", "_work")
+
+
+def _pack(owner: object) -> tuple[np.ndarray, np.ndarray]:
+    """Copy ``owner``'s arrays named in :data:`_PACKED` into one buffer and rebind them to its views.
+
+    Returns the buffer and its layout (see :func:`_track_step`).
+    """
+    arrays = [np.ascontiguousarray(getattr(owner, name), dtype=np.float64) for name in _PACKED]
+    buf = np.zeros(sum(a.size for a in arrays), dtype=np.float64)
+    layout = np.zeros((len(arrays), 4), dtype=np.int64)
+    start = 0
+    for k, (name, a) in enumerate(zip(_PACKED, arrays, strict=True)):
+        view = buf[start:start + a.size].reshape(a.shape)
+        view[...] = a
+        layout[k, 0] = start
+        layout[k, 1:1 + a.ndim] = a.shape
+        setattr(owner, name, view)
+        start += a.size
+    return buf, layout
 
 
 def _blur_matrix(grid: np.ndarray, edges: np.ndarray, sd: float) -> np.ndarray:
@@ -422,6 +617,11 @@ class TrackEstimate:
         in units of the likelihood's scale, above :data:`MISFIT_THRESHOLD`):
         the mud is off the model's family, or the sensors are corrupted
         beyond the allowances; the interval is then not to be trusted.
+    depth_offset, depth_offset_stderr : float
+        Posterior mean and standard deviation of the surface offset [m]
+        over the tracker's ``depth_offsets``: the model follows the measured
+        depth plus it (as ``identify``'s ``depth_offset``), so a depth that
+        reads 5 mm too deep gives about -0.005.
     """
 
     water_content: float
@@ -432,6 +632,8 @@ class TrackEstimate:
     bias: float
     noise: float
     misfit: bool = False
+    depth_offset: float = 0.0
+    depth_offset_stderr: float = 0.0
 
     @property
     def interval(self) -> tuple[float, float]:
@@ -456,6 +658,8 @@ class TrackEstimates:
         Estimated sensor offset [N] and noise standard deviation [N].
     misfit : numpy.ndarray of bool
         Where the model misses the force beyond its noise floor (see :class:`TrackEstimate`).
+    depth_offset, depth_offset_stderr : numpy.ndarray
+        Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
     """
 
     water_content: np.ndarray
@@ -466,6 +670,8 @@ class TrackEstimates:
     bias: np.ndarray
     noise: np.ndarray
     misfit: np.ndarray | None = None
+    depth_offset: np.ndarray | None = None
+    depth_offset_stderr: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -479,11 +685,12 @@ class TrackerState:
 
     #: the bank's contact states, as :attr:`mudforce.MudContacts.state`
     bank: np.ndarray
-    #: each foot's log-posterior over the grid, shape (n, G)
+    #: each foot's log-likelihood over the gains, surface offsets and grid, shape (n, gains * offsets * G)
     log_posterior: np.ndarray
-    #: each foot's posterior over the grid, shape (n, G)
+    #: each foot's joint posterior over the surface offsets and grid, shape (n, offsets * G)
     posterior: np.ndarray
-    #: each foot's offset, noise, contact time and change-flag state
+    #: each foot's offset, noise, contact time and change-flag state, then the contact time at which each model
+    #: was last scored (the spared models', see the module docstring)
     aux: np.ndarray
     #: False before the first sample
     started: bool
@@ -503,6 +710,18 @@ def _non_negative(value: Any, name: str, unit: str) -> float:
     if not (x >= 0.0 and math.isfinite(x)):
         raise InputError(f"{name} must be finite and >= 0 [{unit}], got {value!r}")
     return x
+
+
+def _offsets(depth_offsets: Sequence[float] | None) -> np.ndarray:
+    """The surface offset hypotheses [m], as an array; refused in one line unless finite, increasing, within 20 mm."""
+    if depth_offsets is None:
+        return np.array(DEFAULT_DEPTH_OFFSETS, dtype=np.float64)
+    d = np.array(real_array(depth_offsets, "depth_offsets", "m"), dtype=np.float64)
+    if d.ndim != 1 or d.size < 1 or not np.all(np.isfinite(d)) or np.any(np.diff(d) <= 0.0) \
+            or np.any(np.abs(d) > 0.02):
+        raise InputError(f"depth_offsets must list at least one surface offset [m], finite, strictly increasing and "
+                         f"within 20 mm (e.g. (-0.003, 0.0, 0.003)), got {depth_offsets!r}")
+    return np.ascontiguousarray(d)
 
 
 def _grid(water_contents: Sequence[float] | None) -> np.ndarray:
@@ -574,10 +793,24 @@ class MudTrackers:
         10 ms): the predicted force's change over this time is added to the
         likelihood's scale, so a low-passed or delayed force sensor is not
         read as other mud (0: none).
+    depth_offsets : sequence of float, optional
+        Surface offset hypotheses [m], increasing, within 20 mm
+        (:data:`DEFAULT_DEPTH_OFFSETS`: -6, -3, 0, +3, +6 mm by default): the
+        bank holds every grid model once per offset, stepped on the measured
+        depth plus it, and the water content's posterior sums over them
+        (each offset's evidence tempered), so an unknown surface height widens
+        the interval instead of biasing it; the estimate reports the offset's
+        posterior mean and spread. ``[0.0]``: the depth is taken as exact.
+    depth_offset_prior : float
+        Prior standard deviation of the surface offset [m], > 0 (default
+        :data:`DEFAULT_DEPTH_OFFSET_PRIOR`, 4 mm).
 
     Notes
     -----
-    One update steps ``n * len(water_contents)`` models in compiled code.
+    One update steps ``n * len(depth_offsets) * len(water_contents)`` models in compiled code and
+    scores those of the most probable offset and the others that hold at least 1e-12 of the
+    posterior; the rest are spared, scored in turn once per two ``correlation_time`` (see the
+    module docstring).
     """
 
     def __init__(
@@ -598,6 +831,8 @@ class MudTrackers:
         discrepancy: float = 0.0075,
         force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
         force_lag: float = DEFAULT_FORCE_LAG_ALLOWANCE,
+        depth_offsets: Sequence[float] | None = None,
+        depth_offset_prior: float = DEFAULT_DEPTH_OFFSET_PRIOR,
     ) -> None:
         self.n = positive_int(n, "the number of feet n")
         if foot is not None and not isinstance(foot, Foot):
@@ -633,8 +868,14 @@ class MudTrackers:
         cfg[_C_DISC] = _MISFIT_DISCRETISATION
         cfg[_C_BLUR_REF] = _MISFIT_BLUR_REF
         cfg[_C_TEMPER] = _MISFIT_TEMPER_REF
+        cfg[_C_OFFSET_TEMPER] = _OFFSET_TEMPER
         self._cfg = cfg
+        self.depth_offsets = _offsets(depth_offsets)
+        prior = positive_number(depth_offset_prior, "depth_offset_prior", "m")
+        self._log_prior = np.ascontiguousarray(-0.5 * (self.depth_offsets / prior) ** 2)
+        self.depth_offset_prior = prior
         G = self.grid.size
+        M = self.depth_offsets.size * G  # models per foot
         mids = 0.5 * (self.grid[1:] + self.grid[:-1])
         self._edges = np.concatenate(([self.grid[0] - (mids[0] - self.grid[0])], mids,
                                       [self.grid[-1] + (self.grid[-1] - mids[-1])]))
@@ -645,27 +886,33 @@ class MudTrackers:
         self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k))
                                                     for k in _BLUR_FACTORS]))
         self._Q = np.zeros(G, dtype=np.float64)
-        self._lo = np.zeros(G, dtype=np.float64)  # the rest band of each model, scratch of the compiled step
-        self._hi = np.zeros(G, dtype=np.float64)
+        self._work = np.zeros(G + self.depth_offsets.size, dtype=np.float64)  # scratch of the compiled step
+        self._scored = np.zeros(M, dtype=np.float64)  # the models scored on this sample, scratch of the compiled step
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.steppers.many import MudContacts
 
-        self._bank = MudContacts(mud * self.n, self.n * G, self.foot, velocity_filter=self.velocity_filter,
-                                 threads=1)
-        self._zbuf = np.zeros(self.n * G, dtype=np.float64)
-        self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * G), dtype=np.float64)
-        self._P = np.zeros((self.n, G), dtype=np.float64)
-        self._aux = np.zeros((self.n, _N_AUX), dtype=np.float64)
+        rows = self.n * self.depth_offsets.size
+        self._bank = MudContacts(mud * rows, rows * G, self.foot, velocity_filter=self.velocity_filter, threads=1)
+        self._zbuf = np.zeros(rows * G, dtype=np.float64)
+        self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
+        self._P = np.zeros((self.n, M), dtype=np.float64)
+        self._aux = np.zeros((self.n, _N_AUX + M), dtype=np.float64)
         self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
+        bank = self._bank
+        buf, layout = _pack(self)  # the arrays above become views of one buffer
+        # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
+        self._args = (bank._states, bank.ring, bank.params_array, bank.forces, bank._scratch[0], bank._index[0], buf,
+                      layout)
         self.reset()
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample, the posterior uniform."""
         self._bank.reset()
         self._L[:] = 0.0
-        self._P[:] = 1.0 / self.grid.size
+        prior = np.exp(self._log_prior)
+        self._P[:] = np.repeat(prior / (prior.sum() * self.grid.size), self.grid.size)
         self._aux[:] = 0.0
         self._aux[:, _A_VAR] = self._cfg[_C_NOISE0] ** 2
         self._aux[:, _A_DVAR] = _DEPTH_NOISE0**2
@@ -673,15 +920,11 @@ class MudTrackers:
         self._started = False
 
     def _step(self, dt: float) -> None:
-        if self._started:
-            if not (dt > 0.0 and dt < math.inf):
-                raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        else:
+        if not self._started:
             dt = 1.0  # the first sample's dt is ignored
-        bank = self._bank
-        bad = _track_step(bank._states, bank.ring, bank.params_array, self._zbuf, dt, bank.forces,
-                          bank._scratch[0], bank._index[0], self._depths, self._forces, self._edges, self._L,
-                          self._P, self._aux, self._cfg, self._blur, self._Q, self._out, self._lo, self._hi)
+        elif not (dt > 0.0 and dt < math.inf):
+            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        bad = _track_step(dt, *self._args)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{self._depths[bad]!r} and {self._forces[bad]!r}")
@@ -713,11 +956,11 @@ class MudTrackers:
         o = self._out
         return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
                               o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy(),
-                              o[:, _O_MISFIT] != 0.0)
+                              o[:, _O_MISFIT] != 0.0, o[:, _O_OFFSET].copy(), o[:, _O_OFFSET_SD].copy())
 
     def _key(self) -> bytes:
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
-                         self._bank.params_array.tobytes()))
+                         self.depth_offsets.tobytes(), self._log_prior.tobytes(), self._bank.params_array.tobytes()))
 
     @property
     def state(self) -> TrackerState:
@@ -741,6 +984,8 @@ class MudTrackers:
                 and np.isfinite(np.delete(value.aux, _A_ANCHOR, axis=1)).all()):
             raise InputError("a TrackerState holds non-finite values; expected one taken from a tracker")
         self._bank.state = value.bank  # validated there before anything changes (else it raises here)
+        bank = self._bank
+        _restore_step_cache(bank._states, bank.params_array, np.ascontiguousarray(value.bank[:, S_CACHE_DT]))
         self._L[:] = value.log_posterior
         self._P[:] = value.posterior
         self._aux[:] = value.aux
@@ -748,8 +993,11 @@ class MudTrackers:
 
     @property
     def posterior(self) -> np.ndarray:
-        """Each foot's posterior probability of each grid water content, shape (n, G) (a copy)."""
-        p: np.ndarray = np.array(self._P, dtype=np.float64)
+        """Each foot's posterior probability of each grid water content, shape (n, G) (a copy).
+
+        The surface offsets summed over: :attr:`TrackerState.posterior` holds the joint one.
+        """
+        p: np.ndarray = self._P.reshape(self.n, self.depth_offsets.size, self.grid.size).sum(axis=1)
         return p
 
     def __len__(self) -> int:
@@ -760,6 +1008,8 @@ class MudTrackers:
 
 
 _MISSING: Any = object()  # an argument not given (MudTracker.update's defaults)
+_ESTIMATE_FIELDS = tuple(f.name for f in fields(TrackEstimate))  # the columns of MudTrackers._out, in order
+_new_object = object.__new__
 
 
 def _old_update_keywords(depth: Any, force: Any, dt: Any, given: dict[str, Any]) -> tuple[Any, Any, Any]:
@@ -833,10 +1083,14 @@ class MudTracker:
         b._depths[0] = depth
         b._forces[0] = force
         b._step(dt)
-        o = b._out[0]
-        return TrackEstimate(float(o[_O_W]), float(o[_O_LOW]), float(o[_O_HIGH]), float(o[_O_PRED]),
-                             bool(o[_O_CHANGED] != 0.0), float(o[_O_BIAS]), float(o[_O_NOISE]),
-                             bool(o[_O_MISFIT] != 0.0))
+        # the columns _O_W .. _O_OFFSET_SD are TrackEstimate's fields in order (a test pins it); built without the
+        # frozen dataclass's __init__ (ten object.__setattr__ calls, about a microsecond of the update)
+        o = b._out[0].tolist()
+        o[_O_CHANGED] = o[_O_CHANGED] != 0.0
+        o[_O_MISFIT] = o[_O_MISFIT] != 0.0
+        e = _new_object(TrackEstimate)
+        e.__dict__.update(zip(_ESTIMATE_FIELDS, o, strict=True))
+        return e
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample."""
@@ -854,7 +1108,7 @@ class MudTracker:
     @property
     def posterior(self) -> np.ndarray:
         """The posterior probability of each grid water content, shape (G,) (a copy)."""
-        p: np.ndarray = np.array(self._bank._P[0], dtype=np.float64)
+        p: np.ndarray = self._bank.posterior[0]
         return p
 
     def __repr__(self) -> str:
@@ -880,6 +1134,8 @@ class TrackResult:
         Estimated offset and noise [N].
     misfit : numpy.ndarray of bool
         Samples where the model missed the force beyond its noise floor (see :class:`TrackEstimate`).
+    depth_offset, depth_offset_stderr : numpy.ndarray
+        Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
     """
 
     time: np.ndarray
@@ -893,6 +1149,8 @@ class TrackResult:
     bias: np.ndarray
     noise: np.ndarray
     misfit: np.ndarray | None = None
+    depth_offset: np.ndarray | None = None
+    depth_offset_stderr: np.ndarray | None = None
 
     #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
@@ -982,4 +1240,5 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         cols[k] = tracker._out[0]
         previous = t[k]
     return TrackResult(t, z, f, cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
-                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0)
+                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0,
+                       cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD])

@@ -1,0 +1,83 @@
+"""MudTracker estimates the surface offset of the depth online (issue 23, point 3): a bank per offset hypothesis.
+
+The recording (tests/estimation/data/robot_walk_offset_5mm.csv) is the sensor-chain bench's robot 0 (seed 0): the
+front-left foot of the MuJoCo quadruped (``mudforce.motions.quadruped``, gait ``walk``, 25 mm spherical foot: a
+50 mm disc) in mud of W = 27.74 %, with the vertical force MuJoCo applied, through
+``SensorChain(force_noise=0.2, depth_noise=3e-5, depth_offset=0.005, force_bias=...)`` at 100 Hz: 10 s whose depth
+reads 5 mm too deep.
+
+With one offset (0) the tracker read 31.1 % [27.4, 34.7] at the end and its interval missed the truth, unflagged, in
+84 % of the samples after 3 s. With the default offsets (-6 to +6 mm) it reads 27.8 % [25.5, 30.2], covered
+throughout, and the offset -4.8 +- 1.5 mm (the model follows the depth plus it).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mudforce import InputError, MudTracker
+from mudforce.estimation.tracker import DEFAULT_DEPTH_OFFSETS, track
+from mudforce.model.foot import Foot
+from mudforce.motions.gait import walk
+
+TRUTH = 0.27739
+DATA = Path(__file__).parent / "data" / "robot_walk_offset_5mm.csv"
+
+
+def test_robot_foot_with_a_5mm_surface_error_is_not_confidently_wrong() -> None:
+    t, z, f = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
+    late = t - t[0] >= 3.0
+    for offsets, wrong_at_least in (([0.0], 0.5), (None, None)):
+        r = track(t, z, f, Foot.disc(0.05), depth_offsets=offsets)
+        covered = (r.low[late] <= TRUTH) & (TRUTH <= r.high[late])
+        wrong = np.mean(~covered & ~(r.changed[late] | r.misfit[late]))
+        if wrong_at_least is not None:  # one offset: confidently wrong (measured 0.84)
+            assert wrong >= wrong_at_least
+            continue
+        assert wrong == 0.0 and covered.all()  # measured: covered throughout
+        assert np.all(np.abs(r.water_content[late] - TRUTH) <= 0.015)  # measured at most 1.4 points
+        assert r.depth_offset is not None and r.depth_offset_stderr is not None
+        # the offset found: -5 mm (measured -4.76 +- 1.50 mm)
+        assert abs(r.depth_offset[-1] + 0.005) <= 2.0 * r.depth_offset_stderr[-1]
+        assert 0.0 < r.depth_offset_stderr[-1] <= 0.0025
+
+
+def test_offset_estimated_on_a_walk_and_zero_on_a_clean_one() -> None:
+    w = walk(0.22, seed=4, duration=12.0, force_noise=0.2, bias=0.5)
+    for shift in (0.0, 0.005):
+        tracker = MudTracker()
+        previous = float(w.time[0])
+        for t, z, f in zip(w.time.tolist(), (w.depth + shift).tolist(), w.force.tolist(), strict=True):
+            est = tracker.update(z, f, t - previous)
+            previous = t
+        assert est.low <= 0.22 <= est.high
+        # measured: -0.01 +- 0.5 mm clean, -4.9 +- 1.5 mm with the depth 5 mm too deep
+        assert abs(est.depth_offset + shift) <= 2.0 * est.depth_offset_stderr + 1e-4
+        assert tracker.posterior.shape == (len(tracker.grid),)
+        assert tracker.posterior.sum() == pytest.approx(1.0)
+
+
+def test_one_offset_hypothesis_and_bad_offsets() -> None:
+    w = walk(0.25, seed=3, duration=3.0, force_noise=0.2, bias=0.5)
+    r = track(w.time, w.depth, w.force, depth_offsets=[0.0])
+    assert r.depth_offset is not None and not np.any(r.depth_offset) and not np.any(r.depth_offset_stderr)
+    assert len(DEFAULT_DEPTH_OFFSETS) == 5 and 0.0 in DEFAULT_DEPTH_OFFSETS
+    for bad in ({"depth_offsets": []}, {"depth_offsets": [0.003, 0.0]}, {"depth_offsets": [0.0, 0.05]},
+                {"depth_offsets": [float("nan")]}, {"depth_offset_prior": 0.0}):
+        with pytest.raises(InputError, match=next(iter(bad))):
+            MudTracker(**bad)  # type: ignore[arg-type]
+
+
+def test_change_from_18_to_28_percent_is_flagged_and_followed() -> None:
+    """Issue 23 point 5 online: a change 18 -> 28 % is flagged once and the estimate is within 1.5 points 3 s later."""
+    wk = walk([0.18, 0.28], change_times=[10.0], seed=1, duration=16.0, force_noise=0.2, bias=0.5)
+    r = track(wk.time, wk.depth, wk.force)
+    change = wk.changes[0]
+    flags = wk.time[r.changed]
+    assert flags.size == 1 and change < flags[0] < change + 3.0  # measured 2.6 s after
+    after = wk.time >= change + 3.0
+    assert np.all(np.abs(r.water_content[after] - 0.28) <= 0.015)
+    assert np.all((r.low[after] <= 0.28) & (0.28 <= r.high[after]))
