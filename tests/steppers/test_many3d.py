@@ -65,7 +65,7 @@ def test_the_law_is_one_source_compiled_and_on_arrays_bit_for_bit() -> None:
     ox, oy, oz = normals[:, 1].copy(), normals[:, 2].copy(), normals[:, 0].copy()  # some offsets [m]
     out = np.empty((n, 8))  # compiled: the kernel's loop over element_force and moment (MudContact3D's)
     columns = [np.ascontiguousarray(c) for c in (*normals.T, *moved.T)]  # MudContact3D's types: no new compile
-    area.setflags(write=False)  # (a shape's areas are read-only)
+    # (MudContact3D's compiled step passes rows of one writable work array: the same types)
     S3.element_forces(stress, spring, area, *columns[:3], ox, oy, oz, depth, slip, *columns[3:], 500.0, k, sigma_y,
                       MUD.lambda_, MUD.rho_m, out)
     sx, sy, fx, fy, fz = law3d.element_force(stress, spring, area, *normals.T, depth, *slip.T, *moved.T, 500.0, True,
