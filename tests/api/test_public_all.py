@@ -207,8 +207,8 @@ PINNED: dict[str, list[str]] = {
     "mudforce.reproduce.experiments": ["SCATTERED", "ReproduceConfig", "make_experiments"],
     "mudforce.reproduce.figures": ["N_FIGURES", "Spec", "figure_specs", "warm_up_matplotlib", "write_figures"],
     "mudforce.reproduce.html": ["TEMPLATE", "render_html"],
-    "mudforce.reproduce.jobs": ["THREADED_RUNTIMES", "VELOCITY_FREE", "Job", "count_fits", "executor", "run_fits",
-                                "sort_fits", "start_method", "terminate"],
+    "mudforce.reproduce.jobs": ["GAIN_UNCERTAINTY", "THREADED_RUNTIMES", "VELOCITY_FREE", "Job", "count_fits",
+                                "executor", "run_fits", "sort_fits", "start_method", "terminate"],
     "mudforce.reproduce.output": ["REPORT_FILES", "StagedFolder", "check_report_dir", "clean_stale"],
     "mudforce.reproduce.report": ["ReproduceResult", "Terminated", "reproduce"],
     "mudforce.reproduce.summary": [
