@@ -12,8 +12,9 @@ cost.
 command starts (numpy, scipy, numba, and numba's first load of a cached
 kernel); the suite runs some 50 of them. So each test process keeps one
 *warm parent*: an interpreter started like any other run (the same
-``PYTHONPATH``, no stdin) that imports the command line, scipy and matplotlib
-and loads one kernel, then only forks (it never imports JAX or MuJoCo, whose
+``PYTHONPATH``, no stdin) that imports the command line, scipy and matplotlib,
+loads one kernel and runs synth, identify and track once on a short walk (in a
+folder it then removes, its output discarded), then only forks (it never imports JAX or MuJoCo, whose
 threads a fork would not carry). Each ``run_cli`` and ``run_batch`` is a child forked from it:
 its own process, with its own folder, environment, stdin (``/dev/null``),
 stdout and stderr (files), that runs ``python -m mudforce``'s ``__main__``
@@ -94,6 +95,19 @@ def warm():
             pass
         t, z = mf.Protocol.paper(depth=0.02, velocity=0.01).sample()
         mf.simulate(t[:64], z[:64], mf.MudParameters.from_water_content(0.25))  # numba's first cached kernel
+        # the estimation commands once, on a short walk: their modules and compiled functions then loaded
+        import contextlib, io, pathlib, tempfile
+        from mudforce.cli import main
+        with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()), \
+                contextlib.redirect_stderr(io.StringIO()):
+            try:
+                main(["synth", "--motion", "gait", "--out", tmp + "/g", "--water-content", "22%", "--repeats", "1",
+                      "--seed", "1", "--duration", "2s", "--quiet"])
+                trial = str(sorted(pathlib.Path(tmp, "g").glob("*.csv"))[0])
+                main(["identify", trial, "--json"])
+                main(["track", trial, "--out", tmp + "/t.csv", "--quiet"])
+            except (Exception, SystemExit):
+                pass  # a warm-up only: the tests that run these commands report any failure
 
 def exit_code(exc):
     code = exc.code
