@@ -141,6 +141,8 @@ def child(req):
         os.chdir(req["cwd"])
         if req["cases"] is None:
             sys.argv = ["mudforce", *req["argv"]]
+            if sys.path and sys.path[0] == "":
+                sys.path[0] = os.getcwd()  # what -m puts first (-c, which started the parent, puts "")
             runpy.run_module("mudforce", run_name="__main__", alter_sys=True)  # as python -m mudforce
             code = 0
         else:
