@@ -136,6 +136,17 @@ BAD_DEPTH = -5  # (contact_place: an element beyond MAX_DEPTH of the surface)
 FIRST = -6  # (contact_place: placed, at the foot's first step)
 
 
+@_compiled(inline="always")
+def _pose_ok(px: float, py: float, pz: float, qw: float, qx: float, qy: float, qz: float) -> bool:
+    """Whether a pose can be stepped: the position [m] and the quaternion finite, and the quaternion within
+    :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` of unit norm (of :func:`_place` and :func:`contact_place`)."""
+    # |x| < inf is False for NaN and inf alike
+    if not ((abs(px) < math.inf) & (abs(py) < math.inf) & (abs(pz) < math.inf) & (abs(qw) < math.inf)
+            & (abs(qx) < math.inf) & (abs(qy) < math.inf) & (abs(qz) < math.inf)):
+        return False
+    return abs(math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz) - 1.0) <= QUATERNION_TOLERANCE
+
+
 @_compiled()
 def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: np.ndarray, starts: np.ndarray,
            depths: np.ndarray) -> int:
@@ -149,12 +160,7 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
     for f in range(positions.shape[0]):
         px, py, pz = positions[f, 0], positions[f, 1], positions[f, 2]
         qw, qx, qy, qz = quaternions[f, 0], quaternions[f, 1], quaternions[f, 2], quaternions[f, 3]
-        # |x| < inf is False for NaN and inf alike
-        if not ((abs(px) < math.inf) & (abs(py) < math.inf) & (abs(pz) < math.inf) & (abs(qw) < math.inf)
-                & (abs(qx) < math.inf) & (abs(qy) < math.inf) & (abs(qz) < math.inf)):
-            return f
-        norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-        if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
+        if not _pose_ok(px, py, pz, qw, qx, qy, qz):
             return f
         r = rotation(qw, qx, qy, qz)
         for j in range(9):
@@ -556,10 +562,7 @@ def contact_place(position: np.ndarray, quaternion: np.ndarray, dt: float, const
         return BAD_SHAPE
     px, py, pz = position[0], position[1], position[2]
     qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
-    if not ((abs(px) < math.inf) & (abs(py) < math.inf) & (abs(pz) < math.inf) & (abs(qw) < math.inf)
-            & (abs(qx) < math.inf) & (abs(qy) < math.inf) & (abs(qz) < math.inf)):
-        return BAD_POSE
-    if not abs(math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz) - 1.0) <= QUATERNION_TOLERANCE:
+    if not _pose_ok(px, py, pz, qw, qx, qy, qz):
         return BAD_POSE
     started = consts[C_STARTED] != 0.0
     if started and not MIN_DT <= dt <= MAX_DT:
