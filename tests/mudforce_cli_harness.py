@@ -146,9 +146,7 @@ def child(req):
             runpy.run_module("mudforce", run_name="__main__", alter_sys=True)  # as python -m mudforce
             code = 0
         else:
-            results = run_cases(req["cases"])
-            os.chdir(req["cwd"])
-            json.dump(results, sys.stdout)
+            json.dump(run_cases(req["cases"]), sys.stdout)
             code = 0
     except SystemExit as exc:
         code = exit_code(exc)
@@ -217,7 +215,6 @@ def cli_env(path_first: Sequence[Path | str] = (), extra: Mapping[str, str] | No
     env["PYTHONPATH"] = os.pathsep.join([*(str(Path(p).resolve()) for p in path_first), here, *rest])
     env.update(extra or {})
     return env
-
 
 
 def run_cli(args: Sequence[str], cwd: Path | None = None, timeout: float = 180, *,
@@ -290,8 +287,7 @@ class _WarmParent:
 
     def fits(self, env: Mapping[str, str]) -> bool:
         """Whether a child of this parent starts as a fresh process with ``env`` would."""
-        return ({k: v for k, v in env.items() if k.startswith(_AT_START)} == self.start_env
-                and self.proc.poll() is None)
+        return {k: v for k, v in env.items() if k.startswith(_AT_START)} == self.start_env
 
     def _reply(self, timeout: float, what: str) -> str:
         assert self.proc.stdout is not None
@@ -330,10 +326,9 @@ def _warm_parent(env: Mapping[str, str]) -> _WarmParent | None:
     """This test process's warm parent for a run in ``env``, started if need be; None where a fresh run is needed."""
     if not hasattr(os, "fork") or os.environ.get("MUDFORCE_TEST_FRESH"):
         return None
-    if _WARM_PARENTS and _WARM_PARENTS[0].pid == os.getpid() and _WARM_PARENTS[0].fits(env):
-        return _WARM_PARENTS[0]
     if _WARM_PARENTS and _WARM_PARENTS[0].pid == os.getpid() and _WARM_PARENTS[0].proc.poll() is None:
-        return None  # alive, but started in another environment: this run is fresh
+        parent = _WARM_PARENTS[0]  # this process's, alive: its child, unless the run's start-up differs (fresh)
+        return parent if parent.fits(env) else None
     if _NO_WARM_PARENT:
         return None
     try:
