@@ -227,7 +227,7 @@ PINNED: dict[str, list[str]] = {
         "COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "POSE_COLUMNS", "WRITE_BLOCK", "is_pose_trajectory",
         "read_columns", "read_poses", "read_trajectory", "write_csv",
     ],
-    "mudforce.estimation.nuisances": ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED"],
+    "mudforce.estimation.nuisances": ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"],
     "mudforce.estimation.tracker": [
         "DEFAULT_DEPTH_OFFSETS", "DEFAULT_DEPTH_OFFSET_PRIOR", "DEFAULT_FORCE_LAG_ALLOWANCE", "DEFAULT_GRID",
         "MISFIT_THRESHOLD", "MudTracker", "MudTrackers", "TrackEstimate",

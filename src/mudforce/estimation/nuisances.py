@@ -6,10 +6,18 @@ A light module (no scipy): the tracker imports it without the calibration packag
 
 from __future__ import annotations
 
-__all__ = ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED"]
+from mudforce.errors import InputError
+
+__all__ = ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"]
 
 #: Default uncertainty of the force sensor's gain [-] (5 %): a gain error cannot be told from stiffer mud, so its
 #: water-content shift widens the interval.
 DEFAULT_FORCE_GAIN_UNCERTAINTY = 0.05
 #: A step in the mud slower than this counts as the foot at rest [m/s] (5 mm/s): its force is a band, not a branch.
 REST_SPEED = 0.005
+
+
+def check_force_gain_uncertainty(g: float) -> None:
+    """Refuse a force gain uncertainty ``g`` [-] outside [0, 0.5) in one line (identify's and fit's check)."""
+    if not 0.0 <= g < 0.5:
+        raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got {g!r}")

@@ -73,7 +73,7 @@ from mudforce.estimation.calibration.uncertainty import (
     motion_sensitivity,
     profiled,
 )
-from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY
+from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, check_force_gain_uncertainty
 from mudforce.model.foot import Foot
 
 # the results and the uncertainty live in their own modules; their names stay importable from here
@@ -470,7 +470,7 @@ def fit_condition(
     -------
     ConditionFit
     """
-    _check_gain(force_gain_uncertainty)
+    check_force_gain_uncertainty(force_gain_uncertainty)
     m = get_model(model)
     foot = Foot.paper() if foot is None else foot
     options = FitOptions() if options is None else options
@@ -510,11 +510,6 @@ def fit_condition(
                            stage_rmse, spread, profile, force_gain_uncertainty)
 
 
-def _check_gain(g: float) -> None:
-    if not 0.0 <= g < 0.5:
-        raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got {g!r}")
-
-
 # ---------------------------------------------------------------------------- a dataset
 @one_blas_thread
 def fit_dataset(
@@ -550,7 +545,7 @@ def fit_dataset(
     -------
     FitResult
     """
-    _check_gain(force_gain_uncertainty)
+    check_force_gain_uncertainty(force_gain_uncertainty)
     m = get_model(model)
     free_names = _resolve_free(m, free, fixed)
     for n in shared:

@@ -81,7 +81,7 @@ from mudforce.estimation.calibration.preprocess import (
     prepare_trial,
     tare_correction,
 )
-from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
+from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_gain_uncertainty
 from mudforce.model.equations import array_form, nonlinear_spring_stress, rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -431,9 +431,7 @@ def identify_water_content(
     """
     if not 0.0 < level < 1.0:
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
-    if not 0.0 <= force_gain_uncertainty < 0.5:
-        raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), "
-                         f"got {force_gain_uncertainty!r}")
+    check_force_gain_uncertainty(force_gain_uncertainty)
     foot = Foot.paper() if foot is None else foot
     if isinstance(trial, PreparedTrial) and depth_noise is not None:
         raise InputError(f"{trial.trial.name}: a prepared trial already holds its depth noise "
