@@ -127,7 +127,7 @@ _A_LAG_Y = 18  # then one column per lag hypothesis (_LAGS): the mean model's fo
 _N_LAGS = 6  # force lag hypotheses (_LAGS)
 _A_LAG_L = _A_LAG_Y + _N_LAGS  # then one per lag hypothesis: its log-likelihood (forgotten as the water content's)
 _N_AUX = _A_LAG_L + _N_LAGS  # then one column per model: the contact time [s] at which it was last scored (_SPARE_MASS);
-# then one per model: its force low-passed by the force lag [N]
+# then one per model: its force low-passed by the force lag [N]; then one per model: its force at the previous sample [N]
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -230,9 +230,10 @@ _SPARE_TURN = 2.0
 #: The depth noise assumed before any is measured [m] (that of :func:`default_velocity_filter`'s default).
 _DEPTH_NOISE0 = 3e-5
 
-#: The force lag hypotheses [s] (ours): a first-order low-pass of the model's force of each time constant (a delay
-#: reads as about the same), scored on the mean model's force; the models' forces are low-passed by the posterior
-#: mean and the posterior spread enters the likelihood's scale (issue 23: the force lag as a nuisance).
+#: The force lag hypotheses [s] (ours): a first-order low-pass of the model's force of each time constant (a pure
+#: delay reads as a lag of about half of it on the bench's robots), scored on the mean model's force; the models'
+#: forces are low-passed by the posterior mean and the posterior spread enters the likelihood's scale (issue 23: the
+#: force lag as a nuisance).
 _LAGS = np.array([0.0, 0.01, 0.02, 0.03, 0.045, 0.06])
 assert _LAGS.size == _N_LAGS
 #: The force lag's log prior over :data:`_LAGS` [-] (ours): exponential of mean 5 ms (a sensor is taken to lag little
@@ -365,8 +366,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         pred = 0.0
         predl = 0.0  # the same of the models' forces low-passed by the force lag
         lag = aux[j, _A_LAG]
-        a_lag = 1.0 if (first or lag <= 0.0) else -math.expm1(-dt / lag)
+        # the first-order low-pass over the step, exact for a force linear between the samples:
+        # y1 = e y0 + (1 - c) F1 - (e - c) F0, e = exp(-dt / lag), c = (1 - e) lag / dt
         lagged = _N_AUX + M  # the first column of the models' low-passed forces
+        previous = _N_AUX + 2 * M  # the first column of the models' forces at the previous sample
+        e_lag = 0.0 if (first or lag <= 0.0) else math.exp(-dt / lag)
+        c_lag = -math.expm1(-dt / lag) * lag / dt if e_lag > 0.0 else 0.0
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
         o_map = 0  # the most probable surface offset (before this sample)
@@ -376,8 +381,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             zero = True
             for g in range(G):
                 fg = forces[base + o * G + g]
-                yl = fg if a_lag == 1.0 else aux[j, lagged + o * G + g] + a_lag * (fg - aux[j, lagged + o * G + g])
+                yl = fg
+                if e_lag > 0.0:
+                    yl = e_lag * aux[j, lagged + o * G + g] + (1.0 - c_lag) * fg - (e_lag - c_lag) * aux[
+                        j, previous + o * G + g]
                 aux[j, lagged + o * G + g] = yl
+                aux[j, previous + o * G + g] = fg
                 pred += P[j, o * G + g] * fg
                 predl += P[j, o * G + g] * yl
                 po += P[j, o * G + g]
@@ -398,7 +407,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             if first or _LAGS[k] == 0.0:
                 aux[j, _A_LAG_Y + k] = pred
             else:
-                aux[j, _A_LAG_Y + k] += -math.expm1(-dt / _LAGS[k]) * (pred - aux[j, _A_LAG_Y + k])
+                ek = math.exp(-dt / _LAGS[k])
+                ck = -math.expm1(-dt / _LAGS[k]) * _LAGS[k] / dt
+                aux[j, _A_LAG_Y + k] = ek * aux[j, _A_LAG_Y + k] + (1.0 - ck) * pred - (ek - ck) * aux[j, _A_PPREV]
         if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
@@ -696,7 +707,7 @@ class TrackEstimate:
     force_lag, force_lag_stderr : float
         Posterior mean and standard deviation of the force sensor's lag [s]:
         the time constant of a first-order low-pass of the model's force (a
-        delay reads as about the same), as ``identify``'s ``force_lag``; the
+        pure delay reads as about half of it), as ``identify``'s ``force_lag``; the
         models' forces are low-passed by it, and its spread enters the
         likelihood's scale (and so the interval).
     """
@@ -989,7 +1000,7 @@ class MudTrackers:
         self._zbuf = np.zeros(rows * G, dtype=np.float64)
         self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
         self._P = np.zeros((self.n, M), dtype=np.float64)
-        self._aux = np.zeros((self.n, _N_AUX + 2 * M), dtype=np.float64)
+        self._aux = np.zeros((self.n, _N_AUX + 3 * M), dtype=np.float64)
         self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
