@@ -23,6 +23,15 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   correlation times, each score standing for the contact time since its
   last (decay and weight), their posterior 0 in between. With one offset
   nothing is spared.
+* **Substeps.** The bank is stepped at no more than ``max_step`` (10 ms)
+  per step: a longer sample interval is cut into equal substeps, the
+  depth interpolated linearly between the two samples (at 20 Hz a model
+  stepped once per sample missed what the foot did between them).
+* **Force lag.** A small bank of lags (first-order low-passes of 0-60 ms)
+  scores the mean model's force low-passed by each; every model's force is
+  low-passed by the posterior mean lag, and the lag's posterior spread
+  enters the likelihood's scale, so a lagging sensor is read as a lag, not
+  as other mud, and its uncertainty widens the interval.
 * **Sensor offset (bias) and noise.** While every model is FREE (foot
   above the surface, the mud let go), the model force is exactly zero, so
   the measured force is offset plus noise: the offset is their running
@@ -126,8 +135,9 @@ _A_LAG_SD = 17  # its posterior standard deviation [s]
 _A_LAG_Y = 18  # then one column per lag hypothesis (_LAGS): the mean model's force low-passed by it [N]
 _N_LAGS = 6  # force lag hypotheses (_LAGS)
 _A_LAG_L = _A_LAG_Y + _N_LAGS  # then one per lag hypothesis: its log-likelihood (forgotten as the water content's)
-_N_AUX = _A_LAG_L + _N_LAGS  # then one column per model: the contact time [s] at which it was last scored (_SPARE_MASS);
-# then one per model: its force low-passed by the force lag [N]; then one per model: its force at the previous sample [N]
+# then, per model: the contact time [s] at which it was last scored (_SPARE_MASS); its force low-passed by the force
+# lag [N]; its force at the previous sample [N] (three blocks of one column per model)
+_N_AUX = _A_LAG_L + _N_LAGS
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -301,7 +311,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     ``(j * NO + o) * G + g``. ``P[j]`` is foot ``j``'s joint posterior over
     (offset, water content), ``log_prior`` the offsets' log prior [-],
     ``work`` scratch of ``G + NO`` entries, ``scored`` of ``NO * G``. ``aux[j, _N_AUX + m]``
-    is the contact time [s] at which model ``m`` was last scored (see :data:`_SPARE_MASS`). Returns the
+    is the contact time [s] at which model ``m`` was last scored (see :data:`_SPARE_MASS`), ``aux[j, _N_AUX + M + m]``
+    its force low-passed by the force lag [N] and ``aux[j, _N_AUX + 2 M + m]`` its force at the previous sample [N];
+    the bank is stepped in ``round(dt / cfg[_C_SUBSTEP])`` substeps (at least one). Returns the
     first foot whose sample is not finite (nothing is changed then), else -1.
     """
     a = layout[:, 0]
@@ -783,8 +795,8 @@ class TrackerState:
     log_posterior: np.ndarray
     #: each foot's joint posterior over the surface offsets and grid, shape (n, offsets * G)
     posterior: np.ndarray
-    #: each foot's offset, noise, contact time and change-flag state, then the contact time at which each model
-    #: was last scored (the spared models', see the module docstring)
+    #: each foot's offset, noise, contact time, change-flag and force-lag state, then per model the contact time at
+    #: which it was last scored (the spared models', see the module docstring), its lagged force and its last force
     aux: np.ndarray
     #: False before the first sample
     started: bool
