@@ -84,3 +84,11 @@ def test_at_20_hz_the_bank_is_stepped_in_substeps(recording: tuple[np.ndarray, .
     for bad in (-0.01, float("nan"), "10ms"):
         with pytest.raises(InputError, match="max_step"):
             MudTracker(max_step=bad)
+
+
+def test_a_gap_in_the_time_stamps_is_stepped_in_at_most_64_substeps() -> None:
+    tracker = MudTracker()
+    tracker.update(0.0, 0.0, 0.01)
+    tracker.update(0.001, 1.0, 0.01)
+    est = tracker.update(0.002, 2.0, 1e6)  # a clock jump: 64 substeps, not 1e8
+    assert np.isfinite(est.water_content) and est.low <= est.water_content <= est.high

@@ -209,6 +209,9 @@ DEFAULT_FORCE_LAG_ALLOWANCE = 0.01
 #: rate the models are not stepped coarser than at 100 Hz (at 20 Hz, a model stepped once per sample missed what the
 #: foot did between two samples by points of water content, with a narrow interval).
 DEFAULT_MAX_STEP = 0.01
+#: At most this many substeps per sample (ours): a gap in the time stamps (a dropped stretch, a clock jump) is
+#: stepped in as many, not in thousands.
+_MAX_SUBSTEPS = 64
 
 #: Default surface offset hypotheses [m] (ours): the bank holds each grid model at each, stepped on the measured
 #: depth plus the offset, and the water content's posterior sums over them (so the offset's uncertainty widens
@@ -352,7 +355,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     # the depth interpolated linearly between the samples (the model's discretisation at a low data rate)
     nsub = 1
     if cfg[_C_SUBSTEP] > 0.0 and aux[0, _A_STARTED] != 0.0:
-        nsub = max(1, int(dt / cfg[_C_SUBSTEP] + 0.5))
+        nsub = max(1, min(_MAX_SUBSTEPS, int(min(dt / cfg[_C_SUBSTEP], float(_MAX_SUBSTEPS)) + 0.5)))
     for s in range(1, nsub + 1):
         u = s / nsub
         for j in range(n):
@@ -913,7 +916,7 @@ class MudTrackers:
     max_step : float
         The bank's longest step [s], >= 0 (default :data:`DEFAULT_MAX_STEP`,
         10 ms): a sample interval ``dt`` is cut into ``round(dt / max_step)``
-        equal substeps (at least one), the depth interpolated linearly between
+        equal substeps (at least one, at most 64), the depth interpolated linearly between
         the two samples, so that at a low rate the models are not stepped
         coarser than the branch rule and the data allow (0: one step per
         sample). The branch rule (``velocity_filter``) is applied at the
