@@ -35,7 +35,8 @@ Counts per corruption:
 * tracker, over the samples 3 s or more after the start, pooled: share
   within 1.5 points, share covered by the 95 % interval; a sample whose
   interval misses the truth is confidently wrong unless a change of mud or
-  the tracker's misfit flag is raised at it. Standard rows pass when
+  the tracker's misfit flag is raised at it; and the change flags raised
+  (every one false: no recording changes mud). Standard rows pass when
   >= 80 % of the samples are covered and >= 80 % within 1.5 points; hard
   rows when no sample is confidently wrong.
 """
@@ -167,6 +168,7 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
                 "wrong": not covered and not flagged,
                 "t_n": int(late.sum()), "t_within": int(np.sum(np.abs(tw - w) <= 0.015)), "t_cov": int(tcov.sum()),
                 "t_wrong": int(np.sum(~tcov & ~tflag)), "t_final": (tr.water_content[-1] - w) * 100.0,
+                "t_changes": int(np.sum(tr.changed)),  # every one false: no recording changes mud
             }
             if fit_it and index < fit_recordings and not tracker_only:
                 start = time.perf_counter()
@@ -227,8 +229,9 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
                      f"{beyond}/{total} | {np.median([f['seconds'] for f in fs]):.1f} | {verdict} |")
     lines += ["", f"### MudTracker (samples {TRACK_AFTER:g} s or more after the start, pooled)", "",
               "| corruption | set | recordings | samples within 1.5 pt | samples covered | "
-              "recordings covered >= 80 % | samples confidently wrong | median abs final error [pt] | acceptance |",
-              "|---|---|---|---|---|---|---|---|---|"]
+              "recordings covered >= 80 % | samples confidently wrong | median abs final error [pt] | "
+              "change flags (all false) | acceptance |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
     for r, (row, kind, _, _) in enumerate(ROWS):
         rs = [x for x in results if x["row"] == r]
         n = sum(x["t_n"] for x in rs)
@@ -241,8 +244,9 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
             verdict = "pass" if wrong == 0 else "FAIL"
         else:
             verdict = "pass" if n and cov >= 0.8 * n and within >= 0.8 * n else "FAIL"
+        changes = sum(x.get("t_changes", 0) for x in rs)
         lines.append(f"| {row} | {kind} | {len(rs)} | {within / max(n, 1):.0%} | {cov / max(n, 1):.0%} | "
-                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} | {med:.2f} | {verdict} |")
+                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} | {med:.2f} | {changes} | {verdict} |")
     return lines
 
 

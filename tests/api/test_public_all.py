@@ -230,7 +230,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.estimation.nuisances": ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"],
     "mudforce.estimation.tracker": [
         "DEFAULT_DEPTH_OFFSETS", "DEFAULT_DEPTH_OFFSET_PRIOR", "DEFAULT_FORCE_LAG_ALLOWANCE", "DEFAULT_GRID",
-        "MISFIT_THRESHOLD", "MudTracker", "MudTrackers", "TrackEstimate",
+        "DEFAULT_MAX_STEP", "MISFIT_THRESHOLD", "MudTracker", "MudTrackers", "TrackEstimate",
         "TrackEstimates",
         "TrackResult", "TrackerState",
         "default_velocity_filter", "track",

@@ -74,12 +74,13 @@ def test_one_foot_many_feet_and_track_agree() -> None:
     assert [(e.low, e.high) for e in single] == list(zip(r.low.tolist(), r.high.tolist(), strict=True))
     assert [e.force_predicted for e in single] == r.force_predicted.tolist()
     # every field from its own column (MudTracker.update builds its estimate from the output row in field order)
-    for name in ("changed", "bias", "noise", "misfit", "depth_offset", "depth_offset_stderr"):
+    for name in ("changed", "bias", "noise", "misfit", "depth_offset", "depth_offset_stderr", "force_lag",
+                 "force_lag_stderr"):
         assert [getattr(e, name) for e in single] == getattr(r, name).tolist(), name
     assert all(type(e.changed) is bool and type(e.misfit) is bool and type(e.bias) is float for e in single)
     assert single[-1] == TrackEstimate(*(getattr(r, f)[-1].item() for f in (
         "water_content", "low", "high", "force_predicted", "changed", "bias", "noise", "misfit", "depth_offset",
-        "depth_offset_stderr")))
+        "depth_offset_stderr", "force_lag", "force_lag_stderr")))
     # three feet: foot 1 sees this walk, the others their own
     other = walk(0.3, seed=9, duration=6.0, force_noise=0.4, bias=1.0)
     many = MudTrackers(3)

@@ -8,7 +8,7 @@ foot: a 50 mm disc) in mud of W = 23.98 %, with the vertical force MuJoCo applie
 With the rest test at the rest speed alone, each noisy step (about 1.4 mm) was motion, the bank chattered between
 its branches, and the tracker read 34.6 % [33.3, 35.2] at the end, its interval missing the truth in 74 % of the
 samples after 3 s, unflagged. The tracker now measures the depth noise online (third differences, clipped) and
-reads a step within two standard deviations of the noise beyond its branch rule's (3 x 30 um) through the rest
+reads a step within two standard deviations of the noise beyond twice its branch rule's (2 x 30 um) through the rest
 band: 23.6 % [22.0, 25.2], covered throughout.
 """
 

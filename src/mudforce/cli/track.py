@@ -84,10 +84,15 @@ def run(args: argparse.Namespace) -> int:
     if time.size < 2:
         raise InputError(f"{source}: has {time.size} data row; expected at least 2 samples to track")
 
-    from mudforce.estimation.tracker import track
-    from mudforce.model.velocity import choose_velocity_filter, describe_velocity_rule
+    from mudforce.estimation.tracker import DEFAULT_MAX_STEP, track
+    from mudforce.model.velocity import VelocityFilter, choose_velocity_filter, describe_velocity_rule
 
     velocity_filter, noise = choose_velocity_filter(time, depth)
+    mean_dt = float(time[-1] - time[0]) / (time.size - 1)
+    bank_dt = mean_dt / max(1, int(mean_dt / DEFAULT_MAX_STEP + 0.5))
+    if not velocity_filter.is_exact and bank_dt != mean_dt:
+        # the tracker steps its bank in substeps of at most DEFAULT_MAX_STEP: the branch rule is built for them
+        velocity_filter = VelocityFilter.for_noise(noise.std, bank_dt)
     result = track(time, depth, force, foot, velocity_filter=velocity_filter, force_gain_uncertainty=gain)
     png: bytes | None = None
     if plot is not None:

@@ -23,6 +23,15 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   correlation times, each score standing for the contact time since its
   last (decay and weight), their posterior 0 in between. With one offset
   nothing is spared.
+* **Substeps.** The bank is stepped at no more than ``max_step`` (10 ms)
+  per step: a longer sample interval is cut into equal substeps, the
+  depth interpolated linearly between the two samples (at 20 Hz a model
+  stepped once per sample missed what the foot did between them).
+* **Force lag.** A small bank of lags (first-order low-passes of 0-60 ms)
+  scores the mean model's force low-passed by each; every model's force is
+  low-passed by the posterior mean lag, and the lag's posterior spread
+  enters the likelihood's scale, so a lagging sensor is read as a lag, not
+  as other mud, and its uncertainty widens the interval.
 * **Sensor offset (bias) and noise.** While every model is FREE (foot
   above the surface, the mud let go), the model force is exactly zero, so
   the measured force is offset plus noise: the offset is their running
@@ -89,6 +98,7 @@ __all__ = [
     "DEFAULT_DEPTH_OFFSET_PRIOR",
     "DEFAULT_FORCE_LAG_ALLOWANCE",
     "DEFAULT_GRID",
+    "DEFAULT_MAX_STEP",
     "MISFIT_THRESHOLD",
     "MudTracker",
     "MudTrackers",
@@ -120,7 +130,14 @@ _A_Z3 = 12  # the depth three samples back [m]
 _A_DVAR = 13  # depth noise variance estimate [m^2] (the rest test)
 _A_ZN = 14  # depths seen, capped at 3
 _A_TURN = 15  # samples of contact seen, modulo: whose turn it is to be scored among the spared models
-_N_AUX = 16  # then one column per model: the contact time [s] at which it was last scored (_SPARE_MASS)
+_A_LAG = 16  # posterior mean of the force lag [s] (the models' forces are low-passed by it)
+_A_LAG_SD = 17  # its posterior standard deviation [s]
+_A_LAG_Y = 18  # then one column per lag hypothesis (_LAGS): the mean model's force low-passed by it [N]
+_N_LAGS = 6  # force lag hypotheses (_LAGS)
+_A_LAG_L = _A_LAG_Y + _N_LAGS  # then one per lag hypothesis: its log-likelihood (forgotten as the water content's)
+# then, per model: the contact time [s] at which it was last scored (_SPARE_MASS); its force low-passed by the force
+# lag [N]; its force at the previous sample [N] (three blocks of one column per model)
+_N_AUX = _A_LAG_L + _N_LAGS
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -133,7 +150,9 @@ _O_NOISE = 6
 _O_MISFIT = 7  # 1 where the model misses the force beyond its noise floor
 _O_OFFSET = 8  # posterior mean of the surface offset [m] (the model follows the depth plus it)
 _O_OFFSET_SD = 9  # its posterior standard deviation [m]
-_N_OUT = 10
+_O_LAG = 10  # posterior mean of the force lag [s]
+_O_LAG_SD = 11  # its posterior standard deviation [s]
+_N_OUT = 12
 
 # configuration vector, entries of MudTrackers._cfg
 _C_TAU = 0
@@ -155,7 +174,8 @@ _C_DISC = 15  # discretisation allowance [samples]: the model at the rate may be
 _C_BLUR_REF = 16  # misfit average [-] above which the reported posterior's blur widens (_MISFIT_BLUR_REF)
 _C_TEMPER = 17  # misfit average [-] above which the fit's posterior is tempered by the excess
 _C_OFFSET_TEMPER = 18  # the surface offsets' evidence is divided by this [-] (_OFFSET_TEMPER)
-_N_CFG = 19
+_C_SUBSTEP = 19  # the bank's longest step [s] (0: one step per sample)
+_N_CFG = 20
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -183,6 +203,15 @@ _BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0])
 #: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
 #: model by this much is not read as other mud.
 DEFAULT_FORCE_LAG_ALLOWANCE = 0.01
+
+#: Default longest step of the bank [s] (ours, the step its default branch rule is built for): a longer sample
+#: interval is cut into equal substeps, the depth interpolated linearly between the two samples, so that at a low data
+#: rate the models are not stepped coarser than at 100 Hz (at 20 Hz, a model stepped once per sample missed what the
+#: foot did between two samples by points of water content, with a narrow interval).
+DEFAULT_MAX_STEP = 0.01
+#: At most this many substeps per sample (ours): a gap in the time stamps (a dropped stretch, a clock jump) is
+#: stepped in as many, not in thousands.
+_MAX_SUBSTEPS = 64
 
 #: Default surface offset hypotheses [m] (ours): the bank holds each grid model at each, stepped on the measured
 #: depth plus the offset, and the water content's posterior sums over them (so the offset's uncertainty widens
@@ -213,6 +242,17 @@ _SPARE_TURN = 2.0
 
 #: The depth noise assumed before any is measured [m] (that of :func:`default_velocity_filter`'s default).
 _DEPTH_NOISE0 = 3e-5
+
+#: The force lag hypotheses [s] (ours): a first-order low-pass of the model's force of each time constant (a pure
+#: delay reads as a lag of about half of it on the bench's robots), scored on the mean model's force; the models'
+#: forces are low-passed by the posterior mean and the posterior spread enters the likelihood's scale (issue 23: the
+#: force lag as a nuisance).
+_LAGS = np.array([0.0, 0.01, 0.02, 0.03, 0.045, 0.06])
+assert _LAGS.size == _N_LAGS
+#: The force lag's log prior over :data:`_LAGS` [-] (ours): exponential of mean 5 ms (a sensor is taken to lag little
+#: until its force says otherwise: the prior puts 86 % on no lag, and its mean over the hypotheses is 1.6 ms; with a
+#: broader prior the lag the tracker starts with moved the early tare and the estimates of clean walks).
+_LAG_LOG_PRIOR = -_LAGS / 0.005
 #: Memory of the online depth noise estimate [s of contact] (ours).
 _DEPTH_NOISE_MEMORY = 2.0
 #: A step within this many standard deviations of the depth noise (on the difference of two samples, the noise in
@@ -220,8 +260,11 @@ _DEPTH_NOISE_MEMORY = 2.0
 #: read through the rest band.
 _REST_NOISE_SIGMAS = 2.0
 #: Only the depth noise beyond this many times :data:`_DEPTH_NOISE0` widens the rest test (ours): the bank's branch
-#: rule is built for that noise, and on clean recordings a wider test reads real slow motion as rest.
-_REST_NOISE_EXCESS = 3.0
+#: rule is built for that noise, and on clean recordings a wider test reads real slow motion as rest. Was 3: a MuJoCo
+#: foot at rest whose depth reads 40-60 um of noise and vibration was then read as moving on a third of its samples,
+#: the models' branch forces against a load anywhere in the rest band (in-family robot misfit averages of 4-9, and a
+#: trot on dry mud confidently wrong under a 30 ms low-pass); at 1 the change flag fired more often on the bench.
+_REST_NOISE_EXCESS = 2.0
 
 
 def default_velocity_filter(depth_noise: float = 3e-5, dt: float = 0.01) -> VelocityFilter:
@@ -271,7 +314,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     ``(j * NO + o) * G + g``. ``P[j]`` is foot ``j``'s joint posterior over
     (offset, water content), ``log_prior`` the offsets' log prior [-],
     ``work`` scratch of ``G + NO`` entries, ``scored`` of ``NO * G``. ``aux[j, _N_AUX + m]``
-    is the contact time [s] at which model ``m`` was last scored (see :data:`_SPARE_MASS`). Returns the
+    is the contact time [s] at which model ``m`` was last scored (see :data:`_SPARE_MASS`), ``aux[j, _N_AUX + M + m]``
+    its force low-passed by the force lag [N] and ``aux[j, _N_AUX + 2 M + m]`` its force at the previous sample [N];
+    the bank is stepped in ``round(dt / cfg[_C_SUBSTEP])`` substeps (at least one). Returns the
     first foot whose sample is not finite (nothing is changed then), else -1.
     """
     a = layout[:, 0]
@@ -306,12 +351,20 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
-    for j in range(n):
-        for o in range(NO):
-            zo = depths[j] + offsets[o]
-            for g in range(G):
-                zbuf[(j * NO + o) * G + g] = zo
-    K.run_feet(states, ring, params, zbuf, dt, forces, scratch, index)
+    # the bank is stepped at no more than cfg[_C_SUBSTEP] per step: a longer sample interval is cut into substeps,
+    # the depth interpolated linearly between the samples (the model's discretisation at a low data rate)
+    nsub = 1
+    if cfg[_C_SUBSTEP] > 0.0 and aux[0, _A_STARTED] != 0.0:
+        nsub = max(1, min(_MAX_SUBSTEPS, int(min(dt / cfg[_C_SUBSTEP], float(_MAX_SUBSTEPS)) + 0.5)))
+    for s in range(1, nsub + 1):
+        u = s / nsub
+        for j in range(n):
+            zj = depths[j] if s == nsub else aux[j, _A_ZPREV] + (depths[j] - aux[j, _A_ZPREV]) * u
+            for o in range(NO):
+                zo = zj + offsets[o]
+                for g in range(G):
+                    zbuf[(j * NO + o) * G + g] = zo
+        K.run_feet(states, ring, params, zbuf, dt / nsub, forces, scratch, index)
     tau = cfg[_C_TAU]
     misfit2 = cfg[_C_MISFIT] * cfg[_C_MISFIT]
     floor2 = cfg[_C_FLOOR] * cfg[_C_FLOOR]
@@ -326,6 +379,14 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         f = measured[j]
         # one-step-ahead prediction: the models' forces under the posterior before this sample
         pred = 0.0
+        predl = 0.0  # the same of the models' forces low-passed by the force lag
+        lag = aux[j, _A_LAG]
+        # the first-order low-pass over the step, exact for a force linear between the samples:
+        # y1 = e y0 + (1 - c) F1 - (e - c) F0, e = exp(-dt / lag), c = (1 - e) lag / dt
+        lagged = _N_AUX + M  # the first column of the models' low-passed forces
+        previous = _N_AUX + 2 * M  # the first column of the models' forces at the previous sample
+        e_lag = 0.0 if (first or lag <= 0.0) else math.exp(-dt / lag)
+        c_lag = -math.expm1(-dt / lag) * lag / dt if e_lag > 0.0 else 0.0
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
         o_map = 0  # the most probable surface offset (before this sample)
@@ -335,7 +396,14 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             zero = True
             for g in range(G):
                 fg = forces[base + o * G + g]
+                yl = fg
+                if e_lag > 0.0:
+                    yl = e_lag * aux[j, lagged + o * G + g] + (1.0 - c_lag) * fg - (e_lag - c_lag) * aux[
+                        j, previous + o * G + g]
+                aux[j, lagged + o * G + g] = yl
+                aux[j, previous + o * G + g] = fg
                 pred += P[j, o * G + g] * fg
+                predl += P[j, o * G + g] * yl
                 po += P[j, o * G + g]
                 if fg != 0.0:
                     zero = False
@@ -346,9 +414,17 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             if po > p_map:
                 p_map = po
                 o_map = o
-        out[j, _O_PRED] = pred + aux[j, _A_BIAS]
+        out[j, _O_PRED] = predl + aux[j, _A_BIAS]
         if first:
             aux[j, _A_PPREV] = pred
+        # the mean model's force low-passed by each lag hypothesis (every sample: a lag runs on into the swing)
+        for k in range(_LAGS.shape[0]):
+            if first or _LAGS[k] == 0.0:
+                aux[j, _A_LAG_Y + k] = pred
+            else:
+                ek = math.exp(-dt / _LAGS[k])
+                ck = -math.expm1(-dt / _LAGS[k]) * _LAGS[k] / dt
+                aux[j, _A_LAG_Y + k] = ek * aux[j, _A_LAG_Y + k] + (1.0 - ck) * pred - (ek - ck) * aux[j, _A_PPREV]
         if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
@@ -379,8 +455,27 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             map_lo = o_map * G  # the most probable offset's models: always scored
             map_hi = map_lo + G
             aux[j, _A_HOLD] = max(aux[j, _A_HOLD] - dt, 0.0)
-            # a sensor lagging by up to cfg[_C_LAG]: the force's change over that time, in quadrature
-            lag2 = (cfg[_C_LAG] * (pred - aux[j, _A_PPREV]) / dt) ** 2
+            # the force lag: each hypothesis scores the mean model's force low-passed by it (forgotten as the water
+            # content's evidence, and tempered as the surface offsets': a wrong lag is a misfit at every change)
+            top_k = -1e300
+            for k in range(_LAGS.shape[0]):
+                yk = aux[j, _A_LAG_Y + k]
+                rk = f - bias - yk
+                sk = var + bias_var + floor2 + misfit2 * yk * yk
+                v = keep * aux[j, _A_LAG_L + k] + weight * (
+                    -0.5 * (dof + 1.0) * math.log1p(rk * rk / (dof * sk)) - 0.5 * math.log(sk))
+                aux[j, _A_LAG_L + k] = v
+                top_k = max(top_k, v / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k])
+            zk = l1 = l2 = 0.0
+            for k in range(_LAGS.shape[0]):
+                pk = math.exp(aux[j, _A_LAG_L + k] / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k] - top_k)
+                zk += pk
+                l1 += pk * _LAGS[k]
+                l2 += pk * _LAGS[k] * _LAGS[k]
+            aux[j, _A_LAG] = l1 / zk
+            aux[j, _A_LAG_SD] = math.sqrt(max(l2 / zk - (l1 / zk) ** 2, 0.0))
+            # the lag's uncertainty, and an allowance cfg[_C_LAG]: the force's change over that time, in quadrature
+            lag2 = (cfg[_C_LAG] ** 2 + aux[j, _A_LAG_SD] ** 2) * ((pred - aux[j, _A_PPREV]) / dt) ** 2
             # a foot at rest (moved less than the rest speed times the step) carries its load anywhere in
             # the rest band: each model's band [lo, hi] (its own force included), not its branch force
             # the depth noise, online: third differences (blind to any quadratic motion), each clipped at 3 sigma
@@ -419,7 +514,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                     wm = weight_spared
                 aux[j, _N_AUX + m] = c_now
                 row = base + m
-                lo = hi = forces[row]
+                lo = hi = aux[j, lagged + m]
                 if rest:
                     st = K.load_state(states, row)
                     if st.mode != 0:  # not FREE (K.ContactMode.FREE)
@@ -428,7 +523,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                         hi = max(hi, up, down)
                 for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
                     gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
-                    fg = gain * forces[row]
+                    fg = gain * aux[j, lagged + m]
                     if rest:
                         fg = min(max(f - bias, gain * lo), gain * hi)
                     r = f - bias - fg
@@ -496,6 +591,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             om += po * offsets[o]
             o2 += po * offsets[o] * offsets[o]
         out[j, _O_OFFSET] = om
+        out[j, _O_LAG] = aux[j, _A_LAG]
+        out[j, _O_LAG_SD] = aux[j, _A_LAG_SD]
         out[j, _O_OFFSET_SD] = math.sqrt(max(o2 - om * om, 0.0))
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
@@ -622,6 +719,12 @@ class TrackEstimate:
         over the tracker's ``depth_offsets``: the model follows the measured
         depth plus it (as ``identify``'s ``depth_offset``), so a depth that
         reads 5 mm too deep gives about -0.005.
+    force_lag, force_lag_stderr : float
+        Posterior mean and standard deviation of the force sensor's lag [s]:
+        the time constant of a first-order low-pass of the model's force (a
+        pure delay reads as about half of it), as ``identify``'s ``force_lag``; the
+        models' forces are low-passed by it, and its spread enters the
+        likelihood's scale (and so the interval).
     """
 
     water_content: float
@@ -634,6 +737,8 @@ class TrackEstimate:
     misfit: bool = False
     depth_offset: float = 0.0
     depth_offset_stderr: float = 0.0
+    force_lag: float = 0.0
+    force_lag_stderr: float = 0.0
 
     @property
     def interval(self) -> tuple[float, float]:
@@ -660,6 +765,8 @@ class TrackEstimates:
         Where the model misses the force beyond its noise floor (see :class:`TrackEstimate`).
     depth_offset, depth_offset_stderr : numpy.ndarray
         Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
+    force_lag, force_lag_stderr : numpy.ndarray
+        Posterior mean and standard deviation of the force lag [s] (see :class:`TrackEstimate`).
     """
 
     water_content: np.ndarray
@@ -672,6 +779,8 @@ class TrackEstimates:
     misfit: np.ndarray | None = None
     depth_offset: np.ndarray | None = None
     depth_offset_stderr: np.ndarray | None = None
+    force_lag: np.ndarray | None = None
+    force_lag_stderr: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -689,8 +798,8 @@ class TrackerState:
     log_posterior: np.ndarray
     #: each foot's joint posterior over the surface offsets and grid, shape (n, offsets * G)
     posterior: np.ndarray
-    #: each foot's offset, noise, contact time and change-flag state, then the contact time at which each model
-    #: was last scored (the spared models', see the module docstring)
+    #: each foot's offset, noise, contact time, change-flag and force-lag state, then per model the contact time at
+    #: which it was last scored (the spared models', see the module docstring), its lagged force and its last force
     aux: np.ndarray
     #: False before the first sample
     started: bool
@@ -804,6 +913,14 @@ class MudTrackers:
     depth_offset_prior : float
         Prior standard deviation of the surface offset [m], > 0 (default
         :data:`DEFAULT_DEPTH_OFFSET_PRIOR`, 4 mm).
+    max_step : float
+        The bank's longest step [s], >= 0 (default :data:`DEFAULT_MAX_STEP`,
+        10 ms): a sample interval ``dt`` is cut into ``round(dt / max_step)``
+        equal substeps (at least one, at most 64), the depth interpolated linearly between
+        the two samples, so that at a low rate the models are not stepped
+        coarser than the branch rule and the data allow (0: one step per
+        sample). The branch rule (``velocity_filter``) is applied at the
+        substeps.
 
     Notes
     -----
@@ -833,6 +950,7 @@ class MudTrackers:
         force_lag: float = DEFAULT_FORCE_LAG_ALLOWANCE,
         depth_offsets: Sequence[float] | None = None,
         depth_offset_prior: float = DEFAULT_DEPTH_OFFSET_PRIOR,
+        max_step: float = DEFAULT_MAX_STEP,
     ) -> None:
         self.n = positive_int(n, "the number of feet n")
         if foot is not None and not isinstance(foot, Foot):
@@ -869,6 +987,7 @@ class MudTrackers:
         cfg[_C_BLUR_REF] = _MISFIT_BLUR_REF
         cfg[_C_TEMPER] = _MISFIT_TEMPER_REF
         cfg[_C_OFFSET_TEMPER] = _OFFSET_TEMPER
+        cfg[_C_SUBSTEP] = _non_negative(max_step, "max_step", "s")
         self._cfg = cfg
         self.depth_offsets = _offsets(depth_offsets)
         prior = positive_number(depth_offset_prior, "depth_offset_prior", "m")
@@ -896,7 +1015,7 @@ class MudTrackers:
         self._zbuf = np.zeros(rows * G, dtype=np.float64)
         self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
         self._P = np.zeros((self.n, M), dtype=np.float64)
-        self._aux = np.zeros((self.n, _N_AUX + M), dtype=np.float64)
+        self._aux = np.zeros((self.n, _N_AUX + 3 * M), dtype=np.float64)
         self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
@@ -956,7 +1075,8 @@ class MudTrackers:
         o = self._out
         return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
                               o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy(),
-                              o[:, _O_MISFIT] != 0.0, o[:, _O_OFFSET].copy(), o[:, _O_OFFSET_SD].copy())
+                              o[:, _O_MISFIT] != 0.0, o[:, _O_OFFSET].copy(), o[:, _O_OFFSET_SD].copy(),
+                              o[:, _O_LAG].copy(), o[:, _O_LAG_SD].copy())
 
     def _key(self) -> bytes:
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
@@ -1083,7 +1203,7 @@ class MudTracker:
         b._depths[0] = depth
         b._forces[0] = force
         b._step(dt)
-        # the columns _O_W .. _O_OFFSET_SD are TrackEstimate's fields in order (a test pins it); built without the
+        # the columns _O_W .. _O_LAG_SD are TrackEstimate's fields in order (a test pins it); built without the
         # frozen dataclass's __init__ (ten object.__setattr__ calls, about a microsecond of the update)
         o = b._out[0].tolist()
         o[_O_CHANGED] = o[_O_CHANGED] != 0.0
@@ -1136,6 +1256,8 @@ class TrackResult:
         Samples where the model missed the force beyond its noise floor (see :class:`TrackEstimate`).
     depth_offset, depth_offset_stderr : numpy.ndarray
         Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
+    force_lag, force_lag_stderr : numpy.ndarray
+        Posterior mean and standard deviation of the force lag [s] (see :class:`TrackEstimate`).
     """
 
     time: np.ndarray
@@ -1151,6 +1273,8 @@ class TrackResult:
     misfit: np.ndarray | None = None
     depth_offset: np.ndarray | None = None
     depth_offset_stderr: np.ndarray | None = None
+    force_lag: np.ndarray | None = None
+    force_lag_stderr: np.ndarray | None = None
 
     #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
@@ -1241,4 +1365,4 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         previous = t[k]
     return TrackResult(t, z, f, cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
                        cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0,
-                       cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD])
+                       cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD], cols[:, _O_LAG], cols[:, _O_LAG_SD])
