@@ -22,9 +22,9 @@ differs only in where things are kept:
   an element's values side by side; the world geometry of a step is
   recomputed where it is used from the foot's pose (``F_*`` scratch
   columns), not stored per element (a step of thousands of feet is bound
-  by memory traffic, not arithmetic); their depths
-  and the paper's stresses are two arrays of their own, which the 1-D
-  stepper takes as they are. (Not one contiguous row per quantity: rows
+  by memory traffic, not arithmetic), the depths included (a foot's
+  elements are checked against ``MAX_DEPTH`` at once by its reach,
+  ``F_REACH``, not one by one). (Not one contiguous row per quantity: rows
   of a few thousand doubles lie a multiple of 4 KiB apart, and the
   processor then stalls loads behind stores to other rows with the same
   low address bits ("4K aliasing"): placing the elements took 80 ns
@@ -121,7 +121,8 @@ F_RHO = 7  # mud density [kg/m^3]
 F_STARTED = 8  # 1 once the foot has taken its first step
 F_PX = 9  # this step: the body origin [m], 3 columns
 F_R = 12  # this step: the rotation matrix [-], 9 columns, row by row
-N_FOOT_COLUMNS = 21
+F_REACH = 21  # the farthest element centroid from the body origin [m] (a bound for the depth check)
+N_FOOT_COLUMNS = 22
 
 #: :func:`step_feet`'s return values other than a foot's index
 OK = -1
@@ -141,14 +142,18 @@ def _pose_ok(px: float, py: float, pz: float, qw: float, qx: float, qy: float, q
 
 
 @_compiled()
-def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: np.ndarray, starts: np.ndarray,
-           depths: np.ndarray) -> int:
-    """Every foot's pose and every element's depth [m] into scratch; the first bad foot or -1.
+def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: np.ndarray, starts: np.ndarray
+           ) -> int:
+    """Every foot's pose into scratch, every element's depth [m] checked; the first bad foot or -1.
 
     A foot is bad if its position is not finite, its quaternion not finite
     or farther than :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` from unit
     norm, or one of its elements would be deeper (or higher) than
-    ``MAX_DEPTH``. Writes only scratch (``ft``'s this-step columns, ``depths``).
+    ``MAX_DEPTH``. Writes only scratch (``ft``'s this-step columns).
+
+    Speed plumbing: a foot whose elements are all certainly within bounds (``|h| + |p_z|`` plus its reach
+    ``F_REACH`` with a margin of 0.1 %, far above any rounding, within ``MAX_DEPTH``: a rotation keeps
+    lengths) is not checked element by element; :func:`_step_foot` computes the depths where it uses them.
     """
     for f in range(positions.shape[0]):
         px, py, pz = positions[f, 0], positions[f, 1], positions[f, 2]
@@ -162,12 +167,12 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
         ft[f, F_PX + 1] = py
         ft[f, F_PX + 2] = pz
         h = ft[f, F_SURFACE]
+        if abs(h) + abs(pz) + 1.001 * ft[f, F_REACH] < 0.999 * MAX_DEPTH:
+            continue
         bad = False
         for i in range(starts[f], starts[f + 1]):
             _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-            depth = element_depth(h, pz, oz)
-            depths[i] = depth
-            bad |= not abs(depth) <= MAX_DEPTH
+            bad |= not abs(element_depth(h, pz, oz)) <= MAX_DEPTH
         if bad:
             return f
     return OK
@@ -247,7 +252,7 @@ def lateral_scratch(widest: int, slices: int) -> np.ndarray:
 
 
 @_compiled()
-def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.ndarray, stress: np.ndarray,
+def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.ndarray,
                lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, f: int, dt: float,
                forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
     """Foot ``f``'s step once placed: its elements' paper step, then the 3-D law; the element refused, or -1.
@@ -295,6 +300,7 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
     quiet = exact_rule(p)
     r = _foot_rotation(ft, f)
     px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
+    h = ft[f, F_SURFACE]
     started = ft[f, F_STARTED] != 0.0
     each_ = each.shape[0] != 0  # every element's force wanted (MudContact3D), the wrench summed in element order
     sfx = sfy = sfz = 0.0
@@ -302,10 +308,10 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
     m = 0
     for i in range(lo, hi):
         row = states[i]
-        z = depths[i]
+        _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+        z = element_depth(h, pz, oz)  # (checked by _place)
         if row[S_STARTED] != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
             z = settle_depth(z, row[S_DEPTH])
-            depths[i] = z
         # ---- the paper's step of the element (what _kernel.loops.run_feet does for a foot)
         if quiet and row[S_MODE] == FREE:
             q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
@@ -355,7 +361,8 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
             m += 1
         else:  # no spring at or above the surface (Eq. (4) is 0 there): the stress at once
             sigma = total_force(fe1, 0.0, fs, p.area)
-            stress[i] = sigma
+            if not started:  # (read by the first step's pass below only)
+                stress[i] = sigma
             if started:  # what element_force gives an element that carries no horizontal force
                 el[i, E_SLIPX] = 0.0
                 el[i, E_SLIPY] = 0.0
@@ -381,9 +388,9 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
         spring_[j] = nonlinear_spring_stress(alpha, beta, depth[j], width)
     for j in range(m):
         stresses[j] = total_force(fe1s[j], spring_[j] if has[j] != 0.0 else 0.0, fss[j], area_1d)
-    for j in range(m):
-        stress[int(lat[L_INDEX, j])] = stresses[j]
     if not started:  # a first step: no element is loaded sideways; each carries its vertical force, in order
+        for j in range(m):
+            stress[int(lat[L_INDEX, j])] = stresses[j]
         for i in range(lo, hi):
             ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
             el[i, E_SLIPX] = 0.0
@@ -476,15 +483,15 @@ def element_forces(stress: np.ndarray, spring: np.ndarray, areas: np.ndarray, nx
 
 @_compiled()
 def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-              starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray,
-              ring: np.ndarray, params: np.ndarray, forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
+              starts: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray, ring: np.ndarray,
+              params: np.ndarray, forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
     """One step of every foot: the wrench of foot ``f`` [N], [N m] into ``forces[f]`` and ``torques[f]``.
 
     ``positions`` (m, 3) [m] and ``quaternions`` (m, 4) ``(w, x, y, z)``
     are the feet's poses, ``dt`` [s] the time since the last step (ignored
     if no foot has started). ``states``, ``ring`` and ``params`` are the
-    1-D stepper's rows, one per element, ``depths`` and ``stress`` its
-    depths [m] and forces (on a unit area: the stresses [Pa]); ``lat`` the
+    1-D stepper's rows, one per element, ``stress`` scratch for its forces
+    (on a unit area: the stresses [Pa]) at a foot's first step; ``lat`` the
     lateral scratch (:func:`lateral_scratch`, one slice). Returns :data:`OK`; or, having changed nothing, the
     first foot whose pose or depth is refused (see :func:`_place`),
     :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
@@ -506,11 +513,11 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     dt = _checked_dt(ft, m, dt)  # 1.0 (ignored by every element's first step) while no foot has started
     if dt != dt:
         return BAD_DT
-    bad = _place(positions, quaternions, el, ft, starts, depths)
+    bad = _place(positions, quaternions, el, ft, starts)
     if bad != OK:
         return bad
     for f in range(m):
-        refused = _step_foot(el, ft, starts, depths, stress, lat[0], states, ring, params, f, dt, forces, torques,
+        refused = _step_foot(el, ft, starts, stress, lat[0], states, ring, params, f, dt, forces, torques,
                              each)
         if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return refused
@@ -530,7 +537,7 @@ def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
 
 @_compiled(parallel=True)
 def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray,
+                      starts: np.ndarray, stress: np.ndarray, lat: np.ndarray,
                       states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
                       torques: np.ndarray, each: np.ndarray, chunks: np.ndarray) -> int:
     """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
@@ -544,7 +551,7 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     dt = _checked_dt(ft, m, dt)
     if dt != dt:
         return BAD_DT
-    bad = _place(positions, quaternions, el, ft, starts, depths)
+    bad = _place(positions, quaternions, el, ft, starts)
     if bad != OK:
         return bad
     n = chunks.shape[0]
@@ -553,7 +560,7 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
         hi = m * (c + 1) // n
         chunks[c] = -1
         for f in range(lo, hi):
-            refused = _step_foot(el, ft, starts, depths, stress, lat[c], states, ring, params, f, dt, forces,
+            refused = _step_foot(el, ft, starts, stress, lat[c], states, ring, params, f, dt, forces,
                                  torques, each)
             if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
                 chunks[c] = refused

@@ -176,8 +176,9 @@ class MudContact3D:
         self._areas = np.array(shape.areas, dtype=np.float64)  # the areas [m^2] as the numpy step's compiled loop
         e = self._elements  # has them (writable, C-contiguous, as numba types them)
         # step_feet's arguments after the pose and dt, before the outputs
-        self._kernel_args = (el, self._foot, np.array([0, n], dtype=np.int64), np.zeros(n), np.zeros(n),
-                             S3.lateral_scratch(n, 1), e._states, e.ring, e.params_array)
+        self._foot[0, S3.F_REACH] = _reach(shape)
+        self._kernel_args = (el, self._foot, np.array([0, n], dtype=np.int64), np.zeros(n), S3.lateral_scratch(n, 1),
+                             e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
         self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), once the numpy step has run
         #: the last step's force on every element [N], world frame, shape (n, 3)
@@ -495,6 +496,11 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     return array
 
 
+def _reach(shape: Shape) -> float:
+    """The farthest element centroid of ``shape`` from its body origin [m] (step3d's ``F_REACH``)."""
+    return float(np.sqrt((np.asarray(shape.centroids, dtype=np.float64) ** 2).sum(axis=1)).max(initial=0.0))
+
+
 def _plain(a: np.ndarray) -> np.ndarray:
     """``a`` if it is C-contiguous, aligned and writable, else such a copy of it."""
     flags = a.flags
@@ -637,6 +643,7 @@ class MudContacts3D:
             ft[f, S3.F_BETA] = q.beta
             ft[f, S3.F_LAMBDA] = q.lambda_
             ft[f, S3.F_RHO] = q.rho_m
+            ft[f, S3.F_REACH] = _reach(shape)
         el = np.zeros((total, S3.N_ELEMENT_COLUMNS))
         for f, shape in enumerate(feet):
             lo, hi = self._starts[f], self._starts[f + 1]
@@ -651,14 +658,13 @@ class MudContacts3D:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = min(vectorized._resolve_threads(threads, total), m)
         self._chunks = np.empty(self.threads, dtype=np.int64)
-        self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
-        self._stress = np.zeros(total)
+        self._stress = np.zeros(total)  # scratch: the elements' paper stresses [Pa] at a foot's first step
         # a foot's submerged elements side by side, for the spring's and the 3-D law's vectorised loops (one block
         # per slice)
         self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
         # the compiled step's arguments after the poses and dt, before the outputs
-        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
-                             self._ring, self._params_rows)
+        self._kernel_args = (self._el, self._ft, self._starts, self._stress, self._lateral, self._states, self._ring,
+                             self._params_rows)
         # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
         # and the dispatcher of its hot path (None until the first step has compiled the step, and with threads)
         self._hot: tuple[tuple[int, int], tuple[np.ndarray, ...], Any] = ((m, 3), self._kernel_args, None)
