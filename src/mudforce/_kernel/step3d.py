@@ -361,8 +361,7 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
             m += 1
         else:  # no spring at or above the surface (Eq. (4) is 0 there): the stress at once
             sigma = total_force(fe1, 0.0, fs, p.area)
-            if not started:  # (read by the first step's pass below only)
-                stress[i] = sigma
+            stress[i] = sigma
             if started:  # what element_force gives an element that carries no horizontal force
                 el[i, E_SLIPX] = 0.0
                 el[i, E_SLIPY] = 0.0
@@ -388,9 +387,9 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
         spring_[j] = nonlinear_spring_stress(alpha, beta, depth[j], width)
     for j in range(m):
         stresses[j] = total_force(fe1s[j], spring_[j] if has[j] != 0.0 else 0.0, fss[j], area_1d)
+    for j in range(m):
+        stress[int(lat[L_INDEX, j])] = stresses[j]
     if not started:  # a first step: no element is loaded sideways; each carries its vertical force, in order
-        for j in range(m):
-            stress[int(lat[L_INDEX, j])] = stresses[j]
         for i in range(lo, hi):
             ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
             el[i, E_SLIPX] = 0.0
@@ -490,8 +489,8 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     ``positions`` (m, 3) [m] and ``quaternions`` (m, 4) ``(w, x, y, z)``
     are the feet's poses, ``dt`` [s] the time since the last step (ignored
     if no foot has started). ``states``, ``ring`` and ``params`` are the
-    1-D stepper's rows, one per element, ``stress`` scratch for its forces
-    (on a unit area: the stresses [Pa]) at a foot's first step; ``lat`` the
+    1-D stepper's rows, one per element, ``stress`` its forces (on a unit
+    area: the elements' paper stresses [Pa]); ``lat`` the
     lateral scratch (:func:`lateral_scratch`, one slice). Returns :data:`OK`; or, having changed nothing, the
     first foot whose pose or depth is refused (see :func:`_place`),
     :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a

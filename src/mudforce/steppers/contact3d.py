@@ -283,7 +283,7 @@ class MudContact3D:
                 code = S3.BAD_SHAPE
             if code == _OK:
                 self.element_forces = each
-                return Wrench(forces[0], torques[0])
+                return _new_tuple(Wrench, (forces[0], torques[0]))  # Wrench(...) without its Python __new__
         return self._step_numpy(position, quaternion, dt)
 
     def _step_numpy(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
@@ -522,6 +522,7 @@ _dispatcher: Any = S3.step_feet  # (numba's dispatcher: its compiled versions)
 _fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and S3.fixed_types of it then
 _NO_EACH = np.zeros((0, 3))  # step_feet's ``each`` for MudContacts3D: no element's force, each foot's own order
 _ONE3 = (1, 3)
+_new_tuple = tuple.__new__
 
 
 def _fixed_step() -> Any:
@@ -658,7 +659,7 @@ class MudContacts3D:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = min(vectorized._resolve_threads(threads, total), m)
         self._chunks = np.empty(self.threads, dtype=np.int64)
-        self._stress = np.zeros(total)  # scratch: the elements' paper stresses [Pa] at a foot's first step
+        self._stress = np.zeros(total)  # this step's element paper stresses [Pa]
         # a foot's submerged elements side by side, for the spring's and the 3-D law's vectorised loops (one block
         # per slice)
         self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
