@@ -286,8 +286,8 @@ def test_the_compiled_step_is_the_numpy_step_bit_for_bit_and_refuses_as_it_does(
 
 def test_the_compiled_step_is_the_many_feet_step_and_compiles_nothing_of_its_own() -> None:
     """MudContact3D's compiled step is MudContacts3D's compiled code (one compile for both): once a MudContacts3D
-    has stepped, a MudContact3D's steps add no compiled version, and after its first step (the numpy step) it
-    takes the compiled one."""
+    has stepped, a MudContact3D's steps add no compiled version; it takes the compiled step from its first step
+    on, for lists and a numpy scalar dt too (converted as the numpy step converts them)."""
     from mudforce._kernel import step3d
 
     params = mf.MudParameters.from_water_content(0.25)
@@ -305,5 +305,6 @@ def test_the_compiled_step_is_the_many_feet_step_and_compiles_nothing_of_its_own
     one._step_numpy = counted  # type: ignore[method-assign]
     for k in range(4):
         one.step(np.array([0.0, 0.0, 0.01 - 0.004 * k]), UPRIGHT, 1e-3)
-    assert len(numpy_steps) == 1 and len(step3d.step_feet.overloads) == compiled
+    one.step([0.0, 0.001, -0.007], UPRIGHT.tolist(), np.float64(1e-3))
+    assert not numpy_steps and len(step3d.step_feet.overloads) == compiled
     assert one.element_forces.shape == (SPHERE.n, 3) and one.element_forces[:, 2].sum() > 0.0

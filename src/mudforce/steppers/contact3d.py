@@ -270,10 +270,11 @@ class MudContact3D:
         Wrench
             Force [N] and torque about the body origin [N m], world frame.
         """
-        # compiled for float64 arrays and a float dt: MudContacts3D's step of one foot (S3.step_feet, through the
-        # same dispatcher of its compiled code, typed by numba), with every element's force and the wrench summed
-        # in element order: the numpy step below, its bits. Anything else, or a step it refuses (having changed
-        # nothing), goes through the numpy step, which converts it or words the error
+        # compiled: MudContacts3D's step of one foot (S3.step_feet, through the same dispatcher of its compiled
+        # code, typed by numba), with every element's force and the wrench summed in element order: the numpy step
+        # below, its bits. The hot path takes float64 arrays and a float dt; _step_converted takes the first step
+        # and other inputs; a step either refuses (having changed nothing) goes through the numpy step, which words
+        # the error
         fixed = self._fixed
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
             forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
@@ -284,7 +285,38 @@ class MudContact3D:
             if code == _OK:
                 self.element_forces = each
                 return _new_tuple(Wrench, (forces[0], torques[0]))  # Wrench(...) without its Python __new__
-        return self._step_numpy(position, quaternion, dt)
+            if code != S3.BAD_SHAPE:  # refused for its values: the numpy step words the error
+                return self._step_numpy(position, quaternion, dt)
+        return self._step_converted(position, quaternion, dt)
+
+    def _step_converted(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
+        """:meth:`step` for its first step and for inputs of other types: converted as the numpy step converts them
+        (``np.asarray`` to float64, made C-contiguous and writable; a real ``dt`` as a float, any ``dt`` before the
+        first step ignored), then the compiled step; what is not converted, or is refused, goes through the numpy
+        step, which words the error. (So a contact stepped with lists, or from its first step, compiles nothing but
+        the one step MudContacts3D compiles.)"""
+        if self._fixed is None:
+            self._fixed = self._fixed_types()
+        try:
+            p = np.array(position, dtype=np.float64, order="C")
+            q = np.array(quaternion, dtype=np.float64, order="C")
+        except (TypeError, ValueError):
+            return self._step_numpy(position, quaternion, dt)
+        if is_real(dt):
+            h = float(dt)
+        elif not self._started:
+            h = 1.0  # ignored by a first step (as the numpy step ignores it)
+        else:
+            return self._step_numpy(position, quaternion, dt)
+        forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
+        try:
+            code = self._fixed(p[None], q[None], h, *self._kernel_args, forces, torques, each)
+        except TypeError:  # numba's "no matching definition": not one pose (a 2-D position, ...)
+            code = S3.BAD_SHAPE
+        if code != _OK:
+            return self._step_numpy(position, quaternion, dt)
+        self.element_forces = each
+        return _new_tuple(Wrench, (forces[0], torques[0]))
 
     def _step_numpy(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
         """:meth:`step` on numpy arrays, every argument checked (converted, or refused with a one-line error).
