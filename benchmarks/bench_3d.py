@@ -116,13 +116,14 @@ def bench_kernel(shape: shapes.Shape, steps: int, repeats: int) -> tuple[float, 
     out = (np.empty((1, 3)), np.empty((1, 3)))
     contacts.step(pos[0], quat[0], 0.0, out=out)
     start = contacts.state
+    none = np.zeros((0, 3))  # no element forces (MudContacts3D's)
     args = contacts._kernel_args  # the compiled step's own arrays (private: a benchmark's look inside)
     dt = 1.0 / RATE
 
     def run() -> None:
         contacts.state = start
         for k in range(1, steps + 1):
-            step3d.step_feet(pos[k], quat[k], dt, *args, out[0], out[1])
+            step3d.step_feet(pos[k], quat[k], dt, *args, out[0], out[1], none)
 
     run()
     best, median = timings(run, repeats)

@@ -238,8 +238,8 @@ def test_many_feet_settle_an_element_turned_about_as_one_foot_does() -> None:
 
 
 def test_the_compiled_step_is_the_numpy_step_bit_for_bit_and_refuses_as_it_does() -> None:
-    """MudContact3D.step runs float64 poses through mudforce._kernel.step3d.contact_step: every wrench, element
-    force and state equals the numpy step's (its reference, _step_numpy) to the bit, through first steps, a
+    """MudContact3D.step runs float64 poses through MudContacts3D's compiled step (step3d.step_feet): every wrench,
+    element force and state equals the numpy step's (its reference, _step_numpy) to the bit, through first steps, a
     reset, a restored state and uneven dt; a bad pose, a zero dt or a depth out of bounds given as float64
     arrays (the compiled step's own checks) is refused with the numpy step's error, changing nothing."""
     params = mf.MudParameters.from_water_content(0.25)
@@ -282,3 +282,29 @@ def test_the_compiled_step_is_the_numpy_step_bit_for_bit_and_refuses_as_it_does(
         for x, y in zip(fast.state, saved, strict=True):
             assert np.array_equal(x, y)
         assert fast.element_forces is forces
+
+
+def test_the_compiled_step_is_the_many_feet_step_and_compiles_nothing_of_its_own() -> None:
+    """MudContact3D's compiled step is MudContacts3D's compiled code (one compile for both): once a MudContacts3D
+    has stepped, a MudContact3D's steps add no compiled version; it takes the compiled step from its first step
+    on, for lists and a numpy scalar dt too (converted as the numpy step converts them)."""
+    from mudforce._kernel import step3d
+
+    params = mf.MudParameters.from_water_content(0.25)
+    many = mf.MudContacts3D(params, SPHERE, 1)
+    many.step(np.array([[0.0, 0.0, 0.01]]), UPRIGHT[None], 0.0)
+    compiled = len(step3d.step_feet.overloads)
+    one = MudContact3D(params, SPHERE)
+    numpy_steps = []
+    reference = one._step_numpy
+
+    def counted(*args: object) -> object:
+        numpy_steps.append(1)
+        return reference(*args)
+
+    one._step_numpy = counted  # type: ignore[method-assign]
+    for k in range(4):
+        one.step(np.array([0.0, 0.0, 0.01 - 0.004 * k]), UPRIGHT, 1e-3)
+    one.step([0.0, 0.001, -0.007], UPRIGHT.tolist(), np.float64(1e-3))
+    assert not numpy_steps and len(step3d.step_feet.overloads) == compiled
+    assert one.element_forces.shape == (SPHERE.n, 3) and one.element_forces[:, 2].sum() > 0.0

@@ -101,3 +101,32 @@ def test_any_layout_gives_the_same_bits_without_compiling_the_step_again() -> No
             hot.step(p, q, dt, out=out)
         assert _same(hot.state, saved)
         assert np.array_equal(out[0], kept[0]) and np.array_equal(out[1], kept[1])
+
+
+def test_a_foot_at_the_depth_bound_is_checked_element_by_element() -> None:
+    """A foot whose reach cannot settle the +-100 m bound at once (the check by the farthest centroid) has every
+    element checked: refused when one element is beyond, as the elements' own depths say (law3d, numpy), stepped
+    when all are within; a refusal changes nothing."""
+    from mudforce._kernel.bounds import MAX_DEPTH
+    from mudforce.model import law3d
+
+    mud = mf.MudParameters.from_water_content(0.25)
+    feet = MudContacts3D(mud, SHAPE, 1)
+    upright = np.array([[1.0, 0.0, 0.0, 0.0]])
+    r = tuple(law3d.rotation_matrix(upright[0]).ravel().tolist())
+    _, _, oz = law3d.rotate(r, *SHAPE.centroids.T)
+    stepped = refused = 0
+    for k, z in enumerate((-99.97, -99.98, -99.99, -99.9999, 99.98, 99.99, 99.97)):
+        pos = np.array([[0.0, 0.0, z]])
+        within = bool(np.all(np.abs(law3d.element_depth(0.0, z, oz)) <= MAX_DEPTH))
+        saved = feet.state
+        if within:
+            forces, _ = feet.step(pos, upright, DT if k else 0.0)
+            assert np.all(np.isfinite(forces))
+            stepped += 1
+        else:
+            with pytest.raises(InputError, match=r"foot 0: .*100 m"):
+                feet.step(pos, upright, DT)
+            assert _same(feet.state, saved)
+            refused += 1
+    assert stepped >= 2 and refused >= 2

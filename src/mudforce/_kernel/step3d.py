@@ -22,9 +22,9 @@ differs only in where things are kept:
   an element's values side by side; the world geometry of a step is
   recomputed where it is used from the foot's pose (``F_*`` scratch
   columns), not stored per element (a step of thousands of feet is bound
-  by memory traffic, not arithmetic); their depths
-  and the paper's stresses are two arrays of their own, which the 1-D
-  stepper takes as they are. (Not one contiguous row per quantity: rows
+  by memory traffic, not arithmetic), the depths included (a foot's
+  elements are checked against ``MAX_DEPTH`` at once by its reach,
+  ``F_REACH``, not one by one). (Not one contiguous row per quantity: rows
   of a few thousand doubles lie a multiple of 4 KiB apart, and the
   processor then stalls loads behind stores to other rows with the same
   low address bits ("4K aliasing"): placing the elements took 80 ns
@@ -43,9 +43,11 @@ two agree to rounding, about 1e-15 of the peak force
 (``tests/steppers/test_many3d.py``); the same foot gives the same bits
 here whatever the other feet are.
 
-:func:`contact_place` and :func:`contact_law`, with the 1-D stepper
-between them, are :class:`~mudforce.steppers.contact3d.MudContact3D`'s own step
-compiled: its numpy step's arithmetic in its order, its bits.
+:class:`~mudforce.steppers.contact3d.MudContact3D`'s step is this one, for one
+foot, with an ``each`` array (:func:`step_feet`): every element's force is
+written out and the wrench summed in element order, as its numpy step sums
+it, so that the two give the same bits; one compiled step for both classes
+(and one compile).
 """
 
 from __future__ import annotations
@@ -87,18 +89,12 @@ from mudforce.model.law3d import (
 )
 
 __all__ = [
-    "BAD_DEPTH",
     "BAD_DT",
-    "BAD_POSE",
     "BAD_SHAPE",
-    "FIRST",
     "N_ELEMENT_COLUMNS",
     "N_FOOT_COLUMNS",
     "OK",
-    "contact_law",
-    "contact_place",
     "element_forces",
-    "entry_point",
     "fixed_types",
     "lateral_scratch",
     "step_feet",
@@ -125,21 +121,19 @@ F_RHO = 7  # mud density [kg/m^3]
 F_STARTED = 8  # 1 once the foot has taken its first step
 F_PX = 9  # this step: the body origin [m], 3 columns
 F_R = 12  # this step: the rotation matrix [-], 9 columns, row by row
-N_FOOT_COLUMNS = 21
+F_REACH = 21  # the farthest element centroid from the body origin [m] (a bound for the depth check)
+N_FOOT_COLUMNS = 22
 
 #: :func:`step_feet`'s return values other than a foot's index
 OK = -1
 BAD_DT = -2
 BAD_SHAPE = -3
-BAD_POSE = -4  # (contact_place: the pose is not finite, or the quaternion not unit)
-BAD_DEPTH = -5  # (contact_place: an element beyond MAX_DEPTH of the surface)
-FIRST = -6  # (contact_place: placed, at the foot's first step)
 
 
 @_compiled(inline="always")
 def _pose_ok(px: float, py: float, pz: float, qw: float, qx: float, qy: float, qz: float) -> bool:
     """Whether a pose can be stepped: the position [m] and the quaternion finite, and the quaternion within
-    :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` of unit norm (of :func:`_place` and :func:`contact_place`)."""
+    :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` of unit norm (of :func:`_place`)."""
     # |x| < inf is False for NaN and inf alike
     if not ((abs(px) < math.inf) & (abs(py) < math.inf) & (abs(pz) < math.inf) & (abs(qw) < math.inf)
             & (abs(qx) < math.inf) & (abs(qy) < math.inf) & (abs(qz) < math.inf)):
@@ -148,14 +142,18 @@ def _pose_ok(px: float, py: float, pz: float, qw: float, qx: float, qy: float, q
 
 
 @_compiled()
-def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: np.ndarray, starts: np.ndarray,
-           depths: np.ndarray) -> int:
-    """Every foot's pose and every element's depth [m] into scratch; the first bad foot or -1.
+def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: np.ndarray, starts: np.ndarray
+           ) -> int:
+    """Every foot's pose into scratch, every element's depth [m] checked; the first bad foot or -1.
 
     A foot is bad if its position is not finite, its quaternion not finite
     or farther than :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` from unit
     norm, or one of its elements would be deeper (or higher) than
-    ``MAX_DEPTH``. Writes only scratch (``ft``'s this-step columns, ``depths``).
+    ``MAX_DEPTH``. Writes only scratch (``ft``'s this-step columns).
+
+    Speed plumbing: a foot whose elements are all certainly within bounds (``|h| + |p_z|`` plus its reach
+    ``F_REACH`` with a margin of 0.1 %, far above any rounding, within ``MAX_DEPTH``: a rotation keeps
+    lengths) is not checked element by element; :func:`_step_foot` computes the depths where it uses them.
     """
     for f in range(positions.shape[0]):
         px, py, pz = positions[f, 0], positions[f, 1], positions[f, 2]
@@ -169,12 +167,12 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
         ft[f, F_PX + 1] = py
         ft[f, F_PX + 2] = pz
         h = ft[f, F_SURFACE]
+        if abs(h) + abs(pz) + 1.001 * ft[f, F_REACH] < 0.999 * MAX_DEPTH:
+            continue
         bad = False
         for i in range(starts[f], starts[f + 1]):
             _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-            depth = element_depth(h, pz, oz)
-            depths[i] = depth
-            bad |= not abs(depth) <= MAX_DEPTH
+            bad |= not abs(element_depth(h, pz, oz)) <= MAX_DEPTH
         if bad:
             return f
     return OK
@@ -185,6 +183,42 @@ def _foot_rotation(ft: np.ndarray, f: int) -> tuple[float, float, float, float, 
     """Foot ``f``'s rotation of this step (:func:`_place` put it in ``ft``), row by row: loaded once per foot."""
     return (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5],
             ft[f, F_R + 6], ft[f, F_R + 7], ft[f, F_R + 8])
+
+
+@_compiled(inline="always")
+def _vertical_into(each: np.ndarray, i: int, fz: float) -> None:
+    """Element ``i``'s force [N] when it carries its vertical force ``fz`` alone, into ``each[i]`` (MudContact3D's
+    element forces)."""
+    each[i, 0] = 0.0
+    each[i, 1] = 0.0
+    each[i, 2] = fz
+
+
+@_compiled()
+def _in_element_order(el: np.ndarray, each: np.ndarray, r: tuple[float, float, float, float, float, float, float,
+                                                                  float, float], lo: int, hi: int
+                      ) -> tuple[float, float, float, float, float, float]:
+    """A foot's wrench, force [N] and torque [N m], summed over its elements ``lo:hi`` as
+    :class:`~mudforce.steppers.contact3d.MudContact3D` sums it (numpy's ``sum(axis=0)``: from the first element,
+    element after element), from their forces ``each`` and their moments
+    (:func:`~mudforce.model.law3d.moment` about the body origin, recomputed from the foot's rotation ``r``: the
+    same arguments, the same bits)."""
+    if hi <= lo:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    fx, fy, fz = each[lo, 0], each[lo, 1], each[lo, 2]
+    ox, oy, oz = rotate(r, el[lo, E_CBX], el[lo, E_CBY], el[lo, E_CBZ])
+    tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
+    for i in range(lo + 1, hi):
+        ex, ey, ez = each[i, 0], each[i, 1], each[i, 2]
+        ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+        mx, my, mz = moment(ox, oy, oz, ex, ey, ez)
+        fx += ex
+        fy += ey
+        fz += ez
+        tx += mx
+        ty += my
+        tz += mz
+    return fx, fy, fz, tx, ty, tz
 
 
 # rows of the lateral scratch block (one per slice of feet, :func:`lateral_scratch`): a foot's submerged elements
@@ -218,9 +252,9 @@ def lateral_scratch(widest: int, slices: int) -> np.ndarray:
 
 
 @_compiled()
-def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.ndarray, stress: np.ndarray,
+def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.ndarray,
                lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, f: int, dt: float,
-               forces: np.ndarray, torques: np.ndarray) -> int:
+               forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
     """Foot ``f``'s step once placed: its elements' paper step, then the 3-D law; the element refused, or -1.
 
     :meth:`mudforce.steppers.contact3d.MudContact3D.step` for one foot, in passes over its elements:
@@ -256,22 +290,28 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
     element's world geometry is recomputed from it where it is used (memory,
     not arithmetic, bounds a step of thousands of feet). ``ft``'s width,
     alpha and beta are the params row's (the same numbers).
+
+    With ``each`` one row per element (:func:`step_feet`), every element's force [N] goes into its row, the
+    elements that carry their vertical force alone included (zero or not), and the wrench is summed over them
+    in element order at the end (:func:`_in_element_order`) instead.
     """
     lo, hi = starts[f], starts[f + 1]
     p = load_params(params, lo)
     quiet = exact_rule(p)
     r = _foot_rotation(ft, f)
     px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
+    h = ft[f, F_SURFACE]
     started = ft[f, F_STARTED] != 0.0
+    each_ = each.shape[0] != 0  # every element's force wanted (MudContact3D), the wrench summed in element order
     sfx = sfy = sfz = 0.0
     stx = sty = stz = 0.0
     m = 0
     for i in range(lo, hi):
         row = states[i]
-        z = depths[i]
+        _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
+        z = element_depth(h, pz, oz)  # (checked by _place)
         if row[S_STARTED] != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
             z = settle_depth(z, row[S_DEPTH])
-            depths[i] = z
         # ---- the paper's step of the element (what _kernel.loops.run_feet does for a foot)
         if quiet and row[S_MODE] == FREE:
             q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
@@ -325,9 +365,11 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
             if started:  # what element_force gives an element that carries no horizontal force
                 el[i, E_SLIPX] = 0.0
                 el[i, E_SLIPY] = 0.0
-                if sigma != 0.0:  # (most elements above the surface carry none: no force, no moment to add)
+                if sigma != 0.0 or each_:  # (most elements above the surface carry none: no force, no moment)
                     _, _, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
                     fz = vertical_force(sigma, el[i, E_AREA], nz)
+                    if each_:
+                        _vertical_into(each, i, fz)
                     mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
                     sfz += fz
                     stx += mx
@@ -352,9 +394,11 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
             ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
             el[i, E_SLIPX] = 0.0
             el[i, E_SLIPY] = 0.0
-            if stress[i] != 0.0:
+            if stress[i] != 0.0 or each_:
                 _, _, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
                 fz = vertical_force(stress[i], el[i, E_AREA], nz)
+                if each_:
+                    _vertical_into(each, i, fz)
                 mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
                 sfz += fz
                 stx += mx
@@ -386,6 +430,10 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
             el[i, E_SLIPX] = sxs[j]
             el[i, E_SLIPY] = sys_[j]
             fx, fy, fz = fxs[j], fys[j], fzs[j]
+            if each_:
+                each[i, 0] = fx
+                each[i, 1] = fy
+                each[i, 2] = fz
             mx, my, mz = moment(lat[L_OX, j], lat[L_OY, j], lat[L_OZ, j], fx, fy, fz)
             sfx += fx
             sfy += fy
@@ -393,6 +441,8 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, depths: np.nd
             stx += mx
             sty += my
             stz += mz
+    if each_:  # MudContact3D's order: every element's force and moment, from the first element, in element order
+        sfx, sfy, sfz, stx, sty, stz = _in_element_order(el, each, r, lo, hi)
     forces[f, 0] = sfx
     forces[f, 1] = sfy
     forces[f, 2] = sfz
@@ -432,34 +482,42 @@ def element_forces(stress: np.ndarray, spring: np.ndarray, areas: np.ndarray, nx
 
 @_compiled()
 def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-              starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray,
-              ring: np.ndarray, params: np.ndarray, forces: np.ndarray, torques: np.ndarray) -> int:
+              starts: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray, ring: np.ndarray,
+              params: np.ndarray, forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
     """One step of every foot: the wrench of foot ``f`` [N], [N m] into ``forces[f]`` and ``torques[f]``.
 
     ``positions`` (m, 3) [m] and ``quaternions`` (m, 4) ``(w, x, y, z)``
     are the feet's poses, ``dt`` [s] the time since the last step (ignored
     if no foot has started). ``states``, ``ring`` and ``params`` are the
-    1-D stepper's rows, one per element, ``depths`` and ``stress`` its
-    depths [m] and forces (on a unit area: the stresses [Pa]); ``lat`` the
+    1-D stepper's rows, one per element, ``stress`` its forces (on a unit
+    area: the elements' paper stresses [Pa]); ``lat`` the
     lateral scratch (:func:`lateral_scratch`, one slice). Returns :data:`OK`; or, having changed nothing, the
     first foot whose pose or depth is refused (see :func:`_place`),
     :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
     foot has started, or :data:`BAD_SHAPE` if the poses or the outputs are
-    not one row per foot (``ft``'s rows): (m, 3), (m, 4), (m, 3), (m, 3).
+    not one row per foot (``ft``'s rows): (m, 3), (m, 4), (m, 3), (m, 3),
+    or ``each`` neither (0, 3) nor one row per element.
+
+    ``each`` (0, 3): :class:`~mudforce.steppers.contact3d.MudContacts3D`'s step, each foot's wrench summed
+    as it goes (see :func:`_step_foot`). One row per element (:class:`~mudforce.steppers.contact3d.MudContact3D`,
+    one foot): each element's force [N] into its row as well, and each foot's wrench summed over its elements
+    in element order, as ``MudContact3D``'s numpy step sums it (:func:`_in_element_order`), its bits.
     """
     m = ft.shape[0]
     if not (positions.shape[0] == m and positions.shape[1] == 3 and quaternions.shape[0] == m
             and quaternions.shape[1] == 4 and forces.shape[0] == m and forces.shape[1] == 3
-            and torques.shape[0] == m and torques.shape[1] == 3):
+            and torques.shape[0] == m and torques.shape[1] == 3
+            and (each.shape[0] == 0 or each.shape[0] == el.shape[0]) and each.shape[1] == 3):
         return BAD_SHAPE
     dt = _checked_dt(ft, m, dt)  # 1.0 (ignored by every element's first step) while no foot has started
     if dt != dt:
         return BAD_DT
-    bad = _place(positions, quaternions, el, ft, starts, depths)
+    bad = _place(positions, quaternions, el, ft, starts)
     if bad != OK:
         return bad
     for f in range(m):
-        refused = _step_foot(el, ft, starts, depths, stress, lat[0], states, ring, params, f, dt, forces, torques)
+        refused = _step_foot(el, ft, starts, stress, lat[0], states, ring, params, f, dt, forces, torques,
+                             each)
         if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return refused
     return OK
@@ -478,9 +536,9 @@ def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
 
 @_compiled(parallel=True)
 def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-                      starts: np.ndarray, depths: np.ndarray, stress: np.ndarray, lat: np.ndarray,
+                      starts: np.ndarray, stress: np.ndarray, lat: np.ndarray,
                       states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
-                      torques: np.ndarray, chunks: np.ndarray) -> int:
+                      torques: np.ndarray, each: np.ndarray, chunks: np.ndarray) -> int:
     """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
 
     The checks run first, on the calling thread, over every foot; then
@@ -492,7 +550,7 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     dt = _checked_dt(ft, m, dt)
     if dt != dt:
         return BAD_DT
-    bad = _place(positions, quaternions, el, ft, starts, depths)
+    bad = _place(positions, quaternions, el, ft, starts)
     if bad != OK:
         return bad
     n = chunks.shape[0]
@@ -501,171 +559,13 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
         hi = m * (c + 1) // n
         chunks[c] = -1
         for f in range(lo, hi):
-            refused = _step_foot(el, ft, starts, depths, stress, lat[c], states, ring, params, f, dt, forces,
-                                 torques)
+            refused = _step_foot(el, ft, starts, stress, lat[c], states, ring, params, f, dt, forces,
+                                 torques, each)
             if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
                 chunks[c] = refused
     for c in range(n):
         if chunks[c] >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return int(chunks[c])
-    return OK
-
-
-# one foot (contact_place and contact_law, MudContact3D): its constants, its elements' columns (body frame),
-# its scratch rows
-C_SURFACE, C_WIDTH, C_STIFFNESS, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAMBDA, C_RHO, C_STARTED = range(9)
-N_CONTACT_CONSTANTS = 9
-B_CX, B_CY, B_CZ, B_NX, B_NY, B_NZ, B_AREA, B_WX, B_WY, B_WZ = range(10)  # B_W*: the world centroid, last step
-N_BODY_COLUMNS = 10
-W_NX, W_NY, W_NZ, W_OX, W_OY, W_OZ, W_DEPTH, W_WX, W_WY, W_WZ, W_AREA = range(11)
-# the submerged elements gathered (element_forces' arguments, side by side): their index, then their columns
-G_INDEX, G_STRESS, G_AREA, G_NX, G_NY, G_NZ, G_OX, G_OY, G_OZ, G_DEPTH, G_SPRING, G_MX, G_MY = range(11, 24)
-N_WORK = 24
-
-
-@_compiled(inline="always")
-def _vertical_only(stress: np.ndarray, work: np.ndarray, slip: np.ndarray, forces: np.ndarray, out: np.ndarray,
-                   i: int) -> None:
-    """Element ``i`` of :func:`contact_law` carrying its vertical force alone (element_force's values where it
-    carries no horizontal force): no slip, the force into ``forces[i]`` [N], its moment into ``out[i, 5:8]``."""
-    fz = vertical_force(stress[i], work[W_AREA, i], work[W_NZ, i])
-    tx, ty, tz = moment(work[W_OX, i], work[W_OY, i], work[W_OZ, i], 0.0, 0.0, fz)
-    slip[i, 0] = 0.0
-    slip[i, 1] = 0.0
-    forces[i, 0] = 0.0
-    forces[i, 1] = 0.0
-    forces[i, 2] = fz
-    out[i, 5] = tx
-    out[i, 6] = ty
-    out[i, 7] = tz
-
-
-@_compiled()
-def contact_place(position: np.ndarray, quaternion: np.ndarray, dt: float, consts: np.ndarray, body: np.ndarray,
-                  states: np.ndarray, work: np.ndarray) -> int:
-    """The first of :meth:`mudforce.steppers.contact3d.MudContact3D.step`'s three compiled calls: the checks and
-    the placing of the elements (its arithmetic in its order, its bits).
-
-    Speed plumbing, no physics: with the foot's pose, ``position`` (3,) [m] and ``quaternion`` (4,), each
-    element's world normal [-], offset from the body origin and world centroid [m], and its depth [m]
-    (:func:`mudforce.model.law3d.rotation`, :func:`~mudforce.model.law3d.rotate`,
-    :func:`~mudforce.model.law3d.element_depth`, :func:`~mudforce.model.law3d.settle_depth` against the depth
-    of its 1-D state row in ``states``) into ``work``'s ``W_*`` rows (the depths in ``W_DEPTH``, which the 1-D
-    stepper, :func:`mudforce._kernel.loops.run_feet`, takes next). ``consts`` the foot's ``C_*`` [SI],
-    ``body`` its elements' ``B_*`` columns. Returns :data:`OK` once the foot has started (``dt`` [s] checked),
-    :data:`FIRST` before (``dt`` is then ignored: the elements take 1.0), or, having written nothing but
-    scratch, :data:`BAD_SHAPE`, :data:`BAD_POSE`, :data:`BAD_DT` or :data:`BAD_DEPTH` (the numpy step then
-    words the error).
-    """
-    n = body.shape[0]
-    if not (position.shape[0] == 3 and quaternion.shape[0] == 4):
-        return BAD_SHAPE
-    px, py, pz = position[0], position[1], position[2]
-    qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
-    if not _pose_ok(px, py, pz, qw, qx, qy, qz):
-        return BAD_POSE
-    started = consts[C_STARTED] != 0.0
-    if started and not MIN_DT <= dt <= MAX_DT:
-        return BAD_DT
-    r = rotation(qw, qx, qy, qz)
-    h = consts[C_SURFACE]
-    bad = False
-    for i in range(n):
-        ox, oy, oz = rotate(r, body[i, B_CX], body[i, B_CY], body[i, B_CZ])
-        nx, ny, nz = rotate(r, body[i, B_NX], body[i, B_NY], body[i, B_NZ])
-        depth = element_depth(h, pz, oz)
-        if started:
-            depth = settle_depth(depth, states[i, S_DEPTH])
-        bad |= not abs(depth) <= MAX_DEPTH
-        work[W_OX, i] = ox
-        work[W_OY, i] = oy
-        work[W_OZ, i] = oz
-        work[W_NX, i] = nx
-        work[W_NY, i] = ny
-        work[W_NZ, i] = nz
-        work[W_DEPTH, i] = depth
-        work[W_WX, i] = px + ox
-        work[W_WY, i] = py + oy
-        work[W_WZ, i] = pz + oz
-    if bad:
-        return BAD_DEPTH
-    return OK if started else FIRST
-
-
-@_compiled()
-def contact_law(dt: float, consts: np.ndarray, body: np.ndarray, slip: np.ndarray, stress: np.ndarray,
-                work: np.ndarray, gathered: np.ndarray, out: np.ndarray, forces: np.ndarray,
-                wrench: np.ndarray) -> int:
-    """The last of :meth:`mudforce.steppers.contact3d.MudContact3D.step`'s three compiled calls: the 3-D law
-    and the wrench, after :func:`contact_place` and the 1-D stepper (its arithmetic in its order, its bits).
-
-    Speed plumbing, no physics: the elements below the surface, gathered, through :func:`element_forces` (with
-    Eq. (4) from :func:`~mudforce.model.equations.nonlinear_spring_stress`, what ``law3d.spring_stress`` calls);
-    the others (and every element at the foot's first step) carry :func:`~mudforce.model.law3d.vertical_force`
-    alone and no slip, which is what ``element_force`` gives them. The wrench is summed as numpy's
-    ``sum(axis=0)`` does: from the first element, in element order. ``dt`` [s] the step's, ``stress`` the
-    elements' paper stresses [Pa] (the 1-D stepper's), ``slip`` (n, 2) [m] the slips (updated), ``gathered``
-    (n, 2) and ``out`` (2 n, 8) scratch. Writes each element's force [N] into ``forces`` (n, 3), the wrench
-    into ``wrench`` (force [N]; torque [N m]), the world centroids into ``body`` and marks the foot started.
-    Returns :data:`OK`, or :data:`BAD_SHAPE` (nothing written) for outputs of other shapes.
-    """
-    n = body.shape[0]
-    if not (forces.shape[0] == n and forces.shape[1] == 3 and wrench.shape[0] == 2 and wrench.shape[1] == 3):
-        return BAD_SHAPE
-    # the submerged elements of a started foot through element_forces, gathered so that it runs over them alone;
-    # the others (and every element at the foot's first step) get their vertical force and no slip from it:
-    # computed here, the same arithmetic
-    started = consts[C_STARTED] != 0.0
-    m = 0
-    for i in range(n):
-        if started and work[W_DEPTH, i] > 0.0:
-            work[G_INDEX, m] = i
-            work[G_STRESS, m] = stress[i]
-            work[G_AREA, m] = work[W_AREA, i]
-            work[G_NX, m] = work[W_NX, i]
-            work[G_NY, m] = work[W_NY, i]
-            work[G_NZ, m] = work[W_NZ, i]
-            work[G_OX, m] = work[W_OX, i]
-            work[G_OY, m] = work[W_OY, i]
-            work[G_OZ, m] = work[W_OZ, i]
-            work[G_DEPTH, m] = work[W_DEPTH, i]
-            work[G_MX, m] = work[W_WX, i] - body[i, B_WX]
-            work[G_MY, m] = work[W_WY, i] - body[i, B_WY]
-            gathered[m, 0] = slip[i, 0]
-            gathered[m, 1] = slip[i, 1]
-            m += 1
-        else:
-            _vertical_only(stress, work, slip, forces, out, i)
-    if m > 0:
-        alpha, beta, width = consts[C_ALPHA], consts[C_BETA], consts[C_WIDTH]
-        depth_, spring = work[G_DEPTH], work[G_SPRING]
-        for j in range(m):
-            spring[j] = nonlinear_spring_stress(alpha, beta, depth_[j], width)
-        result = out[n:n + m]
-        element_forces(work[G_STRESS, :m], spring[:m], work[G_AREA, :m], work[G_NX, :m], work[G_NY, :m],
-                       work[G_NZ, :m], work[G_OX, :m], work[G_OY, :m], work[G_OZ, :m], depth_[:m], gathered[:m],
-                       work[G_MX, :m], work[G_MY, :m], 1.0 / dt, consts[C_STIFFNESS], consts[C_SIGMA_Y],
-                       consts[C_LAMBDA], consts[C_RHO], result)
-        for j in range(m):
-            i = int(work[G_INDEX, j])
-            slip[i, 0] = result[j, 0]
-            slip[i, 1] = result[j, 1]
-            for k in range(3):
-                forces[i, k] = result[j, 2 + k]
-                out[i, 5 + k] = result[j, 5 + k]
-    for k in range(3):  # numpy's sum(axis=0): from the first row, row after row
-        f = forces[0, k] if n > 0 else 0.0
-        t = out[0, 5 + k] if n > 0 else 0.0
-        for i in range(1, n):
-            f += forces[i, k]
-            t += out[i, 5 + k]
-        wrench[0, k] = f
-        wrench[1, k] = t
-    for i in range(n):
-        body[i, B_WX] = work[W_WX, i]
-        body[i, B_WY] = work[W_WY, i]
-        body[i, B_WZ] = work[W_WZ, i]
-    consts[C_STARTED] = 1.0
     return OK
 
 
@@ -688,17 +588,3 @@ def fixed_types(dispatcher: Any, *examples: Any) -> Any:
         fixed.add_overload(compiled)
     fixed.disable_compile()
     return fixed
-
-
-def entry_point(dispatcher: Any, *examples: Any) -> Any:
-    """``dispatcher``'s compiled code for arguments of the types of ``examples``, called with no typing at all.
-
-    Speed plumbing: numba's dispatcher types every argument of every call (~30 ns an array) to choose the
-    compiled version; the version's own entry point takes the arguments as they are. Only for calls whose
-    arguments are ``examples``' very types (float64 arrays the caller made, of the same dimensions, layout and
-    writability, and floats): anything else would be read as if it were. Compiles (or loads from numba's cache)
-    the version first.
-    """
-    signature = tuple(typeof(a) for a in examples)
-    dispatcher.compile(signature)
-    return dispatcher.overloads[signature].entry_point

@@ -15,8 +15,9 @@ law, the placing of the elements and the wrench's moments are
 elements with them on numpy arrays and runs the law over them compiled
 (:func:`mudforce._kernel.step3d.element_forces`), and, from its second step
 on, takes the same arithmetic in the same order compiled, the same bits
-(:func:`mudforce._kernel.step3d.contact_place` and
-:func:`~mudforce._kernel.step3d.contact_law`); :class:`MudContacts3D` has
+(:class:`MudContacts3D`'s compiled step of one foot,
+:func:`mudforce._kernel.step3d.step_feet`, with every element's force and the
+wrench summed in element order); :class:`MudContacts3D` has
 them compiled in (:mod:`mudforce._kernel.step3d`) and
 :mod:`mudforce.jax.contact3d` calls them on JAX arrays.
 
@@ -36,6 +37,7 @@ from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
+from numba import typeof
 
 from mudforce import _kernel as K
 from mudforce._kernel import step3d as S3
@@ -159,29 +161,26 @@ class MudContact3D:
             raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
         self._lateral_stiffness = float(k)
         n = shape.n
-        # the step's arrays (the layout of mudforce._kernel.step3d.contact_place and contact_law; the numpy step uses
-        # the same)
-        self._consts = np.zeros(S3.N_CONTACT_CONSTANTS)
-        self._consts[[S3.C_SURFACE, S3.C_WIDTH, S3.C_STIFFNESS, S3.C_SIGMA_Y, S3.C_ALPHA, S3.C_BETA, S3.C_LAMBDA,
-                      S3.C_RHO]] = (self._surface_height, self._width, self._lateral_stiffness, params.sigma_y,
-                                    params.alpha, params.beta, params.lambda_, params.rho_m)
-        body = np.zeros((n, S3.N_BODY_COLUMNS))
-        body[:, S3.B_CX:S3.B_CZ + 1] = shape.centroids
-        body[:, S3.B_NX:S3.B_NZ + 1] = shape.normals
-        body[:, S3.B_AREA] = shape.areas
-        self._slip = np.zeros((n, 2))
-        self._centroids = body[:, S3.B_WX:S3.B_WZ + 1]  # a view: the world centroids at the last step [m]
-        work = np.zeros((S3.N_WORK, n))
-        work[S3.W_AREA] = shape.areas
-        self._areas = work[S3.W_AREA]  # the areas [m^2] as the compiled step has them (writable, as numba types them)
-        e = self._elements
-        # the three compiled calls' arguments (S3.contact_place, K.run_feet, S3.contact_law), but the pose, dt and
-        # the outputs
-        self._args = ((self._consts, body, e._states, work), (e._states, e.ring, e.params_array, work[S3.W_DEPTH]),
-                      (e.forces, e._scratch[0], e._index[0]),
-                      (self._consts, body, self._slip, e.forces, work, np.zeros((n, 2)), np.zeros((2 * n, 8))))
+        # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
+        # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
+        el = np.zeros((n, S3.N_ELEMENT_COLUMNS))
+        el[:, S3.E_CBX:S3.E_CBZ + 1] = shape.centroids
+        el[:, S3.E_NBX:S3.E_NBZ + 1] = shape.normals
+        el[:, S3.E_AREA] = shape.areas
+        self._foot = np.zeros((1, S3.N_FOOT_COLUMNS))
+        self._foot[0, [S3.F_SURFACE, S3.F_WIDTH, S3.F_STIFFNESS, S3.F_SIGMA_Y, S3.F_ALPHA, S3.F_BETA, S3.F_LAMBDA,
+                       S3.F_RHO]] = (self._surface_height, self._width, self._lateral_stiffness, params.sigma_y,
+                                     params.alpha, params.beta, params.lambda_, params.rho_m)
+        self._slip = el[:, S3.E_SLIPX:S3.E_SLIPY + 1]  # views: the slips [m] and the world centroids at the last
+        self._centroids = el[:, S3.E_CX:S3.E_CZ + 1]  # step [m]
+        self._areas = np.array(shape.areas, dtype=np.float64)  # the areas [m^2] as the numpy step's compiled loop
+        e = self._elements  # has them (writable, C-contiguous, as numba types them)
+        # step_feet's arguments after the pose and dt, before the outputs
+        self._foot[0, S3.F_REACH] = _reach(shape)
+        self._kernel_args = (el, self._foot, np.array([0, n], dtype=np.int64), np.zeros(n), S3.lateral_scratch(n, 1),
+                             e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
-        self._fixed: Any = None  # the three's compiled code (MudContact3D._fixed_types), once the numpy step has run
+        self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), once the numpy step has run
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
 
@@ -214,11 +213,11 @@ class MudContact3D:
     @property
     def _started(self) -> bool:
         """Whether the contact has taken its first step."""
-        return bool(self._consts[S3.C_STARTED] != 0.0)
+        return bool(self._foot[0, S3.F_STARTED] != 0.0)
 
     @_started.setter
     def _started(self, started: bool) -> None:
-        self._consts[S3.C_STARTED] = 1.0 if started else 0.0
+        self._foot[0, S3.F_STARTED] = 1.0 if started else 0.0
 
     # ------------------------------------------------------------------ state
     @property
@@ -271,26 +270,53 @@ class MudContact3D:
         Wrench
             Force [N] and torque about the body origin [N m], world frame.
         """
-        # compiled (S3.contact_place, the 1-D stepper, S3.contact_law: the numpy step below, its bits) for float64
-        # arrays and a float dt, typed by numba (as MudContacts3D.step's hot path); anything else, or a step it
-        # refuses, goes through the numpy step, which converts it or words the error
+        # compiled: MudContacts3D's step of one foot (S3.step_feet, through the same dispatcher of its compiled
+        # code, typed by numba), with every element's force and the wrench summed in element order: the numpy step
+        # below, its bits. The hot path takes float64 arrays and a float dt; _step_converted takes the first step
+        # and other inputs; a step either refuses (having changed nothing) goes through the numpy step, which words
+        # the error
         fixed = self._fixed
-        if type(dt) is float and fixed is not None:
-            place, run, law = fixed
-            place_args, run_args, run_outputs, law_args = self._args
+        if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
+            forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
             try:
-                code = place(position, quaternion, dt, *place_args)
+                code = fixed(position[None], quaternion[None], dt, *self._kernel_args, forces, torques, each)
             except TypeError:  # numba's "no matching definition": another type of argument
                 code = S3.BAD_SHAPE
-            if code == _OK or code == _FIRST:  # placed, nothing changed yet; the elements' 1-D step, then the law
-                h = dt if code == _OK else 1.0  # (ignored by the elements' first step)
-                if run(*run_args, h, *run_outputs) >= 0:  # pragma: no cover - every depth was checked
-                    raise InputError("an element's depth must be finite [m]")
-                forces, wrench = _empty(self._n3), _empty((2, 3))
-                law(h, *law_args, forces, wrench)
-                self.element_forces = forces
-                return Wrench(wrench[0], wrench[1])
-        return self._step_numpy(position, quaternion, dt)
+            if code == _OK:
+                self.element_forces = each
+                return _new_tuple(Wrench, (forces[0], torques[0]))  # Wrench(...) without its Python __new__
+            if code != S3.BAD_SHAPE:  # refused for its values: the numpy step words the error
+                return self._step_numpy(position, quaternion, dt)
+        return self._step_converted(position, quaternion, dt)
+
+    def _step_converted(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
+        """:meth:`step` for its first step and for inputs of other types: converted as the numpy step converts them
+        (``np.asarray`` to float64, made C-contiguous and writable; a real ``dt`` as a float, any ``dt`` before the
+        first step ignored), then the compiled step; what is not converted, or is refused, goes through the numpy
+        step, which words the error. (So a contact stepped with lists, or from its first step, compiles nothing but
+        the one step MudContacts3D compiles.)"""
+        if self._fixed is None:
+            self._fixed = self._fixed_types()
+        try:
+            p = np.array(position, dtype=np.float64, order="C")
+            q = np.array(quaternion, dtype=np.float64, order="C")
+        except (TypeError, ValueError):
+            return self._step_numpy(position, quaternion, dt)
+        if is_real(dt):
+            h = float(dt)
+        elif not self._started:
+            h = 1.0  # ignored by a first step (as the numpy step ignores it)
+        else:
+            return self._step_numpy(position, quaternion, dt)
+        forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
+        try:
+            code = self._fixed(p[None], q[None], h, *self._kernel_args, forces, torques, each)
+        except TypeError:  # numba's "no matching definition": not one pose (a 2-D position, ...)
+            code = S3.BAD_SHAPE
+        if code != _OK:
+            return self._step_numpy(position, quaternion, dt)
+        self.element_forces = each
+        return _new_tuple(Wrench, (forces[0], torques[0]))
 
     def _step_numpy(self, position: Any, quaternion: Any, dt: Any) -> Wrench:
         """:meth:`step` on numpy arrays, every argument checked (converted, or refused with a one-line error).
@@ -321,7 +347,7 @@ class MudContact3D:
         if self._started:  # law3d.element_force and law3d.moment on every element, compiled (S3.element_forces)
             spring = law3d.spring_stress(depth, q.alpha, q.beta, self.width)
             out = np.empty((shape.n, 8))
-            S3.element_forces(stress, spring, self._areas, nx, ny, nz, ox, oy, oz, depth, self._slip, mx, my,
+            S3.element_forces(stress, spring, self._areas, nx, ny, nz, ox, oy, oz, depth, self._slip.copy(), mx, my,
                               1.0 / dt, self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m, out)
             slip_x, slip_y = out[:, 0], out[:, 1]
             forces = out[:, 2:5]
@@ -343,22 +369,13 @@ class MudContact3D:
             self._fixed = self._fixed_types()
         return Wrench(forces.sum(axis=0), torques.sum(axis=0))
 
-    def _fixed_types(self) -> tuple[Any, Any, Any]:
-        """The compiled step's three calls, compiled (or loaded from numba's cache) for this contact's arrays: the
-        first, which takes the caller's pose, as :func:`mudforce._kernel.step3d.fixed_types`, the others'
-        :func:`~mudforce._kernel.step3d.entry_point` (every contact makes its arrays alike)."""
-        if not _fixed_contact:
-            place_args, run_args, run_outputs, law_args = self._args
-            pose = (np.zeros(3), np.zeros(4), 1.0)
-            outputs = (np.zeros(self._n3), np.zeros((2, 3)))
-            # the pose is the caller's: typed by numba; the other two calls take only this contact's own arrays
-            # (made here, of these very types) and floats: their entry points, untyped
-            made = (S3.fixed_types(S3.contact_place, *pose, *place_args),
-                    S3.entry_point(K.run_feet, *run_args, 1.0, *run_outputs),
-                    S3.entry_point(S3.contact_law, 1.0, *law_args, *outputs))
-            _fixed_contact[:] = made  # (one assignment: two threads making them at once make the same three)
-        place, run, law = _fixed_contact
-        return place, run, law
+    def _fixed_types(self) -> Any:
+        """The compiled step, compiled (or loaded from numba's cache) for this contact's arrays (MudContacts3D's
+        types: the same compiled code), through MudContacts3D.step's dispatcher of it (:func:`_fixed_step`)."""
+        pose = (np.zeros((1, 3)), np.zeros((1, 4)), 1.0)
+        outputs = (np.zeros(_ONE3), np.zeros(_ONE3), np.zeros(self._n3))
+        _dispatcher.compile(tuple(typeof(a) for a in (*pose, *self._kernel_args, *outputs)))
+        return _fixed_step()
 
     def reset(self) -> None:
         """Forget the history: the next step is a first step."""
@@ -511,6 +528,11 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     return array
 
 
+def _reach(shape: Shape) -> float:
+    """The farthest element centroid of ``shape`` from its body origin [m] (step3d's ``F_REACH``)."""
+    return float(np.sqrt((np.asarray(shape.centroids, dtype=np.float64) ** 2).sum(axis=1)).max(initial=0.0))
+
+
 def _plain(a: np.ndarray) -> np.ndarray:
     """``a`` if it is C-contiguous, aligned and writable, else such a copy of it."""
     flags = a.flags
@@ -530,8 +552,9 @@ _empty = np.empty
 _step_feet = S3.step_feet
 _dispatcher: Any = S3.step_feet  # (numba's dispatcher: its compiled versions)
 _fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and S3.fixed_types of it then
-_FIRST = S3.FIRST
-_fixed_contact: list[Any] = []  # MudContact3D's three compiled calls (MudContact3D._fixed_types)
+_NO_EACH = np.zeros((0, 3))  # step_feet's ``each`` for MudContacts3D: no element's force, each foot's own order
+_ONE3 = (1, 3)
+_new_tuple = tuple.__new__
 
 
 def _fixed_step() -> Any:
@@ -653,6 +676,7 @@ class MudContacts3D:
             ft[f, S3.F_BETA] = q.beta
             ft[f, S3.F_LAMBDA] = q.lambda_
             ft[f, S3.F_RHO] = q.rho_m
+            ft[f, S3.F_REACH] = _reach(shape)
         el = np.zeros((total, S3.N_ELEMENT_COLUMNS))
         for f, shape in enumerate(feet):
             lo, hi = self._starts[f], self._starts[f + 1]
@@ -667,14 +691,13 @@ class MudContacts3D:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = min(vectorized._resolve_threads(threads, total), m)
         self._chunks = np.empty(self.threads, dtype=np.int64)
-        self._depths = np.zeros(total)  # this step's element depths [m] and paper stresses [Pa]
-        self._stress = np.zeros(total)
+        self._stress = np.zeros(total)  # this step's element paper stresses [Pa]
         # a foot's submerged elements side by side, for the spring's and the 3-D law's vectorised loops (one block
         # per slice)
         self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
         # the compiled step's arguments after the poses and dt, before the outputs
-        self._kernel_args = (self._el, self._ft, self._starts, self._depths, self._stress, self._lateral, self._states,
-                             self._ring, self._params_rows)
+        self._kernel_args = (self._el, self._ft, self._starts, self._stress, self._lateral, self._states, self._ring,
+                             self._params_rows)
         # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
         # and the dispatcher of its hot path (None until the first step has compiled the step, and with threads)
         self._hot: tuple[tuple[int, int], tuple[np.ndarray, ...], Any] = ((m, 3), self._kernel_args, None)
@@ -796,7 +819,7 @@ class MudContacts3D:
             return self._step_checked(positions, quaternions, dt, out)
         if type(dt) is float and fixed is not None:
             try:
-                code = fixed(positions, quaternions, dt, *args, forces, torques)
+                code = fixed(positions, quaternions, dt, *args, forces, torques, _NO_EACH)
             except TypeError:  # numba's "no matching definition": another type of argument
                 code = S3.BAD_SHAPE
             if code == _OK:
@@ -828,9 +851,9 @@ class MudContacts3D:
             forces, torques = _empty(ps), _empty(ps)
         if threaded and not vectorized._forked:
             with vectorized._launch_lock:
-                code = S3.step_feet_threads(p, q, dt, *args, forces, torques, self._chunks)
+                code = S3.step_feet_threads(p, q, dt, *args, forces, torques, _NO_EACH, self._chunks)
         else:
-            code = _step_feet(p, q, dt, *args, forces, torques)
+            code = _step_feet(p, q, dt, *args, forces, torques, _NO_EACH)
             if self._hot[2] is None:  # compiled now: the hot path can take the same code
                 self._hot = (ps, args, _fixed_step())
         if code != _OK:
