@@ -13,7 +13,8 @@ Output columns: time_s, water_content, water_content_low,
 water_content_high (the estimate and its 95 % interval, fractions: 0.25 is
 25 %), force_predicted_N (the force the model predicts for the sample,
 offset included), force_N (as measured), changed (1 where a change of mud
-was flagged). A force-gain error cannot be told from stiffer mud:
+was flagged), misfit (1 where the model misses the data: the mud may not
+be in the Table I family, or the sensor chain is off). A force-gain error cannot be told from stiffer mud:
 --force-gain-uncertainty (default 5%) widens the interval by what it does.
 Everything is checked before anything is written; the
 outputs are replaced atomically and never overwrite the input.
