@@ -164,9 +164,22 @@ def _jump_statistic(time: np.ndarray, force: np.ndarray, noise: float) -> np.nda
     if m < 3:
         return np.zeros(m)
     h = _TREND_HALF_WIDTH
-    padded = np.concatenate([np.full(h, np.nan), d / dt, np.full(h, np.nan)])
+    rate = d / dt
+    padded = np.concatenate([np.full(h, np.nan), rate, np.full(h, np.nan)])
     windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * h + 1)
     trend = np.nanmedian(np.delete(windows, h, axis=1), axis=1)
+    if m > 2 * h:
+        # the first and last h steps (ours): the truncated window holds only 2 or 3 neighbours, and a switch among
+        # them moves their median by half its jump, so the step beside a switch at the record's end read as an
+        # opposite switch and the pair was folded back (a walk ending in a sway's turn: docs/calibration.md). The
+        # 2h nearest steps on the record's side are no cure alone: where a descent stops at the end, their trend
+        # is the descent's, and the stop reads as a jump. A jump there must stand out from both trends: the one
+        # nearer the step's own rate counts
+        for k in (*range(h), *range(m - h, m)):
+            a = min(max(k - h, 0), m - 2 * h - 1)
+            inward = float(np.median(np.delete(rate[a:a + 2 * h + 1], k - a)))
+            if not abs(rate[k] - trend[k]) <= abs(rate[k] - inward):
+                trend[k] = inward
     jump = d - np.where(np.isfinite(trend), trend, 0.0) * dt
     wide = 4 * h
     padded = np.concatenate([np.full(wide, np.nan), np.abs(jump), np.full(wide, np.nan)])

@@ -10,7 +10,10 @@ The fit is staged, as Section III-A of [1] suggests (:data:`CHEN2024.stages
 <mudforce.estimation.calibration.models.CHEN2024>`):
 
 1. intrusion and hold (``k_m_i, b_m_i, alpha, beta``) on the samples up to
-   the reversal: bounded least squares from the best Table I rows;
+   the reversal: bounded least squares from the best Table I rows (a trial
+   that starts in the mud: on its first touchdown from above instead,
+   :attr:`PreparedTrial.intrusion_window
+   <mudforce.estimation.calibration.preprocess.PreparedTrial.intrusion_window>`);
 2. withdrawal (``k_m_w, b_m_w, sigma_y, zeta, omega_0``) on the samples after
    it: seeded differential evolution, then least squares. Necking makes this
    objective non-smooth in ``sigma_y`` (the neck breaks at a different
@@ -174,7 +177,8 @@ def _trial_residual(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np
     t, z, f = tr.time, tr.depth, tr.force
     k = tr.reversal_index
     if window == "intrusion":  # the force up to the reversal does not depend on what follows
-        head: np.ndarray = model.force(t[:k], z[:k], values, foot) - f[:k]
+        a, b = tr.intrusion_window  # a trial that starts in the mud: its first touchdown, from a free foot
+        head: np.ndarray = model.force(t[a:b], z[a:b], values, foot) - f[a:b]
         return head
     r: np.ndarray = model.force(t, z, values, foot) - f
     return r[k:] if window == "withdrawal" else r

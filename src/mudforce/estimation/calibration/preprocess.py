@@ -321,6 +321,12 @@ class PreparedTrial:
         Noise left on :attr:`depth` [m]: the measured depth noise on the
         general path (the denoised depth keeps most of it), 0 for a fitted
         protocol motion (whose uncertainty enters through ``motion_covariance``).
+    touchdown : tuple of 2 int, or None
+        For a trial that starts in the mud (general path), the samples ``[a, b)`` of its first touchdown from
+        above: ``a`` the last sample clear of the surface before it, reached by a step down (so the model is
+        FREE there, whatever came before), ``b`` the end of the first withdrawal step in the mud after it. The
+        fit's intrusion stage fits these samples, simulated from ``a``, instead of ``[:reversal_index]``
+        (a sway of relaxed mud, which hardly shows the intrusion parameters). None otherwise.
     """
 
     trial: Trial
@@ -335,6 +341,12 @@ class PreparedTrial:
     reversal_time: float = math.nan
     velocity: float = math.nan
     depth_noise: float = 0.0
+    touchdown: tuple[int, int] | None = None
+
+    @property
+    def intrusion_window(self) -> tuple[int, int]:
+        """The samples ``[a, b)`` the intrusion stage fits: :attr:`touchdown`, else ``[0, reversal_index)`` [-]."""
+        return self.touchdown if self.touchdown is not None else (0, self.reversal_index)
 
     @property
     def bias_estimated(self) -> bool:
@@ -454,6 +466,7 @@ def _prepare_general(trial: Trial, known_depth_noise: float | None = None) -> Pr
     reversal_index = int(withdrawing[0]) + 1 if withdrawing.size else t.size
     down = (labels > 0) & inside[:-1] & (np.diff(depth) > 0)
     speeds = np.diff(depth)[down] / np.diff(t)[down]
+    touchdown = _first_touchdown(depth, labels, inside) if first_in == 0 else None
     return PreparedTrial(
         trial=trial,
         motion=None,
@@ -467,7 +480,25 @@ def _prepare_general(trial: Trial, known_depth_noise: float | None = None) -> Pr
         reversal_time=float(t[reversal_index - 1]) if withdrawing.size else math.nan,
         velocity=float(np.median(speeds)) if speeds.size else math.nan,
         depth_noise=depth_noise,
+        touchdown=touchdown,
     )
+
+
+def _first_touchdown(depth: np.ndarray, labels: np.ndarray, inside: np.ndarray) -> tuple[int, int] | None:
+    """Samples ``[a, b)`` of the first touchdown from above, from a sample where the model is FREE (ours).
+
+    ``a``: the last sample clear of the surface (``depth <= 0``) before an entry, reached by a step down: by
+    the contact state machine (docs/model.md) a step down that ends clear of the surface leaves the model
+    FREE from any state, so the force from ``a`` on does not depend on what came before it. ``b``: one past
+    the first withdrawal step in the mud after ``a`` (the end of the trial if none). None without such an entry.
+    """
+    steps = np.diff(depth)
+    entries = np.flatnonzero(~inside[1:-1] & inside[2:] & (steps[:-1] > 0.0)) + 1
+    if not entries.size:
+        return None
+    a = int(entries[0])
+    withdrawing = np.flatnonzero((labels[a:] < 0) & inside[a:-1])
+    return a, (a + int(withdrawing[0]) + 1 if withdrawing.size else depth.size)
 
 
 def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: float | None = None) -> PreparedTrial:
