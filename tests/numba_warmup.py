@@ -117,6 +117,7 @@ def _three_d_and_engines(tmp: Path) -> list[tuple[str, Callable[[], None]]]:
         toe = mf.MudContact3D(params, shapes.sphere(0.04))
         toe.step([0.0, 0.0, 0.01], upright, 0.0)
         toe.step([0.0, 0.0, -0.001], upright, 0.01)
+        toe._step_numpy([0.0, 0.0, -0.002], upright, 0.01)  # the numpy reference step's compiled element forces
         for threads in (1, 2):
             feet = mf.MudContacts3D(params, shapes.sphere(0.04), 2, threads=threads)
             feet.step(np.zeros((2, 3)), np.tile(upright, (2, 1)), 0.0)
