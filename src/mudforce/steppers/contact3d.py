@@ -164,23 +164,18 @@ class MudContact3D:
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
         # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
         el = np.zeros((n, S3.N_ELEMENT_COLUMNS))
-        el[:, S3.E_CBX:S3.E_CBZ + 1] = shape.centroids
-        el[:, S3.E_NBX:S3.E_NBZ + 1] = shape.normals
-        el[:, S3.E_AREA] = shape.areas
+        _fill_elements(el, shape)
         self._foot = np.zeros((1, S3.N_FOOT_COLUMNS))
-        self._foot[0, [S3.F_SURFACE, S3.F_WIDTH, S3.F_STIFFNESS, S3.F_SIGMA_Y, S3.F_ALPHA, S3.F_BETA, S3.F_LAMBDA,
-                       S3.F_RHO]] = (self._surface_height, self._width, self._lateral_stiffness, params.sigma_y,
-                                     params.alpha, params.beta, params.lambda_, params.rho_m)
+        _fill_foot(self._foot[0], params, self._surface_height, self._width, self._lateral_stiffness, shape)
         self._slip = el[:, S3.E_SLIPX:S3.E_SLIPY + 1]  # views: the slips [m] and the world centroids at the last
         self._centroids = el[:, S3.E_CX:S3.E_CZ + 1]  # step [m]
         self._areas = np.array(shape.areas, dtype=np.float64)  # the areas [m^2] as the numpy step's compiled loop
         e = self._elements  # has them (writable, C-contiguous, as numba types them)
         # step_feet's arguments after the pose and dt, before the outputs
-        self._foot[0, S3.F_REACH] = _reach(shape)
         self._kernel_args = (el, self._foot, np.array([0, n], dtype=np.int64), np.zeros(n), S3.lateral_scratch(n, 1),
                              e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
-        self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), once the numpy step has run
+        self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), made on the first step
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
 
@@ -533,6 +528,29 @@ def _reach(shape: Shape) -> float:
     return float(np.sqrt((np.asarray(shape.centroids, dtype=np.float64) ** 2).sum(axis=1)).max(initial=0.0))
 
 
+def _fill_foot(row: np.ndarray, params: MudParameters, surface_height: float, width: float, stiffness: float,
+               shape: Shape) -> None:
+    """One foot's row of the compiled step's foot table (step3d's ``F_*`` columns): the surface height [m], the
+    width ``H`` of Eq. (4) [m], the lateral stiffness [Pa/m], the mud's constants and the shape's reach [m]."""
+    row[S3.F_SURFACE] = surface_height
+    row[S3.F_WIDTH] = width
+    row[S3.F_STIFFNESS] = stiffness
+    row[S3.F_SIGMA_Y] = params.sigma_y
+    row[S3.F_ALPHA] = params.alpha
+    row[S3.F_BETA] = params.beta
+    row[S3.F_LAMBDA] = params.lambda_
+    row[S3.F_RHO] = params.rho_m
+    row[S3.F_REACH] = _reach(shape)
+
+
+def _fill_elements(rows: np.ndarray, shape: Shape) -> None:
+    """One foot's rows of the compiled step's element table (step3d's ``E_*`` columns): the body-frame centroids
+    [m], normals [-] and areas [m^2] of ``shape``."""
+    rows[:, S3.E_CBX:S3.E_CBZ + 1] = shape.centroids
+    rows[:, S3.E_NBX:S3.E_NBZ + 1] = shape.normals
+    rows[:, S3.E_AREA] = shape.areas
+
+
 def _plain(a: np.ndarray) -> np.ndarray:
     """``a`` if it is C-contiguous, aligned and writable, else such a copy of it."""
     flags = a.flags
@@ -668,21 +686,10 @@ class MudContacts3D:
             if key not in made:
                 made[key] = _param_rows(q, 1, foot, exact)[0]
             rows[self._starts[f]:self._starts[f + 1]] = made[key]
-            ft[f, S3.F_SURFACE] = h
-            ft[f, S3.F_WIDTH] = foot.width
-            ft[f, S3.F_STIFFNESS] = float(k)
-            ft[f, S3.F_SIGMA_Y] = q.sigma_y
-            ft[f, S3.F_ALPHA] = q.alpha
-            ft[f, S3.F_BETA] = q.beta
-            ft[f, S3.F_LAMBDA] = q.lambda_
-            ft[f, S3.F_RHO] = q.rho_m
-            ft[f, S3.F_REACH] = _reach(shape)
+            _fill_foot(ft[f], q, h, foot.width, float(k), shape)
         el = np.zeros((total, S3.N_ELEMENT_COLUMNS))
         for f, shape in enumerate(feet):
-            lo, hi = self._starts[f], self._starts[f + 1]
-            el[lo:hi, S3.E_CBX:S3.E_CBZ + 1] = shape.centroids
-            el[lo:hi, S3.E_NBX:S3.E_NBZ + 1] = shape.normals
-            el[lo:hi, S3.E_AREA] = shape.areas
+            _fill_elements(el[self._starts[f]:self._starts[f + 1]], shape)
         self._el = el
         self._ft = ft
         self._params_rows = rows
