@@ -300,6 +300,21 @@ def _blurred_quantiles(blur: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _lowpass_coefficients(dt: float, lag: float) -> tuple[float, float]:
+    """``(e, c)`` of :func:`_lowpass_step` for a step of ``dt`` [s] and a lag ``lag`` > 0 [s]:
+    ``e = exp(-dt / lag)``, ``c = (1 - e) lag / dt`` (the latter through ``expm1``)."""
+    return math.exp(-dt / lag), -math.expm1(-dt / lag) * lag / dt
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _lowpass_step(e: float, c: float, y0: float, f0: float, f1: float) -> float:
+    """One step of the first-order low-pass ``lag y' + y = F`` (the force lag, ours), exact for a force linear over
+    the step from ``f0`` to ``f1`` [N]: ``y1 = e y0 + (1 - c) f1 - (e - c) f0`` [N], with ``(e, c)`` of
+    :func:`_lowpass_coefficients`."""
+    return e * y0 + (1.0 - c) * f1 - (e - c) * f0
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
                 scratch: np.ndarray, index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
@@ -381,12 +396,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         pred = 0.0
         predl = 0.0  # the same of the models' forces low-passed by the force lag
         lag = aux[j, _A_LAG]
-        # the first-order low-pass over the step, exact for a force linear between the samples:
-        # y1 = e y0 + (1 - c) F1 - (e - c) F0, e = exp(-dt / lag), c = (1 - e) lag / dt
         lagged = _N_AUX + M  # the first column of the models' low-passed forces
         previous = _N_AUX + 2 * M  # the first column of the models' forces at the previous sample
-        e_lag = 0.0 if (first or lag <= 0.0) else math.exp(-dt / lag)
-        c_lag = -math.expm1(-dt / lag) * lag / dt if e_lag > 0.0 else 0.0
+        e_lag, c_lag = (0.0, 0.0) if (first or lag <= 0.0) else _lowpass_coefficients(dt, lag)
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
         o_map = 0  # the most probable surface offset (before this sample)
@@ -398,8 +410,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 fg = forces[base + o * G + g]
                 yl = fg
                 if e_lag > 0.0:
-                    yl = e_lag * aux[j, lagged + o * G + g] + (1.0 - c_lag) * fg - (e_lag - c_lag) * aux[
-                        j, previous + o * G + g]
+                    yl = _lowpass_step(e_lag, c_lag, aux[j, lagged + o * G + g], aux[j, previous + o * G + g], fg)
                 aux[j, lagged + o * G + g] = yl
                 aux[j, previous + o * G + g] = fg
                 pred += P[j, o * G + g] * fg
@@ -422,9 +433,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             if first or _LAGS[k] == 0.0:
                 aux[j, _A_LAG_Y + k] = pred
             else:
-                ek = math.exp(-dt / _LAGS[k])
-                ck = -math.expm1(-dt / _LAGS[k]) * _LAGS[k] / dt
-                aux[j, _A_LAG_Y + k] = ek * aux[j, _A_LAG_Y + k] + (1.0 - ck) * pred - (ek - ck) * aux[j, _A_PPREV]
+                ek, ck = _lowpass_coefficients(dt, _LAGS[k])
+                aux[j, _A_LAG_Y + k] = _lowpass_step(ek, ck, aux[j, _A_LAG_Y + k], aux[j, _A_PPREV], pred)
         if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
