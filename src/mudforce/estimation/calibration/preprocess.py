@@ -466,7 +466,7 @@ def _prepare_general(trial: Trial, known_depth_noise: float | None = None) -> Pr
     reversal_index = int(withdrawing[0]) + 1 if withdrawing.size else t.size
     down = (labels > 0) & inside[:-1] & (np.diff(depth) > 0)
     speeds = np.diff(depth)[down] / np.diff(t)[down]
-    touchdown = _first_touchdown(depth, labels, inside) if first_in == 0 else None
+    touchdown = _first_touchdown(depth, inside, withdrawing) if first_in == 0 else None
     return PreparedTrial(
         trial=trial,
         motion=None,
@@ -484,21 +484,22 @@ def _prepare_general(trial: Trial, known_depth_noise: float | None = None) -> Pr
     )
 
 
-def _first_touchdown(depth: np.ndarray, labels: np.ndarray, inside: np.ndarray) -> tuple[int, int] | None:
+def _first_touchdown(depth: np.ndarray, inside: np.ndarray, withdrawing: np.ndarray) -> tuple[int, int] | None:
     """Samples ``[a, b)`` of the first touchdown from above, from a sample where the model is FREE (ours).
 
     ``a``: the last sample clear of the surface (``depth <= 0``) before an entry, reached by a step down: by
     the contact state machine (docs/model.md) a step down that ends clear of the surface leaves the model
     FREE from any state, so the force from ``a`` on does not depend on what came before it. ``b``: one past
-    the first withdrawal step in the mud after ``a`` (the end of the trial if none). None without such an entry.
+    the first withdrawal step in the mud after ``a`` (the end of the trial if none; ``withdrawing``: the indices of
+    the withdrawal steps in the mud, ascending). None without such an entry.
     """
     steps = np.diff(depth)
     entries = np.flatnonzero(~inside[1:-1] & inside[2:] & (steps[:-1] > 0.0)) + 1
     if not entries.size:
         return None
     a = int(entries[0])
-    withdrawing = np.flatnonzero((labels[a:] < 0) & inside[a:-1])
-    return a, (a + int(withdrawing[0]) + 1 if withdrawing.size else depth.size)
+    later = withdrawing[withdrawing >= a]
+    return a, (int(later[0]) + 1 if later.size else depth.size)
 
 
 def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: float | None = None) -> PreparedTrial:
