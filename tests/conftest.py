@@ -112,9 +112,10 @@ def pytest_configure(config: pytest.Config) -> None:
     clone (about 100 s of CPU each). The two halves run at once, one per
     core; with a warm cache they only load it. ``MUDFORCE_NO_WARMUP=1`` skips it.
     """
-    if _distributed(config):
-        config.option.loadscopereorder = False  # keep pytest_collection_modifyitems' order (longest first)
-    if not _distributed(config) or os.environ.get("MUDFORCE_NO_WARMUP"):
+    if not _distributed(config):
+        return
+    config.option.loadscopereorder = False  # keep pytest_collection_modifyitems' order (longest first)
+    if os.environ.get("MUDFORCE_NO_WARMUP"):
         return
     script = Path(__file__).resolve().parent / "numba_warmup.py"
     from mudforce_cli_harness import cli_env  # the package under test first on the path, as every subprocess
