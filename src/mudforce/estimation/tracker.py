@@ -300,15 +300,23 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _blurred_quantiles(blur: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np.ndarray, half: float
+def _blurred_quantiles(blur_t: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np.ndarray, half: float
                        ) -> tuple[float, float, float]:
-    """The median and the ``half``, ``1 - half`` quantiles [-] of ``blur @ p`` (written into the scratch ``q``)."""
+    """The median and the ``half``, ``1 - half`` quantiles [-] of ``blur_t.T @ p`` (written into the scratch ``q``).
+
+    ``blur_t`` is the blur matrix transposed (:func:`_blur_matrix`'s ``B[g, h]`` at ``[h, g]``): each ``q[g]`` sums
+    ``B[g, h] p[h]`` over ``h`` in order, as a row-by-row product does, but the cells of zero mass are skipped (adding
+    ``+0.0`` changes no sum) and the inner loop runs over independent ``q[g]``, which the compiler vectorises (a
+    row's dot product is one chain of dependent additions).
+    """
     G = p.shape[0]
     for g in range(G):
-        acc = 0.0
-        for h in range(G):
-            acc += blur[g, h] * p[h]
-        q[g] = acc
+        q[g] = 0.0
+    for h in range(G):
+        ph = p[h]
+        if ph != 0.0:
+            for g in range(G):
+                q[g] += blur_t[h, g] * ph
     return _quantile(q, edges, 0.5), _quantile(q, edges, half), _quantile(q, edges, 1.0 - half)
 
 
@@ -328,19 +336,29 @@ def _lowpass_step(e: float, c: float, y0: float, f0: float, f1: float) -> float:
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool) -> None:
+def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool, cache: np.ndarray) -> None:
     """Foot ``j``'s mean model force ``mean`` [N] after a (sub)step of ``h`` [s] low-passed by each lag hypothesis
-    (:data:`_LAGS`) into ``aux[j, _A_LAG_Y + k]``, from the last (sub)step's ``aux[j, _A_PSUB]`` (ours)."""
+    (:data:`_LAGS`) into ``aux[j, _A_LAG_Y + k]``, from the last (sub)step's ``aux[j, _A_PSUB]`` (ours).
+
+    ``cache`` (``1 + 2 * _N_LAGS`` entries) holds the step ``h`` its :func:`_lowpass_coefficients` are for (a pure
+    function of ``h``: recomputed when it differs, the same numbers either way).
+    """
+    if cache[0] != h:
+        for k in range(_LAGS.shape[0]):
+            if _LAGS[k] > 0.0:
+                cache[1 + 2 * k], cache[2 + 2 * k] = _lowpass_coefficients(h, _LAGS[k])
+        cache[0] = h
     for k in range(_LAGS.shape[0]):
         if first or _LAGS[k] == 0.0:
             aux[j, _A_LAG_Y + k] = mean
         else:
-            ek, ck = _lowpass_coefficients(h, _LAGS[k])
-            aux[j, _A_LAG_Y + k] = _lowpass_step(ek, ck, aux[j, _A_LAG_Y + k], aux[j, _A_PSUB], mean)
+            aux[j, _A_LAG_Y + k] = _lowpass_step(cache[1 + 2 * k], cache[2 + 2 * k], aux[j, _A_LAG_Y + k],
+                                                 aux[j, _A_PSUB], mean)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.ndarray, G: int, NO: int) -> None:
+def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.ndarray, G: int, NO: int,
+                 cache: np.ndarray) -> None:
     """The force lag over a substep of ``h`` [s] that is not a sample's last, for foot ``j`` (ours): every model's
     force (``forces``, [N]) low-passed by the posterior mean lag, and the mean model's (under the posterior ``P``
     before the sample) by each lag hypothesis, as :func:`_track_step` does at the sample."""
@@ -359,7 +377,7 @@ def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.nd
         aux[j, lagged + m] = yl
         aux[j, previous + m] = fg
         mean += P[j, m] * fg
-    _lag_hypotheses(aux, j, h, mean, False)
+    _lag_hypotheses(aux, j, h, mean, False, cache)
     aux[j, _A_PSUB] = mean
 
 
@@ -409,6 +427,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     H = L.shape[1] // M  # gain hypotheses
     marginal = work[:G]  # the water content's posterior
     evidence = work[G:G + NO]  # each offset's
+    lag_cache = work[G + NO:]  # the lag hypotheses' low-pass coefficients and the step they are for
     # the models of an offset other than the most probable one, holding less than _SPARE_MASS of the posterior, are
     # scored on every `spare`-th sample only (in turn), each score standing for the contact time since the last
     spare = max(1, int(_SPARE_TURN * cfg[_C_TEMP] / dt + 0.5))
@@ -434,7 +453,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             # the models' forces low-passed by the posterior mean lag, and the mean model's by each lag hypothesis;
             # the last substep's below, with the sample's scoring
             for j in range(n):
-                _lag_substep(j, dt / nsub, forces, P, aux, G, NO)
+                _lag_substep(j, dt / nsub, forces, P, aux, G, NO, lag_cache)
     tau = cfg[_C_TAU]
     misfit2 = cfg[_C_MISFIT] * cfg[_C_MISFIT]
     floor2 = cfg[_C_FLOOR] * cfg[_C_FLOOR]
@@ -486,7 +505,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             aux[j, _A_PPREV] = pred
             aux[j, _A_PSUB] = pred
         # the mean model's force low-passed by each lag hypothesis (every sample: a lag runs on into the swing)
-        _lag_hypotheses(aux, j, h_sub, pred, first)
+        _lag_hypotheses(aux, j, h_sub, pred, first, lag_cache)
         if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
@@ -1081,10 +1100,12 @@ class MudTrackers:
             self.discrepancy = 0.0
         else:
             self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
-        self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k))
+        # transposed: _blurred_quantiles reads them column by column
+        self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k)).T
                                                     for k in _BLUR_FACTORS]))
         self._Q = np.zeros(G, dtype=np.float64)
-        self._work = np.zeros(G + self.depth_offsets.size, dtype=np.float64)  # scratch of the compiled step
+        # scratch of the compiled step: the water content's and the offsets' posteriors, the lag filters' coefficients
+        self._work = np.zeros(G + self.depth_offsets.size + 1 + 2 * _N_LAGS, dtype=np.float64)
         self._scored = np.zeros(M, dtype=np.float64)  # the models scored on this sample, scratch of the compiled step
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.steppers.many import MudContacts
@@ -1281,7 +1302,14 @@ class MudTracker:
             dt = real_number(dt, "dt [s]")
         b._depths[0] = depth
         b._forces[0] = force
-        b._step(dt)
+        # MudTrackers._step, written out (a method call less)
+        if not b._started:
+            dt = 1.0  # the first sample's dt is ignored
+        elif not (dt > 0.0 and dt < math.inf):
+            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        if _track_step(dt, *b._args) >= 0:
+            raise InputError(f"depth and force of foot 0 must be finite [m, N], got {depth!r} and {force!r}")
+        b._started = True
         # the columns _O_W .. _O_LAG_SD are TrackEstimate's fields in order (a test pins it); built without the
         # frozen dataclass's __init__ (ten object.__setattr__ calls, about a microsecond of the update)
         o = b._out[0].tolist()
