@@ -135,9 +135,11 @@ _A_LAG_SD = 17  # its posterior standard deviation [s]
 _A_LAG_Y = 18  # then one column per lag hypothesis (_LAGS): the mean model's force low-passed by it [N]
 _N_LAGS = 6  # force lag hypotheses (_LAGS)
 _A_LAG_L = _A_LAG_Y + _N_LAGS  # then one per lag hypothesis: its log-likelihood (forgotten as the water content's)
+_A_PSUB = _A_LAG_L + _N_LAGS  # the mean model's force at the last substep [N] (the lag hypotheses' filters run on it)
+_A_SINK = _A_PSUB + 1  # the foot's sinkage [m]: the deepest depth plus the surface offset, forgotten over tau
 # then, per model: the contact time [s] at which it was last scored (_SPARE_MASS); its force low-passed by the force
-# lag [N]; its force at the previous sample [N] (three blocks of one column per model)
-_N_AUX = _A_LAG_L + _N_LAGS
+# lag [N]; its force at the previous substep [N] (three blocks of one column per model)
+_N_AUX = _A_SINK + 1
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -175,7 +177,9 @@ _C_BLUR_REF = 16  # misfit average [-] above which the reported posterior's blur
 _C_TEMPER = 17  # misfit average [-] above which the fit's posterior is tempered by the excess
 _C_OFFSET_TEMPER = 18  # the surface offsets' evidence is divided by this [-] (_OFFSET_TEMPER)
 _C_SUBSTEP = 19  # the bank's longest step [s] (0: one step per sample)
-_N_CFG = 20
+_C_SHALLOW = 20  # the shallow-sinkage widening [-] (_SHALLOW_WIDENING)
+_C_OFFSET_RES = 21  # half the widest step between two surface offset hypotheses [m] (0 with one)
+_N_CFG = 22
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -199,6 +203,15 @@ _MISFIT_BLUR_REF = 3.0
 #: square root of the misfit's excess over its reference, rounded up to one of these (precomputed, so the update's
 #: cost does not depend on it).
 _BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0])
+#: The shallow-sinkage widening [-] (ours): with ``s`` this times the surface offset's uncertainty over the foot's
+#: sinkage, ``s = 5 sqrt(sd^2 + (step / 2)^2) / sinkage`` (``sd`` the offset's posterior spread, ``step`` the widest
+#: step between two offset hypotheses, which an offset between them is off by; the sinkage the deepest depth plus the
+#: offset in contact, forgotten over ``tau``), the reported interval's blur is widened by ``sqrt(s^2 - 1)`` where
+#: ``s > 1``, in quadrature with the misfit's: only where the offset's uncertainty is more than a fifth of the
+#: sinkage. A foot that sinks 3 mm, read through a surface known to 1.5 mm, is read at a depth uncertain by half
+#: itself: on the sensor-chain bench such robots (dry mud, trots; ``s`` 3-5) read 4-5 points off with a narrow
+#: interval; gait walks, 1-3 cm deep, have ``s`` below 1. Nothing with one offset.
+_SHALLOW_WIDENING = 5.0
 
 #: Default force lag allowance [s] (10 ms, the issue's standard low-pass): a sensor that lags the
 #: model by this much is not read as other mud.
@@ -287,15 +300,23 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _blurred_quantiles(blur: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np.ndarray, half: float
+def _blurred_quantiles(blur_t: np.ndarray, p: np.ndarray, q: np.ndarray, edges: np.ndarray, half: float
                        ) -> tuple[float, float, float]:
-    """The median and the ``half``, ``1 - half`` quantiles [-] of ``blur @ p`` (written into the scratch ``q``)."""
+    """The median and the ``half``, ``1 - half`` quantiles [-] of ``blur_t.T @ p`` (written into the scratch ``q``).
+
+    ``blur_t`` is the blur matrix transposed (:func:`_blur_matrix`'s ``B[g, h]`` at ``[h, g]``): each ``q[g]`` sums
+    ``B[g, h] p[h]`` over ``h`` in order, as a row-by-row product does, but the cells of zero mass are skipped (adding
+    ``+0.0`` changes no sum) and the inner loop runs over independent ``q[g]``, which the compiler vectorises (a
+    row's dot product is one chain of dependent additions).
+    """
     G = p.shape[0]
     for g in range(G):
-        acc = 0.0
-        for h in range(G):
-            acc += blur[g, h] * p[h]
-        q[g] = acc
+        q[g] = 0.0
+    for h in range(G):
+        ph = p[h]
+        if ph != 0.0:
+            for g in range(G):
+                q[g] += blur_t[h, g] * ph
     return _quantile(q, edges, 0.5), _quantile(q, edges, half), _quantile(q, edges, 1.0 - half)
 
 
@@ -312,6 +333,52 @@ def _lowpass_step(e: float, c: float, y0: float, f0: float, f1: float) -> float:
     the step from ``f0`` to ``f1`` [N]: ``y1 = e y0 + (1 - c) f1 - (e - c) f0`` [N], with ``(e, c)`` of
     :func:`_lowpass_coefficients`."""
     return e * y0 + (1.0 - c) * f1 - (e - c) * f0
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool, cache: np.ndarray) -> None:
+    """Foot ``j``'s mean model force ``mean`` [N] after a (sub)step of ``h`` [s] low-passed by each lag hypothesis
+    (:data:`_LAGS`) into ``aux[j, _A_LAG_Y + k]``, from the last (sub)step's ``aux[j, _A_PSUB]`` (ours).
+
+    ``cache`` (``1 + 2 * _N_LAGS`` entries) holds the step ``h`` its :func:`_lowpass_coefficients` are for (a pure
+    function of ``h``: recomputed when it differs, the same numbers either way).
+    """
+    if cache[0] != h:
+        for k in range(_LAGS.shape[0]):
+            if _LAGS[k] > 0.0:
+                cache[1 + 2 * k], cache[2 + 2 * k] = _lowpass_coefficients(h, _LAGS[k])
+        cache[0] = h
+    for k in range(_LAGS.shape[0]):
+        if first or _LAGS[k] == 0.0:
+            aux[j, _A_LAG_Y + k] = mean
+        else:
+            aux[j, _A_LAG_Y + k] = _lowpass_step(cache[1 + 2 * k], cache[2 + 2 * k], aux[j, _A_LAG_Y + k],
+                                                 aux[j, _A_PSUB], mean)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.ndarray, G: int, NO: int,
+                 cache: np.ndarray) -> None:
+    """The force lag over a substep of ``h`` [s] that is not a sample's last, for foot ``j`` (ours): every model's
+    force (``forces``, [N]) low-passed by the posterior mean lag, and the mean model's (under the posterior ``P``
+    before the sample) by each lag hypothesis, as :func:`_track_step` does at the sample."""
+    M = NO * G
+    base = j * M
+    lagged = _N_AUX + M
+    previous = _N_AUX + 2 * M
+    lag = aux[j, _A_LAG]
+    e, c = (0.0, 0.0) if lag <= 0.0 else _lowpass_coefficients(h, lag)
+    mean = 0.0
+    for m in range(M):
+        fg = forces[base + m]
+        yl = fg
+        if e > 0.0:
+            yl = _lowpass_step(e, c, aux[j, lagged + m], aux[j, previous + m], fg)
+        aux[j, lagged + m] = yl
+        aux[j, previous + m] = fg
+        mean += P[j, m] * fg
+    _lag_hypotheses(aux, j, h, mean, False, cache)
+    aux[j, _A_PSUB] = mean
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -360,6 +427,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     H = L.shape[1] // M  # gain hypotheses
     marginal = work[:G]  # the water content's posterior
     evidence = work[G:G + NO]  # each offset's
+    lag_cache = work[G + NO:]  # the lag hypotheses' low-pass coefficients and the step they are for
     # the models of an offset other than the most probable one, holding less than _SPARE_MASS of the posterior, are
     # scored on every `spare`-th sample only (in turn), each score standing for the contact time since the last
     spare = max(1, int(_SPARE_TURN * cfg[_C_TEMP] / dt + 0.5))
@@ -380,6 +448,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 for g in range(G):
                     zbuf[(j * NO + o) * G + g] = zo
         K.run_feet(states, ring, params, zbuf, dt / nsub, forces, scratch, index)
+        if s < nsub:
+            # the force lag runs on every substep's forces (exact for a force linear over a substep, not a sample):
+            # the models' forces low-passed by the posterior mean lag, and the mean model's by each lag hypothesis;
+            # the last substep's below, with the sample's scoring
+            for j in range(n):
+                _lag_substep(j, dt / nsub, forces, P, aux, G, NO, lag_cache)
     tau = cfg[_C_TAU]
     misfit2 = cfg[_C_MISFIT] * cfg[_C_MISFIT]
     floor2 = cfg[_C_FLOOR] * cfg[_C_FLOOR]
@@ -398,7 +472,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         lag = aux[j, _A_LAG]
         lagged = _N_AUX + M  # the first column of the models' low-passed forces
         previous = _N_AUX + 2 * M  # the first column of the models' forces at the previous sample
-        e_lag, c_lag = (0.0, 0.0) if (first or lag <= 0.0) else _lowpass_coefficients(dt, lag)
+        h_sub = dt / nsub  # the last substep [s] (the sample's interval at 100 Hz)
+        e_lag, c_lag = (0.0, 0.0) if (first or lag <= 0.0) else _lowpass_coefficients(h_sub, lag)
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
         o_map = 0  # the most probable surface offset (before this sample)
@@ -428,13 +503,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         out[j, _O_PRED] = predl + aux[j, _A_BIAS]
         if first:
             aux[j, _A_PPREV] = pred
+            aux[j, _A_PSUB] = pred
         # the mean model's force low-passed by each lag hypothesis (every sample: a lag runs on into the swing)
-        for k in range(_LAGS.shape[0]):
-            if first or _LAGS[k] == 0.0:
-                aux[j, _A_LAG_Y + k] = pred
-            else:
-                ek, ck = _lowpass_coefficients(dt, _LAGS[k])
-                aux[j, _A_LAG_Y + k] = _lowpass_step(ek, ck, aux[j, _A_LAG_Y + k], aux[j, _A_PPREV], pred)
+        _lag_hypotheses(aux, j, h_sub, pred, first, lag_cache)
         if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
@@ -601,9 +672,13 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             om += po * offsets[o]
             o2 += po * offsets[o] * offsets[o]
         out[j, _O_OFFSET] = om
+        osd = math.sqrt(max(o2 - om * om, 0.0))
+        if not free and not first:
+            # the sinkage: the deepest depth plus the offset in contact, forgotten as the evidence is
+            aux[j, _A_SINK] = max(aux[j, _A_SINK] * math.exp(-dt / tau), depths[j] + om)
         out[j, _O_LAG] = aux[j, _A_LAG]
         out[j, _O_LAG_SD] = aux[j, _A_LAG_SD]
-        out[j, _O_OFFSET_SD] = math.sqrt(max(o2 - om * om, 0.0))
+        out[j, _O_OFFSET_SD] = osd
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         # change flag: a settled estimate that leaves the anchor behind
@@ -618,14 +693,24 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 changed = 1.0
                 aux[j, _A_ANCHOR] = w_mid
                 aux[j, _A_HOLD] = tau
-        # the reported posterior: that blur widened with the misfit, the smallest of _BLUR_FACTORS at or above the
-        # square root of the misfit average's excess over its reference (a scale mixture, see _MISFIT_BLUR_REF)
+        # the reported interval: that blur widened with the misfit, the smallest of _BLUR_FACTORS at or above the
+        # square root of the misfit average's excess over its reference (a scale mixture, see _MISFIT_BLUR_REF),
+        # and with a shallow sinkage (_SHALLOW_WIDENING), in quadrature
         excess = math.sqrt(max(1.0, aux[j, _A_MISFIT] / cfg[_C_BLUR_REF]))
+        # a shallow sinkage: the surface offset's uncertainty (its posterior spread, and half the grid's step, which
+        # an offset between two hypotheses is off by) is a large share of the depth the force is read at (ours)
+        if cfg[_C_OFFSET_RES] > 0.0 and aux[j, _A_CONTACT] > 0.0:
+            shallow = cfg[_C_SHALLOW] * math.sqrt(osd * osd + cfg[_C_OFFSET_RES] ** 2) / max(aux[j, _A_SINK], 1e-4)
+            excess = math.sqrt(excess * excess + max(shallow * shallow - 1.0, 0.0))
         b = 0
         while b < blur.shape[0] - 1 and _BLUR_FACTORS[b] < excess:
             b += 1
         if b > 0:
-            w_mid, w_low, w_high = _blurred_quantiles(blur[b], marginal, Q, edges, half)
+            _, wide_low, wide_high = _blurred_quantiles(blur[b], marginal, Q, edges, half)
+            # the hull of the two intervals: a wider blur near the grid's end, renormalised, can lift a side
+            # mode's quantile; the estimate stays the fit's median (the widening is the interval's, not the fit's)
+            w_low = min(w_low, wide_low)
+            w_high = max(w_high, wide_high)
         out[j, _O_W] = w_mid
         out[j, _O_LOW] = w_low
         out[j, _O_HIGH] = w_high
@@ -635,6 +720,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         out[j, _O_MISFIT] = 1.0 if (aux[j, _A_CONTACT] >= _MISFIT_MIN_CONTACT
                                     and aux[j, _A_MISFIT] > cfg[_C_MISFIT_RATIO]) else 0.0
         aux[j, _A_PPREV] = pred
+        aux[j, _A_PSUB] = pred
         aux[j, _A_Z3] = aux[j, _A_Z2]
         aux[j, _A_Z2] = aux[j, _A_ZPREV]
         aux[j, _A_ZPREV] = depths[j]
@@ -1000,6 +1086,8 @@ class MudTrackers:
         cfg[_C_SUBSTEP] = _non_negative(max_step, "max_step", "s")
         self._cfg = cfg
         self.depth_offsets = _offsets(depth_offsets)
+        cfg[_C_SHALLOW] = _SHALLOW_WIDENING
+        cfg[_C_OFFSET_RES] = 0.5 * float(np.max(np.diff(self.depth_offsets))) if self.depth_offsets.size > 1 else 0.0
         prior = positive_number(depth_offset_prior, "depth_offset_prior", "m")
         self._log_prior = np.ascontiguousarray(-0.5 * (self.depth_offsets / prior) ** 2)
         self.depth_offset_prior = prior
@@ -1012,10 +1100,12 @@ class MudTrackers:
             self.discrepancy = 0.0
         else:
             self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
-        self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k))
+        # transposed: _blurred_quantiles reads them column by column
+        self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k)).T
                                                     for k in _BLUR_FACTORS]))
         self._Q = np.zeros(G, dtype=np.float64)
-        self._work = np.zeros(G + self.depth_offsets.size, dtype=np.float64)  # scratch of the compiled step
+        # scratch of the compiled step: the water content's and the offsets' posteriors, the lag filters' coefficients
+        self._work = np.zeros(G + self.depth_offsets.size + 1 + 2 * _N_LAGS, dtype=np.float64)
         self._scored = np.zeros(M, dtype=np.float64)  # the models scored on this sample, scratch of the compiled step
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.steppers.many import MudContacts
@@ -1212,7 +1302,14 @@ class MudTracker:
             dt = real_number(dt, "dt [s]")
         b._depths[0] = depth
         b._forces[0] = force
-        b._step(dt)
+        # MudTrackers._step, written out (a method call less)
+        if not b._started:
+            dt = 1.0  # the first sample's dt is ignored
+        elif not (dt > 0.0 and dt < math.inf):
+            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        if _track_step(dt, *b._args) >= 0:
+            raise InputError(f"depth and force of foot 0 must be finite [m, N], got {depth!r} and {force!r}")
+        b._started = True
         # the columns _O_W .. _O_LAG_SD are TrackEstimate's fields in order (a test pins it); built without the
         # frozen dataclass's __init__ (ten object.__setattr__ calls, about a microsecond of the update)
         o = b._out[0].tolist()

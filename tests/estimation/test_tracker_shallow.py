@@ -1,0 +1,78 @@
+"""MudTracker's interval widens with a shallow sinkage, and its estimate's quantiles are read exactly (issue 23,
+point 5 online).
+
+Every recording the tracker was confidently wrong on, on the sensor-chain bench's seeds 1 and 2, is a robot foot that
+sinks 2-3.5 mm, read through a surface offset known to about 1.5 mm (half the step between two offset hypotheses):
+the depth the force is read at is uncertain by half itself. The reported interval's blur is then widened by
+``sqrt(s^2 - 1)``, ``s = 5 sqrt(sd^2 + (step / 2)^2) / sinkage`` (``tracker._SHALLOW_WIDENING``); the estimate stays
+the fit's median, and the interval is the hull of the plain and the widened one. Gait walks, 1-3 cm deep, have
+``s`` below 1 and are not widened.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mudforce.estimation.tracker as tracker_module
+from mudforce.estimation.tracker import _blur_matrix, _blurred_quantiles, track
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.motions.gait import gait, walk
+from mudforce.steppers.simulation import simulate
+
+
+def _shallow_walk() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A gait path scaled to sink 3.9 mm, in mud of W = 18 %, with 0.2 N of force noise and a 0.3 N offset."""
+    path = gait(3, duration=10.0)
+    z = path.depth * 0.12
+    f = np.asarray(simulate(path.time, z, MudParameters.from_water_content(0.18), Foot.paper(),
+                            velocity_filter="exact").force)
+    rng = np.random.default_rng(0)
+    return path.time, z + rng.normal(0.0, 3e-5, z.size), f + rng.normal(0.0, 0.2, f.size) + 0.3
+
+
+def test_a_shallow_sinkage_widens_the_interval_not_the_estimate(monkeypatch: pytest.MonkeyPatch) -> None:
+    t, z, f = _shallow_walk()
+    wide = track(t, z, f)
+    monkeypatch.setattr(tracker_module, "_SHALLOW_WIDENING", 0.0)  # read when a tracker is made
+    plain = track(t, z, f)
+    late = t >= 3.0
+    assert np.array_equal(wide.water_content, plain.water_content)  # the fit's median either way
+    assert np.all(wide.low <= plain.low) and np.all(wide.high >= plain.high)  # the hull: never narrower
+    # measured: median width after 3 s 6.1 -> 9.9 points; both cover 18 % throughout
+    assert np.median((plain.high - plain.low)[late]) == pytest.approx(0.0607, abs=0.003)
+    assert np.median((wide.high - wide.low)[late]) == pytest.approx(0.0988, abs=0.003)
+    assert np.all((wide.low[late] <= 0.18) & (0.18 <= wide.high[late]))
+
+
+def test_deep_walks_and_one_offset_are_not_widened(monkeypatch: pytest.MonkeyPatch) -> None:
+    wk = walk(0.25, seed=3, duration=12.0, force_noise=0.2, bias=0.5)
+    shallow = _shallow_walk()
+    runs = [track(wk.time, wk.depth, wk.force), track(*shallow, depth_offsets=[0.0])]
+    monkeypatch.setattr(tracker_module, "_SHALLOW_WIDENING", 0.0)
+    plain = [track(wk.time, wk.depth, wk.force), track(*shallow, depth_offsets=[0.0])]
+    late = wk.time >= 3.0  # the walk sinks 1-3 cm: s < 1 once its first stances are in
+    assert np.array_equal(runs[0].low[late], plain[0].low[late])
+    assert np.array_equal(runs[0].high[late], plain[0].high[late])
+    assert np.array_equal(runs[1].low, plain[1].low) and np.array_equal(runs[1].high, plain[1].high)
+
+
+def test_blurred_quantiles_sum_in_row_order_skipping_empty_cells() -> None:
+    grid = np.array([0.15 + 0.005 * k for k in range(41)])
+    mids = 0.5 * (grid[1:] + grid[:-1])
+    edges = np.concatenate(([grid[0] - 0.0025], mids, [grid[-1] + 0.0025]))
+    blur = _blur_matrix(grid, edges, 0.015)
+    rng = np.random.default_rng(3)
+    p = rng.random(41) * (rng.random(41) < 0.3)
+    p /= p.sum()
+    q = np.zeros(41)
+    mid, low, high = _blurred_quantiles(np.ascontiguousarray(blur.T), p, q, edges, 0.025)
+    expected = []
+    for g in range(41):  # the row-by-row product, in order, in Python's IEEE doubles
+        acc = 0.0
+        for h in range(41):
+            acc += float(blur[g, h]) * float(p[h])
+        expected.append(acc)
+    assert q.tolist() == expected  # bit for bit
+    assert low < mid < high
