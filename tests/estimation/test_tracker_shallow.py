@@ -4,9 +4,10 @@ point 5 online).
 Every recording the tracker was confidently wrong on, on the sensor-chain bench's seeds 1 and 2, is a robot foot that
 sinks 2-3.5 mm, read through a surface offset known to about 1.5 mm (half the step between two offset hypotheses):
 the depth the force is read at is uncertain by half itself. The reported interval's blur is then widened by
-``sqrt(s^2 - 1)``, ``s = 5 sqrt(sd^2 + (step / 2)^2) / sinkage`` (``tracker._SHALLOW_WIDENING``); the estimate stays
-the fit's median, and the interval is the hull of the plain and the widened one. Gait walks, 1-3 cm deep, have
-``s`` below 1 and are not widened.
+``k sqrt(s^2 - 1)``, ``s = 4 sqrt(sd^2 + (step / 2)^2) / sinkage`` (``tracker._SHALLOW_WIDENING``), ``k = 2.5``
+(``tracker._SHALLOW_GAIN``; was ``s`` at 5 and ``k`` 1, which left seed 3's robot on 16.7 % mud, sinking 3.1 mm,
+confidently wrong under a lagged force); the estimate stays the fit's median, and the interval is the hull of the
+plain and the widened one. Gait walks, 1-3 cm deep, have ``s`` below 1 and are not widened.
 """
 
 from __future__ import annotations
@@ -40,10 +41,25 @@ def test_a_shallow_sinkage_widens_the_interval_not_the_estimate(monkeypatch: pyt
     late = t >= 3.0
     assert np.array_equal(wide.water_content, plain.water_content)  # the fit's median either way
     assert np.all(wide.low <= plain.low) and np.all(wide.high >= plain.high)  # the hull: never narrower
-    # measured: median width after 3 s 6.1 -> 9.9 points; both cover 18 % throughout
+    # measured: median width after 3 s 6.1 -> 12.6 points (9.9-10.1 with s at 5 and k at 1); both cover 18 %
     assert np.median((plain.high - plain.low)[late]) == pytest.approx(0.0607, abs=0.003)
-    assert np.median((wide.high - wide.low)[late]) == pytest.approx(0.0988, abs=0.003)
+    assert np.median((wide.high - wide.low)[late]) == pytest.approx(0.1262, abs=0.003)
     assert np.all((wide.low[late] <= 0.18) & (0.18 <= wide.high[late]))
+
+
+def test_the_widening_s_gain(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the same walk with the widening before issue 23's lag rows (s at 5, gain 1), then each constant alone: the
+    # gain widens where s > 1, a smaller s widens less (both read when a tracker is made)
+    t, z, f = _shallow_walk()
+    late = t >= 3.0
+    widths = []
+    for c, k in ((5.0, 1.0), (4.0, 1.0), (5.0, 2.5)):
+        monkeypatch.setattr(tracker_module, "_SHALLOW_WIDENING", c)
+        monkeypatch.setattr(tracker_module, "_SHALLOW_GAIN", k)
+        r = track(t, z, f)
+        widths.append(float(np.median((r.high - r.low)[late])))
+    # measured: 10.1, 9.0 and 12.5 points
+    assert widths == pytest.approx([0.1006, 0.0905, 0.125], abs=0.003)
 
 
 def test_deep_walks_and_one_offset_are_not_widened(monkeypatch: pytest.MonkeyPatch) -> None:
