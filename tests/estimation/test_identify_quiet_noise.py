@@ -1,0 +1,117 @@
+"""identify's depth noise from the record's quietest stretches (issue 23, point 4): a foot that rings between the
+samples is motion, not sensor noise; the misfit flag stays quiet on it and still fires off the family."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from mudforce.errors import InputError
+from mudforce.estimation.calibration import Trial, identify_water_content
+from mudforce.estimation.calibration.branches import (
+    QUIET_MIN_WINDOWS,
+    QUIET_ORDER,
+    QUIET_SCALE,
+    QUIET_WINDOW,
+    estimate_force_noise,
+    estimate_quiet_noise,
+)
+from mudforce.estimation.calibration.preprocess import noise_floor, prepare_trial
+from mudforce.model.foot import Foot
+from mudforce.model.parameters import MudParameters
+from mudforce.motions.gait import gait
+from mudforce.motions.sensor_chain import SensorChain, apply
+from mudforce.steppers.simulation import simulate
+
+W = 0.25
+DEPTH_NOISE = 3e-5  # [m] the chain's
+FOOT = Foot.paper()
+
+
+def test_white_noise_reads_right_and_never_above_the_whole() -> None:
+    rng = np.random.default_rng(7)
+    t = np.arange(20_000) * 0.01
+    # the scale is what the quantile reads on unit white noise
+    assert estimate_quiet_noise(t, rng.normal(size=t.size)) == pytest.approx(1.0, abs=0.03)
+    assert QUIET_SCALE == pytest.approx(0.4894)
+    # 2,000 jittered samples of 0.3 mm on a smooth swing: within 15 % (its spread is 7 %), at most the whole estimate
+    tj = np.cumsum(rng.uniform(0.007, 0.013, 2000))
+    z = 0.02 * np.sin(2.0 * np.pi * 1.3 * tj) + 3e-4 * rng.normal(size=tj.size)
+    quiet = estimate_quiet_noise(tj, z)
+    assert quiet == pytest.approx(3e-4, rel=0.15)
+    assert quiet <= estimate_force_noise(tj, z)
+    # too few windows for a low quantile: the whole record's estimate, bit for bit
+    short = QUIET_MIN_WINDOWS * QUIET_WINDOW + QUIET_ORDER - 1
+    assert estimate_quiet_noise(tj[:short], z[:short]) == estimate_force_noise(tj[:short], z[:short])
+
+
+@pytest.fixture(scope="module")
+def ringing() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A gait whose foot rings every 0.6 s (an 11-Hz bounce of 2 mm, decaying in 0.12 s), simulated at 2 kHz: time
+    [s], depth [m], the model's force [N] and a granular law's ``F = k z`` [N] along it."""
+    path = gait(5, duration=8.0, rate=2000.0)
+    t, z = path.time, path.depth.copy()
+    for k in np.searchsorted(t, np.arange(0.3, 8.0, 0.6)):
+        s = t[k:] - t[k]
+        z[k:] += 0.002 * np.sin(2.0 * np.pi * 11.0 * s) * np.exp(-s / 0.12)
+    f = np.asarray(simulate(t, z, MudParameters.from_water_content(W), FOOT, velocity_filter="exact").force)
+    kz = float(np.max(f)) / float(np.max(z)) * np.maximum(z, 0.0)
+    return t, z, f, kz
+
+
+def _at_50_hz(t: np.ndarray, z: np.ndarray, f: np.ndarray) -> Trial:
+    chain = SensorChain(force_noise=0.2, depth_noise=DEPTH_NOISE, force_bias=0.3, rate=50.0)
+    tt, zz, ff = apply(t, z, f, chain, 11)
+    return Trial("ringing", W, tt, zz, ff)
+
+
+def test_a_ringing_foot_at_50_hz_reads_its_noise_and_is_not_flagged(
+        ringing: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> None:
+    t, z, f, _ = ringing
+    trial = _at_50_hz(t, z, f)
+    # the whole record's differences read the ringing as noise (measured 0.088 mm); its quietest stretches do not
+    assert estimate_force_noise(trial.time, trial.depth) > 2.5 * DEPTH_NOISE
+    prepared = prepare_trial(trial, depth_noise_from="quiet")
+    assert DEPTH_NOISE / 2.0 < prepared.depth_noise < 2.0 * DEPTH_NOISE  # measured 0.052 mm
+    whole = estimate_force_noise(trial.time, trial.depth)
+    assert prepared.unresolved_depth == pytest.approx(np.sqrt(whole**2 - prepared.depth_noise**2), rel=1e-12)
+    res = identify_water_content(trial, FOOT)
+    assert res.depth_noise == prepared.depth_noise and res.unresolved_depth == prepared.unresolved_depth
+    assert res.to_dict()["unresolved_depth_m"] == prepared.unresolved_depth
+    # given, the noise is the robot's, and nothing is left unresolved
+    assert prepare_trial(trial, depth_noise=DEPTH_NOISE, depth_noise_from="quiet").unresolved_depth == 0.0
+    assert not res.model_misses_data and res.misfit_ratio < 1.25  # measured 1.16 (1.27, flagged, from the whole)
+    assert res.low <= W <= res.high and abs(res.water_content - W) < 0.005
+
+
+def test_off_the_family_on_the_same_ringing_path_is_still_flagged(
+        ringing: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> None:
+    t, z, _, kz = ringing
+    res = identify_water_content(_at_50_hz(t, z, kz), FOOT)
+    assert res.model_misses_data and res.misfit_ratio > 2.5  # measured 3.67
+
+
+def test_the_unresolved_motion_enters_the_floor_as_depth_noise_would() -> None:
+    """noise_floor carries the unresolved motion through the model's sensitivity to the depth, in quadrature with
+    the white noise: the same floor as the whole estimate as depth noise."""
+    w = gait(2, duration=3.0, rate=100.0)
+    trial = Trial("g", W, w.time, w.depth, np.zeros_like(w.depth) + 0.1)
+    prepared = prepare_trial(trial, protocol=False, depth_noise=4e-5)
+
+    def force_at(depth: np.ndarray) -> np.ndarray:
+        out: np.ndarray = 1e4 * np.maximum(depth, 0.0) ** 1.5
+        return out
+
+    split = replace(prepared, depth_noise=3e-5, unresolved_depth=4e-5 * np.sqrt(1.0 - (3.0 / 4.0) ** 2))
+    np.testing.assert_allclose(noise_floor(split, prepared.force, force_at),
+                               noise_floor(prepared, prepared.force, force_at), rtol=1e-12, atol=0.0)
+
+
+def test_an_unknown_rule_is_refused_in_one_line() -> None:
+    w = gait(2, duration=1.0, rate=100.0)
+    trial = Trial("g", W, w.time, w.depth, np.ones_like(w.depth))
+    with pytest.raises(InputError, match='depth_noise_from must be "all" or "quiet", got \'some\'') as info:
+        prepare_trial(trial, depth_noise_from="some")
+    assert "\n" not in str(info.value)
