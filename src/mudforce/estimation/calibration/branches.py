@@ -54,6 +54,7 @@ __all__ = [
     "QUIET_MIN_WINDOWS",
     "QUIET_ORDER",
     "QUIET_QUANTILE",
+    "QUIET_RATIO",
     "QUIET_SCALE",
     "QUIET_WINDOW",
     "SWITCH_COST",
@@ -93,8 +94,12 @@ QUIET_QUANTILE = 0.1
 #: What that quantile reads on unit white noise [-]: measured, the mean over 2e5 samples of N(0, 1) (seeded),
 #: 0.4894 (0.50 at 500 samples; ``tests/estimation/test_quiet_noise.py`` checks it).
 QUIET_SCALE = 0.4894
-#: Fewest windows :func:`estimate_quiet_noise` takes a quantile of [-] (320 samples); below, the whole record's noise.
-QUIET_MIN_WINDOWS = 40
+#: Fewest windows :func:`estimate_quiet_noise` takes a quantile of [-] (485 samples: 10 s at 50 Hz); below, the whole
+#: record's noise (on white noise the quantile's scatter is then 14 %, so the ratio below is 2.4 of its deviations).
+QUIET_MIN_WINDOWS = 60
+#: How much more the whole record's noise must read than the quiet stretches' for :func:`estimate_quiet_noise` to
+#: take the quiet one [-] (ours, as :data:`_NOISE_WINDOWS`'s factor in :func:`estimate_force_noise`).
+QUIET_RATIO = 1.5
 
 
 def estimate_force_noise(time: np.ndarray, force: np.ndarray, where: np.ndarray | None = None) -> float:
@@ -153,10 +158,13 @@ def estimate_quiet_noise(time: np.ndarray, signal: np.ndarray) -> float:
     differences of order :data:`QUIET_ORDER` (blind to any polynomial of degree 4) are cut into windows of
     :data:`QUIET_WINDOW`, each window's noise level is its median absolute value / 0.6745, and the estimate is the
     :data:`QUIET_QUANTILE` quantile of the windows' levels, over what that quantile reads on white noise alone
-    (:data:`QUIET_SCALE`): stationary white noise reads right (within about 14 % at 60 windows, 7 % at 250), a
-    record whose motion rings in most windows reads the noise of its quietest tenth. Never more than
-    :func:`estimate_force_noise` (the same noise over all differences); that estimate itself below
-    :data:`QUIET_MIN_WINDOWS` windows, where a low quantile scatters too much.
+    (:data:`QUIET_SCALE`): on stationary white noise it reads the noise (within about 14 % at 60 windows, 7 % at
+    250), on a record whose motion rings in most windows the noise of its quietest tenth. It is taken only when
+    :func:`estimate_force_noise` (the same noise over all differences) reads more than :data:`QUIET_RATIO` times
+    as much: the record is then not stationary white noise, and the excess is motion. Otherwise, and below
+    :data:`QUIET_MIN_WINDOWS` windows (where a low quantile scatters too much), that estimate itself, bit for bit:
+    a record of white noise on a motion the rate resolves reads as before, and the scatter of a low quantile never
+    reads its noise low.
 
     Parameters
     ----------
@@ -173,7 +181,8 @@ def estimate_quiet_noise(time: np.ndarray, signal: np.ndarray) -> float:
         return whole
     values = np.abs(_unit_differences(t, z, QUIET_ORDER))[:windows * QUIET_WINDOW].reshape(windows, QUIET_WINDOW)
     levels = np.median(values, axis=1) / 0.6744897501960817
-    return min(whole, float(np.quantile(levels, QUIET_QUANTILE)) / QUIET_SCALE)
+    quiet = float(np.quantile(levels, QUIET_QUANTILE)) / QUIET_SCALE
+    return quiet if whole > QUIET_RATIO * quiet else whole
 
 
 def _sigma(values: np.ndarray) -> float:
