@@ -37,7 +37,10 @@ the step, plus half a depth noise) constrains the mud only through the rest band
 distance of the force outside the band, zero inside. So does a sample where
 the motion changes direction or stops beside a step clear of the depth noise
 (the change happened anywhere between its neighbours, so at the sample the
-foot may be on either branch). The noise floor of the
+foot may be on either branch). The depth noise, when not given, is
+the noise of the depth's quietest stretches, and the rest of its high-frequency content (a foot ringing between
+the samples) is motion the rate does not resolve: the branch labels follow it, and the noise floor holds it
+(``unresolved_depth``). The noise floor of the
 misfit flag includes the model's own discretisation error at the data's
 rate, estimated from the data (the model on the even samples and on the odd
 ones against the model on every sample, each sample taking the largest of
@@ -181,8 +184,15 @@ class Identification:
         The interval's half-width [-] from the spread of the evidence over the contact episodes (a sandwich
         estimate); the interval holds at least this on each side (general path; 0 on a protocol).
     depth_noise : float
-        The depth noise the trial was read with [m]: given, or estimated from the depth (general path; 0 on a
-        protocol, whose fitted motion carries its own uncertainty).
+        The depth noise the trial was read with [m]: given, or estimated from the depth's quietest stretches
+        (:func:`~mudforce.estimation.calibration.branches.estimate_quiet_noise`: a foot's ringing between the
+        samples is motion, not noise) (general path; 0 on a protocol, whose fitted motion carries its own
+        uncertainty).
+    unresolved_depth : float
+        The depth's high-frequency content above its noise [m] (ours): the whole record's third differences over the
+        quiet estimate, in quadrature; motion the rate does not resolve (a foot ringing after its impacts). The
+        branch labels follow it as motion, and the noise floor holds it, carried through the model's sensitivity to
+        the depth, as the model's error at this rate. 0 when the depth noise is given, and on a protocol.
     misfit_shift : float
         The most the residual the noise does not explain could move the estimate [-] (its RMS, the larger of
         ``off_family`` and the moving samples' excess over the force and depth noise, the discretisation error
@@ -216,6 +226,7 @@ class Identification:
     episode_half_width: float = 0.0
     misfit_shift: float = 0.0
     depth_noise: float = math.nan
+    unresolved_depth: float = 0.0
 
     @property
     def low(self) -> float:
@@ -243,7 +254,7 @@ class Identification:
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
         ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
-        ``depth_noise_m``, ``warnings``.
+        ``depth_noise_m``, ``unresolved_depth_m``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -275,6 +286,7 @@ class Identification:
             "episode_half_width": self.episode_half_width,
             "misfit_shift": self.misfit_shift,
             "depth_noise_m": finite(self.depth_noise),
+            "unresolved_depth_m": self.unresolved_depth,
             "warnings": list(self.warnings),
         }
 
@@ -437,7 +449,8 @@ def identify_water_content(
         raise InputError(f"{trial.trial.name}: a prepared trial already holds its depth noise "
                          f"({trial.depth_noise * 1e3:.3g} mm); pass the raw Trial with depth_noise=, or prepare it "
                          "with prepare_trial(trial, depth_noise=...)")
-    tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial, depth_noise=depth_noise)
+    tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial, depth_noise=depth_noise,
+                                                                       depth_noise_from="quiet")
     if not np.any(tr.trial.force != tr.trial.force[0]):
         raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
                          "the trial carries no force to identify a water content from (is the column right?)")
@@ -686,5 +699,6 @@ def identify_water_content(
         episode_half_width=sandwich,
         misfit_shift=model_shift,
         depth_noise=tr.depth_noise,
+        unresolved_depth=tr.unresolved_depth,
     )
 

@@ -30,7 +30,13 @@ from scipy.ndimage import median_filter
 from scipy.optimize import least_squares
 
 from mudforce.errors import InputError, real_array
-from mudforce.estimation.calibration.branches import denoise_depth, estimate_force_noise, label_branches, rest_steps
+from mudforce.estimation.calibration.branches import (
+    denoise_depth,
+    estimate_force_noise,
+    estimate_quiet_noise,
+    label_branches,
+    rest_steps,
+)
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.model.velocity import estimate_depth_noise
 
@@ -321,6 +327,12 @@ class PreparedTrial:
         Noise left on :attr:`depth` [m]: the measured depth noise on the
         general path (the denoised depth keeps most of it), 0 for a fitted
         protocol motion (whose uncertainty enters through ``motion_covariance``).
+    unresolved_depth : float
+        The depth's high-frequency content above its white noise [m] (``sqrt(whole^2 - quiet^2)``, the
+        differences over the whole record against those of its quietest stretches): a foot's ringing and impacts
+        the rate does not resolve, which the branch labels and the denoising follow as motion and the noise floor
+        holds as the model's error at this rate (:func:`noise_floor`). 0 unless prepared with
+        ``depth_noise_from="quiet"`` and the noise estimated.
     touchdown : tuple of 2 int, or None
         For a trial that starts in the mud (general path), the samples ``[a, b)`` of its first touchdown from
         above: ``a`` the last sample clear of the surface before it, reached by a step down (so the model is
@@ -342,6 +354,7 @@ class PreparedTrial:
     velocity: float = math.nan
     depth_noise: float = 0.0
     touchdown: tuple[int, int] | None = None
+    unresolved_depth: float = 0.0
 
     @property
     def intrusion_window(self) -> tuple[int, int]:
@@ -442,10 +455,15 @@ def _prepare_protocol(trial: Trial, motion: Motion) -> PreparedTrial:
     )
 
 
-def _prepare_general(trial: Trial, known_depth_noise: float | None = None) -> PreparedTrial:
+def _prepare_general(trial: Trial, known_depth_noise: float | None = None, quiet: bool = False) -> PreparedTrial:
     t, z, f = trial.time, trial.depth, trial.force
     # third divided differences: blind to the stances' smooth sway, unlike a line through three samples
     depth_noise = estimate_force_noise(t, z) if known_depth_noise is None else known_depth_noise
+    unresolved = 0.0
+    if quiet and known_depth_noise is None:  # the noise of the quietest stretches; the rest is motion
+        white = estimate_quiet_noise(t, z)
+        unresolved = math.sqrt(max(depth_noise**2 - white**2, 0.0))
+        depth_noise = white
     if depth_noise < CLEAN_DEPTH_M:  # a computed, noise-free trajectory: the paper's exact rule
         depth_noise = 0.0
     # the sensor's noise where the force is simplest: the foot clear of the mud (a robot's foot in the mud flicks
@@ -481,6 +499,7 @@ def _prepare_general(trial: Trial, known_depth_noise: float | None = None) -> Pr
         velocity=float(np.median(speeds)) if speeds.size else math.nan,
         depth_noise=depth_noise,
         touchdown=touchdown,
+        unresolved_depth=unresolved,
     )
 
 
@@ -502,7 +521,8 @@ def _first_touchdown(depth: np.ndarray, inside: np.ndarray, withdrawing: np.ndar
     return a, (int(later[0]) + 1 if later.size else depth.size)
 
 
-def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: float | None = None) -> PreparedTrial:
+def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: float | None = None,
+                  depth_noise_from: str = "all") -> PreparedTrial:
     """Ready a trial for fitting: the depth the model follows, the branch at every step, the force tared.
 
     Parameters
@@ -519,6 +539,12 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: fl
         differences. At 50-100 Hz a robot foot's ringing and impacts between the samples make those differences
         read 2-60 times the true noise (docs/estimation.md), and the branch labels then distrust real steps of
         millimetres. None (default): estimated. A protocol trial fits its own motion and ignores it.
+    depth_noise_from : str
+        How the depth noise is estimated when not given: ``"all"`` (default; fit's), from the third differences
+        over the whole record
+        (:func:`~mudforce.estimation.calibration.branches.estimate_force_noise`); ``"quiet"`` (identify's), from
+        its quietest stretches (:func:`~mudforce.estimation.calibration.branches.estimate_quiet_noise`), the
+        excess of the whole over it kept as :attr:`PreparedTrial.unresolved_depth`.
 
     Notes
     -----
@@ -531,16 +557,19 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: fl
     the four corners of the motion and carries their uncertainty into the
     standard errors (``docs/calibration.md``).
     """
+    if depth_noise_from not in ("all", "quiet"):
+        raise InputError(f'{trial.name}: depth_noise_from must be "all" or "quiet", got {depth_noise_from!r}')
     if depth_noise is not None and not 0.0 <= depth_noise <= _MAX_DEPTH_NOISE_M:
         raise InputError(f"{trial.name}: depth noise must be between 0 and {_MAX_DEPTH_NOISE_M * 1e3:g} mm "
                          f"(e.g. 0.03 mm), got {depth_noise!r} m")
+    quiet = depth_noise_from == "quiet"
     if protocol is False:
-        return _prepare_general(trial, depth_noise)
+        return _prepare_general(trial, depth_noise, quiet)
     if protocol:
         motion = fit_motion(trial.time, trial.depth, name=trial.name)
         return _prepare_protocol(trial, motion)
     found = is_protocol(trial)
-    return _prepare_protocol(trial, found) if found is not None else _prepare_general(trial, depth_noise)
+    return _prepare_protocol(trial, found) if found is not None else _prepare_general(trial, depth_noise, quiet)
 
 
 def noise_floor(prepared: PreparedTrial, force: np.ndarray, force_at: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
@@ -551,12 +580,17 @@ def noise_floor(prepared: PreparedTrial, force: np.ndarray, force_at: Callable[[
     times :attr:`PreparedTrial.depth_noise` is the part of the residual
     that the depth noise explains (``force`` is the model force at the
     trial's depth, unused beyond its size). Its mean square root over all
-    samples is the floor that an RMSE can reach.
+    samples is the floor that an RMSE can reach. The depth's unresolved
+    motion (:attr:`PreparedTrial.unresolved_depth`, ours) is carried through
+    the same sensitivity: at this rate the model cannot follow it, and it is
+    a model error at the data's rate, not another mud.
     """
     h = 1e-6
     variance = np.full(force.size, prepared.force_noise**2 if math.isfinite(prepared.force_noise) else 0.0)
-    if prepared.depth_noise > 0.0:
+    if prepared.depth_noise > 0.0 or prepared.unresolved_depth > 0.0:
         sens = (force_at(prepared.depth + h) - force_at(prepared.depth - h)) / (2.0 * h)
+        if prepared.unresolved_depth > 0.0:
+            variance = variance + (sens * prepared.unresolved_depth) ** 2
         variance = variance + (sens * prepared.depth_noise) ** 2
     out: np.ndarray = variance
     return out
