@@ -32,6 +32,7 @@ docs/model.md, "Mud in 3-D".
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
@@ -176,6 +177,10 @@ class MudContact3D:
                              e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
         self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), made on the first step
+        # the hot path's outputs, two sets taken in turn and reused only while no one else holds any part of one
+        # (_output_set, _free): so a loop that keeps each step's Wrench until the next is stepped without making new
+        # arrays, and a result that is kept is never written over
+        self._spare, self._other = _output_set(n), _output_set(n)
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
 
@@ -272,14 +277,19 @@ class MudContact3D:
         # the error
         fixed = self._fixed
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
-            forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
+            spare = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
+            if not (_refs(spare[6]) == _FREE_WRENCH and _refs(spare[4]) == _FREE_VIEW
+                    and _refs(spare[5]) == _FREE_VIEW and _refs(spare[1]) == _FREE_EACH
+                    and _refs(spare[0]) == _FREE_BLOCK):
+                spare = self._spare = _output_set(self._n3[0])  # held: left to its holder, new ones made
             try:
-                code = fixed(position[None], quaternion[None], dt, *self._kernel_args, forces, torques, each)
+                code = fixed(position[None], quaternion[None], dt, *self._kernel_args, spare[2], spare[3], spare[1])
             except TypeError:  # numba's "no matching definition": another type of argument
                 code = S3.BAD_SHAPE
             if code == _OK:
-                self.element_forces = each
-                return _new_tuple(Wrench, (forces[0], torques[0]))  # Wrench(...) without its Python __new__
+                self.element_forces = spare[1]
+                self._spare, self._other = self._other, spare
+                return spare[6]  # type: ignore[no-any-return]
             if code != S3.BAD_SHAPE:  # refused for its values: the numpy step words the error
                 return self._step_numpy(position, quaternion, dt)
         return self._step_converted(position, quaternion, dt)
@@ -573,6 +583,29 @@ _fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and 
 _NO_EACH = np.zeros((0, 3))  # step_feet's ``each`` for MudContacts3D: no element's force, each foot's own order
 _ONE3 = (1, 3)
 _new_tuple = tuple.__new__
+
+
+def _output_set(n: int) -> tuple[Any, ...]:
+    """Outputs of :meth:`MudContact3D.step`'s compiled step for ``n`` elements, in one (n + 2, 3) block: the
+    block, every element's force [N] (n, 3), the foot's force and torque rows as the step writes them ((1, 3) each)
+    and as the Wrench holds them ((3,) each), and the Wrench [N], [N m]."""
+    block = np.zeros((n + 2, 3))
+    force, torque = block[n], block[n + 1]
+    return block, block[:n], block[n:n + 1], block[n + 1:], force, torque, _new_tuple(Wrench, (force, torque))
+
+
+_refs = sys.getrefcount
+
+
+def _free(outputs: tuple[Any, ...]) -> tuple[int, int, int, int]:
+    """The reference counts of ``outputs`` (:func:`_output_set`)' Wrench, force view, element forces and block, as
+    :meth:`MudContact3D.step` reads them; counted on a set no one else holds (below), they are the counts of a free
+    set on this Python: any other holder (the Wrench, its arrays, a view of them or their base, the element
+    forces) adds one, and the set is not reused."""
+    return _refs(outputs[6]), _refs(outputs[4]), _refs(outputs[1]), _refs(outputs[0])
+
+
+_FREE_WRENCH, _FREE_VIEW, _FREE_EACH, _FREE_BLOCK = _free(_output_set(1))
 
 
 def _fixed_step() -> Any:
