@@ -268,7 +268,8 @@ class MudContact3D:
         Returns
         -------
         Wrench
-            Force [N] and torque about the body origin [N m], world frame.
+            Force [N] and torque about the body origin [N m], world frame. A later step reuses its arrays (and
+            :attr:`element_forces`') only once no one holds any of them: kept results keep their values.
         """
         # compiled: MudContacts3D's step of one foot (S3.step_feet, through the same dispatcher of its compiled
         # code, typed by numba), with every element's force and the wrench summed in element order: the numpy step
@@ -279,7 +280,7 @@ class MudContact3D:
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
             spare = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
             if not (_refs(spare[6]) == _FREE_WRENCH and _refs(spare[4]) == _FREE_VIEW
-                    and _refs(spare[5]) == _FREE_VIEW and _refs(spare[1]) == _FREE_EACH
+                    and _refs(spare[5]) == _FREE_VIEW and _refs(spare[1]) == _FREE_ARRAY
                     and _refs(spare[0]) == _FREE_BLOCK):
                 spare = self._spare = _output_set(self._n3[0])  # held: left to its holder, new ones made
             try:
@@ -601,11 +602,12 @@ def _free(outputs: tuple[Any, ...]) -> tuple[int, int, int, int]:
     """The reference counts of ``outputs`` (:func:`_output_set`)' Wrench, force view, element forces and block, as
     :meth:`MudContact3D.step` reads them; counted on a set no one else holds (below), they are the counts of a free
     set on this Python: any other holder (the Wrench, its arrays, a view of them or their base, the element
-    forces) adds one, and the set is not reused."""
+    forces) adds one, and the set is not reused. (The element forces' count is that of any array held only by
+    the tuple it is read from: :meth:`MudContacts3D.step`'s output pairs.)"""
     return _refs(outputs[6]), _refs(outputs[4]), _refs(outputs[1]), _refs(outputs[0])
 
 
-_FREE_WRENCH, _FREE_VIEW, _FREE_EACH, _FREE_BLOCK = _free(_output_set(1))
+_FREE_WRENCH, _FREE_VIEW, _FREE_ARRAY, _FREE_BLOCK = _free(_output_set(1))
 
 
 def _fixed_step() -> Any:
@@ -741,6 +743,8 @@ class MudContacts3D:
         # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
         # and the dispatcher of its hot path (None until the first step has compiled the step, and with threads)
         self._hot: tuple[tuple[int, int], tuple[np.ndarray, ...], Any] = ((m, 3), self._kernel_args, None)
+        # step()'s outputs without out=: two pairs taken in turn, each reused only while no one holds either array
+        self._spare, self._other = (np.zeros((m, 3)), np.zeros((m, 3))), (np.zeros((m, 3)), np.zeros((m, 3)))
 
     # ------------------------------------------------------------------ layout
     @property
@@ -844,17 +848,21 @@ class MudContacts3D:
         forces : ndarray, shape (n, 3)
             Force on each foot [N], world frame; ``[:, 2] > 0`` pushes up.
         torques : ndarray, shape (n, 3)
-            Torque on each foot about its body origin [N m], world frame.
+            Torque on each foot about its body origin [N m], world frame. Without ``out``, a later step reuses
+            these arrays only once no one holds either of them: kept results keep their values.
         """
         ps, args, fixed = self._hot
         # the hot path: the compiled step through a dispatcher that takes only float64 C-contiguous arrays (of
         # writable outputs) and a float dt, typed by numba in C; what the types do not say (the shapes, the poses'
         # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
         # refuses, goes through _step_checked's checks, which convert it or word the error.
-        if out is None:
-            forces, torques = _empty(ps), _empty(ps)
+        if out is None:  # the output pair not returned last, reused if no one holds either array (MudContact3D's)
+            spare = self._spare
+            if not (_refs(spare[0]) == _FREE_ARRAY and _refs(spare[1]) == _FREE_ARRAY):
+                spare = self._spare = (_empty(ps), _empty(ps))  # held: left to its holder, new ones made
+            forces, torques = spare
         elif type(out) is tuple and len(out) == 2:
-            forces, torques = out
+            forces, torques = spare = out
         else:
             return self._step_checked(positions, quaternions, dt, out)
         if type(dt) is float and fixed is not None:
@@ -863,6 +871,8 @@ class MudContacts3D:
             except TypeError:  # numba's "no matching definition": another type of argument
                 code = S3.BAD_SHAPE
             if code == _OK:
+                if out is None:
+                    self._spare, self._other = self._other, spare
                 return forces, torques
         return self._step_checked(positions, quaternions, dt, out)
 
