@@ -180,7 +180,7 @@ class MudContact3D:
         # the hot path's outputs, two sets taken in turn and reused only while no one else holds any part of one
         # (_output_set, _free): so a loop that keeps each step's Wrench until the next is stepped without making new
         # arrays, and a result that is kept is never written over
-        self._spare, self._other = _output_set(n), _output_set(n)
+        self._spare, self._other = _output_set(n, self._kernel_args), _output_set(n, self._kernel_args)
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
 
@@ -280,11 +280,11 @@ class MudContact3D:
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
             spare = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
             if not (_refs(spare[6]) == _FREE_WRENCH and _refs(spare[4]) == _FREE_VIEW
-                    and _refs(spare[5]) == _FREE_VIEW and _refs(spare[1]) == _FREE_ARRAY
+                    and _refs(spare[5]) == _FREE_VIEW and _refs(spare[1]) == _FREE_EACH
                     and _refs(spare[0]) == _FREE_BLOCK):
-                spare = self._spare = _output_set(self._n3[0])  # held: left to its holder, new ones made
+                spare = self._spare = _output_set(self._n3[0], self._kernel_args)  # held: left to its holder
             try:
-                code = fixed(position[None], quaternion[None], dt, *self._kernel_args, spare[2], spare[3], spare[1])
+                code = fixed(position[None], quaternion[None], dt, *spare[7])  # the arguments after dt
             except TypeError:  # numba's "no matching definition": another type of argument
                 code = S3.BAD_SHAPE
             if code == _OK:
@@ -586,13 +586,16 @@ _ONE3 = (1, 3)
 _new_tuple = tuple.__new__
 
 
-def _output_set(n: int) -> tuple[Any, ...]:
+def _output_set(n: int, kernel_args: tuple[np.ndarray, ...]) -> tuple[Any, ...]:
     """Outputs of :meth:`MudContact3D.step`'s compiled step for ``n`` elements, in one (n + 2, 3) block: the
     block, every element's force [N] (n, 3), the foot's force and torque rows as the step writes them ((1, 3) each)
-    and as the Wrench holds them ((3,) each), and the Wrench [N], [N m]."""
+    and as the Wrench holds them ((3,) each), the Wrench [N], [N m], and the compiled step's arguments after ``dt``
+    (``kernel_args``, then the outputs)."""
     block = np.zeros((n + 2, 3))
+    each, forces, torques = block[:n], block[n:n + 1], block[n + 1:]
     force, torque = block[n], block[n + 1]
-    return block, block[:n], block[n:n + 1], block[n + 1:], force, torque, _new_tuple(Wrench, (force, torque))
+    return (block, each, forces, torques, force, torque, _new_tuple(Wrench, (force, torque)),
+            (*kernel_args, forces, torques, each))
 
 
 _refs = sys.getrefcount
@@ -602,12 +605,18 @@ def _free(outputs: tuple[Any, ...]) -> tuple[int, int, int, int]:
     """The reference counts of ``outputs`` (:func:`_output_set`)' Wrench, force view, element forces and block, as
     :meth:`MudContact3D.step` reads them; counted on a set no one else holds (below), they are the counts of a free
     set on this Python: any other holder (the Wrench, its arrays, a view of them or their base, the element
-    forces) adds one, and the set is not reused. (The element forces' count is that of any array held only by
-    the tuple it is read from: :meth:`MudContacts3D.step`'s output pairs.)"""
+    forces) adds one, and the set is not reused."""
     return _refs(outputs[6]), _refs(outputs[4]), _refs(outputs[1]), _refs(outputs[0])
 
 
-_FREE_WRENCH, _FREE_VIEW, _FREE_ARRAY, _FREE_BLOCK = _free(_output_set(1))
+def _free_pair(pair: tuple[np.ndarray, np.ndarray]) -> int:
+    """The reference count of an array held by nothing but ``pair`` (:meth:`MudContacts3D.step`'s outputs), as
+    the step reads it (see :func:`_free`)."""
+    return _refs(pair[0])
+
+
+_FREE_WRENCH, _FREE_VIEW, _FREE_EACH, _FREE_BLOCK = _free(_output_set(1, ()))
+_FREE_ARRAY = _free_pair((np.zeros((1, 3)), np.zeros((1, 3))))
 
 
 def _fixed_step() -> Any:
