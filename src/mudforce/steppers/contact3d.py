@@ -181,6 +181,7 @@ class MudContact3D:
         # (_output_set, _free): so a loop that keeps each step's Wrench until the next is stepped without making new
         # arrays, and a result that is kept is never written over
         self._spare, self._other = _output_set(n, self._kernel_args), _output_set(n, self._kernel_args)
+        self._misses = 0  # the hot path's steps since one last reused a set
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
 
@@ -278,19 +279,34 @@ class MudContact3D:
         # the error
         fixed = self._fixed
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
-            spare = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
-            if not (_refs(spare[6]) == _FREE_WRENCH and _refs(spare[4]) == _FREE_VIEW
-                    and _refs(spare[5]) == _FREE_VIEW and _refs(spare[1]) == _FREE_EACH
-                    and _refs(spare[0]) == _FREE_BLOCK):
-                spare = self._spare = _output_set(self._n3[0], self._kernel_args)  # held: left to its holder
-            try:
-                code = fixed(position[None], quaternion[None], dt, *spare[7])  # the arguments after dt
-            except TypeError:  # numba's "no matching definition": another type of argument
-                code = S3.BAD_SHAPE
-            if code == _OK:
-                self.element_forces = spare[1]
-                self._spare, self._other = self._other, spare
-                return spare[6]  # type: ignore[no-any-return]
+            outputs = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
+            if (_refs(outputs[6]) == _FREE_WRENCH and _refs(outputs[4]) == _FREE_VIEW
+                    and _refs(outputs[5]) == _FREE_VIEW and _refs(outputs[1]) == _FREE_EACH
+                    and _refs(outputs[0]) == _FREE_BLOCK):
+                self._misses = 0
+            elif self._misses < 2 or self._misses % 32 == 31:  # held: left to its holder, a new set in its place
+                self._misses += 1
+                outputs = self._spare = _output_set(self._n3[0], self._kernel_args)
+            else:  # results kept step after step: new outputs alone, cheaper than a set (a set now and then, so
+                self._misses += 1  # that the two sets are free again soon after they no longer are kept)
+                forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
+                try:
+                    code = fixed(position[None], quaternion[None], dt, *self._kernel_args, forces, torques, each)
+                except TypeError:  # numba's "no matching definition": another type of argument
+                    code = S3.BAD_SHAPE
+                if code == _OK:
+                    self.element_forces = each
+                    return _new_tuple(Wrench, (forces[0], torques[0]))  # type: ignore[no-any-return]
+                outputs = ()
+            if outputs:
+                try:
+                    code = fixed(position[None], quaternion[None], dt, *outputs[7])  # the arguments after dt
+                except TypeError:  # numba's "no matching definition": another type of argument
+                    code = S3.BAD_SHAPE
+                if code == _OK:
+                    self.element_forces = outputs[1]
+                    self._spare, self._other = self._other, outputs
+                    return outputs[6]  # type: ignore[no-any-return]
             if code != S3.BAD_SHAPE:  # refused for its values: the numpy step words the error
                 return self._step_numpy(position, quaternion, dt)
         return self._step_converted(position, quaternion, dt)
