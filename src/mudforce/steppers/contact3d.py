@@ -881,13 +881,22 @@ class MudContacts3D:
         # writable outputs) and a float dt, typed by numba in C; what the types do not say (the shapes, the poses'
         # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
         # refuses, goes through _step_checked's checks, which convert it or word the error.
-        if out is None:  # the output pair not returned last, reused if no one holds either array (MudContact3D's)
+        if type(out) is tuple and len(out) == 2:
+            forces, torques = out
+        elif out is None:  # the output pair not returned last, reused if no one holds either array (MudContact3D's)
             spare = self._spare
             if not (_refs(spare[0]) == _FREE_ARRAY and _refs(spare[1]) == _FREE_ARRAY):
                 spare = self._spare = (_empty(ps), _empty(ps))  # held: left to its holder, new ones made
             forces, torques = spare
-        elif type(out) is tuple and len(out) == 2:
-            forces, torques = spare = out
+            if type(dt) is float and fixed is not None:
+                try:
+                    code = fixed(positions, quaternions, dt, *args, forces, torques, _NO_EACH)
+                except TypeError:  # numba's "no matching definition": another type of argument
+                    code = S3.BAD_SHAPE
+                if code == _OK:
+                    self._spare, self._other = self._other, spare
+                    return forces, torques
+            return self._step_checked(positions, quaternions, dt, out)
         else:
             return self._step_checked(positions, quaternions, dt, out)
         if type(dt) is float and fixed is not None:
@@ -896,8 +905,6 @@ class MudContacts3D:
             except TypeError:  # numba's "no matching definition": another type of argument
                 code = S3.BAD_SHAPE
             if code == _OK:
-                if out is None:
-                    self._spare, self._other = self._other, spare
                 return forces, torques
         return self._step_checked(positions, quaternions, dt, out)
 
