@@ -164,17 +164,16 @@ class MudContact3D:
         n = shape.n
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
         # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
-        el = np.zeros((n, S3.N_ELEMENT_COLUMNS))
+        block = S3.new_block(np.array([0, n]), 1)  # the step's own arrays in one (one argument, not five)
+        el, self._foot, _, _, _ = S3.block_views(block)
         _fill_elements(el, shape)
-        self._foot = np.zeros((1, S3.N_FOOT_COLUMNS))
         _fill_foot(self._foot[0], params, self._surface_height, self._width, self._lateral_stiffness, shape)
         self._slip = el[:, S3.E_SLIPX:S3.E_SLIPY + 1]  # views: the slips [m] and the world centroids at the last
         self._centroids = el[:, S3.E_CX:S3.E_CZ + 1]  # step [m]
         self._areas = np.array(shape.areas, dtype=np.float64)  # the areas [m^2] as the numpy step's compiled loop
         e = self._elements  # has them (writable, C-contiguous, as numba types them)
         # step_feet's arguments after the pose and dt, before the outputs
-        self._kernel_args = (el, self._foot, np.array([0, n], dtype=np.int64), np.zeros(n), S3.lateral_scratch(n, 1),
-                             e._states, e.ring, e.params_array)
+        self._kernel_args = (block, e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
         self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), made on the first step
         # the hot path's outputs, two sets taken in turn and reused only while no one else holds any part of one
@@ -758,13 +757,15 @@ class MudContacts3D:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = min(vectorized._resolve_threads(threads, total), m)
         self._chunks = np.empty(self.threads, dtype=np.int64)
-        self._stress = np.zeros(total)  # this step's element paper stresses [Pa]
-        # a foot's submerged elements side by side, for the spring's and the 3-D law's vectorised loops (one block
-        # per slice)
-        self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
+        # the step's own arrays in one (one argument, not five): the elements, the feet, this step's element paper
+        # stresses [Pa] and the lateral scratch (a foot's submerged elements side by side, for the spring's and the
+        # 3-D law's vectorised loops; one block per slice)
+        block = S3.new_block(self._starts, self.threads)
+        self._el, self._ft, _, self._stress, self._lateral = S3.block_views(block)
+        self._el[:] = el
+        self._ft[:] = ft
         # the compiled step's arguments after the poses and dt, before the outputs
-        self._kernel_args = (self._el, self._ft, self._starts, self._stress, self._lateral, self._states, self._ring,
-                             self._params_rows)
+        self._kernel_args = (block, self._states, self._ring, self._params_rows)
         # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
         # and the dispatcher of its hot path (None until the first step has compiled the step, and with threads)
         self._hot: tuple[tuple[int, int], tuple[np.ndarray, ...], Any] = ((m, 3), self._kernel_args, None)
