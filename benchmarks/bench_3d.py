@@ -130,9 +130,13 @@ def bench_kernel(shape: shapes.Shape, steps: int, repeats: int) -> tuple[float, 
     return best / steps, median / steps
 
 
-def bench_one(shape: shapes.Shape, steps: int, repeats: int, numpy: bool = False) -> tuple[float, float]:
+def bench_one(shape: shapes.Shape, steps: int, repeats: int, numpy: bool = False, keep: bool = False
+              ) -> tuple[float, float]:
     """Seconds per step (best, median) of ``MudContact3D.step`` for one foot (compiled); with ``numpy``, of the
-    numpy step it compiles bit for bit (``_step_numpy``, private: a benchmark's look inside)."""
+    numpy step it compiles bit for bit (``_step_numpy``, private: a benchmark's look inside).
+
+    The loop holds each step's Wrench until the next (a control loop's ``w = contact.step(...)``), so the step
+    reuses its outputs; with ``keep``, every Wrench is kept, so each step makes new ones."""
     params = mf.MudParameters.from_water_content(0.25)
     pos, quat = walk(1, steps + 1)
     contact = MudContact3D(params, shape)
@@ -143,8 +147,12 @@ def bench_one(shape: shapes.Shape, steps: int, repeats: int, numpy: bool = False
 
     def run() -> None:
         contact.state = start
+        kept = []
+        w = None
         for k in range(1, steps + 1):
-            step(pos[k, 0], quat[k, 0], dt)
+            w = step(pos[k, 0], quat[k, 0], dt)
+            if keep:
+                kept.append(w)
 
     run()
     best, median = timings(run, repeats)
@@ -310,6 +318,8 @@ def main() -> None:
             row(f"  the same on {threads} thread(s), wall time",
                 bench_many(sphere, 4096, max(steps // 20, 20), repeats, threads=threads, wall=True), 4096 * sphere.n)
     row("MudContact3D.step, 1 sphere foot (64 el.)", bench_one(sphere, steps * 2, repeats), sphere.n)
+    row("  the same, every Wrench kept (new outputs each step)", bench_one(sphere, steps * 2, repeats, keep=True),
+        sphere.n)
     row("  its numpy step (the same bits)", bench_one(sphere, max(steps // 5, 50), repeats, numpy=True), sphere.n)
     jax = bench_jax(sphere, 64, steps // 2, repeats)
     if jax is None:

@@ -284,6 +284,49 @@ def test_the_compiled_step_is_the_numpy_step_bit_for_bit_and_refuses_as_it_does(
         assert fast.element_forces is forces
 
 
+def test_the_outputs_are_reused_only_when_no_one_holds_them() -> None:
+    """MudContact3D.step's hot path reuses its output arrays (two sets in turn) only while no one holds any part
+    of a set: a loop that keeps each Wrench until the next step makes no new arrays, and every result kept (the
+    Wrench, its force, a view of its torque's block, the element forces or a column of them, every Wrench of
+    several steps) keeps its values, which are the numpy step's, bit for bit; once the kept results are let go,
+    the sets are reused again."""
+    params = mf.MudParameters.from_water_content(0.25)
+    fast, slow = MudContact3D(params, SPHERE), MudContact3D(params, SPHERE)
+    kept: list[tuple[np.ndarray, np.ndarray]] = []
+    seen: list[int] = []
+    w = None
+    for k in range(16):
+        position = np.array([0.001 * k, 0.0, 0.01 - 0.002 * k])
+        w = fast.step(position, UPRIGHT, 1e-3)
+        b = slow._step_numpy(position, UPRIGHT, 1e-3)
+        assert np.array_equal(w.force, b.force) and np.array_equal(w.torque, b.torque)
+        assert np.array_equal(fast.element_forces, slow.element_forces)
+        seen.append(id(w))
+        held = {9: w.force, 10: w.torque.base[1:], 11: fast.element_forces, 12: fast.element_forces[:, 2]}.get(k)
+        if held is not None:
+            kept.append((held, held.copy()))
+    every = []  # then every Wrench kept (new outputs each step), then let go, and held to the next step again
+    for k in range(16, 90):
+        position = np.array([0.0005 * k, 0.0, 0.01 - 0.0005 * k])
+        w = fast.step(position, UPRIGHT, 1e-3)
+        b = slow._step_numpy(position, UPRIGHT, 1e-3)
+        assert np.array_equal(w.force, b.force) and np.array_equal(fast.element_forces, slow.element_forces)
+        seen.append(id(w))
+        if k < 24:
+            every.append((w, b, fast.element_forces))
+        elif k == 24:
+            for a, c, forces in every:
+                assert np.array_equal(a.force, c.force) and np.array_equal(a.torque, c.torque)
+                assert forces.shape == (SPHERE.n, 3) and forces[:, 2].sum() == pytest.approx(a.force[2], rel=1e-9)
+            every.clear()
+    assert len(set(seen[2:9])) == 2  # w held from one step to the next: the two sets in turn, nothing new made
+    assert len(set(seen[9:16])) > 2  # results kept: new outputs
+    assert len(set(seen[-8:])) == 2  # reused again (a new set every 32 steps while none is free)
+    for array, values in kept:
+        assert np.array_equal(array, values)
+    assert w is not None and w.force[2] > 0.0  # in the mud
+
+
 def test_the_compiled_step_is_the_many_feet_step_and_compiles_nothing_of_its_own() -> None:
     """MudContact3D's compiled step is MudContacts3D's compiled code (one compile for both): once a MudContacts3D
     has stepped, a MudContact3D's steps add no compiled version; it takes the compiled step from its first step

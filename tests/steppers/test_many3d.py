@@ -325,3 +325,29 @@ def test_constructor_refuses_what_it_cannot_use() -> None:
     ):
         with pytest.raises(InputError, match=match):
             MudContacts3D(*args, **kwargs)
+
+
+def test_the_outputs_without_out_are_reused_only_when_no_one_holds_them() -> None:
+    """MudContacts3D.step without out= reuses its output arrays (two pairs in turn) only while no one holds
+    either array of a pair: a loop that keeps each step's results until the next makes no new arrays, and results
+    kept (an array, a view of one, the returned tuple) keep their values, which are those of a step with out=."""
+    feet, ref = MudContacts3D(MUD, SOLE, 2), MudContacts3D(MUD, SOLE, 2)
+    quats = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+    out = (np.empty((2, 3)), np.empty((2, 3)))
+    kept: list[tuple[np.ndarray, np.ndarray]] = []
+    seen: list[int] = []
+    for k in range(14):
+        positions = np.array([[0.001 * k, 0.0, 0.004 - 0.001 * k], [0.0, -0.001 * k, 0.003 - 0.001 * k]])
+        forces, torques = result = feet.step(positions, quats, DT)
+        ref.step(positions, quats, DT, out=out)
+        assert np.array_equal(forces, out[0]) and np.array_equal(torques, out[1])
+        seen.append(id(forces))
+        held = {8: forces, 9: torques[:, 2], 10: result[0]}.get(k)
+        if held is not None:
+            kept.append((held, held.copy()))
+        del result
+    assert len(set(seen[2:8])) == 2  # the two pairs in turn
+    assert len(set(seen[8:])) > 2  # results kept: new arrays
+    for array, values in kept:
+        assert np.array_equal(array, values)
+    assert forces[:, 2].min() > 0.0  # in the mud

@@ -94,9 +94,11 @@ __all__ = [
     "N_ELEMENT_COLUMNS",
     "N_FOOT_COLUMNS",
     "OK",
+    "block_views",
     "element_forces",
     "fixed_types",
     "lateral_scratch",
+    "new_block",
     "step_feet",
     "step_feet_threads",
 ]
@@ -249,6 +251,60 @@ def lateral_scratch(widest: int, slices: int) -> np.ndarray:
     if width % 512 == 0:
         width += 8
     return np.zeros((slices, N_LATERAL, width))
+
+
+# the header of the block (:func:`new_block`): the sizes and where each array starts in it (float64 entries)
+H_ELEMENTS, H_FEET, H_SLICES, H_WIDTH = 0, 1, 2, 3
+H_EL, H_FT, H_STRESS, H_LAT, H_STARTS = 4, 5, 6, 7, 8
+N_HEADER = 16
+
+
+def new_block(starts: np.ndarray, slices: int) -> np.ndarray:
+    """One float64 array holding the compiled step's own arrays for feet whose elements are ``starts[f]:starts[f
+    + 1]``: the element block (``E_*`` columns), the foot block (``F_*``), the elements' stresses [Pa], the
+    lateral scratch (:func:`lateral_scratch`, ``slices`` slices) and the starts, after a header of their sizes and
+    offsets; all zero but the starts. :func:`block_views` gives them as arrays.
+
+    Speed plumbing: :func:`step_feet` takes them as one argument, not five (numba's dispatcher costs ~0.05-0.1
+    us an array argument); the 1-D rows stay arrays of their own (``MudContacts``' in ``MudContact3D``).
+    """
+    starts = np.asarray(starts, dtype=np.int64)
+    m = starts.shape[0] - 1
+    n = int(starts[-1])
+    widest = int(np.diff(starts).max(initial=0))
+    width = lateral_scratch(widest, 1).shape[2]
+    sizes = (n * N_ELEMENT_COLUMNS, m * N_FOOT_COLUMNS, n, slices * N_LATERAL * width, m + 1)
+    offsets = np.cumsum((N_HEADER, *sizes))
+    block = np.zeros(int(offsets[-1]))
+    block[:9] = (n, m, slices, width, *offsets[:5])
+    block_views(block)[2][:] = starts
+    return block
+
+
+def block_views(block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The arrays of a :func:`new_block` as views of it: elements (n, ``N_ELEMENT_COLUMNS``), feet (m,
+    ``N_FOOT_COLUMNS``), starts (m + 1,) int64, stresses (n,) [Pa], lateral scratch (slices, ``N_LATERAL``,
+    width). (:func:`_unpack` in compiled code: the same header, the same views.)"""
+    n, m, slices, width = (int(v) for v in block[:4])
+    o_el, o_ft, o_stress, o_lat, o_starts = (int(v) for v in block[4:9])
+    return (block[o_el:o_el + n * N_ELEMENT_COLUMNS].reshape(n, N_ELEMENT_COLUMNS),
+            block[o_ft:o_ft + m * N_FOOT_COLUMNS].reshape(m, N_FOOT_COLUMNS),
+            block[o_starts:o_starts + m + 1].view(np.int64),
+            block[o_stress:o_stress + n],
+            block[o_lat:o_lat + slices * N_LATERAL * width].reshape(slices, N_LATERAL, width))
+
+
+@_compiled(inline="always")
+def _unpack(block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`block_views` in compiled code."""
+    n, m, slices, width = int(block[H_ELEMENTS]), int(block[H_FEET]), int(block[H_SLICES]), int(block[H_WIDTH])
+    o_el, o_ft, o_stress = int(block[H_EL]), int(block[H_FT]), int(block[H_STRESS])
+    o_lat, o_starts = int(block[H_LAT]), int(block[H_STARTS])
+    return (block[o_el:o_el + n * N_ELEMENT_COLUMNS].reshape((n, N_ELEMENT_COLUMNS)),
+            block[o_ft:o_ft + m * N_FOOT_COLUMNS].reshape((m, N_FOOT_COLUMNS)),
+            block[o_starts:o_starts + m + 1].view(np.int64),
+            block[o_stress:o_stress + n],
+            block[o_lat:o_lat + slices * N_LATERAL * width].reshape((slices, N_LATERAL, width)))
 
 
 @_compiled()
@@ -481,18 +537,16 @@ def element_forces(stress: np.ndarray, spring: np.ndarray, areas: np.ndarray, nx
 
 
 @_compiled()
-def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-              starts: np.ndarray, stress: np.ndarray, lat: np.ndarray, states: np.ndarray, ring: np.ndarray,
-              params: np.ndarray, forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
+def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, block: np.ndarray, states: np.ndarray,
+              ring: np.ndarray, params: np.ndarray, forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
     """One step of every foot: the wrench of foot ``f`` [N], [N m] into ``forces[f]`` and ``torques[f]``.
 
     ``positions`` (m, 3) [m] and ``quaternions`` (m, 4) ``(w, x, y, z)``
     are the feet's poses, ``dt`` [s] the time since the last step (ignored
-    if no foot has started). ``states``, ``ring`` and ``params`` are the
-    1-D stepper's rows, one per element, ``stress`` its forces (on a unit
-    area: the elements' paper stresses [Pa]); ``lat`` the
-    lateral scratch (:func:`lateral_scratch`, one slice). Returns :data:`OK`; or, having changed nothing, the
-    first foot whose pose or depth is refused (see :func:`_place`),
+    if no foot has started). ``block`` holds the step's own arrays (:func:`new_block`, one slice: the elements,
+    the feet, the starts, the 1-D stepper's forces (on a unit area: the elements' paper stresses [Pa]) and the
+    lateral scratch); ``states``, ``ring`` and ``params`` are the 1-D stepper's rows, one per element. Returns
+    :data:`OK`; or, having changed nothing, the first foot whose pose or depth is refused (see :func:`_place`),
     :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
     foot has started, or :data:`BAD_SHAPE` if the poses or the outputs are
     not one row per foot (``ft``'s rows): (m, 3), (m, 4), (m, 3), (m, 3),
@@ -503,6 +557,7 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.
     one foot): each element's force [N] into its row as well, and each foot's wrench summed over its elements
     in element order, as ``MudContact3D``'s numpy step sums it (:func:`_in_element_order`), its bits.
     """
+    el, ft, starts, stress, lat = _unpack(block)
     m = ft.shape[0]
     if not (positions.shape[0] == m and positions.shape[1] == 3 and quaternions.shape[0] == m
             and quaternions.shape[1] == 4 and forces.shape[0] == m and forces.shape[1] == 3
@@ -535,8 +590,7 @@ def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
 
 
 @_compiled(parallel=True)
-def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, el: np.ndarray, ft: np.ndarray,
-                      starts: np.ndarray, stress: np.ndarray, lat: np.ndarray,
+def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float, block: np.ndarray,
                       states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
                       torques: np.ndarray, each: np.ndarray, chunks: np.ndarray) -> int:
     """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
@@ -544,8 +598,9 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     The checks run first, on the calling thread, over every foot; then
     each slice's elements take their 1-D step and its feet their lateral
     law. The feet are independent, so the results are :func:`step_feet`'s
-    bit for bit. ``lat`` holds one lateral block per slice.
+    bit for bit. ``block``'s lateral scratch holds one lateral block per slice.
     """
+    el, ft, starts, stress, lat = _unpack(block)
     m = positions.shape[0]
     dt = _checked_dt(ft, m, dt)
     if dt != dt:

@@ -32,6 +32,7 @@ docs/model.md, "Mud in 3-D".
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
@@ -163,19 +164,23 @@ class MudContact3D:
         n = shape.n
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
         # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
-        el = np.zeros((n, S3.N_ELEMENT_COLUMNS))
+        block = S3.new_block(np.array([0, n]), 1)  # the step's own arrays in one (one argument, not five)
+        el, self._foot, _, _, _ = S3.block_views(block)
         _fill_elements(el, shape)
-        self._foot = np.zeros((1, S3.N_FOOT_COLUMNS))
         _fill_foot(self._foot[0], params, self._surface_height, self._width, self._lateral_stiffness, shape)
         self._slip = el[:, S3.E_SLIPX:S3.E_SLIPY + 1]  # views: the slips [m] and the world centroids at the last
         self._centroids = el[:, S3.E_CX:S3.E_CZ + 1]  # step [m]
         self._areas = np.array(shape.areas, dtype=np.float64)  # the areas [m^2] as the numpy step's compiled loop
         e = self._elements  # has them (writable, C-contiguous, as numba types them)
         # step_feet's arguments after the pose and dt, before the outputs
-        self._kernel_args = (el, self._foot, np.array([0, n], dtype=np.int64), np.zeros(n), S3.lateral_scratch(n, 1),
-                             e._states, e.ring, e.params_array)
+        self._kernel_args = (block, e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
         self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), made on the first step
+        # the hot path's outputs, two sets taken in turn and reused only while no one else holds any part of one
+        # (_output_set, _free): so a loop that keeps each step's Wrench until the next is stepped without making new
+        # arrays, and a result that is kept is never written over
+        self._spare, self._other = _output_set(n, self._kernel_args), _output_set(n, self._kernel_args)
+        self._misses = 0  # the hot path's steps since one last reused a set
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
 
@@ -263,7 +268,8 @@ class MudContact3D:
         Returns
         -------
         Wrench
-            Force [N] and torque about the body origin [N m], world frame.
+            Force [N] and torque about the body origin [N m], world frame. A later step reuses its arrays (and
+            :attr:`element_forces`') only once no one holds any of them: kept results keep their values.
         """
         # compiled: MudContacts3D's step of one foot (S3.step_feet, through the same dispatcher of its compiled
         # code, typed by numba), with every element's force and the wrench summed in element order: the numpy step
@@ -272,14 +278,34 @@ class MudContact3D:
         # the error
         fixed = self._fixed
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
-            forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
-            try:
-                code = fixed(position[None], quaternion[None], dt, *self._kernel_args, forces, torques, each)
-            except TypeError:  # numba's "no matching definition": another type of argument
-                code = S3.BAD_SHAPE
-            if code == _OK:
-                self.element_forces = each
-                return _new_tuple(Wrench, (forces[0], torques[0]))  # Wrench(...) without its Python __new__
+            outputs = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
+            if (_refs(outputs[6]) == _FREE_WRENCH and _refs(outputs[4]) == _FREE_VIEW
+                    and _refs(outputs[5]) == _FREE_VIEW and _refs(outputs[1]) == _FREE_EACH
+                    and _refs(outputs[0]) == _FREE_BLOCK):
+                self._misses = 0
+            elif self._misses < 2 or self._misses % 32 == 31:  # held: left to its holder, a new set in its place
+                self._misses += 1
+                outputs = self._spare = _output_set(self._n3[0], self._kernel_args)
+            else:  # results kept step after step: new outputs alone, cheaper than a set (a set now and then, so
+                self._misses += 1  # that the two sets are free again soon after they no longer are kept)
+                forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
+                try:
+                    code = fixed(position[None], quaternion[None], dt, *self._kernel_args, forces, torques, each)
+                except TypeError:  # numba's "no matching definition": another type of argument
+                    code = S3.BAD_SHAPE
+                if code == _OK:
+                    self.element_forces = each
+                    return _new_tuple(Wrench, (forces[0], torques[0]))  # type: ignore[no-any-return]
+                outputs = ()
+            if outputs:
+                try:
+                    code = fixed(position[None], quaternion[None], dt, *outputs[7])  # the arguments after dt
+                except TypeError:  # numba's "no matching definition": another type of argument
+                    code = S3.BAD_SHAPE
+                if code == _OK:
+                    self.element_forces = outputs[1]
+                    self._spare, self._other = self._other, outputs
+                    return outputs[6]  # type: ignore[no-any-return]
             if code != S3.BAD_SHAPE:  # refused for its values: the numpy step words the error
                 return self._step_numpy(position, quaternion, dt)
         return self._step_converted(position, quaternion, dt)
@@ -575,6 +601,39 @@ _ONE3 = (1, 3)
 _new_tuple = tuple.__new__
 
 
+def _output_set(n: int, kernel_args: tuple[np.ndarray, ...]) -> tuple[Any, ...]:
+    """Outputs of :meth:`MudContact3D.step`'s compiled step for ``n`` elements, in one (n + 2, 3) block: the
+    block, every element's force [N] (n, 3), the foot's force and torque rows as the step writes them ((1, 3) each)
+    and as the Wrench holds them ((3,) each), the Wrench [N], [N m], and the compiled step's arguments after ``dt``
+    (``kernel_args``, then the outputs)."""
+    block = np.zeros((n + 2, 3))
+    each, forces, torques = block[:n], block[n:n + 1], block[n + 1:]
+    force, torque = block[n], block[n + 1]
+    return (block, each, forces, torques, force, torque, _new_tuple(Wrench, (force, torque)),
+            (*kernel_args, forces, torques, each))
+
+
+_refs = sys.getrefcount
+
+
+def _free(outputs: tuple[Any, ...]) -> tuple[int, int, int, int]:
+    """The reference counts of ``outputs`` (:func:`_output_set`)' Wrench, force view, element forces and block, as
+    :meth:`MudContact3D.step` reads them; counted on a set no one else holds (below), they are the counts of a free
+    set on this Python: any other holder (the Wrench, its arrays, a view of them or their base, the element
+    forces) adds one, and the set is not reused."""
+    return _refs(outputs[6]), _refs(outputs[4]), _refs(outputs[1]), _refs(outputs[0])
+
+
+def _free_pair(pair: tuple[np.ndarray, np.ndarray]) -> int:
+    """The reference count of an array held by nothing but ``pair`` (:meth:`MudContacts3D.step`'s outputs), as
+    the step reads it (see :func:`_free`)."""
+    return _refs(pair[0])
+
+
+_FREE_WRENCH, _FREE_VIEW, _FREE_EACH, _FREE_BLOCK = _free(_output_set(1, ()))
+_FREE_ARRAY = _free_pair((np.zeros((1, 3)), np.zeros((1, 3))))
+
+
 def _fixed_step() -> Any:
     """:func:`mudforce._kernel.step3d.fixed_types` of the compiled step (made again when numba has compiled more)."""
     if _fixed[0] != len(_dispatcher.overloads):
@@ -698,16 +757,20 @@ class MudContacts3D:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = min(vectorized._resolve_threads(threads, total), m)
         self._chunks = np.empty(self.threads, dtype=np.int64)
-        self._stress = np.zeros(total)  # this step's element paper stresses [Pa]
-        # a foot's submerged elements side by side, for the spring's and the 3-D law's vectorised loops (one block
-        # per slice)
-        self._lateral = S3.lateral_scratch(int(sizes.max()), self.threads)
+        # the step's own arrays in one (one argument, not five): the elements, the feet, this step's element paper
+        # stresses [Pa] and the lateral scratch (a foot's submerged elements side by side, for the spring's and the
+        # 3-D law's vectorised loops; one block per slice)
+        block = S3.new_block(self._starts, self.threads)
+        self._el, self._ft, _, self._stress, self._lateral = S3.block_views(block)
+        self._el[:] = el
+        self._ft[:] = ft
         # the compiled step's arguments after the poses and dt, before the outputs
-        self._kernel_args = (self._el, self._ft, self._starts, self._stress, self._lateral, self._states, self._ring,
-                             self._params_rows)
+        self._kernel_args = (block, self._states, self._ring, self._params_rows)
         # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
         # and the dispatcher of its hot path (None until the first step has compiled the step, and with threads)
         self._hot: tuple[tuple[int, int], tuple[np.ndarray, ...], Any] = ((m, 3), self._kernel_args, None)
+        # step()'s outputs without out=: two pairs taken in turn, each reused only while no one holds either array
+        self._spare, self._other = (np.zeros((m, 3)), np.zeros((m, 3))), (np.zeros((m, 3)), np.zeros((m, 3)))
 
     # ------------------------------------------------------------------ layout
     @property
@@ -811,17 +874,30 @@ class MudContacts3D:
         forces : ndarray, shape (n, 3)
             Force on each foot [N], world frame; ``[:, 2] > 0`` pushes up.
         torques : ndarray, shape (n, 3)
-            Torque on each foot about its body origin [N m], world frame.
+            Torque on each foot about its body origin [N m], world frame. Without ``out``, a later step reuses
+            these arrays only once no one holds either of them: kept results keep their values.
         """
         ps, args, fixed = self._hot
         # the hot path: the compiled step through a dispatcher that takes only float64 C-contiguous arrays (of
         # writable outputs) and a float dt, typed by numba in C; what the types do not say (the shapes, the poses'
         # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
         # refuses, goes through _step_checked's checks, which convert it or word the error.
-        if out is None:
-            forces, torques = _empty(ps), _empty(ps)
-        elif type(out) is tuple and len(out) == 2:
+        if type(out) is tuple and len(out) == 2:
             forces, torques = out
+        elif out is None:  # the output pair not returned last, reused if no one holds either array (MudContact3D's)
+            spare = self._spare
+            if not (_refs(spare[0]) == _FREE_ARRAY and _refs(spare[1]) == _FREE_ARRAY):
+                spare = self._spare = (_empty(ps), _empty(ps))  # held: left to its holder, new ones made
+            forces, torques = spare
+            if type(dt) is float and fixed is not None:
+                try:
+                    code = fixed(positions, quaternions, dt, *args, forces, torques, _NO_EACH)
+                except TypeError:  # numba's "no matching definition": another type of argument
+                    code = S3.BAD_SHAPE
+                if code == _OK:
+                    self._spare, self._other = self._other, spare
+                    return forces, torques
+            return self._step_checked(positions, quaternions, dt, out)
         else:
             return self._step_checked(positions, quaternions, dt, out)
         if type(dt) is float and fixed is not None:
