@@ -882,6 +882,7 @@ class MudContacts3D:
         # writable outputs) and a float dt, typed by numba in C; what the types do not say (the shapes, the poses'
         # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
         # refuses, goes through _step_checked's checks, which convert it or word the error.
+        spare = None
         if type(out) is tuple and len(out) == 2:
             forces, torques = out
         elif out is None:  # the output pair not returned last, reused if no one holds either array (MudContact3D's)
@@ -889,15 +890,6 @@ class MudContacts3D:
             if not (_refs(spare[0]) == _FREE_ARRAY and _refs(spare[1]) == _FREE_ARRAY):
                 spare = self._spare = (_empty(ps), _empty(ps))  # held: left to its holder, new ones made
             forces, torques = spare
-            if type(dt) is float and fixed is not None:
-                try:
-                    code = fixed(positions, quaternions, dt, *args, forces, torques, _NO_EACH)
-                except TypeError:  # numba's "no matching definition": another type of argument
-                    code = S3.BAD_SHAPE
-                if code == _OK:
-                    self._spare, self._other = self._other, spare
-                    return forces, torques
-            return self._step_checked(positions, quaternions, dt, out)
         else:
             return self._step_checked(positions, quaternions, dt, out)
         if type(dt) is float and fixed is not None:
@@ -906,6 +898,8 @@ class MudContacts3D:
             except TypeError:  # numba's "no matching definition": another type of argument
                 code = S3.BAD_SHAPE
             if code == _OK:
+                if spare is not None:
+                    self._spare, self._other = self._other, spare
                 return forces, torques
         return self._step_checked(positions, quaternions, dt, out)
 
