@@ -275,6 +275,23 @@ def bench_mjx_env(worlds: int) -> None:
           f"{per_step / worlds / substeps * 1e6:.1f} us per world per physics step")
 
 
+def walk_only(feet: int, steps: int) -> None:
+    """Step ``feet`` walking sphere feet ``steps`` steps and print their last wrench sums; nothing timed.
+
+    For instruction counts, which the shared machine's load does not change (docs/speed.md, "Mud in 3-D"): run
+    it under ``valgrind --tool=callgrind`` for two values of ``steps`` and take the difference of the instructions
+    in numba's compiled code over ``feet x 64 x`` the extra steps (the import and the compile cancel).
+    """
+    params = mf.MudParameters.from_water_content(0.25)
+    pos, quat = walk(feet, steps + 1)
+    contacts = MudContacts3D(params, fibonacci_sphere(), feet)
+    out = (np.empty((feet, 3)), np.empty((feet, 3)))
+    contacts.step(pos[0], quat[0], 0.0, out=out)
+    for k in range(1, steps + 1):
+        contacts.step(pos[k], quat[k], 1.0 / RATE, out=out)
+    print(f"{feet} feet, {steps} steps: force sum {float(out[0].sum())!r} N, torque sum {float(out[1].sum())!r} N m")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer steps and repeats, and no 4096-foot run")
@@ -283,7 +300,12 @@ def main() -> None:
     ap.add_argument("--mjx-env", type=int, default=None, metavar="WORLDS",
                     help="only the MJX quadruped environment (examples/quadruped_mjx_env.py), WORLDS worlds "
                          "(16 on a CPU, 4096 on a GPU)")
+    ap.add_argument("--walk-only", type=int, nargs=2, default=None, metavar=("FEET", "STEPS"),
+                    help="only step FEET walking sphere feet STEPS steps, untimed (for instruction counts)")
     args = ap.parse_args()
+    if args.walk_only is not None:
+        walk_only(*args.walk_only)
+        return
     if args.mjx_env is not None:
         bench_mjx_env(args.mjx_env)
         return

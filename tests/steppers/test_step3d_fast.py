@@ -4,6 +4,7 @@
   their quiet step changes; Eq. (4) is computed once per submerged element for the paper's stress and the
   lateral law) equals the 1-D stepper's (:class:`mudforce.MudContacts`) on the same element depths, bit for bit,
   and so does each element's stress.
+  So it does when the step length changes (every element through the whole state machine).
 * :class:`MudAdapter3D`'s one-patch-everywhere path equals its general path (a patch with a finite extent that
   holds every foot), bit for bit.
 """
@@ -46,6 +47,31 @@ def test_element_states_are_the_1d_steppers() -> None:
         np.testing.assert_array_equal(feet._stress, force)  # the elements' stresses [Pa] (unit areas)
         modes |= set(feet.modes)
     assert {"FREE", "CONTACT"} <= modes
+
+
+def test_a_change_of_step_length_is_the_1d_steppers() -> None:
+    """Steps whose length changes (every element leaves its quiet step for the whole state machine, which
+    ``_step_foot`` calls out of line) while the sphere sinks and rises: each element's state and stress are still
+    the 1-D stepper's, bit for bit."""
+    lengths = np.array([DT] * 20 + [DT / 2] * 20 + [DT] * 20 + [1.5 * DT] * 20)
+    t = np.concatenate([[0.0], np.cumsum(lengths[1:])])
+    z = 0.01 - 0.03 * np.sin(np.pi * t / t[-1])  # origin 10 mm up, to 20 mm down, back up
+    feet = MudContacts3D(MUD, SPHERE, 1)
+    quats = np.array([[1.0, 0.0, 0.0, 0.0]])
+    assert SPHERE.width is not None
+    element = mf.Foot(area=1.0, width=SPHERE.width, shape="element")
+    one_d = mf.MudContacts(MUD, SPHERE.n, element, threads=1, velocity_filter="exact")
+    oz = law3d.rotate(tuple(np.eye(3).ravel().tolist()), *SPHERE.centroids.T)[2]
+    modes = set()
+    for k in range(lengths.size):
+        pos = np.array([[0.0, 0.0, z[k]]])
+        dt = lengths[k] if k else 0.0
+        feet.step(pos, quats, dt)
+        force = one_d.step(law3d.element_depth(0.0, pos[0, 2], oz), dt)
+        np.testing.assert_array_equal(feet.state.elements[:, :K.N_STATE], one_d.state[:, :K.N_STATE])
+        np.testing.assert_array_equal(feet._stress, force)
+        modes |= set(feet.modes)
+    assert {"FREE", "CONTACT", "NECKED"} <= modes
 
 
 def test_one_patch_everywhere_is_the_general_path() -> None:
