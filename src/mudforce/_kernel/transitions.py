@@ -24,7 +24,11 @@ functions, which LLVM inlines into the dispatchers on its own (the same
 speed, measured with ``benchmarks/bench_core.py``): numba's own inlining
 copies and re-processes a callee's IR at every site, nested, and with every
 transition inlined that way the kernel's cold compile took twice as long
-(about 80 s of CPU against 37 s for the 1-D paths the tests use).
+(about 80 s of CPU against 37 s for the 1-D paths the tests use). One
+exception: :func:`sign` is numba-inlined where :func:`quiet_step` calls it,
+and only there (:func:`_in_quiet_step`): the glide loops of
+``run_batch_compact`` then take about 4 instructions a sample fewer
+(docs/speed.md, "Issue 19 point 4").
 
 :func:`quiet_step` is :func:`advance` for the steps in which nothing
 happens (most steps at a constant rate); it must give the same bits, which
@@ -35,7 +39,7 @@ sample's state into the force and its parts.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
@@ -104,6 +108,18 @@ class Step(NamedTuple):
 
 
 # ---------------------------------------------------------------- the branch velocity
+def _in_quiet_step(expr: Any, caller: Any, callee: Any) -> bool:
+    """numba's inlining cost model: numba-inline a call where it is written in :func:`quiet_step`, not elsewhere.
+
+    numba asks it at every call site (``expr``, with the IR of the function being compiled and of the
+    callee): only the sites whose source lines are :func:`quiet_step`'s are inlined, so that the glide
+    loops get the callee's IR while :func:`advance` keeps a plain call (which LLVM inlines). Speed
+    plumbing: docs/speed.md, "Issue 19 point 4".
+    """
+    first, last, filename = _QUIET_STEP_LINES
+    return bool(expr.loc.filename == filename and first <= expr.loc.line <= last)
+
+
 @_compiled()
 def _direction(velocity: float, previous: float, deadband: float) -> float:
     """Motion direction from a velocity estimate, with a Schmitt-trigger deadband.
@@ -127,7 +143,7 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
     return sign(velocity)
 
 
-@_compiled()
+@_compiled(inline=_in_quiet_step)
 def sign(velocity: float) -> float:
     """``sign(v)``: ``+1``, ``-1``, or ``0`` for ``v == 0`` (the exact rule's branch direction)."""
     # written so that it compiles to selects rather than branches: across
@@ -458,6 +474,13 @@ def quiet_step(s: State, c: Cache, p: Params, depth: float, dt: float) -> Step:
         zm = depth - strain
     s1 = State(1.0, mode, s.time + dt, depth, zm, age, s.neck_v, s.neck_z, d, v, g, gi, strain)
     return Step(s1, c, ok, math.nan, v)
+
+
+_QUIET_STEP_CODE = cast(Any, quiet_step).py_func.__code__
+# quiet_step's source lines, for _in_quiet_step
+_QUIET_STEP_LINES = (_QUIET_STEP_CODE.co_firstlineno,
+                     max(line for _, _, line in _QUIET_STEP_CODE.co_lines() if line is not None),
+                     _QUIET_STEP_CODE.co_filename)
 
 
 @_compiled(inline="always")
