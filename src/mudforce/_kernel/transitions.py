@@ -120,6 +120,17 @@ def _in_quiet_step(expr: Any, caller: Any, callee: Any) -> bool:
     return bool(expr.loc.filename == filename and first <= expr.loc.line <= last)
 
 
+def _in_full_output_loop(expr: Any, caller: Any, callee: Any) -> bool:
+    """numba's inlining cost model: numba-inline a call into the full-output batch loop only.
+
+    ``caller`` is the IR of the function being compiled (the outermost one, into which :func:`advance`
+    is inlined): the calibration loop ``run_batch_compiled`` gets the callee's IR, every other loop a
+    plain call (which LLVM inlines), and so their compile stays as it was. Speed plumbing: docs/speed.md,
+    "Issue 19 point 4".
+    """
+    return bool(caller.func_id.func_name == "run_batch_compiled")
+
+
 @_compiled()
 def _direction(velocity: float, previous: float, deadband: float) -> float:
     """Motion direction from a velocity estimate, with a Schmitt-trigger deadband.
@@ -196,7 +207,7 @@ def step_cache(c: Cache, p: Params, dt: float) -> Cache:
 
 
 # ---------------------------------------------------------------- the transitions
-@_compiled()
+@_compiled(inline=_in_full_output_loop)
 def _moved(s: State, mode: int, mud: float, strain: float) -> State:
     """``s`` with a new contact state, ``z_m`` [m] and extension ``z_i - z_m`` [m]."""
     return State(s.started, mode, s.time, s.depth, mud, s.neck_age, s.neck_v, s.neck_z, s.direction, s.velocity,
@@ -236,7 +247,7 @@ def touchdown(s: State, v: float) -> tuple[State, float]:
     return _moved(s, CONTACT, 0.0, 0.0), start
 
 
-@_compiled()
+@_compiled(inline=_in_full_output_loop)
 def free_step(s: State, z1: float) -> State:
     """A step in FREE that stays above the surface (``z1 <= 0`` [m]): the mud surface follows the foot."""
     return _moved(s, FREE, z1, s.strain)
@@ -360,7 +371,7 @@ def neck_filter_step(c: Cache, p: Params, age: float, gi: float, g: float) -> tu
     return neck_filter_update(c.phi0, c.phi1, c.phi2, c.phi3, gi, g)
 
 
-@_compiled()
+@_compiled(inline=_in_full_output_loop)
 def necked_step(s: State, c: Cache, p: Params, dt: float) -> State:
     """A whole step in NECKED: the mud decays by Eq. (7), one step of its exact discrete update."""
     age = s.neck_age + dt
