@@ -24,11 +24,14 @@ functions, which LLVM inlines into the dispatchers on its own (the same
 speed, measured with ``benchmarks/bench_core.py``): numba's own inlining
 copies and re-processes a callee's IR at every site, nested, and with every
 transition inlined that way the kernel's cold compile took twice as long
-(about 80 s of CPU against 37 s for the 1-D paths the tests use). One
-exception: :func:`sign` is numba-inlined where :func:`quiet_step` calls it,
-and only there (:func:`_in_quiet_step`): the glide loops of
-``run_batch_compact`` then take about 4 instructions a sample fewer
-(docs/speed.md, "Issue 19 point 4").
+(about 80 s of CPU against 37 s for the 1-D paths the tests use). Two
+exceptions, through numba's inlining cost models: :func:`sign` is
+numba-inlined where :func:`quiet_step` calls it, and only there
+(:func:`_in_quiet_step`), and :func:`_moved`, :func:`free_step` and
+:func:`necked_step` into the full-output batch loop only
+(:func:`_in_full_output_loop`): ``run_batch_compact`` then takes about 4
+instructions a sample fewer, ``run_batch`` about 16, and no other loop's
+compile changes (docs/speed.md, "Issue 19 point 4").
 
 :func:`quiet_step` is :func:`advance` for the steps in which nothing
 happens (most steps at a constant rate); it must give the same bits, which
