@@ -99,7 +99,7 @@ __all__ = [
 _F = TypeVar("_F", bound=Callable[..., Any])
 
 
-def _compiled(inline: str = "never", **overrides: Any) -> Callable[[_F], _F]:
+def _compiled(inline: str | Callable[..., bool] = "never", **overrides: Any) -> Callable[[_F], _F]:
     """``numba.njit`` for the stepper: cached, releases the GIL, no reference counting, IEEE division.
 
     ``_nrt=False``: the stepper allocates nothing, and without numba's
@@ -108,7 +108,8 @@ def _compiled(inline: str = "never", **overrides: Any) -> Callable[[_F], _F]:
     division is a division, without Python's check for a zero divisor,
     which is a branch that keeps loops from vectorising (the stepper
     validates its inputs before it divides by them). ``inline="always"`` compiles a
-    function into each caller's loop. ``overrides`` replace these options
+    function into each caller's loop; ``inline`` may also be numba's cost model, a callable
+    ``(expr, caller_ir, callee_ir) -> bool`` asked at each call site. ``overrides`` replace these options
     (the MuJoCo adapter's per-step functions keep the GIL, for one). Typed
     so that the compiled functions keep their signatures for mypy.
     """

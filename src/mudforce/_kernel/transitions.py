@@ -24,7 +24,14 @@ functions, which LLVM inlines into the dispatchers on its own (the same
 speed, measured with ``benchmarks/bench_core.py``): numba's own inlining
 copies and re-processes a callee's IR at every site, nested, and with every
 transition inlined that way the kernel's cold compile took twice as long
-(about 80 s of CPU against 37 s for the 1-D paths the tests use).
+(about 80 s of CPU against 37 s for the 1-D paths the tests use). Two
+exceptions, through numba's inlining cost models: :func:`sign` is
+numba-inlined where :func:`quiet_step` calls it, and only there
+(:func:`_in_quiet_step`), and :func:`_moved`, :func:`free_step` and
+:func:`necked_step` into the full-output batch loop only
+(:func:`_in_full_output_loop`): ``run_batch_compact`` then takes about 4
+instructions a sample fewer, ``run_batch`` about 16, and no other loop's
+compile changes (docs/speed.md, "Issue 19 point 4").
 
 :func:`quiet_step` is :func:`advance` for the steps in which nothing
 happens (most steps at a constant rate); it must give the same bits, which
@@ -35,7 +42,7 @@ sample's state into the force and its parts.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
@@ -104,6 +111,29 @@ class Step(NamedTuple):
 
 
 # ---------------------------------------------------------------- the branch velocity
+def _in_quiet_step(expr: Any, caller: Any, callee: Any) -> bool:
+    """numba's inlining cost model: numba-inline a call where it is written in :func:`quiet_step`, not elsewhere.
+
+    numba asks it at every call site (``expr``, with the IR of the function being compiled and of the
+    callee): only the sites whose source lines are :func:`quiet_step`'s are inlined, so that the glide
+    loops get the callee's IR while :func:`advance` keeps a plain call (which LLVM inlines). Speed
+    plumbing: docs/speed.md, "Issue 19 point 4".
+    """
+    first, last, filename = _QUIET_STEP_LINES
+    return bool(expr.loc.filename == filename and first <= expr.loc.line <= last)
+
+
+def _in_full_output_loop(expr: Any, caller: Any, callee: Any) -> bool:
+    """numba's inlining cost model: numba-inline a call into the full-output batch loop only.
+
+    ``caller`` is the IR of the function being compiled (the outermost one, into which :func:`advance`
+    is inlined): the calibration loop ``run_batch_compiled`` gets the callee's IR, every other loop a
+    plain call (which LLVM inlines), and so their compile stays as it was. Speed plumbing: docs/speed.md,
+    "Issue 19 point 4".
+    """
+    return bool(caller.func_id.func_name == "run_batch_compiled")
+
+
 @_compiled()
 def _direction(velocity: float, previous: float, deadband: float) -> float:
     """Motion direction from a velocity estimate, with a Schmitt-trigger deadband.
@@ -127,7 +157,7 @@ def _direction(velocity: float, previous: float, deadband: float) -> float:
     return sign(velocity)
 
 
-@_compiled()
+@_compiled(inline=_in_quiet_step)
 def sign(velocity: float) -> float:
     """``sign(v)``: ``+1``, ``-1``, or ``0`` for ``v == 0`` (the exact rule's branch direction)."""
     # written so that it compiles to selects rather than branches: across
@@ -180,7 +210,7 @@ def step_cache(c: Cache, p: Params, dt: float) -> Cache:
 
 
 # ---------------------------------------------------------------- the transitions
-@_compiled()
+@_compiled(inline=_in_full_output_loop)
 def _moved(s: State, mode: int, mud: float, strain: float) -> State:
     """``s`` with a new contact state, ``z_m`` [m] and extension ``z_i - z_m`` [m]."""
     return State(s.started, mode, s.time, s.depth, mud, s.neck_age, s.neck_v, s.neck_z, s.direction, s.velocity,
@@ -220,7 +250,7 @@ def touchdown(s: State, v: float) -> tuple[State, float]:
     return _moved(s, CONTACT, 0.0, 0.0), start
 
 
-@_compiled()
+@_compiled(inline=_in_full_output_loop)
 def free_step(s: State, z1: float) -> State:
     """A step in FREE that stays above the surface (``z1 <= 0`` [m]): the mud surface follows the foot."""
     return _moved(s, FREE, z1, s.strain)
@@ -344,7 +374,7 @@ def neck_filter_step(c: Cache, p: Params, age: float, gi: float, g: float) -> tu
     return neck_filter_update(c.phi0, c.phi1, c.phi2, c.phi3, gi, g)
 
 
-@_compiled()
+@_compiled(inline=_in_full_output_loop)
 def necked_step(s: State, c: Cache, p: Params, dt: float) -> State:
     """A whole step in NECKED: the mud decays by Eq. (7), one step of its exact discrete update."""
     age = s.neck_age + dt
@@ -458,6 +488,13 @@ def quiet_step(s: State, c: Cache, p: Params, depth: float, dt: float) -> Step:
         zm = depth - strain
     s1 = State(1.0, mode, s.time + dt, depth, zm, age, s.neck_v, s.neck_z, d, v, g, gi, strain)
     return Step(s1, c, ok, math.nan, v)
+
+
+_QUIET_STEP_CODE = cast(Any, quiet_step).py_func.__code__
+# quiet_step's source lines, for _in_quiet_step
+_QUIET_STEP_LINES = (_QUIET_STEP_CODE.co_firstlineno,
+                     max(line for _, _, line in _QUIET_STEP_CODE.co_lines() if line is not None),
+                     _QUIET_STEP_CODE.co_filename)
 
 
 @_compiled(inline="always")
