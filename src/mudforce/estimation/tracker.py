@@ -1172,7 +1172,7 @@ class MudTrackers:
         bad = _track_step(dt, *self._args)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
-                             f"{self._depths[bad]!r} and {self._forces[bad]!r}")
+                             f"{float(self._depths[bad])!r} and {float(self._forces[bad])!r}")
         self._started = True
 
     def update(self, depths: Any, forces: Any, dt: float) -> TrackEstimates:
@@ -1328,14 +1328,7 @@ class MudTracker:
             dt = real_number(dt, "dt [s]")
         b._depths[0] = depth
         b._forces[0] = force
-        # MudTrackers._step, written out (a method call less)
-        if not b._started:
-            dt = 1.0  # the first sample's dt is ignored
-        elif not (dt > 0.0 and dt < math.inf):
-            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        if _track_step(dt, *b._args) >= 0:
-            raise InputError(f"depth and force of foot 0 must be finite [m, N], got {depth!r} and {force!r}")
-        b._started = True
+        b._step(dt)
         # the columns _O_W .. _O_LAG_SD are TrackEstimate's fields in order (a test pins it); built without the
         # frozen dataclass's __init__ (ten object.__setattr__ calls, about a microsecond of the update)
         o = b._out[0].tolist()
