@@ -353,6 +353,17 @@ def _advance_element(states: np.ndarray, ring: np.ndarray, i: int, params: np.nd
 
 
 @_compiled(inline="always")
+def _q(base: np.uint64, j: np.uint64, field: int) -> np.uint64:
+    """Where element ``j``'s field ``field`` (``Q_*``) lies in the transposed working copy that starts at ``base``.
+
+    Speed plumbing: unsigned, so that numba adds no wraparound of negative indices to the loads and stores (a
+    compare and a conditional move each).
+    """
+    at: np.uint64 = base + (j >> np.uint64(2)) * np.uint64(Q_BLOCK) + (j & np.uint64(3)) + np.uint64(4 * field)
+    return at
+
+
+@_compiled(inline="always")
 def _quiet_lane(s: State, c: Cache, p: Params, depth: float, dt: float) -> tuple[State, bool, float]:
     """:func:`~mudforce._kernel.transitions.quiet_step` without branches, for a loop over many elements that the
     compiler vectorises: the state after the step, whether nothing happened in it (else the state is meaningless and
@@ -451,7 +462,8 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
     # ---- the paper's quiet step of every element, in a loop without branches over a transposed copy of the
     # state rows (the elements in which something happens go through the state machine in the next loop)
     qs = lat.reshape(lat.size)  # the transposed working copy (Q_* fields)
-    base = max(L_QUIET * lat.shape[1], 0)  # (never negative: said to the compiler, no wraparound of indices)
+    base_b = max(L_QUIET * lat.shape[1], 0)  # (never negative: said to the compiler)
+    base = np.uint64(base_b)
     for j in range(n):
         i = lo + j
         row = states[i]
@@ -459,33 +471,35 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
         z = element_depth(h, pz, oz)  # (checked by _place)
         if row[S_STARTED] != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
             z = settle_depth(z, row[S_DEPTH])
-        k = base + (j >> 2) * Q_BLOCK + (j & 3)
-        qs[k + 4 * Q_Z] = z
-        qs[k + 4 * Q_STARTED] = row[S_STARTED]
-        qs[k + 4 * Q_MODE] = row[S_MODE]
-        qs[k + 4 * Q_TIME] = row[S_TIME]
-        qs[k + 4 * Q_DEPTH] = row[S_DEPTH]
-        qs[k + 4 * Q_AGE] = row[S_NECK_AGE]
-        qs[k + 4 * Q_NECK_V] = row[S_NECK_V]
-        qs[k + 4 * Q_NECK_Z] = row[S_NECK_Z]
-        qs[k + 4 * Q_G] = row[S_NECK_G]
-        qs[k + 4 * Q_GI] = row[S_NECK_GI]
-        qs[k + 4 * Q_STRAIN] = row[S_STRAIN]
-        qs[k + 4 * Q_CACHE_DT] = row[S_CACHE_DT]
-        qs[k + 4 * Q_DECAY_I] = row[S_CACHE_DECAY_I]
-        qs[k + 4 * Q_DECAY_W] = row[S_CACHE_DECAY_W]
-        qs[k + 4 * Q_PHI0] = row[S_CACHE_PHI]
-        qs[k + 4 * Q_PHI1] = row[S_CACHE_PHI + 1]
-        qs[k + 4 * Q_PHI2] = row[S_CACHE_PHI + 2]
-        qs[k + 4 * Q_PHI3] = row[S_CACHE_PHI + 3]
+        ju = np.uint64(j)
+        qs[_q(base, ju, Q_Z)] = z
+        qs[_q(base, ju, Q_STARTED)] = row[S_STARTED]
+        qs[_q(base, ju, Q_MODE)] = row[S_MODE]
+        qs[_q(base, ju, Q_TIME)] = row[S_TIME]
+        qs[_q(base, ju, Q_DEPTH)] = row[S_DEPTH]
+        qs[_q(base, ju, Q_AGE)] = row[S_NECK_AGE]
+        qs[_q(base, ju, Q_NECK_V)] = row[S_NECK_V]
+        qs[_q(base, ju, Q_NECK_Z)] = row[S_NECK_Z]
+        qs[_q(base, ju, Q_G)] = row[S_NECK_G]
+        qs[_q(base, ju, Q_GI)] = row[S_NECK_GI]
+        qs[_q(base, ju, Q_STRAIN)] = row[S_STRAIN]
+        qs[_q(base, ju, Q_CACHE_DT)] = row[S_CACHE_DT]
+        qs[_q(base, ju, Q_DECAY_I)] = row[S_CACHE_DECAY_I]
+        qs[_q(base, ju, Q_DECAY_W)] = row[S_CACHE_DECAY_W]
+        qs[_q(base, ju, Q_PHI0)] = row[S_CACHE_PHI]
+        qs[_q(base, ju, Q_PHI1)] = row[S_CACHE_PHI + 1]
+        qs[_q(base, ju, Q_PHI2)] = row[S_CACHE_PHI + 2]
+        qs[_q(base, ju, Q_PHI3)] = row[S_CACHE_PHI + 3]
     for b in range((n + 3) >> 2):  # (the last block's lanes past the foot's elements compute what no one reads)
         for lane in range(4):
-            k = base + b * Q_BLOCK + lane
-            s0 = State(qs[k + 4 * Q_STARTED], int(qs[k + 4 * Q_MODE]), qs[k + 4 * Q_TIME], qs[k + 4 * Q_DEPTH], 0.0,
-                       qs[k + 4 * Q_AGE], qs[k + 4 * Q_NECK_V], qs[k + 4 * Q_NECK_Z], 0.0, 0.0, qs[k + 4 * Q_G],
-                       qs[k + 4 * Q_GI], qs[k + 4 * Q_STRAIN])
-            c0 = Cache(qs[k + 4 * Q_CACHE_DT], qs[k + 4 * Q_DECAY_I], qs[k + 4 * Q_DECAY_W], qs[k + 4 * Q_PHI0],
-                       qs[k + 4 * Q_PHI1], qs[k + 4 * Q_PHI2], qs[k + 4 * Q_PHI3])
+            k = base_b + b * Q_BLOCK + lane
+            s0 = State(qs[k + 4 * Q_STARTED], qs[k + 4 * Q_MODE], qs[k + 4 * Q_TIME],
+                       qs[k + 4 * Q_DEPTH], 0.0, qs[k + 4 * Q_AGE], qs[k + 4 * Q_NECK_V],
+                       qs[k + 4 * Q_NECK_Z], 0.0, 0.0, qs[k + 4 * Q_G], qs[k + 4 * Q_GI],
+                       qs[k + 4 * Q_STRAIN])
+            c0 = Cache(qs[k + 4 * Q_CACHE_DT], qs[k + 4 * Q_DECAY_I], qs[k + 4 * Q_DECAY_W],
+                       qs[k + 4 * Q_PHI0], qs[k + 4 * Q_PHI1], qs[k + 4 * Q_PHI2],
+                       qs[k + 4 * Q_PHI3])
             s1, ok, v = _quiet_lane(s0, c0, p, qs[k + 4 * Q_Z], dt)
             fe1, fs, _, spring = stress_parts(p, s1, v)
             qs[k + 4 * Q_OK] = 1.0 if ok else 0.0
@@ -503,22 +517,23 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
     for j in range(n):
         i = lo + j
         row = states[i]
-        k = base + (j >> 2) * Q_BLOCK + (j & 3)
-        z = qs[k + 4 * Q_Z]
+        ju = np.uint64(j)
+        z = qs[_q(base, ju, Q_Z)]
         # ---- the paper's step of the element (what _kernel.loops.run_feet does for a foot)
-        if quiet and qs[k + 4 * Q_OK] != 0.0:  # only the columns a quiet step changes (the others are the state's)
+        if quiet and qs[_q(base, ju, Q_OK)] != 0.0:  # only the columns a quiet step changes
             row[S_STARTED] = 1.0
-            row[S_TIME] = qs[k + 4 * Q_TIME]
+            row[S_TIME] = qs[_q(base, ju, Q_TIME)]
             row[S_DEPTH] = z
-            row[S_MUD] = qs[k + 4 * Q_MUD]
-            row[S_DIRECTION] = qs[k + 4 * Q_DIRECTION]
-            row[S_VELOCITY] = qs[k + 4 * Q_VELOCITY]
-            if qs[k + 4 * Q_MODE] != FREE:
-                row[S_NECK_AGE] = qs[k + 4 * Q_AGE]
-                row[S_NECK_G] = qs[k + 4 * Q_G]
-                row[S_NECK_GI] = qs[k + 4 * Q_GI]
-                row[S_STRAIN] = qs[k + 4 * Q_STRAIN]
-            fe1, fs, spring = qs[k + 4 * Q_FE1], qs[k + 4 * Q_FS], qs[k + 4 * Q_HAS_SPRING] != 0.0
+            row[S_MUD] = qs[_q(base, ju, Q_MUD)]
+            row[S_DIRECTION] = qs[_q(base, ju, Q_DIRECTION)]
+            row[S_VELOCITY] = qs[_q(base, ju, Q_VELOCITY)]
+            if qs[_q(base, ju, Q_MODE)] != FREE:
+                row[S_NECK_AGE] = qs[_q(base, ju, Q_AGE)]
+                row[S_NECK_G] = qs[_q(base, ju, Q_G)]
+                row[S_NECK_GI] = qs[_q(base, ju, Q_GI)]
+                row[S_STRAIN] = qs[_q(base, ju, Q_STRAIN)]
+            fe1, fs = qs[_q(base, ju, Q_FE1)], qs[_q(base, ju, Q_FS)]
+            spring = qs[_q(base, ju, Q_HAS_SPRING)] != 0.0
         else:
             q = _advance_element(states, ring, i, params, z, dt)
             if not q.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
