@@ -61,41 +61,22 @@ from numba import prange, typeof
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import (
     FREE,
-    NECKED,
-    S_CACHE_DECAY_I,
-    S_CACHE_DECAY_W,
-    S_CACHE_DT,
-    S_CACHE_PHI,
     S_DEPTH,
     S_DIRECTION,
     S_MODE,
     S_MUD,
-    S_NECK_AGE,
-    S_NECK_G,
-    S_NECK_GI,
-    S_NECK_V,
-    S_NECK_Z,
     S_STARTED,
-    S_STRAIN,
     S_TIME,
     S_VELOCITY,
-    Cache,
-    Params,
-    State,
     _compiled,
+    load_cache,
     load_params,
+    load_state,
+    store_state,
 )
 from mudforce._kernel.loops import _advance_row
-from mudforce._kernel.transitions import (
-    Step,
-    exact_rule,
-    neck_filter_step,
-    piece_drag,
-    sign,
-    stress_parts,
-    total_force,
-)
-from mudforce.model.equations import maxwell_strain_step, neck_breaks, necked_mud_motion, nonlinear_spring_stress
+from mudforce._kernel.transitions import Step, exact_rule, quiet_step, stress_parts, total_force
+from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
     element_depth,
@@ -103,7 +84,6 @@ from mudforce.model.law3d import (
     moment,
     rotate,
     rotation,
-    select,
     settle_depth,
     vertical_force,
 )
@@ -258,19 +238,7 @@ L_MX, L_MY = 13, 14  # the horizontal displacement since the last step [m]
 L_FX, L_FY, L_FZ = 15, 16, 17  # the element's force [N]
 L_FE1, L_FS = 18, 19  # the paper's stresses but the spring's, f_e1 and f_s [Pa] (stress_parts)
 L_HAS_SPRING = 20  # 1.0 where the paper's stress has the spring of Eq. (4) (CONTACT, intrusion), else 0.0
-# then a foot's paper states in a transposed working copy (:func:`_step_foot`), in blocks of 4 elements: element j's
-# field F at Q_BASE + (j // 4) Q_BLOCK + 4 F + j % 4 of the scratch's rows from L_QUIET on, read as one flat array (the
-# fields of a block lie at constant distances, which the compiler sees, so the loop over them vectorises)
-L_QUIET = 21
-Q_Z = 0  # the element's depth this step, settled [m]
-Q_STARTED, Q_MODE, Q_TIME, Q_DEPTH, Q_AGE, Q_NECK_V, Q_NECK_Z, Q_G, Q_GI, Q_STRAIN = range(1, 11)  # the state
-Q_CACHE_DT, Q_DECAY_I, Q_DECAY_W, Q_PHI0, Q_PHI1, Q_PHI2, Q_PHI3 = range(11, 18)  # the step-length cache
-Q_OK = 18  # 1.0 where the quiet step holds (nothing happens in the step), else 0.0 (the state machine's)
-Q_MUD, Q_DIRECTION, Q_VELOCITY = 19, 20, 21  # the quiet step's z_m [m], direction [-], velocity [m/s]
-Q_FE1, Q_FS, Q_HAS_SPRING = 22, 23, 24  # stress_parts of the quiet step [Pa], [Pa], 1.0 / 0.0
-N_QUIET = 25
-Q_BLOCK = 4 * N_QUIET
-N_LATERAL = L_QUIET + N_QUIET
+N_LATERAL = 21
 
 
 def lateral_scratch(widest: int, slices: int) -> np.ndarray:
@@ -352,54 +320,6 @@ def _advance_element(states: np.ndarray, ring: np.ndarray, i: int, params: np.nd
     return q
 
 
-@_compiled(inline="always")
-def _q(base: np.uint64, j: np.uint64, field: int) -> np.uint64:
-    """Where element ``j``'s field ``field`` (``Q_*``) lies in the transposed working copy that starts at ``base``.
-
-    Speed plumbing: unsigned, so that numba adds no wraparound of negative indices to the loads and stores (a
-    compare and a conditional move each).
-    """
-    at: np.uint64 = base + (j >> np.uint64(2)) * np.uint64(Q_BLOCK) + (j & np.uint64(3)) + np.uint64(4 * field)
-    return at
-
-
-@_compiled(inline="always")
-def _quiet_lane(s: State, c: Cache, p: Params, depth: float, dt: float) -> tuple[State, bool, float]:
-    """:func:`~mudforce._kernel.transitions.quiet_step` without branches, for a loop over many elements that the
-    compiler vectorises: the state after the step, whether nothing happened in it (else the state is meaningless and
-    the state machine steps the element), and the step's velocity [m/s]; the same calls, the same bits.
-
-    Speed plumbing: every contact state's quiet step is computed and the element's own is selected; the necking
-    test of a withdrawal step is :func:`~mudforce.model.equations.necking_time`'s "does not break" (the suction
-    passes ``-sigma_y`` neither at the step's start nor at its end: :func:`~mudforce.model.equations.neck_breaks`
-    twice), without its instant (a ``log1p``, which a vector loop cannot call), which only a step that necks needs.
-    """
-    z0 = s.depth
-    v = (depth - z0) / dt
-    d = sign(v)
-    ok = (abs(dt - c.dt) <= 0.5e-9 * c.dt) & (abs(depth) < math.inf) & (s.started != 0.0)
-    free = s.mode == FREE
-    necked = s.mode == NECKED
-    down = d >= 0.0
-    # NECKED (moving up or at rest): Eq. (7)'s filter one step on
-    age = s.neck_age + dt
-    gi, g = neck_filter_step(c, p, age, s.neck_gi, s.neck_g)
-    _, mud_necked = necked_mud_motion(s.neck_v, s.neck_z, g, gi)
-    # CONTACT: the Maxwell element on the intrusion branch, or on the withdrawal branch in one piece in which the
-    # neck holds
-    strain_i = maxwell_strain_step(s.strain, v, p.tau_i, c.decay_i)
-    fs = piece_drag(p, z0, v, dt)
-    strain_w = maxwell_strain_step(s.strain, v, p.tau_w, c.decay_w)
-    holds = (not neck_breaks(p.k_w, s.strain, fs, p.sigma_y)) & (not neck_breaks(p.k_w, strain_w, fs, p.sigma_y))
-    ok_contact = select(down, depth > 0.0, ((z0 > 0.0) == (depth > 0.0)) & holds)
-    ok = ok & select(free, depth <= 0.0, select(necked, d <= 0.0, ok_contact))
-    strain = select(free | necked, s.strain, select(down, strain_i, strain_w))
-    mud = select(free, depth, select(necked, mud_necked, depth - strain))
-    s1 = State(1.0, s.mode, s.time + dt, depth, mud, select(necked, age, s.neck_age), s.neck_v, s.neck_z, d, v,
-               select(necked, g, s.neck_g), select(necked, gi, s.neck_gi), strain)
-    return s1, ok, v
-
-
 @_compiled()
 def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.ndarray,
                lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, f: int, dt: float,
@@ -458,87 +378,36 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
     sfx = sfy = sfz = 0.0
     stx = sty = stz = 0.0
     m = 0
-    n = hi - lo
-    # ---- the paper's quiet step of every element, in a loop without branches over a transposed copy of the
-    # state rows (the elements in which something happens go through the state machine in the next loop)
-    qs = lat.reshape(lat.size)  # the transposed working copy (Q_* fields)
-    base_b = max(L_QUIET * lat.shape[1], 0)  # (never negative: said to the compiler)
-    base = np.uint64(base_b)
-    for j in range(n):
-        i = lo + j
+    for i in range(lo, hi):
         row = states[i]
         _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
         z = element_depth(h, pz, oz)  # (checked by _place)
         if row[S_STARTED] != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
             z = settle_depth(z, row[S_DEPTH])
-        ju = np.uint64(j)
-        qs[_q(base, ju, Q_Z)] = z
-        qs[_q(base, ju, Q_STARTED)] = row[S_STARTED]
-        qs[_q(base, ju, Q_MODE)] = row[S_MODE]
-        qs[_q(base, ju, Q_TIME)] = row[S_TIME]
-        qs[_q(base, ju, Q_DEPTH)] = row[S_DEPTH]
-        qs[_q(base, ju, Q_AGE)] = row[S_NECK_AGE]
-        qs[_q(base, ju, Q_NECK_V)] = row[S_NECK_V]
-        qs[_q(base, ju, Q_NECK_Z)] = row[S_NECK_Z]
-        qs[_q(base, ju, Q_G)] = row[S_NECK_G]
-        qs[_q(base, ju, Q_GI)] = row[S_NECK_GI]
-        qs[_q(base, ju, Q_STRAIN)] = row[S_STRAIN]
-        qs[_q(base, ju, Q_CACHE_DT)] = row[S_CACHE_DT]
-        qs[_q(base, ju, Q_DECAY_I)] = row[S_CACHE_DECAY_I]
-        qs[_q(base, ju, Q_DECAY_W)] = row[S_CACHE_DECAY_W]
-        qs[_q(base, ju, Q_PHI0)] = row[S_CACHE_PHI]
-        qs[_q(base, ju, Q_PHI1)] = row[S_CACHE_PHI + 1]
-        qs[_q(base, ju, Q_PHI2)] = row[S_CACHE_PHI + 2]
-        qs[_q(base, ju, Q_PHI3)] = row[S_CACHE_PHI + 3]
-    for b in range((n + 3) >> 2):  # (the last block's lanes past the foot's elements compute what no one reads)
-        for lane in range(4):
-            k = base_b + b * Q_BLOCK + lane
-            s0 = State(qs[k + 4 * Q_STARTED], qs[k + 4 * Q_MODE], qs[k + 4 * Q_TIME],
-                       qs[k + 4 * Q_DEPTH], 0.0, qs[k + 4 * Q_AGE], qs[k + 4 * Q_NECK_V],
-                       qs[k + 4 * Q_NECK_Z], 0.0, 0.0, qs[k + 4 * Q_G], qs[k + 4 * Q_GI],
-                       qs[k + 4 * Q_STRAIN])
-            c0 = Cache(qs[k + 4 * Q_CACHE_DT], qs[k + 4 * Q_DECAY_I], qs[k + 4 * Q_DECAY_W],
-                       qs[k + 4 * Q_PHI0], qs[k + 4 * Q_PHI1], qs[k + 4 * Q_PHI2],
-                       qs[k + 4 * Q_PHI3])
-            s1, ok, v = _quiet_lane(s0, c0, p, qs[k + 4 * Q_Z], dt)
-            fe1, fs, _, spring = stress_parts(p, s1, v)
-            qs[k + 4 * Q_OK] = 1.0 if ok else 0.0
-            qs[k + 4 * Q_TIME] = s1.time
-            qs[k + 4 * Q_MUD] = s1.mud
-            qs[k + 4 * Q_AGE] = s1.neck_age
-            qs[k + 4 * Q_DIRECTION] = s1.direction
-            qs[k + 4 * Q_VELOCITY] = s1.velocity
-            qs[k + 4 * Q_G] = s1.neck_g
-            qs[k + 4 * Q_GI] = s1.neck_gi
-            qs[k + 4 * Q_STRAIN] = s1.strain
-            qs[k + 4 * Q_FE1] = fe1
-            qs[k + 4 * Q_FS] = fs
-            qs[k + 4 * Q_HAS_SPRING] = 1.0 if spring else 0.0
-    for j in range(n):
-        i = lo + j
-        row = states[i]
-        ju = np.uint64(j)
-        z = qs[_q(base, ju, Q_Z)]
         # ---- the paper's step of the element (what _kernel.loops.run_feet does for a foot)
-        if quiet and qs[_q(base, ju, Q_OK)] != 0.0:  # only the columns a quiet step changes
-            row[S_STARTED] = 1.0
-            row[S_TIME] = qs[_q(base, ju, Q_TIME)]
-            row[S_DEPTH] = z
-            row[S_MUD] = qs[_q(base, ju, Q_MUD)]
-            row[S_DIRECTION] = qs[_q(base, ju, Q_DIRECTION)]
-            row[S_VELOCITY] = qs[_q(base, ju, Q_VELOCITY)]
-            if qs[_q(base, ju, Q_MODE)] != FREE:
-                row[S_NECK_AGE] = qs[_q(base, ju, Q_AGE)]
-                row[S_NECK_G] = qs[_q(base, ju, Q_G)]
-                row[S_NECK_GI] = qs[_q(base, ju, Q_GI)]
-                row[S_STRAIN] = qs[_q(base, ju, Q_STRAIN)]
-            fe1, fs = qs[_q(base, ju, Q_FE1)], qs[_q(base, ju, Q_FS)]
-            spring = qs[_q(base, ju, Q_HAS_SPRING)] != 0.0
+        if quiet and row[S_MODE] == FREE:
+            q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
+            ok = q.ok
+            if ok:  # FREE stays FREE: only these columns change (the others are the state's own)
+                s1 = q.state
+                row[S_STARTED] = s1.started
+                row[S_TIME] = s1.time
+                row[S_DEPTH] = s1.depth
+                row[S_MUD] = s1.mud
+                row[S_DIRECTION] = s1.direction
+                row[S_VELOCITY] = s1.velocity
         else:
+            ok = False
+            if quiet:
+                q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
+                ok = q.ok
+                if ok:
+                    store_state(states, i, q.state)
+        if not ok:
             q = _advance_element(states, ring, i, params, z, dt)
             if not q.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
-                return int(i)
-            fe1, fs, _, spring = stress_parts(p, q.state, q.velocity)
+                return i
+        fe1, fs, _, spring = stress_parts(p, q.state, q.velocity)
         # ---- the element's world geometry and the 3-D law's first pass
         ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
         wx, wy, wz = px + ox, py + oy, pz + oz
