@@ -292,6 +292,52 @@ def walk_only(feet: int, steps: int) -> None:
     print(f"{feet} feet, {steps} steps: force sum {float(out[0].sum())!r} N, torque sum {float(out[1].sum())!r} N m")
 
 
+def census(feet: int, steps: int) -> None:
+    """Count the walk's element-steps by the path the compiled step takes for them (docs/speed.md, "Mud in 3-D").
+
+    Steps ``feet`` walking sphere feet ``steps`` steps and classifies each element-step by the element's contact
+    state before and after it (read from the 1-D state rows: a benchmark's look inside): a quiet step in FREE,
+    CONTACT moving down, at rest or up, or NECKED, above or below the surface, or a change of contact state (the
+    state machine's). Prints the shares; nothing timed.
+    """
+    from mudforce._kernel import layout
+
+    params = mf.MudParameters.from_water_content(0.25)
+    pos, quat = walk(feet, steps + 1)
+    contacts = MudContacts3D(params, fibonacci_sphere(), feet)
+    out = (np.empty((feet, 3)), np.empty((feet, 3)))
+    contacts.step(pos[0], quat[0], 0.0, out=out)
+    states = contacts._kernel_args[1]  # the 1-D state rows (private: a benchmark's look inside)
+    counts: dict[str, int] = {}
+    names = layout.STATE_NAMES
+    for k in range(1, steps + 1):
+        before = states[:, layout.S_MODE].astype(int)
+        contacts.step(pos[k], quat[k], 1.0 / RATE, out=out)
+        after = states[:, layout.S_MODE].astype(int)
+        below = states[:, layout.S_DEPTH] > 0.0
+        direction = states[:, layout.S_DIRECTION]
+        labels = np.where(before != after, np.char.add(np.char.add(np.array(names)[before], " -> "),
+                                                       np.array(names)[after]), "")
+        quiet = before == after
+        for label, mask in (("FREE, quiet", quiet & (before == layout.FREE)),
+                            ("CONTACT moving down, quiet", quiet & (before == layout.CONTACT) & (direction > 0.0)),
+                            ("CONTACT at rest, quiet", quiet & (before == layout.CONTACT) & (direction == 0.0)),
+                            ("CONTACT moving up, below the surface, quiet",
+                             quiet & (before == layout.CONTACT) & (direction < 0.0) & below),
+                            ("CONTACT moving up, above the surface, quiet",
+                             quiet & (before == layout.CONTACT) & (direction < 0.0) & ~below),
+                            ("NECKED above the surface, quiet", quiet & (before == layout.NECKED) & ~below),
+                            ("NECKED below the surface, quiet", quiet & (before == layout.NECKED) & below)):
+            counts[label] = counts.get(label, 0) + int(mask.sum())
+        for label in labels[~quiet]:
+            counts[str(label)] = counts.get(str(label), 0) + 1
+    total = feet * fibonacci_sphere().n * steps
+    print(f"{feet} walking sphere feet, {steps} steps: {total} element-steps (\"quiet\": the same contact state "
+          f"after the step; a change of state is the state machine's)")
+    for label, count in sorted(counts.items(), key=lambda item: -item[1]):
+        print(f"  {label:45s} {count:9d} {100.0 * count / total:6.2f} %")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer steps and repeats, and no 4096-foot run")
@@ -302,7 +348,12 @@ def main() -> None:
                          "(16 on a CPU, 4096 on a GPU)")
     ap.add_argument("--walk-only", type=int, nargs=2, default=None, metavar=("FEET", "STEPS"),
                     help="only step FEET walking sphere feet STEPS steps, untimed (for instruction counts)")
+    ap.add_argument("--census", type=int, nargs=2, default=None, metavar=("FEET", "STEPS"),
+                    help="only count the walk's element-steps by contact state and path, untimed")
     args = ap.parse_args()
+    if args.census is not None:
+        census(*args.census)
+        return
     if args.walk_only is not None:
         walk_only(*args.walk_only)
         return
