@@ -41,7 +41,7 @@ SLOW_MODULES: dict[str, float] = {
     "engines/test_drops3d.py": 15,
     "cli/test_cli.py": 15,
     "api/test_conformance.py": 14,
-    "engines/test_quadruped_mjx_env.py": 13,
+    "engines/test_quadruped_mjx_env.py": 24,
     "cli/test_drop3d_cli.py": 13,
     "references/test_reference3d.py": 10,
     "jax/test_jax_grad.py": 9,
