@@ -83,7 +83,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce._kernel.layout import P_DEADBAND, P_WINDOW, S_CACHE_DT, store_cache
+from mudforce._kernel.layout import S_CACHE_DT, store_cache
 from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines.dynamics.rest_band import rest_band
@@ -181,10 +181,7 @@ _C_SHALLOW = 20  # the shallow-sinkage widening [-] (_SHALLOW_WIDENING)
 _C_OFFSET_RES = 21  # half the widest step between two surface offset hypotheses [m] (0 with one)
 _C_SHALLOW_GAIN = 22  # the shallow-sinkage widening's gain [-] (_SHALLOW_GAIN)
 _C_RATE_GAIN = 23  # the low-rate widening's gain [-] (_RATE_WIDENING)
-_C_QUICK = 24  # 1 where the bank's branch rule follows the measured depth noise (the default rule), else 0
-_C_ROBUST_WINDOW = 25  # the noise-robust rule's window [steps] (:func:`default_velocity_filter`'s)
-_C_ROBUST_DEADBAND = 26  # its deadband [m/s]
-_N_CFG = 27
+_N_CFG = 24
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -301,31 +298,6 @@ _REST_NOISE_SIGMAS = 2.0
 #: the models' branch forces against a load anywhere in the rest band (in-family robot misfit averages of 4-9, and a
 #: trot on dry mud confidently wrong under a 30 ms low-pass); at 1 the change flag fired more often on the bench.
 _REST_NOISE_EXCESS = 2.0
-#: The quick branch rule [steps], [m/s] (ours): a secant over two steps, no deadband. The bank's noise-robust default
-#: (:func:`default_velocity_filter`: a secant over 10 steps, for 30 um of depth noise at 100 Hz) sees a reversal of
-#: the foot half its window late, about 50 ms. A fast foot (a robot's bound or trot, 1-2 m/s) has withdrawn by then,
-#: and what the model gives as it turns (the spring's release on the withdrawal branch: on the sensor-chain bench's
-#: seed-5 robot, 75 mm deep in 31 % mud, a pulse of 170 N over 30 ms) is missed by every model of the bank. Drier,
-#: stiffer models then fit better, the more so where a low-pass spreads that pulse over several samples: that robot
-#: read 28 % for 31 % under a 30 ms low-pass, its lag read 45 ms (the quick rule: 31 %, the lag 30 ms), and seed 4's
-#: robot on 33.9 % mud read 32-33 % under every standard corruption. Two steps rather than the exact rule's one,
-#: so that the filter's history is kept for the switch back to the noise-robust rule.
-_QUICK_WINDOW = 2.0
-_QUICK_DEADBAND = 0.0
-#: A foot's bank takes the quick rule while the depth noise measured online is within this many times
-#: :data:`_DEPTH_NOISE0` (150 um) [-] (ours), else the noise-robust rule: the quick one flips branch on 0.3-1 mm of
-#: noise (gait walks then read 1-3 points high). The online estimate (third differences) reads about 30 um on clean
-#: gait walks, 40-110 um on most of the bench's MuJoCo robots (vibration, impacts), 150-370 um with 0.3 mm of noise
-#: added, and 300-600 um on a robot bounding 20 cm at 3 Hz (its own motion: those keep the robust rule).
-_QUICK_NOISE = 5.0
-#: ... and only after this much contact [s] (ours): the noise estimate starts at :data:`_DEPTH_NOISE0` and takes
-#: about a second of contact to reach 0.3 mm; quick before that, a noisy foot's first stances were read on a rule that
-#: flips branch on its noise (seed 3's "standard, all (-)" within 1.5 points 80 -> 70 %, seed 6's offset -5 mm
-#: confidently wrong on 0.3 % of its samples). And only while the foot may be in the mud (its depth plus the largest
-#: surface offset > 0): above it, a foot hovering after a lift-off read as moving down on its noise ends the models'
-#: necking decay (Eq. (7)) at once, so the bank says zero force while the sensor still reads the mud's pull, and the
-#: force offset was tared on it (gait walks: offset 0.5 N for -1 N, noise 3 N for 0.3 N).
-_QUICK_AFTER = 1.0
 
 
 def default_velocity_filter(depth_noise: float = 3e-5, dt: float = 0.01) -> VelocityFilter:
@@ -430,27 +402,6 @@ def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.nd
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _branch_rule(j: int, depth: float, reach: float, aux: np.ndarray, params: np.ndarray, cfg: np.ndarray, M: int
-                 ) -> None:
-    """Foot ``j``'s ``M`` bank rows take the quick branch rule (:data:`_QUICK_WINDOW`, :data:`_QUICK_DEADBAND`)
-    after :data:`_QUICK_AFTER` of contact (``aux[j, _A_CONTACT]``, [s]), while its depth noise measured online
-    (``aux[j, _A_DVAR]``, [m^2]) is within :data:`_QUICK_NOISE` times :data:`_DEPTH_NOISE0` and its ``depth`` [m]
-    plus the largest surface offset ``reach`` [m] is in the mud; else the noise-robust rule (``cfg[_C_ROBUST_WINDOW]``
-    [steps], ``cfg[_C_ROBUST_DEADBAND]`` [m/s]). Written only where it changes (ours). A pure function of ``aux`` and
-    the depth: a restored snapshot gets its rule back at its next step.
-    """
-    quick = (aux[j, _A_DVAR] <= (_QUICK_NOISE * _DEPTH_NOISE0) ** 2 and aux[j, _A_CONTACT] >= _QUICK_AFTER
-             and depth > -reach)
-    window = _QUICK_WINDOW if quick else cfg[_C_ROBUST_WINDOW]
-    deadband = _QUICK_DEADBAND if quick else cfg[_C_ROBUST_DEADBAND]
-    r0 = j * M
-    if params[r0, P_WINDOW] != window or params[r0, P_DEADBAND] != deadband:
-        for m in range(M):
-            params[r0 + m, P_WINDOW] = window
-            params[r0 + m, P_DEADBAND] = deadband
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
 def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
                 scratch: np.ndarray, index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
@@ -503,10 +454,6 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
-    if cfg[_C_QUICK] != 0.0:
-        # the bank's branch rule follows each foot's depth noise measured online (see _QUICK_WINDOW)
-        for j in range(n):
-            _branch_rule(j, depths[j], offsets[NO - 1], aux, params, cfg, M)
     # the bank is stepped at no more than cfg[_C_SUBSTEP] per step: a longer sample interval is cut into substeps,
     # the depth interpolated linearly between the samples (the model's discretisation at a low data rate)
     nsub = 1
@@ -1137,11 +1084,6 @@ class MudTrackers:
         self.velocity_filter = (default_velocity_filter() if velocity_filter is None
                                 else resolve_velocity_filter(velocity_filter))
         cfg = np.empty(_N_CFG, dtype=np.float64)
-        # the default rule follows each foot's depth noise measured online (quick while it is low, see
-        # _QUICK_WINDOW); a rule given is kept as given
-        cfg[_C_QUICK] = 1.0 if velocity_filter is None else 0.0
-        cfg[_C_ROBUST_WINDOW] = float(self.velocity_filter.window)
-        cfg[_C_ROBUST_DEADBAND] = float(self.velocity_filter.deadband)
         cfg[_C_TAU] = positive_number(tau, "tau", "s")
         cfg[_C_MISFIT] = positive_number(misfit, "misfit", "-")
         cfg[_C_FLOOR] = positive_number(floor, "floor", "N")
@@ -1196,8 +1138,6 @@ class MudTrackers:
 
         rows = self.n * self.depth_offsets.size
         self._bank = MudContacts(mud * rows, rows * G, self.foot, velocity_filter=self.velocity_filter, threads=1)
-        # the bank's rows as made (the snapshot's key): the branch rule's columns change as it follows the noise
-        self._params_key = self._bank.params_array.tobytes()
         self._zbuf = np.zeros(rows * G, dtype=np.float64)
         self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
         self._P = np.zeros((self.n, M), dtype=np.float64)
@@ -1266,7 +1206,7 @@ class MudTrackers:
 
     def _key(self) -> bytes:
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
-                         self.depth_offsets.tobytes(), self._log_prior.tobytes(), self._params_key))
+                         self.depth_offsets.tobytes(), self._log_prior.tobytes(), self._bank.params_array.tobytes()))
 
     @property
     def state(self) -> TrackerState:
