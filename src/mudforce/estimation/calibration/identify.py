@@ -48,10 +48,7 @@ itself and its neighbours), sample by sample: the misfit statistic is the RMS
 of the residuals each divided by its own floor (each sample counting at most
 five floors), so that a local
 discretisation error (a branch switch a sample late) excuses only the
-samples where it is large, not an off-family mud everywhere. The statistic
-is read at the member of the interval that makes it smallest, the bias
-re-profiled under its weights: a flag says that no water content the
-interval holds explains the data to the floor.
+samples where it is large, not an off-family mud everywhere.
 
 A trial of any motion is accepted (:func:`~mudforce.estimation.calibration.preprocess.prepare_trial`).
 The result says how well the family explains it: ``misfit_ratio`` (RMSE
@@ -123,9 +120,6 @@ _TURN_SIGMAS = 3.0
 #: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
 #: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
-#: Largest spacing of the misfit statistic's scan of the interval [-] (0.25 points; ours): on the robot recordings
-#: of the sensor-chain bench its minimum over the water content is about a point wide.
-_MISFIT_SCAN_STEP = 0.0025
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,8 +148,7 @@ class Identification:
     misfit_ratio : float
         The RMS of the residuals each divided by its own floor [-] (so ``rmse / noise_floor``), each sample
         counting at most five floors (a sample whose branch the labels got wrong is not an off-family mud):
-        about 1 when the family explains the trial to the noise. On the general path it is read at
-        ``misfit_water_content``, the member of the interval that explains the data best by it.
+        about 1 when the family explains the trial to the noise.
     off_family : float
         How far the data are off the family [N]: the RMS of the residual in
         excess of the noise, ``sqrt(max(rmse^2 - noise_floor^2, 0))``.
@@ -180,12 +173,6 @@ class Identification:
     discretisation : float
         The model's own discretisation error at the data's rate [N] (RMS over the samples); it
         enters the misfit statistic sample by sample, excusing only the samples where it is large.
-    misfit_water_content : float
-        The water content [-] in the interval whose model explains the data best by the misfit statistic (each
-        residual over its own floor, the bias re-profiled under those weights): ``misfit_ratio`` is read there, so a
-        flag means that no member of the interval explains the data. It can differ from ``water_content`` (least
-        squares, every sample weighed alike) where a few samples with a large floor pull the estimate. On a protocol,
-        ``water_content`` itself.
     rest_fraction : float
         Share of the samples read through the rest band [-]: the foot at rest in the mud, or its motion
         changing direction or stopping at the sample.
@@ -234,7 +221,6 @@ class Identification:
     force_gain_uncertainty: float = 0.0
     gain_shift: float = 0.0
     discretisation: float = 0.0
-    misfit_water_content: float = math.nan
     rest_fraction: float = 0.0
     rate_shift: float = 0.0
     episode_half_width: float = 0.0
@@ -267,8 +253,7 @@ class Identification:
         ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``,
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
-        ``discretisation_N``, ``misfit_water_content``, ``rest_fraction``, ``rate_shift``,
-        ``episode_half_width``, ``misfit_shift``,
+        ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
         ``depth_noise_m``, ``unresolved_depth_m``, ``warnings``.
         """
 
@@ -296,7 +281,6 @@ class Identification:
             "force_gain_uncertainty": self.force_gain_uncertainty,
             "gain_shift": self.gain_shift,
             "discretisation_N": self.discretisation,
-            "misfit_water_content": finite(self.misfit_water_content),
             "rest_fraction": self.rest_fraction,
             "rate_shift": self.rate_shift,
             "episode_half_width": self.episode_half_width,
@@ -413,44 +397,6 @@ def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameter
     fine_z[::_REFINE] = depth
     f, low, high = _force_and_band(fine_t, fine_z, q, foot, lag)
     return f[::_REFINE], low[::_REFINE], high[::_REFINE]
-
-
-def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
-                     variance: np.ndarray, free: np.ndarray) -> float:
-    """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights.
-
-    ``model`` [N] is the model's force, ``low``, ``high`` [N] the rest band (``rest`` samples: the residual is the
-    measured force's distance outside it), ``measured`` [N] the force with the least-squares bias removed,
-    ``variance`` [N^2] each sample's floor. The bias is moved by ``d`` [N] from the least-squares one to the nearest
-    local minimum of the statistic (Newton steps on the samples inside their clip, halved until the statistic does not
-    rise; ours): least squares weighs every sample alike, so a few samples with a floor of tens of newtons (an event
-    between two samples) set the bias that a sample out of the mud, whose floor is the force noise, then reads. The
-    ``free`` samples (the foot above the surface, the model's force nil) read the bias itself, with no branch to
-    misread: the re-profile weighs them uncapped, so that it cannot give them up to fit the samples in the mud.
-    """
-    def residual(d: float) -> tuple[np.ndarray, float, float]:
-        m = measured + d
-        r = np.where(rest, np.clip(m, low, high), model) - m
-        z2 = r**2 / variance
-        return r, float(np.mean(np.where(free, z2, np.minimum(z2, _MISFIT_CLIP)))), float(
-            np.mean(np.minimum(z2, _MISFIT_CLIP)))
-
-    d = 0.0
-    r, cost, stat = residual(d)
-    for _ in range(30):
-        active = ((r**2 < _MISFIT_CLIP * variance) | free) & (r != 0.0)
-        if not np.any(active):
-            break
-        step = float(np.sum(r[active] / variance[active]) / np.sum(1.0 / variance[active]))
-        while abs(step) > 1e-9:
-            r_new, cost_new, stat_new = residual(d + step)
-            if cost_new <= cost:
-                break
-            step *= 0.5
-        if abs(step) <= 1e-9:
-            break
-        d, r, cost, stat = d + step, r_new, cost_new, stat_new
-    return stat
 
 
 @one_blas_thread
@@ -695,6 +641,9 @@ def identify_water_content(
         standardised = math.sqrt(float(np.mean(np.minimum(r**2 / v, _MISFIT_CLIP))))
         return rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(v)))
 
+    floor = floor_of(disc2)
+    ratio = misfit_ratio(rmse, floor, scale)
+    off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     # the misfit's worst case: a residual of RMS `unexplained` that the family cannot explain moves the estimate by
     # at most unexplained / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on
     # each side. What the noise does not explain counts, the discretisation error included: the flag excuses it as
@@ -707,46 +656,13 @@ def identify_water_content(
         sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
         model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
         low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
-    # the flag asks whether any member of the family the interval holds explains the data to their floor: the
-    # statistic at its smallest over the interval's water contents, the bias re-profiled under the statistic's own
-    # weights (offset, lag and each sample's floor held at the estimate's). At the least-squares estimate the samples
-    # whose floor is tens of newtons (an event between two samples) pull the water content and the bias, and the
-    # samples whose floor is the force noise (out of the mud, a slow stance) then read that pull as misfit: on the
-    # bench's clean robot recordings the excess over the floor was spread over hundreds of samples, not a missing
-    # floor term at a few (docs/estimation-history.md, "identify's misfit flag: the statistic at the best member")
-    floor = floor_of(disc2)
-    misfit_w = w_best
-    if general and n >= 8:
-        v = np.maximum(noise_var + disc2, least)
-
-        above = tr.depth + offset <= 0.0
-
-        def statistic(w: float) -> float:
-            model, band_low, band_high = _force_and_band(t, tr.depth + offset, family(w), foot, lag)
-            free = above & (model**2 <= 1e-4 * v)  # out of the mud, the model's force nil (to 1 % of the floor)
-            return _bias_reprofiled(model, band_low, band_high, meas, rest, v, free)
-
-        members = np.union1d(np.linspace(low, high, max(math.ceil((high - low) / _MISFIT_SCAN_STEP), 1) + 1),
-                             [w_best])
-        stats = np.array([statistic(float(w)) for w in members])
-        j = int(np.argmin(stats))
-        misfit_w, least_stat = float(members[j]), float(stats[j])
-        if members.size > 2:
-            bracket = (float(members[max(j - 1, 0)]), float(members[min(j + 1, members.size - 1)]))
-            found = minimize_scalar(statistic, bounds=bracket, method="bounded", options={"xatol": 1e-5})
-            if float(found.fun) < least_stat:
-                misfit_w, least_stat = float(found.x), float(found.fun)
-        floor = rmse / math.sqrt(least_stat) if least_stat > 0.0 else math.sqrt(float(np.mean(v)))
-    ratio = misfit_ratio(rmse, floor, scale)
-    off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
                         f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through and the "
                         f"model's discretisation error {discretisation:.3g} N at this rate): "
                         f"the data are {off:.3g} N (RMS) off the Table I family (another mud, another foot "
-                        "than assumed, or a model error), and no water content in the interval explains them "
-                        f"better (the best, {misfit_w * 100:.3g} %, reads that ratio); the estimate is the nearest "
-                        "water content and the interval is widened for the misfit")
+                        "than assumed, or a model error); the estimate is the nearest water content and "
+                        "the interval is widened for the misfit")
     if rate_shift > _RATE_SHIFT_WARNING:
         warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
                         "sample: the sample rate is too low for the model to follow this motion (touchdowns and "
@@ -778,7 +694,6 @@ def identify_water_content(
         force_gain_uncertainty=force_gain_uncertainty,
         gain_shift=gain_shift,
         discretisation=discretisation,
-        misfit_water_content=misfit_w,
         rest_fraction=float(np.mean(rest)),
         rate_shift=rate_shift,
         episode_half_width=sandwich,
