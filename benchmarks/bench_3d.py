@@ -275,6 +275,17 @@ def bench_mjx_env(worlds: int) -> None:
           f"{per_step / worlds / substeps * 1e6:.1f} us per world per physics step")
 
 
+def _walking_feet(feet: int, steps: int) -> tuple[MudContacts3D, np.ndarray, np.ndarray,
+                                                  tuple[np.ndarray, np.ndarray]]:
+    """``feet`` sphere feet in 25 % mud after the first pose of a ``steps``-step walk: the feet, the walk's
+    positions [m] and quaternions, and the output pair that ``--walk-only`` and ``--census`` step into."""
+    pos, quat = walk(feet, steps + 1)
+    contacts = MudContacts3D(mf.MudParameters.from_water_content(0.25), fibonacci_sphere(), feet)
+    out = (np.empty((feet, 3)), np.empty((feet, 3)))
+    contacts.step(pos[0], quat[0], 0.0, out=out)
+    return contacts, pos, quat, out
+
+
 def walk_only(feet: int, steps: int) -> None:
     """Step ``feet`` walking sphere feet ``steps`` steps and print their last wrench sums; nothing timed.
 
@@ -282,11 +293,7 @@ def walk_only(feet: int, steps: int) -> None:
     it under ``valgrind --tool=callgrind`` for two values of ``steps`` and take the difference of the instructions
     in numba's compiled code over ``feet x 64 x`` the extra steps (the import and the compile cancel).
     """
-    params = mf.MudParameters.from_water_content(0.25)
-    pos, quat = walk(feet, steps + 1)
-    contacts = MudContacts3D(params, fibonacci_sphere(), feet)
-    out = (np.empty((feet, 3)), np.empty((feet, 3)))
-    contacts.step(pos[0], quat[0], 0.0, out=out)
+    contacts, pos, quat, out = _walking_feet(feet, steps)
     for k in range(1, steps + 1):
         contacts.step(pos[k], quat[k], 1.0 / RATE, out=out)
     print(f"{feet} feet, {steps} steps: force sum {float(out[0].sum())!r} N, torque sum {float(out[1].sum())!r} N m")
@@ -302,11 +309,7 @@ def census(feet: int, steps: int) -> None:
     """
     from mudforce._kernel import layout
 
-    params = mf.MudParameters.from_water_content(0.25)
-    pos, quat = walk(feet, steps + 1)
-    contacts = MudContacts3D(params, fibonacci_sphere(), feet)
-    out = (np.empty((feet, 3)), np.empty((feet, 3)))
-    contacts.step(pos[0], quat[0], 0.0, out=out)
+    contacts, pos, quat, out = _walking_feet(feet, steps)
     states = contacts._kernel_args[1]  # the 1-D state rows (private: a benchmark's look inside)
     counts: dict[str, int] = {}
     names = layout.STATE_NAMES
@@ -331,7 +334,7 @@ def census(feet: int, steps: int) -> None:
             counts[label] = counts.get(label, 0) + int(mask.sum())
         for label in labels[~quiet]:
             counts[str(label)] = counts.get(str(label), 0) + 1
-    total = feet * fibonacci_sphere().n * steps
+    total = contacts.n_elements * steps
     print(f"{feet} walking sphere feet, {steps} steps: {total} element-steps (\"quiet\": the same contact state "
           f"after the step; a change of state is the state machine's)")
     for label, count in sorted(counts.items(), key=lambda item: -item[1]):
