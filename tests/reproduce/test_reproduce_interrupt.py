@@ -80,8 +80,8 @@ def _wait_for(condition, timeout: float) -> bool:  # type: ignore[no-untyped-def
 
 
 #: Makes ``--quick`` smaller still: two water contents instead of five (the fits, under SIGTERM); with
-#: ``MUDFORCE_TEST_FIGURES=1`` one water content and one repeat, so that the figures (under SIGKILL) start
-#: after a twentieth of the fits. Put before the package on the path by a ``sitecustomize``.
+#: ``MUDFORCE_TEST_FIGURES=1`` only 0.25, so that the figures (under SIGKILL) start after a third of those
+#: fits. Put before the package on the path by a ``sitecustomize``.
 HOOK = '''
 import dataclasses
 import os
@@ -93,7 +93,7 @@ _quick = experiments.ReproduceConfig.quick_config.__func__
 
 def _smaller(cls, seed=0):
     if os.environ.get("MUDFORCE_TEST_FIGURES"):
-        return dataclasses.replace(_quick(cls, seed), water_contents=(0.25,), repeats=1)
+        return dataclasses.replace(_quick(cls, seed), water_contents=(0.25,))
     return dataclasses.replace(_quick(cls, seed), water_contents=(0.2, 0.25))
 
 
