@@ -1,8 +1,8 @@
 """``mudforce reproduce`` stopped partway: no worker survives it, and the folder holds the old report or the new.
 
 Linux only (processes are found through /proc). Each test runs one quick
-report in a subprocess (of two water contents rather than five: a
-``sitecustomize`` put before the package on the path) and kills it as soon
+report in a subprocess (of two water contents rather than five, one for the
+figures: a ``sitecustomize`` put before the package on the path) and kills it as soon
 as it reaches the stage under test, so they cost a few seconds each.
 """
 
