@@ -1,8 +1,8 @@
 """``mudforce reproduce`` stopped partway: no worker survives it, and the folder holds the old report or the new.
 
 Linux only (processes are found through /proc). Each test runs one quick
-report in a subprocess (of two water contents rather than five: a
-``sitecustomize`` put before the package on the path) and kills it as soon
+report in a subprocess (of two water contents rather than five, one for the
+figures: a ``sitecustomize`` put before the package on the path) and kills it as soon
 as it reaches the stage under test, so they cost a few seconds each.
 """
 
@@ -79,10 +79,12 @@ def _wait_for(condition, timeout: float) -> bool:  # type: ignore[no-untyped-def
     return False
 
 
-#: Makes ``--quick`` smaller still: two water contents instead of five, so that the figures (the stage under
-#: test) start after a third of the fits. Put before the package on the path by a ``sitecustomize``.
+#: Makes ``--quick`` smaller still: two water contents instead of five (the fits, under SIGTERM); with
+#: ``MUDFORCE_TEST_FIGURES=1`` only 0.25, so that the figures (under SIGKILL) start after a third of those
+#: fits. Put before the package on the path by a ``sitecustomize``.
 HOOK = '''
 import dataclasses
+import os
 
 from mudforce.reproduce import experiments
 
@@ -90,6 +92,8 @@ _quick = experiments.ReproduceConfig.quick_config.__func__
 
 
 def _smaller(cls, seed=0):
+    if os.environ.get("MUDFORCE_TEST_FIGURES"):
+        return dataclasses.replace(_quick(cls, seed), water_contents=(0.25,))
     return dataclasses.replace(_quick(cls, seed), water_contents=(0.2, 0.25))
 
 
@@ -104,11 +108,12 @@ def hook(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder
 
 
-def _start(out: Path, hook: Path) -> subprocess.Popen[str]:
+def _start(out: Path, hook: Path, *, figures: bool = False) -> subprocess.Popen[str]:
     out.mkdir()
     for name, text in OLD.items():
         (out / name).write_text(text)
-    return start_cli(["reproduce", "--quick", "--jobs", "2", "--quiet", "--out", str(out)], path_first=[hook])
+    return start_cli(["reproduce", "--quick", "--jobs", "2", "--quiet", "--out", str(out)], path_first=[hook],
+                     env={"MUDFORCE_TEST_FIGURES": "1"} if figures else None)
 
 
 def _old_or_complete_new(out: Path) -> str:
@@ -152,7 +157,7 @@ def test_sigterm_during_the_fits(tmp_path: Path, hook: Path) -> None:
 
 def test_sigkill_during_the_figures(tmp_path: Path, hook: Path) -> None:
     out = tmp_path / "out[1]"  # a name a glob pattern would not match (its staged folder was never removed)
-    proc = _start(out, hook)
+    proc = _start(out, hook, figures=True)
     try:
         # the figures are being written once the staged folder holds a PNG
         assert _wait_for(lambda: any(any(p.glob("*.png")) for p in _staged(out)) or proc.poll() is not None, 240.0)

@@ -94,16 +94,6 @@ SETTINGS = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=
 
 @SETTINGS
 @given(parameters(), trajectories())
-def test_outputs_are_finite(params: MudParameters, traj: tuple[np.ndarray, np.ndarray]) -> None:
-    time, depth = traj
-    res = mf.simulate(time, depth, params, velocity_filter="exact")
-    for name in _COLUMNS:
-        assert np.all(np.isfinite(getattr(res, name))), name
-    assert set(np.unique(res.state)) <= {0, 1, 2}
-
-
-@SETTINGS
-@given(parameters(), trajectories())
 def test_batch_equals_streaming_bit_for_bit(params: MudParameters, traj: tuple[np.ndarray, np.ndarray]) -> None:
     time, depth = traj
     foot = Foot.disc(0.05)
@@ -124,11 +114,31 @@ def test_batch_equals_streaming_with_a_filter(
     _assert_batch_is_stream(res, _stream(time, depth, mf.MudContact(params, velocity_filter=vf)))
 
 
+def _insert(time: np.ndarray, depth: np.ndarray, t_new: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Add samples on the first-order-hold line (the input itself does not change)."""
+    t_all = np.union1d(time, t_new)
+    return t_all, np.interp(t_all, time, depth)
+
+
 @SETTINGS
 @given(parameters(), trajectories())
-def test_zero_force_when_free(params: MudParameters, traj: tuple[np.ndarray, np.ndarray]) -> None:
+def test_finite_free_and_continuous_at_necking(params: MudParameters, traj: tuple[np.ndarray, np.ndarray]) -> None:
+    """One simulation per example, three properties of it (each once a test of its own, drawing its own 150
+    examples): every output finite, no force when free, and the force continuous at the necking instant."""
     time, depth = traj
     res = mf.simulate(time, depth, params, velocity_filter="exact")
+    _assert_finite(res)
+    _assert_zero_force_when_free(res)
+    _assert_continuous_at_necking(res, time, depth, params)
+
+
+def _assert_finite(res: SimulationResult) -> None:
+    for name in _COLUMNS:
+        assert np.all(np.isfinite(getattr(res, name))), name
+    assert set(np.unique(res.state)) <= {0, 1, 2}
+
+
+def _assert_zero_force_when_free(res: SimulationResult) -> None:
     free = res.state == 0
     assert np.all(res.force[free] == 0.0)
     assert np.all(res.depth[free] <= 0.0)
@@ -138,19 +148,8 @@ def test_zero_force_when_free(params: MudParameters, traj: tuple[np.ndarray, np.
     assert np.all(res.f_s[res.depth <= 0.0] == 0.0)
 
 
-def _insert(time: np.ndarray, depth: np.ndarray, t_new: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Add samples on the first-order-hold line (the input itself does not change)."""
-    t_all = np.union1d(time, t_new)
-    return t_all, np.interp(t_all, time, depth)
-
-
-@SETTINGS
-@given(parameters(), trajectories())
-def test_force_is_continuous_at_the_necking_instant(
-    params: MudParameters, traj: tuple[np.ndarray, np.ndarray]
-) -> None:
-    time, depth = traj
-    res = mf.simulate(time, depth, params, velocity_filter="exact")
+def _assert_continuous_at_necking(res: SimulationResult, time: np.ndarray, depth: np.ndarray,
+                                  params: MudParameters) -> None:
     foot = res.foot
     for tn in res.necking_times:
         if np.any(np.isclose(tn, time, rtol=0.0, atol=1e-9)):
