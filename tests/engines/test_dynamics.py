@@ -206,3 +206,18 @@ def test_necked_force_is_summed_as_the_stepper() -> None:
         assert got == ref
         old_order_differs |= q.area * fe1 + q.area * fs != ref  # the engine's own sum before it shared the stepper's
     assert old_order_differs  # so the test tells the two orders apart
+
+
+def test_the_engines_interpolation_is_numpys_to_the_bit() -> None:
+    from mudforce.engines.dynamics.engine import _interp
+
+    rng = np.random.default_rng(3)
+    for n in (2, 3, 7, 40):
+        xp = np.cumsum(rng.uniform(1e-3, 2.0, n)) - 1.0
+        fp = rng.normal(0.0, 50.0, n)
+        fp[n // 2] = fp[n // 2 - 1]  # a flat piece
+        xs = [*xp, xp[0] - 1.0, xp[-1] + 1.0, math.nan, *rng.uniform(xp[0] - 0.5, xp[-1] + 0.5, 200),
+              *(np.nextafter(xp, np.inf)), *(np.nextafter(xp, -np.inf))]
+        for x in xs:
+            want, got = float(np.interp(x, xp, fp)), _interp(float(x), xp, fp)
+            assert got == want or (math.isnan(got) and math.isnan(want)), (n, x, got, want)

@@ -64,13 +64,47 @@ _MAX_EVENTS_PER_STEP = 32
 
 
 @njit(cache=True, nogil=True)
+def _interp(x: float, xp: np.ndarray, fp: np.ndarray) -> float:
+    """``np.interp(x, xp, fp)`` for one ``x`` and ``xp`` strictly increasing (2 or more points), to the bit.
+
+    Speed plumbing, not physics: numpy's arithmetic (``arr_interp`` in its ``compiled_base.c``, which numba's
+    ``np.interp`` copies) without numba's general ``np.interp``, whose compile took about 4 s of every cold
+    start of the engine for this one scalar call. ``tests/engines/test_dynamics.py`` checks it against
+    ``np.interp``.
+    """
+    n = xp.shape[0]
+    if x != x:  # NaN in, NaN out
+        return x
+    if x < xp[0]:
+        return fp[0]
+    if x >= xp[n - 1]:  # numpy: past the end, fp[-1]; at the last point, fp[-1] too
+        return fp[n - 1]
+    lo, hi = 0, n - 1  # xp[lo] <= x < xp[hi]
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xp[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    if xp[lo] == x:
+        return fp[lo]
+    slope = (fp[lo + 1] - fp[lo]) / (xp[lo + 1] - xp[lo])
+    y = slope * (x - xp[lo]) + fp[lo]
+    if y != y:  # numpy: NaN one way, try the other
+        y = slope * (x - xp[lo + 1]) + fp[lo + 1]
+        if y != y and fp[lo] == fp[lo + 1]:
+            y = fp[lo]
+    return y
+
+
+@njit(cache=True, nogil=True)
 def _load(t: float, mg: float, tp: np.ndarray, fp: np.ndarray) -> float:
     """Load the mud must carry, ``m g + F_applied(t)`` [N], positive down."""
     if tp.shape[0] == 0:
         return mg
     if tp.shape[0] == 1:
         return float(mg + fp[0])
-    return float(mg + np.interp(t, tp, fp))
+    return float(mg + _interp(t, tp, fp))
 
 
 @njit(cache=True, nogil=True)
