@@ -8,11 +8,7 @@
   scan, float64: forces equal to the default compile's);
 - ``xla_backend_optimization_level: 0`` and ``xla_llvm_disable_expensive_passes: True``: no LLVM
   optimisation. Cheaper again; the code runs slower, which the tests' short runs do not notice, and the
-  order of the operations changes (measured: 6e-14 N on forces of tens of newtons);
-- ``xla_cpu_parallel_codegen_split_count: 1``: the program's LLVM module is not split into parts to generate
-  code for in parallel (on the tests' two busy cores the parts cost more than they save). The same code:
-  measured bit for bit on examples/quadruped_mjx_env.py's rollout (2 worlds, 10 steps); its compile 6.0 to 8.7
-  s CPU in five cold runs, 8.0 to 10.9 s without.
+  order of the operations changes (measured: 6e-14 N on forces of tens of newtons).
 
 So a test that asserts bit-for-bit equality of two JAX runs compiles BOTH with these options, and the
 tolerances against the CPU paths (1e-12 of the peak and wider) are untouched. An option this XLA does not
@@ -31,7 +27,7 @@ from typing import Any
 __all__ = ["WANTED", "light", "light_env", "light_jit"]
 
 WANTED: dict[str, Any] = {"xla_cpu_use_fusion_emitters": False, "xla_backend_optimization_level": 0,
-                          "xla_llvm_disable_expensive_passes": True, "xla_cpu_parallel_codegen_split_count": 1}
+                          "xla_llvm_disable_expensive_passes": True}
 
 
 @functools.cache
