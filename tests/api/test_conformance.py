@@ -104,7 +104,7 @@ PATHS: dict[str, PathSpec] = {
         "feet, each on its own joint and mud, in one world and one jit, float64",
         "MJX's Euler step with the band at the step's start (measured: depth 1.9e-2 of the deepest point, at "
         "touchdown, end depth 7.0e-4, rest force 2e-16 of m g, necking 1.1 ms late); "
-        "tests/engines/test_mjx_drop.py allows 5 % at rest", force=1e-9, neck=2e-3, depth=0.03, end=2e-3),
+        "tests/cli/test_drop3d_cli.py allows 5 % at rest", force=1e-9, neck=2e-3, depth=0.03, end=2e-3),
 }
 TRAJECTORY_PATHS = [name for name, p in PATHS.items() if p.kind == "trajectory" and name != "batch"]
 DROP_PATHS = [name for name, p in PATHS.items() if p.kind == "drop" and name != "exact"]

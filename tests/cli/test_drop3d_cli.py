@@ -1,9 +1,12 @@
-"""`mudforce drop --shape/--tilt/--vx`: a free foot of any shape through the 3-D MuJoCo adapter."""
+"""`mudforce drop --shape/--tilt/--vx`: a free foot of any shape through the 3-D MuJoCo adapter; `--engine mjx`
+(1-D and 3-D) rests at the exact drop's depth; an unknown engine is refused."""
 
 from __future__ import annotations
 
+import csv
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytest.importorskip("mujoco")
@@ -22,6 +25,7 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
         ([*BASE, "--shape", "sphere:40mm", "--tilt", "steep", "--out", "x.csv"], tmp_path),
         ([*BASE, "--tilt", "10", "--out", "x.csv"], tmp_path),
         (["drop", "--mass", "5kg", "--water-content", "20%", "--shape", "sphere:40mm", "--out", "x.csv"], tmp_path),
+        (["drop", "--engine", "warp", "--mass", "1kg", "--water-content", "20%", "--out", "x.csv"], tmp_path),
     ])
     sphere, box = runs[0], runs[1]
     assert sphere.returncode == 0 and "mujoco 3-D sphere: depth" in sphere.stdout, sphere.stderr
@@ -33,13 +37,16 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
     assert 0.0 < last[1] < 0.01  # slid forward a little, then held by the mud
     assert last[4] > 0.0 and last[9] == pytest.approx(5.0 * 9.81, rel=0.02)
     assert float((tmp_path / "b.csv").read_text().splitlines()[1].split(",")[-1]) == pytest.approx(10.0)
-    for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco"), strict=True):
+    for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco", "mjx"),
+                         strict=True):
         assert_refused(run, word)
     assert not (tmp_path / "x.csv").exists()
 
 
 def test_drop_with_a_shape_in_mjx_and_its_refusals(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """``--engine mjx --shape``: the same foot through mudforce.engines.mjx3d (one compile, XLA's light options)."""
+    """``--engine mjx --shape``: the same foot through mudforce.engines.mjx3d (one compile, XLA's light options);
+    and without ``--shape`` the 1-D mudforce.engines.mjx drop, which rests at the exact drop's depth without
+    chatter (in the same subprocess: jax and MuJoCo imported once)."""
     pytest.importorskip("mujoco.mjx")
     from jax_compile import light_env
 
@@ -51,6 +58,8 @@ def test_drop_with_a_shape_in_mjx_and_its_refusals(tmp_path: Path, monkeypatch: 
         ([*mjx, "--shape", "sphere:40mm", "--tilt", "200", "--out", "x.csv"], tmp_path),
         ([*mjx, "--shape", "sphere:40mm", "--plot", "x.png", "--out", "x.csv"], tmp_path),
         ([*mjx[:3], "0.5kg", *mjx[4:], "--shape", "sphere:40mm", "--out", "x.csv"], tmp_path),
+        (["drop", "--engine", "mjx", "--mass", "10kg", "--water-content", "20%", "--duration", "3s", "--out", "d.csv"],
+         tmp_path),
     ])
     run = runs[0]
     assert run.returncode == 0 and "mjx 3-D sphere: depth" in run.stdout, run.stderr
@@ -61,6 +70,22 @@ def test_drop_with_a_shape_in_mjx_and_its_refusals(tmp_path: Path, monkeypatch: 
     assert first[5] == pytest.approx(0.02) and first[10] == pytest.approx(5.0)
     assert 0.0 < last[1] < 0.01 and last[9] == pytest.approx(2.0 * 9.81, rel=0.02)  # held, carrying m g
     assert last[4] == pytest.approx(10.7e-3, rel=0.05)  # tests/engines/test_drops3d.py: the exact drop, 10.74 mm
-    for run, word in zip(runs[1:], ("--vx", "--tilt", "--plot", "--mass"), strict=True):
+    for run, word in zip(runs[1:5], ("--vx", "--tilt", "--plot", "--mass"), strict=True):
         assert_refused(run, word)
     assert not (tmp_path / "x.csv").exists()
+    # the 1-D engine (was tests/engines/test_mjx_drop.py's own subprocess)
+    from mudforce.engines.dynamics import exact_drop
+    from mudforce.model.parameters import MudParameters
+
+    drop = runs[5]
+    assert drop.returncode == 0, drop.stderr
+    assert "mjx: rest depth" in drop.stdout
+    with (tmp_path / "d.csv").open() as handle:
+        table = list(csv.DictReader(handle))
+    t = np.array([float(r["time_s"]) for r in table])
+    z = np.array([float(r["depth_m"]) for r in table])
+    f = np.array([float(r["force_N"]) for r in table])
+    exact = exact_drop(10.0, MudParameters.from_water_content(0.20), duration=3.0)
+    assert abs(z[-1] / exact.rest_depth - 1.0) <= 0.05
+    assert np.std(f[t >= t[-1] - 1.0]) <= 0.02 * 10.0 * 9.81
+    assert {r["state"] for r in table[-1000:]} == {"STUCK"}

@@ -1,48 +1,19 @@
-"""mudforce.engines.mjx: `mudforce drop --engine mjx` rests at the exact drop's depth without chatter; worlds in
-one jit."""
+"""mudforce.engines.mjx: worlds with their own mud in one jit.
+
+(`mudforce drop --engine mjx`, resting at the exact drop's depth without chatter, and the unknown engine's
+refusal are checked in tests/cli/test_drop3d_cli.py, in the subprocesses it already starts.)"""
 
 from __future__ import annotations
-
-import csv
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from jax_compile import light_env, light_jit
+from jax_compile import light_jit
 
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 
-from mudforce.engines.dynamics import exact_drop
 from mudforce.model.parameters import MudParameters
-
-
-def test_drop_engine_mjx_rests_at_the_exact_depth(tmp_path: Path) -> None:
-    out = tmp_path / "drop.csv"
-    proc = subprocess.run([sys.executable, "-m", "mudforce", "drop", "--engine", "mjx", "--mass", "10kg",
-                           "--water-content", "20%", "--duration", "3s", "--out", str(out)],
-                          capture_output=True, text=True, env=light_env(), timeout=240)  # light compile
-    assert proc.returncode == 0, proc.stderr
-    assert "mjx: rest depth" in proc.stdout
-    with out.open() as handle:
-        rows = list(csv.DictReader(handle))
-    t = np.array([float(r["time_s"]) for r in rows])
-    z = np.array([float(r["depth_m"]) for r in rows])
-    f = np.array([float(r["force_N"]) for r in rows])
-    exact = exact_drop(10.0, MudParameters.from_water_content(0.20), duration=3.0)
-    assert abs(z[-1] / exact.rest_depth - 1.0) <= 0.05
-    last = t >= t[-1] - 1.0
-    assert np.std(f[last]) <= 0.02 * 10.0 * 9.81
-    assert {r["state"] for r in rows[-1000:]} == {"STUCK"}
-
-
-def test_bad_engine_is_refused() -> None:
-    proc = subprocess.run([sys.executable, "-m", "mudforce", "drop", "--engine", "warp", "--mass", "1kg",
-                           "--water-content", "20%", "--out", "x.csv"], capture_output=True, text=True, timeout=60)
-    assert proc.returncode == 2 and "mjx" in proc.stderr
 
 
 def test_worlds_with_their_own_mud_in_one_jit() -> None:
