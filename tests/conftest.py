@@ -31,8 +31,8 @@ if os.environ.get("CI"):
 SLOW_MODULES: dict[str, float] = {
     "api/test_typing.py": 25,  # mypy, cold on a clean clone
     "reproduce/test_reproduce.py": 39,
-    "steppers/test_properties.py": 25,
-    "engines/test_mjx_drop.py": 23,
+    "steppers/test_properties.py": 15,
+    "engines/test_mjx_drop.py": 5,
     "reproduce/test_reproduce_interrupt.py": 19,
     "engines/test_mjx3d.py": 18,
     "cli/test_fit_report_interrupt.py": 18,
@@ -42,7 +42,7 @@ SLOW_MODULES: dict[str, float] = {
     "cli/test_cli.py": 15,
     "api/test_conformance.py": 14,
     "engines/test_quadruped_mjx_env.py": 24,
-    "cli/test_drop3d_cli.py": 13,
+    "cli/test_drop3d_cli.py": 17,
     "references/test_reference3d.py": 10,
     "jax/test_jax_grad.py": 9,
     "references/test_reference.py": 8,
