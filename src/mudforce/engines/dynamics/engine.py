@@ -76,9 +76,9 @@ def _interp(x: float, xp: np.ndarray, fp: np.ndarray) -> float:
     if x != x:  # NaN in, NaN out
         return x
     if x < xp[0]:
-        return fp[0]
+        return float(fp[0])
     if x >= xp[n - 1]:  # numpy: past the end, fp[-1]; at the last point, fp[-1] too
-        return fp[n - 1]
+        return float(fp[n - 1])
     lo, hi = 0, n - 1  # xp[lo] <= x < xp[hi]
     while hi - lo > 1:
         mid = (lo + hi) // 2
@@ -87,9 +87,9 @@ def _interp(x: float, xp: np.ndarray, fp: np.ndarray) -> float:
         else:
             hi = mid
     if xp[lo] == x:
-        return fp[lo]
-    slope = (fp[lo + 1] - fp[lo]) / (xp[lo + 1] - xp[lo])
-    y = slope * (x - xp[lo]) + fp[lo]
+        return float(fp[lo])
+    slope: float = (fp[lo + 1] - fp[lo]) / (xp[lo + 1] - xp[lo])
+    y: float = slope * (x - xp[lo]) + fp[lo]
     if y != y:  # numpy: NaN one way, try the other
         y = slope * (x - xp[lo + 1]) + fp[lo + 1]
         if y != y and fp[lo] == fp[lo + 1]:
