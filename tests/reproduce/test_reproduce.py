@@ -36,12 +36,14 @@ WATER = [0.15, 0.25, 0.35]
 
 @pytest.fixture(scope="module")
 def reports(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """One quick report, in two worker processes (that the number of jobs changes nothing is checked below,
-    at the level of the fits and the figures, for a fraction of a second report's cost)."""
+    """One quick report, in the command's own process (``--jobs 1``: two workers would each start the whole
+    stack again, ~2-4 s more CPU). That the number of jobs changes nothing is checked below, at the level of
+    the fits and the figures, for a fraction of a second report's cost; ``--jobs 2`` from the command line
+    starts its workers in tests/reproduce/test_reproduce_interrupt.py."""
     hook = tmp_path_factory.mktemp("hook")
     (hook / "sitecustomize.py").write_text(HOOK)
     out = tmp_path_factory.mktemp("reproduce") / "a"
-    proc = _run("--quick", "--seed", SEED, "--out", str(out), "--jobs", "2", path_first=(hook,))
+    proc = _run("--quick", "--seed", SEED, "--out", str(out), "--jobs", "1", path_first=(hook,))
     assert proc.returncode == 0, proc.stderr
     assert "wrote" in proc.stdout
     return out
