@@ -185,29 +185,18 @@ def _root_compiled(x: Any) -> Any:
     return impl
 
 
-def _law(function: _F, inline: str = "always") -> _F:
+def _law(function: _F) -> _F:
     """Register a law function with numba, so that compiled code calls (and inlines) this very source.
 
     The function itself is returned unchanged: from Python it runs on
     floats, numpy arrays and JAX arrays (the module docstring).
-
-    ``inline`` is numba's: ``"always"`` copies the function's code into each
-    caller before typing (what the vectorised loops of the 3-D step need of
-    :func:`element_force`); ``"never"`` compiles it once, a call that LLVM
-    inlines on its own where it is small (the short helpers: numba's copy at
-    every call site is most of the cost of compiling them, docs/speed.md).
     """
     def typer(*args: Any) -> Any:
         return function
 
     typer.__signature__ = inspect.signature(function)  # type: ignore[attr-defined]
-    overload(function, inline=inline)(typer)
+    overload(function, inline="always")(typer)
     return function
-
-
-def _small_law(function: _F) -> _F:
-    """:func:`_law` with ``inline="never"``: a short helper that LLVM inlines by itself (speed plumbing)."""
-    return _law(function, inline="never")
 
 
 def _positive(x: Array) -> Array:
@@ -215,7 +204,7 @@ def _positive(x: Array) -> Array:
     return select(x >= 0.0, x, 0.0)
 
 
-_small_law(_positive)
+_law(_positive)
 
 
 # ---------------------------------------------------------------- placing the elements
@@ -238,7 +227,7 @@ def rotation_matrix(quaternion: Any) -> np.ndarray:
     return np.reshape(np.array(_rotation_compiled(*q.tolist())), (3, 3))
 
 
-@_small_law
+@_law
 def rotation(w: Array, x: Array, y: Array, z: Array) -> tuple[Array, ...]:
     """The rotation matrix of the quaternion ``(w, x, y, z)`` divided by its norm, row by row [-]: 9 entries.
 
@@ -259,7 +248,7 @@ def _rotation_compiled(w: float, x: float, y: float, z: float) -> tuple[float, .
     return rotation(w, x, y, z)  # type: ignore[no-any-return]
 
 
-@_small_law
+@_law
 def rotate(r: tuple[Array, ...], x: Array, y: Array, z: Array) -> tuple[Array, Array, Array]:
     """``R (x, y, z)`` for a rotation ``r`` given row by row (:func:`rotation`) [the unit of x, y, z].
 
@@ -272,7 +261,7 @@ def rotate(r: tuple[Array, ...], x: Array, y: Array, z: Array) -> tuple[Array, A
             r[6] * x + r[7] * y + r[8] * z)
 
 
-@_small_law
+@_law
 def element_depth(surface_height: Array, pz: Array, oz: Array) -> Array:
     """An element's depth below the undisturbed surface [m]: ``h - (p_z + o_z)``.
 
@@ -282,7 +271,7 @@ def element_depth(surface_height: Array, pz: Array, oz: Array) -> Array:
     return surface_height - (pz + oz)
 
 
-@_small_law
+@_law
 def settle_depth(depth: Array, previous: Array) -> Array:
     """Each element's depth [m], or its previous depth where the two differ by rounding only.
 
@@ -303,7 +292,7 @@ def settle_depth(depth: Array, previous: Array) -> Array:
 
 
 # ---------------------------------------------------------------- the vertical law
-@_small_law
+@_law
 def vertical_weight(nz: Array) -> Array:
     """The share of an element's area that carries the paper's vertical stress, ``max(-n_z, 0)`` [-].
 
@@ -313,7 +302,7 @@ def vertical_weight(nz: Array) -> Array:
     return _positive(-nz)
 
 
-@_small_law
+@_law
 def vertical_force(stress: Array, area: Array, nz: Array) -> Array:
     """The paper's vertical force on an element [N]: ``sigma_i A_i max(-n_z, 0)``, Eq. (8) on its projection.
 
@@ -541,7 +530,7 @@ def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Arra
             select(loaded, (ay + gy) * area, 0.0), fz)
 
 
-@_small_law
+@_law
 def moment(ox: Array, oy: Array, oz: Array, fx: Array, fy: Array, fz: Array) -> tuple[Array, Array, Array]:
     """The moment ``o x f`` of an element's force about the body origin [N m]: the wrench is the sums.
 
