@@ -397,33 +397,33 @@ def params_of(row: np.ndarray) -> Params:
     return Params(*(float(x) for x in row[:N_PARAMS]))
 
 
-@_compiled()
+@_compiled(inline="always")
 def load_state(states: np.ndarray, j: int) -> State:
     """Row ``j`` of ``states`` as a :class:`State`."""
     r = states[j]
     return State(r[0], int(r[1]), r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12])
 
 
-@_compiled()
+@_compiled(inline="always")
 def state_from_row(r: np.ndarray) -> State:
     """One state row (1-D) as a :class:`State`, in compiled code (:func:`state_of` in Python)."""
     return State(r[0], int(r[1]), r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12])
 
 
-@_compiled()
+@_compiled(inline="always")
 def params_from_row(r: np.ndarray) -> Params:
     """One params row (1-D) as :class:`Params`, in compiled code (:func:`params_of` in Python)."""
     return Params(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14],
                   r[15], r[16], r[17])
 
 
-@_compiled()
+@_compiled(inline="always")
 def forget_row_cache(states: np.ndarray, j: int) -> None:
     """:func:`forget_cache` of row ``j`` only, in compiled code."""
     states[j, S_CACHE_DT] = -1.0
 
 
-@_compiled()
+@_compiled(inline="always")
 def store_state(states: np.ndarray, j: int, s: State) -> None:
     """Write ``s`` to row ``j`` of ``states``."""
     r = states[j]
@@ -442,14 +442,14 @@ def store_state(states: np.ndarray, j: int, s: State) -> None:
     r[12] = s.strain
 
 
-@_compiled()
+@_compiled(inline="always")
 def load_cache(states: np.ndarray, j: int) -> Cache:
     """The step-length cache of row ``j`` of ``states``."""
     r = states[j]
     return Cache(r[13], r[14], r[15], r[16], r[17], r[18], r[19])
 
 
-@_compiled()
+@_compiled(inline="always")
 def store_cache(states: np.ndarray, j: int, c: Cache) -> None:
     """Write the step-length cache ``c`` to row ``j`` of ``states``."""
     r = states[j]
@@ -462,7 +462,7 @@ def store_cache(states: np.ndarray, j: int, c: Cache) -> None:
     r[19] = c.phi3
 
 
-@_compiled()
+@_compiled(inline="always")
 def load_params(params: np.ndarray, j: int) -> Params:
     """Row ``j`` of ``params`` as :class:`Params`."""
     r = params[j]

@@ -132,7 +132,7 @@ BAD_DT = -2
 BAD_SHAPE = -3
 
 
-@_compiled()
+@_compiled(inline="always")
 def _pose_ok(px: float, py: float, pz: float, qw: float, qx: float, qy: float, qz: float) -> bool:
     """Whether a pose can be stepped: the position [m] and the quaternion finite, and the quaternion within
     :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` of unit norm (of :func:`_place`)."""
@@ -180,14 +180,14 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
     return OK
 
 
-@_compiled()
+@_compiled(inline="always")
 def _foot_rotation(ft: np.ndarray, f: int) -> tuple[float, float, float, float, float, float, float, float, float]:
     """Foot ``f``'s rotation of this step (:func:`_place` put it in ``ft``), row by row: loaded once per foot."""
     return (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5],
             ft[f, F_R + 6], ft[f, F_R + 7], ft[f, F_R + 8])
 
 
-@_compiled()
+@_compiled(inline="always")
 def _vertical_into(each: np.ndarray, i: int, fz: float) -> None:
     """Element ``i``'s force [N] when it carries its vertical force ``fz`` alone, into ``each[i]`` (MudContact3D's
     element forces)."""
@@ -594,7 +594,7 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, block: 
     return OK
 
 
-@_compiled()
+@_compiled(inline="always")
 def _checked_dt(ft: np.ndarray, m: int, dt: float) -> float:
     """``dt`` if a foot has started and it is within bounds, 1.0 if none has started, NaN if refused."""
     any_started = False
