@@ -125,7 +125,6 @@ def _kernel_step() -> None:
 
 
 def _three_d_and_engines(tmp: Path) -> list[tuple[str, Callable[[], None]]]:
-
     import mudforce as mf
     from mudforce.model import shapes
 

@@ -80,7 +80,7 @@ def _wait_for(condition, timeout: float) -> bool:  # type: ignore[no-untyped-def
 
 
 #: Makes ``--quick`` smaller still: two water contents instead of five (the fits, under SIGTERM); with
-#: ``MUDFORCE_TEST_FIGURES=1`` only 0.25, so that the figures (under SIGKILL) start after a third of those
+#: ``MUDFORCE_TEST_FIGURES=1`` only 0.25, so that the figures (under SIGKILL) start after half as many
 #: fits. Put before the package on the path by a ``sitecustomize``.
 HOOK = '''
 import dataclasses
