@@ -75,7 +75,7 @@ def test_a_sphere_pushed_in_at_an_angle_held_slid_sideways_and_pulled_out() -> N
     the smallest yield slip): ``k S (|D| + N_turn |D|^2 / r_y)`` on the sphere's area ``S``. Measured: 0.69 N of
     a 27 N peak against a bound of 5.4 N (a loose bound: it catches gross errors, the exact cases the rest).
     """
-    sphere = shapes.sphere(0.04, resolution=0.012)  # 56 elements (at 16 mm the reference stalls: see the report)
+    sphere = shapes.sphere(0.04, resolution=0.012)  # 56 elements
     dt = 0.02
     t = np.arange(51) * dt
     pos = _path(t, [0.0, 0.3, 0.5, 0.8, 1.0], [0.0, 0.006, 0.006, 0.006, 0.006], [0.0, 0.0, 0.0, 0.006, 0.006],

@@ -95,6 +95,7 @@ _RTOL = 1e-11  # relative tolerance of the lateral integration [-]
 _ATOL = 1e-16  # absolute tolerance of the lateral integration [m], [rad], [J]
 _FD = 1e-7  # forward-difference step of the loading test, per step length [-]
 _NUDGE = 1e-6  # how long, per step length, an element chattering between yield and unloading flows unwatched [-]
+_ON = 1e-12  # relative band of k|s| about the capacity C read as "on it" (rounding, not a state) [-]
 _MAX_EVENTS = 100_000  # a guard against an event loop (never reached by a sound law)
 
 _ELASTIC = 1
@@ -273,7 +274,7 @@ def _classify(step: _Step, tau: float, y: Float, mode: NDArray[np.int8], inside:
     s = _slip_of(step, tau, idx, y, mode)
     size = np.sqrt(np.sum(s * s, axis=1))
     cap = step.capacity(tau, idx, _unit(s))
-    on = k * size >= cap * (1.0 - 1e-12)
+    on = k * size >= cap * (1.0 - _ON)
     load = step.loading(tau, idx, s)
     for j, is_on, rate, c in zip(idx.tolist(), on.tolist(), load.tolist(), cap.tolist(), strict=True):
         if mode[j] == _PLASTIC and not (rate > 0.0):
@@ -329,7 +330,10 @@ def _segment(step: _Step, a: float, b: float, y: Float, mode: NDArray[np.int8], 
                 return -1.0
             s = np.stack([z[el], z[n + el]], axis=1)
             size = np.sqrt(np.sum(s * s, axis=1))
-            return float(np.max(k * size - step.capacity(tau, el, _unit(s))))
+            # yield once past the capacity by _ON of it: an element left exactly on its capacity and not
+            # loading (its capacity and slip both still) reads k|s| - C as rounding noise around zero, and a
+            # crossing of that noise is no yield (it looped, yield then unload, in 2e-8 s steps)
+            return float(np.max(k * size - step.capacity(tau, el, _unit(s)) * (1.0 + _ON)))
 
         def unloading(tau: float, z: Float, pl: Any = pl) -> float:
             if pl.size == 0:
