@@ -1,12 +1,13 @@
 """Byte-compile ``src/`` and the installed packages the tests import, on every core (the test command's second step).
 
 pip byte-compiles every file it installs on one core, about half of its install's time on a clean clone; the
-test command installs with uv, which does not byte-compile, and runs this instead. It writes the same ``.pyc``
-files that pip would, in parallel, and skips what the tests never import: the packages' own test suites, and a few
-dependencies of dependencies that nothing here loads (PyOpenGL, pulled in by MuJoCo for rendering, 2,900
-files; pip and setuptools; fontTools, which Matplotlib loads only for PDF and PostScript; mypy and mypyc,
-which run as compiled extension modules; Pygments' lexers). A file that is skipped, or does not compile, is
-compiled on import as usual, so this only moves time, never changes a result. ``python tests/precompile.py``.
+test command installs with uv (or pip ``--no-compile``), neither byte-compiling, and runs this instead. It
+writes the same ``.pyc`` files that pip would, in parallel, and skips what the tests never import: the packages'
+own test suites, and a few dependencies of dependencies that nothing here loads (PyOpenGL, pulled in by MuJoCo
+for rendering, 2,900 files; pip and setuptools; fontTools, which Matplotlib loads only for PDF and PostScript;
+mypy and mypyc, which run as compiled extension modules; Pygments' lexers). A file that is skipped, or does not
+compile, is compiled on import as usual, so this only moves time, never changes a result. ``python
+tests/precompile.py``.
 """
 
 from __future__ import annotations
