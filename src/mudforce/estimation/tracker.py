@@ -83,7 +83,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce._kernel.layout import S_CACHE_DT, store_cache
+from mudforce._kernel.layout import N_RING, P_DEADBAND, P_WINDOW, R_HEAD, R_T, R_Z, RING, S_CACHE_DT, store_cache
 from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines.dynamics.rest_band import rest_band
@@ -137,9 +137,10 @@ _N_LAGS = 6  # force lag hypotheses (_LAGS)
 _A_LAG_L = _A_LAG_Y + _N_LAGS  # then one per lag hypothesis: its log-likelihood (forgotten as the water content's)
 _A_PSUB = _A_LAG_L + _N_LAGS  # the mean model's force at the last substep [N] (the lag hypotheses' filters run on it)
 _A_SINK = _A_PSUB + 1  # the foot's sinkage [m]: the deepest depth plus the surface offset, forgotten over tau
+_A_QUICK = _A_SINK + 1  # 1 while the bank's rows take the quick branch rule (its hysteresis), else 0
 # then, per model: the contact time [s] at which it was last scored (_SPARE_MASS); its force low-passed by the force
 # lag [N]; its force at the previous substep [N] (three blocks of one column per model)
-_N_AUX = _A_SINK + 1
+_N_AUX = _A_QUICK + 1
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -181,7 +182,14 @@ _C_SHALLOW = 20  # the shallow-sinkage widening [-] (_SHALLOW_WIDENING)
 _C_OFFSET_RES = 21  # half the widest step between two surface offset hypotheses [m] (0 with one)
 _C_SHALLOW_GAIN = 22  # the shallow-sinkage widening's gain [-] (_SHALLOW_GAIN)
 _C_RATE_GAIN = 23  # the low-rate widening's gain [-] (_RATE_WIDENING)
-_N_CFG = 24
+_C_QUICK = 24  # 1 where the bank's branch rule follows the measured depth noise (the default rule), else 0
+_C_ROBUST_WINDOW = 25  # the noise-robust rule's window [steps] (:func:`default_velocity_filter`'s)
+_C_ROBUST_DEADBAND = 26  # its deadband [m/s]
+_C_QUICK_ON = 27  # the quick rule is taken above this many times the quick secant's noise [-] (_QUICK_ON)
+_C_QUICK_OFF = 28  # ... and kept down to this many [-] (_QUICK_OFF)
+_C_QUICK_SINK = 29  # ... only while the foot's sinkage is at least this [m] (_QUICK_SINK)
+_C_QUICK_SINK_MAX = 30  # ... and at most this [m] (_QUICK_SINK_MAX)
+_N_CFG = 31
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -298,6 +306,51 @@ _REST_NOISE_SIGMAS = 2.0
 #: the models' branch forces against a load anywhere in the rest band (in-family robot misfit averages of 4-9, and a
 #: trot on dry mud confidently wrong under a 30 ms low-pass); at 1 the change flag fired more often on the bench.
 _REST_NOISE_EXCESS = 2.0
+#: The quick branch rule [steps], [m/s] (ours): a secant over two steps, with a deadband of 2.5 mm/s. The bank's
+#: noise-robust default (:func:`default_velocity_filter`: a secant over 10 steps, for 30 um of depth noise at 100 Hz)
+#: sees a reversal of the foot half its window late, about 50 ms. What the model gives as the foot turns (the spring's
+#: release on the withdrawal branch) is then missed by every model of the bank, and drier, stiffer models fit better:
+#: the sensor-chain bench's seed-4 robot, walking 24 mm deep into 33.9 % mud, ended at 32.3-32.9 % at 100 Hz under
+#: the clean and standard single corruptions (within 1.5 points on 51 % of its samples under a -2 mm offset); on the
+#: quick rule where it moves, 33.4-33.9 % (within on 96-100 %). Two steps rather than the exact rule's one, so that
+#: the filter's history is kept for the switch back to the noise-robust rule. The deadband keeps a foot that slows to
+#: the depth noise's speed (3 mm/s after a stroke at 46 mm/s, while the robust secant still reads motion) from
+#: flipping branch for a sample: without it the one-step-ahead force dropped from 145 to 20 N and back on single
+#: samples of `mudforce reproduce`'s tracking walk (32 jumps over 20 N at rest, against 26 on the robust rule); 1.5-3
+#: mm/s all gave 26, while 4 mm/s made seed 4's delay-20-ms row confidently wrong.
+_QUICK_WINDOW = 2.0
+_QUICK_DEADBAND = 0.0025
+#: A foot's bank takes the quick rule while the depth noise measured online is within this many times
+#: :data:`_DEPTH_NOISE0` (150 um) [-] (ours), else the noise-robust rule: the quick one flips branch on 0.3-1 mm of
+#: noise (gait walks then read 1-3 points high). The online estimate (third differences) reads about 30 um on clean
+#: gait walks, 40-110 um on most of the bench's MuJoCo robots (vibration, impacts), 150-370 um with 0.3 mm of noise
+#: added, and 300-600 um on a robot bounding 20 cm at 3 Hz (its own motion: those keep the robust rule).
+_QUICK_NOISE = 5.0
+#: ... and only after this much contact [s] (ours): the noise estimate starts at :data:`_DEPTH_NOISE0` and takes
+#: about a second of contact to reach 0.3 mm; quick before that, a noisy foot's first stances were read on a rule that
+#: flips branch on its noise (seed 3's "standard, all (-)" within 1.5 points 80 -> 70 %, seed 6's offset -5 mm
+#: confidently wrong on 0.3 % of its samples). And only while the foot may be in the mud (its depth plus the largest
+#: surface offset > 0): above it, a foot hovering after a lift-off read as moving down on its noise ends the models'
+#: necking decay (Eq. (7)) at once, so the bank says zero force while the sensor still reads the mud's pull, and the
+#: force offset was tared on it (gait walks: offset 0.5 N for -1 N, noise 3 N for 0.3 N).
+_QUICK_AFTER = 1.0
+#: ... and only while the foot moves (ours): the robust rule's secant above this many times the quick secant's noise
+#: ``sqrt(2) sigma / (2 dt)`` (sigma the depth noise measured online: 10.6 mm/s for 30 um at 100 Hz), kept down to
+#: :data:`_QUICK_OFF` times it [-]. The quick rule on every clean foot in the mud made the one-step-ahead force
+#: chatter between about 10 and 200 N through every stance at rest (`mudforce reproduce`'s tracking walk: 203 jumps
+#: over 20 N at rest, against 26 on the robust rule). Higher (8-20 on, 4-10 off) left feet on the robust rule at the
+#: turns that the quick one is for: seed 4's delay rows confidently wrong.
+_QUICK_ON = 5.0
+_QUICK_OFF = 3.0
+#: ... and only while the foot's sinkage (:data:`_A_SINK`) is within this band [m] (ours). Shallow feet (3-10 mm,
+#: dry) read up to 2.5 points further from the truth on the quick rule (the sensor-chain bench's seed 3 robot 0 under
+#: a -2 mm offset within 1.5 points 99 -> 65 %, seed 4's "gain +5 %" 80 -> 79 %: FAIL; a floor of 5 mm made seed 4's
+#: offset +5 mm confidently wrong). Deep fast feet (robots driven 65-80 mm deep at 1-2.5 m/s) read 1-1.5 points high
+#: on it under the standard corruptions (seed 3's robot 1 on 29.5 %: within 1.5 points 100 -> 25-46 %, its two rows
+#: FAIL) though it cleared seed 5's low-pass 30 ms (8.0 % confidently wrong -> 0): the band leaves them on the robust
+#: rule once they have sunk 40 mm. Floors of 8-12 mm and ceilings of 30-55 mm gave the same verdicts on seeds 3-5.
+_QUICK_SINK = 0.010
+_QUICK_SINK_MAX = 0.040
 
 
 def default_velocity_filter(depth_noise: float = 3e-5, dt: float = 0.01) -> VelocityFilter:
@@ -402,6 +455,39 @@ def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.nd
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _branch_rule(j: int, depth: float, dt: float, offsets: np.ndarray, aux: np.ndarray, ring: np.ndarray,
+                 params: np.ndarray, cfg: np.ndarray, M: int) -> None:
+    """Foot ``j``'s ``M`` bank rows take the quick branch rule (:data:`_QUICK_WINDOW`, :data:`_QUICK_DEADBAND`)
+    or the noise-robust one (``cfg[_C_ROBUST_WINDOW]`` [steps], ``cfg[_C_ROBUST_DEADBAND]`` [m/s]); written only
+    where it changes (ours). Quick after :data:`_QUICK_AFTER` of contact, while the depth noise measured online is
+    within :data:`_QUICK_NOISE` times :data:`_DEPTH_NOISE0`, the ``depth`` [m] plus the largest surface offset is in
+    the mud, its sinkage ``aux[j, _A_SINK]`` [m] is within ``cfg[_C_QUICK_SINK]`` to ``cfg[_C_QUICK_SINK_MAX]``, and
+    it moves: the robust rule's secant up to this sample, ``dt`` [s] after the last, read from the bank's ``ring``,
+    above ``cfg[_C_QUICK_ON]`` times the quick secant's noise (kept down to ``cfg[_C_QUICK_OFF]`` times it: the
+    hysteresis's state is ``aux[j, _A_QUICK]``, so that a snapshot carries it).
+    """
+    r0 = j * M
+    quick = (aux[j, _A_DVAR] <= (_QUICK_NOISE * _DEPTH_NOISE0) ** 2 and aux[j, _A_CONTACT] >= _QUICK_AFTER
+             and depth > -offsets[offsets.shape[0] - 1] and ring.shape[1] >= N_RING
+             and cfg[_C_QUICK_SINK] <= aux[j, _A_SINK] <= cfg[_C_QUICK_SINK_MAX])
+    if quick:
+        head = int(ring[r0, R_HEAD])
+        old = (head - (int(cfg[_C_ROBUST_WINDOW]) - 1)) % RING
+        span = ring[r0, R_T + head] + dt - ring[r0, R_T + old]
+        speed = abs(depth + offsets[0] - ring[r0, R_Z + old]) / span if span > 0.0 else 0.0
+        noise = math.sqrt(2.0 * aux[j, _A_DVAR]) / (2.0 * dt)  # the quick secant's [m/s]
+        gate = cfg[_C_QUICK_OFF] if aux[j, _A_QUICK] != 0.0 else cfg[_C_QUICK_ON]
+        quick = speed > gate * noise
+    aux[j, _A_QUICK] = 1.0 if quick else 0.0
+    window = _QUICK_WINDOW if quick else cfg[_C_ROBUST_WINDOW]
+    deadband = _QUICK_DEADBAND if quick else cfg[_C_ROBUST_DEADBAND]
+    if params[r0, P_WINDOW] != window or params[r0, P_DEADBAND] != deadband:
+        for m in range(M):
+            params[r0 + m, P_WINDOW] = window
+            params[r0 + m, P_DEADBAND] = deadband
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray,
                 scratch: np.ndarray, index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
     """One sample for every foot: step the bank, update each foot's posterior, write its estimate.
@@ -454,6 +540,10 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     for j in range(n):
         if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
             return j
+    if cfg[_C_QUICK] != 0.0:
+        # the bank's branch rule follows each foot's depth noise measured online (see _QUICK_WINDOW)
+        for j in range(n):
+            _branch_rule(j, depths[j], dt, offsets, aux, ring, params, cfg, M)
     # the bank is stepped at no more than cfg[_C_SUBSTEP] per step: a longer sample interval is cut into substeps,
     # the depth interpolated linearly between the samples (the model's discretisation at a low data rate)
     nsub = 1
@@ -1084,6 +1174,15 @@ class MudTrackers:
         self.velocity_filter = (default_velocity_filter() if velocity_filter is None
                                 else resolve_velocity_filter(velocity_filter))
         cfg = np.empty(_N_CFG, dtype=np.float64)
+        # the default rule follows each foot's depth noise measured online (quick while it is low, see
+        # _QUICK_WINDOW); a rule given is kept as given
+        cfg[_C_QUICK] = 1.0 if velocity_filter is None else 0.0
+        cfg[_C_ROBUST_WINDOW] = float(self.velocity_filter.window)
+        cfg[_C_ROBUST_DEADBAND] = float(self.velocity_filter.deadband)
+        cfg[_C_QUICK_ON] = _QUICK_ON
+        cfg[_C_QUICK_OFF] = _QUICK_OFF
+        cfg[_C_QUICK_SINK] = _QUICK_SINK
+        cfg[_C_QUICK_SINK_MAX] = _QUICK_SINK_MAX
         cfg[_C_TAU] = positive_number(tau, "tau", "s")
         cfg[_C_MISFIT] = positive_number(misfit, "misfit", "-")
         cfg[_C_FLOOR] = positive_number(floor, "floor", "N")
@@ -1138,6 +1237,8 @@ class MudTrackers:
 
         rows = self.n * self.depth_offsets.size
         self._bank = MudContacts(mud * rows, rows * G, self.foot, velocity_filter=self.velocity_filter, threads=1)
+        # the bank's rows as made (the snapshot's key): the branch rule's columns change as it follows the noise
+        self._params_key = self._bank.params_array.tobytes()
         self._zbuf = np.zeros(rows * G, dtype=np.float64)
         self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
         self._P = np.zeros((self.n, M), dtype=np.float64)
@@ -1206,7 +1307,7 @@ class MudTrackers:
 
     def _key(self) -> bytes:
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(),
-                         self.depth_offsets.tobytes(), self._log_prior.tobytes(), self._bank.params_array.tobytes()))
+                         self.depth_offsets.tobytes(), self._log_prior.tobytes(), self._params_key))
 
     @property
     def state(self) -> TrackerState:
