@@ -50,6 +50,14 @@ five floors), so that a local
 discretisation error (a branch switch a sample late) excuses only the
 samples where it is large, not an off-family mud everywhere.
 
+The interval then reaches the member of the family that explains the data
+best by that statistic (the bias re-profiled under its weights; searched over
+the family's whole range): least squares weighs every sample alike, so a
+few samples whose floor is tens of newtons (an event between two samples) can
+pull the estimate points away, and the interval around it with it. The
+interval is extended to hold that member +-:data:`MIN_HALF_WIDTH` (general
+path); the estimate and the flag are those of least squares.
+
 A trial of any motion is accepted (:func:`~mudforce.estimation.calibration.preprocess.prepare_trial`).
 The result says how well the family explains it: ``misfit_ratio`` (RMSE
 over the force noise measured independently of the family),
@@ -120,6 +128,13 @@ _TURN_SIGMAS = 3.0
 #: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
 #: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
+#: Step of the member's scan of the family's range [-] (0.5 points; ours): on the robot recordings of the sensor-chain
+#: bench the statistic's minimum over the water content is about a point wide, and it has local minima (a branch
+#: read differently at a sample makes it jump), so the scan covers the whole range, not only the interval.
+_MEMBER_STEP = 0.005
+#: Half-width held about the member [-] when the interval is extended to it (ours; chosen on the sensor-chain
+#: bench's seed 1, docs/estimation-history.md, "identify's interval reaches the member that fits").
+_MEMBER_MARGIN = MIN_HALF_WIDTH
 
 
 @dataclass(frozen=True, eq=False)
@@ -198,6 +213,12 @@ class Identification:
         ``off_family`` and the moving samples' excess over the force and depth noise, the discretisation error
         included, over ``rms(dF/dW)``: Cauchy-Schwarz on a Gauss-Newton step); the interval holds at least this
         on each side (general path; 0 when the family explains the data to the noise, and on a protocol).
+    member_water_content : float
+        The water content [-] whose model explains the data best by the misfit statistic (each residual over its
+        own floor, capped at five floors; the bias re-profiled under those weights), searched over the family's
+        range; the interval holds it +-:data:`MIN_HALF_WIDTH`. It can differ from ``water_content``
+        (least squares, every sample weighed alike) where a few samples with a large floor pull the estimate.
+        NaN on a protocol and on a trial of fewer than 8 samples (not searched).
     """
 
     water_content: float
@@ -227,6 +248,7 @@ class Identification:
     misfit_shift: float = 0.0
     depth_noise: float = math.nan
     unresolved_depth: float = 0.0
+    member_water_content: float = math.nan
 
     @property
     def low(self) -> float:
@@ -254,7 +276,7 @@ class Identification:
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
         ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
-        ``depth_noise_m``, ``unresolved_depth_m``, ``warnings``.
+        ``depth_noise_m``, ``unresolved_depth_m``, ``member_water_content``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -287,6 +309,7 @@ class Identification:
             "misfit_shift": self.misfit_shift,
             "depth_noise_m": finite(self.depth_noise),
             "unresolved_depth_m": self.unresolved_depth,
+            "member_water_content": finite(self.member_water_content),
             "warnings": list(self.warnings),
         }
 
@@ -397,6 +420,56 @@ def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameter
     fine_z[::_REFINE] = depth
     f, low, high = _force_and_band(fine_t, fine_z, q, foot, lag)
     return f[::_REFINE], low[::_REFINE], high[::_REFINE]
+
+
+def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
+                     variance: np.ndarray, free: np.ndarray) -> float:
+    """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights.
+
+    ``model`` [N] is the model's force, ``low``, ``high`` [N] the rest band (``rest`` samples: the residual is the
+    measured force's distance outside it), ``measured`` [N] the force with the least-squares bias removed,
+    ``variance`` [N^2] each sample's floor. The bias is moved from the least-squares one to the nearest local minimum
+    of the statistic (Newton steps on the samples inside their clip, halved until the statistic does not rise; ours):
+    least squares weighs every sample alike, so a few samples with a floor of tens of newtons (an event between two
+    samples) set the bias that a sample out of the mud, whose floor is the force noise, then reads. The ``free``
+    samples (the foot above the surface, the model's force nil) read the bias itself, with no branch to misread: the
+    re-profile weighs them uncapped, so that it cannot give them up to fit the samples in the mud.
+    """
+    def residual(d: float) -> tuple[np.ndarray, float, float]:
+        m = measured + d
+        r = np.where(rest, np.clip(m, low, high), model) - m
+        z2 = r**2 / variance
+        return r, float(np.mean(np.where(free, z2, np.minimum(z2, _MISFIT_CLIP)))), float(
+            np.mean(np.minimum(z2, _MISFIT_CLIP)))
+
+    d = 0.0
+    r, cost, stat = residual(d)
+    for _ in range(30):
+        active = ((r**2 < _MISFIT_CLIP * variance) | free) & (r != 0.0)
+        if not np.any(active):
+            break
+        step = float(np.sum(r[active] / variance[active]) / np.sum(1.0 / variance[active]))
+        while abs(step) > 1e-9:
+            r_new, cost_new, stat_new = residual(d + step)
+            if cost_new <= cost:
+                break
+            step *= 0.5
+        if abs(step) <= 1e-9:
+            break
+        d, r, cost, stat = d + step, r_new, cost_new, stat_new
+    return stat
+
+
+def _least_member(statistic: Callable[[float], float], estimate: float, lo: float, hi: float) -> float:
+    """The water content [-] minimising ``statistic`` over ``[lo, hi]`` [-] (ours): a scan at :data:`_MEMBER_STEP` with
+    ``estimate`` [-] added, then a bounded search between the best point's neighbours."""
+    points = np.union1d(np.linspace(lo, hi, max(math.ceil((hi - lo) / _MEMBER_STEP), 1) + 1), [estimate])
+    stats = [statistic(float(w)) for w in points]
+    j = int(np.argmin(stats))
+    best, least = float(points[j]), stats[j]
+    bracket = (float(points[max(j - 1, 0)]), float(points[min(j + 1, points.size - 1)]))
+    found = minimize_scalar(statistic, bounds=bracket, method="bounded", options={"xatol": 1e-5})
+    return float(found.x) if float(found.fun) < least else best
 
 
 @one_blas_thread
@@ -656,6 +729,24 @@ def identify_water_content(
         sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
         model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
         low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
+    # the member that explains the data best by the flag's statistic (each sample over its own floor, the bias
+    # re-profiled under those weights; offset, lag and the floors held at the estimate's). Least squares weighs
+    # every sample alike, and a few samples whose floor is tens of newtons (an event between two samples, a stuck
+    # foot read on a branch) pull the estimate by points on drier mud; the member is then nearer the truth, at or
+    # beyond the interval's edge. The interval reaches it, with a margin; the estimate and the flag stay least
+    # squares' (docs/estimation-history.md, "identify's interval reaches the member that fits")
+    member = math.nan
+    if general and n >= 8:
+        v = np.maximum(noise_var + disc2, least)
+        above = tr.depth + offset <= 0.0
+
+        def statistic(w: float) -> float:
+            model, band_low, band_high = _force_and_band(t, tr.depth + offset, family(w), foot, lag)
+            free = above & (model**2 <= 1e-4 * v)  # out of the mud, the model's force nil (to 1 % of the floor)
+            return _bias_reprofiled(model, band_low, band_high, meas, rest, v, free)
+
+        member = _least_member(statistic, w_best, lo, hi)
+        low, high = max(min(low, member - _MEMBER_MARGIN), lo), min(max(high, member + _MEMBER_MARGIN), hi)
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
                         f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through and the "
@@ -700,5 +791,6 @@ def identify_water_content(
         misfit_shift=model_shift,
         depth_noise=tr.depth_noise,
         unresolved_depth=tr.unresolved_depth,
+        member_water_content=member,
     )
 
