@@ -122,8 +122,15 @@ def watch() -> Iterator[None]:
         # skip the rest: a timer left unjoined would interrupt the main thread after the command had reported
         # "interrupted" and returned 130, and Python would end the process by SIGINT instead (exit status -2). The
         # interrupt a retry repeats is already recorded (``_pending``) and acted on; a Ctrl-C that comes only now,
-        # with the command done, is raised at the end, once the handlers are back.
-        signal.signal(signal.SIGINT, absorb)
+        # with the command done, is raised at the end, once the handlers are back. A retry that trips before
+        # ``absorb`` is in place (at this clause's first call) raises here: recorded (``_handler``), it is taken as
+        # a late one, and ``absorb`` is put in place again, so that the rest of the clause still runs.
+        while True:
+            try:
+                signal.signal(signal.SIGINT, absorb)
+                break
+            except KeyboardInterrupt:
+                late = True
         closing = True
         for timer in timers:
             timer.cancel()
