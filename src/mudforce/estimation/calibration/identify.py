@@ -422,6 +422,15 @@ def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameter
     return f[::_REFINE], low[::_REFINE], high[::_REFINE]
 
 
+def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray,
+                   rest: np.ndarray) -> np.ndarray:
+    """The model's residual [N] (model minus ``measured``, both [N]); at the ``rest`` samples a foot at rest fits
+    anywhere in its rest band ``[low, high]`` [N], so the residual there is the measured force's distance outside
+    it (issue 23: rest is a band, not a branch). The one statement of that rule for the fit and the flag's member."""
+    out: np.ndarray = np.where(rest, np.clip(measured, low, high), model) - measured
+    return out
+
+
 def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
                      variance: np.ndarray, free: np.ndarray) -> float:
     """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights.
@@ -437,7 +446,7 @@ def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measu
     """
     def residual(d: float) -> tuple[np.ndarray, float, float]:
         m = measured + d
-        r = np.where(rest, np.clip(m, low, high), model) - m
+        r = _band_residual(model, low, high, m, rest)
         z2 = r**2 / variance
         return r, float(np.mean(np.where(free, z2, np.minimum(z2, _MISFIT_CLIP)))), float(
             np.mean(np.minimum(z2, _MISFIT_CLIP)))
@@ -577,7 +586,7 @@ def identify_water_content(
         meas = (fs - bias) / gain
         c = -float(np.sum((f - meas)[~still])) / (int(np.count_nonzero(~still)) + pre)
         meas = meas - c
-        r = np.where(still, np.clip(meas, low, high), f) - meas  # at rest: anywhere in the band
+        r = _band_residual(f, low, high, meas, still)
         return r, f, meas, bias + c, pre
 
     def ssr_at(w: float, offset: float, lag: float, gain: float = 1.0, sel: slice = slice(None)) -> float:
