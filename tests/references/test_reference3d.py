@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections import Counter
 
 import numpy as np
 import pytest
@@ -91,6 +92,11 @@ def test_a_sphere_pushed_in_at_an_angle_held_slid_sideways_and_pulled_out() -> N
     assert gap <= bound
     assert gap > 0.0  # touchdown inside steps: the two readings do differ (a check that the test bites)
     assert float(np.max(np.abs(ref.force[:, 1]))) > 10.0 * gap  # the sideways force itself is well resolved
+    # Trailing elements sit exactly on a capacity that does not change during the pull-out: the reference once
+    # chattered there (yield, unload, 2e-8 s apart, ~800,000 times a step) until the yield event was put past the
+    # capacity by 1e-12 of it. Measured: at most 3 events of a kind an element (69 yields, 69 unloads in all).
+    per_element = Counter((element, kind) for _, element, kind in ref.events)
+    assert max(per_element.values()) <= 6
 
 
 def test_a_capsule_rolling_in_place() -> None:
