@@ -97,3 +97,40 @@ def test_a_retry_lost_again_while_watch_ends_is_not_retried_after_it(monkeypatch
     except KeyboardInterrupt:
         arrived = True
     assert not arrived and threading.active_count() == before
+
+
+def test_held_records_a_ctrl_c_and_raises_it_on_leaving() -> None:
+    """Whichever thread the system hands the signal to (a mask of the main thread alone let it through to
+    another, and the interrupt acted inside what had to run whole), nothing happens inside; on leaving the
+    KeyboardInterrupt is raised once and Python's handler is back."""
+    reached = []
+    with pytest.raises(KeyboardInterrupt), interrupt.held():
+        for target in (threading.get_ident(), None):
+            if target is None:  # from another thread, at the process: any thread may take it
+                other = threading.Thread(target=lambda: signal.raise_signal(signal.SIGINT))
+                other.start()
+                other.join()
+            else:
+                signal.pthread_kill(target, signal.SIGINT)
+            for _ in range(10_000):  # Python would act on it here, at a bytecode of the main thread
+                pass
+        reached.append(True)
+    assert reached == [True]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_held_delivers_sigterm_to_its_handler_on_leaving_and_leaves_ignored_signals_ignored() -> None:
+    came: list[int] = []
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: came.append(signum))
+    try:
+        with interrupt.held():
+            signal.raise_signal(signal.SIGTERM)
+            assert came == []
+        assert came == [signal.SIGTERM]
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        with interrupt.held():
+            assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN
+            signal.raise_signal(signal.SIGINT)
+        assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGTERM, previous)

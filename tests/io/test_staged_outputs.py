@@ -11,6 +11,8 @@ In-process; the refusals of ``fit --report`` are in tests/cli/test_fit_cli.py.
 from __future__ import annotations
 
 import os
+import signal
+import threading
 from pathlib import Path
 
 import pytest
@@ -84,6 +86,35 @@ def test_a_lost_interrupt_stops_the_commit(tmp_path: Path, monkeypatch: pytest.M
         staged.staged_path(fit).write_text("new fit\n")
         monkeypatch.setattr(_interrupt, "_pending", True)  # came inside a callback and was lost
         staged.commit()
+    assert fit.read_bytes() == b"old fit\n" and snapshot(report) == OLD_REPORT
+    assert _hidden(tmp_path) == []
+
+
+@pytest.mark.skipif(not hasattr(signal, "pthread_sigmask"), reason="needs POSIX signal masks")
+def test_a_ctrl_c_while_staging_leaves_nothing_staged(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """SIGINT while the constructor stages is held back and delivered as the staging ends: the KeyboardInterrupt is
+    raised past the staging, in the constructor, and what it staged goes with it (once seen from outside, in
+    tests/cli/test_fit_report_interrupt.py: a ``.fit.json.mudforce-fit-new-*`` folder left behind)."""
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signals are handled in the main thread")
+    fit, report = _old_pair(tmp_path)
+    real = mudforce.io.clean_stale
+    calls: list[Path] = []
+
+    def clean_then_interrupt(path: Path, tag: str) -> list[Path]:
+        calls.append(path)
+        if len(calls) == 2:  # the file's sibling, the report's folder already staged
+            os.kill(os.getpid(), signal.SIGINT)
+        return real(path, tag)
+
+    monkeypatch.setattr(mudforce.io, "clean_stale", clean_then_interrupt)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            StagedOutputs(TAG, folders=[report], files=[fit])
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert len(calls) == 2  # held back until both were staged
     assert fit.read_bytes() == b"old fit\n" and snapshot(report) == OLD_REPORT
     assert _hidden(tmp_path) == []
 

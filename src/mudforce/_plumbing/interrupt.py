@@ -20,7 +20,11 @@ the command carries on to finish and exit 0.
   with status 130 after a command that ends normally despite it.
 
 Where SIGINT is ignored (a background job of a non-interactive shell), it
-stays ignored. Plumbing; no physics, no units.
+stays ignored.
+
+:func:`held` holds SIGINT and SIGTERM back over a few statements that must
+run whole (staged outputs made, swapped in or removed), and delivers them on
+leaving. Plumbing; no physics, no units.
 """
 
 from __future__ import annotations
@@ -30,10 +34,10 @@ import contextlib
 import signal
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
-__all__ = ["check", "pending", "watch"]
+__all__ = ["check", "held", "pending", "watch"]
 
 #: Delay before an interrupt lost in a callback is raised again [s].
 _RETRY_S = 0.01
@@ -143,3 +147,44 @@ def watch() -> Iterator[None]:
         _pending = False
         if (late or lost_while_closing) and sys.exc_info()[0] is None:
             raise KeyboardInterrupt
+
+
+#: The signals :func:`held` holds back.
+_HELD = (signal.SIGINT, signal.SIGTERM)
+
+
+@contextlib.contextmanager
+def held() -> Iterator[None]:
+    """Inside, SIGINT and SIGTERM are recorded, not acted on; on leaving, each one that came is raised again.
+
+    Python runs a signal's handler in the main thread, whichever thread the system delivered the signal to, so
+    the handlers are swapped for one that records (a mask of the main thread alone, ``pthread_sigmask``, lets
+    the system deliver a process's signal to another thread, and Python then acts on it at once). On leaving, the
+    handlers come back and each signal recorded is raised again (:func:`signal.raise_signal`): a Ctrl-C raises
+    :class:`KeyboardInterrupt` there, past the held statements; a SIGTERM with the system's default ends the
+    process there. A signal that is ignored stays ignored, and one whose handler Python did not install (``None``)
+    is left alone. Outside the main thread handlers cannot be changed; nothing is held there.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    came: list[signal.Signals] = []
+
+    def record(signum: int, frame: Any) -> None:
+        if signal.Signals(signum) not in came:
+            came.append(signal.Signals(signum))
+
+    previous: list[tuple[signal.Signals, Callable[[int, Any], Any] | int]] = []
+    try:
+        for signum in _HELD:
+            handler = signal.getsignal(signum)
+            if handler is None or handler == signal.SIG_IGN:
+                continue
+            signal.signal(signum, record)
+            previous.append((signum, handler))
+        yield
+    finally:
+        for signum, handler in reversed(previous):
+            signal.signal(signum, handler)
+        for signum in came:
+            signal.raise_signal(signum)

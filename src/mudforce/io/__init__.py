@@ -43,11 +43,9 @@ import math
 import os
 import re
 import shutil
-import signal
 import stat
 import sys
 import tempfile
-import threading
 from collections.abc import Callable, Collection, Iterable, Iterator
 from pathlib import Path
 from types import TracebackType
@@ -479,20 +477,6 @@ def clean_stale(path: Path, tag: str) -> list[Path]:
     return done
 
 
-@contextlib.contextmanager
-def _signals_held() -> Iterator[None]:
-    """Hold SIGTERM and SIGINT back inside (main thread, POSIX); they are delivered on leaving."""
-    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    held = {signal.SIGTERM, signal.SIGINT}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
 def _exchange(a: Path, b: Path) -> bool:
     """Swap folders ``a`` and ``b`` atomically (Linux ``renameat2``); False where that is not available."""
     if not sys.platform.startswith("linux"):
@@ -544,17 +528,22 @@ class StagedOutputs:
         self._folders: dict[Path, Path] = {}  # target -> staged folder
         self._files: dict[Path, tuple[Path, Path]] = {}  # as given -> (target, staged folder holding it)
         self._locks: list[int] = []
-        with _signals_held():  # made whole or not at all
-            try:
+        # made whole or not at all. The signals held while staging are delivered as the ``with`` ends, so the
+        # KeyboardInterrupt of a Ctrl-C that came meanwhile is raised there, past the staging: the ``try`` holds
+        # the ``with``, so that it too removes what was staged (no ``__exit__`` runs for an object whose
+        # constructor raised)
+        try:
+            with _interrupt.held():
                 for folder in folders:
                     target = Path(folder)
                     self._folders[target] = self._stage(target, folder=True)
                 for file in files:
                     target = write_target(file)
                     self._files[Path(file)] = (target, self._stage(target, folder=False))
-            except BaseException:
+        except BaseException:
+            with _interrupt.held():  # a second Ctrl-C does not leave the staged folders half-removed
                 self._discard()
-                raise
+            raise
 
     def _stage(self, target: Path, *, folder: bool) -> Path:
         """A new locked sibling folder for ``target``, after removing what killed runs left beside it."""
@@ -587,7 +576,7 @@ class StagedOutputs:
     def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
         if not self.committed:
-            with _signals_held():  # a second Ctrl-C does not leave the staged folders half-removed
+            with _interrupt.held():  # a second Ctrl-C does not leave the staged folders half-removed
                 self._discard()
 
     def _discard(self) -> None:
@@ -614,7 +603,7 @@ class StagedOutputs:
         leave one output new and another old; a folder then left aside is
         put back by the next run's :func:`clean_stale`.
         """
-        with _signals_held():
+        with _interrupt.held():
             _interrupt.check()
             undo: list[Callable[[], None]] = []
             old: list[tuple[Path, int | None]] = []  # old folders to drop, each with the lock marking it in use
