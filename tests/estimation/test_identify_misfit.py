@@ -30,7 +30,8 @@ def _identify(wk: Walk, force: np.ndarray) -> tuple[bool, float]:
 
 
 def test_quiet_on_clean_in_family_walks(walks: list[Walk]) -> None:
-    """In family the RMSE is the noise: the ratio is near 1 (measured 0.80-0.93) and nothing is flagged."""
+    """In family the RMSE is the noise: the ratio is near 1 (measured 0.80-0.93; 0.68-0.78 since it is read at the
+    best member, the depth offset and force lag refitted there) and nothing is flagged."""
     for wk in walks:
         flagged, ratio = _identify(wk, wk.force)
         assert not flagged and 0.6 < ratio < 1.1
@@ -38,7 +39,8 @@ def test_quiet_on_clean_in_family_walks(walks: list[Walk]) -> None:
 
 def test_fires_on_a_granular_law(walks: list[Walk]) -> None:
     """F = k z with k matching the peak, the same noise: flagged on every walk (measured ratio >= 28 before each
-    sample's square was capped at 25, so that the ratio is at most 5; now >= 3.6)."""
+    sample's square was capped at 25, so that the ratio is at most 5; then >= 3.6; read at the best member, the
+    depth offset and force lag refitted there, >= 3.49)."""
     rng = np.random.default_rng(7)
     for wk in walks:
         z = np.maximum(wk.depth_true, 0.0)
@@ -49,14 +51,15 @@ def test_fires_on_a_granular_law(walks: list[Walk]) -> None:
 
 def test_fires_on_a_mud_outside_table_one(walks: list[Walk]) -> None:
     """alpha x2 and sigma_y x0.3 along the same path: flagged on every walk (measured ratio >= 8 uncapped, >= 3.8
-    with each sample's square capped at 25)."""
+    with each sample's square capped at 25; 2.61, 3.49 and 3.68 read at the best member, the depth offset and force
+    lag refitted there)."""
     rng = np.random.default_rng(8)
     for wk in walks:
         q = wk.params[0]
         odd = dataclasses.replace(q, alpha=2.0 * q.alpha, sigma_y=0.3 * q.sigma_y)
         force = np.asarray(simulate(wk.time, wk.depth_true, odd, Foot.paper(), velocity_filter="exact").force)
         flagged, ratio = _identify(wk, force + 0.2 * rng.standard_normal(force.size))
-        assert flagged and ratio > 3.0
+        assert flagged and ratio > 2.5
 
 
 def test_a_local_discretisation_error_does_not_mask_an_off_family_mud() -> None:
@@ -72,4 +75,5 @@ def test_a_local_discretisation_error_does_not_mask_an_off_family_mud() -> None:
     res = identify_water_content(Trial("walk.csv", 0.24, wk.time, wk.depth,
                                        force + 0.2 * np.random.default_rng(2).standard_normal(force.size)))
     assert res.discretisation > 1.0
-    assert res.model_misses_data and res.misfit_ratio > 3.0  # measured 3.95 (each sample capped at 5 floors)
+    # measured 3.95 (each sample capped at 5 floors); 2.71 read at the best member, offset and lag refitted there
+    assert res.model_misses_data and res.misfit_ratio > 2.5

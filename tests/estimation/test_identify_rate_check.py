@@ -66,7 +66,9 @@ def test_clean_rate_costs_little_width(fine: tuple[np.ndarray, np.ndarray, np.nd
     assert res.rate_shift < 0.002 and res.episode_half_width < 0.003
     assert res.misfit_shift == 0.0  # the family explains the data to the floor (misfit ratio 0.71)
     assert not res.warnings
-    assert res.low <= W <= res.high and res.high - res.low < 0.015
+    # under 1.5 points before the interval held the members that pass with the offset and lag refitted there; those
+    # reach 32.25-34.50 % here (measured), the cost of that rule on clean data
+    assert res.low <= W <= res.high and res.high - res.low < 0.025
 
 
 def test_an_off_family_mud_widens_by_its_misfit(fine: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:

@@ -56,7 +56,11 @@ the family's whole range): least squares weighs every sample alike, so a
 few samples whose floor is tens of newtons (an event between two samples) can
 pull the estimate points away, and the interval around it with it. The
 interval is extended to hold that member +-:data:`MIN_HALF_WIDTH` (general
-path); the estimate and the flag are those of least squares.
+path), and to hold every water content of a 0.25-point grid whose statistic
+passes once the depth offset and the force lag are refitted there; the flag
+reads the least statistic found (at the estimate or at such a member), so a
+quiet flag says that a member the interval holds explains the data to the
+floor. The estimate is that of least squares.
 
 A trial of any motion is accepted (:func:`~mudforce.estimation.calibration.preprocess.prepare_trial`).
 The result says how well the family explains it: ``misfit_ratio`` (RMSE
@@ -135,6 +139,21 @@ _MEMBER_STEP = 0.005
 #: Half-width held about the member [-] when the interval is extended to it (ours; chosen on the sensor-chain
 #: bench's seed 1, docs/estimation-history.md, "identify's interval reaches the member that fits").
 _MEMBER_MARGIN = MIN_HALF_WIDTH
+#: Spacing of the grid of water contents whose statistic the interval and the flag read [-] (0.25 points; ours).
+_PASS_STEP = 0.0025
+#: A grid point whose statistic (its square root, the depth offset and force lag held at the estimate's) reads above
+#: this [-] is refitted only when among the :data:`_PASS_LOWEST` lowest (ours; a screen for time: without it, on the
+#: bench's seeds 1 and 3, 8 of 743 intervals came out wider, by 5.5 points in all, at about 4 times the refits' cost).
+_PASS_SCREEN = 2.0
+#: How many of the grid's lowest points are refitted whatever their statistic [-] (ours).
+_PASS_LOWEST = 6
+#: The refit's first search: force lags [s] at the estimate's depth offset, then depth offsets about the estimate's
+#: [m] at the best lag (ours; a bounded search on each follows).
+_REFIT_LAGS = np.array([0.0, 0.005, 0.01, 0.02, 0.03, 0.04, 0.05])
+_REFIT_OFFSETS = np.array([-4, -2, -1, 0, 1, 2, 4]) * 1e-3
+#: Half-widths of the refit's bounded searches about the best of the first: force lag [s] and depth offset [m] (ours).
+_REFIT_LAG_SPAN = 0.01
+_REFIT_OFFSET_SPAN = 0.002
 
 
 @dataclass(frozen=True, eq=False)
@@ -163,7 +182,9 @@ class Identification:
     misfit_ratio : float
         The RMS of the residuals each divided by its own floor [-] (so ``rmse / noise_floor``), each sample
         counting at most five floors (a sample whose branch the labels got wrong is not an off-family mud):
-        about 1 when the family explains the trial to the noise.
+        about 1 when the family explains the trial to the noise. On the general path it is read where it is
+        least: at the estimate, or at ``misfit_water_content`` with the depth offset and the force lag refitted
+        there, when a water content the interval holds explains the data better.
     off_family : float
         How far the data are off the family [N]: the RMS of the residual in
         excess of the noise, ``sqrt(max(rmse^2 - noise_floor^2, 0))``.
@@ -219,6 +240,12 @@ class Identification:
         range; the interval holds it +-:data:`MIN_HALF_WIDTH`. It can differ from ``water_content``
         (least squares, every sample weighed alike) where a few samples with a large floor pull the estimate.
         NaN on a protocol and on a trial of fewer than 8 samples (not searched).
+    misfit_water_content : float
+        The water content [-] where ``misfit_ratio`` was read: ``water_content`` itself, or the member of a 0.25-point
+        grid of the range (the member and the estimate added, then a search about the best) whose statistic is least
+        with the depth offset and the force lag refitted there. The interval holds every grid point whose statistic
+        so refitted passes (:data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`), so a quiet flag says
+        that a member the interval holds explains the data to the floor. NaN where ``member_water_content`` is.
     """
 
     water_content: float
@@ -249,6 +276,7 @@ class Identification:
     depth_noise: float = math.nan
     unresolved_depth: float = 0.0
     member_water_content: float = math.nan
+    misfit_water_content: float = math.nan
 
     @property
     def low(self) -> float:
@@ -276,7 +304,8 @@ class Identification:
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
         ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
-        ``depth_noise_m``, ``unresolved_depth_m``, ``member_water_content``, ``warnings``.
+        ``depth_noise_m``, ``unresolved_depth_m``, ``member_water_content``, ``misfit_water_content``,
+        ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -310,6 +339,7 @@ class Identification:
             "depth_noise_m": finite(self.depth_noise),
             "unresolved_depth_m": self.unresolved_depth,
             "member_water_content": finite(self.member_water_content),
+            "misfit_water_content": finite(self.misfit_water_content),
             "warnings": list(self.warnings),
         }
 
@@ -479,6 +509,109 @@ def _least_member(statistic: Callable[[float], float], estimate: float, lo: floa
     bracket = (float(points[max(j - 1, 0)]), float(points[min(j + 1, points.size - 1)]))
     found = minimize_scalar(statistic, bounds=bracket, method="bounded", options={"xatol": 1e-5})
     return float(found.x) if float(found.fun) < least else best
+
+
+def _refit_nuisances(root: Callable[[float, float, float], float], w: float, offset: float, lag: float,
+                     warm: tuple[float, float] | None = None,
+                     stop_at: float | None = None) -> tuple[float, float, float]:
+    """The misfit statistic's square root [-] at water content ``w`` [-], the depth offset and the force lag refitted.
+
+    ``root(w, offset, lag)`` is the statistic's square root with the model at ``depth + offset`` [m] through a force
+    lag ``lag`` [s]. The search (ours) starts at the estimate's ``offset`` [m] and ``lag`` [s] and at ``warm`` (the
+    offset [m] and lag [s] refitted at a neighbouring water content, when given), tries the lags of
+    :data:`_REFIT_LAGS`, then the offsets ``offset + _REFIT_OFFSETS`` (within +-:data:`MAX_DEPTH_OFFSET`), then a
+    bounded search over the lag and one over the offset about the best. It stops as soon as the statistic reads
+    ``stop_at`` [-] or less. Returns ``(root, offset [m], lag [s])`` at the best point found: a local search, so an
+    upper bound on the statistic's least over the two nuisances.
+    """
+    best = (root(w, offset, lag), offset, lag)
+    if warm is not None:
+        best = min(best, (root(w, warm[0], warm[1]), warm[0], warm[1]))
+
+    def done() -> bool:
+        return stop_at is not None and best[0] <= stop_at
+
+    if done():
+        return best
+    for lg in _REFIT_LAGS:
+        best = min(best, (root(w, offset, float(lg)), offset, float(lg)))
+        if done():
+            return best
+    for step in _REFIT_OFFSETS:
+        o = float(np.clip(offset + step, -MAX_DEPTH_OFFSET, MAX_DEPTH_OFFSET))
+        best = min(best, (root(w, o, best[2]), o, best[2]))
+        if done():
+            return best
+    o, lg = best[1], best[2]
+    found = minimize_scalar(lambda x: root(w, o, float(x)),
+                            bounds=(max(lg - _REFIT_LAG_SPAN, 0.0), min(lg + _REFIT_LAG_SPAN, MAX_FORCE_LAG)),
+                            method="bounded", options={"xatol": 5e-4, "maxiter": 8})
+    if float(found.fun) < best[0]:
+        best = (float(found.fun), o, float(found.x))
+    if done():
+        return best
+    lg = best[2]
+    found = minimize_scalar(lambda x: root(w, float(x), lg),
+                            bounds=(max(o - _REFIT_OFFSET_SPAN, -MAX_DEPTH_OFFSET),
+                                    min(o + _REFIT_OFFSET_SPAN, MAX_DEPTH_OFFSET)),
+                            method="bounded", options={"xatol": 1e-4, "maxiter": 8})
+    if float(found.fun) < best[0]:
+        best = (float(found.fun), float(found.x), lg)
+    return best
+
+
+def _passing_members(root: Callable[[float, float, float], float], points: np.ndarray, held: np.ndarray,
+                     member: float, interval: tuple[float, float], offset: float, lag: float,
+                     bounds: tuple[float, float]) -> tuple[float, float, float, float]:
+    """The interval holding every water content that passes, and the least statistic found (ours; issue 23).
+
+    ``points`` [-] are the water contents to read (a grid, the member and the estimate), ``held`` [-] the statistic's
+    square root at each with the estimate's depth offset ``offset`` [m] and force lag ``lag`` [s], ``member`` [-] the
+    member (its held statistic among ``held``), ``interval`` [-] the interval so far, ``bounds`` [-] the family's
+    range. A point passes when its statistic reads :data:`MISFIT_WARNING_RATIO` or less, held or with the offset and
+    the lag refitted there (:func:`_refit_nuisances`, warm-started from the previous point refitted when it is the
+    grid's neighbour). Screen (for time): only points held at most :data:`_PASS_SCREEN`, or among the
+    :data:`_PASS_LOWEST` lowest, are refitted; and where the member passes held (the flag is then quiet whatever
+    the refits say) only those outside the interval built so far, each refit stopping once it passes. Where it does
+    not, every screened point is refitted in full and then the water content searched within +-0.5 points of the best
+    refitted one (the point found held by the interval if it passes). Returns ``(low, high, least, at)``: the
+    interval [-] (the one given and every point that passes), the least square-rooted statistic found [-] and the
+    water content [-] it was read at.
+    """
+    lo, hi = bounds
+    passing = [float(w) for w, h in zip(points, held, strict=True) if h <= MISFIT_WARNING_RATIO]
+    held_member = float(held[int(np.flatnonzero(points == member)[0])])
+    full = held_member > MISFIT_WARNING_RATIO
+    lowest = set(np.argsort(held, kind="stable")[:_PASS_LOWEST].tolist())
+    refits: dict[float, tuple[float, float, float]] = {}
+    previous: tuple[float, float, float] | None = None
+    for j, w in enumerate(points.tolist()):
+        if held[j] <= MISFIT_WARNING_RATIO or not (held[j] <= _PASS_SCREEN or j in lowest):
+            continue
+        if not full and min([interval[0], *passing]) <= w <= max([interval[1], *passing]):
+            continue
+        near = previous is not None and abs(previous[0] - w) <= 1.01 * _PASS_STEP
+        warm = (previous[1], previous[2]) if near and previous is not None else None
+        refits[w] = found = _refit_nuisances(root, w, offset, lag, warm, None if full else MISFIT_WARNING_RATIO)
+        previous = (w, found[1], found[2])
+        if found[0] <= MISFIT_WARNING_RATIO:
+            passing.append(w)
+    least, at = held_member, member
+    for w, found in refits.items():
+        if found[0] < least:
+            least, at = found[0], w
+    if full:  # the best refitted point's neighbourhood, the water content searched too
+        centre = min(refits, key=lambda x: refits[x][0]) if refits else member
+        warm = refits[centre][1:] if refits else None
+        search = minimize_scalar(lambda x: _refit_nuisances(root, float(x), offset, lag, warm)[0],
+                                 bounds=(max(centre - 2 * _PASS_STEP, lo), min(centre + 2 * _PASS_STEP, hi)),
+                                 method="bounded", options={"xatol": 5e-4, "maxiter": 6})
+        if float(search.fun) < least:
+            least, at = float(search.fun), float(search.x)
+        if float(search.fun) <= MISFIT_WARNING_RATIO:
+            passing.append(float(search.x))
+    low, high = max(min([interval[0], *passing]), lo), min(max([interval[1], *passing]), hi)
+    return low, high, least, at
 
 
 @one_blas_thread
@@ -725,7 +858,6 @@ def identify_water_content(
 
     floor = floor_of(disc2)
     ratio = misfit_ratio(rmse, floor, scale)
-    off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     # the misfit's worst case: a residual of RMS `unexplained` that the family cannot explain moves the estimate by
     # at most unexplained / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on
     # each side. What the noise does not explain counts, the discretisation error included: the flag excuses it as
@@ -742,27 +874,55 @@ def identify_water_content(
     # re-profiled under those weights; offset, lag and the floors held at the estimate's). Least squares weighs
     # every sample alike, and a few samples whose floor is tens of newtons (an event between two samples, a stuck
     # foot read on a branch) pull the estimate by points on drier mud; the member is then nearer the truth, at or
-    # beyond the interval's edge. The interval reaches it, with a margin; the estimate and the flag stay least
-    # squares' (docs/estimation-history.md, "identify's interval reaches the member that fits")
-    member = math.nan
+    # beyond the interval's edge. The interval reaches it, with a margin; the estimate stays least squares'
+    # (docs/estimation-history.md, "identify's interval reaches the member that fits"); the flag, below
+    member = misfit_w = math.nan
     if general and n >= 8:
         v = np.maximum(noise_var + disc2, least)
-        above = tr.depth + offset <= 0.0
+        seen: dict[tuple[float, float, float], float] = {}
+
+        def statistic_at(w: float, depth_offset: float, force_lag: float) -> float:
+            """The statistic [-] at water content ``w`` [-], the model at ``depth + depth_offset`` [m] through a
+            force lag ``force_lag`` [s] (each point computed once)."""
+            key = (w, depth_offset, force_lag)
+            if key not in seen:
+                z = tr.depth + depth_offset
+                model, band_low, band_high = _force_and_band(t, z, family(w), foot, force_lag)
+                free = (z <= 0.0) & (model**2 <= 1e-4 * v)  # out of the mud, the model's force nil (1 % of the floor)
+                seen[key] = _bias_reprofiled(model, band_low, band_high, meas, rest, v, free)
+            return seen[key]
 
         def statistic(w: float) -> float:
-            model, band_low, band_high = _force_and_band(t, tr.depth + offset, family(w), foot, lag)
-            free = above & (model**2 <= 1e-4 * v)  # out of the mud, the model's force nil (to 1 % of the floor)
-            return _bias_reprofiled(model, band_low, band_high, meas, rest, v, free)
+            return statistic_at(w, offset, lag)
+
+        def root(w: float, depth_offset: float, force_lag: float) -> float:
+            return math.sqrt(statistic_at(w, depth_offset, force_lag))
 
         member = _least_member(statistic, w_best, lo, hi)
         low, high = max(min(low, member - _MEMBER_MARGIN), lo), min(max(high, member + _MEMBER_MARGIN), hi)
+        # the interval holds every water content whose statistic passes with the depth offset and force lag refitted
+        # there, and the flag reads the least statistic found: a quiet flag then says that a member the interval holds
+        # explains the data to the floor. Held at the estimate's lag, the truth did not pass under a force lag the
+        # least-squares fit misread, and a flag read at the member left such intervals missing it (docs/estimation-
+        # history.md, "identify's misfit flag at the member ... NOT kept" and the entries after it)
+        readings = np.append(np.linspace(lo, hi, max(math.ceil((hi - lo) / _PASS_STEP - 1e-9), 1) + 1),
+                             [member, w_best])
+        held = np.array([root(float(w), offset, lag) for w in readings])
+        low, high, least_root, at = _passing_members(root, readings, held, member, (low, high), offset, lag, (lo, hi))
+        misfit_w = w_best
+        if least_root < ratio:
+            floor = rmse / least_root if least_root > 0.0 else math.sqrt(float(np.mean(v)))
+            ratio, misfit_w = misfit_ratio(rmse, floor, scale), at
+    off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
                         f"(force noise {tr.force_noise:.3g} N, with the depth noise carried through and the "
                         f"model's discretisation error {discretisation:.3g} N at this rate): "
                         f"the data are {off:.3g} N (RMS) off the Table I family (another mud, another foot "
-                        "than assumed, or a model error); the estimate is the nearest water content and "
-                        "the interval is widened for the misfit")
+                        "than assumed, or a model error), and no water content explains them better (read at "
+                        f"{misfit_w * 100 if math.isfinite(misfit_w) else w_best * 100:.4g} %, the depth offset and "
+                        "force lag refitted there); the estimate is the nearest water content and the interval is "
+                        "widened for the misfit")
     if rate_shift > _RATE_SHIFT_WARNING:
         warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
                         "sample: the sample rate is too low for the model to follow this motion (touchdowns and "
@@ -801,5 +961,6 @@ def identify_water_content(
         depth_noise=tr.depth_noise,
         unresolved_depth=tr.unresolved_depth,
         member_water_content=member,
+        misfit_water_content=misfit_w,
     )
 
