@@ -131,12 +131,15 @@ def test_tracker_state_replays_exactly_and_a_refused_restore_changes_nothing() -
             tracker.state = bad  # type: ignore[assignment]
     bank = np.array(before.bank)
     bank[0, 1] = 7.0  # a contact mode the stepper never makes
-    garbage = TrackerState(bank, before.log_posterior, before.posterior, before.aux, True, before.key)
+    garbage = TrackerState(bank, before.log_posterior, before.posterior, before.aux, True, before.key,
+                           before.twin)
     with pytest.raises(InputError, match="expected a state taken from a contact"):
         tracker.state = garbage
     after = tracker.state
     for name in ("bank", "log_posterior", "posterior", "aux"):
         assert np.array_equal(getattr(after, name), getattr(before, name), equal_nan=True), name
+        # the twin bank's (restored first, then put back when the first bank's restore is refused)
+        assert np.array_equal(getattr(after.twin, name), getattr(before.twin, name), equal_nan=True), name
     # many feet: the same protocol
     feet = MudTrackers(2)
     feet.update([0.0, 0.0], [0.1, 0.2], 0.01)

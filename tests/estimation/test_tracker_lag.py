@@ -77,7 +77,10 @@ def test_at_20_hz_the_bank_is_stepped_in_substeps(recording: tuple[np.ndarray, .
     t, z, f = (x[::5] for x in recording)  # 20 Hz
     coarse = track(t, z, f, FOOT, max_step=0.0)  # one step per sample: the tracker before substeps
     _, wrong = _judged(coarse)
-    assert wrong.mean() >= 0.5  # measured 0.71
+    # measured 0.39 (0.71 before the twin bank's interval: the 5-step rule's bank widens it, not its estimate)
+    assert wrong.mean() >= 0.3
+    late = coarse.time - coarse.time[0] >= 3.0
+    assert np.all(np.abs(coarse.water_content[late] - TRUTH) > 0.03)  # measured 4.1-5.7 points off
     fine = track(t, z, f, FOOT)
     covered, wrong = _judged(fine)
     assert covered.all() and not wrong.any()
