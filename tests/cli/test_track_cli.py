@@ -44,13 +44,11 @@ def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
     np.testing.assert_allclose(data[:, 5], wk.force, rtol=1e-12)
     assert abs(data[-1, 1] - 0.30) <= 0.01 and data[-1, 2] <= 0.30 <= data[-1, 3]
     assert data[:, 6].sum() == 1  # one change flagged
-    # the same estimates as the Python API, given the same branch rule
-    from mudforce.model.velocity import auto_velocity_filter
-
+    # the same estimates and intervals as the Python API with its defaults (the online tracker's own branch rule)
     given = np.loadtxt(recording, delimiter=",", skiprows=1)
-    depth = given[:, 1] * 1e-3
-    r = track(given[:, 0], depth, given[:, 2], velocity_filter=auto_velocity_filter(given[:, 0], depth))
-    np.testing.assert_allclose(data[:, 1], r.water_content, rtol=0, atol=1e-12)
+    r = track(given[:, 0], given[:, 1] * 1e-3, given[:, 2])
+    np.testing.assert_allclose(data[:, 1:4], np.column_stack([r.water_content, r.low, r.high]), rtol=0, atol=1e-12)
+    assert "branch rule: the tracker's own, online" in proc.stdout
     assert (folder / "track.png").read_bytes().startswith(b"\x89PNG")
 
 
