@@ -80,6 +80,11 @@ def test_an_off_family_mud_widens_by_its_misfit(fine: tuple[np.ndarray, np.ndarr
     res = _identify((t, z, force), 100.0, 13)
     assert res.model_misses_data and res.off_family > 1.0
     assert res.misfit_shift > 0.0
-    assert res.low <= max(res.water_content - res.misfit_shift, 0.15) + 1e-12
-    assert res.high >= min(res.water_content + res.misfit_shift, 0.35) - 1e-12
+    # the shift is about the least-squares fit (27.23 %, measured); least squares failing the statistic, the estimate
+    # is the member read with the nuisances refitted (16.21 %, flagged all the same), which the interval also holds
+    ls = res.least_squares_water_content
+    assert res.low <= max(ls - res.misfit_shift, 0.15) + 1e-12
+    assert res.high >= min(ls + res.misfit_shift, 0.35) - 1e-12
+    assert res.water_content == res.misfit_water_content and ls - res.water_content > 0.1
+    assert res.low <= res.water_content <= res.high
     assert res.to_dict()["misfit_shift"] == res.misfit_shift

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 from pathlib import Path
 
 from mudforce.io import dumps_json
@@ -88,8 +89,10 @@ def run(args: argparse.Namespace) -> int:
         print(dumps_json(result.to_dict(), indent=2))
     else:
         lo, hi = result.interval
+        ls = result.least_squares_water_content
+        fit = f" (the least-squares fit, at {ls:.2%})" if math.isfinite(ls) and ls != result.water_content else ""
         print(f"water content {result.water_content:.2%} ({level:.0%} interval {lo:.2%} to {hi:.2%}), "
-              f"RMSE {result.rmse:.3g} N")
+              f"RMSE {result.rmse:.3g} N{fit}")
         for w in result.warnings:
             print(f"warning: {w}")
     return 0

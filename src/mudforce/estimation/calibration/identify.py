@@ -60,7 +60,10 @@ path), and to hold every water content of a 0.25-point grid whose statistic
 passes once the depth offset and the force lag are refitted there; the flag
 reads the least statistic found (at the estimate or at such a member), so a
 quiet flag says that a member the interval holds explains the data to the
-floor. The estimate is that of least squares.
+floor. The estimate is that of least squares, unless its own statistic fails
+(above :data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`) and such
+a refitted member reads less: the estimate is then that member
+(``misfit_water_content``; ``least_squares_water_content`` keeps least squares').
 
 A trial of any motion is accepted (:func:`~mudforce.estimation.calibration.preprocess.prepare_trial`).
 The result says how well the family explains it: ``misfit_ratio`` (RMSE
@@ -163,11 +166,16 @@ class Identification:
     Attributes
     ----------
     water_content : float
-        Best estimate [-] (a fraction: 0.23 is 23%).
+        Best estimate [-] (a fraction: 0.23 is 23%): least squares' (``least_squares_water_content``), or, on the
+        general path, ``misfit_water_content`` where least squares' own misfit statistic fails
+        (:data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`) and a member explains the data better
+        with the depth offset and the force lag refitted there (ours; docs/estimation-history.md, "identify's
+        estimate at the misfit member"). The interval holds it +-:data:`MIN_HALF_WIDTH`.
     interval : tuple of float
         Confidence interval [-] at ``level``, clipped to the family's range.
     rmse : float
-        RMS force residual at the estimate [N].
+        RMS force residual at the least-squares fit [N] (``least_squares_water_content``; as ``grid_rmse``, ``bias``,
+        ``depth_offset``, ``force_lag`` and their standard errors, which are that fit's).
     level : float
         Confidence level of ``interval`` [-].
     grid, grid_rmse : ndarray
@@ -246,6 +254,10 @@ class Identification:
         with the depth offset and the force lag refitted there. The interval holds every grid point whose statistic
         so refitted passes (:data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`), so a quiet flag says
         that a member the interval holds explains the data to the floor. NaN where ``member_water_content`` is.
+    least_squares_water_content : float
+        The least-squares estimate [-] (every sample weighed alike, the depth offset and the force lag fitted jointly):
+        the fit ``rmse``, ``bias``, ``depth_offset`` and ``force_lag`` belong to. Equal to ``water_content`` unless
+        that was moved to ``misfit_water_content``. NaN where the result was built without it.
     """
 
     water_content: float
@@ -277,6 +289,7 @@ class Identification:
     unresolved_depth: float = 0.0
     member_water_content: float = math.nan
     misfit_water_content: float = math.nan
+    least_squares_water_content: float = math.nan
 
     @property
     def low(self) -> float:
@@ -305,7 +318,7 @@ class Identification:
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
         ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
         ``depth_noise_m``, ``unresolved_depth_m``, ``member_water_content``, ``misfit_water_content``,
-        ``warnings``.
+        ``least_squares_water_content``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -340,6 +353,7 @@ class Identification:
             "unresolved_depth_m": self.unresolved_depth,
             "member_water_content": finite(self.member_water_content),
             "misfit_water_content": finite(self.misfit_water_content),
+            "least_squares_water_content": finite(self.least_squares_water_content),
             "warnings": list(self.warnings),
         }
 
@@ -814,10 +828,7 @@ def identify_water_content(
     # then the gain's shift, which no amount of data reduces
     low = max(min(low, w_best - MIN_HALF_WIDTH) - shift_down - rate_shift, lo)
     high = min(max(high, w_best + MIN_HALF_WIDTH) + shift_up + rate_shift, hi)
-    warnings = []
-    if w_best - lo < 1e-3 or hi - w_best < 1e-3:
-        warnings.append(f"the estimate is at the edge of the searched range [{lo:g}, {hi:g}]: "
-                        "the mud may be drier or wetter than the family covers")
+    warnings: list[str] = []
     rmse = math.sqrt(c_best / n)
     scale = max(float(np.max(np.abs(meas))), 1.0)
     best_values = family(w_best).as_array()
@@ -874,9 +885,10 @@ def identify_water_content(
     # re-profiled under those weights; offset, lag and the floors held at the estimate's). Least squares weighs
     # every sample alike, and a few samples whose floor is tens of newtons (an event between two samples, a stuck
     # foot read on a branch) pull the estimate by points on drier mud; the member is then nearer the truth, at or
-    # beyond the interval's edge. The interval reaches it, with a margin; the estimate stays least squares'
-    # (docs/estimation-history.md, "identify's interval reaches the member that fits"); the flag, below
+    # beyond the interval's edge. The interval reaches it, with a margin (docs/estimation-history.md, "identify's
+    # interval reaches the member that fits"); the flag, and where least squares fails it the estimate, below
     member = misfit_w = math.nan
+    estimate = w_best
     if general and n >= 8:
         v = np.maximum(noise_var + disc2, least)
         seen: dict[tuple[float, float, float], float] = {}
@@ -909,10 +921,24 @@ def identify_water_content(
                              [member, w_best])
         held = np.array([root(float(w), offset, lag) for w in readings])
         low, high, least_root, at = _passing_members(root, readings, held, member, (low, high), offset, lag, (lo, hi))
-        misfit_w = w_best
+        misfit_w, estimate_fails = w_best, ratio > MISFIT_WARNING_RATIO
         if least_root < ratio:
             floor = rmse / least_root if least_root > 0.0 else math.sqrt(float(np.mean(v)))
             ratio, misfit_w = misfit_ratio(rmse, floor, scale), at
+        # the estimate moves to that member only where least squares' own member fails the statistic: where it
+        # passes, the data do not tell the two apart by the floor, and least squares (every sample alike) is kept.
+        # Where it fails, the member read with the nuisances refitted is nearer the truth under a misread force lag
+        # or depth offset (docs/estimation-history.md, "identify's estimate at the misfit member")
+        if estimate_fails:
+            estimate = misfit_w
+            low = max(min(low, estimate - MIN_HALF_WIDTH), lo)
+            high = min(max(high, estimate + MIN_HALF_WIDTH), hi)
+    # at the range's edge: the reported estimate, or least squares' where the estimate moved off it
+    edge = [name for name, x in (("the estimate", estimate), ("least squares' estimate", w_best))
+            if x - lo < 1e-3 or hi - x < 1e-3]
+    if edge:
+        warnings.append(f"{edge[0]} is at the edge of the searched range [{lo:g}, {hi:g}]: "
+                        "the mud may be drier or wetter than the family covers")
     off = math.sqrt(max(rmse**2 - floor**2, 0.0))
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
@@ -933,7 +959,7 @@ def identify_water_content(
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
                         f"{MAX_FORCE_LAG * 1e3:g} ms): the depth or the force is not what the model can explain")
     return Identification(
-        water_content=w_best,
+        water_content=estimate,
         interval=(low, high),
         rmse=rmse,
         level=level,
@@ -962,5 +988,6 @@ def identify_water_content(
         unresolved_depth=tr.unresolved_depth,
         member_water_content=member,
         misfit_water_content=misfit_w,
+        least_squares_water_content=w_best,
     )
 
