@@ -336,6 +336,30 @@ def _run_stage(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial],
     return out
 
 
+#: Contiguous blocks each trial is cut into for the jackknife when a condition has fewer than three trials (ours).
+_JACKKNIFE_BLOCKS = 10
+
+
+def _blocks(starts: np.ndarray, n_data: int) -> list[np.ndarray]:
+    """The residual's rows in :data:`_JACKKNIFE_BLOCKS` contiguous blocks per trial (trial ``i``'s data rows
+    ``starts[i]:starts[i + 1]``; its tare-prior row ``n_data + i`` goes with its first block).
+
+    With fewer than three trials the delete-one-trial jackknife has too few to spread; a delete-one-block
+    jackknife of each recording's stretches (Kunsch 1989, for a dependent series) sees what the noise model
+    cannot within one recording: the model's errors that differ from stride to stride (an impact or a neck
+    between two samples falls at another phase of the sample grid in each), which the residual's lag-1
+    correlation does not hold. A block of a trial shorter than its number of blocks is the trial whole.
+    """
+    out: list[np.ndarray] = []
+    for i in range(starts.size - 1):
+        rows = np.arange(starts[i], starts[i + 1])
+        parts = np.array_split(rows, _JACKKNIFE_BLOCKS) if rows.size >= _JACKKNIFE_BLOCKS else [rows]
+        parts = [p for p in parts if p.size]
+        parts[0] = np.append(parts[0], n_data + i)
+        out.extend(parts)
+    return out
+
+
 def _rms(r: np.ndarray) -> float:
     return float(np.sqrt(np.mean(r**2))) if r.size else math.nan
 
@@ -505,6 +529,8 @@ def fit_condition(
     n_data = residual.size - len(prepared)
     starts = np.cumsum([0] + [tr.time.size for tr in prepared])
     groups = [np.append(np.arange(starts[i], starts[i + 1]), n_data + i) for i in range(len(prepared))]
+    if len(groups) < 3:
+        groups = _blocks(starts, n_data)
     spread = jackknife_variance(jac, residual, groups)
     lo, hi = _log_bounds(m, free_names)
     profile = _profiler(obj, x, jac, lo, hi, max(options.max_nfev // 4, 20))

@@ -135,8 +135,9 @@ def jackknife_variance(jac: np.ndarray, residual: np.ndarray, groups: Sequence[n
     is the jackknife variance. It sees what the noise model cannot: trials
     that disagree systematically (a motion whose branch switches were
     misread pulls the withdrawal parameters its own way). ``groups[i]``
-    are trial ``i``'s rows of ``jac`` and ``residual``. None for fewer than
-    three trials (too few to spread).
+    are trial ``i``'s rows of ``jac`` and ``residual`` (or, for a fit of one or
+    two trials, contiguous blocks of them: ``fit._blocks``). None for fewer than
+    three groups (too few to spread).
     """
     if len(groups) < 3:
         return None
