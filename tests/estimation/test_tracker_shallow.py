@@ -59,8 +59,9 @@ def test_the_widening_s_gain(monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setattr(tracker_module, "_SHALLOW_GAIN", k)
         r = track(t, z, f)
         widths.append(float(np.median((r.high - r.low)[late])))
-    # measured: 10.1, 9.2 and 18.8 points (the last 12.5 before the blurs of 9 and 13.5 discrepancies)
-    assert widths == pytest.approx([0.1008, 0.0922, 0.1875], abs=0.003)
+    # measured: 10.2, 9.2 and 20.2 points (the last 18.8 before the widened blurs piled the mass beyond the grid's
+    # ends on its end cells, 12.5 before the blurs of 9 and 13.5 discrepancies)
+    assert widths == pytest.approx([0.1016, 0.0922, 0.2019], abs=0.003)
 
 
 def test_deep_walks_and_one_offset_are_not_widened(monkeypatch: pytest.MonkeyPatch) -> None:
