@@ -77,8 +77,8 @@ def test_at_20_hz_the_bank_is_stepped_in_substeps(recording: tuple[np.ndarray, .
     t, z, f = (x[::5] for x in recording)  # 20 Hz
     coarse = track(t, z, f, FOOT, max_step=0.0)  # one step per sample: the tracker before substeps
     covered, wrong = _judged(coarse)
-    # measured: covered on every sample (7.7-point median width) since the low-rate widening's 1.5 and the widened
-    # blurs' piling at the grid's ends; confidently wrong on 0.39 of them before (0.71 before the twin bank)
+    # measured: covered on every sample (8.1-point median width) since the low-rate widening's 1.5 and the widened
+    # blurs' piled twins; confidently wrong on 0.39 of them before (0.71 before the twin bank)
     assert covered.all() and not wrong.any()
     late = coarse.time - coarse.time[0] >= 3.0
     assert np.all(np.abs(coarse.water_content[late] - TRUTH) > 0.03)  # measured 3.6-5.7 points off: the estimate

@@ -842,8 +842,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         spans = int(min(dt / _RATE_STEP, float(_MAX_SUBSTEPS)) + 0.5)
         if spans > 1 and not first:
             excess = math.sqrt(excess * excess + cfg[_C_RATE_GAIN] ** 2 * (spans - 1.0))
+        nb = _BLUR_FACTORS.shape[0]
         b = 0
-        while b < blur.shape[0] - 1 and _BLUR_FACTORS[b] < excess:
+        while b < nb - 1 and _BLUR_FACTORS[b] < excess:
             b += 1
         if b > 0:
             _, wide_low, wide_high = _blurred_quantiles(blur[b], marginal, Q, edges, half)
@@ -851,7 +852,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             # mode's quantile; the estimate stays the fit's median (the widening is the interval's, not the fit's)
             w_low = min(w_low, wide_low)
             w_high = max(w_high, wide_high)
-        if excess > _BLUR_FACTORS[blur.shape[0] - 1]:
+            # and of the same blur with the mass beyond the grid's ends piled on the end cells (ours, _blur_matrix's
+            # pile): a posterior a few points inside an end then reaches that end
+            _, wide_low, wide_high = _blurred_quantiles(blur[nb - 1 + b], marginal, Q, edges, half)
+            w_low = min(w_low, wide_low)
+            w_high = max(w_high, wide_high)
+        if excess > _BLUR_FACTORS[nb - 1]:
             w_low = edges[0]
             w_high = edges[edges.shape[0] - 1]
         out[j, _O_W] = w_mid
@@ -923,10 +929,11 @@ def _blur_matrix(grid: np.ndarray, edges: np.ndarray, sd: float, pile: bool = Fa
 
     Each column is renormalised to the grid's range (the mass beyond its ends
     is put back in proportion); ``sd = 0`` gives the identity. With ``pile``
-    the mass beyond an end is put on that end's cell instead (ours: the widened
-    blurs of the reported interval, so that a posterior read a few points
-    inside an end of the family reaches that end; in proportion, most of that
-    mass went back to the cells nearer the estimate).
+    the mass beyond an end is put on that end's cell instead (ours: the reported
+    interval is also the hull of the widened blurs' piled twins, so that a
+    posterior read a few points inside an end of the family reaches that end;
+    in proportion, most of that mass went back to the cells nearer the
+    estimate; piled alone, the other side moved in by up to 1.5 points).
     """
     G = grid.size
     if sd == 0.0:
@@ -1272,9 +1279,11 @@ class MudTrackers:
         else:
             self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
         # transposed: _blurred_quantiles reads them column by column
-        self._blur = np.ascontiguousarray(np.stack([_blur_matrix(self.grid, self._edges, self.discrepancy * float(k),
-                                                                 pile=b > 0).T
-                                                    for b, k in enumerate(_BLUR_FACTORS)]))
+        # (one per factor of _BLUR_FACTORS, then the widened ones' piled twins: _blur_matrix's pile)
+        self._blur = np.ascontiguousarray(np.stack(
+            [_blur_matrix(self.grid, self._edges, self.discrepancy * float(k)).T for k in _BLUR_FACTORS]
+            + [_blur_matrix(self.grid, self._edges, self.discrepancy * float(k), pile=True).T
+               for k in _BLUR_FACTORS[1:]]))
         self._Q = np.zeros(G, dtype=np.float64)
         # scratch of the compiled step: the water content's and the offsets' posteriors, the lag filters' coefficients
         self._work = np.zeros(G + self.depth_offsets.size + 1 + 2 * _N_LAGS, dtype=np.float64)
