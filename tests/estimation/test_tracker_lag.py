@@ -76,11 +76,12 @@ def test_low_passed_force_lag_is_estimated_and_the_truth_covered(recording: tupl
 def test_at_20_hz_the_bank_is_stepped_in_substeps(recording: tuple[np.ndarray, ...]) -> None:
     t, z, f = (x[::5] for x in recording)  # 20 Hz
     coarse = track(t, z, f, FOOT, max_step=0.0)  # one step per sample: the tracker before substeps
-    _, wrong = _judged(coarse)
-    # measured 0.39 (0.71 before the twin bank's interval: the 5-step rule's bank widens it, not its estimate)
-    assert wrong.mean() >= 0.3
+    covered, wrong = _judged(coarse)
+    # measured: covered on every sample (8.1-point median width) since the low-rate widening's 1.5 and the widened
+    # blurs' piled twins; confidently wrong on 0.39 of them before (0.71 before the twin bank)
+    assert covered.all() and not wrong.any()
     late = coarse.time - coarse.time[0] >= 3.0
-    assert np.all(np.abs(coarse.water_content[late] - TRUTH) > 0.03)  # measured 4.1-5.7 points off
+    assert np.all(np.abs(coarse.water_content[late] - TRUTH) > 0.03)  # measured 3.6-5.7 points off: the estimate
     fine = track(t, z, f, FOOT)
     covered, wrong = _judged(fine)
     assert covered.all() and not wrong.any()

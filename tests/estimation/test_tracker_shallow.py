@@ -41,10 +41,10 @@ def test_a_shallow_sinkage_widens_the_interval_not_the_estimate(monkeypatch: pyt
     late = t >= 3.0
     assert np.array_equal(wide.water_content, plain.water_content)  # the fit's median either way
     assert np.all(wide.low <= plain.low) and np.all(wide.high >= plain.high)  # the hull: never narrower
-    # measured: median width after 3 s 6.1 -> 16.7 points (12.6 before the blurs of 9 and 13.5 discrepancies,
-    # 9.9-10.1 with s at 5 and k at 1); both cover 18 %
+    # measured: median width after 3 s 6.1 -> 17.0 points (16.7 before the widened blurs' piled twins, 12.6 before
+    # the blurs of 9 and 13.5 discrepancies, 9.9-10.1 with s at 5 and k at 1); both cover 18 %
     assert np.median((plain.high - plain.low)[late]) == pytest.approx(0.0612, abs=0.003)
-    assert np.median((wide.high - wide.low)[late]) == pytest.approx(0.1667, abs=0.003)
+    assert np.median((wide.high - wide.low)[late]) == pytest.approx(0.1696, abs=0.003)
     assert np.all((wide.low[late] <= 0.18) & (0.18 <= wide.high[late]))
 
 
@@ -59,8 +59,9 @@ def test_the_widening_s_gain(monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setattr(tracker_module, "_SHALLOW_GAIN", k)
         r = track(t, z, f)
         widths.append(float(np.median((r.high - r.low)[late])))
-    # measured: 10.1, 9.2 and 18.8 points (the last 12.5 before the blurs of 9 and 13.5 discrepancies)
-    assert widths == pytest.approx([0.1008, 0.0922, 0.1875], abs=0.003)
+    # measured: 10.2, 9.4 and 20.2 points (10.1, 9.2, 18.8 before the widened blurs' piled twins, the last 12.5
+    # before the blurs of 9 and 13.5 discrepancies)
+    assert widths == pytest.approx([0.1025, 0.0938, 0.2019], abs=0.003)
 
 
 def test_deep_walks_and_one_offset_are_not_widened(monkeypatch: pytest.MonkeyPatch) -> None:

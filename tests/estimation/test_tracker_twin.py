@@ -48,7 +48,8 @@ def test_the_interval_is_the_union_of_the_two_banks_and_holds_the_truth() -> Non
     flagged = r.changed[late] | r.misfit[late]
     before = (cols[late, 1] <= TRUTH) & (TRUTH <= cols[late, 2])
     covered = (r.low[late] <= TRUTH) & (TRUTH <= r.high[late])
-    assert np.sum(~before & ~flagged) == 521  # the first bank alone: confidently wrong on 521 of 701 samples
+    assert np.sum(~before & ~flagged) == 520  # the first bank alone: confidently wrong on 520 of 701 samples (521
+    # before the widened blurs' piled twins)
     assert covered.all()  # measured: every sample
     # the estimate still reads low (median -4.4 points, -3.6 at the end); the twin's reads -0.9
     assert np.median(r.water_content[late]) - TRUTH == pytest.approx(-0.0439, abs=0.002)
