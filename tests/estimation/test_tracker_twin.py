@@ -40,6 +40,8 @@ def test_the_interval_is_the_union_of_the_two_banks_and_holds_the_truth() -> Non
         first._forces[0] = f[k]
         first._step(float(t[k] - t[k - 1]) if k else 1.0)
         cols[k] = first._out[0, [_O_W, _O_LOW, _O_HIGH]]
+    alone = track(t, z, f, FOOT, twin=False)  # the option that turns the twin off gives that first bank
+    assert np.array_equal(np.column_stack([alone.water_content, alone.low, alone.high]), cols)
     twin = track(t, z, f, FOOT, velocity_filter=VelocityFilter(5, 0.0), depth_offsets=[-0.003, 0.0, 0.003])
     assert np.array_equal(r.water_content, cols[:, 0])  # the estimate is the first bank's
     assert np.array_equal(r.low, np.minimum(cols[:, 1], twin.low))
@@ -58,6 +60,10 @@ def test_the_interval_is_the_union_of_the_two_banks_and_holds_the_truth() -> Non
 
 def test_only_the_default_rule_has_a_twin_and_a_snapshot_carries_it() -> None:
     assert MudTrackers(1, velocity_filter=default_velocity_filter())._twin is None
+    assert MudTrackers(1, twin=False)._twin is None
+    for bad in (1, "yes", None):
+        with pytest.raises(InputError, match="twin must be True or False"):
+            MudTrackers(1, twin=bad)  # type: ignore[arg-type]
     tracker = MudTrackers(2)
     twin = tracker._twin
     assert twin is not None and twin.depth_offsets.tolist() == [-0.003, 0.0, 0.003]
