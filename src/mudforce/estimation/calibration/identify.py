@@ -513,16 +513,22 @@ def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measu
     return stat
 
 
+def _scan_minimum(cost: Callable[[float], float], points: np.ndarray, *, ties_to_search: bool) -> float:
+    """The water content [-] minimising ``cost`` (ours): the best of the increasing ``points`` [-], then a bounded
+    search between its neighbours, taken where it reads less than that point (or as little, ``ties_to_search``)."""
+    values = [cost(float(w)) for w in points]
+    j = int(np.argmin(values))
+    bracket = (float(points[max(j - 1, 0)]), float(points[min(j + 1, points.size - 1)]))
+    found = minimize_scalar(cost, bounds=bracket, method="bounded", options={"xatol": 1e-5})
+    better = float(found.fun) <= values[j] if ties_to_search else float(found.fun) < values[j]
+    return float(found.x) if better else float(points[j])
+
+
 def _least_member(statistic: Callable[[float], float], estimate: float, lo: float, hi: float) -> float:
     """The water content [-] minimising ``statistic`` over ``[lo, hi]`` [-] (ours): a scan at :data:`_MEMBER_STEP` with
     ``estimate`` [-] added, then a bounded search between the best point's neighbours."""
     points = np.union1d(np.linspace(lo, hi, max(math.ceil((hi - lo) / _MEMBER_STEP), 1) + 1), [estimate])
-    stats = [statistic(float(w)) for w in points]
-    j = int(np.argmin(stats))
-    best, least = float(points[j]), stats[j]
-    bracket = (float(points[max(j - 1, 0)]), float(points[min(j + 1, points.size - 1)]))
-    found = minimize_scalar(statistic, bounds=bracket, method="bounded", options={"xatol": 1e-5})
-    return float(found.x) if float(found.fun) < least else best
+    return _scan_minimum(statistic, points, ties_to_search=False)
 
 
 def _refit_nuisances(root: Callable[[float, float, float], float], w: float, offset: float, lag: float,
@@ -742,12 +748,7 @@ def identify_water_content(
 
     def best_w(cost: Callable[[float], float]) -> float:
         """The water content [-] minimising ``cost``: a coarse scan, then a bounded search about its best."""
-        coarse = np.linspace(lo, hi, 21)
-        gc = [cost(float(w)) for w in coarse]
-        j = int(np.argmin(gc))
-        found = minimize_scalar(cost, bounds=(coarse[max(j - 1, 0)], coarse[min(j + 1, 20)]), method="bounded",
-                                options={"xatol": 1e-5})
-        return float(found.x) if float(found.fun) <= gc[j] else float(coarse[j])
+        return _scan_minimum(cost, np.linspace(lo, hi, 21), ties_to_search=True)
 
     offset, lag = 0.0, 0.0
     if general:  # a coarse scan of the surface offset first: a few millimetres move the water content by points
