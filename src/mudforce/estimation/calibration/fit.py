@@ -354,7 +354,6 @@ def _blocks(starts: np.ndarray, n_data: int) -> list[np.ndarray]:
     for i in range(starts.size - 1):
         rows = np.arange(starts[i], starts[i + 1])
         parts = np.array_split(rows, _JACKKNIFE_BLOCKS) if rows.size >= _JACKKNIFE_BLOCKS else [rows]
-        parts = [p for p in parts if p.size]
         parts[0] = np.append(parts[0], n_data + i)
         out.extend(parts)
     return out
