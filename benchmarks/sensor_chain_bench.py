@@ -38,7 +38,8 @@ Counts per corruption:
   the tracker's misfit flag is raised at it; and the change flags raised
   (every one false: no recording changes mud). Standard rows pass when
   >= 80 % of the samples are covered and >= 80 % within 1.5 points; hard
-  rows when no sample is confidently wrong.
+  rows when no sample is confidently wrong; every row only with at most one
+  false change flag per 10 minutes of recording (issue 23, point 5).
 """
 
 from __future__ import annotations
@@ -169,6 +170,7 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
                 "t_n": int(late.sum()), "t_within": int(np.sum(np.abs(tw - w) <= 0.015)), "t_cov": int(tcov.sum()),
                 "t_wrong": int(np.sum(~tcov & ~tflag)), "t_final": (tr.water_content[-1] - w) * 100.0,
                 "t_changes": int(np.sum(tr.changed)),  # every one false: no recording changes mud
+                "t_minutes": float(tt[-1] - tt[0]) / 60.0,
             }
             if fit_it and index < fit_recordings and not tracker_only:
                 start = time.perf_counter()
@@ -230,8 +232,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
     lines += ["", f"### MudTracker (samples {TRACK_AFTER:g} s or more after the start, pooled)", "",
               "| corruption | set | recordings | samples within 1.5 pt | samples covered | "
               "recordings covered >= 80 % | samples confidently wrong | median abs final error [pt] | "
-              "change flags (all false) | acceptance |",
-              "|---|---|---|---|---|---|---|---|---|---|"]
+              "change flags (all false) | per 10 min | acceptance |",
+              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r, (row, kind, _, _) in enumerate(ROWS):
         rs = [x for x in results if x["row"] == r]
         n = sum(x["t_n"] for x in rs)
@@ -245,8 +247,11 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         else:
             verdict = "pass" if n and cov >= 0.8 * n and within >= 0.8 * n else "FAIL"
         changes = sum(x.get("t_changes", 0) for x in rs)
+        rate = 10.0 * changes / max(sum(x.get("t_minutes", 0.0) for x in rs), 1e-9)
+        if rate > 1.0:  # issue 23: at most one false change flag per 10 minutes
+            verdict = "FAIL"
         lines.append(f"| {row} | {kind} | {len(rs)} | {within / max(n, 1):.0%} | {cov / max(n, 1):.0%} | "
-                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} | {med:.2f} | {changes} | {verdict} |")
+                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} | {med:.2f} | {changes} | {rate:.2f} | {verdict} |")
     return lines
 
 

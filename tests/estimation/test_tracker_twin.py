@@ -87,3 +87,25 @@ def test_only_the_default_rule_has_a_twin_and_a_snapshot_carries_it() -> None:
     d = tracker.update([0.005, 0.005], [12.0, 12.0], 0.01)
     assert np.array_equal(c.low, d.low) and np.array_equal(c.high, d.high)
     assert np.array_equal(c.water_content, d.water_content)
+
+
+def test_no_change_is_flagged_while_the_reported_interval_holds_the_old_estimate() -> None:
+    """A change flag needs the reported interval (the two banks' union) to leave the settled estimate.
+
+    The sensor-chain bench's gait walk 1 of seed 21 (row "depth noise 1 mm": W = 31.45 %, the paper's foot, 30 s at
+    100 Hz): the first bank alone left its settled estimate at 15.97 s while the twin's interval still held it, and
+    the tracker flagged a change of mud that never happened (one false flag; 7 -> 2 in the seed's 315 minutes of
+    bench recordings, 21 -> 1 on seed 22, 20 -> 12 on seed 0, the estimate and interval unchanged). Now no flag.
+    """
+    from mudforce import MudParameters, simulate
+    from mudforce.motions.gait import gait
+    from mudforce.motions.sensor_chain import SensorChain, apply
+
+    truth = 0.31450200475336965
+    path = gait(1585823501, duration=30.0, rate=2000.0)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(truth), Foot.paper(),
+                     velocity_filter="exact").force
+    chain = SensorChain(force_noise=0.2, depth_noise=1e-3, force_bias=-0.8062285147089383, rate=100.0)
+    t, z, f = apply(path.time, path.depth, np.asarray(force), chain, 3421649579)
+    r = track(t, z, f, Foot.paper())
+    assert not r.changed.any()

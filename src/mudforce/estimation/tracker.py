@@ -62,17 +62,20 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
 * **Twin bank.** With the default branch rule a second, smaller bank (the
   surface offsets within 3 mm of zero) runs beside the first on a secant
   over 5 steps, and the reported interval is the union of the two banks'
-  (the estimate and the flags are the first bank's): the branch rule is a
+  (the estimate and the misfit flag are the first bank's; the change flag
+  reads the union, below): the branch rule is a
   model choice the data seldom settle, and deep wet robots read points low
   on the 10-step rule and right on 5, while noisy gait walks read the
   other way. A given ``velocity_filter`` has no twin.
-* **Change flag.** Once the interval is narrower than a settling width (4
-  points, or 6 grid steps) and the offset has been tared (10 free
-  samples), its median becomes the anchor; when a later
-  interval that narrow excludes the anchor by more than a margin (1 point,
-  or 2 grid steps), the flag is raised for that sample. For the next ``tau``
+* **Change flag.** Once the fit's interval is narrower than a settling
+  width (4 points, or 6 grid steps) and the offset has been tared (10 free
+  samples), its median becomes the anchor; when a later estimate as
+  settled has a reported interval (the one returned, which holds the twin
+  bank's) that excludes the anchor by more than a margin (1 point, or 2
+  grid steps), the flag is raised for that sample. For the next ``tau``
   seconds of contact the anchor follows the settling estimate without a
-  second flag.
+  second flag. So a flag never says more than the interval does: while
+  the twin bank still holds the old mud, no change is flagged.
 
 Speed plumbing: the whole update (bank step and posterior) is one compiled
 call, :func:`_track_step`, over arrays held by the object.
@@ -552,6 +555,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     offsets = buf[a[12]:a[12] + d0[12]]
     log_prior = buf[a[13]:a[13] + d0[13]]
     work = buf[a[14]:a[14] + d0[14]]
+    guard = buf[a[15]:a[15] + d0[15] * d1[15]].reshape((d0[15], d1[15]))
     n = depths.shape[0]
     G = edges.shape[0] - 1
     M = P.shape[1]  # models per foot
@@ -817,18 +821,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         out[j, _O_OFFSET_SD] = osd
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
-        # change flag: a settled estimate that leaves the anchor behind
-        changed = 0.0
-        # (only once the offset has been tared: before, an estimate may still move with it)
-        if w_high - w_low <= cfg[_C_SETTLE] and aux[j, _A_NFREE] >= 10.0:
-            anchor = aux[j, _A_ANCHOR]
-            if math.isnan(anchor) or aux[j, _A_HOLD] > 0.0:
-                # the first settled estimate, or the estimate still settling after a flag: follow it
-                aux[j, _A_ANCHOR] = w_mid
-            elif anchor < w_low - cfg[_C_MARGIN] or anchor > w_high + cfg[_C_MARGIN]:
-                changed = 1.0
-                aux[j, _A_ANCHOR] = w_mid
-                aux[j, _A_HOLD] = tau
+        settled = w_high - w_low <= cfg[_C_SETTLE]  # the plain blur's interval: settled (the change flag's)
         # the reported interval: that blur widened with the misfit, the smallest of _BLUR_FACTORS at or above the
         # square root of the misfit average's excess over its reference (a scale mixture, see _MISFIT_BLUR_REF),
         # and with a shallow sinkage (_SHALLOW_WIDENING), in quadrature
@@ -860,6 +853,23 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         if excess > _BLUR_FACTORS[nb - 1]:
             w_low = edges[0]
             w_high = edges[edges.shape[0] - 1]
+        # the reported interval also holds the twin bank's, where one runs (``guard``; NaN where none does)
+        if not math.isnan(guard[j, 0]):
+            w_low = min(w_low, guard[j, 0])
+            w_high = max(w_high, guard[j, 1])
+        # change flag: a settled estimate whose reported interval leaves the anchor behind (ours, 2026-11-29: the
+        # reported interval, not the fit's plain one, so that the flag never says more than the interval does)
+        changed = 0.0
+        # (only once the offset has been tared: before, an estimate may still move with it)
+        if settled and aux[j, _A_NFREE] >= 10.0:
+            anchor = aux[j, _A_ANCHOR]
+            if math.isnan(anchor) or aux[j, _A_HOLD] > 0.0:
+                # the first settled estimate, or the estimate still settling after a flag: follow it
+                aux[j, _A_ANCHOR] = w_mid
+            elif anchor < w_low - cfg[_C_MARGIN] or anchor > w_high + cfg[_C_MARGIN]:
+                changed = 1.0
+                aux[j, _A_ANCHOR] = w_mid
+                aux[j, _A_HOLD] = tau
         out[j, _O_W] = w_mid
         out[j, _O_LOW] = w_low
         out[j, _O_HIGH] = w_high
@@ -875,14 +885,6 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         aux[j, _A_ZPREV] = depths[j]
         aux[j, _A_ZN] = min(aux[j, _A_ZN] + 1.0, 3.0)
     return -1
-
-
-@njit(cache=True, nogil=True)
-def _union(out: np.ndarray, twin: np.ndarray) -> None:
-    """Each foot's reported interval ``out[j, _O_LOW:_O_HIGH + 1]`` [-] widened to hold the twin bank's (ours)."""
-    for j in range(out.shape[0]):
-        out[j, _O_LOW] = min(out[j, _O_LOW], twin[j, _O_LOW])
-        out[j, _O_HIGH] = max(out[j, _O_HIGH], twin[j, _O_HIGH])
 
 
 @njit(cache=True, nogil=True)
@@ -902,7 +904,7 @@ def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray)
 
 #: The tracker's own arrays packed for :func:`_track_step`, in its order.
 _PACKED = ("_zbuf", "_depths", "_forces", "_edges", "_L", "_P", "_aux", "_cfg", "_blur", "_Q", "_out", "_scored",
-           "depth_offsets", "_log_prior", "_work")
+           "depth_offsets", "_log_prior", "_work", "_guard")
 
 
 def _pack(owner: object) -> tuple[np.ndarray, np.ndarray]:
@@ -1157,7 +1159,9 @@ class MudTrackers:
         16 us without); without it, on the sensor-chain bench's seeds 17-20,
         the interval missed the truth unflagged on 2411 samples, against 259.
         False only for a control loop that cannot afford it. The estimate and
-        the flags are the same either way.
+        the misfit flag are the same either way; the change flag reads the
+        reported interval, so without the twin it may come sooner, on the
+        first bank's word alone (and falsely more often).
     level : float
         Probability of the credible interval [-], in (0, 1) (default 0.95).
     discrepancy : float
@@ -1314,6 +1318,9 @@ class MudTrackers:
         self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
+        # the twin bank's reported interval [-], shape (n, 2), which this bank's also holds (NaN: no twin); an input
+        # of the compiled step, written before each step
+        self._guard = np.full((self.n, 2), math.nan, dtype=np.float64)
         bank = self._bank
         buf, layout = _pack(self)  # the arrays above become views of one buffer
         # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
@@ -1357,17 +1364,21 @@ class MudTrackers:
             dt = 1.0  # the first sample's dt is ignored
         elif not (dt > 0.0 and dt < math.inf):
             raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
-        bad = _track_step(dt, *self._args)
+        twin = self._twin
+        if twin is not None:  # the twin first: the reported interval, and so the change flag, holds its interval
+            twin._depths[:] = self._depths  # (inputs of its step only: a refused sample changes no state)
+            twin._forces[:] = self._forces
+            bad = _track_step(dt, *twin._args)  # the same check of the sample as the first bank's, before any change
+            if bad < 0:
+                twin._started = True
+                self._guard[:, 0] = twin._out[:, _O_LOW]
+                self._guard[:, 1] = twin._out[:, _O_HIGH]
+                bad = _track_step(dt, *self._args)
+        else:
+            bad = _track_step(dt, *self._args)
         if bad >= 0:
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{float(self._depths[bad])!r} and {float(self._forces[bad])!r}")
-        twin = self._twin
-        if twin is not None:
-            twin._depths[:] = self._depths
-            twin._forces[:] = self._forces
-            _track_step(dt, *twin._args)
-            twin._started = True
-            _union(self._out, twin._out)
         self._started = True
 
     def update(self, depths: Any, forces: Any, dt: float) -> TrackEstimates:
