@@ -163,7 +163,8 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.io": [
         "MAX_JSON_BYTES", "StagedOutputs", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path",
-        "check_replaceable_dir", "clean_stale", "dumps_json", "load_json", "refuse_overwriting_inputs", "write_target",
+        "check_replaceable_dir", "clean_stale", "dumps_json", "load_json", "refuse_overwriting_inputs", "write_outputs",
+        "write_target",
     ],
     "mudforce.jax": [
         "CONTACT", "FREE", "NECKED", "UNSTARTED", "Necking", "Params", "State", "StepConstants", "branch_forces",

@@ -136,12 +136,10 @@ def run(args: argparse.Namespace) -> int:
         from mudforce.engines.dynamics import simulate_foot
 
         result = simulate_foot(mass, params, duration=duration, height=height)
-    try:
-        result.to_csv(out)
-        if plot is not None:
-            result.plot(plot, title=f"{mass:g} kg foot dropped into mud at W = {water:.0%} ({args.engine})")
-    except OSError as exc:
-        raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
+    from mudforce.io import write_outputs
+
+    title = f"{mass:g} kg foot dropped into mud at W = {water:.0%} ({args.engine})"
+    write_outputs("mudforce-drop", {out: result.to_csv, plot: lambda path: result.plot(path, title=title)})
     weight = mass * result.gravity
     if result.at_rest:
         where = f"rest depth {result.rest_depth * 1e3:.3f} mm after {duration:g} s"

@@ -31,7 +31,13 @@ import math
 
 from mudforce.cli.identify import _force_gain_uncertainty
 from mudforce.errors import InputError, seed_int
-from mudforce.io import StagedOutputs, check_output_path, check_replaceable_dir, refuse_overwriting_inputs
+from mudforce.io import (
+    StagedOutputs,
+    check_output_path,
+    check_replaceable_dir,
+    refuse_overwriting_inputs,
+    write_outputs,
+)
 from mudforce.model.foot import FOOT_EXAMPLES
 
 __all__ = ["HELP", "NAME", "add_arguments", "run"]
@@ -131,13 +137,17 @@ def run(args: argparse.Namespace) -> int:
     if report is None:
         result = fit_dataset(dataset, model=model, free=free, fixed=fixed, shared=_names(args.shared, "--shared"),
                              seed=seed, quiet=args.quiet, force_gain_uncertainty=gain)
-        result.save(out)
+        write_outputs(_TAG, {out: result.save})  # an OSError as a one-line error naming --out's file
     else:
         from mudforce.estimation.calibration.report import write_report
 
         # the fit and its report are built aside and swapped in together at the end: an interrupted run
         # leaves the old pair (or, once swapped, the new one), and the next run removes what a killed one left
-        with StagedOutputs(_TAG, folders=[report], files=[out]) as staged:
+        try:
+            staging = StagedOutputs(_TAG, folders=[report], files=[out])  # before the fit: nothing is lost to it
+        except OSError as exc:
+            raise InputError(f"cannot write {out} and {report}: {exc.strerror or exc}") from None
+        with staging as staged:
             result = fit_dataset(dataset, model=model, free=free, fixed=fixed,
                                  shared=_names(args.shared, "--shared"), seed=seed, quiet=args.quiet,
                                  force_gain_uncertainty=gain)

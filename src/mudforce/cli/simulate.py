@@ -12,8 +12,8 @@ Every quantity needs its unit (20mm, 10mm/s, 6s, 100Hz, 25%). The foot is
 --foot cuboid:51mmx38mm (the paper's, the default), disc:50mm, or
 area:19.38cm2,width:38mm for any other flat foot (contact area S and the
 width H of Eq. (4)). Everything is checked before anything is written;
-the output files are replaced atomically, so an error leaves them as they
-were.
+the output files are replaced together (the CSV and the plot: both or
+neither), so an error leaves them as they were.
 
 Output columns: time_s, depth_m, velocity_m_s, mud_displacement_m,
 mud_velocity_m_s, f_e1_Pa, f_e2_Pa, f_s_Pa, force_N (+ up), state
@@ -239,15 +239,10 @@ def run(args: argparse.Namespace) -> int:
 
         png = figure_to_png(plot_result(result, title=f"{mud}; {motion}"))
 
-    from mudforce.io import atomic_open
+    from mudforce.io import write_outputs
 
-    try:
-        result.to_csv(out, quiet=args.quiet)
-        if plot is not None and png is not None:
-            with atomic_open(plot, "wb") as handle:
-                handle.write(png)
-    except OSError as exc:
-        raise InputError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    write_outputs("mudforce-simulate", {out: lambda path: result.to_csv(path, quiet=args.quiet),
+                                        plot: None if png is None else (lambda path: path.write_bytes(png))})
     if not args.quiet:
         print(_summary(result, mud, motion, out, plot))
     return 0

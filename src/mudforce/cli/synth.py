@@ -71,10 +71,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--motion", choices=("protocol", "gait"), default="protocol",
                         help="the paper's intrude/hold/withdraw protocol (default), or robot-like walks: "
                              "touchdowns, stances with sway, re-pushes, lift-offs (--repeats walks per water content)")
-    parser.add_argument("--duration", default="25s", help="gait: length of each walk (default 25s)")
-    parser.add_argument("--jitter", type=float, default=0.0, metavar="FRACTION",
+    parser.add_argument("--duration", default=None, help="gait: length of each walk (default 25s)")
+    parser.add_argument("--jitter", type=float, default=None, metavar="FRACTION",
                         help="gait: time-stamp jitter, fraction of a sample period (default 0)")
-    parser.add_argument("--start-below", choices=("never", "always", "alternate"), default="never",
+    parser.add_argument("--start-below", choices=("never", "always", "alternate"), default=None,
                         help="gait: which walks start in the mud (default never)")
     parser.add_argument("--water-content", default="25%", metavar="LIST", help="e.g. 15%%,25%% (default 25%%)")
     parser.add_argument("--velocities", default="10mm/s,20mm/s,40mm/s", metavar="LIST",
@@ -287,6 +287,15 @@ def run(args: argparse.Namespace) -> int:
     if args.repeats < 1 or args.repeats > MAX_TRIALS:
         raise InputError(f"--repeats: {args.repeats} must be within [1, {MAX_TRIALS}]")
     gait = args.motion == "gait"
+    if not gait:  # refused, not ignored: the protocol's trials are timed by --depth, --hold and --velocities
+        for option, value in (("--duration", args.duration), ("--jitter", args.jitter),
+                              ("--start-below", args.start_below)):
+            if value is not None:
+                raise InputError(f"{option} applies to --motion gait only; the protocol's trials are timed by "
+                                 "--depth, --hold and --velocities")
+    args.duration = "25s" if args.duration is None else args.duration
+    args.jitter = 0.0 if args.jitter is None else args.jitter
+    args.start_below = "never" if args.start_below is None else args.start_below
     duration = parse_quantity(args.duration, "time", name="--duration") if gait else 0.0
     trials = len(waters) * (1 if gait else len(velocities)) * args.repeats
     if trials > MAX_TRIALS:

@@ -18,7 +18,8 @@ was flagged), misfit (1 where the model misses the data: the mud may not
 be in the Table I family, or the sensor chain is off). A force-gain error cannot be told from stiffer mud:
 --force-gain-uncertainty (default 5%) widens the interval by what it does.
 Everything is checked before anything is written; the
-outputs are replaced atomically and never overwrite the input.
+outputs are replaced together (the CSV and the plot: both or neither) and
+never overwrite the input.
 
 example: mudforce track walk.csv --out track.csv --plot track.png
 """
@@ -100,16 +101,10 @@ def run(args: argparse.Namespace) -> int:
         png = figure_to_png(plot_track(result, title=f"Tracking {source.name}"))
     text = result._csv_text()
 
-    from mudforce.io import atomic_open
+    from mudforce.io import write_outputs
 
-    try:
-        with atomic_open(out, "w") as handle:
-            handle.write(text)
-        if plot is not None and png is not None:
-            with atomic_open(plot, "wb") as handle:
-                handle.write(png)
-    except OSError as exc:
-        raise InputError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    write_outputs("mudforce-track", {out: lambda path: path.write_text(text, encoding="utf-8"),
+                                     plot: None if png is None else (lambda path: path.write_bytes(png))})
     if not args.quiet:
         k = time.size - 1
         flags = time[result.changed]

@@ -66,6 +66,7 @@ __all__ = [
     "dumps_json",
     "load_json",
     "refuse_overwriting_inputs",
+    "write_outputs",
     "write_target",
 ]
 
@@ -751,3 +752,39 @@ def dumps_json(data: Any, indent: int | None = 2) -> str:
     except ValueError:
         raise InputError("a result is not finite (NaN or infinite) and cannot be written as JSON; "
                          "check the input for extreme values") from None
+
+
+def write_outputs(tag: str, writers: dict[Path | None, Callable[[Path], Any] | None]) -> None:
+    """Write a command's output files all or none: one atomically, several staged and swapped in together.
+
+    Parameters
+    ----------
+    tag : str
+        The command's tag in staged siblings' names (``"mudforce-simulate"``), as :class:`StagedOutputs` takes.
+    writers : dict
+        Each output path (checked with :func:`check_output_path`) and the function that writes it, given the
+        path to write; an entry whose path or function is None is left out.
+
+    Raises
+    ------
+    InputError
+        An output that cannot be written (naming it), with every output as it was: a CSV is not replaced when
+        its plot beside it cannot be written.
+    """
+    jobs = [(Path(path), write) for path, write in writers.items() if path is not None and write is not None]
+    if not jobs:
+        return
+    try:
+        if len(jobs) == 1:
+            path, write = jobs[0]
+            write(path)  # an atomic write of its own (atomic_open)
+            return
+        with StagedOutputs(tag, files=[path for path, _ in jobs]) as staged:
+            for path, write in jobs:
+                write(staged.staged_path(path))
+            staged.commit()
+    except OSError as exc:
+        where = Path(exc.filename).parent if exc.filename else None
+        named = next((path for path, _ in jobs if where is not None and write_target(path).parent == where),
+                     jobs[0][0])
+        raise InputError(f"cannot write {named}: {exc.strerror or exc}") from None

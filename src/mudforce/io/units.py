@@ -121,7 +121,8 @@ def parse_list(text: str, kind: str, *, name: str = "value", **kwargs: bool) -> 
     """Parse a comma-separated list of quantities, e.g. ``"10mm/s,20mm/s"``."""
     items = [item for item in str(text).split(",") if item.strip()]
     if not items:
-        raise InputError(f"{name}: empty list; expected e.g. {_EXAMPLES[kind]},{_EXAMPLES[kind].split()[0]}")
+        raise InputError(f"{name}: empty list; expected one value or several separated by commas, e.g. "
+                         f"{_EXAMPLES[kind].split()[0]}")
     return [parse_quantity(item, kind, name=name, **kwargs) for item in items]
 
 

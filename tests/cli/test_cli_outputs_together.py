@@ -1,0 +1,75 @@
+"""A command's outputs are written all or none, and options that do not apply are refused (found 2026-11-29).
+
+- ``simulate``, ``track`` and ``drop`` with ``--plot``: the CSV is not replaced when the PNG beside it cannot be
+  written (they were written one after the other, and a refused plot left the new CSV in place of the old);
+- ``fit`` into a folder that takes no file: one line naming ``--out``'s file, exit 2 (it was exit 1, naming a
+  temporary file);
+- ``synth`` without ``--motion gait``: ``--duration``, ``--jitter`` and ``--start-below`` are refused, not ignored
+  (``--duration xyz`` wrote a dataset).
+
+The write failures need a folder that passes the up-front check (``os.access``) yet refuses to create files: Linux's
+``/sys`` for root, who passes every ``os.access`` check, as in CI; elsewhere those cases are skipped.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from mudforce.estimation.calibration.synth import synthesize
+from mudforce_cli_harness import assert_refused, run_batch
+from tree_snapshot import snapshot
+
+PREVIOUS = b"previous output, must survive any error\n"
+
+
+def _refusing_folder() -> Path | None:
+    """A folder ``os.access`` calls writable in which no file can be made, or None."""
+    folder = Path("/sys")
+    if not (folder.is_dir() and os.access(folder, os.W_OK | os.X_OK)):
+        return None
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder):
+            return None  # (writable after all)
+    except OSError:
+        return folder
+
+
+REFUSING = _refusing_folder()
+
+
+@pytest.mark.skipif(REFUSING is None, reason="needs a folder that os.access calls writable but refuses files")
+def test_a_plot_or_fit_that_cannot_be_written_leaves_every_output_as_it_was(tmp_path: Path) -> None:
+    assert REFUSING is not None
+    synthesize(tmp_path / "ds", velocities=(0.04,), repeats=1, seed=1, hold=0.5)
+    trial = next(p for p in sorted((tmp_path / "ds").iterdir()) if p.suffix == ".csv")
+    for name in ("s.csv", "t.csv", "d.csv"):
+        (tmp_path / name).write_bytes(PREVIOUS)
+    before = snapshot(tmp_path)
+    png = str(REFUSING / "mudforce-test.png")
+    cases = [
+        ["simulate", "--water-content", "25%", "--out", "s.csv", "--plot", png, "--quiet"],
+        ["track", str(trial), "--out", "t.csv", "--plot", png, "--quiet"],
+        ["drop", "--water-content", "25%", "--mass", "5kg", "--duration", "0.2s", "--out", "d.csv", "--plot", png],
+        ["fit", "ds", "--out", str(REFUSING / "mudforce-test.json"), "--quiet"],
+    ]
+    runs = run_batch([(argv, tmp_path) for argv in cases])
+    for argv, run in zip(cases, runs, strict=True):
+        assert_refused(run, "cannot write", str(REFUSING / "mudforce-test"))
+        assert ".tmp" not in run.stderr and "-new-" not in run.stderr, (argv, run.stderr)  # the output, not a temp
+    assert snapshot(tmp_path) == before  # the CSVs as they were, nothing staged left behind
+
+
+def test_synth_refuses_gait_options_for_the_protocol(tmp_path: Path) -> None:
+    base = ["synth", "--quiet", "--repeats", "1", "--velocities", "40mm/s", "--hold", "0.2s", "--out", "g"]
+    extra = [["--duration", "xyz"], ["--duration", "10s"], ["--jitter", "nan"], ["--jitter", "0.1"],
+             ["--start-below", "always"]]
+    runs = run_batch([([*base, *e], tmp_path) for e in extra] + [([*base, "--motion", "gait", "--duration", "xyz"],
+                                                                   tmp_path)])
+    for e, run in zip(extra, runs, strict=False):
+        assert_refused(run, e[0], "--motion gait only")
+    assert_refused(runs[-1], "--duration")  # with gait, checked as a duration
+    assert not (tmp_path / "g").exists()
