@@ -5,7 +5,8 @@
 - ``fit`` into a folder that takes no file: one line naming ``--out``'s file, exit 2 (it was exit 1, naming a
   temporary file);
 - ``synth`` without ``--motion gait``: ``--duration``, ``--jitter`` and ``--start-below`` are refused, not ignored
-  (``--duration xyz`` wrote a dataset).
+  (``--duration xyz`` wrote a dataset);
+- ``mudforce`` with no command, and a subcommand's unknown option: one line each, naming the parser they belong to.
 
 The write failures need a folder that passes the up-front check (``os.access``) yet refuses to create files: Linux's
 ``/sys`` for root, who passes every ``os.access`` check, as in CI; elsewhere those cases are skipped.
@@ -73,3 +74,10 @@ def test_synth_refuses_gait_options_for_the_protocol(tmp_path: Path) -> None:
         assert_refused(run, e[0], "--motion gait only")
     assert_refused(runs[-1], "--duration")  # with gait, checked as a duration
     assert not (tmp_path / "g").exists()
+
+
+def test_no_command_and_a_subcommand_s_unknown_option_are_one_line_naming_the_right_parser(tmp_path: Path) -> None:
+    runs = run_batch([([], tmp_path), (["params", "--bogus"], tmp_path), (["--bogus"], tmp_path)])
+    assert_refused(runs[0], "a command is required", "simulate", "reproduce")  # was the whole help, 28 lines
+    assert_refused(runs[1], "mudforce params: error: unrecognized arguments: --bogus", "mudforce params --help")
+    assert_refused(runs[2], "mudforce: error: unrecognized arguments: --bogus")

@@ -77,17 +77,19 @@ def build_parser() -> argparse.ArgumentParser:
             raise
         cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.__doc__)
         module.add_arguments(cmd)
-        cmd.set_defaults(_run=module.run)
+        cmd.set_defaults(_run=module.run, _parser=cmd)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # refused by the parser they were meant for: `mudforce params --bogus` names `mudforce params`
+        getattr(args, "_parser", parser).error(f"unrecognized arguments: {' '.join(extra)}")
     if getattr(args, "_run", None) is None:
-        parser.print_help(sys.stderr)
-        return 2
+        names = [c.rsplit(".", 1)[-1].replace("_", "-") for c in COMMANDS]
+        parser.error(f"a command is required, one of {', '.join(names)}")
     try:
         with _interrupt.watch():  # Ctrl-C always stops the command, even where Python would lose it
             status = int(args._run(args) or 0)
