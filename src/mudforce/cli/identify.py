@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
         lo, hi = result.interval
         ls = result.least_squares_water_content
         fit = f" (the least-squares fit, at {ls:.2%})" if math.isfinite(ls) and ls != result.water_content else ""
-        print(f"water content {result.water_content:.2%} ({level:.0%} interval {lo:.2%} to {hi:.2%}), "
+        print(f"water content {result.water_content:.2%} ({100 * level:.10g}% interval {lo:.2%} to {hi:.2%}), "
               f"RMSE {result.rmse:.3g} N{fit}")
         for w in result.warnings:
             print(f"warning: {w}")
