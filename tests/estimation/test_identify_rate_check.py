@@ -88,3 +88,25 @@ def test_an_off_family_mud_widens_by_its_misfit(fine: tuple[np.ndarray, np.ndarr
     assert res.water_content == res.misfit_water_content and ls - res.water_content > 0.1
     assert res.low <= res.water_content <= res.high
     assert res.to_dict()["misfit_shift"] == res.misfit_shift
+
+
+def test_a_trial_made_in_python_is_checked_as_a_file_is() -> None:
+    """A Trial built from arrays took a NaN force or backwards time, and identify then raised a LinAlgError, a
+    ValueError, an OverflowError (a force of 1e300 N) or an IndexError (one sample): each is now one InputError
+    (found 2026-11-29)."""
+    import mudforce as mf
+    from mudforce.errors import InputError
+
+    t, d = mf.Protocol.paper(depth=0.02, velocity=0.01).sample()
+    f = np.asarray(mf.simulate(t, d, mf.MudParameters.from_water_content(0.25)).force)
+    at = np.arange(t.size) == 100
+    for arrays, words in (((t, d, np.where(at, np.nan, f)), "force sample 100 is nan"),
+                          ((t[::-1].copy(), d, f), "time goes backwards"),
+                          ((t, d[:-1], f), "1-D of one length")):
+        with pytest.raises(InputError, match=words):
+            Trial("x", 0.25, *arrays)
+    for trial, kw, words in ((Trial("x", 0.25, t, d, np.where(at, 1e300, f)), {}, "force sample 100 is 1e\\+300"),
+                             (Trial("x", 0.25, t[:1], d[:1], f[:1]), {}, "only 1 samples"),
+                             (Trial("x", 0.25, t, d, f), {"bounds": (0.3, 0.2)}, "low < high")):
+        with pytest.raises(InputError, match=words):
+            identify_water_content(trial, **kw)

@@ -11,6 +11,7 @@ interval is the union of the two banks', the estimate the first bank's.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -109,3 +110,31 @@ def test_no_change_is_flagged_while_the_reported_interval_holds_the_old_estimate
     t, z, f = apply(path.time, path.depth, np.asarray(force), chain, 3421649579)
     r = track(t, z, f, Foot.paper())
     assert not r.changed.any()
+
+
+def test_a_finite_sample_beyond_the_bounds_is_refused_and_changes_nothing() -> None:
+    """A force of 1e300 N or a dt of 1e-300 s were taken, and left the posterior NaN for good (the tracker then
+    refused its own snapshot); a depth of 1 km was taken too. Now each is refused in one line before anything
+    changes (found 2026-11-29); a long gap (a clock jump) is still taken (test_tracker_lag.py), up to 1e9 s."""
+    import pickle
+
+    from mudforce import MudTracker
+    from mudforce.motions.gait import walk
+
+    w = walk([0.25], seed=0, duration=4.0, force_noise=0.3, bias=0.5)
+    tracker = MudTracker()
+    tracker.update(float(w.depth[0]), float(w.force[0]), 0.0)
+    for z, f in zip(w.depth[1:200].tolist(), w.force[1:200].tolist(), strict=True):
+        tracker.update(z, f, 0.01)
+    before = pickle.dumps(tracker.state)
+    z, f = float(w.depth[200]), float(w.force[200])
+    for depth, force, dt, words in ((z, 1e300, 0.01, "force"), (z, f, 1e-300, "dt"), (1e3, f, 0.01, "depth"),
+                                    (z, f, 2e9, "dt"), (z, -2e7, 0.01, "force")):
+        with pytest.raises(InputError, match=words):
+            tracker.update(depth, force, dt)
+        assert pickle.dumps(tracker.state) == before
+    assert math.isfinite(tracker.update(z, f, 0.01).force_predicted)
+    with pytest.raises(InputError, match="depth of foot 1"):
+        MudTrackers(2).update(np.array([0.0, 200.0]), np.zeros(2), 0.0)
+    with pytest.raises(InputError, match="time steps"):
+        track([0.0, 1e-12, 0.01], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])

@@ -93,6 +93,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_TIME, MIN_DT
 from mudforce._kernel.layout import N_RING, P_DEADBAND, P_WINDOW, R_HEAD, R_T, R_Z, RING, S_CACHE_DT, store_cache
 from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
@@ -119,6 +120,10 @@ __all__ = [
     "default_velocity_filter",
     "track",
 ]
+
+#: Largest |force| a tracker takes [N] (~1000 t, as a recording's force column: mudforce.io.tables.COLUMN_LIMITS):
+#: beyond it a finite force could overflow the likelihood's squares and leave the posterior NaN for good.
+MAX_FORCE = 1e7
 
 #: The default grid of water contents [-]: 15 % to 35 % in steps of 0.5 points (41 models).
 DEFAULT_GRID: tuple[float, ...] = tuple(round(0.15 + 0.005 * k, 4) for k in range(41))
@@ -902,6 +907,15 @@ def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray)
             store_cache(states, j, step_cache(none, K.load_params(params, j), dt))
 
 
+def _check_bounds(depths: np.ndarray, forces: np.ndarray, max_depth: float) -> None:
+    """Refuse a depth beyond ``max_depth`` [m] or a force beyond :data:`MAX_FORCE` [N] (NaN is left to the step)."""
+    for name, values, bound, unit in (("depth", depths, max_depth, "m"), ("force", forces, MAX_FORCE, "N")):
+        beyond = np.flatnonzero(np.abs(values) > bound)
+        if beyond.size:
+            j = int(beyond[0])
+            raise InputError(f"{name} of foot {j} must be within +-{bound:.6g} {unit}, got {float(values[j])!r}")
+
+
 #: The tracker's own arrays packed for :func:`_track_step`, in its order.
 _PACKED = ("_zbuf", "_depths", "_forces", "_edges", "_L", "_P", "_aux", "_cfg", "_blur", "_Q", "_out", "_scored",
            "depth_offsets", "_log_prior", "_work", "_guard")
@@ -1280,6 +1294,8 @@ class MudTrackers:
         cfg[_C_SUBSTEP] = _non_negative(max_step, "max_step", "s")
         self._cfg = cfg
         self.depth_offsets = _offsets(depth_offsets)
+        # the largest |depth| taken [m]: the bank's models follow the depth plus each offset, within MAX_DEPTH
+        self._max_depth = MAX_DEPTH - float(np.max(np.abs(self.depth_offsets)))
         cfg[_C_SHALLOW] = _SHALLOW_WIDENING
         cfg[_C_SHALLOW_GAIN] = _SHALLOW_GAIN
         cfg[_C_RATE_GAIN] = _RATE_WIDENING
@@ -1362,8 +1378,8 @@ class MudTrackers:
     def _step(self, dt: float) -> None:
         if not self._started:
             dt = 1.0  # the first sample's dt is ignored
-        elif not (dt > 0.0 and dt < math.inf):
-            raise InputError(f"dt must be finite and > 0 [s], got {dt!r}")
+        elif not (MIN_DT <= dt <= MAX_TIME):  # (a long gap, a clock jump, is taken: at most 64 substeps)
+            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_TIME:g}] s after the first sample, got {dt!r}")
         twin = self._twin
         if twin is not None:  # the twin first: the reported interval, and so the change flag, holds its interval
             twin._depths[:] = self._depths  # (inputs of its step only: a refused sample changes no state)
@@ -1401,6 +1417,7 @@ class MudTrackers:
         f = real_array(forces, "forces", "N")
         if z.shape != (self.n,) or f.shape != (self.n,):
             raise InputError(f"depths and forces must have shape ({self.n},), got {z.shape} and {f.shape}")
+        _check_bounds(z, f, self._max_depth)
         self._depths[:] = z
         self._forces[:] = f
         self._step(real_number(dt, "dt [s]"))
@@ -1543,6 +1560,8 @@ class MudTracker:
                                      "dt [s])")
             depth, force = real_number(depth, "depth [m]"), real_number(force, "force [N]")
             dt = real_number(dt, "dt [s]")
+        if abs(depth) > b._max_depth or abs(force) > MAX_FORCE:  # (NaN passes here: the step refuses it)
+            _check_bounds(np.array([depth]), np.array([force]), b._max_depth)
         b._depths[0] = depth
         b._forces[0] = force
         b._step(dt)
@@ -1697,6 +1716,9 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     if t.size > 1 and not np.all(np.diff(t) > 0.0):
         raise InputError("time must be strictly increasing [s]")
     tracker = MudTrackers(1, foot, **options)
+    _check_bounds(z, f, tracker._max_depth)
+    if t.size > 1 and not (np.min(np.diff(t)) >= MIN_DT and np.max(np.diff(t)) <= MAX_TIME):
+        raise InputError(f"time steps must be within [{MIN_DT:g}, {MAX_TIME:g}] s")
     m = t.size
     cols = np.empty((m, _N_OUT), dtype=np.float64)
     previous = t[0]

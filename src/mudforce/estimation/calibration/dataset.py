@@ -95,6 +95,30 @@ class Trial:
         # the calibration's entry: real numbers only (complex, boolean, string and object arrays refused)
         for attr, unit in (("time", "s"), ("depth", "m"), ("force", "N")):
             object.__setattr__(self, attr, real_array(getattr(self, attr), f"{self.name}: {attr}", unit))
+        # the shape, finite values and time order, checked of arrays as the readers check a file (a Trial made in
+        # Python met none of it: a NaN force or backwards time reached the fits as a LinAlgError or a ValueError;
+        # found 2026-11-29). The readers' bounds (COLUMN_LIMITS) are checked where a trial is used or saved
+        t, z, f = self.time, self.depth, self.force
+        if t.ndim != 1 or z.shape != t.shape or f.shape != t.shape:
+            raise InputError(f"{self.name}: time, depth and force must be 1-D of one length, got {t.shape}, "
+                             f"{z.shape}, {f.shape}")
+        for attr, values, unit in (("time", t, "s"), ("depth", z, "m"), ("force", f, "N")):
+            bad = np.flatnonzero(~np.isfinite(values))
+            if bad.size:
+                k = int(bad[0])
+                raise InputError(f"{self.name}: {attr} sample {k} is {float(values[k])!r}; expected a finite "
+                                 f"value [{unit}]")
+        check_time(self.name, t, "time")
+
+    def check_bounds(self) -> None:
+        """Refuse a depth or force beyond what the readers accept (:data:`mudforce.io.tables.COLUMN_LIMITS`)."""
+        for attr, values, unit in (("depth", self.depth, "m"), ("force", self.force, "N")):
+            limit = COLUMN_LIMITS[attr]
+            bad = np.flatnonzero(np.abs(values) > limit)
+            if bad.size:
+                k = int(bad[0])
+                raise InputError(f"{self.name}: {attr} sample {k} is {float(values[k])!r}; expected one within "
+                                 f"+-{limit:g} {unit}")
 
     def __len__(self) -> int:
         return int(self.time.shape[0])
