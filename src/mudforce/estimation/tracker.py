@@ -1403,11 +1403,12 @@ class MudTrackers:
         Parameters
         ----------
         depths : array_like, shape (n,)
-            Foot depths below the undisturbed surface [m], positive down.
+            Foot depths below the undisturbed surface [m], positive down, within +-100 m (less the
+            largest surface offset).
         forces : array_like, shape (n,)
-            Measured vertical forces [N], positive up (with any sensor offset).
+            Measured vertical forces [N], positive up (with any sensor offset), within +-1e7 N.
         dt : float
-            Time since the previous sample [s], finite and > 0; ignored on the first call.
+            Time since the previous sample [s], within [1e-9, 1e9]; ignored on the first call.
 
         Returns
         -------
@@ -1538,11 +1539,12 @@ class MudTracker:
         Parameters
         ----------
         depth : float
-            Foot depth below the undisturbed surface [m], positive down.
+            Foot depth below the undisturbed surface [m], positive down, within +-100 m (less the
+            largest surface offset).
         force : float
-            Measured vertical force [N], positive up (with any sensor offset).
+            Measured vertical force [N], positive up (with any sensor offset), within +-1e7 N.
         dt : float
-            Time since the previous sample [s], finite and > 0; ignored on the first call.
+            Time since the previous sample [s], within [1e-9, 1e9]; ignored on the first call.
             (``depth_m``, ``force_N``, ``dt_s``: deprecated names of the three.)
 
         Returns
