@@ -130,3 +130,23 @@ def test_a_foot_at_the_depth_bound_is_checked_element_by_element() -> None:
             assert _same(feet.state, saved)
             refused += 1
     assert stepped >= 2 and refused >= 2
+
+
+def test_an_out_pair_of_one_array_is_refused_and_changes_nothing() -> None:
+    """``out=(a, a)`` wrote the torques over the forces and returned them as both (found 2026-11-29)."""
+    import pickle
+
+    import mudforce as mf
+    from mudforce.errors import InputError
+    from mudforce.model import shapes
+
+    feet = mf.MudContacts3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.04), 2)
+    up = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+    feet.step(np.zeros((2, 3)), up, 0.0)
+    before = pickle.dumps(feet.state)
+    a = np.zeros((2, 3))
+    base = np.zeros((3, 3))
+    for pair in ((a, a), (base[:2], base[1:])):
+        with pytest.raises(InputError, match="share memory"):
+            feet.step(np.full((2, 3), -1e-3), up, 0.01, out=pair)
+        assert pickle.dumps(feet.state) == before

@@ -883,7 +883,9 @@ class MudContacts3D:
         # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
         # refuses, goes through _step_checked's checks, which convert it or word the error.
         spare = None
-        if type(out) is tuple and len(out) == 2:
+        if (type(out) is tuple and len(out) == 2 and out[0] is not out[1]
+                and (getattr(out[0], "base", None) is None or getattr(out[0], "base", None) is not getattr(
+                    out[1], "base", None))):  # (one array twice, or two views of one: checked, or refused, below)
             forces, torques = out
         elif out is None:  # the output pair not returned last, reused if no one holds either array (MudContact3D's)
             spare = self._spare
@@ -919,6 +921,8 @@ class MudContacts3D:
             pair: tuple[Any, Any] = out if type(out) is tuple and len(out) == 2 else (None, None)
             if not (_writable_rows(pair[0], self.n) and _writable_rows(pair[1], self.n)):
                 raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({self.n}, 3)")
+            if np.may_share_memory(pair[0], pair[1]):  # the torques would overwrite the forces
+                raise InputError("out's two arrays share memory; expected two separate arrays, forces and torques")
         # the compiled step's one version takes C-contiguous, aligned, writable arrays: others are copied (numba
         # would compile another version of the step for them, for seconds); so are the results into such an out
         p, q = _plain(p), _plain(q)
