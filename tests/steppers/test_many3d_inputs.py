@@ -150,3 +150,22 @@ def test_an_out_pair_of_one_array_is_refused_and_changes_nothing() -> None:
         with pytest.raises(InputError, match="share memory"):
             feet.step(np.full((2, 3), -1e-3), up, 0.01, out=pair)
         assert pickle.dumps(feet.state) == before
+
+
+def test_resetting_no_feet_is_allowed_and_changes_nothing() -> None:
+    """``reset([])`` was refused as "got float64" (numpy's dtype of an empty list); it resets no foot."""
+    import pickle
+
+    import mudforce as mf
+    from mudforce.model import shapes
+
+    params = mf.MudParameters.from_water_content(0.25)
+    up = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+    feet3d = mf.MudContacts3D(params, shapes.sphere(0.04), 2)
+    feet3d.step(np.zeros((2, 3)), up, 0.0)
+    feet1d = mf.MudContacts(params, n=2)
+    feet1d.step(np.zeros(2), 0.0)
+    for feet in (feet3d, feet1d):
+        before = pickle.dumps(feet.state)
+        feet.reset([])
+        assert pickle.dumps(feet.state) == before

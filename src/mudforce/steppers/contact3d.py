@@ -975,6 +975,8 @@ class MudContacts3D:
                 if idx.shape != (self.n,):
                     raise InputError(f"a reset mask must have shape ({self.n},), got {idx.shape}")
                 chosen = np.flatnonzero(idx)
+            elif idx.size == 0 and idx.ndim == 1:  # no feet (an empty list is float64 to numpy): nothing to reset
+                chosen = np.zeros(0, dtype=np.int64)
             elif not np.issubdtype(idx.dtype, np.integer):
                 raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
             elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):

@@ -284,6 +284,8 @@ class MudContacts:
         if idx.dtype == np.bool_:
             if idx.shape != (self.n,):
                 raise InputError(f"a reset mask must have shape ({self.n},), got {idx.shape}")
+        elif idx.size == 0 and idx.ndim == 1:  # no feet (an empty list is float64 to numpy): nothing to reset
+            return
         elif not np.issubdtype(idx.dtype, np.integer):
             raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
         elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):
