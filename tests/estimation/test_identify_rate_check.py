@@ -105,8 +105,9 @@ def test_a_trial_made_in_python_is_checked_as_a_file_is() -> None:
                           ((t, d[:-1], f), "1-D of one length")):
         with pytest.raises(InputError, match=words):
             Trial("x", 0.25, *arrays)
-    for trial, kw, words in ((Trial("x", 0.25, t, d, np.where(at, 1e300, f)), {}, "force sample 100 is 1e\\+300"),
-                             (Trial("x", 0.25, t[:1], d[:1], f[:1]), {}, "only 1 samples"),
-                             (Trial("x", 0.25, t, d, f), {"bounds": (0.3, 0.2)}, "low < high")):
+    for trial, kw, words in (
+            (Trial("x", 0.25, t, d, np.where(at, 1e300, f)), {}, "the force reaches 1e\\+300 N, beyond"),
+            (Trial("x", 0.25, t[:1], d[:1], f[:1]), {}, "only 1 samples"),
+            (Trial("x", 0.25, t, d, f), {"bounds": (0.3, 0.2)}, "low < high")):
         with pytest.raises(InputError, match=words):
             identify_water_content(trial, **kw)

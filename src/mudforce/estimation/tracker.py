@@ -1715,12 +1715,13 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     f = real_array(force, "force", "N")
     if t.ndim != 1 or t.shape != z.shape or t.shape != f.shape or t.size < 1:
         raise InputError(f"time, depth and force must be 1-D of one length >= 1, got {t.shape}, {z.shape}, {f.shape}")
-    if t.size > 1 and not np.all(np.diff(t) > 0.0):
+    steps = np.diff(t)
+    if not np.all(steps > 0.0):
         raise InputError("time must be strictly increasing [s]")
+    if not np.all((steps >= MIN_DT) & (steps <= MAX_TIME)):
+        raise InputError(f"time steps must be within [{MIN_DT:g}, {MAX_TIME:g}] s")
     tracker = MudTrackers(1, foot, **options)
     _check_bounds(z, f, tracker._max_depth)
-    if t.size > 1 and not (np.min(np.diff(t)) >= MIN_DT and np.max(np.diff(t)) <= MAX_TIME):
-        raise InputError(f"time steps must be within [{MIN_DT:g}, {MAX_TIME:g}] s")
     m = t.size
     cols = np.empty((m, _N_OUT), dtype=np.float64)
     previous = t[0]

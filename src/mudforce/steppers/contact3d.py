@@ -883,9 +883,9 @@ class MudContacts3D:
         # values, dt's bounds) the compiled step checks before anything moves. Anything else, or a step it
         # refuses, goes through _step_checked's checks, which convert it or word the error.
         spare = None
+        # (one array twice, or two views of one base: to _step_checked, which refuses them where they overlap)
         if (type(out) is tuple and len(out) == 2 and out[0] is not out[1]
-                and (getattr(out[0], "base", None) is None or getattr(out[0], "base", None) is not getattr(
-                    out[1], "base", None))):  # (one array twice, or two views of one: checked, or refused, below)
+                and ((base := getattr(out[0], "base", None)) is None or base is not getattr(out[1], "base", None))):
             forces, torques = out
         elif out is None:  # the output pair not returned last, reused if no one holds either array (MudContact3D's)
             spare = self._spare

@@ -110,15 +110,22 @@ class Trial:
                                  f"value [{unit}]")
         check_time(self.name, t, "time")
 
-    def check_bounds(self) -> None:
-        """Refuse a depth or force beyond what the readers accept (:data:`mudforce.io.tables.COLUMN_LIMITS`)."""
-        for attr, values, unit in (("depth", self.depth, "m"), ("force", self.force, "N")):
-            limit = COLUMN_LIMITS[attr]
-            bad = np.flatnonzero(np.abs(values) > limit)
-            if bad.size:
-                k = int(bad[0])
-                raise InputError(f"{self.name}: {attr} sample {k} is {float(values[k])!r}; expected one within "
-                                 f"+-{limit:g} {unit}")
+    def check_bounds(self, *, made: bool = False) -> None:
+        """Refuse what :func:`load_trial` refuses of a file: fewer than :data:`MIN_SAMPLES` samples, or a value
+        beyond :data:`mudforce.io.tables.COLUMN_LIMITS`. ``made``: the trial was made here (synth), and the
+        message says what to change."""
+        where = f"trial {self.name}"
+        if self.time.size < MIN_SAMPLES:
+            raise InputError(f"{where}: only {self.time.size} samples; the readers need at least {MIN_SAMPLES} "
+                             "per trial" + (" (a higher rate or a longer motion)" if made else ""))
+        for quantity, unit, values in (("time", "s", self.time), ("depth", "m", self.depth),
+                                       ("force", "N", self.force)):
+            limit = COLUMN_LIMITS[quantity]
+            worst = float(np.max(np.abs(values)))
+            if not worst <= limit:  # NaN too
+                raise InputError(f"{where}: the {quantity} reaches {worst:.6g} {unit}, beyond the +-{limit:g} {unit} "
+                                 "that the readers accept" + (" (lower the noise, bias, depth or size that made it)"
+                                                              if made else ""))
 
     def __len__(self) -> int:
         return int(self.time.shape[0])
@@ -400,17 +407,8 @@ _TIME_DIGITS = 10
 def _check_readable(trial: Trial) -> None:
     """Refuse a trial that :func:`load_trial` would refuse once written: too few samples, a value beyond
     :data:`mudforce.io.tables.COLUMN_LIMITS`, time that does not increase as written (10 significant digits)."""
+    trial.check_bounds(made=True)
     where = f"trial {trial.name}"
-    if trial.time.size < MIN_SAMPLES:
-        raise InputError(f"{where}: only {trial.time.size} samples; the readers need at least {MIN_SAMPLES} "
-                         "per trial (a higher rate or a longer motion)")
-    for quantity, unit, values in (("time", "s", trial.time), ("depth", "m", trial.depth),
-                                   ("force", "N", trial.force)):
-        limit = COLUMN_LIMITS[quantity]
-        worst = float(np.max(np.abs(values)))
-        if not worst <= limit:  # NaN too
-            raise InputError(f"{where}: the {quantity} reaches {worst:.6g} {unit}, beyond the +-{limit:g} {unit} "
-                             f"that the readers accept (lower the noise, bias, depth or size that made it)")
     time = np.asarray(trial.time, dtype=np.float64)
     # written with 10 significant digits, two times stay distinct if they differ by more than 1e-9 of either
     close = np.diff(time) <= 10.0 ** (1 - _TIME_DIGITS) * np.maximum(np.abs(time[:-1]), np.abs(time[1:]))

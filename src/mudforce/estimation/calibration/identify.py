@@ -89,7 +89,7 @@ from scipy.stats import t as student_t
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce.errors import InputError
-from mudforce.estimation.calibration.dataset import MIN_SAMPLES, Trial
+from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.estimation.calibration.preprocess import (
@@ -684,10 +684,8 @@ def identify_water_content(
         raise InputError(f"{trial.trial.name}: a prepared trial already holds its depth noise "
                          f"({trial.depth_noise * 1e3:.3g} mm); pass the raw Trial with depth_noise=, or prepare it "
                          "with prepare_trial(trial, depth_noise=...)")
-    given = trial.trial if isinstance(trial, PreparedTrial) else trial
-    if len(given) < MIN_SAMPLES:
-        raise InputError(f"{given.name}: only {len(given)} samples; a trial needs at least {MIN_SAMPLES}")
-    given.check_bounds()  # (a force of 1e300 N overflowed the least squares)
+    # what a file's reader would refuse (a force of 1e300 N overflowed the least squares, one sample indexed past)
+    (trial.trial if isinstance(trial, PreparedTrial) else trial).check_bounds()
     tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial, depth_noise=depth_noise,
                                                                        depth_noise_from="quiet")
     if not np.any(tr.trial.force != tr.trial.force[0]):
