@@ -5,11 +5,13 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from mudforce._kernel.bounds import MAX_HORIZONTAL
 from mudforce.cli.synth import DEPTH_NOISE_SIGMAS, MAX_BIAS, MAX_FORCE_NOISE, MAX_SAMPLES, MAX_TRIALS
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.io.tables import COLUMN_LIMITS
 from mudforce.model.foot import AREA_RANGE, SIZE_RANGE
 from mudforce.model.parameters import PARAMETER_RANGES, TABLE_I
+from mudforce.steppers.contact3d import MAX_LATERAL_STIFFNESS
 from mudforce.steppers.simulation import MAX_DEPTH, MAX_DT, MIN_DT
 
 README = Path(__file__).resolve().parents[2] / "README.md"
@@ -35,6 +37,10 @@ def test_promise_states_the_bounds_in_force() -> None:
     assert f"{_f(MIN_DT)} s to {_f(MAX_DT)} s" in section
     assert f"{_f(SIZE_RANGE[0])} m to {_f(SIZE_RANGE[1])} m" in section
     assert f"{_f(AREA_RANGE[0])} m² to {_f(AREA_RANGE[1])} m²" in section
+    assert f"within ±{_f(MAX_HORIZONTAL)} m of the world origin" in section
+    assert all(COLUMN_LIMITS[f"position {axis}"] == MAX_HORIZONTAL for axis in "xyz")  # the readers' bound
+    assert f"within {_f(SIZE_RANGE[1])} m of the body origin, of area at most {_f(AREA_RANGE[1])} m²" in section
+    assert f"above 0 up to {_f(MAX_LATERAL_STIFFNESS)} Pa/m" in section
     rows = {
         ("k_m_i", "b_m_i", "k_m_w", "b_m_w"): "{lo} to {hi} (SI)",
         ("alpha",): "{lo} Pa to {hi} Pa /",

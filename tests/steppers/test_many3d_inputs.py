@@ -10,7 +10,7 @@ import pytest
 import mudforce as mf
 from mudforce.errors import InputError
 from mudforce.model import shapes
-from mudforce.steppers.contact3d import ContactStates3D, MudContacts3D
+from mudforce.steppers.contact3d import ContactState3D, ContactStates3D, MudContacts3D
 
 SHAPE = shapes.sphere(0.03, resolution=0.015)
 DT = 1e-3
@@ -169,3 +169,101 @@ def test_resetting_no_feet_is_allowed_and_changes_nothing() -> None:
         before = pickle.dumps(feet.state)
         feet.reset([])
         assert pickle.dumps(feet.state) == before
+
+
+@pytest.mark.parametrize("bad", [[1e155, 0.0, 0.0], [0.0, -2e4, 0.0], [1e4 * (1 + 1e-15), 0.0, 0.0]])
+def test_a_foot_beyond_the_horizontal_bound_is_refused_on_every_path_and_changes_nothing(bad: list[float]) -> None:
+    """A body origin beyond +-1e4 m in x or y (the readers' bound) is refused, on the hot path and off it, for
+    one foot and many: at x = 1e155 m the force was infinite and the moment NaN, and the next step inherited it."""
+    mud = mf.MudParameters.from_water_content(0.25)
+    one, many = mf.MudContact3D(mud, SHAPE), MudContacts3D(mud, SHAPE, 2)
+    for k in range(3):
+        pos, quat = _poses(k)
+        one.step(pos[0], quat[0], DT if k else 0.0)
+        many.step(pos, quat, DT if k else 0.0)
+    saved_one, saved_many = one.state, many.state
+    pos, quat = _poses(3)
+    far = np.array(bad)
+    for position in (far, far.tolist()):  # the hot path and the converting one
+        with pytest.raises(InputError, match=r"x and y must be within \+-10000 m of the world origin"):
+            one.step(position, quat[0], DT)
+        assert _same_one(one.state, saved_one)
+    with pytest.raises(InputError, match=r"foot 1: position x and y must be within \+-10000 m"):
+        many.step(np.vstack([pos[0], far]), quat, DT)
+    assert _same(many.state, saved_many)
+    edge = np.array([1e4, -1e4, pos[0, 2]])  # on the bound: accepted, and finite
+    wrench = mf.MudContact3D(mud, SHAPE).step(edge, quat[0], 0.0)
+    assert np.all(np.isfinite(wrench.force)) and np.all(np.isfinite(wrench.torque))
+
+
+def _same_one(a: ContactState3D, b: ContactState3D) -> bool:
+    return (np.array_equal(a.slip, b.slip) and np.array_equal(a.centroids, b.centroids) and a.started == b.started
+            and all(np.array_equal(x, y) for x, y in zip(np.atleast_1d(a.elements), np.atleast_1d(b.elements),
+                                                          strict=True)))
+
+
+def test_complex_and_boolean_poses_are_refused_as_every_array_input_is() -> None:
+    """Poses are real numbers: a complex array (whose imaginary part float64 would drop) or a boolean one is
+    refused with the API's one line, for one foot, many feet and simulate_3d, and nothing moves."""
+    mud = mf.MudParameters.from_water_content(0.25)
+    one, many = mf.MudContact3D(mud, SHAPE), MudContacts3D(mud, SHAPE, 2)
+    pos, quat = _poses(1)
+    one.step(pos[0], quat[0], 0.0)
+    many.step(pos, quat, 0.0)
+    saved_one, saved_many = one.state, many.state
+    cases = [(pos[0].astype(complex), quat[0], "position must be 3 real numbers"),
+             (np.array([True, False, False]), quat[0], "position must be 3 real numbers"),
+             (pos[0], quat[0].astype(complex), "quaternion must be an array of real numbers"),
+             (pos[0], np.array([True, False, False, False]), "quaternion must be an array of real numbers")]
+    for position, quaternion, message in cases:
+        with pytest.raises(InputError, match=message):
+            one.step(position, quaternion, DT)
+        assert _same_one(one.state, saved_one)
+    with pytest.raises(InputError, match="positions must be an array of real numbers"):
+        many.step(pos.astype(complex), quat, DT)
+    with pytest.raises(InputError, match="quaternions must be an array of real numbers"):
+        many.step(pos, quat.astype(bool), DT)
+    assert _same(many.state, saved_many)
+    t = np.array([0.0, DT])
+    with pytest.raises(InputError, match="positions must be an array of real numbers"):
+        mf.simulate_3d(t, np.zeros((2, 3), dtype=complex), np.tile([1.0, 0, 0, 0], (2, 1)), mud, SHAPE)
+    with pytest.raises(InputError, match="time must be an array of real numbers"):
+        mf.simulate_3d(t.astype(bool), np.zeros((2, 3)), np.tile([1.0, 0, 0, 0], (2, 1)), mud, SHAPE)
+
+
+def test_a_restored_state_no_step_could_leave_is_refused_and_changes_nothing() -> None:
+    """Slips and centroids are checked for size as well as finiteness (1e200 passed before)."""
+    mud = mf.MudParameters.from_water_content(0.25)
+    one, many = mf.MudContact3D(mud, SHAPE), MudContacts3D(mud, SHAPE, 2)
+    for k in range(3):
+        pos, quat = _poses(k)
+        one.step(pos[0], quat[0], DT if k else 0.0)
+        many.step(pos, quat, DT if k else 0.0)
+    saved_one, saved_many = one.state, many.state
+    for field, value in (("centroids", 1e200), ("slip", 2e4), ("centroids", -1e4 - 1.0)):
+        bad_one = saved_one._replace(**{field: getattr(saved_one, field) + value})
+        with pytest.raises(InputError, match="a state's slips must be finite and within"):
+            one.state = bad_one
+        assert _same_one(one.state, saved_one)
+        bad_many = saved_many._replace(**{field: getattr(saved_many, field) + value})
+        with pytest.raises(InputError, match="a state's slips must be finite and within"):
+            many.state = bad_many
+        assert _same(many.state, saved_many)
+    one.state = saved_one  # a state a step left is accepted
+    many.state = saved_many
+
+
+def test_lateral_stiffness_and_shapes_are_bounded() -> None:
+    mud = mf.MudParameters.from_water_content(0.25)
+    for k in (0.0, -1.0, 1e12 * (1 + 1e-15), 1e300, float("inf"), float("nan"), True):
+        with pytest.raises(InputError, match=r"lateral_stiffness must be within \(0, 1e\+12\] \[Pa/m\]"):
+            mf.MudContact3D(mud, SHAPE, lateral_stiffness=k)
+        with pytest.raises(InputError, match=r"lateral_stiffness must be (within \(0, 1e\+12\] \[Pa/m\]|a number)"):
+            MudContacts3D(mud, SHAPE, 2, lateral_stiffness=k)
+    mf.MudContact3D(mud, SHAPE, lateral_stiffness=1e12)
+    up = np.array([[0.0, 0.0, 1.0]])
+    with pytest.raises(InputError, match="shape centroids must be within 10 m of the body origin"):
+        shapes.Shape(np.array([[0.0, 0.0, 10.5]]), up, np.array([1e-3]), closed=False)
+    with pytest.raises(InputError, match=r"shape areas must be at most 100 m\^2 each, got 1000.0 at element 0"):
+        shapes.Shape(np.array([[0.0, 0.0, 0.0]]), up, np.array([1e3]), closed=False)
+    shapes.Shape(np.array([[0.0, 0.0, 10.0]]), up, np.array([100.0]), closed=False)  # on the bounds

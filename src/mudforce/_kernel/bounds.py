@@ -14,11 +14,16 @@ from __future__ import annotations
 
 from mudforce._kernel.layout import _compiled
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_TIME", "MIN_DT", "out_of_bounds"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "out_of_bounds"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
 MAX_DEPTH = 100.0
+#: Largest horizontal distance of a 3-D foot's body origin from the world origin, on each of x and y [m]:
+#: 10 km, as the readers' bound on a position column (``mudforce.io.tables.COLUMN_LIMITS``). It keeps the
+#: horizontal velocities, the drag's ``v^2`` and the moments finite (a foot at x = 1e155 m gave an infinite
+#: force, whose NaN moment then reached the next step); float64 resolves 2e-12 m there.
+MAX_HORIZONTAL = 1e4
 #: Shortest time step accepted [s]: 1 ns. Shorter steps sample nothing a sensor or a control
 #: loop can, approach the rounding of sample times (one ulp of 1e6 s is 1.2e-10 s), and, far
 #: enough down, let ``dz/dt`` and the drag ``v^2`` of Eq. (5) overflow (1e-320 s: infinite).

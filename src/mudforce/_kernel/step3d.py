@@ -58,7 +58,7 @@ from typing import Any
 import numpy as np
 from numba import prange, typeof
 
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
 from mudforce._kernel.layout import (
     FREE,
     S_DEPTH,
@@ -134,10 +134,11 @@ BAD_SHAPE = -3
 
 @_compiled(inline="always")
 def _pose_ok(px: float, py: float, pz: float, qw: float, qx: float, qy: float, qz: float) -> bool:
-    """Whether a pose can be stepped: the position [m] and the quaternion finite, and the quaternion within
+    """Whether a pose can be stepped: the position [m] and the quaternion finite, the position's x and y within
+    :data:`~mudforce._kernel.bounds.MAX_HORIZONTAL`, and the quaternion within
     :data:`~mudforce.model.law3d.QUATERNION_TOLERANCE` of unit norm (of :func:`_place`)."""
-    # |x| < inf is False for NaN and inf alike
-    if not ((abs(px) < math.inf) & (abs(py) < math.inf) & (abs(pz) < math.inf) & (abs(qw) < math.inf)
+    # |x| <= bound and |x| < inf are False for NaN and inf alike
+    if not ((abs(px) <= MAX_HORIZONTAL) & (abs(py) <= MAX_HORIZONTAL) & (abs(pz) < math.inf) & (abs(qw) < math.inf)
             & (abs(qx) < math.inf) & (abs(qy) < math.inf) & (abs(qz) < math.inf)):
         return False
     return abs(math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz) - 1.0) <= QUATERNION_TOLERANCE

@@ -108,7 +108,7 @@ from numpy.typing import NDArray
 
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError, is_real, number_within
-from mudforce.model.foot import SIZE_RANGE, Foot
+from mudforce.model.foot import AREA_RANGE, SIZE_RANGE, Foot
 
 __all__ = ["DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
            "from_mujoco_geom", "mesh", "sole", "sphere"]
@@ -203,6 +203,14 @@ class Shape:
         if not np.all(areas > 0.0):
             raise InputError(f"shape areas must be > 0 [m^2], got {areas[np.argmin(areas)]!r} "
                              f"at element {int(np.argmin(areas))}")
+        if not np.all(areas <= AREA_RANGE[1]):  # a foot's largest area (Foot), so each element's force stays finite
+            raise InputError(f"shape areas must be at most {AREA_RANGE[1]:g} m^2 each, got "
+                             f"{float(areas[np.argmax(areas)])!r} at element {int(np.argmax(areas))}")
+        reach = np.sqrt(np.einsum("ij,ij->i", centroids, centroids))
+        if not np.all(reach <= SIZE_RANGE[1]):  # a foot's largest size (Foot): its moments stay finite
+            i = int(np.argmax(reach))
+            raise InputError(f"shape centroids must be within {SIZE_RANGE[1]:g} m of the body origin [m], got "
+                             f"{reach[i]:.6g} m at element {i}")
         length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
         bad = np.abs(length - 1.0) > _UNIT_TOL
         if np.any(bad):

@@ -31,7 +31,6 @@ docs/model.md, "Mud in 3-D".
 
 from __future__ import annotations
 
-import math
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -42,7 +41,7 @@ from numba import typeof
 
 from mudforce import _kernel as K
 from mudforce._kernel import step3d as S3
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, real_number
 from mudforce.model import law3d
@@ -55,6 +54,9 @@ from mudforce.steppers.contact import check_states
 from mudforce.steppers.many import MudContacts, _param_rows
 
 __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
+
+#: The stiffest horizontal slip accepted [Pa/m]: the bound on the paper's stiffnesses (``MudParameters``).
+MAX_LATERAL_STIFFNESS = 1e12
 
 
 class Wrench(NamedTuple):
@@ -94,14 +96,19 @@ class ContactState3D(NamedTuple):
 
 
 def _pose(position: Any, quaternion: Any) -> tuple[np.ndarray, np.ndarray]:
-    """The position [m] as a (3,) float64 array and the rotation matrix, refused if not finite or not unit."""
+    """The position [m] as a (3,) float64 array and the rotation matrix, refused if not 3 finite real numbers
+    (x and y within +-:data:`~mudforce._kernel.bounds.MAX_HORIZONTAL`), or the quaternion not unit."""
     try:
-        p = np.asarray(position, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"position must be 3 numbers [m], got {position!r}") from None
+        p = real_array(position, "position", "m")
+    except InputError:
+        raise InputError(f"position must be 3 real numbers [m], got {position!r}") from None
     if p.shape != (3,) or not np.all(np.isfinite(p)):
         raise InputError(f"position must be 3 finite numbers [m], got {position!r}")
+    if not (abs(p[0]) <= MAX_HORIZONTAL and abs(p[1]) <= MAX_HORIZONTAL):
+        raise InputError(f"position x and y must be within +-{MAX_HORIZONTAL:g} m of the world origin, got "
+                         f"{p.tolist()!r}")
     try:
+        real_array(quaternion, "quaternion", "-")
         rotation = law3d.rotation_matrix(quaternion)
     except InputError:
         raise
@@ -158,8 +165,9 @@ class MudContact3D:
         self._elements = MudContacts(params, shape.n, element, threads=1)
         self._width = element.width
         k = params.k_m_w if lateral_stiffness is None else lateral_stiffness
-        if not is_real(k) or not math.isfinite(k) or k <= 0.0:
-            raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
+        if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:
+            raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got "
+                             f"{lateral_stiffness!r}")
         self._lateral_stiffness = float(k)
         n = shape.n
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
@@ -235,8 +243,7 @@ class MudContact3D:
         if slip.shape != (n, 2) or centroids.shape != (n, 3):
             raise InputError(f"a state of this {n}-element foot has slips (n, 2) and centroids (n, 3), got "
                              f"{slip.shape} and {centroids.shape}")
-        if not (np.all(np.isfinite(slip)) and np.all(np.isfinite(centroids))):
-            raise InputError("a state's slips and centroids must be finite")
+        _check_saved_places(slip, centroids, _reach(self.shape))
         self._elements.state = saved.elements  # validated; refuses without changing anything
         self._slip[:] = slip
         self._centroids[:] = centroids
@@ -318,10 +325,10 @@ class MudContact3D:
         the one step MudContacts3D compiles.)"""
         if self._fixed is None:
             self._fixed = self._fixed_types()
-        try:
-            p = np.array(position, dtype=np.float64, order="C")
-            q = np.array(quaternion, dtype=np.float64, order="C")
-        except (TypeError, ValueError):
+        try:  # real numbers only (a bool or complex array is refused by the numpy step, as there)
+            p = np.array(real_array(position, "position", "m"), order="C")
+            q = np.array(real_array(quaternion, "quaternion", "-"), order="C")
+        except InputError:
             return self._step_numpy(position, quaternion, dt)
         if is_real(dt):
             h = float(dt)
@@ -468,12 +475,9 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
     -------
     Result3D
     """
-    try:
-        t = np.asarray(time, dtype=np.float64)
-        x = np.asarray(positions, dtype=np.float64)
-        q = np.asarray(quaternions, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("time, positions and quaternions must be arrays of real numbers") from None
+    t = real_array(time, "time", "s")
+    x = real_array(positions, "positions", "m")
+    q = real_array(quaternions, "quaternions", "-")
     m = t.shape[0] if t.ndim == 1 else -1
     if m < 1 or x.shape != (m, 3) or q.shape != (m, 4):
         raise InputError(f"time (m,), positions (m, 3) and quaternions (m, 4) must agree, got {t.shape}, "
@@ -547,6 +551,15 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     if array.shape != shape:
         raise InputError(f"{name} must have shape {shape} [{unit}], got {array.shape}")
     return array
+
+
+def _check_saved_places(slip: np.ndarray, centroids: np.ndarray, reach: float) -> None:
+    """Refuse a saved state's slips [m] or world centroids [m] that no step could have left: not finite, or farther
+    than :data:`~mudforce._kernel.bounds.MAX_HORIZONTAL` (plus the foot's ``reach`` [m], for the centroids)."""
+    bound = MAX_HORIZONTAL + reach
+    if not (np.all(np.abs(slip) <= MAX_HORIZONTAL) and np.all(np.abs(centroids) <= bound)):
+        raise InputError(f"a state's slips must be finite and within +-{MAX_HORIZONTAL:g} m and its centroids "
+                         f"within +-{bound:.6g} m (where a step can leave them)")
 
 
 def _reach(shape: Shape) -> float:
@@ -739,8 +752,9 @@ class MudContacts3D:
                                  "a mudforce.model.shapes constructor, which sets it)")
             foot = Foot(area=1.0, width=w, shape="element")
             k = q.k_m_w if stiffness[f] is None else stiffness[f]
-            if not is_real(k) or not math.isfinite(k) or k <= 0.0:
-                raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {stiffness[f]!r}")
+            if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:
+                raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got "
+                                 f"{stiffness[f]!r}")
             key = (id(q), float(foot.width))
             if key not in made:
                 made[key] = _param_rows(q, 1, foot, exact)[0]
@@ -832,8 +846,7 @@ class MudContacts3D:
             raise InputError(f"a state of these {self.n} feet ({total} elements) has elements ({total}, {width}), "
                              f"slips ({total}, 2), centroids ({total}, 3) and started ({self.n},) bool, got "
                              f"{elements.shape}, {slip.shape}, {centroids.shape} and {started.shape} {started.dtype}")
-        if not (np.all(np.isfinite(slip)) and np.all(np.isfinite(centroids))):
-            raise InputError("a state's slips and centroids must be finite")
+        _check_saved_places(slip, centroids, float(self._ft[:, S3.F_REACH].max()))
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state")
         self._states[:] = elements[:, :K.N_STATE]
         self._ring[:] = elements[:, K.N_STATE:]
