@@ -209,6 +209,7 @@ def test_bad_input_gives_nan_and_keeps_the_state(compared: dict[str, Any]) -> No
         (300, pos[300], quat[300], math.nan),
         (350, pos[350], quat[350], 2e3),
         (400, [0.0, 0.0, -200.0], UPRIGHT, DT),  # 200 m deep
+        (450, [2e4, 0.0, -0.01], UPRIGHT, DT),  # 20 km from the world origin
     ]
     contact = MudContact3D(mud, shape)
     for j, (_, p, q, dt) in enumerate(bad):

@@ -63,7 +63,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mudforce import jax as mj
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
 from mudforce.errors import InputError, finite_number, is_real, positive_int
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
@@ -268,7 +268,8 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
 
     # what MudContact3D refuses, found here without raising: the step is then not taken
     norm = jnp.sqrt(jnp.sum(q * q))
-    pose_ok = jnp.all(jnp.isfinite(p)) & jnp.all(jnp.isfinite(q)) & (jnp.abs(norm - 1.0) <= law3d.QUATERNION_TOLERANCE)
+    pose_ok = (jnp.all(jnp.isfinite(p)) & jnp.all(jnp.isfinite(q)) & (jnp.abs(norm - 1.0) <= law3d.QUATERNION_TOLERANCE)
+               & (jnp.abs(p[0]) <= MAX_HORIZONTAL) & (jnp.abs(p[1]) <= MAX_HORIZONTAL))
     dt_ok = (dt >= MIN_DT) & (dt <= MAX_DT)
     dts = jnp.where(dt_ok, dt, 1.0)  # the double where: a first step's ignored dt puts no NaN in a gradient
     # the law of mudforce.model.law3d on the elements' columns (the functions MudContact3D and the compiled
