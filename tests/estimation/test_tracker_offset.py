@@ -74,15 +74,35 @@ def test_one_offset_hypothesis_and_bad_offsets() -> None:
 def test_change_from_18_to_28_percent_is_flagged_and_followed() -> None:
     """Issue 23 point 5 online: a change 18 -> 28 % is flagged once and the estimate is within 1.5 points 3 s later.
 
-    The flag waits for the reported interval, which holds the twin bank's, to leave 18 %: 3.1 s after the change
-    (the first bank's own interval left it 0.5 s earlier, at 2.6 s, where the flag came before 2026-11-29), within
-    the stance that first reads the new mud."""
+    The flag waits for the reported interval, which holds the twin bank's, to lie clear of the anchor's narrowed
+    interval: 3.3 s after the change (the first bank's own interval left 18 % at 2.6 s, where the flag came before
+    2026-11-29; the reported one at 3.1 s), within the stance that first reads the new mud."""
     wk = walk([0.18, 0.28], change_times=[10.0], seed=1, duration=16.0, force_noise=0.2, bias=0.5)
     r = track(wk.time, wk.depth, wk.force)
     change = wk.changes[0]
     flags = wk.time[r.changed]
-    assert flags.size == 1 and change < flags[0] < change + 3.5  # measured 3.1 s after
+    assert flags.size == 1 and change < flags[0] < change + 3.5  # measured 3.3 s after
     assert not (r.low[r.changed] <= 0.18) & (0.18 <= r.high[r.changed])  # the flag's interval has left the old mud
     after = wk.time >= change + 3.0
     assert np.all(np.abs(r.water_content[after] - 0.28) <= 0.015)
     assert np.all((r.low[after] <= 0.28) & (0.28 <= r.high[after]))
+
+
+@pytest.mark.parametrize("seed", [0, 40])
+def test_a_change_is_flagged_against_the_anchors_narrowed_interval(seed: int) -> None:
+    """The flag needs the reported interval clear of the anchor's, which each later interval holding the anchor
+    narrows: with the interval at the anchor kept as it was (wide, early in the walk), these changes of 9 and 10
+    points (bench_tracker.py's random pairs, seeds 0 and 40) went unflagged."""
+    rng = np.random.default_rng([seed, 13])
+    while True:
+        a, b = rng.uniform(0.15, 0.35, 2)
+        if abs(a - b) >= 0.05:
+            break
+    sigma, bias = float(rng.uniform(0.1, 0.5)), float(rng.uniform(-2.0, 2.0))
+    wk = walk((float(a), float(b)), change_times=[20.0], seed=seed, duration=30.0, force_noise=sigma,
+              depth_noise=3e-5, bias=bias)
+    r = track(wk.time, wk.depth, wk.force)
+    flags = wk.time[r.changed]
+    assert abs(a - b) > 0.09
+    assert flags.size == 1 and wk.changes[0] < flags[0] < wk.changes[0] + 6.0
+    assert not (r.low[r.changed] <= a) & (a <= r.high[r.changed])

@@ -69,13 +69,17 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   other way. A given ``velocity_filter`` has no twin.
 * **Change flag.** Once the fit's interval is narrower than a settling
   width (4 points, or 6 grid steps) and the offset has been tared (10 free
-  samples), its median becomes the anchor; when a later estimate as
-  settled has a reported interval (the one returned, which holds the twin
-  bank's) that excludes the anchor by more than a margin (1 point, or 2
-  grid steps), the flag is raised for that sample. For the next ``tau``
-  seconds of contact the anchor follows the settling estimate without a
-  second flag. So a flag never says more than the interval does: while
-  the twin bank still holds the old mud, no change is flagged.
+  samples), its median becomes the anchor, and the reported interval
+  there the anchor's interval, which every later settled interval that
+  still holds the anchor narrows (their intersection). When a later
+  estimate as settled has a reported interval (the one returned, which
+  holds the twin bank's) that lies clear of the anchor's interval by more
+  than a margin (1 point, or 2 grid steps), the flag is raised for that
+  sample. For the next ``tau`` seconds of contact the anchor and its
+  interval follow the settling estimate without a second flag. So a flag
+  never says more than the intervals do: while the twin bank still holds
+  the old mud, or every interval since the anchor has also held the new
+  one, no change is flagged.
 
 Speed plumbing: the whole update (bank step and posterior) is one compiled
 call, :func:`_track_step`, over arrays held by the object.
@@ -155,7 +159,9 @@ _A_SINK = _A_PSUB + 1  # the foot's sinkage [m]: the deepest depth plus the surf
 _A_QUICK = _A_SINK + 1  # 1 while the bank's rows take the quick branch rule (its hysteresis), else 0
 # then, per model: the contact time [s] at which it was last scored (_SPARE_MASS); its force low-passed by the force
 # lag [N]; its force at the previous substep [N] (three blocks of one column per model)
-_N_AUX = _A_QUICK + 1
+_A_ANCHOR_LOW = _A_QUICK + 1  # the reported interval's low end where the anchor was set [-] (the change flag)
+_A_ANCHOR_HIGH = _A_QUICK + 2  # and its high end [-]
+_N_AUX = _A_QUICK + 3
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -862,8 +868,10 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         if not math.isnan(guard[j, 0]):
             w_low = min(w_low, guard[j, 0])
             w_high = max(w_high, guard[j, 1])
-        # change flag: a settled estimate whose reported interval leaves the anchor behind (ours, 2026-11-29: the
-        # reported interval, not the fit's plain one, so that the flag never says more than the interval does)
+        # change flag: a settled estimate whose reported interval lies clear of the anchor's (ours, 2026-11-29: the
+        # reported intervals, not the fit's plain ones, so that the flag never says more than the intervals do; and
+        # the anchor's interval, not its point, so that a posterior flipping between two modes that the reported
+        # interval spans at the anchor is not a change)
         changed = 0.0
         # (only once the offset has been tared: before, an estimate may still move with it)
         if settled and aux[j, _A_NFREE] >= 10.0:
@@ -871,10 +879,19 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             if math.isnan(anchor) or aux[j, _A_HOLD] > 0.0:
                 # the first settled estimate, or the estimate still settling after a flag: follow it
                 aux[j, _A_ANCHOR] = w_mid
-            elif anchor < w_low - cfg[_C_MARGIN] or anchor > w_high + cfg[_C_MARGIN]:
+                aux[j, _A_ANCHOR_LOW] = w_low
+                aux[j, _A_ANCHOR_HIGH] = w_high
+            elif (aux[j, _A_ANCHOR_HIGH] < w_low - cfg[_C_MARGIN]
+                  or aux[j, _A_ANCHOR_LOW] > w_high + cfg[_C_MARGIN]):
                 changed = 1.0
                 aux[j, _A_ANCHOR] = w_mid
+                aux[j, _A_ANCHOR_LOW] = w_low
+                aux[j, _A_ANCHOR_HIGH] = w_high
                 aux[j, _A_HOLD] = tau
+            elif w_low <= anchor <= w_high:
+                # an interval that still holds the anchor narrows the anchor's (their intersection, which holds it)
+                aux[j, _A_ANCHOR_LOW] = max(aux[j, _A_ANCHOR_LOW], w_low)
+                aux[j, _A_ANCHOR_HIGH] = min(aux[j, _A_ANCHOR_HIGH], w_high)
         out[j, _O_W] = w_mid
         out[j, _O_LOW] = w_low
         out[j, _O_HIGH] = w_high
