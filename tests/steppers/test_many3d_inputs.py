@@ -171,16 +171,22 @@ def test_resetting_no_feet_is_allowed_and_changes_nothing() -> None:
         assert pickle.dumps(feet.state) == before
 
 
-@pytest.mark.parametrize("bad", [[1e155, 0.0, 0.0], [0.0, -2e4, 0.0], [1e4 * (1 + 1e-15), 0.0, 0.0]])
-def test_a_foot_beyond_the_horizontal_bound_is_refused_on_every_path_and_changes_nothing(bad: list[float]) -> None:
-    """A body origin beyond +-1e4 m in x or y (the readers' bound) is refused, on the hot path and off it, for
-    one foot and many: at x = 1e155 m the force was infinite and the moment NaN, and the next step inherited it."""
+def _three_steps() -> tuple[mf.MudContact3D, MudContacts3D]:
+    """One foot and two, each stepped three times along :func:`_poses` (the first foot's poses for the one)."""
     mud = mf.MudParameters.from_water_content(0.25)
     one, many = mf.MudContact3D(mud, SHAPE), MudContacts3D(mud, SHAPE, 2)
     for k in range(3):
         pos, quat = _poses(k)
         one.step(pos[0], quat[0], DT if k else 0.0)
         many.step(pos, quat, DT if k else 0.0)
+    return one, many
+
+
+@pytest.mark.parametrize("bad", [[1e155, 0.0, 0.0], [0.0, -2e4, 0.0], [1e4 * (1 + 1e-15), 0.0, 0.0]])
+def test_a_foot_beyond_the_horizontal_bound_is_refused_on_every_path_and_changes_nothing(bad: list[float]) -> None:
+    """A body origin beyond +-1e4 m in x or y (the readers' bound) is refused, on the hot path and off it, for
+    one foot and many: at x = 1e155 m the force was infinite and the moment NaN, and the next step inherited it."""
+    one, many = _three_steps()
     saved_one, saved_many = one.state, many.state
     pos, quat = _poses(3)
     far = np.array(bad)
@@ -192,7 +198,7 @@ def test_a_foot_beyond_the_horizontal_bound_is_refused_on_every_path_and_changes
         many.step(np.vstack([pos[0], far]), quat, DT)
     assert _same(many.state, saved_many)
     edge = np.array([1e4, -1e4, pos[0, 2]])  # on the bound: accepted, and finite
-    wrench = mf.MudContact3D(mud, SHAPE).step(edge, quat[0], 0.0)
+    wrench = mf.MudContact3D(one.params, SHAPE).step(edge, quat[0], 0.0)
     assert np.all(np.isfinite(wrench.force)) and np.all(np.isfinite(wrench.torque))
 
 
@@ -233,12 +239,7 @@ def test_complex_and_boolean_poses_are_refused_as_every_array_input_is() -> None
 
 def test_a_restored_state_no_step_could_leave_is_refused_and_changes_nothing() -> None:
     """Slips and centroids are checked for size as well as finiteness (1e200 passed before)."""
-    mud = mf.MudParameters.from_water_content(0.25)
-    one, many = mf.MudContact3D(mud, SHAPE), MudContacts3D(mud, SHAPE, 2)
-    for k in range(3):
-        pos, quat = _poses(k)
-        one.step(pos[0], quat[0], DT if k else 0.0)
-        many.step(pos, quat, DT if k else 0.0)
+    one, many = _three_steps()
     saved_one, saved_many = one.state, many.state
     for field, value in (("centroids", 1e200), ("slip", 2e4), ("centroids", -1e4 - 1.0)):
         bad_one = saved_one._replace(**{field: getattr(saved_one, field) + value})
