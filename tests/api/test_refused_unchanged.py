@@ -179,3 +179,27 @@ def test_finite_in_bounds_gives_finite_out(params: mf.MudParameters, data: st.Da
         return
     for name in ("force", "f_e1", "f_e2", "f_s", "mud_displacement", "mud_velocity", "velocity"):
         assert np.isfinite(getattr(res, name)).all(), name
+
+
+def test_a_restored_cache_is_kept_only_where_it_is_the_steppers_own() -> None:
+    """A snapshot's step-length cache is kept on restore only if it is, bit for bit, what the stepper computes for
+    its step length (so a replay is the same bits); cached decays edited within [0, 1] under the snapshot's own
+    parameters are recomputed (they were used as given: a silently wrong force)."""
+    params = mf.MudParameters.from_water_content(0.25)
+    t, z = mf.Protocol.paper(depth=0.02, velocity=0.01).sample()
+    contact = mf.MudContact(params)
+    dt = float(t[1] - t[0])
+    for k in range(len(t) // 3):
+        contact.step(z[k], dt)
+    saved = contact.state
+    later = range(len(t) // 3, len(t) // 2)
+    ref = [contact.step(z[k], dt) for k in later]
+    contact.state = saved  # the stepper's own cache: kept, the same bits
+    assert [contact.step(z[k], dt) for k in later] == ref
+    edited = saved.data.copy()
+    assert edited[K.S_CACHE_DT] > 0.0  # a cache is there to edit
+    edited[K.S_CACHE_DECAY_I] = edited[K.S_CACHE_DECAY_W] = 0.5
+    fresh = mf.MudContact(params)
+    fresh.state = ContactState(edited, saved.params_key, saved.ring)
+    forces = [fresh.step(z[k], dt) for k in later]
+    np.testing.assert_allclose(forces, ref, rtol=1e-12, atol=1e-12 * max(map(abs, ref)))

@@ -10,8 +10,9 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
-from mudforce._kernel.layout import STATE_NAMES
+from mudforce._kernel.layout import S_CACHE_DT, S_CACHE_PHI, STATE_NAMES
 from mudforce.errors import InputError, real_array, real_number
+from mudforce.model.equations import neck_filter_response, neck_filter_transition
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -46,6 +47,24 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
         if rows.size:
             where = f"{what} (foot {rows[0]})" if states.shape[0] > 1 else what
             raise InputError(f"{where}: {message}; expected a state taken from a contact")
+
+
+def _cache_as_computed(state: np.ndarray, params_row: np.ndarray) -> bool:
+    """Whether a state row's step-length cache holds, bit for bit, what the stepper computes for its step length
+    (:func:`mudforce._kernel.transitions.step_cache`, here in Python on the same operations); no cache counts as one.
+
+    A restored state keeps its cache only then, so that a replay is the same bits (the stepper reuses a cache
+    within 1e-9 of its step length, so the cache depends on the history), while cached decays edited within
+    [0, 1] are recomputed rather than used as given.
+    """
+    dt = float(state[S_CACHE_DT])
+    if not dt > 0.0:
+        return True
+    p = K.params_of(params_row)
+    g_d, gi_d = neck_filter_response.py_func(dt, p.zeta, p.omega_0)
+    expected = (dt, math.exp(-dt / p.tau_i), math.exp(-dt / p.tau_w),
+                *neck_filter_transition(p.zeta, p.omega_0, g_d, gi_d))
+    return bool(np.array_equal(state[S_CACHE_DT:S_CACHE_PHI + 4], np.array(expected)))
 
 
 class ContactSample(NamedTuple):
@@ -257,8 +276,8 @@ class MudContact:
                                  "the state was taken with the exact filter")
             self._ring[0] = value.ring
         self._states[0] = value.data
-        if value.params_key != self._params.tobytes():
-            K.forget_cache(self._states)  # other parameters: recompute the step-length cache
+        if value.params_key != self._params.tobytes() or not _cache_as_computed(self._states[0], self._params):
+            K.forget_cache(self._states)  # other parameters, or cached values not its own: recompute the cache
 
     def __repr__(self) -> str:
         return f"MudContact({self.params.source!r}, foot={self.foot.shape!r}, state={self.state.mode})"
