@@ -148,3 +148,46 @@ def test_tracker_state_replays_exactly_and_a_refused_restore_changes_nothing() -
     feet.state = snap
     y = feet.update([0.001, 0.002], [1.0, 2.0], 0.01)
     assert np.array_equal(x.water_content, y.water_content) and np.array_equal(x.low, y.low)
+
+
+def test_a_tracker_state_no_update_makes_is_refused_and_changes_nothing() -> None:
+    """Restored tracker states are checked as strictly as fresh ones: a posterior that is not a distribution (its
+    quantiles were taken as they were: a silently wrong estimate), a negative variance or time, a lag off the
+    hypotheses' range, or an anchor outside its interval is refused, for the first bank and the twin alike."""
+    from mudforce.estimation import tracker as T
+
+    w = walk(0.22, seed=2, duration=2.0, force_noise=0.3)
+    tracker = MudTracker()
+    dt = np.diff(w.time, prepend=w.time[0])
+    for k in range(150):
+        tracker.update(w.depth[k], w.force[k], dt[k])
+    before = tracker.state
+    assert not np.isnan(before.aux[0, T._A_ANCHOR])  # an anchor is set, so its interval is checked
+
+    def edited(state: TrackerState, name: str, column: int | None, value: float) -> TrackerState:
+        arrays = {key: np.array(getattr(state, key)) for key in ("posterior", "aux")}
+        if column is None:
+            arrays[name][0, :2] = (value, 1.0 - value - arrays[name][0, 2:].sum())  # still sums to 1
+        else:
+            arrays[name][0, column] = value
+        return TrackerState(state.bank, state.log_posterior, arrays["posterior"], arrays["aux"], state.started,
+                            state.key, state.twin)
+
+    cases = [("posterior", None, -0.25, "posterior is not probabilities"),
+             ("aux", T._A_VAR, -1.0, "force noise variance is negative"),
+             ("aux", T._A_CONTACT, -1.0, "contact time is negative"),
+             ("aux", T._A_LAG, 0.5, "force lag is not within"),
+             ("aux", T._A_QUICK, 0.5, "branch rule flag is not 0 or 1"),
+             ("aux", T._A_ANCHOR_HIGH, before.aux[0, T._A_ANCHOR] - 0.01, "anchor lies outside its interval")]
+    for name, column, value, message in cases:
+        with pytest.raises(InputError, match=message):
+            tracker.state = edited(before, name, column, value)
+        assert before.twin is not None
+        with pytest.raises(InputError, match=message):
+            tracker.state = TrackerState(before.bank, before.log_posterior, before.posterior, before.aux,
+                                         before.started, before.key, edited(before.twin, name, column, value))
+        after = tracker.state
+        for key in ("bank", "log_posterior", "posterior", "aux"):
+            assert np.array_equal(getattr(after, key), getattr(before, key), equal_nan=True), key
+            assert np.array_equal(getattr(after.twin, key), getattr(before.twin, key), equal_nan=True), key
+    tracker.state = before  # its own state is accepted

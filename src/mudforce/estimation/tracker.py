@@ -1109,6 +1109,35 @@ class TrackerState:
             object.__setattr__(self, name, arr)
 
 
+def _impossible_state(posterior: np.ndarray, aux: np.ndarray) -> str:
+    """What in a restored state's (finite) posterior or per-foot state no update makes, worded; ``""`` if nothing.
+
+    Restored states are checked as strictly as fresh ones: a posterior that is not a distribution, or a negative
+    variance, time or count, was taken as it was (quantiles of negative probabilities: a silently wrong estimate).
+    """
+    sums = posterior.sum(axis=1)
+    if not (np.all(posterior >= 0.0) and np.all(np.abs(sums - 1.0) <= 1e-9)):
+        return "posterior is not probabilities summing to 1 for each foot"
+    for column, name in ((_A_NFREE, "free-sample count"), (_A_VAR, "force noise variance"),
+                         (_A_CONTACT, "contact time"), (_A_HOLD, "change-flag hold"), (_A_MISFIT, "misfit average"),
+                         (_A_MISFIT_T, "misfit time"), (_A_DVAR, "depth noise variance"),
+                         (_A_LAG_SD, "force lag spread")):
+        if np.any(aux[:, column] < 0.0):
+            return f"{name} is negative"
+    for column, name in ((_A_STARTED, "started"), (_A_QUICK, "branch rule")):
+        if not np.all(np.isin(aux[:, column], (0.0, 1.0))):
+            return f"{name} flag is not 0 or 1"
+    if not np.all((aux[:, _A_ZN] >= 0.0) & (aux[:, _A_ZN] <= 3.0)):
+        return "depth count is not within [0, 3]"
+    if not np.all((aux[:, _A_LAG] >= 0.0) & (aux[:, _A_LAG] <= _LAGS[-1] * (1.0 + 1e-9))):  # a mean of the lags
+        return f"force lag is not within [0, {_LAGS[-1]:g}] s"
+    anchor = aux[:, _A_ANCHOR]
+    set_ = ~np.isnan(anchor)
+    if not np.all((aux[set_, _A_ANCHOR_LOW] <= anchor[set_]) & (anchor[set_] <= aux[set_, _A_ANCHOR_HIGH])):
+        return "change-flag anchor lies outside its interval"
+    return ""
+
+
 def _non_negative(value: Any, name: str, unit: str) -> float:
     """``value`` as a finite float >= 0, else a one-line InputError."""
     x = real_number(value, f"{name} [{unit}]")
@@ -1468,6 +1497,9 @@ class MudTrackers:
         if not (np.isfinite(value.posterior).all() and np.isfinite(value.log_posterior).all()
                 and np.isfinite(np.delete(value.aux, _A_ANCHOR, axis=1)).all()):
             raise InputError("a TrackerState holds non-finite values; expected one taken from a tracker")
+        problem = _impossible_state(value.posterior, value.aux)
+        if problem:
+            raise InputError(f"a TrackerState's {problem}; expected one taken from a tracker")
         twin, saved = self._twin, value.twin
         if (twin is None) != (saved is None):
             raise InputError("this TrackerState was taken from a tracker of other feet, grid or options; "
