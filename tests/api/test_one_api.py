@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import inspect
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -113,12 +114,18 @@ def test_every_stateful_object_saves_and_restores_through_state() -> None:
     assert one.step(0.005, 0.01) == a and np.array_equal(many.step(np.array([0.005, 0.003]), 0.01), b)
 
 
-def test_tracker_state_replays_exactly_and_a_refused_restore_changes_nothing() -> None:
+def _walked_tracker(samples: int) -> tuple[Any, np.ndarray, MudTracker]:
+    """A 2-s walk in 22 % mud, its time steps [s], and a tracker updated with its first ``samples`` samples."""
     w = walk(0.22, seed=2, duration=2.0, force_noise=0.3)
     tracker = MudTracker()
     dt = np.diff(w.time, prepend=w.time[0])
-    for k in range(100):
+    for k in range(samples):
         tracker.update(w.depth[k], w.force[k], dt[k])
+    return w, dt, tracker
+
+
+def test_tracker_state_replays_exactly_and_a_refused_restore_changes_nothing() -> None:
+    w, dt, tracker = _walked_tracker(100)
     saved = tracker.state
     assert isinstance(saved, TrackerState) and saved.started
     first = [tracker.update(w.depth[k], w.force[k], dt[k]) for k in range(100, 150)]
@@ -156,11 +163,7 @@ def test_a_tracker_state_no_update_makes_is_refused_and_changes_nothing() -> Non
     hypotheses' range, or an anchor outside its interval is refused, for the first bank and the twin alike."""
     from mudforce.estimation import tracker as T
 
-    w = walk(0.22, seed=2, duration=2.0, force_noise=0.3)
-    tracker = MudTracker()
-    dt = np.diff(w.time, prepend=w.time[0])
-    for k in range(150):
-        tracker.update(w.depth[k], w.force[k], dt[k])
+    _, _, tracker = _walked_tracker(150)
     before = tracker.state
     assert not np.isnan(before.aux[0, T._A_ANCHOR])  # an anchor is set, so its interval is checked
 
