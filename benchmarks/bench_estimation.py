@@ -35,7 +35,7 @@ at a time and combined, then ``identify_water_content``, ``fit_condition``
 markdown tables of right, honest and confidently wrong by corruption;
 asserts nothing::
 
-    python benchmarks/bench_estimation.py --sensor-chain [--jobs 2] [--quiet]
+    python benchmarks/bench_estimation.py --sensor-chain [--jobs N] [--quiet]
 
 ``--sensor-chain --misfit-flag`` prints identify's misfit flag instead: on the clean recordings (in family) and on
 two off-family muds along the same paths (``F = k z``, and ``alpha`` x2 with ``sigma_y`` x0.3), at each of
@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import time
 
 import numpy as np
@@ -85,7 +86,9 @@ def main() -> int:
     parser.add_argument("--walks", type=int, default=10, help="--sensor-chain: gait() recordings (default 10)")
     parser.add_argument("--fit-recordings", type=int, default=2,
                         help="--sensor-chain: recordings of each source fitted, on the fit rows (default 2)")
-    parser.add_argument("--jobs", type=int, default=1, help="--sensor-chain: worker processes (default 1)")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="--sensor-chain: worker processes (default: one per core; the tables are the same for "
+                             "any number, the fits' times aside)")
     parser.add_argument("--quiet", action="store_true", help="--sensor-chain: no progress line")
     parser.add_argument("--misfit-flag", action="store_true",
                         help="--sensor-chain: identify's misfit flag on clean recordings and on two off-family muds "
