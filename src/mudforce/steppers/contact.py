@@ -12,7 +12,7 @@ from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import S_CACHE_DT, S_CACHE_PHI, STATE_NAMES
 from mudforce.errors import InputError, real_array, real_number
-from mudforce.model.equations import neck_filter_response, neck_filter_transition
+from mudforce.model.equations import array_form, neck_filter_response, neck_filter_transition
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -63,7 +63,7 @@ def _cache_as_computed(state: np.ndarray, params_row: np.ndarray) -> bool:
     p = K.params_of(params_row)
     g_d, gi_d = neck_filter_response.py_func(dt, p.zeta, p.omega_0)
     expected = (dt, math.exp(-dt / p.tau_i), math.exp(-dt / p.tau_w),
-                *neck_filter_transition(p.zeta, p.omega_0, g_d, gi_d))
+                *array_form(neck_filter_transition)(p.zeta, p.omega_0, g_d, gi_d))
     return bool(np.array_equal(state[S_CACHE_DT:S_CACHE_PHI + 4], np.array(expected)))
 
 
