@@ -51,7 +51,7 @@ from mudforce.model.shapes import Shape
 from mudforce.model.velocity import resolve_velocity_filter
 from mudforce.steppers import many as vectorized
 from mudforce.steppers.contact import check_states
-from mudforce.steppers.many import MudContacts, _param_rows
+from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows
 
 __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
 
@@ -980,24 +980,8 @@ class MudContacts3D:
         feet : int, sequence of int, or boolean mask of shape (n,), optional
             Which feet to reset.
         """
-        if feet is None:
-            chosen = np.arange(self.n)
-        else:
-            idx = np.asarray(feet)
-            if idx.dtype == np.bool_:
-                if idx.shape != (self.n,):
-                    raise InputError(f"a reset mask must have shape ({self.n},), got {idx.shape}")
-                chosen = np.flatnonzero(idx)
-            elif idx.size == 0 and idx.ndim == 1:  # no feet (an empty list is float64 to numpy): nothing to reset
-                chosen = np.zeros(0, dtype=np.int64)
-            elif not np.issubdtype(idx.dtype, np.integer):
-                raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
-            elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):
-                raise InputError(f"foot index out of range 0..{self.n - 1}: {idx.tolist()}")
-            else:
-                chosen = np.atleast_1d(idx) % self.n
         fresh = K.new_states(1)[0]
-        for f in chosen.tolist():
+        for f in _chosen_feet(feet, self.n).tolist():
             lo, hi = int(self._starts[f]), int(self._starts[f + 1])
             self._states[lo:hi] = fresh
             self._el[lo:hi, S3.E_SLIPX:S3.E_SLIPY + 1] = 0.0

@@ -147,6 +147,27 @@ def _depths_ok(z: np.ndarray) -> bool:
     return not bad
 
 
+def _chosen_feet(feet: Any, n: int) -> np.ndarray:
+    """The feet a ``reset(feet)`` names, as indices in ``0 .. n - 1`` (every foot for None); else one-line InputError.
+
+    ``feet`` is an int, a sequence of ints (negative ones count from the end), or a boolean mask of shape (n,).
+    """
+    if feet is None:
+        return np.arange(n)
+    idx = np.asarray(feet)
+    if idx.dtype == np.bool_:
+        if idx.shape != (n,):
+            raise InputError(f"a reset mask must have shape ({n},), got {idx.shape}")
+        return np.flatnonzero(idx)
+    if idx.size == 0 and idx.ndim == 1:  # no feet (an empty list is float64 to numpy): nothing to reset
+        return np.zeros(0, dtype=np.int64)
+    if not np.issubdtype(idx.dtype, np.integer):
+        raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
+    if idx.size and (idx.min() < -n or idx.max() >= n):
+        raise InputError(f"foot index out of range 0..{n - 1}: {idx.tolist()}")
+    return np.atleast_1d(idx) % n
+
+
 class MudContacts:
     """The mud force on ``n`` feet, all stepped together, one sample at a time.
 
@@ -276,21 +297,7 @@ class MudContacts:
         feet : int, sequence of int, or boolean mask of shape (n,), optional
             Which feet to reset; their next :meth:`step` sets their initial sample.
         """
-        fresh = K.new_states(1)[0]
-        if feet is None:
-            self._states[:] = fresh
-            return
-        idx = np.asarray(feet)
-        if idx.dtype == np.bool_:
-            if idx.shape != (self.n,):
-                raise InputError(f"a reset mask must have shape ({self.n},), got {idx.shape}")
-        elif idx.size == 0 and idx.ndim == 1:  # no feet (an empty list is float64 to numpy): nothing to reset
-            return
-        elif not np.issubdtype(idx.dtype, np.integer):
-            raise InputError(f"feet must be indices or a boolean mask, got {idx.dtype}")
-        elif idx.size and (idx.min() < -self.n or idx.max() >= self.n):
-            raise InputError(f"foot index out of range 0..{self.n - 1}: {idx.tolist()}")
-        self._states[idx] = fresh
+        self._states[_chosen_feet(feet, self.n)] = K.new_states(1)[0]
 
     @property
     def modes(self) -> list[str]:
