@@ -210,7 +210,8 @@ _C_QUICK_ON = 27  # the quick rule is taken above this many times the quick seca
 _C_QUICK_OFF = 28  # ... and kept down to this many [-] (_QUICK_OFF)
 _C_QUICK_SINK = 29  # ... only while the foot's sinkage is at least this [m] (_QUICK_SINK)
 _C_QUICK_SINK_MAX = 30  # ... and at most this [m] (_QUICK_SINK_MAX)
-_N_CFG = 31
+_C_MAX_DEPTH = 31  # the largest |depth| taken [m] (MAX_DEPTH less the largest surface offset)
+_N_CFG = 32
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -578,8 +579,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     # the models of an offset other than the most probable one, holding less than _SPARE_MASS of the posterior, are
     # scored on every `spare`-th sample only (in turn), each score standing for the contact time since the last
     spare = max(1, int(_SPARE_TURN * cfg[_C_TEMP] / dt + 0.5))
-    for j in range(n):
-        if not (math.isfinite(depths[j]) and math.isfinite(measured[j])):
+    for j in range(n):  # every sample checked before anything changes (False for NaN too)
+        if not (abs(depths[j]) <= cfg[_C_MAX_DEPTH] and abs(measured[j]) <= MAX_FORCE):
             return j
     if cfg[_C_QUICK] != 0.0:
         # the bank's branch rule follows each foot's depth noise measured online (see _QUICK_WINDOW)
@@ -925,7 +926,8 @@ def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray)
 
 
 def _check_bounds(depths: np.ndarray, forces: np.ndarray, max_depth: float) -> None:
-    """Refuse a depth beyond ``max_depth`` [m] or a force beyond :data:`MAX_FORCE` [N] (NaN is left to the step)."""
+    """Refuse a depth beyond ``max_depth`` [m] or a force beyond :data:`MAX_FORCE` [N] in one line (NaN is left to
+    the caller): :func:`track`'s check of a whole recording, and the words for a sample :func:`_track_step` refused."""
     for name, values, bound, unit in (("depth", depths, max_depth, "m"), ("force", forces, MAX_FORCE, "N")):
         beyond = np.flatnonzero(np.abs(values) > bound)
         if beyond.size:
@@ -1342,6 +1344,7 @@ class MudTrackers:
         self.depth_offsets = _offsets(depth_offsets)
         # the largest |depth| taken [m]: the bank's models follow the depth plus each offset, within MAX_DEPTH
         self._max_depth = MAX_DEPTH - float(np.max(np.abs(self.depth_offsets)))
+        cfg[_C_MAX_DEPTH] = self._max_depth
         cfg[_C_SHALLOW] = _SHALLOW_WIDENING
         cfg[_C_SHALLOW_GAIN] = _SHALLOW_GAIN
         cfg[_C_RATE_GAIN] = _RATE_WIDENING
@@ -1438,7 +1441,8 @@ class MudTrackers:
                 bad = _track_step(dt, *self._args)
         else:
             bad = _track_step(dt, *self._args)
-        if bad >= 0:
+        if bad >= 0:  # the first foot refused (the feet before it passed): beyond the bounds, or not finite
+            _check_bounds(self._depths, self._forces, self._max_depth)
             raise InputError(f"depth and force of foot {bad} must be finite [m, N], got "
                              f"{float(self._depths[bad])!r} and {float(self._forces[bad])!r}")
         self._started = True
@@ -1464,7 +1468,6 @@ class MudTrackers:
         f = real_array(forces, "forces", "N")
         if z.shape != (self.n,) or f.shape != (self.n,):
             raise InputError(f"depths and forces must have shape ({self.n},), got {z.shape} and {f.shape}")
-        _check_bounds(z, f, self._max_depth)
         self._depths[:] = z
         self._forces[:] = f
         self._step(real_number(dt, "dt [s]"))
@@ -1611,8 +1614,6 @@ class MudTracker:
                                      "dt [s])")
             depth, force = real_number(depth, "depth [m]"), real_number(force, "force [N]")
             dt = real_number(dt, "dt [s]")
-        if abs(depth) > b._max_depth or abs(force) > MAX_FORCE:  # (NaN passes here: the step refuses it)
-            _check_bounds(np.array([depth]), np.array([force]), b._max_depth)
         b._depths[0] = depth
         b._forces[0] = force
         b._step(dt)
