@@ -101,7 +101,7 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, rft3d_alpha
 
@@ -215,10 +215,7 @@ def rotation_matrix(quaternion: Any) -> np.ndarray:
     normalised (:func:`rotation`); farther, or not 4 finite numbers, it is
     refused with an :class:`~mudforce.errors.InputError`.
     """
-    try:
-        q = np.asarray(quaternion, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"a quaternion must be 4 finite numbers (w, x, y, z), got {quaternion!r}") from None
+    q = real_array(quaternion, "quaternion", "-")  # real numbers only (a complex or boolean array refused)
     if q.shape != (4,) or not np.all(np.isfinite(q)):
         raise InputError(f"a quaternion must be 4 finite numbers (w, x, y, z), got {quaternion!r}")
     norm = math.sqrt(float(q @ q))

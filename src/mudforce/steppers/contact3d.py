@@ -107,14 +107,7 @@ def _pose(position: Any, quaternion: Any) -> tuple[np.ndarray, np.ndarray]:
     if not (abs(p[0]) <= MAX_HORIZONTAL and abs(p[1]) <= MAX_HORIZONTAL):
         raise InputError(f"position x and y must be within +-{MAX_HORIZONTAL:g} m of the world origin, got "
                          f"{p.tolist()!r}")
-    try:
-        real_array(quaternion, "quaternion", "-")
-        rotation = law3d.rotation_matrix(quaternion)
-    except InputError:
-        raise
-    except (TypeError, ValueError):
-        raise InputError(f"a quaternion must be 4 finite numbers (w, x, y, z), got {quaternion!r}") from None
-    return p, rotation
+    return p, law3d.rotation_matrix(quaternion)  # checked there (real, finite, 4 numbers, unit)
 
 
 class MudContact3D:
@@ -164,11 +157,7 @@ class MudContact3D:
         element = Foot(area=1.0, width=h, shape="element")  # checks H
         self._elements = MudContacts(params, shape.n, element, threads=1)
         self._width = element.width
-        k = params.k_m_w if lateral_stiffness is None else lateral_stiffness
-        if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:
-            raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got "
-                             f"{lateral_stiffness!r}")
-        self._lateral_stiffness = float(k)
+        self._lateral_stiffness = _stiffness(params.k_m_w if lateral_stiffness is None else lateral_stiffness)
         n = shape.n
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
         # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
@@ -553,6 +542,13 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     return array
 
 
+def _stiffness(k: Any) -> float:
+    """``lateral_stiffness`` [Pa/m] as a float within (0, :data:`MAX_LATERAL_STIFFNESS`], else a one-line InputError."""
+    if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:
+        raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got {k!r}")
+    return float(k)
+
+
 def _check_saved_places(slip: np.ndarray, centroids: np.ndarray, reach: float) -> None:
     """Refuse a saved state's slips [m] or world centroids [m] that no step could have left: not finite, or farther
     than :data:`~mudforce._kernel.bounds.MAX_HORIZONTAL` (plus the foot's ``reach`` [m], for the centroids)."""
@@ -751,15 +747,12 @@ class MudContacts3D:
                 raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
                                  "a mudforce.model.shapes constructor, which sets it)")
             foot = Foot(area=1.0, width=w, shape="element")
-            k = q.k_m_w if stiffness[f] is None else stiffness[f]
-            if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:
-                raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got "
-                                 f"{stiffness[f]!r}")
+            k = _stiffness(q.k_m_w if stiffness[f] is None else stiffness[f])
             key = (id(q), float(foot.width))
             if key not in made:
                 made[key] = _param_rows(q, 1, foot, exact)[0]
             rows[self._starts[f]:self._starts[f + 1]] = made[key]
-            _fill_foot(ft[f], q, h, foot.width, float(k), shape)
+            _fill_foot(ft[f], q, h, foot.width, k, shape)
         el = np.zeros((total, S3.N_ELEMENT_COLUMNS))
         for f, shape in enumerate(feet):
             _fill_elements(el[self._starts[f]:self._starts[f + 1]], shape)
