@@ -304,11 +304,10 @@ def test_bad_input(bad_runs: dict[str, BadRun], case_id: str, words: tuple[str, 
     assert snapshot(run.directory) == run.before
 
 
-def test_plot_needs_matplotlib(tmp_path: Path) -> None:
+def test_plot_needs_matplotlib(tmp_path: Path, tmp_path_factory: pytest.TempPathFactory) -> None:
     """Without matplotlib, --plot is refused up front with the pip extra to install; nothing is written."""
     (tmp_path / "out.csv").write_bytes(PREVIOUS_CSV)
-    blocker = tmp_path / "blocker"
-    blocker.mkdir()
+    blocker = tmp_path_factory.mktemp("blocker")  # apart: importing it may write its bytecode beside it
     (blocker / "matplotlib.py").write_text("raise ImportError('matplotlib is hidden for this test')\n")
     before = snapshot(tmp_path)
     proc = run_cli(["simulate", "--water-content", "25%", "--out", "out.csv", "--plot", "out.png"], tmp_path,
