@@ -7,7 +7,7 @@ robot's control loop would feed it: a bank of Table I models on a grid of
 water contents, Bayesian updating with forgetting, the sensor offset tared
 while the foot is free (see docs/tracking.md). Nothing looks ahead: the
 branch rule is the tracker's own, chosen online from the depth noise it
-estimates, with a twin bank on a 5-step secant whose interval the reported
+estimates, with a twin bank on a 2-step secant whose interval the reported
 one also holds (the configuration the sensor-chain bench measures).
 
 Output columns: time_s, water_content, water_content_low,
@@ -113,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
             f"final water content: {100 * result.water_content[k]:.3g} % "
             f"(95 % interval {100 * result.low[k]:.3g}-{100 * result.high[k]:.3g} %)",
             f"force offset {result.bias[k]:.3g} N, noise {result.noise[k]:.3g} N (estimated while the foot was free)",
-            "branch rule: the tracker's own, online (from the depth noise it estimates; a twin bank on a 5-step "
+            "branch rule: the tracker's own, online (from the depth noise it estimates; a twin bank on a 2-step "
             "secant widens the interval)",
             "change of mud flagged at: " + (", ".join(f"{x:.4g} s" for x in flags[:10]) or "none")
             + (f" and {flags.size - 10} more" if flags.size > 10 else ""),

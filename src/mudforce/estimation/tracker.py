@@ -60,13 +60,15 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   *before* the sample (a one-step-ahead prediction) plus the offset, i.e. the
   expected sensor reading.
 * **Twin bank.** With the default branch rule a second, smaller bank (the
-  surface offsets within 3 mm of zero) runs beside the first on a secant
-  over 5 steps, and the reported interval is the union of the two banks'
+  surface offsets within 3 mm of zero) runs beside the first on the quick
+  rule (a secant over 2 steps with a 2.5 mm/s deadband) for every foot at
+  every depth, and the reported interval is the union of the two banks'
   (the estimate and the misfit flag are the first bank's; the change flag
-  reads the union, below): the branch rule is a
-  model choice the data seldom settle, and deep wet robots read points low
-  on the 10-step rule and right on 5, while noisy gait walks read the
-  other way. A given ``velocity_filter`` has no twin.
+  reads the union, below): the branch rule is a model choice the data
+  seldom settle, and deep wet robots read points low on the 10-step rule
+  (the more under a lagged force, which the lag then absorbs) and right on
+  the quick one, while noisy gait walks read the other way. A given
+  ``velocity_filter`` has no twin.
 * **Change flag.** Once the fit's interval is narrower than a settling
   width (4 points, or 6 grid steps) and the offset has been tared (10 free
   samples), its median becomes the anchor, and the reported interval
@@ -379,14 +381,20 @@ _QUICK_OFF = 3.0
 _QUICK_SINK = 0.010
 _QUICK_SINK_MAX = 0.040
 #: The twin bank's branch rule [steps], [m/s] (ours): with the default rule, a second, smaller bank of the same models
-#: runs beside the first on a secant over 5 steps (no deadband) for every foot, and the reported interval is the
-#: union of the two banks' intervals (the estimate, the change flag and the misfit flag are the first bank's). The
-#: branch rule is a model choice the data seldom settle: on the sensor-chain bench wet robots (seeds 10, 13, 16:
-#: 32-34 %, 31-70 mm deep) read 2-4 points low on the 10-step rule with a 3-6-point interval (confidently wrong on up
-#: to 74 % of a recording's samples) and right on 5 steps, while wet gait walks under 1 mm of depth noise and seed 3's
-#: 74-mm robot read 1-3 points high on 5 steps: no one rule is right for every foot, and the interval holds both.
-_TWIN_WINDOW = 5
-_TWIN_DEADBAND = 0.0
+#: runs beside the first on the quick rule (:data:`_QUICK_WINDOW`, :data:`_QUICK_DEADBAND`) for every foot, at every
+#: depth and speed, and the reported interval is the union of the two banks' intervals (the estimate and the misfit
+#: flag are the first bank's). The branch rule is a model choice the data seldom settle: on the sensor-chain bench wet
+#: robots (seeds 10, 13, 16: 32-34 %, 31-70 mm deep) read 2-4 points low on the 10-step rule with a 3-6-point interval
+#: (confidently wrong on up to 74 % of a recording's samples) and right on shorter secants, while wet gait walks under
+#: 1 mm of depth noise and seed 3's 74-mm robot read 1-3 points high on them: no one rule is right for every foot, and
+#: the interval holds both. The twin ran a 5-step secant (no deadband) until 2026-11-29; on the quick rule it also
+#: holds the deep wet robots that the first bank reads 4 points low under a 30 ms low-pass (seed 21's robot 1, 74 mm
+#: deep in 32.3 %: a bank on the 10-step or the 5-step rule alone reads a median 28.1-28.3 % with the lag at 45 ms,
+#: and the 5-step twin's union missed the truth unflagged on 717 of 2701 samples; a bank on the quick rule alone
+#: reads 31.8 % [29.8, 33.7] with the lag at 30 ms, the chain's), which the sink band keeps off the first bank's
+#: quick rule (docs/tracking.md, "The twin bank on the quick rule").
+_TWIN_WINDOW = 2
+_TWIN_DEADBAND = _QUICK_DEADBAND
 #: The twin bank holds the surface offsets of the first within this of zero [m] (ours; all of them where none is):
 #: -3, 0, +3 mm of the default five, three fifths of the first bank's cost. With the default offsets' middle three
 #: the bench's tuning seeds' confidently wrong shares were those with a twin of all five to 0.2 % of a row's samples;
@@ -1214,8 +1222,8 @@ class MudTrackers:
         quick rule where a clean foot 10-40 mm deep moves, and a twin bank
         (``twin``). A rule given is kept as given, with no twin.
     twin : bool
-        With the default branch rule, also run a twin bank on a 5-step secant
-        (the surface offsets within 3 mm of zero) and report the union of the
+        With the default branch rule, also run a twin bank on the quick rule
+        (a 2-step secant, 2.5 mm/s deadband; the surface offsets within 3 mm of zero) and report the union of the
         two banks' intervals (default True; docs/tracking.md, "A twin bank").
         It costs about 60 % more an update (one foot about 26 us, against
         16 us without); without it, on the sensor-chain bench's seeds 17-20,
@@ -1391,7 +1399,7 @@ class MudTrackers:
         # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
         self._args = (bank._states, bank.ring, bank.params_array, bank.forces, bank._scratch[0], bank._index[0], buf,
                       layout)
-        # the default rule's twin: the same models on the 5-step rule, whose interval the reported one also holds
+        # the default rule's twin: the same models on the quick rule, whose interval the reported one also holds
         self._twin: MudTrackers | None = None
         if velocity_filter is None and twin:
             near = self.depth_offsets[np.abs(self.depth_offsets) <= _TWIN_OFFSET_SPAN + 1e-12]
