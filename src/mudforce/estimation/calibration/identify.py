@@ -100,8 +100,9 @@ from mudforce.estimation.calibration.preprocess import (
     tare_correction,
 )
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_gain_uncertainty
-from mudforce.model.equations import array_form, nonlinear_spring_stress, rest_band_forces
+from mudforce.model.equations import array_form, rest_band_forces
 from mudforce.model.foot import Foot
+from mudforce.model.law3d import spring_stress
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.steppers.simulation import run_compact
 
@@ -406,9 +407,6 @@ def _lowpass(time: np.ndarray, x: np.ndarray, tau: float) -> np.ndarray:  # prag
     return y
 
 
-_spring = np.vectorize(nonlinear_spring_stress, otypes=[np.float64])
-
-
 def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
                     lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The model's force [N] along ``depth`` [m] (exact rule) and the rest band ``(low, high)`` [N] at each sample.
@@ -423,9 +421,10 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     bad, force, state, mud, _ = run_compact(time, depth, row, 1)
     if bad >= 0:  # numerically impossible parameters: a huge, finite residual
         force[bad:] = 1e6
-    spring = np.zeros_like(depth)
+    # Eq. (4) at every sample, 0 above the surface (one compiled loop over the same function: its power gives the
+    # same bits in a loop as in a single call)
+    spring = spring_stress(depth, q.alpha, q.beta, foot.width)
     inside = depth > 0.0
-    spring[inside] = _spring(q.alpha, q.beta, depth[inside], foot.width)
     up, down = array_form(rest_band_forces)(depth - mud, spring, q.k_m_i, q.k_m_w, foot.area)
     down = np.where(inside, down, 0.0)
     contact = state > 0
