@@ -388,9 +388,9 @@ _QUICK_SINK_MAX = 0.040
 #: (confidently wrong on up to 74 % of a recording's samples) and right on shorter secants, while wet gait walks under
 #: 1 mm of depth noise and seed 3's 74-mm robot read 1-3 points high on them: no one rule is right for every foot, and
 #: the interval holds both. The twin ran a 5-step secant (no deadband) until 2026-11-29; on the quick rule it also
-#: holds the deep wet robots that the first bank reads 4 points low under a 30 ms low-pass (seed 21's robot 1, 74 mm
-#: deep in 32.3 %: a bank on the 10-step or the 5-step rule alone reads a median 28.1-28.3 % with the lag at 45 ms,
-#: and the 5-step twin's union missed the truth unflagged on 717 of 2701 samples; a bank on the quick rule alone
+#: holds the deep wet robots that the first bank reads 4 points low under a 30 ms low-pass (seed 21's `robot-model` 1,
+#: 74 mm deep in 32.3 %: a bank on the 10-step or the 5-step rule alone reads a median 28.1-28.3 % with the lag at
+#: 45 ms, and the 5-step twin's union missed the truth unflagged on 717 of 2701 samples; a bank on the quick rule alone
 #: reads 31.8 % [29.8, 33.7] with the lag at 30 ms, the chain's), which the sink band keeps off the first bank's
 #: quick rule (docs/tracking.md, "The twin bank on the quick rule").
 _TWIN_WINDOW = 2
