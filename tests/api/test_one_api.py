@@ -160,7 +160,8 @@ def test_tracker_state_replays_exactly_and_a_refused_restore_changes_nothing() -
 def test_a_tracker_state_no_update_makes_is_refused_and_changes_nothing() -> None:
     """Restored tracker states are checked as strictly as fresh ones: a posterior that is not a distribution (its
     quantiles were taken as they were: a silently wrong estimate), a negative variance or time, a lag off the
-    hypotheses' range, or an anchor outside its interval is refused, for the first bank and the twin alike."""
+    hypotheses' range, an anchor outside its interval, or the reported interval's hull with its ends crossed (or,
+    in the twin, which keeps none, one end set) is refused, for the first bank and the twin alike."""
     from mudforce.estimation import tracker as T
 
     _, _, tracker = _walked_tracker(150)
@@ -181,7 +182,8 @@ def test_a_tracker_state_no_update_makes_is_refused_and_changes_nothing() -> Non
              ("aux", T._A_CONTACT, -1.0, "contact time is negative"),
              ("aux", T._A_LAG, 0.5, "force lag is not within"),
              ("aux", T._A_QUICK, 0.5, "branch rule flag is not 0 or 1"),
-             ("aux", T._A_ANCHOR_HIGH, before.aux[0, T._A_ANCHOR] - 0.01, "anchor lies outside its interval")]
+             ("aux", T._A_ANCHOR_HIGH, before.aux[0, T._A_ANCHOR] - 0.01, "anchor lies outside its interval"),
+             ("aux", T._A_HULL_LOW, before.aux[0, T._A_HULL_HIGH] + 0.01, "hull has its ends crossed")]
     for name, column, value, message in cases:
         with pytest.raises(InputError, match=message):
             tracker.state = edited(before, name, column, value)

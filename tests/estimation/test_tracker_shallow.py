@@ -34,6 +34,7 @@ def _shallow_walk() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def test_a_shallow_sinkage_widens_the_interval_not_the_estimate(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
     t, z, f = _shallow_walk()
     wide = track(t, z, f)
     monkeypatch.setattr(tracker_module, "_SHALLOW_WIDENING", 0.0)  # read when a tracker is made
@@ -51,6 +52,7 @@ def test_a_shallow_sinkage_widens_the_interval_not_the_estimate(monkeypatch: pyt
 def test_the_widening_s_gain(monkeypatch: pytest.MonkeyPatch) -> None:
     # the same walk with the widening before issue 23's lag rows (s at 5, gain 1), then each constant alone: the
     # gain widens where s > 1, a smaller s widens less (both read when a tracker is made)
+    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
     t, z, f = _shallow_walk()
     late = t >= 3.0
     widths = []
@@ -67,6 +69,7 @@ def test_the_widening_s_gain(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_deep_walks_and_one_offset_are_not_widened(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
     wk = walk(0.25, seed=3, duration=12.0, force_noise=0.2, bias=0.5)
     shallow = _shallow_walk()
     runs = [track(wk.time, wk.depth, wk.force), track(*shallow, depth_offsets=[0.0])]

@@ -18,9 +18,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import mudforce.estimation.tracker as tracker_module
 from mudforce import MudTrackers
 from mudforce.errors import InputError
-from mudforce.estimation.tracker import _O_HIGH, _O_LOW, _O_W, default_velocity_filter, track
+from mudforce.estimation.tracker import _C_HULL, _O_HIGH, _O_LOW, _O_W, default_velocity_filter, track
 from mudforce.model.foot import Foot
 from mudforce.model.velocity import VelocityFilter
 
@@ -29,7 +30,8 @@ DATA = Path(__file__).parent / "data" / "robot_wet_depth_noise_1mm_seed16.csv"
 FOOT = Foot.disc(0.05)
 
 
-def test_the_interval_is_the_union_of_the_two_banks_and_holds_the_truth() -> None:
+def test_the_interval_is_the_union_of_the_two_banks_and_holds_the_truth(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the union as read, not its hull over a second
     t, z, f = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
     r = track(t, z, f, FOOT)
     # the first bank alone (the tracker before the twin), sample by sample
@@ -70,6 +72,7 @@ def test_only_the_default_rule_has_a_twin_and_a_snapshot_carries_it() -> None:
     twin = tracker._twin
     assert twin is not None and twin.depth_offsets.tolist() == [-0.003, 0.0, 0.003]
     assert twin.velocity_filter == VelocityFilter(2, 0.0025)
+    assert twin._cfg[_C_HULL] == 0.0 and tracker._cfg[_C_HULL] == 1.0  # the twin's interval is a guard: no hull
     assert MudTrackers(1, depth_offsets=[0.0])._twin.depth_offsets.tolist() == [0.0]  # type: ignore[union-attr]
     assert MudTrackers(1, depth_offsets=[0.005, 0.01])._twin.depth_offsets.tolist() == [0.005, 0.01]  # type: ignore[union-attr]
     for k in range(50):
@@ -159,3 +162,26 @@ def test_the_quick_twin_holds_a_wet_deep_robot_under_a_30_ms_low_pass() -> None:
     # the estimate and the lag are the first bank's: measured a median 28.1 % and 45 ms
     assert np.median(r.water_content[late]) == pytest.approx(0.2814, abs=0.002)
     assert np.median(r.force_lag[late]) == pytest.approx(0.045, abs=0.002)
+
+
+def test_the_reported_interval_holds_a_posterior_that_jumps_between_two_modes(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The sensor-chain bench's seed 0, ``robot-model`` 7: the MuJoCo quadruped's front-left foot trotting 4 mm deep
+    into W = 17.59 % mud, the model's force along its path through the row "hard, all" (offset +5 mm, delay 10 ms,
+    low-pass 10 ms, 20 Hz; ``SensorChain(force_noise=0.2, depth_noise=3e-5, force_bias=..., ...)``), 30 s.
+
+    Its posterior jumps to the wet end (34.6 %) for a few samples: the interval as read then missed the truth,
+    unflagged, on 4 of the 541 samples after 3 s (5.45-5.6 s). The reported interval is the hull of the last second or
+    so of intervals (``_HULL_MEMORY``), which holds the dry mode through the jump (docs/tracking.md, "The reported
+    interval's memory"); the change flag reads the interval as read, so it comes at the same sample either way."""
+    truth = 0.17592334481867503
+    t, z, f = np.loadtxt(Path(__file__).parent / "data" / "robot_model_shallow_dry_hard_all_seed0.csv",
+                         delimiter=",", skiprows=1, unpack=True)
+    late = t >= 3.0
+    r = track(t, z, f, FOOT)
+    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 541
+    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)
+    read = track(t, z, f, FOOT)
+    missed = late & ~((read.low <= truth) & (truth <= read.high)) & ~(read.changed | read.misfit)
+    assert np.flatnonzero(missed).tolist() == [109, 110, 111, 112]  # 5.45-5.6 s, the estimate at 34.6 %
+    assert np.array_equal(r.water_content, read.water_content) and np.array_equal(r.changed, read.changed)
+    assert np.all(r.low <= read.low) and np.all(r.high >= read.high)  # the hull: never narrower
