@@ -935,8 +935,9 @@ def identify_water_content(
         # or depth offset (docs/estimation-history.md, "identify's estimate at the misfit member")
         if estimate_fails:
             estimate = misfit_w
-            low = max(min(low, estimate - MIN_HALF_WIDTH), lo)
-            high = min(max(high, estimate + MIN_HALF_WIDTH), hi)
+            # with the allowances least squares' estimate has: the gain's shift and the rate check's
+            low = max(min(low, estimate - MIN_HALF_WIDTH - shift_down - rate_shift), lo)
+            high = min(max(high, estimate + MIN_HALF_WIDTH + shift_up + rate_shift), hi)
     # at the range's edge: the reported estimate, or least squares' where the estimate moved off it
     edge = [name for name, x in (("the estimate", estimate), ("least squares' estimate", w_best))
             if x - lo < 1e-3 or hi - x < 1e-3]
