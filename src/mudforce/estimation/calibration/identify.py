@@ -88,6 +88,7 @@ from scipy.stats import t as student_t
 
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
+from mudforce._plumbing.pairwise import pairwise_mean, pairwise_sum
 from mudforce.errors import InputError
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
@@ -100,7 +101,7 @@ from mudforce.estimation.calibration.preprocess import (
     tare_correction,
 )
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_gain_uncertainty
-from mudforce.model.equations import array_form, rest_band_forces
+from mudforce.model.equations import rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import spring_stress
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -396,15 +397,64 @@ def _sandwich_half_width(jac: np.ndarray, r: np.ndarray, contact: np.ndarray, le
 
 
 @njit(cache=True, nogil=True)
-def _lowpass(time: np.ndarray, x: np.ndarray, tau: float) -> np.ndarray:  # pragma: no cover - compiled
-    """First-order low-pass ``tau y' + y = x`` [same unit as ``x``], exact for ``x`` linear between samples (ours)."""
-    y = np.empty_like(x)
-    y[0] = x[0]
-    for k in range(x.size - 1):
+def _lowpass_into(y: np.ndarray, x: np.ndarray, k: int, a: float, h: float, tau: float) -> None:  # pragma: no cover
+    """Sample ``k + 1`` of the first-order low-pass ``tau y' + y = x`` [same unit as ``x``], exact for ``x`` linear
+    between samples (ours), after a step of ``h`` [s] with ``a = exp(-h / tau)``."""
+    y[k + 1] = a * y[k] + (1.0 - a) * x[k] + (x[k + 1] - x[k]) * (1.0 - tau * (1.0 - a) / h)
+
+
+@njit(cache=True, nogil=True)
+def _np_min(a: float, b: float) -> float:  # pragma: no cover - compiled
+    """``np.minimum(a, b)``: NaN kept, ``b`` on a tie (the sign of a zero as numpy's)."""
+    return a if (a < b or a != a) else b
+
+
+@njit(cache=True, nogil=True)
+def _np_max(a: float, b: float) -> float:  # pragma: no cover - compiled
+    """``np.maximum(a, b)``: NaN kept, ``b`` on a tie (the sign of a zero as numpy's)."""
+    return a if (a > b or a != a) else b
+
+
+@njit(cache=True, nogil=True)
+def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, state: np.ndarray, mud: np.ndarray,
+                      spring: np.ndarray, k_m_i: float, k_m_w: float, area: float, lag: float
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # pragma: no cover - compiled
+    """The rest band ``(low, high)`` [N] about the model's ``force`` [N] at each sample, and all three through a
+    force lag ``lag`` [s] (see :func:`_force_and_band`).
+
+    At a sample in contact (``state`` > 0) the band is :func:`~mudforce.model.equations.rest_band_forces` at the
+    Maxwell strain ``depth - mud`` [m] and the spring stress ``spring`` [Pa] (its intrusion edge 0 at or above the
+    surface), widened to hold the force; elsewhere it is the force itself. With ``lag`` > 0 the three pass through
+    the first-order low-pass ``tau y' + y = x``, exact for ``x`` linear between samples (ours).
+
+    Speed plumbing: one compiled pass for what numpy did in a dozen (and one ``exp`` a sample for the three, not
+    three), the same operations in the same order, so the same bits.
+    """
+    n = force.size
+    low = np.empty(n)
+    high = np.empty(n)
+    for k in range(n):
+        f = force[k]
+        if state[k] > 0:
+            up, down = rest_band_forces(depth[k] - mud[k], spring[k], k_m_i, k_m_w, area)
+            if not depth[k] > 0.0:
+                down = 0.0
+            low[k] = _np_min(_np_min(up, down), f)
+            high[k] = _np_max(_np_max(up, down), f)
+        else:
+            low[k] = f
+            high[k] = f
+    if not lag > 0.0 or n == 0:
+        return force, low, high
+    f_out, low_out, high_out = np.empty(n), np.empty(n), np.empty(n)
+    f_out[0], low_out[0], high_out[0] = force[0], low[0], high[0]
+    for k in range(n - 1):
         h = time[k + 1] - time[k]
-        a = math.exp(-h / tau)
-        y[k + 1] = a * y[k] + (1.0 - a) * x[k] + (x[k + 1] - x[k]) * (1.0 - tau * (1.0 - a) / h)
-    return y
+        a = math.exp(-h / lag)
+        _lowpass_into(f_out, force, k, a, h, lag)
+        _lowpass_into(low_out, low, k, a, h, lag)
+        _lowpass_into(high_out, high, k, a, h, lag)
+    return f_out, low_out, high_out
 
 
 def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
@@ -415,7 +465,7 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     the stepper's own Maxwell strain, widened to hold the model's force
     (after necking the withdrawal edge is the post-necking force); out of the
     mud it is the force itself. With ``lag`` > 0 [s] all three pass through
-    the first-order low-pass a force sensor applies.
+    the first-order low-pass a force sensor applies (:func:`_band_through_lag`).
     """
     row = K.make_params(q.as_array(), foot.area, foot.width, 1, 0.0)[None, :]
     bad, force, state, mud, _ = run_compact(time, depth, row, 1)
@@ -424,15 +474,7 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     # Eq. (4) at every sample, 0 above the surface (one compiled loop over the same function: its power gives the
     # same bits in a loop as in a single call)
     spring = spring_stress(depth, q.alpha, q.beta, foot.width)
-    inside = depth > 0.0
-    up, down = array_form(rest_band_forces)(depth - mud, spring, q.k_m_i, q.k_m_w, foot.area)
-    down = np.where(inside, down, 0.0)
-    contact = state > 0
-    low = np.where(contact, np.minimum(np.minimum(up, down), force), force)
-    high = np.where(contact, np.maximum(np.maximum(up, down), force), force)
-    if lag > 0.0:
-        force, low, high = (_lowpass(time, x, lag) for x in (force, low, high))
-    return force, low, high
+    return _band_through_lag(time, depth, force, state, mud, spring, q.k_m_i, q.k_m_w, foot.area, lag)  # type: ignore[no-any-return]
 
 
 def _with_neighbours(x: np.ndarray) -> np.ndarray:
@@ -474,41 +516,70 @@ def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measure
     return out
 
 
+@njit(cache=True, nogil=True)
 def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
-                     variance: np.ndarray, free: np.ndarray) -> float:
+                     variance: np.ndarray, free: np.ndarray) -> float:  # pragma: no cover - compiled
     """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights.
 
     ``model`` [N] is the model's force, ``low``, ``high`` [N] the rest band (``rest`` samples: the residual is the
-    measured force's distance outside it), ``measured`` [N] the force with the least-squares bias removed,
-    ``variance`` [N^2] each sample's floor. The bias is moved from the least-squares one to the nearest local minimum
-    of the statistic (Newton steps on the samples inside their clip, halved until the statistic does not rise; ours):
-    least squares weighs every sample alike, so a few samples with a floor of tens of newtons (an event between two
-    samples) set the bias that a sample out of the mud, whose floor is the force noise, then reads. The ``free``
-    samples (the foot above the surface, the model's force nil) read the bias itself, with no branch to misread: the
-    re-profile weighs them uncapped, so that it cannot give them up to fit the samples in the mud.
+    measured force's distance outside it, :func:`_band_residual`), ``measured`` [N] the force with the least-squares
+    bias removed, ``variance`` [N^2] each sample's floor. The bias is moved from the least-squares one to the nearest
+    local minimum of the statistic (Newton steps on the samples inside their clip, halved until the statistic does
+    not rise; ours): least squares weighs every sample alike, so a few samples with a floor of tens of newtons (an
+    event between two samples) set the bias that a sample out of the mud, whose floor is the force noise, then reads.
+    The ``free`` samples (the foot above the surface, the model's force nil) read the bias itself, with no branch to
+    misread: the re-profile weighs them uncapped, so that it cannot give them up to fit the samples in the mud.
+
+    Speed plumbing: one compiled loop over the samples per reading, the sums in numpy's pairwise order
+    (:func:`mudforce._plumbing.pairwise.pairwise_mean`), so the same bits as the numpy statement of this rule
+    (``tests/estimation/test_identify_speed.py``), ~10 times faster (it runs thousands of times an identify).
     """
-    def residual(d: float) -> tuple[np.ndarray, float, float]:
-        m = measured + d
-        r = _band_residual(model, low, high, m, rest)
-        z2 = r**2 / variance
-        return r, float(np.mean(np.where(free, z2, np.minimum(z2, _MISFIT_CLIP)))), float(
-            np.mean(np.minimum(z2, _MISFIT_CLIP)))
+    n = model.size
+    r = np.empty(n)
+    r_new = np.empty(n)
+    cost_terms = np.empty(n)
+    stat_terms = np.empty(n)
+    picked = np.empty(n)
+    weights = np.empty(n)
+
+    def residual(d: float, out: np.ndarray) -> tuple[float, float]:
+        for k in range(n):
+            m = measured[k] + d
+            if rest[k]:  # numpy's clip: max then min, each keeping the first where the test fails
+                c = m if m > low[k] else low[k]
+                c = c if c < high[k] else high[k]
+            else:
+                c = model[k]
+            rk = c - m
+            out[k] = rk
+            z2 = rk * rk / variance[k]
+            capped = z2 if (z2 < _MISFIT_CLIP or z2 != z2) else _MISFIT_CLIP  # np.minimum, NaN kept
+            cost_terms[k] = z2 if free[k] else capped
+            stat_terms[k] = capped
+        return pairwise_mean(cost_terms, n), pairwise_mean(stat_terms, n)
 
     d = 0.0
-    r, cost, stat = residual(d)
+    cost, stat = residual(d, r)
     for _ in range(30):
-        active = ((r**2 < _MISFIT_CLIP * variance) | free) & (r != 0.0)
-        if not np.any(active):
+        count = 0
+        for k in range(n):
+            if ((r[k] * r[k] < _MISFIT_CLIP * variance[k]) or free[k]) and r[k] != 0.0:
+                picked[count] = r[k] / variance[k]
+                weights[count] = 1.0 / variance[k]
+                count += 1
+        if count == 0:
             break
-        step = float(np.sum(r[active] / variance[active]) / np.sum(1.0 / variance[active]))
+        step = pairwise_sum(picked, count) / pairwise_sum(weights, count)
+        cost_new = stat_new = 0.0
         while abs(step) > 1e-9:
-            r_new, cost_new, stat_new = residual(d + step)
+            cost_new, stat_new = residual(d + step, r_new)
             if cost_new <= cost:
                 break
             step *= 0.5
         if abs(step) <= 1e-9:
             break
-        d, r, cost, stat = d + step, r_new, cost_new, stat_new
+        d, cost, stat = d + step, cost_new, stat_new
+        r, r_new = r_new, r
     return stat
 
 
@@ -633,6 +704,20 @@ def _passing_members(root: Callable[[float, float, float], float], points: np.nd
     return low, high, least, at
 
 
+def _once_each(family: Callable[[float], MudParameters]) -> Callable[[float], MudParameters]:
+    """``family`` [-] -> :class:`MudParameters`, called once per water content (speed plumbing: an identify reads
+    the family thousands of times, at a few hundred water contents; a family is a function of the water content)."""
+    made: dict[float, MudParameters] = {}
+
+    def once(w: float) -> MudParameters:
+        q = made.get(w)
+        if q is None:
+            q = made[w] = family(w)
+        return q
+
+    return once
+
+
 @one_blas_thread
 def identify_water_content(
     trial: Trial | PreparedTrial,
@@ -696,6 +781,7 @@ def identify_water_content(
     t = tr.time
     general = tr.motion is None
     raw = tr.trial.force
+    family = _once_each(family)
 
     def at_rest(time: np.ndarray, depth: np.ndarray, turns: bool = True) -> np.ndarray:
         """Samples read through the rest band (general path; none on a protocol): those whose step moved the foot
