@@ -95,6 +95,7 @@ call, :func:`_track_step`, over arrays held by the object.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from collections.abc import Sequence
@@ -1000,6 +1001,21 @@ def _pack(owner: object) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _blur_matrix(grid: np.ndarray, edges: np.ndarray, sd: float, pile: bool = False) -> np.ndarray:
+    """:func:`_blurred` (read-only), computed once per grid, edges, spread and ``pile`` in a process (speed plumbing:
+    every tracker builds nine, ~60 ms of ``math.erf`` in Python, and a bench or a test suite builds thousands of
+    trackers on the same grid)."""
+    g, e = np.ascontiguousarray(grid, dtype=np.float64), np.ascontiguousarray(edges, dtype=np.float64)
+    return _blur_once(g.tobytes(), e.tobytes(), float(sd), bool(pile))
+
+
+@functools.lru_cache(maxsize=64)
+def _blur_once(grid: bytes, edges: bytes, sd: float, pile: bool) -> np.ndarray:
+    blur = _blurred(np.frombuffer(grid), np.frombuffer(edges), sd, pile)
+    blur.flags.writeable = False
+    return blur
+
+
+def _blurred(grid: np.ndarray, edges: np.ndarray, sd: float, pile: bool = False) -> np.ndarray:
     """``B[g, h]``: the share of a normal of standard deviation ``sd`` [-] around ``grid[h]`` in cell ``g``.
 
     Each column is renormalised to the grid's range (the mass beyond its ends
