@@ -31,6 +31,7 @@ machine and MuJoCo version.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
 
@@ -180,10 +181,15 @@ def _cycles(g: QuadrupedGait, duration: float, rng: np.random.Generator) -> np.n
     return np.array(rows)
 
 
-def _target(g: QuadrupedGait, cycles: np.ndarray, t: float, offset: float) -> tuple[float, float]:
-    """Foot centre target (x, z) relative to its hip [m] for a foot whose phase is ``offset``."""
+def _target(g: QuadrupedGait, cycles: list[list[float]], starts: list[float], t: float,
+            offset: float) -> tuple[float, float]:
+    """Foot centre target (x, z) relative to its hip [m] for a foot whose phase is ``offset``.
+
+    ``cycles`` are :func:`_cycles`' rows and ``starts`` their start times [s], as lists (Python floats: this runs
+    four times a MuJoCo step).
+    """
     shifted = t + offset * g.period
-    k = int(np.searchsorted(cycles[:, 0], shifted, side="right")) - 1
+    k = bisect.bisect_right(starts, shifted) - 1
     start, period, stride, height, press = cycles[k]
     phase = (shifted - start) / period
     bottom = -_HIP_HEIGHT + _RADIUS  # the foot's centre with its bottom at the surface
@@ -230,7 +236,8 @@ def robot_walk(gait: str = "trot", water_content: float = 0.25, *, seed: int = 0
     seed = seed_int(seed, "seed")
     duration = number_within(duration, "duration", 0.1, 600.0, "s")
     g = GAITS[gait]
-    cycles = _cycles(g, duration, np.random.default_rng([seed, 7]))
+    table = _cycles(g, duration, np.random.default_rng([seed, 7]))
+    cycles, starts = table.tolist(), table[:, 0].tolist()
     spec = mj.MjSpec.from_string(QUADRUPED_XML)
     add_mud(spec, list(FEET))
     model = spec.compile()
@@ -238,13 +245,11 @@ def robot_walk(gait: str = "trot", water_content: float = 0.25, *, seed: int = 0
     params = MudParameters.from_water_content(w)
 
     def control(t: float) -> None:
-        for j in range(4):
-            hip, knee = _ik(*_target(g, cycles, t, g.phases[j]))
-            data.ctrl[2 * j], data.ctrl[2 * j + 1] = hip, knee
+        data.ctrl[:8] = [angle for phase in g.phases[:4] for angle in _ik(*_target(g, cycles, starts, t, phase))]
 
     control(0.0)
     # the torso raised so that the lowest foot starts _START above the surface, and the robot drops into the mud
-    lowest = min(_target(g, cycles, 0.0, phase)[1] for phase in g.phases)
+    lowest = min(_target(g, cycles, starts, 0.0, phase)[1] for phase in g.phases)
     data.qpos[1] = _START + (-_HIP_HEIGHT + _RADIUS) - lowest
     data.qpos[3:] = data.ctrl  # the legs start at their targets (qpos: x, z, pitch, then hip/knee pairs)
     mud = MudAdapter(model, data, list(FEET), MudPatch(params), ROBOT_FOOT)

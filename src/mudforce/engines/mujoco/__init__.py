@@ -397,6 +397,8 @@ class MudAdapter:
             ints.append((sid, int(model.site_bodyid[sid]), tid, aid))
         self._ints = np.ascontiguousarray(np.array(ints, dtype=np.int64).T)
         self._tendons = self._ints[I_TENDON]
+        self._tendon_ids = self._tendons.tolist()  # (contact_forces: Python ints)
+        self._friction_tendon = int(mj.mjtConstraint.mjCNSTR_FRICTION_TENDON)
         self._states = K.new_states(n)
         self._out = K.new_out(n)  # the stepper's outputs: written by each step, read by nobody
         self._out[:] = 0.0
@@ -525,17 +527,18 @@ class MudAdapter:
         solver found (``efc_force`` of the foot's friction row): while the
         foot sticks this is the load it carries; while it moves, the branch force.
         """
-        mj = self._mj
         total: np.ndarray = np.array(self._work[W_LAST], dtype=np.float64)
         d = self.data
-        rows = np.flatnonzero(np.asarray(d.efc_type) == int(mj.mjtConstraint.mjCNSTR_FRICTION_TENDON))
-        ids = np.asarray(d.efc_id)[rows]
-        frc = np.asarray(d.efc_force)[rows]
-        for j, tid in enumerate(self._tendons):
-            hit = np.flatnonzero(ids == tid)
-            if hit.size:
+        rows = np.flatnonzero(np.asarray(d.efc_type) == self._friction_tendon)
+        # each tendon's first friction row (a dict of the few rows: one pass, not one search a foot)
+        first: dict[int, float] = {}
+        for tid, frc in zip(np.asarray(d.efc_id)[rows].tolist(), np.asarray(d.efc_force)[rows].tolist(),
+                            strict=True):
+            first.setdefault(tid, frc)
+        for j, tid in enumerate(self._tendon_ids):
+            if tid in first:
                 # the tendon shortens as the foot rises: an upward push is a negative tendon force
-                total[j] -= float(frc[hit[0]])
+                total[j] -= first[tid]
         return total
 
 
