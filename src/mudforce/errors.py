@@ -83,7 +83,8 @@ def real_array(value: Any, name: str, unit: str) -> np.ndarray:
     The one conversion of the API's array inputs (time, depths, forces, ...):
     a sequence or array of Python or numpy integers or floats. Complex
     numbers (whose imaginary part ``float64`` would drop with only a
-    warning), booleans, strings (which numpy would parse) and objects are
+    warning), booleans (also mixed among numbers in a list, which numpy
+    would read as 0 and 1), strings (which numpy would parse) and objects are
     refused with one line naming the dtype. NaN and infinities pass: the
     caller checks the bounds.
 
@@ -111,7 +112,24 @@ def real_array(value: Any, name: str, unit: str) -> np.ndarray:
         kind = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes", "O": "object"}.get(arr.dtype.kind, "")
         what = f"{kind} values (dtype {arr.dtype})" if kind else f"dtype {arr.dtype}"
         raise InputError(f"{name} must be an array of real numbers [{unit}], got {what}")
+    if not isinstance(value, np.ndarray) and _holds_boolean(value):  # numpy reads [0.1, True] as [0.1, 1.0]
+        raise InputError(f"{name} must be an array of real numbers [{unit}], got a sequence holding booleans "
+                         "(True/False among the numbers)")
     return np.asarray(arr, dtype=np.float64)
+
+
+def _holds_boolean(value: Any) -> bool:
+    """Whether a (nested) list or tuple holds a ``bool``, a numpy boolean or a boolean array anywhere."""
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, (bool, np.bool_)):
+            return True
+        if isinstance(item, (list, tuple)):
+            stack.extend(item)
+        elif isinstance(item, np.ndarray) and item.dtype.kind == "b":
+            return True
+    return False
 
 
 def finite_number(value: Any, name: str, unit: str, *, positive: bool = False, nonnegative: bool = False) -> float:

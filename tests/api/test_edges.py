@@ -116,6 +116,21 @@ def test_arrays_that_are_not_real_numbers_are_refused(entry: str, dtype: str) ->
     assert "\n" not in message and "real number" in message, message
 
 
+#: the entries that take any sequence (not only an array: those above that slice or read a dtype are left out)
+SEQUENCE_ENTRIES = ["simulate time", "simulate depth", "MudContacts.step", "MudTrackers.update", "track", "Trial",
+                    "fit_drag", "granular_rft_force", "reference_simulate"]
+
+
+@pytest.mark.parametrize("entry", SEQUENCE_ENTRIES)
+def test_a_list_with_a_boolean_among_its_numbers_is_refused(entry: str) -> None:
+    mixed = [*Z[:-1].tolist(), True]  # numpy alone reads it as float64, the True as 1.0
+    assert np.asarray(mixed).dtype == np.float64
+    with pytest.raises(mf.InputError) as err:
+        ENTRIES[entry](mixed)
+    message = str(err.value)
+    assert "\n" not in message and "real number" in message and "boolean" in message, message
+
+
 def test_real_array_names_the_dtype() -> None:
     from mudforce.errors import real_array
 
