@@ -88,7 +88,6 @@ from scipy.stats import t as student_t
 
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce._plumbing.pairwise import pairwise_mean, pairwise_sum
 from mudforce.errors import InputError
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
@@ -517,59 +516,74 @@ def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measure
 
 
 @njit(cache=True, nogil=True)
+def _misfit_terms(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
+                  variance: np.ndarray, free: np.ndarray, d: float, r: np.ndarray, cost_terms: np.ndarray,
+                  stat_terms: np.ndarray) -> None:  # pragma: no cover - compiled
+    """Each sample's residual ``r`` [N] (:func:`_band_residual` of ``measured + d`` [N]) and its two terms [-] of
+    :func:`_bias_reprofiled`: ``r^2 / variance`` capped at :data:`_MISFIT_CLIP` (``stat_terms``), and uncapped at
+    the ``free`` samples (``cost_terms``). numpy's operations, one pass (``np.clip`` and ``np.minimum`` as numpy
+    has them: NaN kept, the bound on a tie), so the same bits."""
+    for k in range(model.size):
+        m = measured[k] + d
+        if rest[k]:
+            c = m if m > low[k] else low[k]
+            c = c if c < high[k] else high[k]
+        else:
+            c = model[k]
+        rk = c - m
+        r[k] = rk
+        z2 = rk * rk / variance[k]
+        capped = z2 if (z2 < _MISFIT_CLIP or z2 != z2) else _MISFIT_CLIP
+        cost_terms[k] = z2 if free[k] else capped
+        stat_terms[k] = capped
+
+
+@njit(cache=True, nogil=True)
+def _newton_terms(r: np.ndarray, variance: np.ndarray, free: np.ndarray, picked: np.ndarray,
+                  weights: np.ndarray) -> int:  # pragma: no cover - compiled
+    """The samples a Newton step of :func:`_bias_reprofiled` reads (inside their clip, or ``free``; a residual not
+    0), in order: ``r / variance`` into ``picked`` [1/N], ``1 / variance`` into ``weights`` [1/N^2]; returns their
+    count."""
+    count = 0
+    for k in range(r.size):
+        if ((r[k] * r[k] < _MISFIT_CLIP * variance[k]) or free[k]) and r[k] != 0.0:
+            picked[count] = r[k] / variance[k]
+            weights[count] = 1.0 / variance[k]
+            count += 1
+    return count
+
+
 def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
-                     variance: np.ndarray, free: np.ndarray) -> float:  # pragma: no cover - compiled
+                     variance: np.ndarray, free: np.ndarray) -> float:
     """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights.
 
     ``model`` [N] is the model's force, ``low``, ``high`` [N] the rest band (``rest`` samples: the residual is the
-    measured force's distance outside it, :func:`_band_residual`), ``measured`` [N] the force with the least-squares
-    bias removed, ``variance`` [N^2] each sample's floor. The bias is moved from the least-squares one to the nearest
-    local minimum of the statistic (Newton steps on the samples inside their clip, halved until the statistic does
-    not rise; ours): least squares weighs every sample alike, so a few samples with a floor of tens of newtons (an
-    event between two samples) set the bias that a sample out of the mud, whose floor is the force noise, then reads.
-    The ``free`` samples (the foot above the surface, the model's force nil) read the bias itself, with no branch to
-    misread: the re-profile weighs them uncapped, so that it cannot give them up to fit the samples in the mud.
+    measured force's distance outside it), ``measured`` [N] the force with the least-squares bias removed,
+    ``variance`` [N^2] each sample's floor. The bias is moved from the least-squares one to the nearest local minimum
+    of the statistic (Newton steps on the samples inside their clip, halved until the statistic does not rise; ours):
+    least squares weighs every sample alike, so a few samples with a floor of tens of newtons (an event between two
+    samples) set the bias that a sample out of the mud, whose floor is the force noise, then reads. The ``free``
+    samples (the foot above the surface, the model's force nil) read the bias itself, with no branch to misread: the
+    re-profile weighs them uncapped, so that it cannot give them up to fit the samples in the mud.
 
-    Speed plumbing: one compiled loop over the samples per reading, the sums in numpy's pairwise order
-    (:func:`mudforce._plumbing.pairwise.pairwise_mean`), so the same bits as the numpy statement of this rule
-    (``tests/estimation/test_identify_speed.py``), ~10 times faster (it runs thousands of times an identify).
+    Speed plumbing: the per-sample arithmetic in two compiled passes (:func:`_misfit_terms`,
+    :func:`_newton_terms`), the sums and means numpy's own, so the same bits as the rule written in numpy alone
+    (``tests/estimation/test_identify_speed.py``) and several times faster: it runs thousands of times an identify.
     """
     n = model.size
-    r = np.empty(n)
-    r_new = np.empty(n)
-    cost_terms = np.empty(n)
-    stat_terms = np.empty(n)
-    picked = np.empty(n)
-    weights = np.empty(n)
+    r, r_new, cost_terms, stat_terms, picked, weights = (np.empty(n) for _ in range(6))
 
     def residual(d: float, out: np.ndarray) -> tuple[float, float]:
-        for k in range(n):
-            m = measured[k] + d
-            if rest[k]:  # numpy's clip: max then min, each keeping the first where the test fails
-                c = m if m > low[k] else low[k]
-                c = c if c < high[k] else high[k]
-            else:
-                c = model[k]
-            rk = c - m
-            out[k] = rk
-            z2 = rk * rk / variance[k]
-            capped = z2 if (z2 < _MISFIT_CLIP or z2 != z2) else _MISFIT_CLIP  # np.minimum, NaN kept
-            cost_terms[k] = z2 if free[k] else capped
-            stat_terms[k] = capped
-        return pairwise_mean(cost_terms, n), pairwise_mean(stat_terms, n)
+        _misfit_terms(model, low, high, measured, rest, variance, free, d, out, cost_terms, stat_terms)
+        return float(np.mean(cost_terms)), float(np.mean(stat_terms))
 
     d = 0.0
     cost, stat = residual(d, r)
     for _ in range(30):
-        count = 0
-        for k in range(n):
-            if ((r[k] * r[k] < _MISFIT_CLIP * variance[k]) or free[k]) and r[k] != 0.0:
-                picked[count] = r[k] / variance[k]
-                weights[count] = 1.0 / variance[k]
-                count += 1
+        count = _newton_terms(r, variance, free, picked, weights)
         if count == 0:
             break
-        step = pairwise_sum(picked, count) / pairwise_sum(weights, count)
+        step = float(np.sum(picked[:count]) / np.sum(weights[:count]))
         cost_new = stat_new = 0.0
         while abs(step) > 1e-9:
             cost_new, stat_new = residual(d + step, r_new)
