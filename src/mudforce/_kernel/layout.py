@@ -377,6 +377,8 @@ def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float) -> list
         ("direction is not -1, 0 or 1", ~np.isin(direction, (-1.0, 0.0, 1.0))),
         ("time is negative", states[:, S_TIME] < 0.0),
         (f"depth is beyond +-{max_depth:g} m", np.abs(states[:, S_DEPTH]) > max_depth),
+        # z_i - z_m: the mud relaxes toward depths within +-max_depth, so the strain stays within twice that
+        (f"Maxwell strain is beyond +-{2.0 * max_depth:g} m", np.abs(states[:, S_STRAIN]) > 2.0 * max_depth),
         ("neck age is negative", states[:, S_NECK_AGE] < 0.0),
         ("cached decays are outside [0, 1]", ((decays < 0.0) | (decays > 1.0)).any(axis=1)),
     ]

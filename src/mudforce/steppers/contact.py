@@ -38,7 +38,7 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
     InputError
         Naming the first bad row and field: a non-finite value, ``started``
         not 0 or 1, a mode not 0, 1, 2, a direction not -1, 0, 1, a negative
-        time or neck age, a depth beyond +-100 m, cached decays outside [0, 1],
+        time or neck age, a depth beyond +-100 m, a Maxwell strain beyond +-200 m, cached decays outside [0, 1],
         a filter history whose count or head is not a valid index.
     """
     checks = K.invalid_rows(states, ring, MAX_DEPTH)
