@@ -70,12 +70,15 @@ def test_contact_state_garbage_is_refused(data: st.DataObject) -> None:
     before = contact.state
     garbage = before.data.copy()
     column = data.draw(st.sampled_from([K.S_STARTED, K.S_MODE, K.S_DIRECTION, K.S_TIME, K.S_DEPTH, K.S_MUD,
-                                        K.S_NECK_AGE, K.S_CACHE_DECAY_I, K.S_STRAIN]))
+                                        K.S_NECK_AGE, K.S_CACHE_DECAY_I, K.S_STRAIN, K.S_VELOCITY, K.S_NECK_V,
+                                        K.S_NECK_G, K.S_NECK_GI]))
     value = data.draw(st.sampled_from([np.nan, np.inf, 7.0, 0.5, -3.0, 1e9, -1e300]))
     garbage[column] = value
     plausible = {K.S_MUD: np.isfinite(value), K.S_TIME: 0 <= value < np.inf, K.S_NECK_AGE: 0 <= value < np.inf,
                  K.S_DEPTH: abs(value) <= MAX_DEPTH, K.S_CACHE_DECAY_I: 0 <= value <= 1,
-                 K.S_STRAIN: abs(value) <= 2.0 * MAX_DEPTH}
+                 K.S_STRAIN: abs(value) <= 2.0 * MAX_DEPTH, K.S_VELOCITY: abs(value) <= 2.0 * MAX_DEPTH / MIN_DT,
+                 K.S_NECK_V: abs(value) <= 2.0 * MAX_DEPTH / MIN_DT, K.S_NECK_G: abs(value) <= 1.0,
+                 K.S_NECK_GI: abs(value) <= garbage[K.S_NECK_AGE] * (1.0 + 1e-6) + 1e-12}
     if plausible.get(column, False):
         return  # a value a contact can hold
     try:

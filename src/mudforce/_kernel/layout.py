@@ -348,7 +348,8 @@ def forget_cache(states: np.ndarray) -> None:
     states[..., S_CACHE_DT] = -1.0
 
 
-def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float) -> list[tuple[str, np.ndarray]]:
+def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float,
+                 max_speed: float = math.inf) -> list[tuple[str, np.ndarray]]:
     """Which rows of ``states`` (and of the filter histories ``ring``) the stepper could never have made.
 
     For validating a restored state as strictly as a fresh one
@@ -362,6 +363,9 @@ def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float) -> list
         The velocity filter's histories.
     max_depth : float
         Largest ``|z_i|`` a state may hold [m].
+    max_speed : float
+        Largest velocity a state may hold [m/s] (the foot's estimate and the mud's at necking): the stepper's
+        whole depth range in its shortest step.
 
     Returns
     -------
@@ -379,6 +383,13 @@ def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float) -> list
         (f"depth is beyond +-{max_depth:g} m", np.abs(states[:, S_DEPTH]) > max_depth),
         # z_i - z_m: the mud relaxes toward depths within +-max_depth, so the strain stays within twice that
         (f"Maxwell strain is beyond +-{2.0 * max_depth:g} m", np.abs(states[:, S_STRAIN]) > 2.0 * max_depth),
+        (f"a velocity is beyond +-{max_speed:g} m/s",
+         (np.abs(states[:, S_VELOCITY]) > max_speed) | (np.abs(states[:, S_NECK_V]) > max_speed)),
+        # Eq. (7)'s normalised response: |g| <= 1 (the mass-spring-damper's energy only decays from g(0) = 1) and
+        # |G| <= the age (the integral of g); a margin for rounding
+        ("the neck's filter state is beyond its response (|g| <= 1, |G| <= the neck's age)",
+         (np.abs(states[:, S_NECK_G]) > 1.0 + 1e-9)
+         | (np.abs(states[:, S_NECK_GI]) > states[:, S_NECK_AGE] * (1.0 + 1e-6) + 1e-12)),
         ("neck age is negative", states[:, S_NECK_AGE] < 0.0),
         ("cached decays are outside [0, 1]", ((decays < 0.0) | (decays > 1.0)).any(axis=1)),
     ]

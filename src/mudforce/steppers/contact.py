@@ -38,10 +38,11 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
     InputError
         Naming the first bad row and field: a non-finite value, ``started``
         not 0 or 1, a mode not 0, 1, 2, a direction not -1, 0, 1, a negative
-        time or neck age, a depth beyond +-100 m, a Maxwell strain beyond +-200 m, cached decays outside [0, 1],
+        time or neck age, a depth beyond +-100 m, a Maxwell strain beyond +-200 m, a velocity beyond 200 m in
+        1 ns, Eq. (7)'s filter state beyond its response, cached decays outside [0, 1],
         a filter history whose count or head is not a valid index.
     """
-    checks = K.invalid_rows(states, ring, MAX_DEPTH)
+    checks = K.invalid_rows(states, ring, MAX_DEPTH, 2.0 * MAX_DEPTH / MIN_DT)
     for message, bad in checks:
         rows = np.flatnonzero(bad)
         if rows.size:
