@@ -74,6 +74,7 @@ PINNED: dict[str, list[str]] = {
         "MAX_FORCE_LAG",
         "MIN_HALF_WIDTH",
         "REST_SPEED",
+        "TAIL_SHARE_WARNING",
         "Identification",
         "identify_water_content",
     ],

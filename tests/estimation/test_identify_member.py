@@ -89,6 +89,7 @@ def test_the_interval_reaches_the_member_and_the_truth(monkeypatch: pytest.Monke
     assert full.low == pytest.approx(0.1549, abs=1e-4)
     assert full.member_water_content == member and full.least_squares_water_content == res.water_content
     assert full.misfit_ratio == pytest.approx(1.154, abs=0.005) and not full.model_misses_data
+    assert full.tail_share == pytest.approx(0.041, abs=0.001)  # under the tail's 4.5 %: quiet
     assert abs(full.misfit_water_content - W_ROBOT) < 0.005
     # least squares' own statistic fails: the estimate is that member, by the truth, and the interval holds it
     assert full.water_content == full.misfit_water_content

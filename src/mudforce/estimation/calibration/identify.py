@@ -112,6 +112,7 @@ __all__ = [
     "MAX_FORCE_LAG",
     "MIN_HALF_WIDTH",
     "REST_SPEED",
+    "TAIL_SHARE_WARNING",
     "Identification",
     "identify_water_content",
 ]
@@ -136,6 +137,13 @@ _TURN_SIGMAS = 3.0
 #: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
 #: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
+#: A sample is in the statistic's tail when its residual is beyond three floors (``r^2 / floor^2 > 9``) [-] (ours).
+_TAIL_Z2 = 9.0
+#: Largest share of the samples in the tail before the misfit flag fires [-] (ours; 4.5 %, 15 times a normal
+#: law's 0.3 %): the statistic clips each sample at five floors, so a law missing a fifth of the samples by a
+#: little reads like one missing a few by much; the share tells them apart (docs/estimation.md, "The share of
+#: samples beyond three floors").
+TAIL_SHARE_WARNING = 0.045
 #: Step of the member's scan of the family's range [-] (0.5 points; ours): on the robot recordings of the sensor-chain
 #: bench the statistic's minimum over the water content is about a point wide, and it has local minima (a branch
 #: read differently at a sample makes it jump), so the scan covers the whole range, not only the interval.
@@ -259,6 +267,10 @@ class Identification:
         The least-squares estimate [-] (every sample weighed alike, the depth offset and the force lag fitted jointly):
         the fit ``rmse``, ``bias``, ``depth_offset`` and ``force_lag`` belong to. Equal to ``water_content`` unless
         that was moved to ``misfit_water_content``. NaN where the result was built without it.
+    tail_share : float
+        The share of the samples [-] whose residual lies beyond three noise floors at the least misfit statistic
+        found (its water content, depth offset, force lag and re-profiled bias): the misfit flag's second reading
+        (:data:`TAIL_SHARE_WARNING`). NaN on a protocol trial and on fewer than 8 samples (not read).
     """
 
     water_content: float
@@ -291,6 +303,7 @@ class Identification:
     member_water_content: float = math.nan
     misfit_water_content: float = math.nan
     least_squares_water_content: float = math.nan
+    tail_share: float = math.nan
 
     @property
     def low(self) -> float:
@@ -304,8 +317,9 @@ class Identification:
 
     @property
     def model_misses_data(self) -> bool:
-        """True when the RMSE exceeds the force noise by more than :data:`MISFIT_WARNING_RATIO`."""
-        return self.misfit_ratio > MISFIT_WARNING_RATIO
+        """True when the RMSE exceeds the noise floor by more than :data:`MISFIT_WARNING_RATIO`, or more than
+        :data:`TAIL_SHARE_WARNING` of the samples lie beyond three floors (:attr:`tail_share`)."""
+        return self.misfit_ratio > MISFIT_WARNING_RATIO or self.tail_share > TAIL_SHARE_WARNING
 
     def to_dict(self) -> dict[str, object]:
         """The JSON object of ``mudforce identify --json``.
@@ -319,7 +333,7 @@ class Identification:
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
         ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
         ``depth_noise_m``, ``unresolved_depth_m``, ``member_water_content``, ``misfit_water_content``,
-        ``least_squares_water_content``, ``warnings``.
+        ``least_squares_water_content``, ``tail_share``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -355,6 +369,7 @@ class Identification:
             "member_water_content": finite(self.member_water_content),
             "misfit_water_content": finite(self.misfit_water_content),
             "least_squares_water_content": finite(self.least_squares_water_content),
+            "tail_share": finite(self.tail_share),
             "warnings": list(self.warnings),
         }
 
@@ -554,8 +569,9 @@ def _newton_terms(r: np.ndarray, variance: np.ndarray, free: np.ndarray, picked:
 
 
 def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
-                     variance: np.ndarray, free: np.ndarray) -> float:
-    """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights.
+                     variance: np.ndarray, free: np.ndarray) -> tuple[float, float]:
+    """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights;
+    and the bias moved [N] (the residuals are those of ``measured`` plus it).
 
     ``model`` [N] is the model's force, ``low``, ``high`` [N] the rest band (``rest`` samples: the residual is the
     measured force's distance outside it), ``measured`` [N] the force with the least-squares bias removed,
@@ -594,7 +610,7 @@ def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measu
             break
         d, cost, stat = d + step, cost_new, stat_new
         r, r_new = r_new, r
-    return stat
+    return stat, d
 
 
 def _scan_minimum(cost: Callable[[float], float], points: np.ndarray, *, ties_to_search: bool) -> float:
@@ -992,21 +1008,22 @@ def identify_water_content(
     # beyond the interval's edge. The interval reaches it, with a margin (docs/estimation-history.md, "identify's
     # interval reaches the member that fits"); the flag, and where least squares fails it the estimate, below
     member = misfit_w = math.nan
+    tail_share = math.nan
     estimate = w_best
     if general and n >= 8:
         v = np.maximum(noise_var + disc2, least)
-        seen: dict[tuple[float, float, float], float] = {}
+        seen: dict[tuple[float, float, float], tuple[float, float]] = {}
 
         def statistic_at(w: float, depth_offset: float, force_lag: float) -> float:
             """The statistic [-] at water content ``w`` [-], the model at ``depth + depth_offset`` [m] through a
-            force lag ``force_lag`` [s] (each point computed once)."""
+            force lag ``force_lag`` [s] (each point computed once, with its re-profiled bias)."""
             key = (w, depth_offset, force_lag)
             if key not in seen:
                 z = tr.depth + depth_offset
                 model, band_low, band_high = _force_and_band(t, z, family(w), foot, force_lag)
                 free = (z <= 0.0) & (model**2 <= 1e-4 * v)  # out of the mud, the model's force nil (1 % of the floor)
                 seen[key] = _bias_reprofiled(model, band_low, band_high, meas, rest, v, free)
-            return seen[key]
+            return seen[key][0]
 
         def statistic(w: float) -> float:
             return statistic_at(w, offset, lag)
@@ -1025,6 +1042,13 @@ def identify_water_content(
                              [member, w_best])
         held = np.array([root(float(w), offset, lag) for w in readings])
         low, high, least_root, at = _passing_members(root, readings, held, member, (low, high), offset, lag, (lo, hi))
+        # the tail's share at the least statistic found (its offset, lag and re-profiled bias): the flag's second
+        # reading, which the statistic's clip hides
+        (tail_w, tail_offset, tail_lag), (_, moved) = min(seen.items(), key=lambda item: item[1][0])
+        z_tail = tr.depth + tail_offset
+        model_tail, low_tail, high_tail = _force_and_band(t, z_tail, family(tail_w), foot, tail_lag)
+        r_tail = _band_residual(model_tail, low_tail, high_tail, meas + moved, rest)
+        tail_share = float(np.mean(r_tail * r_tail / v > _TAIL_Z2))
         misfit_w, estimate_fails = w_best, ratio > MISFIT_WARNING_RATIO
         if least_root < ratio:
             floor = rmse / least_root if least_root > 0.0 else math.sqrt(float(np.mean(v)))
@@ -1054,6 +1078,13 @@ def identify_water_content(
                         f"{misfit_w * 100 if math.isfinite(misfit_w) else w_best * 100:.4g} %, the depth offset and "
                         "force lag refitted there); the estimate is the nearest water content and the interval is "
                         "widened for the misfit")
+    elif tail_share > TAIL_SHARE_WARNING:
+        warnings.append(f"{tail_share:.1%} of the samples lie beyond three noise floors at the best water content "
+                        f"found ({misfit_w * 100 if math.isfinite(misfit_w) else w_best * 100:.4g} %, the depth "
+                        f"offset and force lag refitted there), where at most {TAIL_SHARE_WARNING:.1%} would: the "
+                        "data are off the Table I family (another mud, another foot than assumed, or a model "
+                        "error) in more samples than the misfit ratio shows; the estimate is the nearest water "
+                        "content")
     if rate_shift > _RATE_SHIFT_WARNING:
         warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
                         "sample: the sample rate is too low for the model to follow this motion (touchdowns and "
@@ -1094,5 +1125,6 @@ def identify_water_content(
         member_water_content=member,
         misfit_water_content=misfit_w,
         least_squares_water_content=w_best,
+        tail_share=tail_share,
     )
 
