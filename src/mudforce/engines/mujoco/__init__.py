@@ -396,8 +396,7 @@ class MudAdapter:
                                  "before compiling")
             ints.append((sid, int(model.site_bodyid[sid]), tid, aid))
         self._ints = np.ascontiguousarray(np.array(ints, dtype=np.int64).T)
-        self._tendons = self._ints[I_TENDON]
-        self._tendon_ids = self._tendons.tolist()  # (contact_forces: Python ints)
+        self._tendon_ids = self._ints[I_TENDON].tolist()  # each foot's tendon, as Python ints (contact_forces)
         self._friction_tendon = int(mj.mjtConstraint.mjCNSTR_FRICTION_TENDON)
         self._states = K.new_states(n)
         self._out = K.new_out(n)  # the stepper's outputs: written by each step, read by nobody

@@ -1008,7 +1008,7 @@ def identify_water_content(
     # beyond the interval's edge. The interval reaches it, with a margin (docs/estimation-history.md, "identify's
     # interval reaches the member that fits"); the flag, and where least squares fails it the estimate, below
     member = misfit_w = math.nan
-    tail_share = math.nan
+    tail_share = tail_at = math.nan
     estimate = w_best
     if general and n >= 8:
         v = np.maximum(noise_var + disc2, least)
@@ -1044,9 +1044,9 @@ def identify_water_content(
         low, high, least_root, at = _passing_members(root, readings, held, member, (low, high), offset, lag, (lo, hi))
         # the tail's share at the least statistic found (its offset, lag and re-profiled bias): the flag's second
         # reading, which the statistic's clip hides
-        (tail_w, tail_offset, tail_lag), (_, moved) = min(seen.items(), key=lambda item: item[1][0])
+        (tail_at, tail_offset, tail_lag), (_, moved) = min(seen.items(), key=lambda item: item[1][0])
         z_tail = tr.depth + tail_offset
-        model_tail, low_tail, high_tail = _force_and_band(t, z_tail, family(tail_w), foot, tail_lag)
+        model_tail, low_tail, high_tail = _force_and_band(t, z_tail, family(tail_at), foot, tail_lag)
         r_tail = _band_residual(model_tail, low_tail, high_tail, meas + moved, rest)
         tail_share = float(np.mean(r_tail * r_tail / v > _TAIL_Z2))
         misfit_w, estimate_fails = w_best, ratio > MISFIT_WARNING_RATIO
@@ -1080,8 +1080,8 @@ def identify_water_content(
                         "widened for the misfit")
     elif tail_share > TAIL_SHARE_WARNING:
         warnings.append(f"{tail_share:.1%} of the samples lie beyond three noise floors at the best water content "
-                        f"found ({misfit_w * 100 if math.isfinite(misfit_w) else w_best * 100:.4g} %, the depth "
-                        f"offset and force lag refitted there), where at most {TAIL_SHARE_WARNING:.1%} would: the "
+                        f"found ({tail_at * 100:.4g} %, the depth offset and force lag refitted there), where at "
+                        f"most {TAIL_SHARE_WARNING:.1%} would: the "
                         "data are off the Table I family (another mud, another foot than assumed, or a model "
                         "error) in more samples than the misfit ratio shows; the estimate is the nearest water "
                         "content")
