@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -351,3 +352,21 @@ def test_the_compiled_step_is_the_many_feet_step_and_compiles_nothing_of_its_own
     one.step([0.0, 0.001, -0.007], UPRIGHT.tolist(), np.float64(1e-3))
     assert not numpy_steps and len(step3d.step_feet.overloads) == compiled
     assert one.element_forces.shape == (SPHERE.n, 3) and one.element_forces[:, 2].sum() > 0.0
+
+
+def test_a_foot_beyond_the_depth_bound_is_refused_in_the_words_of_one_foot() -> None:
+    """One foot far below (or above) the surface is refused naming the foot's position, not "depth of foot 94"
+    (the elements' own stepper, where each element is a "foot"), and nothing moves."""
+    contact = MudContact3D(mf.MudParameters.from_water_content(0.25), SPHERE)
+    _settled(contact, 0.01, steps=3)
+    saved = contact.state
+    for z in (-100.0, -1e4, 1e300):
+        for position in ([0.0, 0.0, z], np.array([0.0, 0.0, z])):
+            with pytest.raises(InputError) as info:
+                contact.step(position, UPRIGHT, 0.01)
+            text = str(info.value)
+            assert re.fullmatch(r"element \d+ would be at depth \S+ m, beyond \+-100 m of the surface "
+                                r"\(position \[0\.0, 0\.0, \S+\] \[m\]\); the foot was not stepped", text), text
+            after = contact.state
+            np.testing.assert_array_equal(after.elements, saved.elements)
+            np.testing.assert_array_equal(after.centroids, saved.centroids)

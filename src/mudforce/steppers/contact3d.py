@@ -358,7 +358,11 @@ class MudContact3D:
         depth = law3d.element_depth(self.surface_height, p[2], oz)
         if self._started:  # an element turned about at its depth is at rest, not moving by rounding
             depth = law3d.settle_depth(depth, self._elements.depths)  # the depths the elements were stepped to
-        # the paper, element by element (refuses a depth out of bounds before any element moves)
+        if not np.all(np.abs(depth) <= MAX_DEPTH):  # worded for the foot (the elements' stepper says "foot k")
+            k = int(np.flatnonzero(~(np.abs(depth) <= MAX_DEPTH))[0])
+            raise InputError(f"element {k} would be at depth {float(depth[k])!r} m, beyond +-{MAX_DEPTH:g} m of the "
+                             f"surface (position {p.tolist()!r} [m]); the foot was not stepped")
+        # the paper, element by element
         stress = self._elements.step(depth, dt)
         mx, my = wx - self._centroids[:, 0], wy - self._centroids[:, 1]
         if self._started:  # law3d.element_force and law3d.moment on every element, compiled (S3.element_forces)
