@@ -370,3 +370,29 @@ def test_a_foot_beyond_the_depth_bound_is_refused_in_the_words_of_one_foot() -> 
             after = contact.state
             np.testing.assert_array_equal(after.elements, saved.elements)
             np.testing.assert_array_equal(after.centroids, saved.centroids)
+
+
+def test_a_mangled_state_is_refused_in_one_line_and_changes_nothing() -> None:
+    """A saved state whose slips or centroids are not real numbers, or whose ``started`` is not a bool, is refused
+    with a one-line InputError (not numpy's ValueError or TypeError, nor complex numbers cut to their real part,
+    nor "no" read as True), and the contact is left as it was."""
+    contact = MudContact3D(mf.MudParameters.from_water_content(0.25), SPHERE)
+    _settled(contact, 0.01, steps=3)
+    saved = contact.state
+    n = SPHERE.n
+    for change, match in (
+        ({"slip": "abc"}, "slips must be an array of real numbers"),
+        ({"slip": saved.slip + 1e-9j}, "slips must be an array of real numbers .*complex"),
+        ({"centroids": [[object()] * 3] * n}, "centroids must be an array of real numbers"),
+        ({"started": np.array([True, False])}, "started must be True or False"),
+        ({"started": "no"}, "started must be True or False"),
+        ({"started": None}, "started must be True or False"),
+    ):
+        with pytest.raises(InputError, match=match) as info:
+            contact.state = saved._replace(**change)
+        assert "\n" not in str(info.value)
+        for x, y in zip(contact.state, saved, strict=True):
+            assert np.array_equal(x, y)
+    contact.state = saved._replace(started=np.bool_(True))  # numpy's bool is a bool
+    contact.state = saved._replace(slip=saved.slip.tolist(), centroids=saved.centroids.tolist())  # lists of numbers
+    assert np.array_equal(contact.state.slip, saved.slip) and np.array_equal(contact.state.centroids, saved.centroids)

@@ -226,8 +226,10 @@ class MudContact3D:
     def state(self, saved: ContactState3D) -> None:
         if not isinstance(saved, ContactState3D):
             raise InputError(f"state must be a ContactState3D from .state, got {type(saved).__name__}")
-        slip = np.asarray(saved.slip, dtype=np.float64)
-        centroids = np.asarray(saved.centroids, dtype=np.float64)
+        slip = real_array(saved.slip, "a state's slips", "m")  # refuses strings, complex, objects (as MudContacts3D)
+        centroids = real_array(saved.centroids, "a state's centroids", "m")
+        if not isinstance(saved.started, (bool, np.bool_)):
+            raise InputError(f"a state's started must be True or False, got {saved.started!r}")
         n = self.shape.n
         if slip.shape != (n, 2) or centroids.shape != (n, 3):
             raise InputError(f"a state of this {n}-element foot has slips (n, 2) and centroids (n, 3), got "
