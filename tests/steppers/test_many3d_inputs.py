@@ -268,3 +268,18 @@ def test_lateral_stiffness_and_shapes_are_bounded() -> None:
     with pytest.raises(InputError, match=r"shape areas must be at most 100 m\^2 each, got 1000.0 at element 0"):
         shapes.Shape(np.array([[0.0, 0.0, 0.0]]), up, np.array([1e3]), closed=False)
     shapes.Shape(np.array([[0.0, 0.0, 10.0]]), up, np.array([100.0]), closed=False)  # on the bounds
+
+
+def test_element_slice_takes_an_integer_foot_only() -> None:
+    """A foot that is not an integer (a float, a string, None, a bool) is refused with a one-line InputError, not
+    numpy's or int()'s ValueError/TypeError, nor 0.7 read as foot 0; integers (numpy's too, negative from the end)
+    are taken."""
+    feet = MudContacts3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.04), 2)
+    per = feet.n_elements // 2
+    assert feet.element_slice(1) == slice(per, 2 * per) == feet.element_slice(np.int64(-1))
+    for bad in (0.7, 1.0, "a", None, True):
+        with pytest.raises(InputError, match=r"foot must be an integer index 0\.\.1, got ") as info:
+            feet.element_slice(bad)
+        assert "\n" not in str(info.value)
+    with pytest.raises(InputError, match=r"foot index out of range 0\.\.1: 2"):
+        feet.element_slice(2)

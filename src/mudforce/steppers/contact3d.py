@@ -793,6 +793,8 @@ class MudContacts3D:
 
     def element_slice(self, foot: int) -> slice:
         """The rows of foot ``foot``'s elements in :attr:`state`'s arrays."""
+        if isinstance(foot, bool) or not isinstance(foot, (int, np.integer)):  # not int(): 0.7 would be foot 0
+            raise InputError(f"foot must be an integer index 0..{self.n - 1}, got {type(foot).__name__} {foot!r}")
         f = int(foot)
         if not -self.n <= f < self.n:
             raise InputError(f"foot index out of range 0..{self.n - 1}: {foot!r}")
