@@ -526,3 +526,26 @@ def test_mujoco_errors_name_the_geom(mj_model: object) -> None:
         bad = mujoco.MjModel.from_xml_string(_mjcf(faces))  # MuJoCo compiles both
         text = _one_line(lambda bad=bad: shapes.from_mujoco_geom(bad, "foot"))
         assert text.startswith("MuJoCo geom 'foot': ") and message in text
+
+
+def test_arrays_that_are_not_real_numbers_are_refused_as_every_array_input_is() -> None:
+    """A Shape's or a mesh's arrays of complex numbers (which numpy cut to their real part with only a warning),
+    booleans (read as 0 and 1), strings (parsed) or ragged rows get one-line InputErrors naming what they hold, as
+    every array input of the API does (mudforce.errors.real_array), not a shape built from other numbers or
+    numpy's ValueError."""
+    one = dict(centroids=[[0.0, 0.0, 0.0]], normals=[[0.0, 0.0, -1.0]], areas=[1e-4], width=0.01)
+    for change, message in (
+        (dict(centroids=np.array([[0.0, 0.0, 1e-3j]])), "shape centroids must be an array of numbers, got complex"),
+        (dict(normals=np.array([[0.0, 0.0, -1.0 + 0j]])), "shape normals must be an array of numbers, got complex"),
+        (dict(areas=[True]), "shape areas must be an array of numbers, got boolean"),
+        (dict(centroids=[["0", "0", "0"]]), "shape centroids must be an array of numbers, got string"),
+    ):
+        assert message in _one_line(lambda change=change: Shape(**{**one, **change}))  # type: ignore[arg-type]
+    v, f = tetra()
+    assert "mesh vertices must be an array (k, 3) of numbers [m], got complex" in _one_line(
+        lambda: shapes.mesh(v + 1e-3j, f))
+    assert "mesh vertices must be an array (k, 3) of numbers [m], got string" in _one_line(
+        lambda: shapes.mesh(v.astype(str), f))
+    ragged = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2]]
+    assert "mesh faces must be an integer array (m, 3)" in _one_line(lambda: shapes.mesh(v, ragged))
+    assert shapes.mesh(v.tolist(), f.tolist()).n == shapes.mesh(v, f).n  # lists of numbers are taken

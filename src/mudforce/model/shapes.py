@@ -107,7 +107,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError, is_real, number_within
+from mudforce.errors import InputError, is_real, number_within, real_array
 from mudforce.model.foot import AREA_RANGE, SIZE_RANGE, Foot
 
 __all__ = ["DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
@@ -132,11 +132,18 @@ Float = NDArray[np.float64]
 Elements = tuple[Float, Float, Float]  # centroids (n, 3) [m], normals (n, 3) [-], areas (n,) [m^2]
 
 
-def _readonly(value: Any, name: str, shape: tuple[int, ...]) -> Float:
+def _numbers(value: Any, what: str) -> Float:
+    """``value`` as a new float64 array if it holds real numbers (real_array: not complex, booleans, strings or
+    objects, which numpy would cut, read as 0 and 1, or parse), else InputError "``what`` ..., got <what it holds>"."""
     try:
-        array = np.array(value, dtype=np.float64, copy=True)
-    except (TypeError, ValueError):
-        raise InputError(f"shape {name} must be an array of numbers, got {type(value).__name__}") from None
+        array: Float = np.array(real_array(value, what, "-"), dtype=np.float64, copy=True)
+    except InputError as error:
+        raise InputError(f"{what}, got {str(error).rpartition(', got ')[2]}") from None
+    return array
+
+
+def _readonly(value: Any, name: str, shape: tuple[int, ...]) -> Float:
+    array = _numbers(value, f"shape {name} must be an array of numbers")
     if array.shape != shape:
         expected = "(n, 3)" if len(shape) == 2 else "(n,)"
         raise InputError(f"shape {name} must have shape {expected} with n = {shape[0]}, got {array.shape}")
@@ -732,14 +739,14 @@ def disc(diameter: float, thickness: float, *, resolution: float | None = None) 
 
 def _mesh_arrays(vertices: Any, faces: Any) -> tuple[Float, NDArray[np.int64]]:
     """The checked vertices (k, 3) [m] and faces (m, 3) of a mesh, or InputError."""
-    try:
-        verts = np.array(vertices, dtype=np.float64, copy=True)
-    except (TypeError, ValueError):
-        raise InputError(f"mesh vertices must be an array (k, 3) of numbers [m], got {type(vertices).__name__}") \
-            from None
+    verts = _numbers(vertices, "mesh vertices must be an array (k, 3) of numbers [m]")
     if verts.ndim != 2 or verts.shape[1] != 3 or verts.shape[0] < 4:
         raise InputError(f"mesh vertices must be an array (k, 3) [m] with k >= 4, got shape {verts.shape}")
-    tris = np.asarray(faces)
+    try:
+        tris = np.asarray(faces)
+    except (TypeError, ValueError):  # ragged rows
+        raise InputError(f"mesh faces must be an integer array (m, 3) of vertex indices with m >= 4, got "
+                         f"{type(faces).__name__} that is not an array (rows of different lengths?)") from None
     if tris.dtype.kind not in "iu" or tris.ndim != 2 or tris.shape[1] != 3 or tris.shape[0] < 4:
         raise InputError(f"mesh faces must be an integer array (m, 3) of vertex indices with m >= 4, "
                          f"got {tris.dtype} array of shape {tris.shape}")
