@@ -396,3 +396,33 @@ def test_a_mangled_state_is_refused_in_one_line_and_changes_nothing() -> None:
     contact.state = saved._replace(started=np.bool_(True))  # numpy's bool is a bool
     contact.state = saved._replace(slip=saved.slip.tolist(), centroids=saved.centroids.tolist())  # lists of numbers
     assert np.array_equal(contact.state.slip, saved.slip) and np.array_equal(contact.state.centroids, saved.centroids)
+
+
+def test_simulate_3d_names_the_sample_a_bad_input_is_at() -> None:
+    """simulate_3d refuses a bad time, step, position or quaternion naming the sample (as simulate does), not in
+    the words of a single step (\"dt must be within ... after the first step\") that leave the row to be guessed;
+    and a time beyond +-1e9 s, where a millisecond step would lose its digits, is refused as simulate refuses it."""
+    params = mf.MudParameters.from_water_content(0.25)
+    m = 12
+    t = np.arange(m) * 0.01
+    pos, quat = _vertical(np.linspace(-0.02, 0.01, m))
+    bad_pos, bad_quat = pos.copy(), quat.copy()
+    bad_pos[7, 1] = math.nan
+    bad_quat[4] = [2.0, 0.0, 0.0, 0.0]
+    for call, message in (
+        (lambda: simulate_3d(np.where(np.arange(m) == 3, t[2], t), pos, quat, params, SPHERE),
+         "the time step before sample 3 is 0.0 s (0.02 s then 0.02 s); expected strictly increasing time"),
+        (lambda: simulate_3d(t[::-1], pos, quat, params, SPHERE), "the time step before sample 1 is -0.0099"),
+        (lambda: simulate_3d(np.where(np.arange(m) == 5, math.nan, t), pos, quat, params, SPHERE),
+         "time at sample 5 (nan s) is not finite"),
+        (lambda: simulate_3d(t + 1e12, pos, quat, params, SPHERE), "time at sample 0 (1000000000000.0 s) is not "
+         "finite or beyond +-1e+09 s"),
+        (lambda: simulate_3d(t, bad_pos, quat, params, SPHERE), "sample 7 (t = 0.07 s): position must be 3 finite"),
+        (lambda: simulate_3d(t, pos, bad_quat, params, SPHERE), "sample 4 (t = 0.04 s): a quaternion must have norm 1"),
+    ):
+        with pytest.raises(InputError) as info:
+            call()
+        assert str(info.value).startswith(message), str(info.value)
+        assert "\n" not in str(info.value)
+    ok = simulate_3d(t + 1e9 - 1.0, pos, quat, params, SPHERE)  # up to the bound: as from 0
+    np.testing.assert_allclose(ok.force, simulate_3d(t, pos, quat, params, SPHERE).force, rtol=1e-6, atol=1e-9)
