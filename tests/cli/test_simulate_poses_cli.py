@@ -66,6 +66,8 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Run]]:
     }
     for name, text in bad.items():
         (d / name).write_text(text)
+    (d / "empty.csv").write_text("")
+    (d / "latin1.csv").write_bytes(f"{HEADER}\n0,0,0,0,1,0,0,0\n0.1,0,0,-1e-3,1,0,0,0 # \xb5m\n".encode("latin-1"))
     poses = ["--trajectory", "poses.csv"]
     sphere = ["--shape", "sphere:40mm"]
     cases = [
@@ -92,6 +94,12 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Run]]:
         [*MUD, *poses, *sphere, "--surface-height", "20", "--out", "x.csv"],
         [*MUD, "--trajectory", "deep.csv", *sphere, "--out", "x.csv"],
         [*MUD, "--trajectory", "tiny.csv", *sphere, "--out", "x.csv"],
+        # a file that is no trajectory at all, with --shape or --surface-height: what is wrong with it
+        [*MUD, "--trajectory", "missing.csv", *sphere, "--out", "x.csv"],
+        [*MUD, "--trajectory", "empty.csv", *sphere, "--out", "x.csv"],
+        [*MUD, "--trajectory", "latin1.csv", *sphere, "--out", "x.csv"],
+        [*MUD, "--trajectory", ".", "--surface-height", "5mm", "--out", "x.csv"],
+        [*MUD, "--trajectory", "cm.csv", "--surface-height", "5mm", "--foot", "disc:50mm", "--out", "x.csv"],
     ]
     return d, run_batch([(argv, d) for argv in cases])
 
@@ -162,4 +170,21 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(runs: tuple[Path, list
                                                           words: tuple[str, ...]) -> None:
     d, out = runs
     assert_refused(out[case], *words)
+    assert not (d / "x.csv").exists() and not (d / "x.png").exists()
+
+
+@pytest.mark.parametrize(("case", "words"), [
+    (22, ("missing.csv: file not found",)),
+    (23, ("empty.csv: file is empty", "time_s,x_m,y_m,z_m,qw,qx,qy,qz")),
+    (24, ("latin1.csv: not a text CSV file (cannot decode as UTF-8)",)),
+    (25, (": is a directory; expected a CSV file",)),
+    (26, ("cm.csv: missing column x_m or x_mm",)),
+])
+def test_a_file_that_is_no_trajectory_is_refused_for_what_it_is_not_as_a_depth_trajectory(
+        runs: tuple[Path, list[Run]], case: int, words: tuple[str, ...]) -> None:
+    """With --shape or --surface-height, a missing, empty, non-UTF-8 or misnamed --trajectory was refused as "--shape
+    needs a pose trajectory ..., not a depth trajectory": the file's own problem, as poses, is named instead."""
+    d, out = runs
+    assert_refused(out[case], *words)
+    assert "not a depth trajectory" not in out[case].stderr
     assert not (d / "x.csv").exists() and not (d / "x.png").exists()

@@ -217,6 +217,13 @@ def run(args: argparse.Namespace) -> int:
         return _run_poses(args, out, plot)
     for option, value in (("--shape", args.shape), ("--surface-height", args.surface_height)):
         if value is not None:
+            if args.trajectory is not None:  # not a depth trajectory either (missing, empty, not text, other
+                from mudforce.io.tables import read_poses, read_trajectory  # columns): what is wrong with it as poses
+
+                try:
+                    read_trajectory(args.trajectory)
+                except InputError:
+                    read_poses(args.trajectory)
             where = "a depth trajectory" if args.trajectory is not None else "the paper's protocol"
             raise InputError(f"{option} needs a pose trajectory (--trajectory with columns time_s,x_m,y_m,z_m,qw,qx,"
                              f"qy,qz), not {where}, which moves the flat --foot straight down")
