@@ -63,7 +63,8 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.estimation.calibration.drag": ["DragFit", "fit_drag", "read_sliding"],
     "mudforce.estimation.calibration.fit": [
-        "MISFIT_WARNING_RATIO", "POOR_RELATIVE_STDERR", "ConditionFit", "FitOptions", "FitResult", "TrialFit",
+        "DEPTH_NOISE_SHARE_WARNING", "MISFIT_WARNING_RATIO", "POOR_RELATIVE_STDERR", "ConditionFit", "FitOptions",
+        "FitResult", "TrialFit",
         "correlation_inflation", "fit_by_velocity", "fit_condition", "fit_dataset", "load_fit", "load_fit_parameters",
         "misfit_ratio", "speed_key",
     ],
@@ -84,7 +85,8 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.estimation.calibration.preprocess": [
         "CLEAN_DEPTH_M", "MIN_PRECONTACT_SAMPLES", "Motion", "PreparedTrial", "fit_motion", "is_protocol",
-        "motion_covariance", "noise_floor", "prepare_trial", "snap_reversal", "tare", "tare_correction",
+        "motion_covariance", "noise_floor", "noise_floor_parts", "prepare_trial", "snap_reversal", "tare",
+        "tare_correction",
     ],
     "mudforce.estimation.calibration.report": ["ERROR_PROFILE_POINTS", "error_profile", "write_report"],
     "mudforce.estimation.calibration.results": [

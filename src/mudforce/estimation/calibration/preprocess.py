@@ -49,6 +49,7 @@ __all__ = [
     "is_protocol",
     "motion_covariance",
     "noise_floor",
+    "noise_floor_parts",
     "prepare_trial",
     "snap_reversal",
     "tare",
@@ -585,12 +586,25 @@ def noise_floor(prepared: PreparedTrial, force: np.ndarray, force_at: Callable[[
     the same sensitivity: at this rate the model cannot follow it, and it is
     a model error at the data's rate, not another mud.
     """
+    return noise_floor_parts(prepared, force, force_at)[0]
+
+
+def noise_floor_parts(prepared: PreparedTrial, force: np.ndarray,
+                      force_at: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`noise_floor`'s per-sample variance [N^2], and the depth noise's own part of it [N^2].
+
+    The second is ``(dF/dz * depth_noise)^2``: the share of the floor that
+    is error in the depth, the regressor, rather than in the force (what
+    :func:`mudforce.estimation.calibration.fit_condition` warns of when it
+    is most of the floor).
+    """
     h = 1e-6
     variance = np.full(force.size, prepared.force_noise**2 if math.isfinite(prepared.force_noise) else 0.0)
+    depth_part = np.zeros(force.size)
     if prepared.depth_noise > 0.0 or prepared.unresolved_depth > 0.0:
         sens = (force_at(prepared.depth + h) - force_at(prepared.depth - h)) / (2.0 * h)
         if prepared.unresolved_depth > 0.0:
             variance = variance + (sens * prepared.unresolved_depth) ** 2
-        variance = variance + (sens * prepared.depth_noise) ** 2
-    out: np.ndarray = variance
-    return out
+        depth_part = (sens * prepared.depth_noise) ** 2
+        variance = variance + depth_part
+    return variance, depth_part
