@@ -22,6 +22,20 @@ from mudforce.model.foot import Foot  # noqa: E402
 MUD = MudParameters.from_water_content(0.15)
 
 
+def test_a_sphere_dropped_straight_feels_no_sideways_force_and_stays_on_its_axis() -> None:
+    """The law gives a body of revolution moving along its axis no sideways force; neither may the coupling.
+
+    The sideways tendons were anchored at the contact site of the state the last step started from, while
+    MuJoCo lays them out at the new ``qpos``: they leant by the step's vertical motion over their 1 m, and their
+    stiff friction turned the vertical motion into up to 1.6 N sideways (3 % of the weight), which pushed a
+    5 kg sphere dropped straight into 25 % mud 4-6 um aside. Anchored where MuJoCo sees the site: none.
+    """
+    res = simulate_drop_3d(5.0, MudParameters.from_water_content(0.25), "sphere", (0.04,), duration=1.0)
+    assert float(np.max(np.abs(res.force[:, :2]))) < 1e-9 * float(np.max(np.abs(res.force[:, 2])))
+    assert float(np.max(np.abs(res.position[:, :2]))) < 1e-12
+    assert res.depth[-1] == pytest.approx(0.0519533, abs=1e-6)  # the rest depth as before: the anchors moved only
+
+
 def test_a_flat_box_dropped_flat_rests_at_the_exact_1d_depth() -> None:
     """A box's bottom is the paper's sole: the 1-D exact drop (DOP853 with events) is its reference."""
     res = simulate_drop_3d(5.0, MUD, "box", (0.051, 0.038, 0.025), duration=0.6, dt=2e-3)

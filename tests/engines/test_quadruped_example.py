@@ -23,7 +23,10 @@ def test_the_quadruped_sinks_plausibly_and_slips_less_than_on_a_frictionless_flo
         mud = example.run(1.5, resolution=0.01, start=0.3)  # all four toes in the dry mud
     skate = example.run(1.5, frictionless=True, start=0.3)
     dry = mud.region == 0
-    deepest = float(np.nanmax(np.where(dry, mud.sinkage, np.nan)))
+    # a toe's steps in the dry mud before it first reaches the wet one: a toe that slides back across the
+    # boundary arrives in the dry patch as deep as the wet mud let it sink, with a fresh state there
+    before_wet = np.cumsum(mud.region == 1, axis=0) == 0
+    deepest = float(np.nanmax(np.where(dry & before_wet, mud.sinkage, np.nan)))
     assert 0.003 < deepest < 0.05  # a 11.6 kg robot on 50 mm toes in 15 % mud: a few cm at most
     slip = float(np.sum(mud.slip_speed * dry))
     assert slip < 0.5 * float(np.sum(skate.slip_speed))

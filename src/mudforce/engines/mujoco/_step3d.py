@@ -38,7 +38,8 @@ from mudforce.model.law3d import (
 )
 
 __all__ = ["C_ALPHA", "C_BETA", "C_LAM_RHO", "C_SIGMA_Y", "C_SURFACE", "C_WIDTH", "N_FOOT_CONSTANTS", "N_SCRATCH",
-           "add_wrench", "feet_bands", "foot_band", "gather_poses", "mat2quat_address", "prepare", "scratch"]
+           "add_wrench", "feet_bands", "foot_band", "gather_poses", "mat2quat_address", "place_anchors", "prepare",
+           "scratch"]
 
 # columns of the per-foot constants (those of the foot's patch; row ignored off every patch)
 C_SURFACE, C_SIGMA_Y, C_ALPHA, C_BETA, C_LAM_RHO, C_WIDTH = 0, 1, 2, 3, 4, 5
@@ -65,6 +66,22 @@ def add_wrench(xfrc: np.ndarray, bodies: np.ndarray, applied: np.ndarray, sign: 
     for f in range(bodies.shape[0]):
         for j in range(6):
             xfrc[bodies[f], j] += sign * applied[f, j]
+
+
+@_compiled(nogil=False)
+def place_anchors(site_xpos: np.ndarray, sites: np.ndarray, anchors: np.ndarray, dirs: np.ndarray,
+                  site_pos: np.ndarray, height: float) -> None:
+    """Each foot's three anchor sites ``height`` [m] from its contact site along its tendons' directions.
+
+    ``site_xpos`` the contact sites' world positions [m] at the state the next step starts from;
+    ``dirs`` (n, 3, 3) the unit directions (z, u, v) :func:`prepare` chose; written: the anchors' rows of
+    ``site_pos`` (world-body sites: world positions [m]).
+    """
+    for f in range(sites.shape[0]):
+        for axis in range(3):
+            a = anchors[f, axis]
+            for c in range(3):
+                site_pos[a, c] = site_xpos[sites[f], c] + height * dirs[f, axis, c]
 
 
 def mat2quat_address(mj: Any) -> int:

@@ -84,6 +84,7 @@ from mudforce.engines.mujoco._step3d import (
     feet_bands,
     gather_poses,
     mat2quat_address,
+    place_anchors,
     prepare,
     scratch,
 )
@@ -333,6 +334,7 @@ class MudAdapter3D:
         # the model and data; a property read builds a new view each time, ~0.2 us, and model.opt ~1 us)
         self._opt = model.opt
         self._geom_xpos, self._geom_xmat = data.geom_xpos, data.geom_xmat
+        self._site_xpos = data.site_xpos
         self._xipos, self._xpos, self._xmat = data.xipos, data.xpos, data.xmat
         self._site_pos, self._frictionloss = model.site_pos, model.tendon_frictionloss
         self._mat2quat = mat2quat_address(mj)  # MuJoCo's mju_mat2Quat, called from compiled code (0: not found)
@@ -376,6 +378,21 @@ class MudAdapter3D:
             self._last_dirs, self._dirs = self._dirs, self._last_dirs
             self._commit(dt, first=False)
             self._prepare(dt)
+            self._anchor_at_the_new_state()
+
+    def _anchor_at_the_new_state(self) -> None:
+        """Place every foot's three anchors where the next step's constraints will see its contact site.
+
+        ``mj_step`` leaves the positions of the state it started from (``geom_xpos``, ``site_xpos``, ...), with
+        ``qpos`` integrated past them; the feet's poses are committed from those, as they always were, but the
+        next step's tendons are laid out by MuJoCo at the new ``qpos``. Anchored at the old contact site, the
+        sideways tendons leant by the step's vertical motion over their 1 m, and their stiff friction (the
+        sideways hold) turned vertical motion into a sideways force: up to 1.6 N on a sphere dropped straight,
+        which pushed it 4-6 um aside. So the site is placed by ``mj_kinematics`` at the new ``qpos`` (with the
+        local position :meth:`_prepare` gave it) and the anchors 1 m from it along the prepared directions.
+        """
+        self._mj.mj_kinematics(self.model, self.data)
+        place_anchors(self._site_xpos, self._sites, self._anchors, self._dirs, self._site_pos, ANCHOR_HEIGHT)
 
     def _poses(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         d = self.data
