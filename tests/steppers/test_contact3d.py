@@ -426,3 +426,27 @@ def test_simulate_3d_names_the_sample_a_bad_input_is_at() -> None:
         assert "\n" not in str(info.value)
     ok = simulate_3d(t + 1e9 - 1.0, pos, quat, params, SPHERE)  # up to the bound: as from 0
     np.testing.assert_allclose(ok.force, simulate_3d(t, pos, quat, params, SPHERE).force, rtol=1e-6, atol=1e-9)
+
+
+def test_a_bad_element_state_is_refused_in_elements_words() -> None:
+    """A saved state whose element rows are bad is refused naming the element (a single 3-D contact has one foot,
+    so "a state (foot 3)" from the elements' 1-D stepper misled), and a wrong number of element rows is refused
+    for this contact's elements, not as "a state of 188 feet"; the contact is left as it was."""
+    contact = MudContact3D(mf.MudParameters.from_water_content(0.25), SPHERE)
+    _settled(contact, 0.01, steps=3)
+    saved = contact.state
+    n = SPHERE.n
+    bad = np.array(saved.elements)
+    bad[3, 0] = math.nan
+    for elements, message in (
+        (bad, "a state (element 3): holds a value that is not finite"),
+        (saved.elements[:2], f"a state of this {n}-element foot has element states of shape ({n}, "),
+        ("x", "a state's elements must be an array of real numbers"),
+    ):
+        with pytest.raises(InputError) as info:
+            contact.state = saved._replace(elements=elements)
+        text = str(info.value)
+        assert text.startswith(message), text
+        assert "foot 3" not in text and " feet" not in text and "\n" not in text
+        for x, y in zip(contact.state, saved, strict=True):
+            assert np.array_equal(x, y)

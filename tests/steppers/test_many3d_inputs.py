@@ -283,3 +283,18 @@ def test_element_slice_takes_an_integer_foot_only() -> None:
         assert "\n" not in str(info.value)
     with pytest.raises(InputError, match=r"foot index out of range 0\.\.1: 2"):
         feet.element_slice(2)
+
+
+def test_a_bad_element_row_in_a_restored_state_names_the_element() -> None:
+    """A state's element rows are elements (of all feet, concatenated), not feet: a bad row 5 was refused as
+    "a state (foot 5)" for two feet; now "a state (element 5)", and nothing changes."""
+    many = MudContacts3D(mf.MudParameters.from_water_content(0.25), SHAPE, 2)
+    for k in range(3):
+        many.step(*_poses(k), DT if k else 0.0)
+    saved = many.state
+    bad = np.array(saved.elements)
+    bad[5, 0] = np.nan
+    with pytest.raises(InputError) as info:
+        many.state = saved._replace(elements=bad)
+    assert str(info.value).startswith("a state (element 5): holds a value that is not finite"), str(info.value)
+    assert _same(many.state, saved)

@@ -20,7 +20,7 @@ from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
 __all__ = ["ContactSample", "ContactState", "MudContact", "check_states"]
 
 
-def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact state") -> None:
+def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact state", unit: str = "foot") -> None:
     """Refuse state rows (and filter histories) that the stepper never makes: restored states are
     validated as strictly as fresh ones.
 
@@ -32,6 +32,8 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
         The velocity filter's histories.
     what : str
         For the message.
+    unit : str
+        What a row is, for the message ("foot"; "element" for a 3-D contact's elements).
 
     Raises
     ------
@@ -46,7 +48,7 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
     for message, bad in checks:
         rows = np.flatnonzero(bad)
         if rows.size:
-            where = f"{what} (foot {rows[0]})" if states.shape[0] > 1 else what
+            where = f"{what} ({unit} {rows[0]})" if states.shape[0] > 1 else what
             raise InputError(f"{where}: {message}; expected a state taken from a contact")
 
 

@@ -235,7 +235,13 @@ class MudContact3D:
             raise InputError(f"a state of this {n}-element foot has slips (n, 2) and centroids (n, 3), got "
                              f"{slip.shape} and {centroids.shape}")
         _check_saved_places(slip, centroids, _reach(self.shape))
-        self._elements.state = saved.elements  # validated; refuses without changing anything
+        elements = real_array(saved.elements, "a state's elements", "SI")
+        rows = (n, K.N_STATE + self._elements.ring.shape[1])
+        if elements.shape != rows:  # checked here, in elements' words (MudContacts' setter speaks of feet)
+            raise InputError(f"a state of this {n}-element foot has element states of shape {rows}, got "
+                             f"{elements.shape}")
+        check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")
+        self._elements.state = elements  # validated again; refuses without changing anything
         self._slip[:] = slip
         self._centroids[:] = centroids
         self._started = bool(saved.started)
@@ -869,7 +875,7 @@ class MudContacts3D:
                              f"slips ({total}, 2), centroids ({total}, 3) and started ({self.n},) bool, got "
                              f"{elements.shape}, {slip.shape}, {centroids.shape} and {started.shape} {started.dtype}")
         _check_saved_places(slip, centroids, float(self._ft[:, S3.F_REACH].max()))
-        check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state")
+        check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")  # row: element
         self._states[:] = elements[:, :K.N_STATE]
         self._ring[:] = elements[:, K.N_STATE:]
         K.forget_cache(self._states)
