@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
-           "real_array", "real_number", "seed_int"]
+           "real_array", "real_number", "seed_int", "true_or_false"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
@@ -44,6 +44,23 @@ def seed_int(value: Any, name: str = "--seed") -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= MAX_SEED:
         raise InputError(f"{name} must be an integer in [0, {MAX_SEED}], got {value!r}")
     return int(value)
+
+
+def true_or_false(value: Any, name: str) -> bool:
+    """``value`` as a ``bool`` if it is ``True`` or ``False`` (Python's or numpy's), else :class:`InputError`.
+
+    A boolean option is not read by its truth value: ``"no"`` (true), ``None``, ``0`` or an array are refused.
+
+    Parameters
+    ----------
+    value : Any
+        The option's value.
+    name : str
+        The option, for the message (``"quiet"``).
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def is_real(value: Any) -> bool:

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from mudforce.errors import InputError, finite_number, number_within, positive_number, real_number
+from mudforce.errors import InputError, finite_number, number_within, positive_number, real_number, true_or_false
 
 
 @pytest.mark.parametrize(
@@ -112,3 +112,70 @@ def test_velocity_filter_refuses_a_deadband_that_is_not_a_number(bad: object) ->
         VelocityFilter.for_noise(bad, 0.01)  # type: ignore[arg-type]
     with pytest.raises(InputError, match="velocity window must be finite and > 0"):
         VelocityFilter.for_noise(1e-4, 0.01, bad)  # type: ignore[arg-type]
+
+
+def test_true_or_false_takes_only_booleans() -> None:
+    assert true_or_false(True, "quiet") is True and true_or_false(np.bool_(False), "quiet") is False
+    for bad in ("no", None, 0, 1, 1.0, np.array([True])):
+        with pytest.raises(InputError, match=r"^quiet must be True or False, got "):
+            true_or_false(bad, "quiet")
+
+
+def _boolean_options(tmp: Any) -> dict[str, Any]:
+    """Each public boolean option, as a call taking its value."""
+    import mudforce as mf
+    from mudforce.estimation.calibration.dataset import Dataset, Trial
+    from mudforce.estimation.calibration.drag import fit_drag
+    from mudforce.estimation.calibration.fit import fit_by_velocity, fit_dataset
+    from mudforce.estimation.calibration.preprocess import prepare_trial
+    from mudforce.estimation.tracker import MudTrackers
+    from mudforce.io.tables import write_csv
+    from mudforce.model import shapes
+    from mudforce.motions.gait import gait, walk
+    from mudforce.reproduce.experiments import ReproduceConfig
+    from mudforce.reproduce.report import reproduce
+    from mudforce.steppers.contact3d import simulate_3d
+
+    t = np.arange(3) * 0.01
+    quat = np.tile([1.0, 0.0, 0.0, 0.0], (3, 1))
+    mud = mf.MudParameters.from_water_content(0.25)
+    result = mf.simulate(t, np.array([-1e-3, 0.0, 1e-3]), mud)
+    path = walk(0.25, seed=0, duration=2.0)
+    trial = Trial("w", 0.25, path.time, path.depth, path.force)
+    return {
+        "elements": lambda v: simulate_3d(t, np.zeros((3, 3)), quat, mud, shapes.sphere(0.04), elements=v),
+        "quiet (to_csv)": lambda v: result.to_csv(tmp / "r.csv", quiet=v),
+        "quiet (write_csv)": lambda v: write_csv(tmp / "w.csv", {"a": np.zeros(2)}, quiet=v),
+        "quiet (fit_dataset)": lambda v: fit_dataset(Dataset(mf.Foot.paper(), (trial,)), quiet=v),
+        "quiet (fit_by_velocity)": lambda v: fit_by_velocity(Dataset(mf.Foot.paper(), (trial,)), quiet=v),
+        "quiet (reproduce)": lambda v: reproduce(tmp / "report", quiet=v),
+        "intercept": lambda v: fit_drag(np.linspace(0.01, 0.05, 5), np.linspace(1.0, 2.0, 5), area=0.002,
+                                        rho_m=1500.0, intercept=v),
+        "start_below (gait)": lambda v: gait(0, start_below=v),
+        "start_below (walk)": lambda v: walk(0.25, seed=0, start_below=v),
+        "quick": lambda v: ReproduceConfig(quick=v),
+        "twin": lambda v: MudTrackers(1, twin=v),
+        "protocol": lambda v: prepare_trial(trial, protocol=v),
+    }
+
+
+@pytest.mark.parametrize("bad", ["no", None, 0, np.array([True])])
+def test_boolean_options_refuse_anything_but_true_or_false(bad: Any, tmp_path: Any) -> None:
+    """A boolean option was read by its truth value: simulate_3d(..., elements="no") returned the elements'
+    forces, quiet="no" silenced a write, protocol=0 meant "decide" (as None); now each is refused in one line,
+    before anything is written."""
+    for name, call in _boolean_options(tmp_path).items():
+        if bad is None and name == "protocol":
+            continue  # protocol's None is its documented default (decide from the trial)
+        option = name.split(" ")[0]
+        with pytest.raises(InputError, match=rf"{option} must be True(, False or None| or False), got ") as info:
+            call(bad)
+        assert "\n" not in str(info.value), name
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # nothing written
+
+
+def test_boolean_options_take_numpy_booleans(tmp_path: Any) -> None:
+    options = _boolean_options(tmp_path)
+    for name in ("elements", "quiet (write_csv)", "intercept", "start_below (gait)", "quick", "twin"):
+        options[name](np.bool_(True))
+    assert options["elements"](np.bool_(True)).element_forces is not None

@@ -148,7 +148,7 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.errors": [
         "MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
-        "real_array", "real_number", "seed_int",
+        "real_array", "real_number", "seed_int", "true_or_false",
     ],
     "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],

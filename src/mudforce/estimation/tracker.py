@@ -111,7 +111,7 @@ from mudforce._kernel.layout import N_RING, P_DEADBAND, P_WINDOW, R_HEAD, R_T, R
 from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines.dynamics.rest_band import rest_band
-from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number
+from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number, true_or_false
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -1364,8 +1364,7 @@ class MudTrackers:
         if not level < 1.0:
             raise InputError(f"level must be within (0, 1), got {level!r}")
         self.level = level
-        if not isinstance(twin, bool):
-            raise InputError(f"twin must be True or False, got {twin!r}")
+        twin = true_or_false(twin, "twin")
         self.velocity_filter = (default_velocity_filter() if velocity_filter is None
                                 else resolve_velocity_filter(velocity_filter))
         cfg = np.empty(_N_CFG, dtype=np.float64)

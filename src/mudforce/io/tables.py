@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, true_or_false
 
 __all__ = ["COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "POSE_COLUMNS", "WRITE_BLOCK", "is_pose_trajectory",
            "read_columns", "read_poses", "read_trajectory", "write_csv"]
@@ -369,6 +369,7 @@ def write_csv(
     from mudforce.io import atomic_open
     from mudforce.io._csvformat import format_rows, row_width
 
+    quiet = true_or_false(quiet, "quiet")
     names = list(columns)
     arrays = [np.asarray(columns[name], dtype=np.float64) for name in names]
     n = int(arrays[0].shape[0]) if arrays else 0

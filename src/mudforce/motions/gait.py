@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mudforce.errors import InputError, number_within
+from mudforce.errors import InputError, number_within, true_or_false
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -105,6 +105,7 @@ def gait(
     duration = number_within(duration, "duration", 1.0, 3600.0, "s")
     rate = number_within(rate, "rate", 10.0, 1e5, "Hz")
     jitter = number_within(jitter, "jitter", 0.0, 0.4, "of a sample period")
+    start_below = true_or_false(start_below, "start_below")
     rng = np.random.default_rng(seed)
 
     def draw(bounds: tuple[float, float]) -> float:

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.fit import FitOptions
 from mudforce.estimation.calibration.synth import synthesize, trial_name
@@ -77,6 +77,7 @@ class ReproduceConfig:
 
     def __post_init__(self) -> None:
         check_seed(self.seed)
+        object.__setattr__(self, "quick", true_or_false(self.quick, "quick"))  # numpy's bool as bool (JSON)
         if not any(abs(w - 0.25) < 1e-9 for w in self.water_contents):
             raise InputError("the water contents must include 0.25 (the paper's Figs. 2, 6 and 11)")
         if not self.velocities or self.repeats < 1:

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from mudforce._plumbing.progress import Progress
-from mudforce.errors import positive_int
+from mudforce.errors import positive_int, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset
 from mudforce.estimation.calibration.fit import ConditionFit
 from mudforce.io import atomic_write_text
@@ -142,6 +142,7 @@ def reproduce(out: str | os.PathLike[str], config: ReproduceConfig | None = None
     warm_up_matplotlib()  # before the workers fork, so that they do not each pay for it
     config = ReproduceConfig.full() if config is None else config
     positive_int(jobs, "jobs")
+    quiet = true_or_false(quiet, "quiet")
     path = check_report_dir(out)
     say = log if log is not None else (lambda _: None)
     with _sigterm_raises(), StagedFolder(path) as staged:

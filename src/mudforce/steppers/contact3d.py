@@ -43,7 +43,7 @@ from mudforce import _kernel as K
 from mudforce._kernel import step3d as S3
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MAX_TIME, MIN_DT
 from mudforce._kernel.layout import STATE_NAMES
-from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, real_number
+from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, real_number, true_or_false
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -476,6 +476,7 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
     -------
     Result3D
     """
+    elements = true_or_false(elements, "elements")
     t = real_array(time, "time", "s")
     x = real_array(positions, "positions", "m")
     q = real_array(quaternions, "quaternions", "-")

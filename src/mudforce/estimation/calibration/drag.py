@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce.errors import InputError, is_real, real_array
+from mudforce.errors import InputError, is_real, real_array, true_or_false
 from mudforce.io.tables import COLUMN_UNITS, read_columns
 from mudforce.model.equations import array_form, drag_stress
 from mudforce.model.foot import AREA_RANGE
@@ -125,7 +125,7 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = RHO_M,
             raise InputError(f"{name} must be within [{lo:g}, {hi:g}] (SI), got {value!r}")
     if not (np.all(np.isfinite(v)) and np.all(np.isfinite(f))):
         raise InputError("velocity and force must be finite")
-    p = 2 if intercept else 1
+    p = 2 if true_or_false(intercept, "intercept") else 1
     if v.size < p + 1:
         raise InputError(f"fit-drag needs at least {p + 1} samples, got {v.size}")
     x: np.ndarray = array_form(drag_stress)(1.0, rho_m, v) * area  # Eq. (5) with lambda = 1, times S [N]

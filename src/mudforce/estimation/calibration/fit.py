@@ -53,7 +53,7 @@ from scipy.optimize import differential_evolution, least_squares
 
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.progress import Progress
-from mudforce.errors import InputError
+from mudforce.errors import InputError, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model
 from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor_parts, prepare_trial, tare_correction
@@ -592,6 +592,7 @@ def fit_dataset(
     FitResult
     """
     check_force_gain_uncertainty(force_gain_uncertainty)
+    quiet = true_or_false(quiet, "quiet")
     m = get_model(model)
     free_names = _resolve_free(m, free, fixed)
     for n in shared:
@@ -635,6 +636,7 @@ def fit_by_velocity(
     measured one to 0.5 mm/s). Returns ``(speed [m/s], fit)`` pairs,
     ordered by water content, then speed.
     """
+    quiet = true_or_false(quiet, "quiet")
     m = get_model(model)
     groups: dict[tuple[float, float], list[PreparedTrial]] = {}
     for w, trials in dataset.conditions().items():

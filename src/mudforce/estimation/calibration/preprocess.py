@@ -563,8 +563,10 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: fl
     if depth_noise is not None and not 0.0 <= depth_noise <= _MAX_DEPTH_NOISE_M:
         raise InputError(f"{trial.name}: depth noise must be between 0 and {_MAX_DEPTH_NOISE_M * 1e3:g} mm "
                          f"(e.g. 0.03 mm), got {depth_noise!r} m")
+    if protocol is not None and not isinstance(protocol, (bool, np.bool_)):
+        raise InputError(f"{trial.name}: protocol must be True, False or None, got {protocol!r}")
     quiet = depth_noise_from == "quiet"
-    if protocol is False:
+    if protocol is not None and not protocol:
         return _prepare_general(trial, depth_noise, quiet)
     if protocol:
         motion = fit_motion(trial.time, trial.depth, name=trial.name)
