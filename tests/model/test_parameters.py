@@ -122,6 +122,19 @@ def test_from_dict_refuses_unknown_and_missing_keys() -> None:
         MudParameters.from_dict(d)
 
 
+def test_replace_refuses_unknown_names_in_one_line() -> None:
+    """replace(k_mi=...) (a typo) raised dataclasses' TypeError "__init__() got an unexpected keyword argument";
+    now an InputError naming it and the names expected; lambda and lambda_ both still work."""
+    p = TABLE_I[0.25]
+    for changes, message in (({"k_mi": 1.0}, "unknown parameter(s) k_mi; expected some of k_m_i, "),
+                             ({"lambda": 0.1, "lambda_": 0.2}, "give lambda or lambda_, not both")):
+        with pytest.raises(InputError) as info:
+            p.replace(**changes)
+        assert str(info.value).startswith(message) and "\n" not in str(info.value)
+    assert p.replace(**{"lambda": 0.02}).lambda_ == p.replace(lambda_=0.02).lambda_ == 0.02
+    assert p.replace(source="mine").source == "mine"
+
+
 def test_critical_withdrawal_velocity() -> None:
     # sigma_y / b_m_w: 6 kPa / 1.35 MPa s/m = 4.44 mm/s at W = 25 % (Table I)
     assert TABLE_I[0.25].critical_withdrawal_velocity == pytest.approx(6e3 / 1.35e6)

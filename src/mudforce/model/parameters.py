@@ -333,7 +333,13 @@ class MudParameters:
     def replace(self, **changes: Any) -> MudParameters:
         """A validated copy with some values changed (``lambda`` as ``lambda_``)."""
         if "lambda" in changes:
+            if "lambda_" in changes:
+                raise InputError("give lambda or lambda_, not both")
             changes["lambda_"] = changes.pop("lambda")
+        unknown = sorted(set(changes) - set(_PY_NAME.values()) - {"source"})
+        if unknown:  # not dataclasses.replace's TypeError
+            raise InputError(f"unknown parameter(s) {', '.join(unknown)}; expected some of "
+                             f"{', '.join(PARAMETER_NAMES)} or source")
         return dataclasses.replace(self, **changes)
 
     def as_array(self) -> np.ndarray:
