@@ -110,3 +110,31 @@ def test_progress_on_a_terminal_only_and_not_quiet(tmp_path: Path, monkeypatch: 
     tables.write_csv(tmp_path / "p.csv", {"time_s": t}, quiet=quiet)
     assert ("writing p.csv" in stream.getvalue()) == shown
     assert (tmp_path / "p.csv").read_text() == "time_s\n" + "".join(f"{x:.12g}\n" for x in t)
+
+
+def test_a_path_that_cannot_be_written_is_refused_in_one_line(tmp_path: Path) -> None:
+    """result.to_csv / result.plot / MudParameters.save / write_csv into a folder that does not exist raised
+    FileNotFoundError naming the writer's temporary file ("No such file or directory: '.../.mf-xf320772.tmp'"),
+    and a path that is not one (None, 3) raised os.fspath's TypeError; now one-line InputErrors naming the
+    path and its folder (atomic_open, which every writer goes through), and nothing is written."""
+    pytest.importorskip("matplotlib")
+    result = mf.simulate(np.linspace(0.0, 1.0, 11), np.linspace(-0.01, 0.02, 11),
+                         mf.MudParameters.from_water_content(0.25))
+    missing = tmp_path / "no" / "such"
+    writers = {
+        "to_csv": result.to_csv,
+        "plot": result.plot,
+        "save": mf.MudParameters.from_water_content(0.25).save,
+        "write_csv": lambda path: tables.write_csv(path, {"a": np.zeros(2)}),
+    }
+    for name, write in writers.items():
+        with pytest.raises(mf.InputError) as info:
+            write(missing / "out.csv")
+        text = str(info.value)
+        assert text == f"cannot write {str(missing / 'out.csv')!r}: directory {str(missing)!r} does not exist", name
+        for bad in (3, b"x.csv"):
+            with pytest.raises(mf.InputError, match=r"^output must be a file path \(str or os.PathLike\), got "):
+                write(bad)
+    with pytest.raises(mf.InputError, match=r"^output must be a file path"):
+        result.to_csv(None)  # type: ignore[arg-type]
+    assert list(tmp_path.iterdir()) == []

@@ -122,10 +122,16 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     raises, the temporary file is removed and an existing file is left
     untouched. A FIFO, socket or device is refused (:class:`InputError`).
     """
+    if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
+        raise InputError(f"output must be a file path (str or os.PathLike), got {type(path).__name__} {path!r}")
     target = write_target(path)
     _refuse_special(target, "output", str(path))
     directory = target.parent if str(target.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=_TMP_PREFIX, suffix=_TMP_SUFFIX, dir=directory)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=_TMP_PREFIX, suffix=_TMP_SUFFIX, dir=directory)
+    except (FileNotFoundError, NotADirectoryError, PermissionError) as exc:  # named by the path, not the temporary
+        problem = "does not exist" if not directory.is_dir() else f"cannot hold a new file ({exc.strerror})"
+        raise InputError(f"cannot write {str(path)!r}: directory {str(directory)!r} {problem}") from None
     try:
         # mkstemp makes the file private (0600); keep an existing target's permissions, else 0666 & ~umask
         os.chmod(tmp, _permissions(target, 0o666))

@@ -328,7 +328,7 @@ class MudParameters:
         """Write :meth:`to_json` to ``path`` atomically (temporary file, then rename)."""
         from mudforce.io import atomic_write_text
 
-        atomic_write_text(Path(path), self.to_json() + "\n")
+        atomic_write_text(path, self.to_json() + "\n")
 
     def replace(self, **changes: Any) -> MudParameters:
         """A validated copy with some values changed (``lambda`` as ``lambda_``)."""
