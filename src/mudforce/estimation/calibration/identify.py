@@ -88,7 +88,7 @@ from scipy.stats import t as student_t
 
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce.errors import InputError
+from mudforce.errors import InputError, is_real
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.estimation.calibration.models import CHEN2024
@@ -119,6 +119,9 @@ __all__ = [
 
 #: Smallest half-width of the interval [-] (0.25 percentage points of water content).
 MIN_HALF_WIDTH = 0.0025
+
+#: Most grid points of identify's scan [-] (10**9 hung allocating the grid).
+_MAX_POINTS = 100_000
 #: Largest surface offset of the depth that identify fits [m] (+-10 mm).
 MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
@@ -790,9 +793,15 @@ def identify_water_content(
     -------
     Identification
     """
-    if not 0.0 < level < 1.0:
+    if not isinstance(trial, (Trial, PreparedTrial)):
+        raise InputError(f"trial must be a Trial or a PreparedTrial, got {type(trial).__name__}")
+    if not is_real(level) or not 0.0 < level < 1.0:
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
     check_force_gain_uncertainty(force_gain_uncertainty)
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or not 1 <= points <= _MAX_POINTS:
+        raise InputError(f"points must be an integer in [1, {_MAX_POINTS}], got {points!r}")
+    if foot is not None and not isinstance(foot, Foot):
+        raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")
     foot = Foot.paper() if foot is None else foot
     if isinstance(trial, PreparedTrial) and depth_noise is not None:
         raise InputError(f"{trial.trial.name}: a prepared trial already holds its depth noise "
@@ -805,8 +814,8 @@ def identify_water_content(
     if not np.any(tr.trial.force != tr.trial.force[0]):
         raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
                          "the trial carries no force to identify a water content from (is the column right?)")
-    lo, hi = bounds
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+    lo, hi = bounds if isinstance(bounds, (tuple, list)) and len(bounds) == 2 else (math.nan, math.nan)
+    if not (is_real(lo) and is_real(hi) and math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise InputError(f"bounds must be (low, high) with low < high, both finite [-], got {bounds!r}")
     t = tr.time
     general = tr.motion is None

@@ -1,0 +1,50 @@
+"""identify_water_content's options of the wrong type or size: refused in one line, as their bad values are."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from mudforce.errors import InputError
+from mudforce.estimation.calibration import identify_water_content
+from mudforce.estimation.calibration.dataset import Trial
+from mudforce.estimation.calibration.fit import fit_condition
+from mudforce.motions.gait import walk
+
+
+@pytest.fixture(scope="module")
+def trial() -> Trial:
+    path = walk(0.25, seed=0, duration=6.0)
+    return Trial("w.csv", 0.25, path.time, path.depth, path.force)
+
+
+@pytest.mark.parametrize(("options", "message"), [
+    ({"foot": "paper"}, "foot must be a Foot or None, got str"),  # was AttributeError: no attribute 'area'
+    ({"force_gain_uncertainty": "0.1"}, "force gain uncertainty must be in [0, 0.5)"),  # was TypeError
+    ({"force_gain_uncertainty": None}, "force gain uncertainty must be in [0, 0.5)"),
+    ({"force_gain_uncertainty": False}, "force gain uncertainty must be in [0, 0.5)"),  # was read as 0
+    ({"level": "0.9"}, "confidence level must be in (0, 1)"),  # was TypeError
+    ({"points": 2.5}, "points must be an integer in [1, 100000], got 2.5"),  # was TypeError
+    ({"points": 10**9}, "points must be an integer in [1, 100000]"),  # hung allocating the grid
+    ({"bounds": "x"}, "bounds must be (low, high)"),  # was ValueError: too many values to unpack
+    ({"bounds": ("0.2", "0.3")}, "bounds must be (low, high)"),  # was TypeError
+    ({"depth_noise": "1"}, "w.csv: depth noise must be between 0 and 10 mm"),  # was TypeError
+])
+def test_identify_refuses_options_of_the_wrong_type(trial: Trial, options: dict[str, Any], message: str) -> None:
+    with pytest.raises(InputError) as info:
+        identify_water_content(trial, **options)
+    assert str(info.value).startswith(message), str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def test_identify_refuses_what_is_not_a_trial(trial: Trial) -> None:
+    with pytest.raises(InputError, match=r"^trial must be a Trial or a PreparedTrial, got tuple$"):
+        identify_water_content((trial.time, trial.depth, trial.force))  # type: ignore[arg-type]
+
+
+def test_fit_condition_refuses_a_gain_uncertainty_that_is_not_a_number(trial: Trial) -> None:
+    with pytest.raises(InputError, match=r"^force gain uncertainty must be in \[0, 0.5\)"):
+        fit_condition([trial], force_gain_uncertainty="0.05")  # type: ignore[arg-type]
+    assert np.isfinite(identify_water_content(trial, force_gain_uncertainty=np.float32(0.1)).water_content)
