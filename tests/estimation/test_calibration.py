@@ -256,3 +256,26 @@ def test_identify_water_content(water_content: float) -> None:
     assert result.rmse < 0.36
 
 
+
+
+@pytest.mark.parametrize(("fields", "message"), [
+    ({"water_content": "0.25"}, "t.csv: water_content is '0.25'; expected a number in (0, 1)"),
+    ({"water_content": None}, "t.csv: water_content is None; expected a number in (0, 1)"),
+    ({"water_content": 25.0}, "t.csv: water_content is 25.0; expected a number in (0, 1)"),
+    ({"name": 3}, "a trial's name must be a str, got int"),
+    ({"velocity": "fast"}, "t.csv: velocity is 'fast'; expected None or a number > 0 [m/s]"),
+    ({"velocity": -0.01}, "t.csv: velocity is -0.01; expected None or a number > 0 [m/s]"),
+    ({"repeat": 1.5}, "t.csv: repeat is 1.5; expected None or a non-negative integer"),
+])
+def test_a_trial_made_in_python_has_its_labels_checked(fields: dict[str, object], message: str) -> None:
+    """A Trial's labels were taken as given: water_content="x" (or 25 for 25 %) was fitted and came back as the
+    fit's water_content "x", a name that was not a string broke messages later; now refused as a manifest's
+    are. An unknown water content (NaN, load_trial's default) is still taken."""
+    t = np.arange(30) * 0.01
+    base = {"name": "t.csv", "water_content": 0.25, "time": t, "depth": 0.01 * t, "force": t}
+    with pytest.raises(InputError) as info:
+        Trial(**{**base, **fields})  # type: ignore[arg-type]
+    assert str(info.value).startswith(message), str(info.value)
+    unknown = Trial(**{**base, "water_content": float("nan"), "velocity": np.float64(0.01),  # type: ignore[arg-type]
+                       "repeat": np.int64(2)})
+    assert np.isnan(unknown.water_content) and type(unknown.repeat) is int and type(unknown.velocity) is float

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, real_array
+from mudforce.errors import InputError, is_real, real_array
 from mudforce.io import atomic_write_text, dumps_json, load_json
 from mudforce.io.tables import COLUMN_LIMITS, COLUMN_UNITS, check_time, read_columns
 from mudforce.model.foot import Foot, parse_foot
@@ -92,6 +92,24 @@ class Trial:
     repeat: int | None = None
 
     def __post_init__(self) -> None:
+        # the labels, checked as a manifest's are (a string water content reached a fit's result as its label)
+        if not isinstance(self.name, str):
+            raise InputError(f"a trial's name must be a str, got {type(self.name).__name__}")
+        w = self.water_content
+        if not is_real(w) or not (math.isnan(w) or 0.0 < w < 1.0):
+            raise InputError(f"{self.name}: water_content is {w!r}; expected a number in (0, 1), e.g. 0.25 for 25%, "
+                             "or NaN (unknown)")
+        object.__setattr__(self, "water_content", float(w))
+        v = self.velocity
+        if v is not None and not (is_real(v) and 0.0 < v < math.inf):
+            raise InputError(f"{self.name}: velocity is {v!r}; expected None or a number > 0 [m/s], e.g. 0.01")
+        if v is not None:
+            object.__setattr__(self, "velocity", float(v))
+        r = self.repeat
+        if r is not None and (isinstance(r, bool) or not isinstance(r, (int, np.integer)) or r < 0):
+            raise InputError(f"{self.name}: repeat is {r!r}; expected None or a non-negative integer")
+        if r is not None:
+            object.__setattr__(self, "repeat", int(r))
         # the calibration's entry: real numbers only (complex, boolean, string and object arrays refused)
         for attr, unit in (("time", "s"), ("depth", "m"), ("force", "N")):
             object.__setattr__(self, attr, real_array(getattr(self, attr), f"{self.name}: {attr}", unit))
