@@ -142,6 +142,17 @@ def test_bad_options_are_refused(options: dict[str, object]) -> None:
         MudTracker(**options)  # type: ignore[arg-type]
 
 
+def test_an_unknown_option_is_refused_in_one_line() -> None:
+    """track(..., tua=1.0) and MudTracker(n=2) raised MudTrackers.__init__'s TypeError ("got an unexpected keyword
+    argument"), naming a class the caller never called; now an InputError naming the option and those expected."""
+    t = np.arange(3) * 0.01
+    for call in (lambda: track(t, t, t, tua=1.0), lambda: MudTracker(tua=1.0), lambda: MudTracker(n=2)):
+        with pytest.raises(InputError, match=r"^unknown tracker option\(s\) (tua|n); expected some of "
+                                             r"water_contents, tau, ") as info:
+            call()
+        assert "\n" not in str(info.value)
+
+
 def test_grid_and_estimate_fields() -> None:
     tracker = MudTracker(water_contents=[0.2, 0.25, 0.3], discrepancy=0.0)
     e = tracker.update(-0.01, 0.0, 0.01)

@@ -96,6 +96,7 @@ call, :func:`_track_step`, over arrays held by the object.
 from __future__ import annotations
 
 import functools
+import inspect
 import math
 import os
 from collections.abc import Sequence
@@ -1632,6 +1633,15 @@ def _old_update_keywords(depth: Any, force: Any, dt: Any, given: dict[str, Any])
     return values["depth"], values["force"], values["dt"]
 
 
+def _one_foot(foot: Foot | None, options: dict[str, Any]) -> MudTrackers:
+    """``MudTrackers(1, foot, **options)``, an unknown option refused in one line (not ``__init__``'s TypeError)."""
+    names = list(inspect.signature(MudTrackers.__init__).parameters)[3:]  # after self, n and foot: the options
+    unknown = sorted(set(options) - set(names))
+    if unknown:
+        raise InputError(f"unknown tracker option(s) {', '.join(unknown)}; expected some of {', '.join(names)}")
+    return MudTrackers(1, foot, **options)
+
+
 class MudTracker:
     """Track the mud's water content under one foot, one sample at a time.
 
@@ -1653,7 +1663,7 @@ class MudTracker:
     """
 
     def __init__(self, foot: Foot | None = None, **options: Any) -> None:
-        self._bank = MudTrackers(1, foot, **options)
+        self._bank = _one_foot(foot, options)
         self.grid = self._bank.grid
 
     def update(self, depth: float = _MISSING, force: float = _MISSING, dt: float = _MISSING,
@@ -1842,7 +1852,7 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         raise InputError("time must be strictly increasing [s]")
     if not np.all((steps >= MIN_DT) & (steps <= MAX_TIME)):
         raise InputError(f"time steps must be within [{MIN_DT:g}, {MAX_TIME:g}] s")
-    tracker = MudTrackers(1, foot, **options)
+    tracker = _one_foot(foot, options)
     _check_bounds(z, f, tracker._max_depth)
     m = t.size
     cols = np.empty((m, _N_OUT), dtype=np.float64)
