@@ -164,3 +164,27 @@ def test_result_methods_refuse_bad_types(tmp_path: Any) -> None:
     with pytest.raises(InputError, match="path must be a file path"):
         res.plot(123)  # type: ignore[arg-type]
     assert list(tmp_path.iterdir()) == []
+
+
+@needs_mujoco
+def test_a_step_count_below_one_is_refused_by_both_adapters() -> None:
+    """MudAdapter.step(0) and step(-1) (and MudAdapter3D's) returned having done nothing: a plain int skipped the
+    check that a float or a numpy integer gets; now every count below 1 is refused, and nothing moves."""
+    import mujoco
+
+    from mudforce.engines.mujoco import MudAdapter, MudAdapter3D, MudPatch, _drop_spec
+    from mudforce.engines.mujoco.adapter3d import drop_model_3d
+
+    model = _drop_spec(5.0, None, 0.0, 1e-3, 0.025).compile()
+    data = mujoco.MjData(model)
+    model_3d = drop_model_3d(2.0, "sphere", (0.04,), dt=2e-3)
+    data_3d = mujoco.MjData(model_3d)
+    adapters = [(MudAdapter(model, data, ["sole"], MudPatch(W25)), data),
+                (MudAdapter3D(model_3d, data_3d, ["foot"], MudPatch(W25)), data_3d)]
+    for mud, state in adapters:
+        mud.step(1)
+        before = (float(state.time), np.array(state.qpos))
+        for bad in (0, -1, np.int64(0)):
+            with pytest.raises(InputError, match=r"^nstep must be an integer >= 1, got "):
+                mud.step(bad)
+        assert (float(state.time), np.array(state.qpos).tolist()) == (before[0], before[1].tolist())

@@ -362,7 +362,7 @@ class MudAdapter3D:
 
     def step(self, nstep: int = 1) -> None:
         """Advance the simulation ``nstep`` MuJoCo steps with the mud's wrench and holds."""
-        if nstep.__class__ is not int:
+        if nstep.__class__ is not int or nstep < 1:  # 0 and -1 refused, not taken as no step
             nstep = positive_int(nstep, "nstep")
         mj, model, data = self._mj, self.model, self.data
         xfrc = data.xfrc_applied
