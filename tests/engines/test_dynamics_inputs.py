@@ -188,3 +188,20 @@ def test_a_step_count_below_one_is_refused_by_both_adapters() -> None:
             with pytest.raises(InputError, match=r"^nstep must be an integer >= 1, got "):
                 mud.step(bad)
         assert (float(state.time), np.array(state.qpos).tolist()) == (before[0], before[1].tolist())
+
+
+@needs_mujoco
+def test_add_mud_twice_for_a_foot_is_refused_and_changes_nothing() -> None:
+    """add_mud on a foot that already has mud raised MuJoCo's ValueError ("Error: repeated name 'mud_site_sole'
+    in site") after the feet before it had been given their sites and tendons; now refused in one line, as
+    add_mud_3d refuses it, before the spec changes."""
+    from mudforce.engines.mujoco import _drop_spec, add_mud
+
+    spec = _drop_spec(5.0, None, 0.0, 1e-3, 0.025)  # its "sole" has mud already
+    spec.worldbody.add_body(name="other").add_geom(name="toe", size=[0.01, 0.01, 0.01])
+    before = spec.to_xml()
+    for feet in (["sole"], ["toe", "sole"]):
+        with pytest.raises(InputError, match=r"^the model already has 'mud_site_sole': add_mud was called twice"):
+            add_mud(spec, feet)
+        assert spec.to_xml() == before
+    add_mud(spec, ["sole"], prefix="more_")  # another prefix is another set of names

@@ -222,6 +222,10 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
             point = [0.0, 0.0, 0.0]
         else:
             raise InputError(f"the model has no geom or body named {name!r}")
+        taken = [n for n in _names(prefix, name) if spec.site(n) is not None or spec.tendon(n) is not None]
+        if taken:  # was MuJoCo's ValueError "repeated name", with the feet before it already changed
+            raise InputError(f"the model already has {taken[0]!r}: add_mud was called twice for a foot (or use "
+                             "another prefix=)")
         found.append((name, body, point if chosen is None else chosen[i]))
     for name, body, point in found:
         site_name, anchor_site, tendon_name = _names(prefix, name)
