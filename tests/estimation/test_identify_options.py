@@ -31,6 +31,8 @@ def trial() -> Trial:
     ({"bounds": "x"}, "bounds must be (low, high)"),  # was ValueError: too many values to unpack
     ({"bounds": ("0.2", "0.3")}, "bounds must be (low, high)"),  # was TypeError
     ({"depth_noise": "1"}, "w.csv: depth noise must be between 0 and 10 mm"),  # was TypeError
+    ({"family": lambda w: None}, "family(0.15) must return MudParameters, got NoneType"),  # was AttributeError
+    ({"family": 3}, "family must be a function of the water content [-] returning MudParameters, got int"),
 ])
 def test_identify_refuses_options_of_the_wrong_type(trial: Trial, options: dict[str, Any], message: str) -> None:
     with pytest.raises(InputError) as info:

@@ -302,8 +302,16 @@ def _resolve_free(model: ForceModel, free: Iterable[str] | None, fixed: Mapping[
 
 
 def _prepare(trials: Sequence[Trial | PreparedTrial]) -> list[PreparedTrial]:
+    if isinstance(trials, (Trial, PreparedTrial)):
+        raise InputError("trials must be a list of Trial (or PreparedTrial), got one Trial: pass [trial]")
+    if isinstance(trials, (str, bytes)) or not isinstance(trials, Iterable):
+        raise InputError(f"trials must be a list of Trial (or PreparedTrial), got {type(trials).__name__}")
+    trials = list(trials)
     if not trials:
         raise InputError("no trials to fit")
+    for k, t in enumerate(trials):
+        if not isinstance(t, (Trial, PreparedTrial)):
+            raise InputError(f"trials[{k}] must be a Trial (or PreparedTrial), got {type(t).__name__}")
     return [t if isinstance(t, PreparedTrial) else prepare_trial(t) for t in trials]
 
 

@@ -741,11 +741,16 @@ def _once_each(family: Callable[[float], MudParameters]) -> Callable[[float], Mu
     """``family`` [-] -> :class:`MudParameters`, called once per water content (speed plumbing: an identify reads
     the family thousands of times, at a few hundred water contents; a family is a function of the water content)."""
     made: dict[float, MudParameters] = {}
+    if not callable(family):
+        raise InputError(f"family must be a function of the water content [-] returning MudParameters, got "
+                         f"{type(family).__name__}")
 
     def once(w: float) -> MudParameters:
         q = made.get(w)
         if q is None:
             q = made[w] = family(w)
+            if not isinstance(q, MudParameters):
+                raise InputError(f"family({w:.6g}) must return MudParameters, got {type(q).__name__}")
         return q
 
     return once
