@@ -40,7 +40,7 @@ def test_a_flat_box_dropped_flat_rests_at_the_exact_1d_depth() -> None:
     """A box's bottom is the paper's sole: the 1-D exact drop (DOP853 with events) is its reference."""
     res = simulate_drop_3d(5.0, MUD, "box", (0.051, 0.038, 0.025), duration=0.6, dt=2e-3)
     ref = exact_drop(5.0, MUD, Foot.cuboid(0.051, 0.038), duration=0.6)
-    assert res.depth[-1] == pytest.approx(ref.rest_depth, rel=0.02)  # measured +0.03% at 1 ms
+    assert res.depth[-1] == pytest.approx(ref.rest_depth, rel=0.02)  # measured +1.57 % here (2 ms), +0.35 % at 1 ms
     assert res.speed(0.2) < 1e-4  # creep < 0.1 mm/s (measured 0.26 um/s)
     assert res.force_std(0.2) <= 0.02 * 5.0 * GRAVITY
     assert res.force[-1] == pytest.approx([0.0, 0.0, 5.0 * GRAVITY], abs=1e-3 * 5.0 * GRAVITY)
