@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit
 
 from mudforce._kernel import ContactMode, params_from_row, params_row
+from mudforce._kernel.bounds import MAX_DEPTH
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
@@ -401,7 +402,8 @@ def simulate_foot(
     height : float
         Release height of the foot's bottom above the mud surface [m], positive up (as everywhere a drop
         starts: :func:`mudforce.engines.mujoco.simulate_drop`, :func:`mudforce.engines.mjx.simulate_drop`,
-        :func:`mudforce.references.drop.exact_drop`); negative starts it that far inside fresh mud.
+        :func:`mudforce.references.drop.exact_drop`); negative starts it that far inside fresh mud. Within
+        +-100 m (:data:`mudforce.steppers.simulation.MAX_DEPTH`).
     velocity0 : float
         Initial velocity [m/s], positive down.
     applied_force : float, or (times, forces) arrays, optional
@@ -435,6 +437,9 @@ def simulate_foot(
         z0 = finite_number(depth0, "depth0", "m")
     else:
         z0 = 0.0 - finite_number(height, "height", "m")  # (0.0 - 0.0 is +0.0)
+    if not abs(z0) <= MAX_DEPTH:  # the stepper's bound on a depth, as every other path refuses it
+        name, value = ("depth0", z0) if depth0 is not None else ("height", -z0)
+        raise InputError(f"{name} must be within +-{MAX_DEPTH:g} m of the mud surface, got {value:g} m")
     velocity0 = finite_number(velocity0, "velocity0", "m/s")
     substeps = positive_int(substeps, "substeps")
     mass = check_mass(mass, params, foot, dt / substeps, "RK4 sub-step")
