@@ -196,10 +196,9 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
             cb: np.ndarray, nb: np.ndarray, area: np.ndarray, patch: np.ndarray, const: np.ndarray,
             states: np.ndarray, params: np.ndarray, k_band: int, bands: np.ndarray, velocity_z: np.ndarray,
             u: np.ndarray, xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
-            sameframe: np.ndarray, anchors: np.ndarray, tendons: np.ndarray, site_pos: np.ndarray,
-            frictionloss: np.ndarray, anchor_height: float, rest_speed: float, band: np.ndarray, holds: np.ndarray,
-            applied: np.ndarray, dirs: np.ndarray, scratch: np.ndarray) -> None:
-    """The next step's bands, holds, contact points, anchors and explicit wrench, foot by foot.
+            tendons: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray, rest_speed: float, band: np.ndarray,
+            holds: np.ndarray, applied: np.ndarray, dirs: np.ndarray, scratch: np.ndarray) -> None:
+    """The next step's bands, holds, contact points, tendon directions and explicit wrench, foot by foot.
 
     ``pos`` (n, 3) [m] and ``mats`` (n, 9) the foot geoms' poses; ``last_pos``
     the previous ones (updated here); ``dt`` [s]; ``starts`` each foot's
@@ -212,11 +211,10 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
     ``velocity_z`` (n,) written [m/s];
     ``u`` (n, 2) each foot's last horizontal direction (updated). MuJoCo's
     arrays: ``xipos``, ``xpos``, ``xmat`` (data), ``site_pos``,
-    ``frictionloss`` (model, written); ``sameframe`` (n,) each contact
-    site's ``model.site_sameframe`` (1 or 2: MuJoCo keeps that site at the
-    body's origin or centre of mass whatever ``site_pos`` says, and the
-    anchors are placed from there, so that no tendon leans). Written: ``band`` (2, n) [N],
-    ``holds`` (n, 2) [N], ``applied`` (n, 6) [N], [N m], ``dirs`` (n, 3, 3);
+    ``frictionloss`` (model, written). Written: ``band`` (2, n) [N],
+    ``holds`` (n, 2) [N], ``applied`` (n, 6) [N], [N m], ``dirs`` (n, 3, 3)
+    (the anchors are placed along them by :func:`place_anchors`, from where
+    MuJoCo puts the contact site);
     ``scratch`` (:data:`N_SCRATCH`, at least the most elements of a foot):
     a foot's submerged elements side by side, for loops without branches.
     """
@@ -324,22 +322,6 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
         frictionloss[tendons[f, 0]] = half
         frictionloss[tendons[f, 1]] = hold_u
         frictionloss[tendons[f, 2]] = hold_v
-        # the anchors from where the contact site will be: the contact point, or the body's origin (centre of
-        # mass) where MuJoCo keeps the site there (site_sameframe): a sideways tendon anchored at another height
-        # than its site leans, and its friction (the sideways hold) would resist vertical motion
-        sx, sy, sz = qx, qy, qz
-        if sameframe[f] == 1:
-            sx, sy, sz = xpos[b, 0], xpos[b, 1], xpos[b, 2]
-        elif sameframe[f] == 2:
-            sx, sy, sz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
-        site_pos[anchors[f, 0], 0], site_pos[anchors[f, 0], 1] = sx, sy
-        site_pos[anchors[f, 0], 2] = sz + anchor_height
-        site_pos[anchors[f, 1], 0] = sx + anchor_height * ux
-        site_pos[anchors[f, 1], 1] = sy + anchor_height * uy
-        site_pos[anchors[f, 1], 2] = sz
-        site_pos[anchors[f, 2], 0] = sx - anchor_height * uy
-        site_pos[anchors[f, 2], 1] = sy + anchor_height * ux
-        site_pos[anchors[f, 2], 2] = sz
         dirs[f, 0, 0], dirs[f, 0, 1], dirs[f, 0, 2] = 0.0, 0.0, 1.0
         dirs[f, 1, 0], dirs[f, 1, 1], dirs[f, 1, 2] = ux, uy, 0.0
         dirs[f, 2, 0], dirs[f, 2, 1], dirs[f, 2, 2] = -uy, ux, 0.0

@@ -294,7 +294,6 @@ class MudAdapter3D:
         self._gids = np.array(gids, dtype=np.int64)
         self._bodies = np.array([int(model.geom_bodyid[g]) for g in gids], dtype=np.int64)
         self._sites = np.array([i["site"] for i in ids], dtype=np.int64)
-        self._sameframe = np.array([int(model.site_sameframe[s]) for s in self._sites], dtype=np.int64)
         self._anchors = np.array([[i["anchor_z"], i["anchor_u"], i["anchor_v"]] for i in ids], dtype=np.int64)
         self._tendons = np.array([[i["tendon_z"], i["tendon_u"], i["tendon_v"]] for i in ids], dtype=np.int64)
         self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.surface_height) for p in plist]
@@ -378,21 +377,6 @@ class MudAdapter3D:
             self._last_dirs, self._dirs = self._dirs, self._last_dirs
             self._commit(dt, first=False)
             self._prepare(dt)
-            self._anchor_at_the_new_state()
-
-    def _anchor_at_the_new_state(self) -> None:
-        """Place every foot's three anchors where the next step's constraints will see its contact site.
-
-        ``mj_step`` leaves the positions of the state it started from (``geom_xpos``, ``site_xpos``, ...), with
-        ``qpos`` integrated past them; the feet's poses are committed from those, as they always were, but the
-        next step's tendons are laid out by MuJoCo at the new ``qpos``. Anchored at the old contact site, the
-        sideways tendons leant by the step's vertical motion over their 1 m, and their stiff friction (the
-        sideways hold) turned vertical motion into a sideways force: up to 1.6 N on a sphere dropped straight,
-        which pushed it 4-6 um aside. So the site is placed by ``mj_kinematics`` at the new ``qpos`` (with the
-        local position :meth:`_prepare` gave it) and the anchors 1 m from it along the prepared directions.
-        """
-        self._mj.mj_kinematics(self.model, self.data)
-        place_anchors(self._site_xpos, self._sites, self._anchors, self._dirs, self._site_pos, ANCHOR_HEIGHT)
 
     def _poses(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         d = self.data
@@ -449,7 +433,8 @@ class MudAdapter3D:
         self._patch_changed = True
 
     def _prepare(self, dt: float) -> None:
-        """The next step's bands, holds, contact points, anchors and explicit wrench (compiled: ``_step3d.prepare``)."""
+        """The next step's bands, holds, contact points, anchors and explicit wrench (compiled: ``_step3d.prepare``,
+        ``_step3d.place_anchors``)."""
         pos, mats = self._pos, self._mats
         # the bands of the feet in the first patch that holds any are computed in prepare, the others' here
         k_band = 0
@@ -472,9 +457,17 @@ class MudAdapter3D:
                     const[f, :C_WIDTH] = self._patch_const[k, :C_WIDTH]  # the width is the foot's
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
                 states, rows, k_band, self._bands, self._velocity_z, self._u, self._xipos, self._xpos, self._xmat,
-                self._bodies, self._sites, self._sameframe, self._anchors, self._tendons, self._site_pos,
-                self._frictionloss, ANCHOR_HEIGHT, REST_SPEED, self._band, self.capacity, self._applied, self._dirs,
-                self._scratch)
+                self._bodies, self._sites, self._tendons, self._site_pos, self._frictionloss, REST_SPEED, self._band,
+                self.capacity, self._applied, self._dirs, self._scratch)
+        # the anchors, 1 m from the contact site along the tendons' directions, where the next step's constraints
+        # will see the site: at the current qpos, with the local position prepare gave it. After mj_step the
+        # positions in data are those of the state the step started from (the feet's poses are committed from
+        # them, on purpose: docs/engines3d.md), and anchored there the sideways tendons leant by the step's
+        # vertical motion over their 1 m, their stiff friction (the sideways hold) turning vertical motion into a
+        # sideways force: up to 1.6 N on a sphere dropped straight, which pushed it 4-6 um aside. mj_kinematics
+        # also keeps the site where MuJoCo keeps it (at the body's origin or centre of mass, site_sameframe)
+        self._mj.mj_kinematics(self.model, self.data)
+        place_anchors(self._site_xpos, self._sites, self._anchors, self._dirs, self._site_pos, ANCHOR_HEIGHT)
 
     def _check_floor(self) -> None:
         """Warn once per foot that touches a geom that is not a foot while it is in the mud."""
