@@ -228,8 +228,7 @@ class MudContact3D:
             raise InputError(f"state must be a ContactState3D from .state, got {type(saved).__name__}")
         slip = real_array(saved.slip, "a state's slips", "m")  # refuses strings, complex, objects (as MudContacts3D)
         centroids = real_array(saved.centroids, "a state's centroids", "m")
-        if not isinstance(saved.started, (bool, np.bool_)):
-            raise InputError(f"a state's started must be True or False, got {saved.started!r}")
+        started = true_or_false(saved.started, "a state's started")
         n = self.shape.n
         if slip.shape != (n, 2) or centroids.shape != (n, 3):
             raise InputError(f"a state of this {n}-element foot has slips (n, 2) and centroids (n, 3), got "
@@ -244,7 +243,7 @@ class MudContact3D:
         self._elements.state = elements  # validated again; refuses without changing anything
         self._slip[:] = slip
         self._centroids[:] = centroids
-        self._started = bool(saved.started)
+        self._started = started
 
     @property
     def modes(self) -> list[str]:
