@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_SEED", "InputError", "finite_number", "is_real", "number_within", "positive_int", "positive_number",
-           "real_array", "real_number", "seed_int", "true_or_false"]
+__all__ = ["MAX_SEED", "InputError", "finite_number", "is_integer", "is_real", "number_within", "positive_int",
+           "positive_number", "real_array", "real_number", "seed_int", "true_or_false"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
@@ -34,14 +34,14 @@ def positive_int(value: Any, name: str, alternative: str = "") -> int:
     alternative : str
         What else the caller accepts, for the message (``" or None (automatic)"``).
     """
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+    if not is_integer(value) or value < 1:
         raise InputError(f"{name} must be an integer >= 1{alternative}, got {value!r}")
     return int(value)
 
 
 def seed_int(value: Any, name: str = "--seed") -> int:
     """``value`` as a seed: an integer in [0, :data:`MAX_SEED`] (not bool), else :class:`InputError`."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= MAX_SEED:
+    if not is_integer(value) or not 0 <= value <= MAX_SEED:
         raise InputError(f"{name} must be an integer in [0, {MAX_SEED}], got {value!r}")
     return int(value)
 
@@ -61,6 +61,12 @@ def true_or_false(value: Any, name: str) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise InputError(f"{name} must be True or False, got {value!r}")
     return bool(value)
+
+
+def is_integer(value: Any) -> bool:
+    """Whether ``value`` is a Python or numpy integer (not ``bool``; not a float, even a whole one: ``int(0.7)``
+    would read it as 0): the one integer type test of the checks here and of the package's counts and indices."""
+    return not isinstance(value, bool) and isinstance(value, (int, np.integer))
 
 
 def is_real(value: Any) -> bool:

@@ -8,7 +8,15 @@ from typing import Any
 import numpy as np
 import pytest
 
-from mudforce.errors import InputError, finite_number, number_within, positive_number, real_number, true_or_false
+from mudforce.errors import (
+    InputError,
+    finite_number,
+    is_integer,
+    number_within,
+    positive_number,
+    real_number,
+    true_or_false,
+)
 
 
 @pytest.mark.parametrize(
@@ -119,6 +127,13 @@ def test_true_or_false_takes_only_booleans() -> None:
     for bad in ("no", None, 0, 1, 1.0, np.array([True])):
         with pytest.raises(InputError, match=r"^quiet must be True or False, got "):
             true_or_false(bad, "quiet")
+
+
+def test_is_integer_takes_python_and_numpy_integers_only() -> None:
+    """The one integer test of the package's counts, seeds and indices (identify's points, gait's seed, a dataset's
+    repeat, MudContact3D.element_slice's foot): a bool, a float (even a whole one) or a 0-d array is not one."""
+    assert all(is_integer(x) for x in (0, -3, 2**70, np.int64(5), np.uint8(1), np.int32(-1)))
+    assert not any(is_integer(x) for x in (True, np.bool_(False), 1.0, 0.7, np.float64(2.0), np.array(3), "1", None))
 
 
 def _boolean_options(tmp: Any) -> dict[str, Any]:

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mudforce.errors import InputError, number_within, true_or_false
+from mudforce.errors import InputError, is_integer, number_within, true_or_false
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -100,7 +100,7 @@ def gait(
     Gait
         Times [s], depths [m] and the swing apexes [s].
     """
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+    if not is_integer(seed) or seed < 0:
         raise InputError(f"seed must be an integer >= 0, got {seed!r}")
     duration = number_within(duration, "duration", 1.0, 3600.0, "s")
     rate = number_within(rate, "rate", 10.0, 1e5, "Hz")

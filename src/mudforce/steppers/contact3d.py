@@ -43,7 +43,16 @@ from mudforce import _kernel as K
 from mudforce._kernel import step3d as S3
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MAX_TIME, MIN_DT
 from mudforce._kernel.layout import STATE_NAMES
-from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, real_number, true_or_false
+from mudforce.errors import (
+    InputError,
+    finite_number,
+    is_integer,
+    is_real,
+    positive_int,
+    real_array,
+    real_number,
+    true_or_false,
+)
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -820,7 +829,7 @@ class MudContacts3D:
 
     def element_slice(self, foot: int) -> slice:
         """The rows of foot ``foot``'s elements in :attr:`state`'s arrays."""
-        if isinstance(foot, bool) or not isinstance(foot, (int, np.integer)):  # not int(): 0.7 would be foot 0
+        if not is_integer(foot):  # not int(): 0.7 would be foot 0
             raise InputError(f"foot must be an integer index 0..{self.n - 1}, got {type(foot).__name__} {foot!r}")
         f = int(foot)
         if not -self.n <= f < self.n:

@@ -88,7 +88,7 @@ from scipy.stats import t as student_t
 
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce.errors import InputError, is_real
+from mudforce.errors import InputError, is_integer, is_real
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.estimation.calibration.models import CHEN2024
@@ -803,7 +803,7 @@ def identify_water_content(
     if not is_real(level) or not 0.0 < level < 1.0:
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
     check_force_gain_uncertainty(force_gain_uncertainty)
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or not 1 <= points <= _MAX_POINTS:
+    if not is_integer(points) or not 1 <= points <= _MAX_POINTS:
         raise InputError(f"points must be an integer in [1, {_MAX_POINTS}], got {points!r}")
     if foot is not None and not isinstance(foot, Foot):
         raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")

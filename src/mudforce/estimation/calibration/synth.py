@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, positive_int, seed_int
+from mudforce.errors import InputError, is_integer, positive_int, seed_int
 from mudforce.estimation.calibration.dataset import Dataset, Trial, save_dataset
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -261,7 +261,7 @@ def synthesize_gait(
         raise InputError(f"start_below must be one of {', '.join(START_BELOW)}, got {start_below!r}")
     if not water_contents:
         raise InputError("synthesize_gait needs at least one water content")
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+    if not is_integer(seed) or seed < 0:
         raise InputError(f"seed must be an integer >= 0, got {seed!r}")
     foot = Foot.paper() if foot is None else foot
     if chain is not None:
