@@ -399,7 +399,8 @@ def test_a_mangled_state_is_refused_in_one_line_and_changes_nothing() -> None:
 
 
 def test_simulate_3d_names_the_sample_a_bad_input_is_at() -> None:
-    """simulate_3d refuses a bad time, step, position or quaternion naming the sample (as simulate does), not in
+    """simulate_3d refuses a bad time, step, position or quaternion naming the sample (in simulate's words: the one
+    check_times of _kernel.bounds words both), not in
     the words of a single step (\"dt must be within ... after the first step\") that leave the row to be guessed;
     and a time beyond +-1e9 s, where a millisecond step would lose its digits, is refused as simulate refuses it."""
     params = mf.MudParameters.from_water_content(0.25)
@@ -411,12 +412,14 @@ def test_simulate_3d_names_the_sample_a_bad_input_is_at() -> None:
     bad_quat[4] = [2.0, 0.0, 0.0, 0.0]
     for call, message in (
         (lambda: simulate_3d(np.where(np.arange(m) == 3, t[2], t), pos, quat, params, SPHERE),
-         "the time step before sample 3 is 0.0 s (0.02 s then 0.02 s); expected strictly increasing time"),
-        (lambda: simulate_3d(t[::-1], pos, quat, params, SPHERE), "the time step before sample 1 is -0.0099"),
+         "time repeats at sample 3 (0.02 s then 0.02 s); expected strictly increasing time"),
+        (lambda: simulate_3d(t[::-1], pos, quat, params, SPHERE), "time goes backwards at sample 1 (0.11 s then 0.1"),
+        (lambda: simulate_3d(t * 1e-8, pos, quat, params, SPHERE), "the time step before sample 1 is 1e-10 s; "
+         "expected steps within [1e-09, 1000] s"),
         (lambda: simulate_3d(np.where(np.arange(m) == 5, math.nan, t), pos, quat, params, SPHERE),
-         "time at sample 5 (nan s) is not finite"),
-        (lambda: simulate_3d(t + 1e12, pos, quat, params, SPHERE), "time at sample 0 (1000000000000.0 s) is not "
-         "finite or beyond +-1e+09 s"),
+         "time is not finite at sample 5 (nan); expected numbers [s]"),
+        (lambda: simulate_3d(t + 1e12, pos, quat, params, SPHERE), "time at sample 0 (1000000000000.0 s) is beyond "
+         "+-1e+09 s"),
         (lambda: simulate_3d(t, bad_pos, quat, params, SPHERE), "sample 7 (t = 0.07 s): position must be 3 finite"),
         (lambda: simulate_3d(t, pos, bad_quat, params, SPHERE), "sample 4 (t = 0.04 s): a quaternion must have norm 1"),
     ):

@@ -7,14 +7,19 @@ same numbers; :mod:`mudforce.steppers.simulation` re-exports them as the public
 :data:`~mudforce.steppers.simulation.MAX_DT` and :data:`~mudforce.steppers.simulation.MAX_TIME`.
 Inside these bounds every output is finite (``tests/api/test_promise.py``).
 :func:`out_of_bounds` is the one test of a sample against them, for the
-compiled loops and for ``simulation``'s pass over a whole trajectory.
+compiled loops and for ``simulation``'s pass over a whole trajectory;
+:func:`check_times` words the refusal of sample times, for ``simulate`` and
+``simulate_3d`` alike.
 """
 
 from __future__ import annotations
 
-from mudforce._kernel.layout import _compiled
+import numpy as np
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "out_of_bounds"]
+from mudforce._kernel.layout import _compiled
+from mudforce.errors import InputError
+
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "check_times", "out_of_bounds"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -44,3 +49,27 @@ def out_of_bounds(time: float, depth: float, step: float) -> bool:
     """
     return ((not abs(time) <= MAX_TIME) | (not abs(depth) <= MAX_DEPTH) | (not step >= MIN_DT)
             | (not step <= MAX_DT))
+
+
+def check_times(t: np.ndarray) -> None:
+    """Refuse sample times [s] (float64, 1-D) that are not finite, beyond +-:data:`MAX_TIME` (where a step of 1 ms
+    would lose its digits), or not stepping by [:data:`MIN_DT`, :data:`MAX_DT`]: one line naming the first bad
+    sample, for :func:`mudforce.simulate` and :func:`mudforce.simulate_3d` alike."""
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise InputError(f"time is not finite at sample {bad[0]} ({float(t[bad[0]])!r}); expected numbers [s]")
+    bad = np.flatnonzero(np.abs(t) > MAX_TIME)
+    if bad.size:
+        raise InputError(f"time at sample {bad[0]} ({float(t[bad[0]])!r} s) is beyond +-{MAX_TIME:g} s")
+    steps = np.diff(t)
+    bad = np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))
+    if not bad.size:
+        return
+    i = int(bad[0]) + 1
+    if steps[i - 1] <= 0.0:
+        what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
+        raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
+                         "expected strictly increasing time")
+    # repr: a step just outside a bound must not print as the bound
+    raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
+                     f"[{MIN_DT:g}, {MAX_DT:g}] s")

@@ -41,7 +41,7 @@ from numba import typeof
 
 from mudforce import _kernel as K
 from mudforce._kernel import step3d as S3
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MAX_TIME, MIN_DT
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT, check_times
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce.errors import (
     InputError,
@@ -492,7 +492,7 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
     if m < 1 or x.shape != (m, 3) or q.shape != (m, 4):
         raise InputError(f"time (m,), positions (m, 3) and quaternions (m, 4) must agree, got {t.shape}, "
                          f"{x.shape} and {q.shape}")
-    _check_times(t)
+    check_times(t)
     contact = MudContact3D(params, shape, surface_height, width=width, lateral_stiffness=lateral_stiffness)
     force = np.empty((m, 3))
     torque = np.empty((m, 3))
@@ -507,23 +507,6 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
         if per_element is not None:
             per_element[k] = contact.element_forces
     return Result3D(t.copy(), force, torque, per_element)
-
-
-def _check_times(t: np.ndarray) -> None:
-    """Refuse sample times [s] that are not finite, beyond +-:data:`~mudforce._kernel.bounds.MAX_TIME` (where a
-    step of 1 ms would lose its digits), or not stepping by [MIN_DT, MAX_DT] s, naming the first bad sample (as
-    :func:`mudforce.simulate` does)."""
-    bad = np.flatnonzero(~(np.abs(t) <= MAX_TIME))
-    if bad.size:
-        raise InputError(f"time at sample {bad[0]} ({float(t[bad[0]])!r} s) is not finite or beyond "
-                         f"+-{MAX_TIME:g} s; expected finite times [s] within that")
-    steps = np.diff(t)
-    bad = np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))
-    if bad.size:
-        i = int(bad[0]) + 1
-        raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s ({float(t[i - 1])!r} s "
-                         f"then {float(t[i])!r} s); expected strictly increasing time, steps within "
-                         f"[{MIN_DT:g}, {MAX_DT:g}] s")
 
 
 class ContactStates3D(NamedTuple):

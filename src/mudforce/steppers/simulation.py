@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit
 
 from mudforce import _kernel as K
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, out_of_bounds
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, check_times, out_of_bounds
 from mudforce.errors import InputError, real_array
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -263,28 +263,15 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
     """Raise :class:`InputError` naming the first bad time or depth, or the first step out of bounds."""
     if _values_ok(t, z):
         return
-    bad = np.flatnonzero(~np.isfinite(t))
-    if bad.size:
-        raise InputError(f"time is not finite at sample {bad[0]} ({float(t[bad[0]])!r}); expected numbers [s]")
+    # the depths first: a sample whose depth is bad says so even where the step before it is also refused
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
         raise InputError(f"depth is not finite at sample {bad[0]} ({float(z[bad[0]])!r}); expected numbers [m]")
-    bad = np.flatnonzero(np.abs(t) > MAX_TIME)
-    if bad.size:
-        raise InputError(f"time at sample {bad[0]} ({float(t[bad[0]])!r} s) is beyond +-{MAX_TIME:g} s")
     bad = np.flatnonzero(np.abs(z) > MAX_DEPTH)
     if bad.size:
         raise InputError(f"depth at sample {bad[0]} ({float(z[bad[0]])!r} m) is beyond +-{MAX_DEPTH:g} m; "
                          "expected depths [m] within that")
-    steps = np.diff(t)
-    i = int(np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))[0]) + 1
-    if steps[i - 1] <= 0.0:
-        what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
-        raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
-                         "expected strictly increasing time")
-    # repr: a step just outside a bound must not print as the bound
-    raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
-                     f"[{MIN_DT:g}, {MAX_DT:g}] s")
+    check_times(t)
 
 
 _NO_COPY = np.empty(0, dtype=np.float64)
