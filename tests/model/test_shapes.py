@@ -375,6 +375,26 @@ def test_bad_meshes_get_one_line_errors_naming_the_problem() -> None:
         "the mesh encloses no volume (0 m^3); expected a closed solid's surface")
 
 
+def test_meshes_with_two_vertices_at_one_point_are_refused() -> None:
+    """Two copies of a cube overlaid (each closed on its own vertices) were taken as one shape of twice the area and
+    volume; a cube whose faces each have their own corners (a mesh not welded, as STL stores it) was called open
+    without saying why. Each now gets one line naming the two vertices."""
+    v, f = cube_mesh()
+    twice_v, twice_f = np.vstack([v, v]), np.vstack([f, f + len(v)])
+    assert _one_line(lambda: shapes.mesh(twice_v, twice_f)).startswith(
+        "mesh vertices 0 and 8 are the same point [-0.01, -0.01, -0.01] m though no edge joins them: the surface "
+        "overlays or touches itself")
+    loose_v = v[f.ravel()]  # three corners of its own per face
+    loose_f = np.arange(loose_v.shape[0]).reshape(-1, 3)
+    text = _one_line(lambda: shapes.mesh(loose_v, loose_f))
+    assert "the mesh is open" in text and text.endswith("are the same point: merge repeated vertices (weld the mesh) "
+                                                        "first")
+    # the welded cube, and a cube beside it (two shells apart): both taken
+    assert shapes.mesh(v, f).closed
+    apart_v = np.vstack([v, v + np.array([0.05, 0.0, 0.0])])
+    assert shapes.mesh(apart_v, twice_f).volume == pytest.approx(2 * 0.02**3, rel=1e-12)
+
+
 def test_refused_mesh_inputs_are_left_unchanged() -> None:
     v, f = cube_mesh()
     v0, f0 = v.copy(), f.copy()

@@ -777,6 +777,17 @@ def _mesh_arrays(vertices: Any, faces: Any) -> tuple[Float, NDArray[np.int64]]:
     return verts, tris
 
 
+def _coincident(verts: NDArray[np.float64], used: NDArray[np.int64]) -> tuple[int, int] | None:
+    """The first two of the ``used`` vertices at exactly the same point (the lowest indices), or None."""
+    _, first, inverse = np.unique(verts[used], axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    repeated = np.flatnonzero(first[inverse] != np.arange(used.size))
+    if not repeated.size:
+        return None
+    k = int(repeated[0])  # used is sorted, so the first repeat found names the lowest pair
+    return int(used[first[inverse[k]]]), int(used[k])
+
+
 def _check_closed(tris: NDArray[np.int64]) -> None:
     """InputError unless every edge of ``tris`` is shared by exactly two faces with opposite directions."""
     m = tris.shape[0]
@@ -834,8 +845,10 @@ def mesh(vertices: Any, faces: Any, *, resolution: float | None = None) -> Shape
         array, an index out of range, a non-finite vertex, a zero-area face,
         an open mesh (an edge of one face only), a non-manifold edge
         (three faces or more), inconsistent winding (two faces running an
-        edge the same way), a mesh enclosing no volume, a mesh whose faces
-        point inward (negative signed volume), or too many elements.
+        edge the same way), two vertices at the same point (a mesh not
+        welded, or shells that overlay or touch), a mesh enclosing no volume,
+        a mesh whose faces point inward (negative signed volume), or too many
+        elements.
     """
     verts, tris = _mesh_arrays(vertices, faces)
     used = np.unique(tris)
@@ -848,7 +861,20 @@ def mesh(vertices: Any, faces: Any, *, resolution: float | None = None) -> Shape
         f = int(np.argmax(flat))
         raise InputError(f"mesh face {f} {tris[f].tolist()} has zero area ({0.5 * doubled[f]:.3g} m^2): "
                          f"its vertices are collinear; expected a proper triangle")
-    _check_closed(tris)
+    twins = _coincident(verts, used)
+    try:
+        _check_closed(tris)
+    except InputError as error:
+        if twins is None:
+            raise
+        i, j = twins  # an open edge between faces that share a point but not its vertex: the mesh is not welded
+        raise InputError(f"{error}; its vertices {i} and {j} are the same point: merge repeated vertices "
+                         "(weld the mesh) first") from None
+    if twins is not None:
+        i, j = twins
+        raise InputError(f"mesh vertices {i} and {j} are the same point {verts[i].tolist()} m though no edge joins "
+                         "them: the surface overlays or touches itself (two shells, or one pinched); expected each "
+                         "point of a closed surface once (give separate solids as separate shapes)")
     volume = math.fsum(np.einsum("ij,ij->i", v0, cross).tolist()) / 6.0
     if abs(volume) < _FLAT * extent**3:
         raise InputError(f"the mesh encloses no volume ({volume:.3g} m^3); expected a closed solid's surface")
