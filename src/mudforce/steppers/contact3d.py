@@ -249,7 +249,10 @@ class MudContact3D:
             raise InputError(f"a state of this {n}-element foot has element states of shape {rows}, got "
                              f"{elements.shape}")
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")
-        self._elements.state = elements  # validated again; refuses without changing anything
+        # written as MudContacts' setter writes them (checked above once, in elements' words)
+        self._elements._states[:] = elements[:, :K.N_STATE]
+        self._elements.ring[:] = elements[:, K.N_STATE:]
+        K.forget_cache(self._elements._states)
         self._slip[:] = slip
         self._centroids[:] = centroids
         self._started = started
