@@ -116,6 +116,13 @@ def main(argv: list[str] | None = None) -> dict[str, np.ndarray]:
                     help="water contents of the first and last world, fractions (default 0.15 0.25)")
     ap.add_argument("--out", default="mjx_hoppers_in_mud.png", help="PNG to write ('' for none)")
     args = ap.parse_args(argv)
+    if args.worlds < 1:
+        ap.error(f"--worlds must be at least 1, got {args.worlds}")
+    cycle = 1.0 / STEP_HZ  # [s]
+    if not 2.0 * cycle <= args.duration <= 600.0:  # the work is reported per cycle after the first
+        ap.error(f"--duration must be from {2.0 * cycle:.3g} s (two step cycles) to 600 s, got {args.duration}")
+    if not all(0.15 <= w <= 0.35 for w in args.water):
+        ap.error(f"--water must be two fractions within Table I's range [0.15, 0.35], got {args.water}")
     water = np.linspace(args.water[0], args.water[1], args.worlds)
     m, data, patch, _ = build(args.worlds, water)
     steps = round(args.duration / 1e-3)

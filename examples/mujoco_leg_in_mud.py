@@ -34,6 +34,7 @@ import numpy as np
 
 from mudforce import MudParameters
 from mudforce.engines.mujoco import MudAdapter, MudPatch, add_mud
+from mudforce.errors import InputError
 from mudforce.io.units import parse_quantity
 from mudforce.model.foot import Foot
 
@@ -172,15 +173,19 @@ def work_per_step(res: dict[str, np.ndarray], cycles: int) -> np.ndarray:
     return np.bincount(step, weights=dw, minlength=cycles)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--water-content", default="25%", help="mud water content, e.g. 25%%")
     parser.add_argument("--cycles", type=int, default=5, help="number of steps")
     parser.add_argument("--out", default="leg_in_mud.png", help="figure (PNG)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.cycles < 1:
         parser.error(f"--cycles must be at least 1, got {args.cycles}")
-    params = MudParameters.from_water_content(parse_quantity(args.water_content, "fraction", name="--water-content"))
+    try:
+        params = MudParameters.from_water_content(parse_quantity(args.water_content, "fraction",
+                                                                 name="--water-content"))
+    except InputError as error:  # one line and exit status 2, as the mudforce command line gives
+        parser.error(str(error))
     mud = run("mud", params, args.cycles)
     sand = run("sand", params, args.cycles)
     w_mud, w_sand = work_per_step(mud, args.cycles), work_per_step(sand, args.cycles)

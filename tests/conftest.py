@@ -49,6 +49,7 @@ SLOW_MODULES: dict[str, float] = {
     "cli/test_cli_bad_values.py": 8,
     "cli/test_cli_outputs_together.py": 5,  # measured 2026-11-29
     "api/test_readme_tour.py": 9,  # measured 2026-11-29 (alone, one core)
+    "engines/test_leg_examples.py": 7,  # measured 2026-11-29 (alone, one core)
     "engines/test_mjx_rest.py": 6,
     "api/test_layout.py": 6,
     "estimation/test_identify_misfit.py": 5,

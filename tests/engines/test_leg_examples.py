@@ -1,0 +1,48 @@
+"""examples/mujoco_leg_in_mud.py and examples/mjx_hoppers_in_mud.py: the leg steps at a small size, and both
+refuse bad options in one line with exit status 2 (the hoppers' example crashed in a reshape on a run shorter than
+two step cycles, and a water content outside Table I was a traceback in both)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from load_example import load_example
+
+pytest.importorskip("mujoco")
+
+
+def _refused(main, argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:  # type: ignore[no-untyped-def]
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    return capsys.readouterr().err.strip().splitlines()[-1]
+
+
+def test_the_leg_steps_in_mud_and_on_granular_ground(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    leg = load_example("mujoco_leg_in_mud")
+    out = tmp_path / "leg.png"
+    leg.main(["--cycles", "1", "--out", str(out)])
+    printed = capsys.readouterr().out
+    assert out.is_file() and "step 1: work lost to mud" in printed
+    found = re.search(r"step 1: work lost to mud +([0-9.]+) J, to granular ground \(linear RFT\) +([0-9.]+) J",
+                      printed)
+    assert found is not None, printed
+    mud, sand = float(found.group(1)), float(found.group(2))
+    assert mud > sand > 0.0  # the mud takes more than the granular ground (suction, relaxation)
+    message = _refused(leg.main, ["--water-content", "50%", "--out", str(out)], capsys)
+    assert message.endswith("water content 0.5 is outside Table I's range [0.15, 0.35] (a fraction: 0.25 means 25%)")
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--duration", "0.5"], "--duration must be from 1.33 s (two step cycles) to 600 s, got 0.5"),
+    (["--worlds", "0"], "--worlds must be at least 1, got 0"),
+    (["--water", "0.1", "0.2"], "--water must be two fractions within Table I's range [0.15, 0.35], got [0.1, 0.2]"),
+])
+def test_the_hoppers_refuse_bad_options_before_compiling(argv: list[str], message: str,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("mujoco.mjx")
+    hoppers = load_example("mjx_hoppers_in_mud")
+    assert _refused(hoppers.main, [*argv, "--out", ""], capsys).endswith(message)
