@@ -7,7 +7,10 @@ antiphase, the swing leg's knee bent to lift the toe). It starts on rigid
 ground (a box whose top is at z = 0, which the toes collide with) and trots
 +x into a stiff mud (``--dry``, default 15 %) and then a soft one (``--wet``,
 default 30 %): two :class:`mudforce.engines.mujoco.MudPatch` regions side by
-side. Under the mud there is no floor (the adapter would warn of one).
+side. Under the mud there is no floor (the adapter would warn of one). Where
+a toe in the mud touches the side of the rigid ground's box, at its edge,
+the adapter warns that a rigid contact carries part of that toe's load (a
+RuntimeWarning, once a toe): true, and harmless here.
 
 Each toe's surface is its sphere geom's (:func:`mudforce.model.shapes.from_mujoco_geom`).
 :class:`mudforce.engines.mujoco.MudAdapter3D` applies the whole mud wrench and
@@ -15,7 +18,7 @@ holds stuck toes in every direction through MuJoCo's constraint solver.
 
 Run::
 
-    python examples/quadruped_in_mud.py --duration 6 --out quadruped.png
+    python examples/quadruped_in_mud.py --duration 6s --out quadruped.png
 
 It prints, per gait cycle, where the torso is, each region's mean toe
 sinkage, slip (the toes' horizontal travel while loaded) and the energy the
@@ -35,6 +38,7 @@ import numpy as np
 
 from mudforce import MudParameters
 from mudforce.engines.mujoco import MudAdapter3D, MudPatch, add_mud_3d
+from mudforce.errors import InputError
 from mudforce.io.units import parse_quantity
 
 #: The robot: torso 0.40 x 0.20 x 0.08 m, legs 2 x 0.14 m, toes 50 mm spheres; about 11.6 kg.
@@ -219,16 +223,28 @@ def plot(result: Trot, path: str) -> None:
     plt.close(fig)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", default="6s", help="simulated time (e.g. 6s)")
     ap.add_argument("--dry", default="15%", help="water content of the first mud (e.g. 15%%)")
     ap.add_argument("--wet", default="30%", help="water content of the second mud (e.g. 30%%)")
     ap.add_argument("--dt", default="2ms", help="time step (e.g. 2ms)")
     ap.add_argument("--out", default=None, help="save the plots as this PNG")
-    args = ap.parse_args()
-    res = run(parse_quantity(args.duration, "s"), dry=parse_quantity(args.dry, "fraction"),
-              wet=parse_quantity(args.wet, "fraction"), dt=parse_quantity(args.dt, "s"))
+    args = ap.parse_args(argv)
+    try:  # a bad value: one line and exit status 2, as the mudforce command line gives
+        duration = parse_quantity(args.duration, "time", name="--duration")
+        dt = parse_quantity(args.dt, "time", name="--dt")
+        dry, wet = (parse_quantity(w, "fraction", name=name) for w, name in ((args.dry, "--dry"), (args.wet, "--wet")))
+        for w in (dry, wet):
+            MudParameters.from_water_content(w)  # within Table I's range
+    except InputError as error:
+        ap.error(str(error))
+    if not 1e-4 <= dt <= 0.01:
+        ap.error(f"--dt must be within 0.1ms to 10ms, got {args.dt}")
+    cycle = 1.0 / 2.0  # [s] run()'s trot, 2 Hz
+    if not cycle <= duration <= 600.0:
+        ap.error(f"--duration must be from one gait cycle ({cycle:g}s) to 600s, got {args.duration}")
+    res = run(duration, dry=dry, wet=wet, dt=dt)
     for r in res.per_cycle():
         cells = "  ".join(f"{k} {v:7.3f}" for k, v in r.items())
         print(cells)

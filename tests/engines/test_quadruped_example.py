@@ -31,3 +31,20 @@ def test_the_quadruped_sinks_plausibly_and_slips_less_than_on_a_frictionless_flo
     slip = float(np.sum(mud.slip_speed * dry))
     assert slip < 0.5 * float(np.sum(skate.slip_speed))
     assert np.sum(mud.power) > 0.0  # the mud takes energy
+
+
+def test_the_command_line_trots_and_refuses_bad_values_in_one_line(example, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """`python examples/quadruped_in_mud.py` failed on its defaults ("unknown quantity kind 's'"); a bad value is one
+    line and exit status 2."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # toes at the rigid ground's edge touch its side
+        example.main(["--duration", "0.5s", "--out", str(tmp_path / "q.png")])
+    printed = capsys.readouterr().out
+    assert printed.startswith("t   0.500  x ") and (tmp_path / "q.png").is_file()
+    for argv, message in ((["--duration", "6"], "--duration: '6' has no unit"),
+                          (["--dry", "50%"], "water content 0.5 is outside Table I's range"),
+                          (["--dt", "20ms"], "--dt must be within 0.1ms to 10ms, got 20ms"),
+                          (["--duration", "0.2s"], "--duration must be from one gait cycle (0.5s) to 600s")):
+        with pytest.raises(SystemExit) as info:
+            example.main(argv)
+        assert info.value.code == 2 and message in capsys.readouterr().err
