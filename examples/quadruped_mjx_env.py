@@ -256,7 +256,7 @@ def plot(result: dict[str, np.ndarray], path: str) -> None:
     plt.close(fig)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worlds", type=int, default=None, help="number of worlds (16; 1024 with --gpu)")
     ap.add_argument("--gpu", action="store_true", help="1,024 worlds (for a GPU)")
@@ -264,7 +264,13 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0, help="seed of the worlds' water contents")
     ap.add_argument("--plot", default=None, help="save plots of sinkage, slip and energy as this PNG")
     ap.add_argument("--bench", action="store_true", help="time a control step of the worlds instead")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
+    if args.worlds is not None and args.worlds < 1:
+        ap.error(f"--worlds must be at least 1, got {args.worlds}")
+    if not 0.0 < args.duration <= 600.0:
+        ap.error(f"--duration must be within (0, 600] s, got {args.duration}")
+    if not 0 <= args.seed < 2**32:
+        ap.error(f"--seed must be an integer in [0, {2**32 - 1}], got {args.seed}")
     worlds = args.worlds or (1024 if args.gpu else 16)
     env = QuadrupedMudEnv()
     if args.bench:

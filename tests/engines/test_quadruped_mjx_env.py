@@ -34,3 +34,14 @@ def test_the_environment_is_finite_reproducible_and_each_world_has_its_own_mud(e
     assert 0.0 < deepest.min() < 0.05  # 11.6 kg on four 50 mm toes, 0.1 s: millimetres to centimetres
     assert deepest[np.argmax(w)] > deepest[np.argmin(w)]  # the wetter mud lets the toes sink deeper
     assert not first["done"].any()
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--worlds", "0"], "--worlds must be at least 1, got 0"),
+    (["--duration", "nan"], "--duration must be within (0, 600] s, got nan"),
+    (["--seed", "-1"], "--seed must be an integer in [0, 4294967295], got -1"),
+])
+def test_the_command_line_refuses_bad_values_before_compiling(example, argv, message, capsys) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(SystemExit) as info:
+        example.main(argv)
+    assert info.value.code == 2 and capsys.readouterr().err.strip().endswith(message)
