@@ -17,6 +17,7 @@ Run: ``python benchmarks/bench_dynamics.py`` (prints figures; asserts nothing).
 
 from __future__ import annotations
 
+import argparse
 import math
 import os
 import time
@@ -169,6 +170,7 @@ def bench_mujoco(steps: int = 500, repeats: int = 40,
 
 
 def main() -> None:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args()  # --help, and no stray options
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"machine: {os.cpu_count()} CPUs, load average {load:.2f}")
     figures = bench_contacts()
