@@ -76,7 +76,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -111,6 +111,7 @@ __all__ = [
     "MAX_DEPTH_OFFSET",
     "MAX_FORCE_LAG",
     "MIN_HALF_WIDTH",
+    "OTHER_MUD_WARNING",
     "REST_SPEED",
     "TAIL_SHARE_WARNING",
     "Identification",
@@ -147,6 +148,14 @@ _TAIL_Z2 = 9.0
 #: little reads like one missing a few by much; the share tells them apart (docs/estimation.md, "The share of
 #: samples beyond three floors").
 TAIL_SHARE_WARNING = 0.045
+#: Largest mean square of the standardised residual [-] that another mud (the model's own parameters varied off the
+#: family) may explain before the misfit flag fires (:attr:`Identification.other_mud`; ours, chosen on the misfit-flag
+#: bench: docs/estimation.md, "What another mud explains").
+OTHER_MUD_WARNING = 0.9
+#: The parameters the off-family test varies, each by a relative step of :data:`_OTHER_MUD_STEP` (every parameter of
+#: Table I but the density, which only scales the drag with lambda).
+_OTHER_MUD_PARAMETERS = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "beta", "sigma_y", "zeta", "omega_0", "lambda_")
+_OTHER_MUD_STEP = 1e-3
 #: Step of the member's scan of the family's range [-] (0.5 points; ours): on the robot recordings of the sensor-chain
 #: bench the statistic's minimum over the water content is about a point wide, and it has local minima (a branch
 #: read differently at a sample makes it jump), so the scan covers the whole range, not only the interval.
@@ -274,6 +283,14 @@ class Identification:
         The share of the samples [-] whose residual lies beyond three noise floors at the least misfit statistic
         found (its water content, depth offset, force lag and re-profiled bias): the misfit flag's second reading
         (:data:`TAIL_SHARE_WARNING`). NaN on a protocol trial and on fewer than 8 samples (not read).
+    other_mud : float
+        The mean square [-] of the standardised residual (each sample's over its floor, clipped as the statistic
+        clips it) at the least misfit statistic found that another mud would explain: the model's own parameters
+        varied off the family (:data:`_OTHER_MUD_PARAMETERS`), beyond what the water content, the depth offset, the
+        force lag and the bias explain there (one Gauss-Newton step: a score test). The misfit flag's third reading
+        (:data:`OTHER_MUD_WARNING`): a mud that the family approaches but does not hold (alpha x2 read at the dry
+        edge) leaves a misfit that the statistic reads as little more than noise but that other parameters explain.
+        NaN where ``tail_share`` is.
     """
 
     water_content: float
@@ -307,6 +324,7 @@ class Identification:
     misfit_water_content: float = math.nan
     least_squares_water_content: float = math.nan
     tail_share: float = math.nan
+    other_mud: float = math.nan
 
     @property
     def low(self) -> float:
@@ -320,9 +338,11 @@ class Identification:
 
     @property
     def model_misses_data(self) -> bool:
-        """True when the RMSE exceeds the noise floor by more than :data:`MISFIT_WARNING_RATIO`, or more than
-        :data:`TAIL_SHARE_WARNING` of the samples lie beyond three floors (:attr:`tail_share`)."""
-        return self.misfit_ratio > MISFIT_WARNING_RATIO or self.tail_share > TAIL_SHARE_WARNING
+        """True when the RMSE exceeds the noise floor by more than :data:`MISFIT_WARNING_RATIO`, when more than
+        :data:`TAIL_SHARE_WARNING` of the samples lie beyond three floors (:attr:`tail_share`), or when another mud
+        explains more than :data:`OTHER_MUD_WARNING` of the standardised residual's mean square (:attr:`other_mud`)."""
+        return (self.misfit_ratio > MISFIT_WARNING_RATIO or self.tail_share > TAIL_SHARE_WARNING
+                or self.other_mud > OTHER_MUD_WARNING)
 
     def to_dict(self) -> dict[str, object]:
         """The JSON object of ``mudforce identify --json``.
@@ -336,7 +356,7 @@ class Identification:
         ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
         ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
         ``depth_noise_m``, ``unresolved_depth_m``, ``member_water_content``, ``misfit_water_content``,
-        ``least_squares_water_content``, ``tail_share``, ``warnings``.
+        ``least_squares_water_content``, ``tail_share``, ``other_mud``, ``warnings``.
         """
 
         def finite(x: float) -> float | None:
@@ -373,6 +393,7 @@ class Identification:
             "misfit_water_content": finite(self.misfit_water_content),
             "least_squares_water_content": finite(self.least_squares_water_content),
             "tail_share": finite(self.tail_share),
+            "other_mud": finite(self.other_mud),
             "warnings": list(self.warnings),
         }
 
@@ -625,6 +646,55 @@ def _scan_minimum(cost: Callable[[float], float], points: np.ndarray, *, ties_to
     found = minimize_scalar(cost, bounds=bracket, method="bounded", options={"xatol": 1e-5})
     better = float(found.fun) <= values[j] if ties_to_search else float(found.fun) < values[j]
     return float(found.x) if better else float(points[j])
+
+
+def _standardised(time: np.ndarray, depth: np.ndarray, foot: Foot, measured: np.ndarray, rest: np.ndarray,
+                  floor: np.ndarray, q: MudParameters, offset: float, lag: float, bias: float = 0.0) -> np.ndarray:
+    """Each sample's residual over its ``floor`` [N] (:func:`_band_residual` of ``measured + bias`` [N]), the model of
+    ``q`` at ``depth + offset`` [m] through a force lag ``lag`` [s]."""
+    model, low, high = _force_and_band(time, depth + offset, q, foot, lag)
+    out: np.ndarray = _band_residual(model, low, high, measured + bias, rest) / floor
+    return out
+
+
+def _other_mud(residual: Callable[..., np.ndarray], family: Callable[[float], MudParameters],
+               at: tuple[float, float, float], bounds: tuple[float, float]) -> float:
+    """The mean square [-] of the standardised ``residual`` that the mud's own parameters explain beyond the water
+    content, the depth offset, the force lag and the bias, at ``at`` = (water content [-], offset [m], lag [s]).
+
+    ``residual(q, offset, lag, bias=0)`` is :func:`_standardised` for parameters ``q``. Each column is the residual's
+    change over a small step of one quantity (the water content by 0.2 points inward of ``bounds``, the offset by
+    0.2 mm, the lag by 1 ms, the bias by 0.05 N, each of :data:`_OTHER_MUD_PARAMETERS` by :data:`_OTHER_MUD_STEP` of
+    itself); the residual, clipped at +-5 as the misfit statistic clips it (:data:`_MISFIT_CLIP`), is fitted on the
+    first four columns and on all of them, and the result is the drop of its sum of squares over the samples: the
+    score test of the family against the model's whole parameter space, for the clipped statistic (ours).
+    """
+    w, offset, lag = at
+    q = family(w)
+    raw = residual(q, offset, lag)
+    bound = math.sqrt(_MISFIT_CLIP)
+    e = np.clip(raw, -bound, bound)
+    dw = 0.002 if w + 0.002 <= bounds[1] else -0.002
+    doff = 2e-4 if offset + 2e-4 <= MAX_DEPTH_OFFSET else -2e-4
+    dlag = 1e-3 if lag + 1e-3 <= MAX_FORCE_LAG else -1e-3
+    nuisance = [residual(family(w + dw), offset, lag) - raw, residual(q, offset + doff, lag) - raw,
+                residual(q, offset, lag + dlag) - raw, residual(q, offset, lag, 0.05) - raw]
+    other = []
+    for name in _OTHER_MUD_PARAMETERS:
+        value = getattr(q, name)
+        try:
+            moved = replace(q, **{name: value * (1.0 + _OTHER_MUD_STEP)})
+        except InputError:  # at the edge of the parameter's range: the step the other way
+            moved = replace(q, **{name: value * (1.0 - _OTHER_MUD_STEP)})
+        other.append(residual(moved, offset, lag) - raw)
+
+    def unexplained(columns: list[np.ndarray]) -> float:
+        a = np.stack(columns, axis=1)
+        step = np.linalg.lstsq(a, e, rcond=None)[0]
+        left = e - a @ step
+        return float(left @ left)
+
+    return max(unexplained(nuisance) - unexplained(nuisance + other), 0.0) / float(e.size)
 
 
 def _least_member(statistic: Callable[[float], float], estimate: float, lo: float, hi: float) -> float:
@@ -1022,7 +1092,7 @@ def identify_water_content(
     # beyond the interval's edge. The interval reaches it, with a margin (docs/estimation-history.md, "identify's
     # interval reaches the member that fits"); the flag, and where least squares fails it the estimate, below
     member = misfit_w = math.nan
-    tail_share = tail_at = math.nan
+    tail_share = tail_at = other_mud = math.nan
     estimate = w_best
     if general and n >= 8:
         v = np.maximum(noise_var + disc2, least)
@@ -1063,6 +1133,9 @@ def identify_water_content(
         model_tail, low_tail, high_tail = _force_and_band(t, z_tail, family(tail_at), foot, tail_lag)
         r_tail = _band_residual(model_tail, low_tail, high_tail, meas + moved, rest)
         tail_share = float(np.mean(r_tail * r_tail / v > _TAIL_Z2))
+        # and what another mud would explain there (the flag's third reading)
+        other_mud = _other_mud(partial(_standardised, t, tr.depth, foot, meas + moved, rest, np.sqrt(v)), family,
+                               (tail_at, tail_offset, tail_lag), (lo, hi))
         misfit_w, estimate_fails = w_best, ratio > MISFIT_WARNING_RATIO
         if least_root < ratio:
             floor = rmse / least_root if least_root > 0.0 else math.sqrt(float(np.mean(v)))
@@ -1099,6 +1172,12 @@ def identify_water_content(
                         "data are off the Table I family (another mud, another foot than assumed, or a model "
                         "error) in more samples than the misfit ratio shows; the estimate is the nearest water "
                         "content")
+    elif other_mud > OTHER_MUD_WARNING:
+        warnings.append(f"another mud explains {other_mud:.2g} of the residual's mean square (in noise floors squared) "
+                        f"at the best water content found ({tail_at * 100:.4g} %, the depth offset and force lag "
+                        f"refitted there), where at most {OTHER_MUD_WARNING:g} would: the model's parameters fit the "
+                        "data better off the Table I family than on it (another mud, or a model error) though the "
+                        "misfit ratio and the tail read little; the estimate is the nearest water content")
     if rate_shift > _RATE_SHIFT_WARNING:
         warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
                         "sample: the sample rate is too low for the model to follow this motion (touchdowns and "
@@ -1140,5 +1219,6 @@ def identify_water_content(
         misfit_water_content=misfit_w,
         least_squares_water_content=w_best,
         tail_share=tail_share,
+        other_mud=other_mud,
     )
 
