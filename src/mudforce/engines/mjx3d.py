@@ -101,8 +101,16 @@ from mudforce._plumbing.optional import require
 from mudforce.engines.dynamics.result import REST_SPEED
 from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx
 from mudforce.engines.mujoco import MudPatch
-from mudforce.engines.mujoco.adapter3d import Drop3D, _drop_result, _drop_spec, _patch_list, foot_geom
-from mudforce.errors import InputError, finite_number
+from mudforce.engines.mujoco.adapter3d import (
+    Drop3D,
+    _drop_result,
+    _drop_spec,
+    _patch_list,
+    check_drop_motion,
+    compile_drop,
+    foot_geom,
+)
+from mudforce.errors import InputError
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -506,10 +514,9 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
     mjx = _mjx()
     if not isinstance(params, MudParameters):
         raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
-    duration = finite_number(duration, "duration", "s", positive=True)
-    vx = finite_number(vx, "vx", "m/s")
+    duration, vx = check_drop_motion(duration, vx, dt)
     spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
-    model = spec.compile()
+    model = compile_drop(spec)
     mud = add_mud(model, ["foot"], MudPatch(params), resolution=resolution)
     m = mjx.put_model(model)
     d0 = mjx.make_data(m)
