@@ -90,6 +90,10 @@ def test_fit_3d_refuses_bad_input_in_one_line(data: tuple[np.ndarray, np.ndarray
         ({"time": t + 1e12}, "beyond"),  # simulate_3d's time bounds
         ({"time": t * 1e-9}, "steps within"),  # refused from inside the fit as "no foot was stepped"
         ({"forces": forces * 1e300}, r"forces must be within \+-1e\+07 N"),  # fitted to an infinite residual
+        # taken as one value per simulated point (2p + 1 = 3 here): a Jacobian across surfaces or widths
+        ({"surface_height": [0.0, 0.0, 0.01]}, "surface_height must be a number"),
+        ({"width": [0.04, 0.04, 0.05]}, "width must be a number"),
+        ({"width": True}, "width must be a number"),  # was in MudContacts3D's words, "widths ..."
     ):
         args = {"time": t, "positions": pos, "quaternions": quat, "forces": forces, "shape": SHAPE, "params0": MUD,
                 **kwargs}

@@ -185,6 +185,11 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
     if noise is not None:  # not a bool (True was 1 N)
         noise = finite_number(noise, "noise", "N", positive=True)
     iterations = positive_int(max_iterations, "max_iterations")
+    # one number each (MudContacts3D, which simulates the 2p + 1 points of a step as feet, would take a sequence as
+    # one value per foot: each point of the Jacobian's differences in another mud surface or foot width)
+    surface_height = finite_number(surface_height, "surface_height", "m")
+    if width is not None:
+        width = finite_number(width, "width", "m", positive=True)
     k0 = _stiffness(params0.k_m_w if lateral_stiffness is None else lateral_stiffness)  # MudContact3D's check
     start = {n: float(k0) if n == "lateral_stiffness" else float(getattr(params0, n)) for n in names}
     if any(v <= 0.0 for v in start.values()):
