@@ -296,9 +296,13 @@ def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
     (traced allowed), such as ``mudforce.jax.params_from_water_content(w)`` (its ``area`` and ``width``
     are ignored: the elements' are the feet's). The lateral stiffness becomes the mud's ``k_m_w``.
     """
+    if not isinstance(mud, Mud3D):
+        raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
     count = mud.surface_height.shape[-1]
-    if not isinstance(patch, int) or not 0 <= patch < count:
+    # not a bool: True was patch 1
+    if isinstance(patch, bool) or not isinstance(patch, (int, np.integer)) or not 0 <= patch < count:
         raise InputError(f"patch must be an index 0 to {count - 1}, got {patch!r}")
+    patch = int(patch)
     dtype = mud.areas.dtype
     new = _element_params(params, mud.widths, dtype)
     elements = mj.Params(*(old.at[patch].set(f) for old, f in zip(mud.elements, new, strict=True)))
