@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mudforce.errors import InputError, true_or_false
+from mudforce.errors import InputError, is_real, true_or_false
 
 __all__ = ["COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "POSE_COLUMNS", "WRITE_BLOCK", "is_pose_trajectory",
            "read_columns", "read_poses", "read_trajectory", "write_csv"]
@@ -320,6 +320,11 @@ def read_poses(
     quaternions : ndarray, shape (m, 4)
         The orientation ``(w, x, y, z)`` [-], as in the file (not normalised).
     """
+    tol = math.inf
+    if quaternion_tolerance is not None:  # checked before the file: -1 or NaN refused every row in the file's words
+        if not is_real(quaternion_tolerance) or not float(quaternion_tolerance) >= 0.0:
+            raise InputError(f"quaternion_tolerance must be a number >= 0 [-] or None, got {quaternion_tolerance!r}")
+        tol = float(quaternion_tolerance)
     matched: dict[str, str] = {}
     cols = read_columns(path, POSE_COLUMNS, matched=matched)
     check_time(path, cols["time"], matched["time"], lines=cols["line"])
@@ -327,7 +332,6 @@ def read_poses(
     quaternions = np.stack([cols[f"quaternion {part}"] for part in "wxyz"], axis=1)
     with np.errstate(over="ignore"):
         norms = np.sqrt(np.einsum("ij,ij->i", quaternions, quaternions))
-    tol = math.inf if quaternion_tolerance is None else float(quaternion_tolerance)
     bad = np.flatnonzero(~(np.abs(norms - 1.0) <= tol) | (norms == 0.0))
     if bad.size:
         k = int(bad[0])
