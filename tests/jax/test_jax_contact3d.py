@@ -316,7 +316,8 @@ def test_inputs_of_wrong_types_are_refused_when_tracing() -> None:
     """Strings, booleans, complex numbers, ragged lists, a dt or hold of many values, a state or params of another
     type, a dtype that is not float32/float64 and a stiffness beyond MudContact3D's bound are refused with one
     line (jnp.asarray read "0.01" as a number and True as 1; an int32 dtype truncated the mud; a stiffness of
-    1e300 became inf in float32), and traced inputs still go through."""
+    1e300 became inf in float32), and traced inputs still go through. A hold known when tracing must be finite
+    and >= 0 (inf held every element still: a foot that never sinks)."""
     mud = mf.MudParameters.from_water_content(0.25)
     params = mj3.make_params3d(mud, SPHERE)
     state = mj3.init3d(SPHERE)
@@ -332,6 +333,8 @@ def test_inputs_of_wrong_types_are_refused_when_tracing() -> None:
         (lambda: mj3.step3d(state, params, p, q, np.array([DT, DT])), "dt must be one number"),
         (lambda: mj3.step3d(state, params, p, q, DT, hold="x"), "hold must be real numbers"),
         (lambda: mj3.step3d(state, params, p, q, DT, hold=np.ones(5)), "hold must be one number"),
+        (lambda: mj3.step3d(state, params, p, q, DT, hold=math.inf), "hold must be finite and >= 0"),
+        (lambda: mj3.step3d(state, params, p, q, DT, hold=-1e-9), "hold must be finite and >= 0"),
         (lambda: mj3.step3d(None, params, p, q, DT), "State3D"),
         (lambda: mj3.step3d(params, state, p, q, DT), "State3D"),
         (lambda: mj3.step3d(state, None, p, q, DT), "Params3D"),

@@ -305,6 +305,10 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
         hold = jnp.asarray(_real(hold, "hold", "m"), dtype=ftype)
         if hold.shape not in ((), (n,)):
             raise InputError(f"hold must be one number [m] or one per element ({n},), got shape {hold.shape}")
+        # where known when tracing (not a traced value): inf held every element still (a foot that never sinks),
+        # NaN and negative ones held none, silently
+        if not isinstance(hold, jax.core.Tracer) and not bool(jnp.all((hold >= 0.0) & jnp.isfinite(hold))):
+            raise InputError(f"hold must be finite and >= 0 [m], got {np.asarray(hold).tolist()!r}")
     e = mj.Params(*(jnp.asarray(f, dtype=ftype) for f in params.elements))
     body_centroids = jnp.asarray(params.centroids, dtype=ftype)
     body_normals = jnp.asarray(params.normals, dtype=ftype)
