@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -213,3 +214,14 @@ def test_a_drop_of_bad_sizes_durations_or_speeds_is_refused_in_one_line() -> Non
         assert "\n" not in str(err.value)
     res = simulate_drop_3d(2.0, MUD, "sphere", np.array([0.04]), duration=0.005, vx=-0.05)  # an array is a sequence
     assert res.position.shape == (6, 3) and res.position[-1, 0] < 0.0
+
+
+def test_a_drop_s_window_must_be_a_positive_number_of_seconds() -> None:
+    """Drop3D.speed/force_std(last): -1 or NaN selected no sample (IndexError, ValueError), "0.5" raised TypeError;
+    refused in one line, as FootResult.force_std refuses them."""
+    res = simulate_drop_3d(2.0, MUD, "sphere", (0.04,), duration=0.005)
+    for last in (-1.0, math.nan, "0.5", True):
+        for method in (res.speed, res.force_std):
+            with pytest.raises(InputError, match=r"last must be"):
+                method(last)  # type: ignore[arg-type]
+    assert res.speed(0.5) >= 0.0 and res.force_std(0.5) >= 0.0

@@ -573,15 +573,23 @@ class Drop3D:
     mass: float
 
     def speed(self, last: float = 0.5) -> float:
-        """Mean speed of the centre over the last ``last`` seconds [m/s] (a creep rate at rest)."""
-        k = self.time >= self.time[-1] - last
+        """Mean speed of the centre over the last ``last`` seconds [m/s] (a creep rate at rest; ``last`` > 0 [s])."""
+        k = self.time >= self.time[-1] - _last(last)
         span = self.time[k][-1] - self.time[k][0]
         return float(np.linalg.norm(self.position[k][-1] - self.position[k][0]) / span) if span > 0 else 0.0
 
     def force_std(self, last: float = 0.5) -> float:
-        """Largest standard deviation of a force component over the last ``last`` seconds [N]."""
-        k = self.time >= self.time[-1] - last
+        """Largest standard deviation of a force component over the last ``last`` seconds [N] (``last`` > 0 [s])."""
+        k = self.time >= self.time[-1] - _last(last)
         return float(self.force[k].std(axis=0).max())
+
+
+def _last(last: Any) -> float:
+    """A window ``last`` [s] as FootResult.force_std checks it: a finite number > 0 (a negative or NaN window
+    selected no sample: IndexError or ValueError; a string a TypeError)."""
+    from mudforce.errors import finite_number
+
+    return finite_number(last, "last", "s", positive=True)
 
 
 def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: float = 0.0, tilt: float = 0.0,
