@@ -184,3 +184,18 @@ def test_set_mud_refuses_a_bool_patch_and_another_type_of_mud() -> None:
     changed = mud3d.set_mud(mud, wet, np.int64(1))
     assert float(changed.lateral_stiffness[1, 0]) == pytest.approx(wet.k_m_w)
     assert float(changed.lateral_stiffness[0, 0]) == pytest.approx(MUD.k_m_w)
+
+
+
+def test_add_mud_refuses_a_dtype_that_is_not_float_and_init_another_type_of_mud() -> None:
+    """add_mud(dtype="int32") held the mud's NaN and fractions as garbage integers, "foo" raised TypeError;
+    init(None) raised AttributeError."""
+    import mudforce.engines.mjx3d as mud3d
+
+    model = mujoco.MjModel.from_xml_string(PLANE)
+    for dtype in ("int32", "foo", np.complex64):
+        with pytest.raises(InputError, match="dtype must be float32 or float64"):
+            mud3d.add_mud(model, ["toe"], MudPatch(MUD), dtype=dtype)
+    with pytest.raises(InputError, match="mud must be a Mud3D"):
+        mud3d.init(None)  # type: ignore[arg-type]
+    assert mud3d.add_mud(model, ["toe"], MudPatch(MUD), dtype=np.float32).areas.dtype == np.float32

@@ -262,7 +262,7 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
     for s in slist:  # the width H of Eq. (4), checked as make_params3d checks it
         Foot(area=1.0, width=float(s.width), shape="element")  # type: ignore[arg-type]
     _warn_floor(model, gids)
-    ftype = mj._float_dtype(dtype)
+    ftype = mj3._float_type(dtype)  # float32 or float64 (int32 held the mud as garbage, "foo" a TypeError)
     n = max(s.n for s in slist)
 
     def padded(values: np.ndarray, fill_row: np.ndarray) -> np.ndarray:
@@ -311,6 +311,8 @@ def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
 
 def init(mud: Mud3D) -> MudState3D:
     """The mud's state at the start of an episode (no foot started: the first step sets each foot's pose)."""
+    if not isinstance(mud, Mud3D):
+        raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
     f, n = mud.areas.shape[-2], mud.areas.shape[-1]
     dtype = mud.areas.dtype
     one = mj.init(n, dtype)
