@@ -73,6 +73,11 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("synth-hold-1e300s", ["synth", "--out", "new", "--hold", "1e300s"], {}, ("--hold",)),
     ("synth-rate-huge", ["synth", "--out", "new", "--rate", "1e8Hz"], {}, ("samples",)),
     ("synth-repeats-100000", ["synth", "--out", "new", "--repeats", "100000"], {}, ("--repeats",)),
+    # int() and float() took "1_0" as 10 (and other scripts' digits); the command line reads plain ASCII numbers
+    ("synth-repeats-underscore", ["synth", "--out", "new", "--repeats", "1_0"], {}, ("--repeats", "'1_0'")),
+    ("synth-seed-underscore", ["synth", "--out", "new", "--seed", "1_0"], {}, ("--seed", "'1_0'")),
+    ("fit-seed-underscore", ["fit", "ds", "--out", "f.json", "--seed", "1_0"], {}, ("--seed", "'1_0'")),
+    ("synth-gain-underscore", ["synth", "--out", "new", "--force-gain", "1_0%"], {}, ("--force-gain", "'1_0%'")),
     ("synth-repeated-water", ["synth", "--out", "new", "--water-content", "25%,25%"], {},
      ("--water-content", "repeated")),
     ("synth-repeated-velocity", ["synth", "--out", "new", "--velocities", "10mm/s,0.01m/s"], {},

@@ -26,6 +26,11 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
         ([*BASE, "--tilt", "10", "--out", "x.csv"], tmp_path),
         (["drop", "--mass", "5kg", "--water-content", "20%", "--shape", "sphere:40mm", "--out", "x.csv"], tmp_path),
         (["drop", "--engine", "warp", "--mass", "1kg", "--water-content", "20%", "--out", "x.csv"], tmp_path),
+        # below the shapes' 0.1 mm: MuJoCo's error about inertia, wrapped as "the input could not be processed"
+        ([*BASE, "--shape", "sphere:0.05um", "--out", "x.csv"], tmp_path),
+        ([*BASE, "--shape", "box:50mmx40mmx0.01mm", "--out", "x.csv"], tmp_path),
+        # float() took "1_0" as 10 degrees (and other scripts' digits); every other number read is plain ASCII
+        ([*BASE, "--shape", "sphere:40mm", "--tilt", "1_0", "--out", "x.csv"], tmp_path),
     ])
     sphere, box = runs[0], runs[1]
     assert sphere.returncode == 0 and "mujoco 3-D sphere: depth" in sphere.stdout, sphere.stderr
@@ -37,8 +42,10 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
     assert 0.0 < last[1] < 0.01  # slid forward a little, then held by the mud
     assert last[4] > 0.0 and last[9] == pytest.approx(5.0 * 9.81, rel=0.02)
     assert float((tmp_path / "b.csv").read_text().splitlines()[1].split(",")[-1]) == pytest.approx(10.0)
-    for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco", "mjx"),
-                         strict=True):
+    for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco", "mjx",
+                                    "--shape: '0.05um' is smaller than 0.1 mm",
+                                    "--shape: '50mmx40mmx0.01mm' is smaller than 0.1 mm",
+                                    "--tilt: '1_0' is not an angle in degrees"), strict=True):
         assert_refused(run, word)
     assert not (tmp_path / "x.csv").exists()
 

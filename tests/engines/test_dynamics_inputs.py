@@ -75,6 +75,11 @@ def test_a_diverging_solution_is_refused_not_returned() -> None:
         (lambda: naive_drop("5", W25), "mass must be a number"),
         (lambda: naive_drop(5.0, W25, dt=-1e-3), "dt must be > 0"),
         (lambda: naive_drop(5.0, None), "MudParameters"),  # type: ignore[arg-type]
+        # the stepper's bounds: each was "the naive engine's solution is not finite ... use a heavier foot"
+        (lambda: naive_drop(5.0, W25, duration=0.01, height=-200.0), r"height must be within \+-100 m"),
+        (lambda: naive_drop(5.0, W25, duration=1e-6, dt=1e-12), r"dt must be within \[1e-09, 1000\] s"),
+        # shorter than half a step: an empty NaiveDrop was returned
+        (lambda: naive_drop(5.0, W25, duration=1e-3, dt=1e-2), "shorter than half a step"),
         (lambda: exact_drop(5.0, W25, height=-0.01), "height must be >= 0"),
         (lambda: exact_drop("5", W25), "mass must be a number"),
         (lambda: exact_drop(5.0, W25, foot="cube"), "foot must be a Foot"),  # type: ignore[arg-type]

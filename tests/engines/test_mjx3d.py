@@ -164,3 +164,38 @@ def test_bad_input_is_refused_in_one_line() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         mud3d.add_mud(model, ["toe"], MudPatch(MUD))  # the toe cannot collide with the floor: no warning
+
+
+
+def test_set_mud_refuses_a_bool_patch_and_another_type_of_mud() -> None:
+    """``set_mud(mud, params, True)`` set patch 1 (True is an int to isinstance); a mud that is not a Mud3D raised
+    AttributeError. A numpy integer patch is an index like any other."""
+    import mudforce.engines.mjx3d as mud3d
+
+    model = mujoco.MjModel.from_xml_string(PLANE)
+    patches = [MudPatch(MUD, extent=(-0.5, 0.5, -0.5, 0.5)), MudPatch(MUD, extent=(0.5, 1.5, -0.5, 0.5))]
+    mud = mud3d.add_mud(model, ["toe"], patches)
+    wet = MudParameters.from_water_content(0.3)
+    for args, match in (((mud, wet, True), "patch must be an index 0 to 1"),
+                        ((mud, wet, 1.0), "patch must be an index 0 to 1"),
+                        ((None, wet, 0), "mud must be a Mud3D")):
+        with pytest.raises(InputError, match=match):
+            mud3d.set_mud(*args)  # type: ignore[arg-type]
+    changed = mud3d.set_mud(mud, wet, np.int64(1))
+    assert float(changed.lateral_stiffness[1, 0]) == pytest.approx(wet.k_m_w)
+    assert float(changed.lateral_stiffness[0, 0]) == pytest.approx(MUD.k_m_w)
+
+
+
+def test_add_mud_refuses_a_dtype_that_is_not_float_and_init_another_type_of_mud() -> None:
+    """add_mud(dtype="int32") held the mud's NaN and fractions as garbage integers, "foo" raised TypeError;
+    init(None) raised AttributeError."""
+    import mudforce.engines.mjx3d as mud3d
+
+    model = mujoco.MjModel.from_xml_string(PLANE)
+    for dtype in ("int32", "foo", np.complex64):
+        with pytest.raises(InputError, match="dtype must be float32 or float64"):
+            mud3d.add_mud(model, ["toe"], MudPatch(MUD), dtype=dtype)
+    with pytest.raises(InputError, match="mud must be a Mud3D"):
+        mud3d.init(None)  # type: ignore[arg-type]
+    assert mud3d.add_mud(model, ["toe"], MudPatch(MUD), dtype=np.float32).areas.dtype == np.float32

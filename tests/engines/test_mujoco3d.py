@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -195,3 +196,32 @@ def test_a_box_on_four_stuck_soles_rests_they_are_held_jointly(dt: float) -> Non
     assert np.std(fz[-last:]) <= 0.02 * weight
     assert np.sum(fz[-1]) == pytest.approx(weight, rel=1e-3)
     assert np.ptp(mud.depths) < 2e-4 and 0.02 < mud.depths.mean() < 0.06  # level, and a plausible depth
+
+
+def test_a_drop_of_bad_sizes_durations_or_speeds_is_refused_in_one_line() -> None:
+    """simulate_drop_3d: a size of 5e-8 m or a mass of 1e-300 kg gave MuJoCo's two-line ValueError about
+    inertia, a size given as one number a TypeError, a duration of 1e9 s a MemoryError (1e300 s: a ValueError), and
+    vx = 1e300 m/s a drop MuJoCo reset with a warning and returned as if the foot had not moved sideways."""
+    for kwargs, match in (({"size": [5e-8]}, r"size must be within \[0.0001, 10\] m"),
+                          ({"size": 0.04}, "size must be a sequence of 1 number"),
+                          ({"mass": 1e-300}, "MuJoCo refused the drop's model"),
+                          ({"duration": 1e9}, "samples is too many"),
+                          ({"duration": 1e300}, "samples is too many"),
+                          ({"vx": 1e300}, r"vx must be within \+-1000 m/s")):
+        args = {"mass": 2.0, "params": MUD, "shape": "sphere", "size": [0.04], "duration": 0.005, **kwargs}
+        with pytest.raises(InputError, match=match) as err:
+            simulate_drop_3d(**args)  # type: ignore[arg-type]
+        assert "\n" not in str(err.value)
+    res = simulate_drop_3d(2.0, MUD, "sphere", np.array([0.04]), duration=0.005, vx=-0.05)  # an array is a sequence
+    assert res.position.shape == (6, 3) and res.position[-1, 0] < 0.0
+
+
+def test_a_drop_s_window_must_be_a_positive_number_of_seconds() -> None:
+    """Drop3D.speed/force_std(last): -1 or NaN selected no sample (IndexError, ValueError), "0.5" raised TypeError;
+    refused in one line, as FootResult.force_std refuses them."""
+    res = simulate_drop_3d(2.0, MUD, "sphere", (0.04,), duration=0.005)
+    for last in (-1.0, math.nan, "0.5", True):
+        for method in (res.speed, res.force_std):
+            with pytest.raises(InputError, match=r"last must be"):
+                method(last)  # type: ignore[arg-type]
+    assert res.speed(0.5) >= 0.0 and res.force_std(0.5) >= 0.0

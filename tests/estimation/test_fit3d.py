@@ -79,9 +79,38 @@ def test_fit_3d_refuses_bad_input_in_one_line(data: tuple[np.ndarray, np.ndarray
         ({"params0": "mud"}, "MudParameters"),
         ({"noise": -1.0}, "noise"),
         ({"lateral_stiffness": 0.0}, "lateral_stiffness"),
+        # read by np.asarray: strings parsed, complex cut, booleans as 0/1, ragged lists a ValueError
+        ({"time": [str(v) for v in t]}, "time must be an array of real numbers"),
+        ({"forces": forces + 0j}, "complex"),
+        ({"forces": forces > 0.0}, "boolean"),
+        ({"time": [[0.0], [0.1, 0.2]]}, "time must be an array of real numbers"),
+        ({"noise": True}, "noise must be a number"),  # was 1 N
+        ({"lateral_stiffness": True}, "lateral_stiffness"),  # was 1 Pa/m
+        ({"lateral_stiffness": 1e13}, r"within \(0, 1e\+12\]"),
+        ({"time": t + 1e12}, "beyond"),  # simulate_3d's time bounds
+        ({"time": t * 1e-9}, "steps within"),  # refused from inside the fit as "no foot was stepped"
+        ({"forces": forces * 1e300}, r"forces must be within \+-1e\+07 N"),  # fitted to an infinite residual
+        # taken as one value per simulated point (2p + 1 = 3 here): a Jacobian across surfaces or widths
+        ({"surface_height": [0.0, 0.0, 0.01]}, "surface_height must be a number"),
+        ({"width": [0.04, 0.04, 0.05]}, "width must be a number"),
+        ({"width": True}, "width must be a number"),  # was in MudContacts3D's words, "widths ..."
     ):
         args = {"time": t, "positions": pos, "quaternions": quat, "forces": forces, "shape": SHAPE, "params0": MUD,
                 **kwargs}
         with pytest.raises(InputError, match=match) as info:
             fit_3d(**args)
         assert "\n" not in str(info.value)
+
+
+def test_fit_3d_searches_only_values_the_model_takes() -> None:
+    """A start near a bound of the model (a lateral stiffness or k_m_w of 1e12, MudContacts3D's and MudParameters'
+    largest) was searched up to 1000 times above it, and the fit was refused mid-way by a step beyond it."""
+    t, pos, quat = _motion()
+    t, pos, quat = t[:24], pos[:24], quat[:24]
+    forces = simulate_3d(t, pos, quat, MUD, SHAPE).force
+    for kwargs in ({"lateral_stiffness": 1e12}, {"free": "k_m_w", "params0": MUD.replace(k_m_w=1e12)}):
+        args = {"free": "lateral_stiffness", "params0": MUD, "max_iterations": 3, **kwargs}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # the data hardly determine it: not the point here
+            fit = fit_3d(t, pos, quat, forces, SHAPE, **args)  # type: ignore[arg-type]
+        assert all(0.0 < v <= 1e12 for v in fit.values.values())

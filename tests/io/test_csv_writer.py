@@ -5,13 +5,16 @@ from __future__ import annotations
 import io
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 import mudforce as mf
+from mudforce.errors import InputError
 from mudforce.io import tables
 from mudforce.io._csvformat import format_rows, row_width
+from mudforce.io.tables import write_csv
 from mudforce.steppers.simulation import STATE_NAMES
 
 
@@ -138,3 +141,27 @@ def test_a_path_that_cannot_be_written_is_refused_in_one_line(tmp_path: Path) ->
     with pytest.raises(mf.InputError, match=r"^output must be a file path"):
         result.to_csv(None)  # type: ignore[arg-type]
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(("columns", "label", "words"), [
+    # a code beyond the texts was read outside the compiled formatter's table: a segmentation fault
+    ({"a": np.array([1.0, 2.0])}, ("state", np.array([0, 5_000_000]), ["A", "B"]), "label codes must be 2 integers"),
+    # a negative code silently wrote another code's text; fewer codes than rows read past the codes
+    ({"a": np.array([1.0, 2.0])}, ("state", np.array([0, -1]), ["A", "B"]), "within 0 to 1"),
+    ({"a": np.array([1.0, 2.0])}, ("state", np.array([0]), ["A", "B"]), "of shape (1,)"),
+    # a shorter column repeated values of the rows before in the rows it lacked
+    ({"a": np.array([1.0, 2.0]), "b": np.array([7.0])}, None, "columns must be 1-D and of one length"),
+    ({"a": np.ones((2, 2))}, None, "columns must be 1-D"),  # was a ValueError from numpy
+    ({"a": ["1", "x"]}, None, "column a must be an array of real numbers"),  # "1" parsed, "x" a ValueError
+    # a comma split the header or a label into two cells
+    ({"a,b": np.array([1.0])}, None, "a column name must be printable ASCII text"),
+    ({"a": np.array([1.0])}, ("s", np.array([0]), ["A,B"]), "a label text must be printable ASCII text"),
+])
+def test_bad_columns_and_labels_are_refused_before_the_file_is_touched(tmp_path: Path, columns: dict[str, Any],
+                                                                       label: Any, words: str) -> None:
+    path = tmp_path / "out.csv"
+    path.write_text("kept\n")
+    with pytest.raises(InputError) as error:
+        write_csv(path, columns, label)
+    assert words in str(error.value) and "\n" not in str(error.value)
+    assert path.read_text() == "kept\n"

@@ -76,3 +76,14 @@ def test_which_trajectory_a_header_is(tmp_path: Path) -> None:
     assert not is_pose_trajectory(_csv(tmp_path, ""))
     with pytest.raises(InputError, match=r"names both depth_m .* and z_m"):
         is_pose_trajectory(_csv(tmp_path, "time_s,depth_m,z_m\n0,0,0\n"))
+
+
+@pytest.mark.parametrize("tolerance", ["1e-6", True, -1.0, float("nan"), [1e-6]])
+def test_a_bad_quaternion_tolerance_is_refused_in_its_own_words(tmp_path: Path, tolerance: object) -> None:
+    """"1e-6" and True were taken (as 1e-6 and 1), -1 and NaN refused every row in the file's words ("the quaternion
+    (1, 0, 0, 0) has norm 1; expected a unit quaternion"), a list raised TypeError."""
+    path = _csv(tmp_path, "time_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0.03,1,0,0,0\n0.01,0,0,0.02,1,0,0,0\n")
+    with pytest.raises(InputError, match=r"quaternion_tolerance must be a number >= 0 \[-\] or None"):
+        read_poses(path, quaternion_tolerance=tolerance)  # type: ignore[arg-type]
+    assert read_poses(path, quaternion_tolerance=float("inf"))[2].shape == (2, 4)  # inf: no check, as None
+    assert read_poses(path, quaternion_tolerance=0)[2].shape == (2, 4)

@@ -310,3 +310,45 @@ def test_grad_is_finite_and_matches_finite_differences() -> None:
                     (3, 1e-5 * mud.alpha, float(grads[3]))):  # x, k, alpha: no element crosses the surface
         fd = (moved(i, h) - moved(i, -h)) / (2.0 * h)
         assert g == pytest.approx(fd, rel=1e-5), i
+
+
+def test_inputs_of_wrong_types_are_refused_when_tracing() -> None:
+    """Strings, booleans, complex numbers, ragged lists, a dt or hold of many values, a state or params of another
+    type, a dtype that is not float32/float64 and a stiffness beyond MudContact3D's bound are refused with one
+    line (jnp.asarray read "0.01" as a number and True as 1; an int32 dtype truncated the mud; a stiffness of
+    1e300 became inf in float32), and traced inputs still go through. A hold known when tracing must be finite
+    and >= 0 (inf held every element still: a foot that never sinks)."""
+    mud = mf.MudParameters.from_water_content(0.25)
+    params = mj3.make_params3d(mud, SPHERE)
+    state = mj3.init3d(SPHERE)
+    p, q = [0.0, 0.0, 0.01], UPRIGHT
+    for call, match in (
+        (lambda: mj3.step3d(state, params, ["0", "0", "0.01"], q, DT), "position must be real numbers"),
+        (lambda: mj3.step3d(state, params, [0.0, 0.0, True], q, DT), "booleans"),
+        (lambda: mj3.step3d(state, params, [0.0, 0.0, 0.01 + 1j], q, DT), "complex"),
+        (lambda: mj3.step3d(state, params, [0.0, 0.0, [0.01]], q, DT), "position must be real numbers"),
+        (lambda: mj3.step3d(state, params, p, jnp.asarray([True, False, False, False]), DT), "quaternion"),
+        (lambda: mj3.step3d(state, params, p, q, "0.01"), "dt must be real numbers"),
+        (lambda: mj3.step3d(state, params, p, q, True), "dt must be real numbers"),
+        (lambda: mj3.step3d(state, params, p, q, np.array([DT, DT])), "dt must be one number"),
+        (lambda: mj3.step3d(state, params, p, q, DT, hold="x"), "hold must be real numbers"),
+        (lambda: mj3.step3d(state, params, p, q, DT, hold=np.ones(5)), "hold must be one number"),
+        (lambda: mj3.step3d(state, params, p, q, DT, hold=math.inf), "hold must be finite and >= 0"),
+        (lambda: mj3.step3d(state, params, p, q, DT, hold=-1e-9), "hold must be finite and >= 0"),
+        (lambda: mj3.step3d(None, params, p, q, DT), "State3D"),
+        (lambda: mj3.step3d(params, state, p, q, DT), "State3D"),
+        (lambda: mj3.step3d(state, None, p, q, DT), "Params3D"),
+        (lambda: mj3.make_params3d(mud, SPHERE, dtype="int32"), "float32 or float64"),
+        (lambda: mj3.make_params3d(mud, SPHERE, dtype="no such type"), "float32 or float64"),
+        (lambda: mj3.make_params3d(mud, SPHERE, dtype=jnp.float16), "float32 or float64"),
+        (lambda: mj3.init3d(SPHERE, dtype=np.complex64), "float32 or float64"),
+        (lambda: mj3.make_params3d(mud, SPHERE, lateral_stiffness=1e300), r"within \(0, 1e\+12\]"),
+        (lambda: mj3.reset3d(state, "x"), "mask must be a bool"),
+        (lambda: mj3.reset3d(mj3.init3d(SPHERE, batch=3), [True, False]), "mask must be a bool"),
+    ):
+        with pytest.raises(InputError, match=match):
+            call()
+    _, force, _ = mj3.step3d(state, params, p, q, DT, hold=1e-9)  # numbers and lists as before
+    assert float(force[2]) > 0.0
+    step = light_jit(lambda pos, dt: mj3.step3d(state, params, pos, jnp.asarray(UPRIGHT), dt)[1])  # traced
+    np.testing.assert_array_equal(np.asarray(step(jnp.asarray(p), DT)), np.asarray(force))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -168,3 +170,29 @@ def test_fit_cli_accepts_a_baseline_model(tmp_path) -> None:
     data = json.loads(out.read_text())
     assert data["model"] == "granular_rft"
     assert data["conditions"][0]["parameters"]["k_rft"] == pytest.approx(K_RFT, rel=5e-3)
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    # "1e5" was parsed, True read as 1, NaN gave NaN forces, a negative k a pull-down
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 0.01], "1e5"), "k_rft must be a number"),
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 0.01], True), "k_rft must be a number"),
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 0.01], math.nan), "k_rft must be finite"),
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 0.01], -1e5), "k_rft must be > 0"),
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 0.01], 1e5, 5), "foot must be a Foot"),  # AttributeError
+    (lambda: drft_force([0.0, 0.01], [0.0, 0.01], 1e5, "x"), "lambda_ must be a number"),  # ValueError
+    (lambda: drft_force([0.0, 0.01], [0.0, 0.01], 1e5, math.nan), "lambda_ must be finite"),
+    (lambda: drft_force([0.0, 0.01], [0.0, 0.01], 1e5, 0.013, -5.0), "rho must be >= 0"),
+    (lambda: maxwell_only_force([0.0, 0.01], [0.0, 0.01], "1e5", 1e5, 1e5, 1e5), "k_m_i must be a number"),
+    (lambda: maxwell_only_force([0.0, 0.01], [0.0, 0.01], True, 1e5, 1e5, 1e5), "k_m_i must be a number"),
+    (lambda: maxwell_only_force([0.0, 0.01], [0.0, 0.01], [1e5], 1e5, 1e5, 1e5), "k_m_i must be a number"),
+    # beyond the stepper's bounds: k z, dz/dt and v|v| overflowed, inf forces returned
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 1e300], 1e5), "depth within +-100 m"),
+    (lambda: drft_force([0.0, 1e-300], [0.0, 0.01], 1e5), "time steps must be within"),
+    (lambda: maxwell_only_force([0.0, 1e-300], [0.0, 0.01], 1e5, 1e5, 1e5, 1e5), "time steps must be within"),
+])
+def test_bad_parameters_and_out_of_bounds_trajectories_are_refused_in_one_line(call: Any, words: str) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        with pytest.raises(InputError) as error:
+            call()
+    assert words in str(error.value) and "\n" not in str(error.value)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -318,3 +320,42 @@ def test_bad_angles_and_scales() -> None:
                  lambda: G.rft_wrench([[0.0, 0.0, 0.0]], [[1.0, 0.0, 0.0]], point=[0.0, 0.0])):
         with pytest.raises(InputError):
             call()
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    # booleans among numbers were read as 0 and 1
+    (lambda: G.rft_alpha([0.1, True], 0.5), "beta [rad] must be real numbers"),
+    (lambda: G.rft3d_alpha([DOWN], [[0.0, 0.5, True]]), "velocities [m/s] must be real numbers"),
+    (lambda: G.rft_element_forces([[0.0, 0.0, -0.1]] * 2, [DOWN] * 2, [True, 1e-4], [[0.0, 0.0, -1.0]] * 2,
+                                  scale=1e5), "areas [m^2]"),
+    (lambda: G.rft_wrench([[0.0, 0.0, 0.0]], [[1.0, 0.0, 0.0]], [True, 0, 0]), "point [m]"),
+    # Li's coefficients unchecked: NaN gave NaN, a string a TypeError, an array an array of results
+    (lambda: G.rft_alpha(0.1, 0.5, G.LI2013_GENERIC._replace(A00=math.nan)), "A00 = nan"),
+    (lambda: G.rft_alpha(0.1, 0.5, G.LI2013_GENERIC._replace(A00="x")), "A00 = 'x'"),
+    (lambda: G.rft_element_alpha([DOWN], [[0.0, 0.0, -1.0]], law="li2013",
+                                 li_coefficients=G.LI2013_GENERIC._replace(B01=np.ones(3))), "li_coefficients"),
+    # rft3d_basis took anything np.asarray did: "1" as 1, NaN, None as NaN; a complex or a shape mismatch raised
+    (lambda: G.rft3d_basis("1", 0.0, 0.0), "x1 [-] must be real numbers"),
+    (lambda: G.rft3d_basis(math.nan, 0.0, 0.0), "x1 [-] must be finite"),
+    (lambda: G.rft3d_basis(1j, 0.0, 0.0), "x1 [-] must be real numbers"),
+    (lambda: G.rft3d_basis([1.0, 2.0], [1.0, 2.0, 3.0], 0.0), "must broadcast together"),
+    # an xp that is neither numpy nor jax.numpy: AttributeError
+    (lambda: G.rft3d_alpha([DOWN], [[0.0, 0.0, -1.0]], xp=math), "xp must be numpy or jax.numpy"),
+    # |v|^2 overflowed: the direction became 0, and a foot moving up got the stress of one moving down
+    (lambda: G.rft3d_alpha([DOWN], [[0.0, 0.0, 1e300]]), "velocities [m/s] must be within"),
+    (lambda: G.rft3d_angles([DOWN], [[1e200, 1e200, -1e200]]), "velocities [m/s] must be within"),
+    (lambda: G.rft_element_alpha([DOWN], [[1e200, 0.0, -1e200]], law="li2013"), "velocities [m/s] must be within"),
+    # products of finite inputs overflowed: inf and NaN forces, returned
+    (lambda: G.rft_element_forces([[0.0, 0.0, -1e308]], [DOWN], [1.0], [[0.0, 0.0, -1.0]], 1e308, scale=1e5),
+     "forces [N] overflow"),
+    (lambda: G.rft_wrench([[1e200, 0.0, 0.0]], [[0.0, 1e200, 0.0]]), "torque [N m] overflow"),
+    # mu ** 3 raised OverflowError; rho_c 1e300 gave inf
+    (lambda: G.medium_scale(1000.0, 1e300), "medium_scale overflows"),
+    (lambda: G.medium_scale(1e308, 10.0), "medium_scale overflows"),
+])
+def test_more_bad_input_is_one_line(call: Any, words: str) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow warning on the way to the refusal
+        with pytest.raises(InputError) as error:
+            call()
+    assert words in str(error.value) and "\n" not in str(error.value)

@@ -127,7 +127,7 @@ def test_bad_seeds_and_unwritable_outs_are_one_line_exit_2(tmp_path: Path) -> No
     """Each refused in one line, exit 2, before anything is written (one subprocess for all of them)."""
     blocker = tmp_path / "file"
     blocker.write_text("not a directory\n")
-    seeds = ["-1", "abc", "1.5", str(2**40)]
+    seeds = ["-1", "abc", "1.5", str(2**40), "1_0"]  # "1_0": int() took it as 10
     runs = run_batch([(["reproduce", "--quick", "--seed", seed, "--out", str(tmp_path / "r")], tmp_path)
                       for seed in seeds]
                      + [(["reproduce", "--quick", "--out", str(out)], tmp_path) for out in (blocker, blocker / "sub")])

@@ -12,7 +12,7 @@ import pytest
 import mudforce as mf
 from mudforce.errors import InputError
 from mudforce.model import law3d, shapes
-from mudforce.steppers.contact3d import MudContact3D, simulate_3d
+from mudforce.steppers.contact3d import MAX_ELEMENT_SAMPLES, MudContact3D, simulate_3d
 
 WATER = (0.15, 0.20, 0.25, 0.30, 0.35)
 UPRIGHT = np.array([1.0, 0.0, 0.0, 0.0])
@@ -453,3 +453,19 @@ def test_a_bad_element_state_is_refused_in_elements_words() -> None:
         assert "foot 3" not in text and " feet" not in text and "\n" not in text
         for x, y in zip(contact.state, saved, strict=True):
             assert np.array_equal(x, y)
+
+
+def test_simulate_3d_refuses_element_forces_that_would_not_fit_in_memory() -> None:
+    """elements=True for 37 623 samples of a 5 316-element foot asked numpy for 4.8 GB at once (a MemoryError
+    traceback, or swap); refused in one line before any step, and the same motion without elements runs."""
+    shape = shapes.sphere(0.1, resolution=0.0025)
+    m = MAX_ELEMENT_SAMPLES // shape.n + 1
+    time = np.arange(m) * 1e-3
+    positions = np.broadcast_to([0.0, 0.0, 0.2], (m, 3))
+    quaternions = np.broadcast_to([1.0, 0.0, 0.0, 0.0], (m, 4))
+    mud = mf.MudParameters.from_water_content(0.25)
+    with pytest.raises(InputError, match=r"elements=True would keep .* element forces") as error:
+        simulate_3d(time, positions, quaternions, mud, shape, elements=True)
+    assert "\n" not in str(error.value)
+    short = simulate_3d(time[:3], positions[:3], quaternions[:3], mud, shape, elements=True)
+    assert short.element_forces is not None and short.element_forces.shape == (3, shape.n, 3)

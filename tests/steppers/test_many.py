@@ -234,3 +234,24 @@ print(answer.decode())
                           check=False)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "1"
+
+
+@pytest.mark.xfail(strict=True, reason="steppers.many._chosen_feet (many.py, being edited in main): np.asarray reads "
+                                       "[True, 2] as [1, 2], and takes a nested [[0]] as an index")
+def test_reset_refuses_booleans_among_indices_and_nested_indices() -> None:
+    """``reset([True, 2])`` reset feet 1 and 2 (True read as 1); ``reset([[0]])`` reset foot 0 (MudContacts3D's
+    reset refuses it). Each should be one InputError and no foot reset."""
+    from mudforce.model import shapes
+    from mudforce.steppers.contact3d import MudContacts3D
+
+    params = MudParameters.from_water_content(0.25)
+    one_d = MudContacts(params, n=3)
+    one_d.step(np.full(3, 0.01), 0.0)
+    three_d = MudContacts3D(params, shapes.sphere(0.03, resolution=0.015), 3)
+    three_d.step(np.zeros((3, 3)), np.tile([1.0, 0.0, 0.0, 0.0], (3, 1)), 0.0)
+    for feet, modes in ((one_d, lambda: one_d.modes), (three_d, lambda: three_d.state.started.tolist())):
+        before = modes()
+        for bad in ([True, 2], [[0]]):
+            with pytest.raises(InputError):
+                feet.reset(bad)
+            assert modes() == before

@@ -298,3 +298,15 @@ def test_a_bad_element_row_in_a_restored_state_names_the_element() -> None:
         many.state = saved._replace(elements=bad)
     assert str(info.value).startswith("a state (element 5): holds a value that is not finite"), str(info.value)
     assert _same(many.state, saved)
+
+
+def test_a_nested_list_of_feet_is_refused_in_one_line() -> None:
+    """``reset([[0]])`` raised TypeError ("only 0-dimensional arrays can be converted to Python scalars")."""
+    feet = MudContacts3D(mf.MudParameters.from_water_content(0.25), SHAPE, 2)
+    feet.step(np.zeros((2, 3)), np.tile([1.0, 0.0, 0.0, 0.0], (2, 1)), 0.0)
+    before = feet.state
+    with pytest.raises(InputError, match=r"flat sequence of ints .* got an array of shape \(1, 1\)"):
+        feet.reset([[0]])
+    assert _same(feet.state, before)
+    feet.reset([1])
+    assert feet.state.started.tolist() == [True, False]

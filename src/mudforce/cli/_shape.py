@@ -18,7 +18,7 @@ from mudforce.io.units import parse_quantity
 if TYPE_CHECKING:
     from mudforce.model.shapes import Shape
 
-__all__ = ["MAX_SHAPE_SIZE", "SHAPE_EXAMPLES", "SHAPE_SIZES", "make_shape", "parse_shape"]
+__all__ = ["MAX_SHAPE_SIZE", "MIN_SHAPE_SIZE", "SHAPE_EXAMPLES", "SHAPE_SIZES", "make_shape", "parse_shape"]
 
 #: The kinds ``--shape`` accepts and how many sizes each takes [-].
 SHAPE_SIZES: dict[str, int] = {"sphere": 1, "capsule": 2, "cylinder": 2, "disc": 2, "box": 3}
@@ -26,6 +26,9 @@ SHAPE_SIZES: dict[str, int] = {"sphere": 1, "capsule": 2, "cylinder": 2, "disc":
 SHAPE_EXAMPLES = "sphere:40mm, capsule:30mmx60mm, cylinder:30mmx20mm, disc:50mmx5mm or box:50mmx40mmx20mm"
 #: The largest size of a foot ``--shape`` accepts [m].
 MAX_SHAPE_SIZE = 1.0
+#: The smallest size [m]: the shapes' (:data:`mudforce.model.foot.SIZE_RANGE`); below, ``drop`` gave MuJoCo's
+#: error about inertia, ``simulate`` the shape's words without the option's name.
+MIN_SHAPE_SIZE = 1e-4
 
 
 def parse_shape(text: str, *, name: str = "--shape") -> tuple[str, list[float]]:
@@ -36,7 +39,7 @@ def parse_shape(text: str, *, name: str = "--shape") -> tuple[str, list[float]]:
     InputError
         One line naming ``name``: an unknown kind or no sizes, the wrong
         number of sizes for the kind, a size without its unit, or one
-        larger than :data:`MAX_SHAPE_SIZE`; each with an example.
+        larger than :data:`MAX_SHAPE_SIZE` or smaller than :data:`MIN_SHAPE_SIZE`; each with an example.
     """
     kind, _, sizes = str(text).strip().partition(":")
     if kind not in SHAPE_SIZES or not sizes:
@@ -48,6 +51,9 @@ def parse_shape(text: str, *, name: str = "--shape") -> tuple[str, list[float]]:
     dims = [parse_quantity(p, "length", name=name) for p in parts]
     if any(d > MAX_SHAPE_SIZE for d in dims):
         raise InputError(f"{name}: {sizes!r} is larger than {MAX_SHAPE_SIZE:g} m; expected a foot, e.g. sphere:40mm")
+    if any(d < MIN_SHAPE_SIZE for d in dims):  # the shapes' bound (mudforce.model.foot.SIZE_RANGE), in its words
+        raise InputError(f"{name}: {sizes!r} is smaller than {MIN_SHAPE_SIZE * 1e3:g} mm; expected a foot, "
+                         "e.g. sphere:40mm")
     return kind, dims
 
 

@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from mudforce.cli import plain_int
 from mudforce.cli.identify import _force_gain_uncertainty
 from mudforce.errors import InputError, seed_int
 from mudforce.io import (
@@ -93,7 +94,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fix", metavar="NAME=VALUE,...", help="hold parameters at values in SI, e.g. beta=0.5")
     parser.add_argument("--model", default="chen2024", help="force model to fit (default chen2024)")
     parser.add_argument("--foot", help=f"foot of a tidy CSV: {FOOT_EXAMPLES}")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the global search (default 0)")
+    parser.add_argument("--seed", type=plain_int, default=0, help="seed of the global search (default 0)")
     parser.add_argument("--force-gain-uncertainty", default="5%",
                         help="relative uncertainty of the force sensor's gain (default 5%%): a gain error reads as "
                              "every stiffness, viscosity, alpha and sigma_y off by as much, so their standard errors "

@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import os
 
+from mudforce.cli import plain_int
 from mudforce.errors import InputError
 
 NAME = "reproduce"
@@ -54,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _integer(text: str, option: str, low: int, high: int) -> int:
     try:
-        value = int(text, 10)
+        value = plain_int(text)  # not int(): it took "1_0" as 10
     except (TypeError, ValueError):
         raise InputError(f"{option}: {text!r} is not an integer; expected an integer in [{low}, {high}]") from None
     if not low <= value <= high:

@@ -33,6 +33,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from mudforce.cli import plain_int
 from mudforce.errors import InputError, seed_int
 from mudforce.io.units import parse_list, parse_quantity
 from mudforce.model.foot import FOOT_EXAMPLES
@@ -79,7 +80,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--water-content", default="25%", metavar="LIST", help="e.g. 15%%,25%% (default 25%%)")
     parser.add_argument("--velocities", default="10mm/s,20mm/s,40mm/s", metavar="LIST",
                         help="intrusion/withdrawal speeds (default 10mm/s,20mm/s,40mm/s)")
-    parser.add_argument("--repeats", type=int, default=3, metavar="N", help="trials per condition (default 3)")
+    parser.add_argument("--repeats", type=plain_int, default=3, metavar="N", help="trials per condition (default 3)")
     parser.add_argument("--force-noise", default="0.2N", metavar="F",
                         help=f"white force noise, std, at most {MAX_FORCE_NOISE:g}N (default 0.2N)")
     parser.add_argument("--depth-noise", default="0.03mm", metavar="Z", help="white depth noise, std (default 0.03mm)")
@@ -102,7 +103,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="sensor chain: force-sensor gain within [0.5, 2], as a factor or a change, "
                              "e.g. 1.05, +5%% or -5%% (default none)")
     parser.add_argument("--foot", default="paper", help=f"{FOOT_EXAMPLES} (default paper)")
-    parser.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
+    parser.add_argument("--seed", type=plain_int, default=0, help="noise seed (default 0)")
     parser.add_argument("--force", action="store_true", help="replace an earlier synth dataset in DIR")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
 
@@ -170,12 +171,15 @@ def _parse_lag(text: str) -> tuple[float, float]:
 
 def _parse_gain(text: str) -> float:
     """``--force-gain G``: a factor (1.05) or a change in percent (+5%, -5%)."""
+    from mudforce.io.tables import NUMBER
+
     raw = str(text).strip()
-    try:
-        gain = 1.0 + float(raw[:-1]) / 100.0 if raw.endswith("%") else float(raw)
-    except ValueError:
+    number = raw[:-1].strip() if raw.endswith("%") else raw
+    if NUMBER.fullmatch(number) is None and number.lower().lstrip("+-") not in ("nan", "inf", "infinity"):
+        # plain ASCII decimals (float() took "1_0%" as +10 %); NaN and inf are refused below, in the gain's words
         raise InputError(f"--force-gain: cannot read {raw!r}; expected a factor or a change, e.g. 1.05, +5% "
-                         "or -5%") from None
+                         "or -5%")
+    gain = 1.0 + float(number) / 100.0 if raw.endswith("%") else float(number)
     if not (math.isfinite(gain) and 0.5 <= gain <= 2.0):
         raise InputError(f"--force-gain: {raw!r} is a gain of {gain:g}, outside [0.5, 2]; expected e.g. 1.05, +5% "
                          "or -5%")

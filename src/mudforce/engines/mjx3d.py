@@ -101,8 +101,16 @@ from mudforce._plumbing.optional import require
 from mudforce.engines.dynamics.result import REST_SPEED
 from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx
 from mudforce.engines.mujoco import MudPatch
-from mudforce.engines.mujoco.adapter3d import Drop3D, _drop_result, _drop_spec, _patch_list, foot_geom
-from mudforce.errors import InputError, finite_number
+from mudforce.engines.mujoco.adapter3d import (
+    Drop3D,
+    _drop_result,
+    _drop_spec,
+    _patch_list,
+    check_drop_motion,
+    compile_drop,
+    foot_geom,
+)
+from mudforce.errors import InputError
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -254,7 +262,7 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
     for s in slist:  # the width H of Eq. (4), checked as make_params3d checks it
         Foot(area=1.0, width=float(s.width), shape="element")  # type: ignore[arg-type]
     _warn_floor(model, gids)
-    ftype = mj._float_dtype(dtype)
+    ftype = mj3._float_type(dtype)  # float32 or float64 (int32 held the mud as garbage, "foo" a TypeError)
     n = max(s.n for s in slist)
 
     def padded(values: np.ndarray, fill_row: np.ndarray) -> np.ndarray:
@@ -288,9 +296,13 @@ def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
     (traced allowed), such as ``mudforce.jax.params_from_water_content(w)`` (its ``area`` and ``width``
     are ignored: the elements' are the feet's). The lateral stiffness becomes the mud's ``k_m_w``.
     """
+    if not isinstance(mud, Mud3D):
+        raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
     count = mud.surface_height.shape[-1]
-    if not isinstance(patch, int) or not 0 <= patch < count:
+    # not a bool: True was patch 1
+    if isinstance(patch, bool) or not isinstance(patch, (int, np.integer)) or not 0 <= patch < count:
         raise InputError(f"patch must be an index 0 to {count - 1}, got {patch!r}")
+    patch = int(patch)
     dtype = mud.areas.dtype
     new = _element_params(params, mud.widths, dtype)
     elements = mj.Params(*(old.at[patch].set(f) for old, f in zip(mud.elements, new, strict=True)))
@@ -299,6 +311,8 @@ def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
 
 def init(mud: Mud3D) -> MudState3D:
     """The mud's state at the start of an episode (no foot started: the first step sets each foot's pose)."""
+    if not isinstance(mud, Mud3D):
+        raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
     f, n = mud.areas.shape[-2], mud.areas.shape[-1]
     dtype = mud.areas.dtype
     one = mj.init(n, dtype)
@@ -506,10 +520,9 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
     mjx = _mjx()
     if not isinstance(params, MudParameters):
         raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
-    duration = finite_number(duration, "duration", "s", positive=True)
-    vx = finite_number(vx, "vx", "m/s")
+    duration, vx = check_drop_motion(duration, vx, dt)
     spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
-    model = spec.compile()
+    model = compile_drop(spec)
     mud = add_mud(model, ["foot"], MudPatch(params), resolution=resolution)
     m = mjx.put_model(model)
     d0 = mjx.make_data(m)

@@ -15,10 +15,11 @@ import os
 import re
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, true_or_false
+from mudforce.errors import InputError, is_real, real_array, true_or_false
 
 __all__ = ["COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "POSE_COLUMNS", "WRITE_BLOCK", "is_pose_trajectory",
            "read_columns", "read_poses", "read_trajectory", "write_csv"]
@@ -82,6 +83,14 @@ def _number(p: Path, line: int, spelling: str, cell: str) -> float:
         raise InputError(f"{p}: row {line}, column {spelling}: {_clip(cell)!r} is not a number "
                          "(plain ASCII decimal, e.g. 0.25 or 2.5e-1)")
     return float(cell)
+
+
+def _cell_text(text: Any, what: str) -> str:
+    """``text`` if it is a string a CSV cell can hold as it is (printable ASCII, no comma or quote), else
+    InputError (a comma split the header or a label into two cells)."""
+    if not (isinstance(text, str) and text.isascii() and text.isprintable() and not any(c in text for c in ',"')):
+        raise InputError(f"{what} must be printable ASCII text without commas or quotes, got {text!r}")
+    return text
 
 
 def read_columns(
@@ -320,6 +329,11 @@ def read_poses(
     quaternions : ndarray, shape (m, 4)
         The orientation ``(w, x, y, z)`` [-], as in the file (not normalised).
     """
+    tol = math.inf
+    if quaternion_tolerance is not None:  # checked before the file: -1 or NaN refused every row in the file's words
+        if not is_real(quaternion_tolerance) or not float(quaternion_tolerance) >= 0.0:
+            raise InputError(f"quaternion_tolerance must be a number >= 0 [-] or None, got {quaternion_tolerance!r}")
+        tol = float(quaternion_tolerance)
     matched: dict[str, str] = {}
     cols = read_columns(path, POSE_COLUMNS, matched=matched)
     check_time(path, cols["time"], matched["time"], lines=cols["line"])
@@ -327,7 +341,6 @@ def read_poses(
     quaternions = np.stack([cols[f"quaternion {part}"] for part in "wxyz"], axis=1)
     with np.errstate(over="ignore"):
         norms = np.sqrt(np.einsum("ij,ij->i", quaternions, quaternions))
-    tol = math.inf if quaternion_tolerance is None else float(quaternion_tolerance)
     bad = np.flatnonzero(~(np.abs(norms - 1.0) <= tol) | (norms == 0.0))
     if bad.size:
         k = int(bad[0])
@@ -370,16 +383,31 @@ def write_csv(
     from mudforce.io._csvformat import format_rows, row_width
 
     quiet = true_or_false(quiet, "quiet")
+    # checked before the file is opened: the compiled formatter indexes by these without bounds checks (a label
+    # code beyond the texts, or fewer codes than rows, read outside its arrays: a crash, or other rows' text), and a
+    # shorter column repeated its last block's values in the rows it lacked
     names = list(columns)
-    arrays = [np.asarray(columns[name], dtype=np.float64) for name in names]
-    n = int(arrays[0].shape[0]) if arrays else 0
+    for name in names:
+        _cell_text(name, "a column name")
+    arrays = [real_array(columns[name], f"column {name}", "SI") for name in names]
+    n = int(arrays[0].shape[0]) if arrays and arrays[0].ndim == 1 else 0
+    if any(a.ndim != 1 or a.shape[0] != n for a in arrays):
+        raise InputError(f"columns must be 1-D and of one length (one value per row), got shapes "
+                         f"{[a.shape for a in arrays]}")
     if label is None:
         codes = np.zeros(n, dtype=np.int64)
         texts: list[bytes] = []
     else:
-        codes = np.asarray(label[1], dtype=np.int64)
-        texts = [text.encode("ascii") for text in label[2]]
-        names.append(label[0])
+        if not (isinstance(label, tuple) and len(label) == 3):
+            raise InputError("label must be (name, codes, texts): a column name, each row's code and the text of "
+                             f"each code, got {type(label).__name__}")
+        texts = [_cell_text(text, "a label text").encode("ascii") for text in label[2]]
+        names.append(_cell_text(label[0], "a column name"))
+        codes = np.asarray(label[1])
+        if codes.dtype.kind not in "iu" or codes.shape != (n,) or not np.all((codes >= 0) & (codes < len(texts))):
+            raise InputError(f"label codes must be {n} integers (one per row) within 0 to {len(texts) - 1} (one per "
+                             f"text), got {codes.dtype} of shape {codes.shape}")
+        codes = codes.astype(np.int64)
     width = max((len(t) for t in texts), default=0)
     table = np.zeros((len(texts), width), dtype=np.uint8)
     for k, text in enumerate(texts):

@@ -54,7 +54,6 @@ changes JAX's configuration.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
@@ -64,11 +63,12 @@ import numpy as np
 
 from mudforce import jax as mj
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
-from mudforce.errors import InputError, finite_number, is_real, positive_int
+from mudforce.errors import InputError, _holds_boolean, finite_number, positive_int
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
+from mudforce.steppers.contact3d import _stiffness
 
 __all__ = ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"]
 
@@ -116,6 +116,38 @@ def _shape(shape: Any) -> Shape:
     return shape
 
 
+def _float_type(dtype: Any) -> Any:
+    """``dtype`` as a JAX float dtype, float32 or float64 (JAX's default float for None), else InputError: an
+    integer, boolean or complex dtype would hold the mud's constants and the poses wrongly, float16 cannot
+    hold the stiffnesses (~1e6 Pa/m: inf)."""
+    if dtype is None:
+        return jnp.result_type(float)
+    try:
+        ftype = jnp.dtype(dtype)
+    except TypeError:
+        raise InputError(f"dtype must be float32 or float64 (or None: JAX's default float), got {dtype!r}") from None
+    if ftype not in (jnp.dtype(jnp.float32), jnp.dtype(jnp.float64)):
+        raise InputError(f"dtype must be float32 or float64 (or None: JAX's default float), got {ftype}")
+    return ftype
+
+
+def _real(value: Any, name: str, unit: str) -> Any:
+    """``value`` as a JAX array (a tracer under ``jit`` as it is) if it holds real numbers, else InputError: checked
+    when tracing, not inside ``jit``. ``jnp.asarray`` with a float dtype would read ``"0.01"`` as a number,
+    ``True`` as 1 and drop a complex number's imaginary part."""
+    if not isinstance(value, jax.Array):
+        if isinstance(value, (list, tuple)) and _holds_boolean(value):
+            raise InputError(f"{name} must be real numbers [{unit}], got a sequence holding booleans "
+                             "(True/False among the numbers)")
+        try:
+            value = jnp.asarray(value)
+        except (TypeError, ValueError):  # strings, objects, None, ragged nesting
+            raise InputError(f"{name} must be real numbers [{unit}], got {type(value).__name__} {value!r}") from None
+    if not (jnp.issubdtype(value.dtype, jnp.integer) or jnp.issubdtype(value.dtype, jnp.floating)):
+        raise InputError(f"{name} must be real numbers [{unit}], got dtype {value.dtype}")
+    return value
+
+
 def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, surface_height: float = 0.0, *,
                   width: float | None = None, lateral_stiffness: float | None = None,
                   dtype: Any = None) -> Params3D:
@@ -155,10 +187,8 @@ def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, su
     if lateral_stiffness is None:
         stiffness = np.array([m.k_m_w for m in muds])
     else:
-        if not is_real(lateral_stiffness) or not math.isfinite(lateral_stiffness) or lateral_stiffness <= 0.0:
-            raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
-        stiffness = np.full(len(muds), float(lateral_stiffness))
-    ftype = jnp.dtype(dtype) if dtype is not None else jnp.result_type(float)
+        stiffness = np.full(len(muds), _stiffness(lateral_stiffness))  # MudContact3D's check and bound
+    ftype = _float_type(dtype)
     elements = mj.make_params(muds if per_foot else muds[0], foot=foot, dtype=ftype)
     batch: tuple[int, ...] = (len(muds),) if per_foot else ()
 
@@ -181,7 +211,7 @@ def init3d(shape: Shape, batch: int | None = None, dtype: Any = None) -> State3D
     params'.
     """
     n = _shape(shape).n
-    ftype = jnp.dtype(dtype) if dtype is not None else jnp.result_type(float)
+    ftype = _float_type(dtype)
     lead: tuple[int, ...] = () if batch is None else (positive_int(batch, "batch (the number of feet)"),)
     one = mj.init(n, ftype)
     # a buffer per field, so that the state can be donated (jax.jit(..., donate_argnums=...))
@@ -196,7 +226,13 @@ def reset3d(state: State3D, mask: Array = True) -> State3D:
     ``mask`` is a bool of the state's batch shape (``state.started.shape``),
     or a single bool for all.
     """
-    mask = jnp.broadcast_to(jnp.asarray(mask, dtype=bool), state.started.shape)
+    if not isinstance(state, State3D):
+        raise InputError(f"state must be a State3D (init3d), got {type(state).__name__}")
+    given = mask if isinstance(mask, jax.Array) else np.asarray(mask)
+    if given.dtype != bool or given.shape not in ((), state.started.shape):
+        raise InputError(f"mask must be a bool or bools of the state's batch shape {state.started.shape}, got "
+                         f"{given.dtype} of shape {given.shape}")
+    mask = jnp.broadcast_to(jnp.asarray(mask), state.started.shape)
     batch = state.started.ndim
 
     def pick(fresh_value: Array, old: Array) -> Array:
@@ -248,17 +284,31 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     unchanged. Pure: use it under ``jax.jit``, ``jax.vmap`` (a leading
     axis on the state, params and pose), ``jax.lax.scan`` and ``jax.grad``.
     """
+    if not isinstance(state, State3D):
+        raise InputError(f"state must be a State3D (init3d), got {type(state).__name__}")
+    if not isinstance(params, Params3D):
+        raise InputError(f"params must be a Params3D (make_params3d), got {type(params).__name__}")
     ftype = state.slip.dtype
     n = state.slip.shape[-2] if state.slip.ndim == 2 else -1
-    p = jnp.asarray(position, dtype=ftype)
-    q = jnp.asarray(quaternion, dtype=ftype)
+    p = jnp.asarray(_real(position, "position", "m"), dtype=ftype)
+    q = jnp.asarray(_real(quaternion, "quaternion", "-"), dtype=ftype)
     if p.shape != (3,) or q.shape != (4,):
         raise InputError(f"position must be 3 numbers [m] and the quaternion 4 (w, x, y, z), got shapes {p.shape} "
                          f"and {q.shape} (jax.vmap over many feet)")
     if n < 1 or params.centroids.shape != (n, 3) or state.centroids.shape != (n, 3):
         raise InputError(f"state and params must be of one foot of the same shape: slips {state.slip.shape}, "
                          f"centroids {state.centroids.shape} and {params.centroids.shape}")
-    dt = jnp.asarray(dt, dtype=ftype)
+    dt = jnp.asarray(_real(dt, "dt", "s"), dtype=ftype)
+    if dt.shape != ():
+        raise InputError(f"dt must be one number [s] (jax.vmap over many feet), got shape {dt.shape}")
+    if hold is not None:
+        hold = jnp.asarray(_real(hold, "hold", "m"), dtype=ftype)
+        if hold.shape not in ((), (n,)):
+            raise InputError(f"hold must be one number [m] or one per element ({n},), got shape {hold.shape}")
+        # where known when tracing (not a traced value): inf held every element still (a foot that never sinks),
+        # NaN and negative ones held none, silently
+        if not isinstance(hold, jax.core.Tracer) and not bool(jnp.all((hold >= 0.0) & jnp.isfinite(hold))):
+            raise InputError(f"hold must be finite and >= 0 [m], got {np.asarray(hold).tolist()!r}")
     e = mj.Params(*(jnp.asarray(f, dtype=ftype) for f in params.elements))
     body_centroids = jnp.asarray(params.centroids, dtype=ftype)
     body_normals = jnp.asarray(params.normals, dtype=ftype)
@@ -284,7 +334,7 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     # an element turned about at its depth is at rest, not moving by rounding (MudContact3D.step's rule)
     depth = jnp.where(started, law3d.settle_depth(depth, state.elements.depth), depth)
     if hold is not None:  # an engine's stuck foot: still to its own rounding
-        still = started & (jnp.abs(depth - state.elements.depth) <= jnp.asarray(hold, dtype=ftype))
+        still = started & (jnp.abs(depth - state.elements.depth) <= hold)
         depth = jnp.where(still, state.elements.depth, depth)
     ok = pose_ok & (~started | dt_ok) & jnp.all(jnp.abs(depth) <= MAX_DEPTH)
 

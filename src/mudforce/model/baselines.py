@@ -43,7 +43,8 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from mudforce.errors import InputError, real_array
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
+from mudforce.errors import InputError, finite_number, real_array
 from mudforce.model.equations import (
     array_form,
     drag_acts,
@@ -86,6 +87,13 @@ def _trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
         raise InputError("time [s] and depth [m] must be finite")
     if t.size > 1 and np.any(np.diff(t) <= 0.0):
         raise InputError("time must be strictly increasing [s]")
+    # the stepper's bounds (mudforce.simulate): beyond, k z, dz/dt and the drag's v|v| overflowed to inf, returned
+    if not (np.all(np.abs(t) <= MAX_TIME) and np.all(np.abs(z) <= MAX_DEPTH)):
+        raise InputError(f"time must be within +-{MAX_TIME:g} s and depth within +-{MAX_DEPTH:g} m")
+    steps = np.diff(t)
+    if steps.size and not (steps.min() >= MIN_DT and steps.max() <= MAX_DT):
+        raise InputError(f"time steps must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {float(steps.min())!r} to "
+                         f"{float(steps.max())!r} s")
     return t, z
 
 
@@ -107,6 +115,8 @@ def branch_velocity(time: Any, depth: Any) -> np.ndarray:
 
 
 def _area(foot: Foot | None) -> float:
+    if foot is not None and not isinstance(foot, Foot):
+        raise InputError(f"foot must be a Foot (or None for the paper's cuboid), got {type(foot).__name__}")
     return (Foot.paper() if foot is None else foot).area
 
 
@@ -128,9 +138,11 @@ def granular_rft_force(time: Any, depth: Any, k_rft: float, foot: Foot | None = 
     foot : Foot, optional
         Gives the area ``S`` [m^2]; the paper's 51 x 38 mm cuboid by default.
     """
+    k = finite_number(k_rft, "k_rft", "Pa/m", positive=True)  # "1e5" was parsed, True was 1, NaN gave NaN
+    area = _area(foot)
     v = branch_velocity(time, depth)
     z = np.asarray(depth, dtype=np.float64)
-    force: np.ndarray = np.where(v >= 0.0, float(k_rft) * np.maximum(z, 0.0), 0.0) * _area(foot)
+    force: np.ndarray = np.where(v >= 0.0, k * np.maximum(z, 0.0), 0.0) * area
     return force
 
 
@@ -147,9 +159,11 @@ def drft_force(time: Any, depth: Any, k_rft: float, lambda_: float = _LAMBDA, rh
     rho : float
         Density of the medium [kg/m^3] (the paper's mud, 1840, by default).
     """
+    lam = finite_number(lambda_, "lambda_", "-", nonnegative=True)
+    density = finite_number(rho, "rho", "kg/m^3", nonnegative=True)
     v = branch_velocity(time, depth)
     z = np.asarray(depth, dtype=np.float64)
-    drag = np.where(array_form(drag_acts)(z), array_form(drag_stress)(float(lambda_), float(rho), v), 0.0) * _area(foot)
+    drag = np.where(array_form(drag_acts)(z), array_form(drag_stress)(lam, density, v), 0.0) * _area(foot)
     force: np.ndarray = granular_rft_force(time, depth, k_rft, foot) + drag
     return force
 
@@ -226,7 +240,9 @@ def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w:
     values = {"k_m_i": k_m_i, "b_m_i": b_m_i, "k_m_w": k_m_w, "b_m_w": b_m_w, "rho_m": rho_m, "lambda": lambda_}
     for name, value in values.items():
         positive = name not in ("rho_m", "lambda")
-        if not math.isfinite(float(value)) or float(value) < 0.0 or (positive and float(value) == 0.0):
+        # a real number first: float() parsed "1e5", read True as 1 and raised TypeError for a list
+        number = finite_number(value, f"maxwell_only: {name}", "SI")
+        if not math.isfinite(number) or number < 0.0 or (positive and number == 0.0):
             raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
                              f"got {value!r}")
     tau = array_form(relaxation_time)  # Eq. (3)

@@ -132,7 +132,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from mudforce.errors import InputError, finite_number
+from mudforce.errors import InputError, finite_number, is_real, real_array
 
 __all__ = [
     "LAWS",
@@ -162,6 +162,7 @@ LEADING_TOLERANCE = 1e-9
 _GRAVITY = 9.81  # standard gravity [m/s^2], as mudforce.engines.dynamics.GRAVITY
 _TINY = 1e-12  # length below which a unit vector's horizontal part counts as zero [-]
 _NORMAL_TOLERANCE = 1e-6  # accepted deviation of |n| from 1 [-]
+_MAX_VELOCITY = 1e150  # largest |velocity component| accepted [m/s]: |v|^2 stays finite (the direction's scale)
 
 
 class LiCoefficients(NamedTuple):
@@ -240,8 +241,7 @@ def rft_alpha(beta: Any, gamma: Any, coefficients: LiCoefficients = LI2013_GENER
     """
     b = _finite_array(beta, "beta [rad]")
     g = _finite_array(gamma, "gamma [rad]")
-    if not isinstance(coefficients, LiCoefficients):
-        raise InputError(f"coefficients must be a LiCoefficients, got {type(coefficients).__name__}")
+    coefficients = _li_coefficients(coefficients, "coefficients")
     try:
         b, g = np.broadcast_arrays(b, g)
     except ValueError:
@@ -275,8 +275,11 @@ def rft3d_basis(x1: Any, x2: Any, x3: Any) -> np.ndarray:
     x1, x2, x3 : array_like
         ``sin(gamma)``, ``cos(beta)``, ``cos(psi) cos(gamma) sin(beta) + sin(gamma) cos(beta)`` [-].
     """
-    a, b, c = np.broadcast_arrays(np.asarray(x1, dtype=np.float64), np.asarray(x2, dtype=np.float64),
-                                  np.asarray(x3, dtype=np.float64))
+    arrays = [_finite_array(x, f"x{k} [-]") for k, x in enumerate((x1, x2, x3), start=1)]
+    try:
+        a, b, c = np.broadcast_arrays(*arrays)
+    except ValueError:
+        raise InputError(f"x1, x2 and x3 must broadcast together, got shapes {[x.shape for x in arrays]}") from None
     out: np.ndarray = _basis(a, b, c, np)
     return out
 
@@ -308,7 +311,7 @@ def rft3d_angles(normals: Any, velocities: Any) -> tuple[np.ndarray, np.ndarray,
         Element velocities [m/s], not zero.
     """
     n = _unit_normals(normals)
-    v = _vectors(velocities, "velocities [m/s]", len(n))
+    v = _velocities(velocities, len(n))
     speed = np.linalg.norm(v, axis=1)
     if np.any(speed == 0.0):
         raise InputError("velocities [m/s] must be non-zero for the 3D-RFT angles (their direction is needed)")
@@ -360,8 +363,10 @@ def rft3d_alpha(normals: Any, velocities: Any,
     """
     if xp is np:
         n = _unit_normals(normals)
-        v = _vectors(velocities, "velocities [m/s]", len(n))
+        v = _velocities(velocities, len(n))
         c1, c2, c3 = _rft3d_coefficients(coefficients)
+    elif getattr(xp, "__name__", None) != "jax.numpy":
+        raise InputError(f"xp must be numpy or jax.numpy, got {getattr(xp, '__name__', type(xp).__name__)!r}")
     else:
         n = normals / _norm(normals, xp)[:, None]
         v = velocities
@@ -431,9 +436,9 @@ def rft_element_alpha(normals: Any, velocities: Any, *, law: str = "rft3d", surf
         ``alpha`` [-], zero on trailing elements (``n . v < 0``) and elements at rest.
     """
     n = _unit_normals(normals)
-    v = _vectors(velocities, "velocities [m/s]", len(n))
+    v = _velocities(velocities, len(n))
     mu = _friction(surface_friction)
-    return _element_alpha(n, v, _law(law), mu, _li_coefficients(li_coefficients))
+    return _element_alpha(n, v, _law(law), mu, _li_coefficients(li_coefficients, "li_coefficients"))
 
 
 def _element_alpha(n: np.ndarray, v: np.ndarray, law: str, mu: float, li: LiCoefficients) -> np.ndarray:
@@ -497,8 +502,8 @@ def rft_element_forces(centroids: Any, normals: Any, areas: Any, velocities: Any
     n = _unit_normals(normals)
     count = len(n)
     c = _vectors(centroids, "centroids [m]", count)
-    v = _vectors(velocities, "velocities [m/s]", count)
-    a = np.asarray(areas, dtype=np.float64) if _numeric(areas) else None
+    v = _velocities(velocities, count)
+    a = _reals(areas)
     if a is None or a.shape != (count,):
         raise InputError(f"areas [m^2] must be an array of shape ({count},), got "
                          f"{getattr(a, 'shape', type(areas).__name__)}")
@@ -509,15 +514,17 @@ def rft_element_forces(centroids: Any, normals: Any, areas: Any, velocities: Any
     mu = _friction(surface_friction)
     drag = finite_number(inertial_drag, "inertial_drag (lambda rho)", "kg/m^3", nonnegative=True)
     kind = _law(law)
-    li = _li_coefficients(li_coefficients)
-    depth = np.maximum(height - c[:, 2], 0.0)
-    alpha = _element_alpha(n, v, kind, mu, li)
-    forces: np.ndarray = (k * depth * a)[:, None] * alpha
-    if drag > 0.0:
-        vn = np.einsum("ij,ij->i", n, v)
-        speed = np.linalg.norm(v, axis=1)
-        loaded = (depth > 0.0) & (vn >= -LEADING_TOLERANCE * speed)
-        forces -= (np.where(loaded, drag * vn * vn * a, 0.0))[:, None] * n
+    li = _li_coefficients(li_coefficients, "li_coefficients")
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
+        depth = np.maximum(height - c[:, 2], 0.0)
+        alpha = _element_alpha(n, v, kind, mu, li)
+        forces: np.ndarray = (k * depth * a)[:, None] * alpha
+        if drag > 0.0:
+            vn = np.einsum("ij,ij->i", n, v)
+            speed = np.linalg.norm(v, axis=1)
+            loaded = (depth > 0.0) & (vn >= -LEADING_TOLERANCE * speed)
+            forces -= (np.where(loaded, drag * vn * vn * a, 0.0))[:, None] * n
+    _refuse_overflow(forces, "forces [N]", "scale x depth x area (and inertial_drag x (v.n)^2 x area)")
     return forces
 
 
@@ -540,10 +547,13 @@ def rft_wrench(centroids: Any, forces: Any, point: Any = (0.0, 0.0, 0.0)) -> tup
     """
     c = _vectors(centroids, "centroids [m]", None)
     f = _vectors(forces, "forces [N]", len(c))
-    p = np.asarray(point, dtype=np.float64) if _numeric(point) else None
+    p = _reals(point)
     if p is None or p.shape != (3,) or not np.all(np.isfinite(p)):
         raise InputError(f"point [m] must be 3 finite numbers, got {point!r}")
-    return f.sum(axis=0), np.cross(c - p, f).sum(axis=0)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
+        force, torque = f.sum(axis=0), np.cross(c - p, f).sum(axis=0)
+    _refuse_overflow(np.stack([force, torque]), "force [N] and torque [N m]", "the forces and lever arms")
+    return force, torque
 
 
 def medium_scale(rho_c: float, mu_int: float, gravity: float = _GRAVITY) -> float:
@@ -565,23 +575,33 @@ def medium_scale(rho_c: float, mu_int: float, gravity: float = _GRAVITY) -> floa
     rho = finite_number(rho_c, "rho_c", "kg/m^3", positive=True)
     mu = finite_number(mu_int, "mu_int", "-", positive=True)
     g = finite_number(gravity, "gravity", "m/s^2", positive=True)
-    return rho * g * (894.0 * mu ** 3 - 386.0 * mu ** 2 + 89.0 * mu)
+    try:
+        xi = rho * g * (894.0 * mu ** 3 - 386.0 * mu ** 2 + 89.0 * mu)
+    except OverflowError:  # mu ** 3 (the products give inf, refused below)
+        xi = math.inf
+    if not math.isfinite(xi):
+        raise InputError(f"medium_scale overflows for rho_c = {rho_c!r} kg/m^3, mu_int = {mu_int!r}, gravity = "
+                         f"{gravity!r} m/s^2; expected a scale below 1.8e308 N/m^3 (a physical medium: rho_c ~ 1e3, "
+                         "mu_int ~ 0.1-1)")
+    return xi
 
 
 # --- checks -------------------------------------------------------------------------------------------------------
 
-def _numeric(value: Any) -> bool:
+def _reals(value: Any) -> np.ndarray | None:
+    """``value`` as a float64 array if it holds real numbers (:func:`mudforce.errors.real_array`: no booleans, also
+    among numbers, no strings, complex numbers or objects), else None."""
     try:
-        array = np.asarray(value)
-    except (ValueError, TypeError):
-        return False
-    return array.dtype.kind in "iuf"
+        return real_array(value, "", "")
+    except InputError:
+        return None
 
 
 def _finite_array(value: Any, name: str) -> np.ndarray:
-    if not _numeric(value):
-        raise InputError(f"{name} must be real numbers, got {type(value).__name__}")
-    array = np.asarray(value, dtype=np.float64)
+    array = _reals(value)
+    if array is None:
+        raise InputError(f"{name} must be real numbers (not booleans, strings or complex), got "
+                         f"{type(value).__name__}")
     if not np.all(np.isfinite(array)):
         raise InputError(f"{name} must be finite")
     return array
@@ -593,6 +613,23 @@ def _vectors(value: Any, name: str, count: int | None) -> np.ndarray:
         expected = f"({count}, 3)" if count is not None else "(n, 3)"
         raise InputError(f"{name} must be an array of shape {expected}, got {array.shape}")
     return array
+
+
+def _velocities(value: Any, count: int) -> np.ndarray:
+    """Element velocities [m/s], (count, 3), finite and within +-:data:`_MAX_VELOCITY` (whose squares are finite:
+    beyond, |v| overflowed to inf and the direction to zero, a silently wrong stress)."""
+    v = _vectors(value, "velocities [m/s]", count)
+    if not np.all(np.abs(v) <= _MAX_VELOCITY):
+        raise InputError(f"velocities [m/s] must be within +-{_MAX_VELOCITY:g} (their squares finite), got "
+                         f"{float(np.abs(v).max())!r}")
+    return v
+
+
+def _refuse_overflow(values: np.ndarray, what: str, product: str) -> None:
+    """InputError if ``values`` are not all finite: finite inputs whose products overflowed."""
+    if not np.all(np.isfinite(values)):
+        raise InputError(f"the {what} overflow (not finite): {product} beyond float64; expected inputs of "
+                         "physical size")
 
 
 def _unit_normals(value: Any) -> np.ndarray:
@@ -630,9 +667,14 @@ def _friction(value: Any) -> float:
     return finite_number(value, "surface_friction (mu_surf)", "-", nonnegative=True)
 
 
-def _li_coefficients(value: Any) -> LiCoefficients:
+def _li_coefficients(value: Any, name: str) -> LiCoefficients:
+    """``value`` if it is a :class:`LiCoefficients` of finite real numbers, else InputError (a NaN, a string, a bool
+    or an array in a field gave NaN, a TypeError, 1, or an array of results)."""
     if not isinstance(value, LiCoefficients):
-        raise InputError(f"li_coefficients must be a LiCoefficients, got {type(value).__name__}")
+        raise InputError(f"{name} must be a LiCoefficients, got {type(value).__name__}")
+    for field, number in zip(LiCoefficients._fields, value, strict=True):
+        if not (is_real(number) and math.isfinite(number)):
+            raise InputError(f"{name} must hold finite real numbers, got {field} = {number!r}")
     return value
 
 

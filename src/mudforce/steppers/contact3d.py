@@ -66,6 +66,9 @@ __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D",
 
 #: The stiffest horizontal slip accepted [Pa/m]: the bound on the paper's stiffnesses (``MudParameters``).
 MAX_LATERAL_STIFFNESS = 1e12
+#: Most element forces :func:`simulate_3d` keeps with ``elements=True``, samples x elements [-]: 3 numbers each,
+#: 2.4 GB (as many numbers as the engines' largest output, mudforce.engines._checks.MAX_SAMPLES x 6 arrays / 3).
+MAX_ELEMENT_SAMPLES = 200_000_000
 
 
 class Wrench(NamedTuple):
@@ -497,6 +500,10 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
                          f"{x.shape} and {q.shape}")
     check_times(t)
     contact = MudContact3D(params, shape, surface_height, width=width, lateral_stiffness=lateral_stiffness)
+    if elements and m * shape.n > MAX_ELEMENT_SAMPLES:  # before numpy is asked for them (a MemoryError, or swap)
+        raise InputError(f"elements=True would keep {m} samples x {shape.n} elements = {m * shape.n:.3g} element "
+                         f"forces ({m * shape.n * 24 / 1e9:.3g} GB), more than {MAX_ELEMENT_SAMPLES:.0e}; use fewer "
+                         "samples or a coarser shape, or step a MudContact3D and keep its element_forces where needed")
     force = np.empty((m, 3))
     torque = np.empty((m, 3))
     per_element = np.empty((m, shape.n, 3)) if elements else None
@@ -1004,7 +1011,11 @@ class MudContacts3D:
             Which feet to reset.
         """
         fresh = K.new_states(1)[0]
-        for f in _chosen_feet(feet, self.n).tolist():
+        chosen = _chosen_feet(feet, self.n)
+        if chosen.ndim != 1:  # [[0]]: a TypeError below (int() of a list)
+            raise InputError(f"feet must be an int, a flat sequence of ints or a boolean mask of shape ({self.n},), "
+                             f"got an array of shape {chosen.shape}")
+        for f in chosen.tolist():
             lo, hi = int(self._starts[f]), int(self._starts[f + 1])
             self._states[lo:hi] = fresh
             self._el[lo:hi, S3.E_SLIPX:S3.E_SLIPY + 1] = 0.0

@@ -18,9 +18,10 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce.engines._checks import check_finite_output, check_foot, check_params, max_samples
 from mudforce.engines.dynamics.result import GRAVITY
-from mudforce.errors import finite_number
+from mudforce.errors import InputError, finite_number
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -120,9 +121,18 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     dt = finite_number(dt, "dt", "s", positive=True)
     z0 = 0.0 - finite_number(height, "height", "m")  # (0.0 - 0.0 is +0.0)
     gravity = finite_number(gravity, "gravity", "m/s^2")
+    # the stepper's bounds, as simulate_foot refuses them: beyond, its refusal came back as "the naive engine's
+    # solution is not finite ... use a heavier foot or a shorter step"
+    if not abs(z0) <= MAX_DEPTH:
+        raise InputError(f"height must be within +-{MAX_DEPTH:g} m of the mud surface, got {-z0:g} m")
+    if not MIN_DT <= dt <= MAX_DT:
+        raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
     max_samples(duration, dt)
     buf = K.new_stream_buffer(params_row(params, foot, VelocityFilter.exact()))
     n = round(duration / dt)
+    if n < 1:  # an empty NaiveDrop was returned
+        raise InputError(f"duration {duration:g} s is shorter than half a step (dt = {dt:g} s): no sample; expected "
+                         "a duration of at least one step")
     depth = np.empty(n)
     force = np.empty(n)
     _naive(buf, mass, gravity, z0, dt, n, depth, force)

@@ -573,15 +573,23 @@ class Drop3D:
     mass: float
 
     def speed(self, last: float = 0.5) -> float:
-        """Mean speed of the centre over the last ``last`` seconds [m/s] (a creep rate at rest)."""
-        k = self.time >= self.time[-1] - last
+        """Mean speed of the centre over the last ``last`` seconds [m/s] (a creep rate at rest; ``last`` > 0 [s])."""
+        k = self.time >= self.time[-1] - _last(last)
         span = self.time[k][-1] - self.time[k][0]
         return float(np.linalg.norm(self.position[k][-1] - self.position[k][0]) / span) if span > 0 else 0.0
 
     def force_std(self, last: float = 0.5) -> float:
-        """Largest standard deviation of a force component over the last ``last`` seconds [N]."""
-        k = self.time >= self.time[-1] - last
+        """Largest standard deviation of a force component over the last ``last`` seconds [N] (``last`` > 0 [s])."""
+        k = self.time >= self.time[-1] - _last(last)
         return float(self.force[k].std(axis=0).max())
+
+
+def _last(last: Any) -> float:
+    """A window ``last`` [s] as FootResult.force_std checks it: a finite number > 0 (a negative or NaN window
+    selected no sample: IndexError or ValueError; a string a TypeError)."""
+    from mudforce.errors import finite_number
+
+    return finite_number(last, "last", "s", positive=True)
 
 
 def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: float = 0.0, tilt: float = 0.0,
@@ -592,7 +600,36 @@ def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: flo
     """
     spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
     add_mud_3d(spec, ["foot"])
-    return spec.compile()
+    return compile_drop(spec)
+
+
+def compile_drop(spec: Any) -> Any:
+    """``spec.compile()`` of a drop's :func:`_drop_spec`, MuJoCo's refusal (a two-line ValueError: a mass whose
+    inertia is below its mjMINVAL, ...) as one-line InputError."""
+    try:
+        return spec.compile()
+    except ValueError as error:
+        words = " ".join(str(error).split())
+        raise InputError(f"MuJoCo refused the drop's model ({words}); expected a foot of physical mass and size, "
+                         "e.g. 2 kg and 40 mm") from None
+
+
+def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float]:
+    """A drop's ``duration`` [s] and ``vx`` [m/s] as floats, else InputError: ``duration / dt`` at most
+    :data:`~mudforce.engines._checks.MAX_SAMPLES` steps (1e300 s asked numpy for an array too large to make), and
+    ``|vx|`` within a recording's velocity bound (1e3 m/s: 1e300 m/s made MuJoCo's state unstable, which it reset
+    with a warning, and the drop was returned as if the foot had not moved sideways)."""
+    from mudforce.engines._checks import max_samples
+    from mudforce.errors import finite_number
+    from mudforce.io.tables import COLUMN_LIMITS
+
+    duration = finite_number(duration, "duration", "s", positive=True)
+    vx = finite_number(vx, "vx", "m/s")
+    most = COLUMN_LIMITS["velocity"]
+    if abs(vx) > most:
+        raise InputError(f"vx must be within +-{most:g} m/s, got {vx!r}")
+    max_samples(duration, finite_number(dt, "dt", "s", positive=True))
+    return duration, vx
 
 
 def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float = 0.0, tilt: float = 0.0,
@@ -616,7 +653,8 @@ def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float 
         Time step [s], > 0.
     """
     mj = mujoco_module()
-    from mudforce.errors import finite_number
+    from mudforce.errors import finite_number, number_within
+    from mudforce.model.foot import SIZE_RANGE
 
     mass = finite_number(mass, "mass", "kg", positive=True)
     height = finite_number(height, "height", "m", nonnegative=True)
@@ -625,7 +663,10 @@ def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float 
     if shape not in DROP_SHAPES:
         raise InputError(f"shape must be one of {', '.join(DROP_SHAPES)}, got {shape!r}")
     needs = {"sphere": 1, "capsule": 2, "cylinder": 2, "box": 3}[shape]
-    dims = [finite_number(v, "size", "m", positive=True) for v in size]
+    if isinstance(size, (str, bytes)) or not isinstance(size, (Sequence, np.ndarray)):  # 0.04: TypeError
+        raise InputError(f"size must be a sequence of {needs} number(s) [m] for a {shape}, got "
+                         f"{type(size).__name__} {size!r}")
+    dims = [number_within(v, "size", *SIZE_RANGE, "m") for v in size]  # the shapes' bounds (5e-8 m: MuJoCo's error)
     if len(dims) != needs:
         raise InputError(f"a {shape} needs {needs} dimension(s) [m], got {len(dims)}")
     half = np.array([0.5 * dims[0], 0.5 * dims[1] if needs > 1 else 0.0, 0.5 * dims[2] if needs > 2 else 0.0])
@@ -663,10 +704,8 @@ def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float]
     """
     mj = mujoco_module()
     from mudforce.engines.mujoco import MudPatch
-    from mudforce.errors import finite_number
 
-    duration = finite_number(duration, "duration", "s", positive=True)
-    vx = finite_number(vx, "vx", "m/s")
+    duration, vx = check_drop_motion(duration, vx, dt)
     model = drop_model_3d(mass, shape, size, height=height, tilt=tilt, dt=dt)
     data = mj.MjData(model)
     data.qvel[0] = vx

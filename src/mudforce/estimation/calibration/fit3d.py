@@ -35,11 +35,12 @@ from typing import Any
 import numpy as np
 
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce.errors import InputError, positive_int
+from mudforce.errors import InputError, finite_number, positive_int, real_array
+from mudforce.io.tables import COLUMN_LIMITS
 from mudforce.model import law3d
-from mudforce.model.parameters import MudParameters
+from mudforce.model.parameters import PARAMETER_RANGES, MudParameters
 from mudforce.model.shapes import Shape
-from mudforce.steppers.contact3d import MudContacts3D
+from mudforce.steppers.contact3d import MAX_LATERAL_STIFFNESS, MudContacts3D, _check_times, _stiffness
 
 __all__ = ["FIT3D_PARAMETERS", "Fit3D", "fit_3d"]
 
@@ -94,10 +95,9 @@ class Fit3D:
 
 
 def _array(value: Any, name: str, shape: tuple[int, ...], unit: str) -> np.ndarray:
-    try:
-        a = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be an array of real numbers of shape {shape} [{unit}]") from None
+    """``value`` as a float64 array of ``shape``, finite, else InputError (real numbers only: errors.real_array
+    refuses strings, complex numbers and booleans, which np.asarray parsed, cut or read as 0 and 1)."""
+    a = real_array(value, name, unit)
     if a.shape != shape:
         raise InputError(f"{name} must have shape {shape} [{unit}], got {a.shape}")
     if not np.all(np.isfinite(a)):
@@ -162,27 +162,35 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
     if not isinstance(shape, Shape):
         raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
     names = _free(free)
-    t = _array(time, "time", (np.shape(time)[0] if np.ndim(time) == 1 else -1,), "s")
+    t = real_array(time, "time", "s")
+    t = _array(t, "time", (t.shape[0] if t.ndim == 1 else -1,), "s")
     m = t.shape[0]
     if m < 2 * len(names) + 2:
         raise InputError(f"fit_3d needs at least {2 * len(names) + 2} samples to fit {len(names)} parameter(s), "
                          f"got {m}")
-    if not np.all(np.diff(t) > 0.0):
-        raise InputError("time must be strictly increasing [s]")
+    _check_times(t)  # simulate_3d's bounds: within +-1e9 s, steps within [1e-9, 1e3] s
     x = _array(positions, "positions", (m, 3), "m")
     q = _array(quaternions, "quaternions", (m, 4), "-")
     f = _array(forces, "forces", (m, 3), "N")
+    most = COLUMN_LIMITS["force"]
+    if not np.all(np.abs(f) <= most):  # a recording's bound: beyond, the residuals' squares overflow
+        k = int(np.argmax(np.abs(f).max(axis=1)))
+        raise InputError(f"forces must be within +-{most:g} N (as a recording's force column), got "
+                         f"{f[k].tolist()!r} at sample {k}")
     norms = np.linalg.norm(q, axis=1)
     if np.any(np.abs(norms - 1.0) > law3d.QUATERNION_TOLERANCE):
         k = int(np.argmax(np.abs(norms - 1.0)))
         raise InputError(f"quaternions must have norm 1 (within {law3d.QUATERNION_TOLERANCE:g}); sample {k} has "
                          f"norm {norms[k]:.9g}")
-    if noise is not None and not (isinstance(noise, (int, float)) and math.isfinite(noise) and noise > 0.0):
-        raise InputError(f"noise must be a finite number > 0 [N], got {noise!r}")
+    if noise is not None:  # not a bool (True was 1 N)
+        noise = finite_number(noise, "noise", "N", positive=True)
     iterations = positive_int(max_iterations, "max_iterations")
-    k0 = params0.k_m_w if lateral_stiffness is None else lateral_stiffness
-    if not isinstance(k0, (int, float)) or not math.isfinite(k0) or k0 <= 0.0:
-        raise InputError(f"lateral_stiffness must be finite and > 0 [Pa/m], got {lateral_stiffness!r}")
+    # one number each (MudContacts3D, which simulates the 2p + 1 points of a step as feet, would take a sequence as
+    # one value per foot: each point of the Jacobian's differences in another mud surface or foot width)
+    surface_height = finite_number(surface_height, "surface_height", "m")
+    if width is not None:
+        width = finite_number(width, "width", "m", positive=True)
+    k0 = _stiffness(params0.k_m_w if lateral_stiffness is None else lateral_stiffness)  # MudContact3D's check
     start = {n: float(k0) if n == "lateral_stiffness" else float(getattr(params0, n)) for n in names}
     if any(v <= 0.0 for v in start.values()):
         bad = next(n for n, v in start.items() if v <= 0.0)
@@ -190,6 +198,14 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
                          f"{start[bad]!r}")
     x0 = np.log(np.array([start[n] for n in names]))
     p = len(names)
+    # searched within a factor 1000 of the start, and within the values the model takes (with room for the
+    # central differences' step): beyond, a step of the search was refused by MudContacts3D or MudParameters
+    ranges = {"lateral_stiffness": (0.0, MAX_LATERAL_STIFFNESS), "lambda_": PARAMETER_RANGES["lambda"],
+              **PARAMETER_RANGES}
+    floor = np.array([math.log(ranges[n][0]) + 2 * _STEP if ranges[n][0] > 0.0 else -math.inf for n in names])
+    ceiling = np.array([math.log(ranges[n][1]) - 2 * _STEP for n in names])
+    lower, upper = np.maximum(x0 - _RANGE, floor), np.minimum(x0 + _RANGE, ceiling)
+    x0 = np.clip(x0, lower, upper)
     dts = np.diff(t)
 
     def feet(points: np.ndarray) -> tuple[list[MudParameters], list[float]]:
@@ -230,7 +246,7 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
         return cache[key]
 
     solution = least_squares(lambda z: evaluate(z)[0], x0, jac=lambda z: evaluate(z)[1],
-                             bounds=(x0 - _RANGE, x0 + _RANGE), method="trf", x_scale=1.0, max_nfev=iterations)
+                             bounds=(lower, upper), method="trf", x_scale=1.0, max_nfev=iterations)
     residual, jacobian = evaluate(solution.x)
     dof = max(residual.size - p, 1)
     variance = float(residual @ residual) / dof
