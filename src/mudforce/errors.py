@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_SEED", "InputError", "finite_number", "is_integer", "is_real", "number_within", "positive_int",
-           "positive_number", "real_array", "real_number", "seed_int", "true_or_false"]
+__all__ = ["MAX_SEED", "InputError", "finite_number", "holds_boolean", "is_integer", "is_real", "number_within",
+           "positive_int", "positive_number", "real_array", "real_number", "seed_int", "true_or_false"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
@@ -135,13 +135,13 @@ def real_array(value: Any, name: str, unit: str) -> np.ndarray:
         kind = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes", "O": "object"}.get(arr.dtype.kind, "")
         what = f"{kind} values (dtype {arr.dtype})" if kind else f"dtype {arr.dtype}"
         raise InputError(f"{name} must be an array of real numbers [{unit}], got {what}")
-    if not isinstance(value, np.ndarray) and _holds_boolean(value):  # numpy reads [0.1, True] as [0.1, 1.0]
+    if not isinstance(value, np.ndarray) and holds_boolean(value):  # numpy reads [0.1, True] as [0.1, 1.0]
         raise InputError(f"{name} must be an array of real numbers [{unit}], got a sequence holding booleans "
                          "(True/False among the numbers)")
     return np.asarray(arr, dtype=np.float64)
 
 
-def _holds_boolean(value: Any) -> bool:
+def holds_boolean(value: Any) -> bool:
     """Whether a (nested) list or tuple holds a ``bool``, a numpy boolean or a boolean array anywhere."""
     stack = [value]
     while stack:

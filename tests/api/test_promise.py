@@ -10,8 +10,8 @@ from mudforce.cli.synth import DEPTH_NOISE_SIGMAS, MAX_BIAS, MAX_FORCE_NOISE, MA
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.io.tables import COLUMN_LIMITS
 from mudforce.model.foot import AREA_RANGE, SIZE_RANGE
+from mudforce.model.law3d import MAX_LATERAL_STIFFNESS
 from mudforce.model.parameters import PARAMETER_RANGES, TABLE_I
-from mudforce.steppers.contact3d import MAX_LATERAL_STIFFNESS
 from mudforce.steppers.simulation import MAX_DEPTH, MAX_DT, MIN_DT
 
 README = Path(__file__).resolve().parents[2] / "README.md"

@@ -148,13 +148,15 @@ PINNED: dict[str, list[str]] = {
         "submerged_drag_stress", "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [
-        "MAX_SEED", "InputError", "finite_number", "is_integer", "is_real", "number_within", "positive_int",
-        "positive_number", "real_array", "real_number", "seed_int", "true_or_false",
+        "MAX_SEED", "InputError", "finite_number", "holds_boolean", "is_integer", "is_real", "number_within",
+        "positive_int", "positive_number", "real_array", "real_number", "seed_int", "true_or_false",
     ],
     "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],
+    "mudforce.model.bounds": ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "check_times"],
     "mudforce.model.law3d": [
-        "FLAT_PLATE_ALPHA", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor", "element_depth",
+        "FLAT_PLATE_ALPHA", "MAX_LATERAL_STIFFNESS", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor",
+        "check_lateral_stiffness", "element_depth",
         "element_force", "horizontal_drag", "lateral_capacity", "lateral_return_map", "moment",
         "root", "rotate", "rotation", "rotation_matrix", "select", "settle_depth", "shear_fraction", "spring_stress",
         "vertical_force", "vertical_weight",

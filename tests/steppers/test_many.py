@@ -236,8 +236,6 @@ print(answer.decode())
     assert proc.stdout.strip() == "1"
 
 
-@pytest.mark.xfail(strict=True, reason="steppers.many._chosen_feet (many.py, being edited in main): np.asarray reads "
-                                       "[True, 2] as [1, 2], and takes a nested [[0]] as an index")
 def test_reset_refuses_booleans_among_indices_and_nested_indices() -> None:
     """``reset([True, 2])`` reset feet 1 and 2 (True read as 1); ``reset([[0]])`` reset foot 0 (MudContacts3D's
     reset refuses it). Each should be one InputError and no foot reset."""

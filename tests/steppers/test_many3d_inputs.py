@@ -305,7 +305,7 @@ def test_a_nested_list_of_feet_is_refused_in_one_line() -> None:
     feet = MudContacts3D(mf.MudParameters.from_water_content(0.25), SHAPE, 2)
     feet.step(np.zeros((2, 3)), np.tile([1.0, 0.0, 0.0, 0.0], (2, 1)), 0.0)
     before = feet.state
-    with pytest.raises(InputError, match=r"flat sequence of ints .* got an array of shape \(1, 1\)"):
+    with pytest.raises(InputError, match=r"boolean mask of shape \(2,\), got an array of shape \(1, 1\)"):
         feet.reset([[0]])
     assert _same(feet.state, before)
     feet.reset([1])

@@ -63,12 +63,12 @@ import numpy as np
 
 from mudforce import jax as mj
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
-from mudforce.errors import InputError, _holds_boolean, finite_number, positive_int
+from mudforce.errors import InputError, finite_number, holds_boolean, positive_int
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
+from mudforce.model.law3d import check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
-from mudforce.steppers.contact3d import _stiffness
 
 __all__ = ["Params3D", "State3D", "init3d", "make_params3d", "reset3d", "step3d"]
 
@@ -136,7 +136,7 @@ def _real(value: Any, name: str, unit: str) -> Any:
     when tracing, not inside ``jit``. ``jnp.asarray`` with a float dtype would read ``"0.01"`` as a number,
     ``True`` as 1 and drop a complex number's imaginary part."""
     if not isinstance(value, jax.Array):
-        if isinstance(value, (list, tuple)) and _holds_boolean(value):
+        if isinstance(value, (list, tuple)) and holds_boolean(value):
             raise InputError(f"{name} must be real numbers [{unit}], got a sequence holding booleans "
                              "(True/False among the numbers)")
         try:
@@ -187,7 +187,7 @@ def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, su
     if lateral_stiffness is None:
         stiffness = np.array([m.k_m_w for m in muds])
     else:
-        stiffness = np.full(len(muds), _stiffness(lateral_stiffness))  # MudContact3D's check and bound
+        stiffness = np.full(len(muds), check_lateral_stiffness(lateral_stiffness))  # MudContact3D's check and bound
     ftype = _float_type(dtype)
     elements = mj.make_params(muds if per_foot else muds[0], foot=foot, dtype=ftype)
     batch: tuple[int, ...] = (len(muds),) if per_foot else ()

@@ -43,8 +43,8 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
 from mudforce.errors import InputError, finite_number, real_array
+from mudforce.model.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
 from mudforce.model.equations import (
     array_form,
     drag_acts,

@@ -101,15 +101,17 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from mudforce.errors import InputError, real_array
+from mudforce.errors import InputError, is_real, real_array
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, rft3d_alpha
 
 __all__ = [
     "FLAT_PLATE_ALPHA",
+    "MAX_LATERAL_STIFFNESS",
     "QUATERNION_TOLERANCE",
     "ROUNDING_DEPTH",
     "bearing_factor",
+    "check_lateral_stiffness",
     "element_depth",
     "element_force",
     "horizontal_drag",
@@ -127,6 +129,17 @@ __all__ = [
     "vertical_force",
     "vertical_weight",
 ]
+
+#: The stiffest horizontal slip accepted [Pa/m]: the bound on the paper's stiffnesses (``MudParameters``).
+MAX_LATERAL_STIFFNESS = 1e12
+
+
+def check_lateral_stiffness(k: object) -> float:
+    """``lateral_stiffness`` [Pa/m] as a float within (0, :data:`MAX_LATERAL_STIFFNESS`], else a one-line InputError
+    (the one check of it, for the CPU step, the JAX step and the 3-D fit)."""
+    if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:  # type: ignore[operator]
+        raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got {k!r}")
+    return float(k)  # type: ignore[arg-type]
 
 #: 3D-RFT's generic vertical stress on a flat plate facing down and pushed down [-] (the bearing's unit).
 FLAT_PLATE_ALPHA: float = float(rft3d_alpha(np.array([[0.0, 0.0, -1.0]]), np.array([[0.0, 0.0, -1.0]]))[0, 2])

@@ -55,6 +55,7 @@ from mudforce.errors import (
 )
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
+from mudforce.model.law3d import check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.model.velocity import resolve_velocity_filter
@@ -64,8 +65,6 @@ from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows
 
 __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
 
-#: The stiffest horizontal slip accepted [Pa/m]: the bound on the paper's stiffnesses (``MudParameters``).
-MAX_LATERAL_STIFFNESS = 1e12
 #: Most element forces :func:`simulate_3d` keeps with ``elements=True``, samples x elements [-]: 3 numbers each,
 #: 2.4 GB (as many numbers as the engines' largest output, mudforce.engines._checks.MAX_SAMPLES x 6 arrays / 3).
 MAX_ELEMENT_SAMPLES = 200_000_000
@@ -169,7 +168,8 @@ class MudContact3D:
         element = Foot(area=1.0, width=h, shape="element")  # checks H
         self._elements = MudContacts(params, shape.n, element, threads=1)
         self._width = element.width
-        self._lateral_stiffness = _stiffness(params.k_m_w if lateral_stiffness is None else lateral_stiffness)
+        self._lateral_stiffness = check_lateral_stiffness(params.k_m_w if lateral_stiffness is None
+                                                          else lateral_stiffness)
         n = shape.n
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
         # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
@@ -577,13 +577,6 @@ def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.
     return array
 
 
-def _stiffness(k: Any) -> float:
-    """``lateral_stiffness`` [Pa/m] as a float within (0, :data:`MAX_LATERAL_STIFFNESS`], else a one-line InputError."""
-    if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:
-        raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got {k!r}")
-    return float(k)
-
-
 def _check_saved_places(slip: np.ndarray, centroids: np.ndarray, reach: float) -> None:
     """Refuse a saved state's slips [m] or world centroids [m] that no step could have left: not finite, or farther
     than :data:`~mudforce._kernel.bounds.MAX_HORIZONTAL` (plus the foot's ``reach`` [m], for the centroids)."""
@@ -782,7 +775,7 @@ class MudContacts3D:
                 raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
                                  "a mudforce.model.shapes constructor, which sets it)")
             foot = Foot(area=1.0, width=w, shape="element")
-            k = _stiffness(q.k_m_w if stiffness[f] is None else stiffness[f])
+            k = check_lateral_stiffness(q.k_m_w if stiffness[f] is None else stiffness[f])
             key = (id(q), float(foot.width))
             if key not in made:
                 made[key] = _param_rows(q, 1, foot, exact)[0]
@@ -1011,10 +1004,7 @@ class MudContacts3D:
             Which feet to reset.
         """
         fresh = K.new_states(1)[0]
-        chosen = _chosen_feet(feet, self.n)
-        if chosen.ndim != 1:  # [[0]]: a TypeError below (int() of a list)
-            raise InputError(f"feet must be an int, a flat sequence of ints or a boolean mask of shape ({self.n},), "
-                             f"got an array of shape {chosen.shape}")
+        chosen = _chosen_feet(feet, self.n)  # (a nested [[0]] refused there, as for MudContacts)
         for f in chosen.tolist():
             lo, hi = int(self._starts[f]), int(self._starts[f + 1])
             self._states[lo:hi] = fresh

@@ -171,7 +171,14 @@ def _chosen_feet(feet: Any, n: int) -> np.ndarray:
     """
     if feet is None:
         return np.arange(n)
+    if isinstance(feet, (list, tuple)) and any(isinstance(x, (bool, np.bool_)) for x in feet) \
+            and not all(isinstance(x, (bool, np.bool_)) for x in feet):  # numpy reads [True, 2] as [1, 2]
+        raise InputError(f"feet mixes booleans and indices: {list(feet)!r}; expected indices, or a boolean mask of "
+                         f"shape ({n},)")
     idx = np.asarray(feet)
+    if idx.ndim > 1:
+        raise InputError(f"feet must be an index, a list of indices or a boolean mask of shape ({n},), got an array "
+                         f"of shape {idx.shape}")
     if idx.dtype == np.bool_:
         if idx.shape != (n,):
             raise InputError(f"a reset mask must have shape ({n},), got {idx.shape}")

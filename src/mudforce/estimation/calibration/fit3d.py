@@ -34,13 +34,15 @@ from typing import Any
 
 import numpy as np
 
+from mudforce._kernel.bounds import check_times
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce.errors import InputError, finite_number, positive_int, real_array
 from mudforce.io.tables import COLUMN_LIMITS
 from mudforce.model import law3d
+from mudforce.model.law3d import MAX_LATERAL_STIFFNESS, check_lateral_stiffness
 from mudforce.model.parameters import PARAMETER_RANGES, MudParameters
 from mudforce.model.shapes import Shape
-from mudforce.steppers.contact3d import MAX_LATERAL_STIFFNESS, MudContacts3D, _check_times, _stiffness
+from mudforce.steppers.contact3d import MudContacts3D
 
 __all__ = ["FIT3D_PARAMETERS", "Fit3D", "fit_3d"]
 
@@ -168,7 +170,7 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
     if m < 2 * len(names) + 2:
         raise InputError(f"fit_3d needs at least {2 * len(names) + 2} samples to fit {len(names)} parameter(s), "
                          f"got {m}")
-    _check_times(t)  # simulate_3d's bounds: within +-1e9 s, steps within [1e-9, 1e3] s
+    check_times(t)  # simulate_3d's bounds and words: within +-1e9 s, steps within [1e-9, 1e3] s
     x = _array(positions, "positions", (m, 3), "m")
     q = _array(quaternions, "quaternions", (m, 4), "-")
     f = _array(forces, "forces", (m, 3), "N")
@@ -190,7 +192,8 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
     surface_height = finite_number(surface_height, "surface_height", "m")
     if width is not None:
         width = finite_number(width, "width", "m", positive=True)
-    k0 = _stiffness(params0.k_m_w if lateral_stiffness is None else lateral_stiffness)  # MudContact3D's check
+    # MudContact3D's check
+    k0 = check_lateral_stiffness(params0.k_m_w if lateral_stiffness is None else lateral_stiffness)
     start = {n: float(k0) if n == "lateral_stiffness" else float(getattr(params0, n)) for n in names}
     if any(v <= 0.0 for v in start.values()):
         bad = next(n for n, v in start.items() if v <= 0.0)

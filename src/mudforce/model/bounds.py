@@ -1,0 +1,60 @@
+"""The inputs the model accepts: bounds on depth, time step, time and horizontal position.
+
+Written once here, in the physics layer, so that every path refuses the same inputs: the compiled loops (which
+take these constants into their machine code through :mod:`mudforce._kernel.bounds`), the Python checks in front
+of them, and the baselines (:mod:`mudforce.model.baselines`). :mod:`mudforce.steppers.simulation` re-exports them
+as the public :data:`~mudforce.steppers.simulation.MAX_DEPTH`, :data:`~mudforce.steppers.simulation.MIN_DT`,
+:data:`~mudforce.steppers.simulation.MAX_DT` and :data:`~mudforce.steppers.simulation.MAX_TIME`. Inside these
+bounds every output is finite (``tests/api/test_promise.py``). :func:`check_times` words the refusal of sample
+times, for ``simulate``, ``simulate_3d``, ``fit_3d`` and the baselines alike.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mudforce.errors import InputError
+
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "check_times"]
+
+#: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
+#: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
+MAX_DEPTH = 100.0
+#: Largest horizontal distance of a 3-D foot's body origin from the world origin, on each of x and y [m]:
+#: 10 km, as the readers' bound on a position column (``mudforce.io.tables.COLUMN_LIMITS``). It keeps the
+#: horizontal velocities, the drag's ``v^2`` and the moments finite (a foot at x = 1e155 m gave an infinite
+#: force, whose NaN moment then reached the next step); float64 resolves 2e-12 m there.
+MAX_HORIZONTAL = 1e4
+#: Shortest time step accepted [s]: 1 ns. Shorter steps sample nothing a sensor or a control
+#: loop can, approach the rounding of sample times (one ulp of 1e6 s is 1.2e-10 s), and, far
+#: enough down, let ``dz/dt`` and the drag ``v^2`` of Eq. (5) overflow (1e-320 s: infinite).
+MIN_DT = 1e-9
+#: Longest time step accepted [s]: 1000 s.
+MAX_DT = 1e3
+#: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
+#: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
+MAX_TIME = 1e9
+
+
+def check_times(t: np.ndarray) -> None:
+    """Refuse sample times [s] (float64, 1-D) that are not finite, beyond +-:data:`MAX_TIME` (where a step of 1 ms
+    would lose its digits), or not stepping by [:data:`MIN_DT`, :data:`MAX_DT`]: one line naming the first bad
+    sample, for :func:`mudforce.simulate` and :func:`mudforce.simulate_3d` alike."""
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise InputError(f"time is not finite at sample {bad[0]} ({float(t[bad[0]])!r}); expected numbers [s]")
+    bad = np.flatnonzero(np.abs(t) > MAX_TIME)
+    if bad.size:
+        raise InputError(f"time at sample {bad[0]} ({float(t[bad[0]])!r} s) is beyond +-{MAX_TIME:g} s")
+    steps = np.diff(t)
+    bad = np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))
+    if not bad.size:
+        return
+    i = int(bad[0]) + 1
+    if steps[i - 1] <= 0.0:
+        what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
+        raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
+                         "expected strictly increasing time")
+    # repr: a step just outside a bound must not print as the bound
+    raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
+                     f"[{MIN_DT:g}, {MAX_DT:g}] s")
