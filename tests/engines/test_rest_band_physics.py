@@ -102,3 +102,21 @@ def test_branch_forces_cached_decays_equal_computed_ones() -> None:
     branch_forces(fresh, prow, 1e-3, 1.0, *computed)
     for a, b in zip(cached, computed, strict=True):
         assert a[0] == b[0]
+
+
+def test_branch_forces_refuses_outputs_or_rows_shorter_than_the_states() -> None:
+    """The compiled loop reads and writes without bounds checks: outputs of 2 rows for 4 states were written past
+    their end (memory corruption, silently). Each short array is now one InputError, nothing written."""
+    from mudforce.errors import InputError
+
+    states = K.new_states(4)
+    row = K.make_params(MudParameters.from_water_content(0.25).as_array(), 0.002, 0.05, 1, 0.0)
+    params = np.tile(row, (4, 1))
+    good = [np.full(4, 7.0) for _ in range(3)]
+    branch_forces(states, params, 1e-3, 1.0, *good)
+    assert all(np.array_equal(g, np.zeros(4)) for g in good)  # no foot started: no band
+    for bad in ((states, params[:2], *good), (states, params, np.zeros(2), good[1], good[2]),
+                (states, params, good[0], good[1], np.zeros(3)), (states[:, :5], params, *good),
+                (states, params[:, :3], *good)):
+        with pytest.raises(InputError, match="at least as many rows"):
+            branch_forces(bad[0], bad[1], 1e-3, 1.0, *bad[2:])

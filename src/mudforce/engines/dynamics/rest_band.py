@@ -25,7 +25,8 @@ import numpy as np
 from numba import njit
 
 from mudforce._kernel import ContactMode, load_cache, load_state, params_from_row
-from mudforce._kernel.layout import FREE, S_DEPTH, S_MODE, S_STARTED, S_VELOCITY
+from mudforce._kernel.layout import FREE, N_PARAMS, N_STATE, S_DEPTH, S_MODE, S_STARTED, S_VELOCITY
+from mudforce.errors import InputError
 from mudforce.model.equations import (
     maxwell_strain_step,
     neck_filter_response,
@@ -126,7 +127,13 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
     in the state for its last step when that step was ``dt`` long (the
     adapter's case: a fixed time step), else computed here.
     """
-    for j in range(states.shape[0]):
+    n = states.shape[0]
+    # (compiled code reads without bounds checks: a short output or row would be written or read past its end)
+    if (states.shape[1] < N_STATE or params.shape[0] < n or params.shape[1] < N_PARAMS or f_up.shape[0] < n
+            or f_down.shape[0] < n or drag.shape[0] < n):
+        raise InputError("branch_forces needs kernel state rows, and params rows, f_up, f_down and drag of at least "
+                         "as many rows (the layout of mudforce._kernel)")
+    for j in range(n):
         f_up[j], f_down[j], drag[j] = branch_forces_row(states, params, j, dt, weight, True)
 
 
