@@ -115,8 +115,9 @@ def test_branch_forces_refuses_outputs_or_rows_shorter_than_the_states() -> None
     good = [np.full(4, 7.0) for _ in range(3)]
     branch_forces(states, params, 1e-3, 1.0, *good)
     assert all(np.array_equal(g, np.zeros(4)) for g in good)  # no foot started: no band
+    narrow_states, narrow_params = np.ascontiguousarray(states[:, :5]), np.ascontiguousarray(params[:, :3])
     for bad in ((states, params[:2], *good), (states, params, np.zeros(2), good[1], good[2]),
-                (states, params, good[0], good[1], np.zeros(3)), (states[:, :5], params, *good),
-                (states, params[:, :3], *good)):
+                (states, params, good[0], good[1], np.zeros(3)), (narrow_states, params, *good),
+                (states, narrow_params, *good)):  # (contiguous: the compiled code the other tests use, no new compile)
         with pytest.raises(InputError, match="at least as many rows"):
             branch_forces(bad[0], bad[1], 1e-3, 1.0, *bad[2:])

@@ -348,7 +348,8 @@ def test_inputs_of_wrong_types_are_refused_when_tracing() -> None:
     ):
         with pytest.raises(InputError, match=match):
             call()
-    _, force, _ = mj3.step3d(state, params, p, q, DT, hold=1e-9)  # numbers and lists as before
-    assert float(force[2]) > 0.0
-    step = light_jit(lambda pos, dt: mj3.step3d(state, params, pos, jnp.asarray(UPRIGHT), dt)[1])  # traced
-    np.testing.assert_array_equal(np.asarray(step(jnp.asarray(p), DT)), np.asarray(force))
+    # numbers and lists go through the checks as before (traced, not run: running the step op by op takes seconds)
+    shapes = jax.eval_shape(lambda: mj3.step3d(state, params, p, q, DT, hold=1e-9))
+    assert shapes[1].shape == (3,)
+    step = light_jit(lambda pos, dt: mj3.step3d(state, params, pos, jnp.asarray(UPRIGHT), dt, hold=1e-9)[1])  # traced
+    assert float(step(jnp.asarray(p), DT)[2]) > 0.0
