@@ -50,7 +50,8 @@ from mudforce.io.units import parse_quantity
 __all__ = ["HELP", "NAME", "add_arguments", "run"]
 
 NAME = "drop"
-HELP = "drop a cuboid foot into mud (built-in or MuJoCo engine) and write its depth and force (CSV)"
+HELP = ("drop a foot into mud (the paper's cuboid: built-in, MuJoCo or MJX engine; a sphere, capsule, box, cylinder or "
+        "disc with --shape: MuJoCo or MJX) and write its depth and force (CSV)")
 
 _MAX_DURATION = 600.0  # [s]
 _MIN_DURATION = 2e-3  # [s]: two samples
