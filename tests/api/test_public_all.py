@@ -188,8 +188,8 @@ PINNED: dict[str, list[str]] = {
         "drop_model", "foot_of", "simulate_drop", "simulate_drop_3d",
     ],
     "mudforce.engines.mujoco.adapter3d": [
-        "DROP_SHAPES", "SUPPORTED_GEOMS", "Drop3D", "MudAdapter3D", "add_mud_3d", "drop_model_3d", "foot_geom",
-        "simulate_drop_3d",
+        "DROP_SHAPES", "SUPPORTED_GEOMS", "AdapterState3D", "Drop3D", "MudAdapter3D", "add_mud_3d", "drop_model_3d",
+        "foot_geom", "simulate_drop_3d",
     ],
     "mudforce.model.parameters": [
         "CITATION", "PAPER_UNITS", "PARAMETER_NAMES", "PARAMETER_RANGES", "RHO_M", "TABLE_I", "TABLE_I_RMSE_N",

@@ -48,3 +48,50 @@ def test_the_command_line_trots_and_refuses_bad_values_in_one_line(example, tmp_
         with pytest.raises(SystemExit) as info:
             example.main(argv)
         assert info.value.code == 2 and message in capsys.readouterr().err
+
+
+def test_the_3d_adapter_s_state_replays_a_trot_bit_for_bit(example) -> None:  # type: ignore[no-untyped-def]
+    """``MudAdapter3D.state`` with MuJoCo's own state (``mj_getState``, ``mjSTATE_INTEGRATION``) replays a trot
+    across two muds bit for bit; a state of another adapter is refused in one line and nothing changes."""
+    import mujoco
+
+    from mudforce import InputError
+    from mudforce.engines.mujoco import MudAdapter3D, MudPatch
+    from mudforce.model.parameters import MudParameters
+
+    model = example.quadruped_spec(dt=2e-3).compile()
+    data = mujoco.MjData(model)
+    data.qpos[0] = 0.45  # the front toes near the boundary between the two muds: feet change patch while replayed
+    patches = [MudPatch(MudParameters.from_water_content(0.15), extent=(0.0, 0.7, -1.0, 1.0)),
+               MudPatch(MudParameters.from_water_content(0.30), extent=(0.7, 50.0, -1.0, 1.0))]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        mud = MudAdapter3D(model, data, example.FEET, patches, resolution=0.02)
+
+        def trot(steps: int) -> np.ndarray:
+            out = np.empty((steps, model.nq))
+            for k in range(steps):
+                data.ctrl[:] = example.trot(data.time)
+                mud.step()
+                out[k] = data.qpos
+            return out
+
+        trot(150)
+        kind = mujoco.mjtState.mjSTATE_INTEGRATION
+        physics = np.empty(mujoco.mj_stateSize(model, kind))
+        mujoco.mj_getState(model, data, physics, kind)
+        saved = mud.state
+        first = trot(150)
+        mujoco.mj_setState(model, data, physics, kind)
+        mud.state = saved
+        again = trot(150)
+    np.testing.assert_array_equal(first, again)
+    assert not np.array_equal(first[0], first[-1])  # it moved
+    other = MudAdapter3D(model, mujoco.MjData(model), example.FEET[:2], patches[:1], resolution=0.02).state
+    before = mud.state
+    with pytest.raises(InputError, match="taken from an adapter of the same feet, shapes and patches"):
+        mud.state = other
+    with pytest.raises(InputError, match="AdapterState3D"):
+        mud.state = "saved"  # type: ignore[assignment]
+    after = mud.state
+    assert all(np.array_equal(a, b) for a, b in zip(before.arrays, after.arrays, strict=True))

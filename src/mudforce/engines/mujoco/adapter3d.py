@@ -65,7 +65,7 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -90,10 +90,42 @@ from mudforce.engines.mujoco._step3d import (
 )
 from mudforce.errors import InputError, positive_int
 from mudforce.model.shapes import Shape, from_mujoco_geom
-from mudforce.steppers.contact3d import MudContacts3D
+from mudforce.steppers.contact3d import ContactStates3D, MudContacts3D
 
-__all__ = ["DROP_SHAPES", "SUPPORTED_GEOMS", "Drop3D", "MudAdapter3D", "add_mud_3d", "drop_model_3d", "foot_geom",
-           "simulate_drop_3d"]
+__all__ = ["DROP_SHAPES", "SUPPORTED_GEOMS", "AdapterState3D", "Drop3D", "MudAdapter3D", "add_mud_3d", "drop_model_3d",
+           "foot_geom", "simulate_drop_3d"]
+
+#: The adapter's own arrays that :attr:`MudAdapter3D.state` saves, by attribute name (what the next step reads: the
+#: feet's patches, last horizontal directions, last poses, the coming step's wrench and anchors' directions and the
+#: last ones, the bands and holds, the constants of each foot's patch and the law's last wrench).
+_STATE_ARRAYS = ("_patch", "_u", "_last_pos", "_applied", "_dirs", "_last_applied", "_last_dirs", "_velocity_z",
+                 "_band", "capacity", "_bands", "_const", "law_forces", "law_torques", "_pos", "_mats", "_quats")
+
+
+class AdapterState3D(NamedTuple):
+    """Everything a :class:`MudAdapter3D` remembers between steps, for ``adapter.state = saved`` (rollouts, resets).
+
+    Save and restore MuJoCo's own state with it (``mujoco.mj_getState`` / ``mj_setState`` with
+    ``mjSTATE_INTEGRATION``): the two together replay a rollout bit for bit.
+
+    Attributes
+    ----------
+    contacts : tuple of ContactStates3D
+        Each patch's feet (:attr:`mudforce.MudContacts3D.state`).
+    arrays : tuple of ndarray
+        The adapter's own arrays (the feet's patches, last poses and directions, the coming step's wrench [N],
+        [N m], bands [N] and holds [N]), in its own order: a snapshot, not to be edited.
+    model_rows : tuple of ndarray
+        The rows of MuJoCo's model the adapter writes each step: its sites' local positions [m] and its tendons'
+        friction (the holds [N]).
+    patch_changed : bool
+        Whether a foot changed patch at the last step.
+    """
+
+    contacts: tuple[ContactStates3D, ...]
+    arrays: tuple[np.ndarray, ...]
+    model_rows: tuple[np.ndarray, np.ndarray]
+    patch_changed: bool
 
 #: MuJoCo geom types a foot's surface can be taken from (:func:`mudforce.model.shapes.from_mujoco_geom`).
 SUPPORTED_GEOMS = ("sphere", "capsule", "cylinder", "box", "ellipsoid", "mesh")
@@ -486,6 +518,54 @@ class MudAdapter3D:
                               "its load; turn that geom's collisions off under the mud (contype/conaffinity) "
                               "(docs/engines3d.md)", RuntimeWarning, stacklevel=3)
 
+    # ---------------------------------------------------------------- state
+    @property
+    def state(self) -> AdapterState3D:
+        """A snapshot of everything the adapter remembers (read-only copies); assign one back to restore it.
+
+        Restore MuJoCo's own state with it (``mj_setState``, ``mjSTATE_INTEGRATION``): the next steps then replay
+        the saved rollout bit for bit. A state of another adapter (other feet, shapes or patches) is refused in one
+        line and nothing is changed.
+        """
+        sites = np.concatenate([self._sites, self._anchors.ravel()])
+        arrays = tuple(_frozen(getattr(self, name)) for name in _STATE_ARRAYS)
+        rows = (_frozen(self._site_pos[sites]), _frozen(self._frictionloss[self._tendons.ravel()]))
+        return AdapterState3D(tuple(c.state for c in self._contacts), arrays, rows, bool(self._patch_changed))
+
+    @state.setter
+    def state(self, saved: AdapterState3D) -> None:
+        if not isinstance(saved, AdapterState3D):
+            raise InputError(f"state must be an AdapterState3D from MudAdapter3D.state, got {type(saved).__name__}")
+        sites = np.concatenate([self._sites, self._anchors.ravel()])
+        mine = self.state
+        shapes_ok = (len(saved.contacts) == len(mine.contacts) and len(saved.arrays) == len(mine.arrays)
+                     and len(saved.model_rows) == 2
+                     and all(isinstance(a, np.ndarray) and a.shape == b.shape and a.dtype == b.dtype
+                             for a, b in zip((*saved.arrays, *saved.model_rows), (*mine.arrays, *mine.model_rows),
+                                             strict=True)))
+        if not shapes_ok or not isinstance(saved.patch_changed, (bool, np.bool_)):
+            raise InputError("a state of this adapter is an AdapterState3D taken from an adapter of the same feet, "
+                             "shapes and patches; got one of another")
+        if not all(np.all(np.isfinite(a)) for a in (*saved.arrays, *saved.model_rows) if a.dtype.kind == "f"):
+            raise InputError("a state of this adapter holds only finite numbers; got NaN or an infinity")
+        if not np.all((saved.arrays[0] >= -1) & (saved.arrays[0] < len(self._contacts))):
+            raise InputError(f"a state's patches must be -1 (none) or 0 to {len(self._contacts) - 1}")
+        # the contacts last: each refuses a bad state without changing anything, and a refusal of a later one must
+        # leave the earlier ones as they were
+        before = [c.state for c in self._contacts]
+        try:
+            for c, s in zip(self._contacts, saved.contacts, strict=True):
+                c.state = s
+        except (InputError, TypeError, AttributeError) as error:
+            for c, s in zip(self._contacts, before, strict=True):
+                c.state = s
+            raise InputError(f"a state of this adapter's patches was refused: {error}") from None
+        for name, value in zip(_STATE_ARRAYS, saved.arrays, strict=True):
+            getattr(self, name)[...] = value
+        self._site_pos[sites] = saved.model_rows[0]
+        self._frictionloss[self._tendons.ravel()] = saved.model_rows[1]
+        self._patch_changed = bool(saved.patch_changed)
+
     # ---------------------------------------------------------------- outputs
     @property
     def contact_forces(self) -> np.ndarray:
@@ -733,3 +813,10 @@ def _drop_result(shape: str, half: Any, dt: float, position: np.ndarray, velocit
     depth = np.array([-(position[k, 2] - _lowest(shape, size, rots[k])) for k in range(len(rots))])
     tilt = np.arccos(np.clip(rots[:, 2, 2], -1.0, 1.0))
     return Drop3D(np.arange(len(rots)) * dt, position, velocity, depth, force, tilt, float(mass))
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    """A read-only copy of ``a``."""
+    out = np.array(a, copy=True)
+    out.setflags(write=False)
+    return out
