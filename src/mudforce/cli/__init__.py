@@ -60,6 +60,17 @@ def plain_int(text: str) -> int:
 plain_int.__name__ = "int"  # argparse's message names the type: "argument --repeats: invalid int value: '1_0'"
 
 
+def plain_float(text: str) -> float:
+    """A plain ASCII decimal number (``20``, ``-1.5e-3``; ``nan`` and ``inf`` too, which each caller refuses in its
+    own words), else ValueError: ``float`` itself also took ``1_0`` as 10 and other scripts' digits."""
+    from mudforce.io.tables import NUMBER
+
+    text = str(text).strip()
+    if NUMBER.fullmatch(text) is None and text.lower().lstrip("+-") not in ("nan", "inf", "infinity"):
+        raise ValueError(text)
+    return float(text)
+
+
 class _Parser(argparse.ArgumentParser):
     """An argparse parser whose errors are one line and exit status 2, and which reads ``--bias -0.5N`` as
     an option and its value (argparse's own rule only takes plain numbers like ``-1`` for values, so it

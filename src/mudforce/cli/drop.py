@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import argparse
 
+from mudforce.cli import plain_float
 from mudforce.cli._shape import SHAPE_EXAMPLES, parse_shape
 from mudforce.errors import InputError
 from mudforce.io import check_output_path
@@ -168,14 +169,10 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
         kind = "cylinder"
     tilt = 0.0
     if args.tilt is not None:
-        from mudforce.io.tables import NUMBER
-
-        text = str(args.tilt).strip().removesuffix("deg").strip()
-        if NUMBER.fullmatch(text) is None and text.lower().lstrip("+-") not in ("nan", "inf", "infinity"):
-            # plain ASCII decimals only, as every other number the command line reads: float() took "1_0" as 10
-            # and other scripts' digits ("١٠")
-            raise InputError(f"--tilt: {args.tilt!r} is not an angle in degrees; expected e.g. 20 or 20deg")
-        tilt = float(text)
+        try:  # plain ASCII decimals only, as every other number the command line reads (float() took "1_0" as 10)
+            tilt = plain_float(str(args.tilt).strip().removesuffix("deg"))
+        except ValueError:
+            raise InputError(f"--tilt: {args.tilt!r} is not an angle in degrees; expected e.g. 20 or 20deg") from None
         if not math.isfinite(tilt) or abs(tilt) > 180.0:
             raise InputError(f"--tilt: {args.tilt!r} is outside -180 to 180 degrees")
     vx = 0.0

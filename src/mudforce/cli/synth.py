@@ -33,7 +33,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from mudforce.cli import plain_int
+from mudforce.cli import plain_float, plain_int
 from mudforce.errors import InputError, seed_int
 from mudforce.io.units import parse_list, parse_quantity
 from mudforce.model.foot import FOOT_EXAMPLES
@@ -171,15 +171,13 @@ def _parse_lag(text: str) -> tuple[float, float]:
 
 def _parse_gain(text: str) -> float:
     """``--force-gain G``: a factor (1.05) or a change in percent (+5%, -5%)."""
-    from mudforce.io.tables import NUMBER
-
     raw = str(text).strip()
-    number = raw[:-1].strip() if raw.endswith("%") else raw
-    if NUMBER.fullmatch(number) is None and number.lower().lstrip("+-") not in ("nan", "inf", "infinity"):
-        # plain ASCII decimals (float() took "1_0%" as +10 %); NaN and inf are refused below, in the gain's words
+    try:  # plain ASCII decimals (float() took "1_0%" as +10 %); NaN and inf are refused below, in the gain's words
+        number = plain_float(raw[:-1] if raw.endswith("%") else raw)
+    except ValueError:
         raise InputError(f"--force-gain: cannot read {raw!r}; expected a factor or a change, e.g. 1.05, +5% "
-                         "or -5%")
-    gain = 1.0 + float(number) / 100.0 if raw.endswith("%") else float(number)
+                         "or -5%") from None
+    gain = 1.0 + number / 100.0 if raw.endswith("%") else number
     if not (math.isfinite(gain) and 0.5 <= gain <= 2.0):
         raise InputError(f"--force-gain: {raw!r} is a gain of {gain:g}, outside [0.5, 2]; expected e.g. 1.05, +5% "
                          "or -5%")
