@@ -202,6 +202,9 @@ def test_make_params_shapes_and_errors() -> None:
     p = mj.make_params([mud, mud], foot=Foot.disc(0.05))
     assert p.area.shape == (2,) and float(p.area[0]) == pytest.approx(Foot.disc(0.05).area)
     assert mj.make_params(mud, dtype=jnp.float32).k_w.dtype == jnp.float32
+    for dtype in ("int32", jnp.float16, "no such type"):  # the 3-D step's dtype check, now the one both use
+        with pytest.raises(InputError, match="dtype must be float32 or float64"):
+            mj.make_params(mud, dtype=dtype)
     with pytest.raises(InputError, match="one per foot"):
         mj.make_params([mud, mud, mud], foot=[Foot.paper(), Foot.paper()])
     with pytest.raises(InputError, match="n = 4"):

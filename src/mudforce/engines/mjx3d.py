@@ -110,7 +110,7 @@ from mudforce.engines.mujoco.adapter3d import (
     compile_drop,
     foot_geom,
 )
-from mudforce.errors import InputError
+from mudforce.errors import InputError, is_integer
 from mudforce.model import law3d
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -262,7 +262,7 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
     for s in slist:  # the width H of Eq. (4), checked as make_params3d checks it
         Foot(area=1.0, width=float(s.width), shape="element")  # type: ignore[arg-type]
     _warn_floor(model, gids)
-    ftype = mj3._float_type(dtype)  # float32 or float64 (int32 held the mud as garbage, "foo" a TypeError)
+    ftype = mj._float_dtype(dtype)  # float32 or float64 (int32 held the mud as garbage, "foo" a TypeError)
     n = max(s.n for s in slist)
 
     def padded(values: np.ndarray, fill_row: np.ndarray) -> np.ndarray:
@@ -299,8 +299,7 @@ def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
     if not isinstance(mud, Mud3D):
         raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
     count = mud.surface_height.shape[-1]
-    # not a bool: True was patch 1
-    if isinstance(patch, bool) or not isinstance(patch, (int, np.integer)) or not 0 <= patch < count:
+    if not is_integer(patch) or not 0 <= patch < count:  # not a bool: True was patch 1
         raise InputError(f"patch must be an index 0 to {count - 1}, got {patch!r}")
     patch = int(patch)
     dtype = mud.areas.dtype

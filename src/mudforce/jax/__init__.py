@@ -200,8 +200,19 @@ class State(NamedTuple):
 
 
 def _float_dtype(dtype: Any) -> Any:
-    """``dtype``, or JAX's default float (float64 with ``jax_enable_x64``, else float32)."""
-    return jnp.dtype(dtype) if dtype is not None else jnp.result_type(float)
+    """``dtype`` as a JAX float dtype, float32 or float64, or JAX's default float for None (float64 with
+    ``jax_enable_x64``, else float32); else InputError: an integer, boolean or complex dtype would hold the mud's
+    constants and the states wrongly, float16 cannot hold the stiffnesses (~1e6 Pa/m: inf). The one dtype check of
+    the 1-D and 3-D JAX steps and of MJX."""
+    if dtype is None:
+        return jnp.result_type(float)
+    try:
+        ftype = jnp.dtype(dtype)
+    except TypeError:
+        raise InputError(f"dtype must be float32 or float64 (or None: JAX's default float), got {dtype!r}") from None
+    if ftype not in (jnp.dtype(jnp.float32), jnp.dtype(jnp.float64)):
+        raise InputError(f"dtype must be float32 or float64 (or None: JAX's default float), got {ftype}")
+    return ftype
 
 
 def _feet(foot: Foot | Sequence[Foot] | None) -> list[Foot]:

@@ -116,21 +116,6 @@ def _shape(shape: Any) -> Shape:
     return shape
 
 
-def _float_type(dtype: Any) -> Any:
-    """``dtype`` as a JAX float dtype, float32 or float64 (JAX's default float for None), else InputError: an
-    integer, boolean or complex dtype would hold the mud's constants and the poses wrongly, float16 cannot
-    hold the stiffnesses (~1e6 Pa/m: inf)."""
-    if dtype is None:
-        return jnp.result_type(float)
-    try:
-        ftype = jnp.dtype(dtype)
-    except TypeError:
-        raise InputError(f"dtype must be float32 or float64 (or None: JAX's default float), got {dtype!r}") from None
-    if ftype not in (jnp.dtype(jnp.float32), jnp.dtype(jnp.float64)):
-        raise InputError(f"dtype must be float32 or float64 (or None: JAX's default float), got {ftype}")
-    return ftype
-
-
 def _real(value: Any, name: str, unit: str) -> Any:
     """``value`` as a JAX array (a tracer under ``jit`` as it is) if it holds real numbers, else InputError: checked
     when tracing, not inside ``jit``. ``jnp.asarray`` with a float dtype would read ``"0.01"`` as a number,
@@ -188,7 +173,7 @@ def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, su
         stiffness = np.array([m.k_m_w for m in muds])
     else:
         stiffness = np.full(len(muds), check_lateral_stiffness(lateral_stiffness))  # MudContact3D's check and bound
-    ftype = _float_type(dtype)
+    ftype = mj._float_dtype(dtype)
     elements = mj.make_params(muds if per_foot else muds[0], foot=foot, dtype=ftype)
     batch: tuple[int, ...] = (len(muds),) if per_foot else ()
 
@@ -211,7 +196,7 @@ def init3d(shape: Shape, batch: int | None = None, dtype: Any = None) -> State3D
     params'.
     """
     n = _shape(shape).n
-    ftype = _float_type(dtype)
+    ftype = mj._float_dtype(dtype)
     lead: tuple[int, ...] = () if batch is None else (positive_int(batch, "batch (the number of feet)"),)
     one = mj.init(n, ftype)
     # a buffer per field, so that the state can be donated (jax.jit(..., donate_argnums=...))
