@@ -88,7 +88,7 @@ from mudforce.engines.mujoco._step3d import (
     prepare,
     scratch,
 )
-from mudforce.errors import InputError, positive_int
+from mudforce.errors import InputError, finite_number, number_within, positive_int, true_or_false
 from mudforce.model.shapes import Shape, from_mujoco_geom
 from mudforce.steppers.contact3d import ContactStates3D, MudContacts3D
 
@@ -328,6 +328,7 @@ class MudAdapter3D:
         self._sites = np.array([i["site"] for i in ids], dtype=np.int64)
         self._anchors = np.array([[i["anchor_z"], i["anchor_u"], i["anchor_v"]] for i in ids], dtype=np.int64)
         self._tendons = np.array([[i["tendon_z"], i["tendon_u"], i["tendon_v"]] for i in ids], dtype=np.int64)
+        self._written_sites = np.concatenate([self._sites, self._anchors.ravel()])  # the model rows it writes
         self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.surface_height) for p in plist]
         self._rows = [c.kernel_rows() for c in self._contacts]  # read-only views that follow the feet's states
         # one patch with no extent holds every foot at every step: no feet enter or leave it (a fast path)
@@ -527,44 +528,42 @@ class MudAdapter3D:
         the saved rollout bit for bit. A state of another adapter (other feet, shapes or patches) is refused in one
         line and nothing is changed.
         """
-        sites = np.concatenate([self._sites, self._anchors.ravel()])
         arrays = tuple(_frozen(getattr(self, name)) for name in _STATE_ARRAYS)
-        rows = (_frozen(self._site_pos[sites]), _frozen(self._frictionloss[self._tendons.ravel()]))
+        rows = (_frozen(self._site_pos[self._written_sites]), _frozen(self._frictionloss[self._tendons.ravel()]))
         return AdapterState3D(tuple(c.state for c in self._contacts), arrays, rows, bool(self._patch_changed))
 
     @state.setter
     def state(self, saved: AdapterState3D) -> None:
         if not isinstance(saved, AdapterState3D):
             raise InputError(f"state must be an AdapterState3D from MudAdapter3D.state, got {type(saved).__name__}")
-        sites = np.concatenate([self._sites, self._anchors.ravel()])
-        mine = self.state
+        mine = self.state  # (its contacts' states restore them if a later one is refused)
         shapes_ok = (len(saved.contacts) == len(mine.contacts) and len(saved.arrays) == len(mine.arrays)
                      and len(saved.model_rows) == 2
                      and all(isinstance(a, np.ndarray) and a.shape == b.shape and a.dtype == b.dtype
                              for a, b in zip((*saved.arrays, *saved.model_rows), (*mine.arrays, *mine.model_rows),
                                              strict=True)))
-        if not shapes_ok or not isinstance(saved.patch_changed, (bool, np.bool_)):
+        if not shapes_ok:
             raise InputError("a state of this adapter is an AdapterState3D taken from an adapter of the same feet, "
                              "shapes and patches; got one of another")
         if not all(np.all(np.isfinite(a)) for a in (*saved.arrays, *saved.model_rows) if a.dtype.kind == "f"):
             raise InputError("a state of this adapter holds only finite numbers; got NaN or an infinity")
+        patch_changed = true_or_false(saved.patch_changed, "a state's patch_changed")
         if not np.all((saved.arrays[0] >= -1) & (saved.arrays[0] < len(self._contacts))):
             raise InputError(f"a state's patches must be -1 (none) or 0 to {len(self._contacts) - 1}")
         # the contacts last: each refuses a bad state without changing anything, and a refusal of a later one must
         # leave the earlier ones as they were
-        before = [c.state for c in self._contacts]
         try:
             for c, s in zip(self._contacts, saved.contacts, strict=True):
                 c.state = s
         except (InputError, TypeError, AttributeError) as error:
-            for c, s in zip(self._contacts, before, strict=True):
+            for c, s in zip(self._contacts, mine.contacts, strict=True):
                 c.state = s
             raise InputError(f"a state of this adapter's patches was refused: {error}") from None
         for name, value in zip(_STATE_ARRAYS, saved.arrays, strict=True):
             getattr(self, name)[...] = value
-        self._site_pos[sites] = saved.model_rows[0]
+        self._site_pos[self._written_sites] = saved.model_rows[0]
         self._frictionloss[self._tendons.ravel()] = saved.model_rows[1]
-        self._patch_changed = bool(saved.patch_changed)
+        self._patch_changed = patch_changed
 
     # ---------------------------------------------------------------- outputs
     @property
@@ -654,22 +653,14 @@ class Drop3D:
 
     def speed(self, last: float = 0.5) -> float:
         """Mean speed of the centre over the last ``last`` seconds [m/s] (a creep rate at rest; ``last`` > 0 [s])."""
-        k = self.time >= self.time[-1] - _last(last)
+        k = self.time >= self.time[-1] - finite_number(last, "last", "s", positive=True)  # as FootResult's
         span = self.time[k][-1] - self.time[k][0]
         return float(np.linalg.norm(self.position[k][-1] - self.position[k][0]) / span) if span > 0 else 0.0
 
     def force_std(self, last: float = 0.5) -> float:
         """Largest standard deviation of a force component over the last ``last`` seconds [N] (``last`` > 0 [s])."""
-        k = self.time >= self.time[-1] - _last(last)
+        k = self.time >= self.time[-1] - finite_number(last, "last", "s", positive=True)  # as FootResult's
         return float(self.force[k].std(axis=0).max())
-
-
-def _last(last: Any) -> float:
-    """A window ``last`` [s] as FootResult.force_std checks it: a finite number > 0 (a negative or NaN window
-    selected no sample: IndexError or ValueError; a string a TypeError)."""
-    from mudforce.errors import finite_number
-
-    return finite_number(last, "last", "s", positive=True)
 
 
 def drop_model_3d(mass: float, shape: str, size: Sequence[float], *, height: float = 0.0, tilt: float = 0.0,
@@ -700,7 +691,6 @@ def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float]:
     ``|vx|`` within a recording's velocity bound (1e3 m/s: 1e300 m/s made MuJoCo's state unstable, which it reset
     with a warning, and the drop was returned as if the foot had not moved sideways)."""
     from mudforce.engines._checks import max_samples
-    from mudforce.errors import finite_number
     from mudforce.io.tables import COLUMN_LIMITS
 
     duration = finite_number(duration, "duration", "s", positive=True)
@@ -733,7 +723,6 @@ def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float 
         Time step [s], > 0.
     """
     mj = mujoco_module()
-    from mudforce.errors import finite_number, number_within
     from mudforce.model.foot import SIZE_RANGE
 
     mass = finite_number(mass, "mass", "kg", positive=True)
