@@ -242,7 +242,7 @@ def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w:
         positive = name not in ("rho_m", "lambda")
         # a real number first: float() parsed "1e5", read True as 1 and raised TypeError for a list
         number = finite_number(value, f"maxwell_only: {name}", "SI")
-        if not math.isfinite(number) or number < 0.0 or (positive and number == 0.0):
+        if number < 0.0 or (positive and number == 0.0):  # (finite_number refused NaN and infinities)
             raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
                              f"got {value!r}")
     tau = array_form(relaxation_time)  # Eq. (3)
