@@ -91,7 +91,8 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
 
 
-__version__ = "0.1.0"
+#: the 0.2 series in development (README: what moved and was renamed in 0.2); pyproject.toml says the same
+__version__ = "0.2.0.dev0"
 
 __all__ = [
     "CITATION",
