@@ -42,7 +42,7 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"dt": 0.0}, "dt must be > 0"),
         ({"substeps": 2.5}, "substeps"),
         ({"height": [0.0]}, "height must be a number"),
-        ({"height": -200.0}, r"height must be within \+-100 m of the mud surface, got -200 m"),  # was taken
+        ({"height": -200.0}, r"height must be within \+-100 m of the mud surface, got -200.0"),  # was taken
         ({"height": 200.0}, r"height must be within \+-100 m"),
         ({"velocity0": float("inf")}, "velocity0 must be finite"),
         ({"gravity": "g"}, "gravity must be a number"),

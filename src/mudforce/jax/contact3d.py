@@ -63,8 +63,9 @@ import numpy as np
 
 from mudforce import jax as mj
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
-from mudforce.errors import InputError, finite_number, holds_boolean, positive_int
+from mudforce.errors import InputError, holds_boolean, positive_int
 from mudforce.model import law3d
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
@@ -161,9 +162,7 @@ def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, su
     muds = [mud] if isinstance(mud, MudParameters) else list(mud) if isinstance(mud, Sequence) else []
     if not muds or not all(isinstance(m, MudParameters) for m in muds):
         raise InputError("make_params3d needs MudParameters or a non-empty sequence of them")
-    height = finite_number(surface_height, "surface_height", "m")
-    if abs(height) > MAX_DEPTH:
-        raise InputError(f"surface_height must be within +-{MAX_DEPTH:g} m, got {surface_height!r}")
+    height = bounded_depth(surface_height, "surface_height")
     h = width if width is not None else shape.width
     if h is None:
         raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "

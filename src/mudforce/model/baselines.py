@@ -44,7 +44,7 @@ import numpy as np
 from numba import njit
 
 from mudforce.errors import InputError, finite_number, real_array
-from mudforce.model.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
+from mudforce.model.bounds import MAX_DEPTH, check_times
 from mudforce.model.equations import (
     array_form,
     drag_acts,
@@ -83,17 +83,12 @@ def _trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
     z = real_array(depth, "depth", "m")
     if t.ndim != 1 or t.shape != z.shape or t.size == 0:
         raise InputError(f"time and depth must be 1-D arrays of the same non-zero length, got {t.shape}, {z.shape}")
-    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(z))):
-        raise InputError("time [s] and depth [m] must be finite")
-    if t.size > 1 and np.any(np.diff(t) <= 0.0):
-        raise InputError("time must be strictly increasing [s]")
-    # the stepper's bounds (mudforce.simulate): beyond, k z, dz/dt and the drag's v|v| overflowed to inf, returned
-    if not (np.all(np.abs(t) <= MAX_TIME) and np.all(np.abs(z) <= MAX_DEPTH)):
-        raise InputError(f"time must be within +-{MAX_TIME:g} s and depth within +-{MAX_DEPTH:g} m")
-    steps = np.diff(t)
-    if steps.size and not (steps.min() >= MIN_DT and steps.max() <= MAX_DT):
-        raise InputError(f"time steps must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {float(steps.min())!r} to "
-                         f"{float(steps.max())!r} s")
+    check_times(t)  # the words simulate's refusals use (finite, within +-MAX_TIME, steps within [MIN_DT, MAX_DT])
+    # the stepper's bound on the depth (mudforce.simulate): beyond, k z, dz/dt and the drag's v|v| overflowed to inf
+    bad = np.flatnonzero(~(np.abs(z) <= MAX_DEPTH))  # (NaN too)
+    if bad.size:
+        raise InputError(f"depth at sample {bad[0]} is {float(z[bad[0]])!r} m; expected a finite depth within "
+                         f"+-{MAX_DEPTH:g} m")
     return t, z
 
 

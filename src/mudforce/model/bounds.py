@@ -6,16 +6,19 @@ of them, and the baselines (:mod:`mudforce.model.baselines`). :mod:`mudforce.ste
 as the public :data:`~mudforce.steppers.simulation.MAX_DEPTH`, :data:`~mudforce.steppers.simulation.MIN_DT`,
 :data:`~mudforce.steppers.simulation.MAX_DT` and :data:`~mudforce.steppers.simulation.MAX_TIME`. Inside these
 bounds every output is finite (``tests/api/test_promise.py``). :func:`check_times` words the refusal of sample
-times, for ``simulate``, ``simulate_3d``, ``fit_3d`` and the baselines alike.
+times, for ``simulate``, ``simulate_3d``, ``fit_3d`` and the baselines alike; :func:`bounded_depth` that of one
+depth or height (a protocol's depths, a drop's height, a surface height), for every path that takes one.
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
-from mudforce.errors import InputError
+from mudforce.errors import InputError, finite_number
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "check_times"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "bounded_depth", "check_times"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -58,3 +61,23 @@ def check_times(t: np.ndarray) -> None:
     # repr: a step just outside a bound must not print as the bound
     raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
                      f"[{MIN_DT:g}, {MAX_DT:g}] s")
+
+
+def bounded_depth(value: Any, name: str, *, of: str = "") -> float:
+    """``value`` [m] as a float if it is a finite real number within +-:data:`MAX_DEPTH` (what every stepper
+    accepts as a depth), else one line naming ``name``: for a depth, a height above the surface and a surface
+    height alike (``of``, e.g. ``" of the mud surface"``, says what the bound is taken from).
+
+    Parameters
+    ----------
+    value : Any
+        The depth or height [m].
+    name : str
+        What it is, for the message (``"surface_height"``).
+    of : str
+        Words after the bound in the message.
+    """
+    number = finite_number(value, name, "m")
+    if not abs(number) <= MAX_DEPTH:
+        raise InputError(f"{name} must be within +-{MAX_DEPTH:g} m{of}, got {value!r}")
+    return number

@@ -18,8 +18,9 @@ from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME
-from mudforce.errors import InputError, is_real, positive_number
+from mudforce._kernel.bounds import MAX_DT, MAX_TIME
+from mudforce.errors import InputError, positive_number
+from mudforce.model.bounds import bounded_depth
 
 if TYPE_CHECKING:
     from mudforce.model.foot import Foot
@@ -38,14 +39,9 @@ MAX_RATE = 1e8
 
 
 def _depth_within(value: float, name: str) -> float:
-    """``value`` [m] if it is a finite number within +-MAX_DEPTH, else InputError naming it."""
-    if not is_real(value):
-        raise InputError(f"{name} must be a number [m], got {type(value).__name__}")
-    number = float(value)
-    if not (math.isfinite(number) and abs(number) <= MAX_DEPTH):
-        raise InputError(f"{name} must be finite and within +-{MAX_DEPTH:g} m (what simulate() accepts), "
-                         f"got {value!r}")
-    return number
+    """``value`` [m] if it is a finite number within +-MAX_DEPTH (what simulate() accepts), else InputError naming
+    it (:func:`mudforce.model.bounds.bounded_depth`)."""
+    return bounded_depth(value, name)
 
 
 @dataclass(frozen=True)

@@ -45,7 +45,6 @@ from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT, c
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce.errors import (
     InputError,
-    finite_number,
     is_integer,
     is_real,
     positive_int,
@@ -54,6 +53,7 @@ from mudforce.errors import (
     true_or_false,
 )
 from mudforce.model import law3d
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
@@ -157,9 +157,7 @@ class MudContact3D:
             raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
         self._params = params
         self._shape = shape
-        self._surface_height = finite_number(surface_height, "surface_height", "m")
-        if abs(self._surface_height) > MAX_DEPTH:
-            raise InputError(f"surface_height must be within +-{MAX_DEPTH:g} m, got {surface_height!r}")
+        self._surface_height = bounded_depth(surface_height, "surface_height")
         h = width if width is not None else shape.width
         if h is None:
             raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
@@ -767,9 +765,7 @@ class MudContacts3D:
         made: dict[tuple[int, float], np.ndarray] = {}  # 1-D params rows already made, by mud and width
         for f in range(m):
             q, shape = muds[f], feet[f]
-            h = finite_number(heights[f], "surface_height", "m")
-            if abs(h) > MAX_DEPTH:
-                raise InputError(f"surface_height must be within +-{MAX_DEPTH:g} m, got {heights[f]!r}")
+            h = bounded_depth(heights[f], "surface_height")
             w = given_widths[f] if given_widths[f] is not None else shape.width
             if w is None:
                 raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "

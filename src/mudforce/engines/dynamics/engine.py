@@ -28,12 +28,12 @@ import numpy as np
 from numba import njit
 
 from mudforce._kernel import ContactMode, params_from_row, params_row
-from mudforce._kernel.bounds import MAX_DEPTH
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
 from mudforce.errors import InputError, finite_number, is_real, positive_int
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.equations import (
     intrusion_stress,
     maxwell_strain_rate,
@@ -434,12 +434,9 @@ def simulate_foot(
         warn_renamed("simulate_foot(depth0=...)", "simulate_foot(height=-depth0)")
         if height != 0.0:
             raise InputError("give height [m] only (depth0 is its deprecated, negated form)")
-        z0 = finite_number(depth0, "depth0", "m")
-    else:
-        z0 = 0.0 - finite_number(height, "height", "m")  # (0.0 - 0.0 is +0.0)
-    if not abs(z0) <= MAX_DEPTH:  # the stepper's bound on a depth, as every other path refuses it
-        name, value = ("depth0", z0) if depth0 is not None else ("height", -z0)
-        raise InputError(f"{name} must be within +-{MAX_DEPTH:g} m of the mud surface, got {value:g} m")
+        z0 = bounded_depth(depth0, "depth0", of=" of the mud surface")
+    else:  # the stepper's bound on a depth, as every other path refuses it
+        z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
     velocity0 = finite_number(velocity0, "velocity0", "m/s")
     substeps = positive_int(substeps, "substeps")
     mass = check_mass(mass, params, foot, dt / substeps, "RK4 sub-step")

@@ -18,10 +18,11 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.bounds import MAX_DT, MIN_DT
 from mudforce.engines._checks import check_finite_output, check_foot, check_params, max_samples
 from mudforce.engines.dynamics.result import GRAVITY
 from mudforce.errors import InputError, finite_number
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -119,12 +120,10 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     mass = finite_number(mass, "mass", "kg", positive=True)
     duration = finite_number(duration, "duration", "s", positive=True)
     dt = finite_number(dt, "dt", "s", positive=True)
-    z0 = 0.0 - finite_number(height, "height", "m")  # (0.0 - 0.0 is +0.0)
-    gravity = finite_number(gravity, "gravity", "m/s^2")
     # the stepper's bounds, as simulate_foot refuses them: beyond, its refusal came back as "the naive engine's
     # solution is not finite ... use a heavier foot or a shorter step"
-    if not abs(z0) <= MAX_DEPTH:
-        raise InputError(f"height must be within +-{MAX_DEPTH:g} m of the mud surface, got {-z0:g} m")
+    z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
+    gravity = finite_number(gravity, "gravity", "m/s^2")
     if not MIN_DT <= dt <= MAX_DT:
         raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
     max_samples(duration, dt)
