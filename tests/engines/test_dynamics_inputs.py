@@ -160,6 +160,12 @@ def test_mujoco_entry_points_refuse() -> None:
         with pytest.raises(InputError, match="state"):
             mud.state = bad  # type: ignore[assignment]
         assert np.array_equal(mud.state, before)
+    # text, booleans and complex numbers are no state (np.asarray parsed the text, took an all-True array for a
+    # contact at 1 m, and dropped the imaginary parts with a warning only)
+    for bad in (before.astype(str), np.ones(before.shape, dtype=bool), before.astype(complex)):
+        with pytest.raises(InputError, match=r"^a state of 1 feet \(from MudAdapter.state\) must be an array of real"):
+            mud.state = bad
+        assert np.array_equal(mud.state, before)
 
 
 def test_result_methods_refuse_bad_types(tmp_path: Any) -> None:
