@@ -47,6 +47,9 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"velocity0": float("inf")}, "velocity0 must be finite"),
         ({"gravity": "g"}, "gravity must be a number"),
         ({"applied_force": "push"}, "applied_force"),
+        ({"applied_force": ("01", "23")}, r"applied_force times must be an array of real numbers \[s\], got string"),
+        ({"applied_force": ([0.0, 0.005], [True, False])},  # was parsed, read as 0 and 1
+         r"applied_force forces must be an array of real numbers \[N\], got boolean"),
     ],
 )
 def test_simulate_foot_refuses(kwargs: dict[str, Any], message: str) -> None:
