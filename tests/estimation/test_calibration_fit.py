@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mudforce.errors import InputError
 from mudforce.estimation.calibration import (
     FitOptions,
     ForceModel,
@@ -22,7 +23,6 @@ from mudforce.estimation.calibration import (
     load_dataset,
     synthesize,
 )
-from mudforce.errors import InputError
 from mudforce.estimation.calibration.report import write_report
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters

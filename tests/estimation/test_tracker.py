@@ -150,7 +150,8 @@ def test_bad_options_are_refused(options: dict[str, object]) -> None:
 def test_a_likelihood_scale_too_large_to_square_is_refused(option: str, bound: str, unit: str) -> None:
     # taken, its square overflowed: every estimate after the first samples was NaN (force_predicted) or an end
     # of the grid
-    with pytest.raises(InputError, match="^" + re.escape(f"{option} must be at most {bound} [{unit}], got 1e+300") + "$"):
+    message = re.escape(f"{option} must be at most {bound} [{unit}], got 1e+300")
+    with pytest.raises(InputError, match=f"^{message}$"):
         MudTracker(**{option: 1e300})  # type: ignore[arg-type]
     tracker = MudTracker(**{option: float(bound)})  # type: ignore[arg-type]
     for k in range(300):
