@@ -47,6 +47,9 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"velocity0": float("inf")}, "velocity0 must be finite"),
         ({"gravity": "g"}, "gravity must be a number"),
         ({"applied_force": "push"}, "applied_force"),
+        ({"applied_force": ("01", "23")}, r"applied_force times must be an array of real numbers \[s\], got string"),
+        ({"applied_force": ([0.0, 0.005], [True, False])},  # was parsed, read as 0 and 1
+         r"applied_force forces must be an array of real numbers \[N\], got boolean"),
     ],
 )
 def test_simulate_foot_refuses(kwargs: dict[str, Any], message: str) -> None:
@@ -159,6 +162,12 @@ def test_mujoco_entry_points_refuse() -> None:
     for bad in (garbage, before[:, :3], None):
         with pytest.raises(InputError, match="state"):
             mud.state = bad  # type: ignore[assignment]
+        assert np.array_equal(mud.state, before)
+    # text, booleans and complex numbers are no state (np.asarray parsed the text, took an all-True array for a
+    # contact at 1 m, and dropped the imaginary parts with a warning only)
+    for bad in (before.astype(str), np.ones(before.shape, dtype=bool), before.astype(complex)):
+        with pytest.raises(InputError, match=r"^a state of 1 feet \(from MudAdapter.state\) must be an array of real"):
+            mud.state = bad
         assert np.array_equal(mud.state, before)
 
 

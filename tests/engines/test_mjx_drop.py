@@ -45,3 +45,19 @@ def test_worlds_with_their_own_mud_in_one_jit() -> None:
     assert depth[-1, 0] < depth[-1, 1] < depth[-1, 2]  # wetter mud, deeper rest
     assert stuck[-100:].all()
     np.testing.assert_allclose(force[-100:], 5.0 * 9.81, rtol=1e-4)  # at rest the mud carries the weight
+
+
+@pytest.mark.parametrize(("height", "words"), [
+    (True, "must be an array of real numbers"),  # was a surface 1 m up
+    ("0.01", "must be an array of real numbers"),  # was parsed
+    (1e39, "must be finite in float32"),  # was inf
+    ([0.0, 0.0], r"must be one height \[m\] or one per foot \(1\), got shape \(2,\)"),  # numpy's ValueError
+    (float("nan"), "must be finite"),
+])
+def test_add_mud_refuses_a_surface_height_that_is_no_height(height: object, words: str) -> None:
+    import mudforce.engines.mjx as mud
+    from mudforce.errors import InputError
+
+    with pytest.raises(InputError, match=f"^surface_height {words}"):
+        mud.add_mud(mud.drop_model(5.0), ["sole"], MudParameters.from_water_content(0.25), surface_height=height,
+                    dtype="float32")  # type: ignore[arg-type]

@@ -4,6 +4,7 @@ command lines: tests/cli/test_fit_cli.py, test_fit_drag_cli.py, test_identify_cl
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -279,3 +280,18 @@ def test_a_trial_made_in_python_has_its_labels_checked(fields: dict[str, object]
     unknown = Trial(**{**base, "water_content": float("nan"), "velocity": np.float64(0.01),  # type: ignore[arg-type]
                        "repeat": np.int64(2)})
     assert np.isnan(unknown.water_content) and type(unknown.repeat) is int and type(unknown.velocity) is float
+
+
+@pytest.mark.parametrize(("water_content", "message"), [
+    ("0.25", "t.csv: water_content is '0.25'; expected a number in (0, 1)"),  # float() parsed it
+    (b"0.25", "t.csv: water_content is b'0.25'; expected a number in (0, 1)"),  # float() parsed it
+    ([0.25], "t.csv: water_content is [0.25]; expected a number in (0, 1)"),  # float() raised TypeError
+])
+def test_load_trial_checks_the_water_content_as_a_trial_does(tmp_path: Path, water_content: object,
+                                                              message: str) -> None:
+    path = tmp_path / "t.csv"
+    path.write_text("time_s,depth_m,force_N\n" + "".join(f"{i * 0.01},0,{i}\n" for i in range(30)))
+    with pytest.raises(InputError) as info:
+        load_trial(path, water_content)  # type: ignore[arg-type]
+    assert str(info.value).startswith(message), str(info.value)
+    assert load_trial(path, np.float64(0.25)).water_content == 0.25 and math.isnan(load_trial(path).water_content)

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mudforce.errors import InputError
 from mudforce.estimation.calibration import (
     FitOptions,
     ForceModel,
@@ -87,6 +88,16 @@ def test_shared_parameters_across_water_contents() -> None:
         _check_recovery(cond.parameters, cond.stderr, truth[w].to_dict(), cond.free, rel=0.05)
         assert cond.rmse < 1.1 * 0.2
     assert json.loads(result.to_json())["shared"] == ["k_m_w", "b_m_w"]
+
+
+@pytest.mark.parametrize(("shared", "words"), [
+    (("k_m_w", "k_m_w"), "--shared k_m_w: given twice"),  # two free copies of one parameter: a degenerate fit
+    ("k_m_w", "shared must be a sequence of parameter names"),  # its letters were read as names
+])
+def test_shared_names_given_twice_or_as_a_string_are_refused_before_any_fit(shared: object, words: str) -> None:
+    ds = synthesize(water_contents=[0.2, 0.3], velocities=[0.02], repeats=1, seed=6)
+    with pytest.raises(InputError, match=f"^{words}"):
+        fit_dataset(ds, shared=shared, quiet=True)  # type: ignore[arg-type]
 
 
 def test_report_is_written_and_deterministic(tmp_path: Path) -> None:

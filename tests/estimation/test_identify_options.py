@@ -26,8 +26,9 @@ def trial() -> Trial:
     ({"force_gain_uncertainty": None}, "force gain uncertainty must be in [0, 0.5)"),
     ({"force_gain_uncertainty": False}, "force gain uncertainty must be in [0, 0.5)"),  # was read as 0
     ({"level": "0.9"}, "confidence level must be in (0, 1)"),  # was TypeError
-    ({"points": 2.5}, "points must be an integer in [1, 100000], got 2.5"),  # was TypeError
-    ({"points": 10**9}, "points must be an integer in [1, 100000]"),  # hung allocating the grid
+    ({"points": 2.5}, "points must be an integer in [2, 100000], got 2.5"),  # was TypeError
+    ({"points": 10**9}, "points must be an integer in [2, 100000]"),  # hung allocating the grid
+    ({"points": 1}, "points must be an integer in [2, 100000], got 1"),  # searched [0.15, 0.15]: always 15 %
     ({"bounds": "x"}, "bounds must be (low, high)"),  # was ValueError: too many values to unpack
     ({"bounds": ("0.2", "0.3")}, "bounds must be (low, high)"),  # was TypeError
     ({"depth_noise": "1"}, "w.csv: depth noise must be between 0 and 10 mm"),  # was TypeError

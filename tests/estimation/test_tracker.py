@@ -7,6 +7,7 @@ Short walks and a few seeds only; the many-seed acceptance figures are in
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -140,6 +141,23 @@ def test_a_refused_sample_changes_nothing() -> None:
 def test_bad_options_are_refused(options: dict[str, object]) -> None:
     with pytest.raises(InputError):
         MudTracker(**options)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("option", "bound", "unit"), [
+    ("misfit", "1000", "-"), ("floor", "1e+07", "N"), ("noise", "1e+07", "N"), ("bias", "1e+07", "N"),
+    ("force_lag", "1000", "s"),
+])
+def test_a_likelihood_scale_too_large_to_square_is_refused(option: str, bound: str, unit: str) -> None:
+    # taken, its square overflowed: every estimate after the first samples was NaN (force_predicted) or an end
+    # of the grid
+    message = re.escape(f"{option} must be at most {bound} [{unit}], got 1e+300")
+    with pytest.raises(InputError, match=f"^{message}$"):
+        MudTracker(**{option: 1e300})  # type: ignore[arg-type]
+    tracker = MudTracker(**{option: float(bound)})  # type: ignore[arg-type]
+    for k in range(300):
+        z = 0.01 * math.sin(0.03 * k)
+        e = tracker.update(z, 50.0 * max(z, 0.0), 0.01)
+    assert np.isfinite([e.water_content, e.low, e.high, e.force_predicted, e.bias, e.noise]).all()
 
 
 def test_an_unknown_option_is_refused_in_one_line() -> None:

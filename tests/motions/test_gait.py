@@ -45,3 +45,23 @@ def test_gait_refuses_bad_input(kwargs: dict[str, float], match: str) -> None:
 def test_walk_needs_one_change_time_per_change() -> None:
     with pytest.raises(InputError, match="one change time per change"):
         walk((0.2, 0.3))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [({"water_content": (0.2, 0.25, 0.3), "change_times": "58"}, "change_times"),  # read as 5 s and 8 s
+     ({"water_content": (0.2, 0.3), "change_times": (True,)}, "change_times"),  # read as 1 s
+     ({"water_content": "0.25"}, "water_content"),
+     ({"water_content": [[0.25]]}, "water_content"),  # TypeError
+     ({"water_content": True}, "water_content"),
+     ({"water_content": ()}, "water_content")],
+)
+def test_walk_refuses_text_and_booleans_for_numbers(kwargs: dict[str, object], match: str) -> None:
+    with pytest.raises(InputError, match=match):
+        walk(duration=25.0, **kwargs)  # type: ignore[arg-type]
+
+
+def test_walk_takes_a_0d_array_as_one_water_content() -> None:  # TypeError: iteration over a 0-d array
+    a = walk(np.array(0.25), duration=5.0)
+    b = walk(0.25, duration=5.0)
+    assert a.force.tobytes() == b.force.tobytes() and a.water_content.tobytes() == b.water_content.tobytes()

@@ -133,6 +133,20 @@ def test_bad_recordings_are_refused_in_one_line_and_the_input_is_left_as_it_was(
     assert np.array_equal(f, kept)
 
 
+def test_a_recording_of_text_booleans_or_huge_values_is_refused_not_read_or_overflowed() -> None:
+    # numpy parsed strings and read booleans as 0 and 1; 1e308 N times a gain of 2 came back as inf
+    for args, words in (
+        ((["0", "1"], [0.0, 0.0], [1.0, 2.0]), "time must be an array of real numbers"),
+        (([0.0, 1.0], [True, False], [1.0, 2.0]), "depth must be an array of real numbers"),
+        (([0.0, 1.0], [0.0, 0.0], [1e308, 1e308]), "force must be within +-1e+07 N; sample 0"),
+        (([0.0, 1.0], [0.0, 1e300], [1.0, 2.0]), "depth must be within +-100 m; sample 1"),
+        (([0.0, 1e300], [0.0, 0.0], [1.0, 2.0]), "time must be within +-1e+09 s; sample 1"),
+    ):
+        with pytest.raises(InputError) as info:
+            apply(*args, SensorChain(force_gain=2.0), 0)
+        assert words in str(info.value) and "\n" not in str(info.value)
+
+
 def test_the_quadruped_foot_strikes_the_mud_and_repeats_bit_for_bit() -> None:
     pytest.importorskip("mujoco", reason="the quadruped needs MuJoCo: pip install 'mudforce[mujoco]'")
     from mudforce.motions.quadruped import robot_walk

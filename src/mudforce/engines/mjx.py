@@ -77,7 +77,7 @@ import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -180,10 +180,17 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
             raise InputError(f"no site named {name!r} in the model; add a site at each sole")
         ids.append(sid)
     n = len(ids)
-    heights = np.broadcast_to(np.asarray(surface_height, dtype=np.float64), (n,))
+    # one height or one per foot, real numbers (np.asarray took True as 1 m and parsed "0.01"), finite in the
+    # patch's dtype (1e39 m became inf in float32; a height per foot of another length raised numpy's ValueError)
+    given = real_array(surface_height, "surface_height", "m")
+    if given.shape not in ((), (n,)):
+        raise InputError(f"surface_height must be one height [m] or one per foot ({n}), got shape {given.shape}")
+    heights = np.broadcast_to(given, (n,))
     if not np.isfinite(heights).all():
         raise InputError(f"surface_height must be finite [m], got {surface_height!r}")
     dt_ = mj._float_dtype(dtype)
+    if not np.all(np.abs(heights) <= np.finfo(dt_).max):
+        raise InputError(f"surface_height must be finite in {dt_} [m], got {surface_height!r}")
     per_foot = not isinstance(params, MudParameters) or (foot is not None and not isinstance(foot, Foot))
     jparams = mj.make_params(params, n=n if not per_foot else None, foot=foot, dtype=dt_)
     jparams = mj.Params(*(jnp.broadcast_to(f, (n,)) for f in jparams))

@@ -138,6 +138,10 @@ __all__ = [
 #: Largest |force| a tracker takes [N] (~1000 t, as a recording's force column: mudforce.io.tables.COLUMN_LIMITS):
 #: beyond it a finite force could overflow the likelihood's squares and leave the posterior NaN for good.
 MAX_FORCE = 1e7
+# Largest relative model misfit ``misfit`` [-] and force lag allowance ``force_lag`` [s] a tracker takes: far beyond
+# any use, and far below where the likelihood's scale overflows (~1e154).
+_MAX_MISFIT = 1e3
+_MAX_FORCE_LAG = 1e3
 
 #: The default grid of water contents [-]: 15 % to 35 % in steps of 0.5 points (41 models).
 DEFAULT_GRID: tuple[float, ...] = tuple(round(0.15 + 0.005 * k, 4) for k in range(41))
@@ -1211,6 +1215,14 @@ def _non_negative(value: Any, name: str, unit: str) -> float:
     return x
 
 
+def _at_most(value: float, name: str, bound: float, unit: str) -> float:
+    """``value`` if it is at most ``bound`` [``unit``], else a one-line InputError: the likelihood's scales
+    (their squares) overflowed beyond ~1e154, and every later estimate was NaN."""
+    if not value <= bound:
+        raise InputError(f"{name} must be at most {bound:g} [{unit}], got {value!r}")
+    return value
+
+
 def _offsets(depth_offsets: Sequence[float] | None) -> np.ndarray:
     """The surface offset hypotheses [m], as an array; refused in one line unless finite, increasing, within 20 mm."""
     if depth_offsets is None:
@@ -1255,9 +1267,9 @@ class MudTrackers:
         Forgetting time constant [s of contact], > 0 (default 3 s: the
         estimate follows new mud within a few steps).
     misfit : float
-        Relative model misfit [-] added to the likelihood's scale (default 0.05).
+        Relative model misfit [-] added to the likelihood's scale, in (0, 1000] (default 0.05).
     floor : float
-        Floor on the likelihood's scale [N] (default 0.2 N).
+        Floor on the likelihood's scale [N], in (0, 1e7] (default 0.2 N).
     dof : float
         Degrees of freedom of the Student-t likelihood [-] (default 2).
     correlation_time : float
@@ -1266,10 +1278,10 @@ class MudTrackers:
         ``min(1, dt / correlation_time)`` (1/5 at 100 Hz), so the evidence
         per second does not grow with the sampling rate.
     noise : float
-        Prior force-noise standard deviation [N], until the foot has been
+        Prior force-noise standard deviation [N], in (0, 1e7], until the foot has been
         free (default 0.5 N).
     bias : float
-        Prior spread of the force offset [N], until the foot has been free
+        Prior spread of the force offset [N], in (0, 1e7], until the foot has been free
         (default 2 N).
     velocity_filter : VelocityFilter or "exact", optional
         The bank's branch rule; by default the noise-robust rule of
@@ -1301,7 +1313,7 @@ class MudTrackers:
         is summed over the three. A gain error cannot be told from stiffer
         mud, so the interval widens by the shift it causes (0: one gain).
     force_lag : float
-        Force lag allowance [s], >= 0 (default :data:`DEFAULT_FORCE_LAG_ALLOWANCE`,
+        Force lag allowance [s], within [0, 1000] (default :data:`DEFAULT_FORCE_LAG_ALLOWANCE`,
         10 ms): the predicted force's change over this time is added to the
         likelihood's scale, so a low-passed or delayed force sensor is not
         read as other mud (0: none).
@@ -1379,12 +1391,12 @@ class MudTrackers:
         cfg[_C_QUICK_SINK] = _QUICK_SINK
         cfg[_C_QUICK_SINK_MAX] = _QUICK_SINK_MAX
         cfg[_C_TAU] = positive_number(tau, "tau", "s")
-        cfg[_C_MISFIT] = positive_number(misfit, "misfit", "-")
-        cfg[_C_FLOOR] = positive_number(floor, "floor", "N")
+        cfg[_C_MISFIT] = _at_most(positive_number(misfit, "misfit", "-"), "misfit", _MAX_MISFIT, "-")
+        cfg[_C_FLOOR] = _at_most(positive_number(floor, "floor", "N"), "floor", MAX_FORCE, "N")
         cfg[_C_DOF] = positive_number(dof, "dof", "-")
         cfg[_C_TEMP] = positive_number(correlation_time, "correlation_time", "s")
-        cfg[_C_NOISE0] = positive_number(noise, "noise", "N")
-        cfg[_C_BIAS0] = positive_number(bias, "bias", "N")
+        cfg[_C_NOISE0] = _at_most(positive_number(noise, "noise", "N"), "noise", MAX_FORCE, "N")
+        cfg[_C_BIAS0] = _at_most(positive_number(bias, "bias", "N"), "bias", MAX_FORCE, "N")
         cfg[_C_FREE_MEMORY] = 500.0  # samples: the offset and noise follow slow drift over ~5 s of swing at 100 Hz
         step = float(np.max(np.diff(self.grid)))
         cfg[_C_SETTLE] = max(0.04, 6.0 * step)  # [-] interval width under which an estimate counts as settled
@@ -1394,7 +1406,7 @@ class MudTrackers:
         if not cfg[_C_GAIN] < 0.5:
             raise InputError(f"force_gain_uncertainty must be within [0, 0.5) [-] (0.05 is 5 %), "
                              f"got {force_gain_uncertainty!r}")
-        cfg[_C_LAG] = _non_negative(force_lag, "force_lag", "s")
+        cfg[_C_LAG] = _at_most(_non_negative(force_lag, "force_lag", "s"), "force_lag", _MAX_FORCE_LAG, "s")
         cfg[_C_REST] = REST_SPEED
         cfg[_C_MISFIT_RATIO] = MISFIT_THRESHOLD
         cfg[_C_DISC] = _MISFIT_DISCRETISATION

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mudforce.errors import InputError, is_integer, number_within, true_or_false
+from mudforce.errors import InputError, is_integer, number_within, real_array, true_or_false
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -251,10 +251,15 @@ def walk(
     """
     from mudforce.steppers.simulation import simulate
 
-    contents = (water_content,) if isinstance(water_content, (int, float, np.number)) else tuple(water_content)
-    if not contents:
-        raise InputError("walk needs at least one water content")
-    changes = tuple(float(c) for c in change_times)
+    # one conversion each: a string was read letter by letter ("58": change times 5 s and 8 s), True as 1
+    given = real_array(water_content, "water_content", "-")
+    if given.ndim > 1 or not given.size:
+        raise InputError(f"water_content must be one water content [-] or a list of them, got shape {given.shape}")
+    contents = tuple(given.reshape(-1).tolist())
+    times = real_array(change_times, "change_times", "s")
+    if times.ndim != 1:
+        raise InputError(f"change_times must be a list of times [s], got shape {times.shape}")
+    changes = tuple(times.tolist())
     if len(changes) != len(contents) - 1:
         raise InputError(
             f"walk needs one change time per change of mud: {len(contents)} water contents, "

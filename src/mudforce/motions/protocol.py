@@ -13,13 +13,14 @@ a rate within [:data:`MIN_RATE`, :data:`MAX_RATE`], at most
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
 from mudforce._kernel.bounds import MAX_DT, MAX_TIME
-from mudforce.errors import InputError, positive_number
+from mudforce.errors import InputError, finite_number, positive_number
 from mudforce.model.bounds import bounded_depth
 
 if TYPE_CHECKING:
@@ -133,6 +134,8 @@ class Protocol:
     start_depth: float = 0.0
 
     def __post_init__(self) -> None:
+        if isinstance(self.steps, (str, bytes)) or not isinstance(self.steps, Iterable):  # tuple(5): a TypeError
+            raise InputError(f"steps must be a sequence of Intrude, Hold and Withdraw, got {type(self.steps).__name__}")
         object.__setattr__(self, "steps", tuple(self.steps))
         rate = positive_number(self.rate, "sampling rate", "Hz")
         if not MIN_RATE <= rate <= MAX_RATE:
@@ -172,8 +175,7 @@ class Protocol:
         sampled at ``rate`` [Hz]. ``approach`` [m] starts the foot that far
         above the surface (0: at the surface).
         """
-        if not math.isfinite(approach) or approach < 0.0:
-            raise InputError(f"approach height must be finite and >= 0 [m], got {approach!r}")
+        approach = finite_number(approach, "approach height", "m", nonnegative=True)  # True is no 1 m
         return cls(
             (Intrude(velocity, depth), Hold(hold), Withdraw(velocity, rise)),
             rate=rate,

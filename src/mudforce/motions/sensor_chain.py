@@ -52,7 +52,9 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, number_within, seed_int
+from mudforce.errors import InputError, number_within, real_array, seed_int
+from mudforce.io.tables import COLUMN_LIMITS
+from mudforce.model.bounds import MAX_DEPTH, MAX_TIME
 
 __all__ = ["LIMITS", "SensorChain", "apply", "drift_path"]
 
@@ -169,17 +171,22 @@ def _lowpass(time: np.ndarray, x: np.ndarray, tau: float) -> np.ndarray:
 
 
 def _check_recording(time: Any, depth: Any, force: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    try:
-        t, z, f = (np.asarray(a, dtype=np.float64) for a in (time, depth, force))
-    except (TypeError, ValueError):
-        raise InputError("time, depth and force must be arrays of numbers [s], [m], [N]") from None
+    # real numbers only (numpy parsed strings and read booleans as 0 and 1), and bounded as the readers bound a
+    # recording, so that the gain and the bias keep the force finite (1e308 N times a gain of 2 was inf)
+    t, z, f = (real_array(a, name, unit) for a, name, unit in ((time, "time", "s"), (depth, "depth", "m"),
+                                                               (force, "force", "N")))
     if t.ndim != 1 or t.shape != z.shape or t.shape != f.shape or t.size < 2:
         raise InputError(f"time, depth and force must be 1-D of one length >= 2, got shapes {t.shape}, {z.shape}, "
                          f"{f.shape}")
-    for name, a, unit in (("time", t, "s"), ("depth", z, "m"), ("force", f, "N")):
+    for name, a, unit, bound in (("time", t, "s", MAX_TIME), ("depth", z, "m", MAX_DEPTH),
+                                 ("force", f, "N", COLUMN_LIMITS["force"])):
         if not np.all(np.isfinite(a)):
             bad = int(np.argmin(np.isfinite(a)))
             raise InputError(f"{name} must be finite [{unit}]; sample {bad} is {float(a[bad])!r}")
+        beyond = np.flatnonzero(np.abs(a) > bound)
+        if beyond.size:
+            raise InputError(f"{name} must be within +-{bound:g} {unit}; sample {int(beyond[0])} is "
+                             f"{float(a[beyond[0]])!r}")
     if not np.all(np.diff(t) > 0.0):
         raise InputError(f"time must be strictly increasing [s]; sample {int(np.argmin(np.diff(t) > 0.0)) + 1} is not")
     return t, z, f

@@ -32,7 +32,7 @@ from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
-from mudforce.errors import InputError, finite_number, is_real, positive_int
+from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array
 from mudforce.model.bounds import bounded_depth
 from mudforce.model.equations import (
     intrusion_stress,
@@ -463,12 +463,13 @@ def _profile(applied_force: Any) -> tuple[np.ndarray, np.ndarray]:
         if not math.isfinite(value):
             raise InputError(f"applied force must be finite [N], got {applied_force!r}")
         return np.zeros(1), np.array([value])
-    try:
-        times, forces = applied_force
-        tp = np.ascontiguousarray(times, dtype=np.float64)
-        fp = np.ascontiguousarray(forces, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("applied_force must be a number [N] or a pair (times [s], forces [N])") from None
+    # a pair of arrays of real numbers (np.ascontiguousarray parsed strings, "01" was times 0 and 1 s, and read
+    # booleans as 0 and 1)
+    if not (isinstance(applied_force, (tuple, list)) or (isinstance(applied_force, np.ndarray)
+                                                         and applied_force.ndim == 2)) or len(applied_force) != 2:
+        raise InputError("applied_force must be a number [N] or a pair (times [s], forces [N])")
+    tp = np.ascontiguousarray(real_array(applied_force[0], "applied_force times", "s"))
+    fp = np.ascontiguousarray(real_array(applied_force[1], "applied_force forces", "N"))
     if tp.ndim != 1 or tp.shape != fp.shape or tp.size == 0:
         raise InputError("applied_force times and forces must be 1-D arrays of the same, non-zero length")
     if not (np.isfinite(tp).all() and np.isfinite(fp).all()) or (tp.size > 1 and np.any(np.diff(tp) <= 0.0)):

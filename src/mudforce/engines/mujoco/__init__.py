@@ -77,7 +77,7 @@ from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
-from mudforce.errors import InputError, finite_number, positive_int
+from mudforce.errors import InputError, finite_number, positive_int, real_array
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -438,11 +438,8 @@ class MudAdapter:
         from mudforce.steppers.contact import check_states
 
         n = len(self.feet)
-        try:
-            arr = np.asarray(value, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputError(f"a state of {n} feet must be a numeric array (from MudAdapter.state), got "
-                             f"{type(value).__name__}") from None
+        # real numbers only (np.asarray parsed strings, read booleans as 0 and 1 and dropped imaginary parts)
+        arr = real_array(value, f"a state of {n} feet (from MudAdapter.state)", "SI")
         if arr.shape != self._states.shape:
             raise InputError(f"a state of {n} feet has shape {self._states.shape}, got {arr.shape}")
         check_states(arr, np.empty((n, 0)), "a state")

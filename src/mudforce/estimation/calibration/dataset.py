@@ -261,7 +261,8 @@ def load_trial(path: str | os.PathLike[str], water_content: float = math.nan, *,
     matched: dict[str, str] = {}
     cols = read_columns(path, _TRIAL_COLUMNS, matched=matched)
     _check_trial_arrays(str(path), cols["time"], matched["time"], cols["line"])
-    return Trial(Path(path).name, float(water_content), cols["time"], cols["depth"], cols["force"], velocity, repeat)
+    # water_content as given: Trial checks it (float() parsed "0.25" and b"0.25", and raised TypeError on a list)
+    return Trial(Path(path).name, water_content, cols["time"], cols["depth"], cols["force"], velocity, repeat)
 
 
 def _number(value: Any, where: str, what: str, lo: float, hi: float, example: str) -> float:

@@ -603,7 +603,12 @@ def fit_dataset(
     quiet = true_or_false(quiet, "quiet")
     m = get_model(model)
     free_names = _resolve_free(m, free, fixed)
+    if isinstance(shared, (str, bytes)):  # its letters are no names
+        raise InputError(f"shared must be a sequence of parameter names, e.g. ('k_m_w', 'b_m_w'), got {shared!r}")
+    shared = tuple(shared)
     for n in shared:
+        if shared.count(n) > 1:  # tied twice, it was two free copies of one parameter: a degenerate joint fit
+            raise InputError(f"--shared {n}: given twice; give each parameter once")
         if n not in free_names:
             raise InputError(f"--shared {n}: not a fitted parameter of model {m.name}; "
                              f"expected some of {', '.join(free_names)}")

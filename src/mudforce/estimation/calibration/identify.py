@@ -853,7 +853,7 @@ def identify_water_content(
     level : float
         Confidence level of the interval, in (0, 1).
     points : int
-        Grid points for the scan before refinement.
+        Grid points for the scan before refinement [-], at least 2 (the ends of ``bounds``).
     force_gain_uncertainty : float
         Relative uncertainty of the force sensor's gain [-], in [0, 0.5) (default 5 %): a gain
         error reads as stiffer or softer mud, so the interval is widened by the water-content
@@ -873,8 +873,8 @@ def identify_water_content(
     if not is_real(level) or not 0.0 < level < 1.0:
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
     check_force_gain_uncertainty(force_gain_uncertainty)
-    if not is_integer(points) or not 1 <= points <= _MAX_POINTS:
-        raise InputError(f"points must be an integer in [1, {_MAX_POINTS}], got {points!r}")
+    if not is_integer(points) or not 2 <= points <= _MAX_POINTS:  # one point searched [low, low]: always low
+        raise InputError(f"points must be an integer in [2, {_MAX_POINTS}], got {points!r}")
     if foot is not None and not isinstance(foot, Foot):
         raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")
     foot = Foot.paper() if foot is None else foot

@@ -1,0 +1,28 @@
+"""Protocols: a bad option is refused in one line, never read as another number."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from mudforce.errors import InputError
+from mudforce.motions.protocol import Protocol
+
+
+@pytest.mark.parametrize("approach", [True, "0.01", np.array([0.01]), float("nan"), -0.01])
+def test_paper_refuses_an_approach_that_is_no_height(approach: Any) -> None:
+    # True was read as a 1 m approach; a string or an array raised TypeError
+    with pytest.raises(InputError, match="approach height"):
+        Protocol.paper(approach=approach)
+
+
+def test_paper_takes_a_numpy_approach() -> None:
+    assert Protocol.paper(approach=np.float64(0.005)).start_depth == -0.005
+
+
+@pytest.mark.parametrize("steps", [5, None, "ihw"])
+def test_protocol_refuses_steps_that_are_no_sequence(steps: Any) -> None:
+    with pytest.raises(InputError, match="steps must be a sequence"):
+        Protocol(steps)
