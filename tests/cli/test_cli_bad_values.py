@@ -88,6 +88,7 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("fit-drag-huge-force", ["fit-drag", "s.csv"], {"s.csv": "velocity_m_s,force_N\n0.1,1e300\n0.2,2\n"},
      ("force_N", "magnitude")),
     ("fit-drag-huge-density", ["fit-drag", "s.csv", "--rho-m", "1e300kg/m3"], {"s.csv": SLIDING}, ("--rho-m",)),
+    ("fit-drag-huge-area", ["fit-drag", "s.csv", "--area", "200m2"], {"s.csv": SLIDING}, ("--area",)),
     # item 4: finite input, non-finite output is refused at the source
     ("trajectory-depth-1e307", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,-1e307\n0.02,0\n"},
      ("traj.csv", "row 3", "depth_m")),

@@ -35,7 +35,8 @@ def test_walk_necks_and_changes_mud_at_a_swing() -> None:
 
 @pytest.mark.parametrize(
     ("kwargs", "match"),
-    [({"seed": -1}, "seed"), ({"duration": 0.0}, "duration"), ({"rate": float("nan")}, "rate")],
+    [({"seed": -1}, "seed"), ({"seed": 2**70}, r"seed must be an integer in \[0, 4294967295\]"),
+     ({"seed": True}, "seed"), ({"duration": 0.0}, "duration"), ({"rate": float("nan")}, "rate")],
 )
 def test_gait_refuses_bad_input(kwargs: dict[str, float], match: str) -> None:
     with pytest.raises(InputError, match=match):

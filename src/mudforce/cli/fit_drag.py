@@ -61,7 +61,12 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.io.units import parse_quantity
 
     if args.area:
+        from mudforce.model.foot import AREA_RANGE
+
         area = parse_quantity(args.area, "area", name="--area")
+        lo, hi = AREA_RANGE
+        if not lo <= area <= hi:  # (fit_drag's own refusal named "area", not the option)
+            raise InputError(f"--area: {args.area!r} must be an area within [{lo:g}, {hi:g}] m2, e.g. 19.38cm2")
     else:
         area = parse_foot(args.foot or "paper").area
     velocity, force = read_sliding(args.file)

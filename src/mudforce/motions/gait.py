@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mudforce.errors import InputError, is_integer, number_within, real_array, true_or_false
+from mudforce.errors import InputError, number_within, real_array, seed_int, true_or_false
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -83,7 +83,7 @@ def gait(
     Parameters
     ----------
     seed : int
-        Seed of every random choice (>= 0); the same seed gives the same gait.
+        Seed of every random choice, in [0, 2^32 - 1]; the same seed gives the same gait.
     duration : float
         Length of the trajectory [s], within [1, 3600].
     rate : float
@@ -100,8 +100,7 @@ def gait(
     Gait
         Times [s], depths [m] and the swing apexes [s].
     """
-    if not is_integer(seed) or seed < 0:
-        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
+    seed = seed_int(seed, "seed")  # every seed's bound: [0, 2^32 - 1] (2**70 was taken here alone)
     duration = number_within(duration, "duration", 1.0, 3600.0, "s")
     rate = number_within(rate, "rate", 10.0, 1e5, "Hz")
     jitter = number_within(jitter, "jitter", 0.0, 0.4, "of a sample period")
@@ -232,7 +231,7 @@ def walk(
         them, increasing): the mud changes at the first swing apex at or
         after each.
     seed : int
-        Seed of the gait and of the noise (>= 0).
+        Seed of the gait and of the noise, in [0, 2^32 - 1].
     duration, rate, jitter, start_below
         As in :func:`gait`: length [s], rate [Hz], time-stamp jitter [-],
         start in stance below the surface.
