@@ -196,8 +196,9 @@ def _band(t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, necked: bool)
     """``(F_up, F_down)`` [N] of a foot at rest at time ``t`` (necked or in contact)."""
     if necked:
         f_neck, zm = _neck(p, aux, t)
-        return rest_band(p, ContactMode.NECKED, y[0], y[0] - zm, f_neck)
-    return rest_band(p, ContactMode.CONTACT, y[0], y[2], 0.0)
+        # (.value: the mode as the int64 every other caller passes, one compiled signature, not one more per enum)
+        return rest_band(p, ContactMode.NECKED.value, y[0], y[0] - zm, f_neck)
+    return rest_band(p, ContactMode.CONTACT.value, y[0], y[2], 0.0)
 
 
 @njit(cache=True, nogil=True)

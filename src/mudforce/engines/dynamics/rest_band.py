@@ -155,7 +155,7 @@ def branch_forces_row(states: np.ndarray, params: np.ndarray, j: int, dt: float,
         if states[j, S_STARTED] != 0.0 and z + v * dt > 0.0 and weight > 0.0:
             # touchdown within the step: the intrusion force at the predicted end, z_m = 0 at the surface
             z1 = z + v * dt
-            lo, hi = rest_band(params[j], ContactMode.CONTACT, z1, z1 if z < 0.0 else z1 - z, 0.0)
+            lo, hi = rest_band(params[j], ContactMode.CONTACT.value, z1, z1 if z < 0.0 else z1 - z, 0.0)
             return weight * min(lo, hi), weight * hi, 0.0
         return 0.0, 0.0, 0.0
     s = load_state(states, j)
