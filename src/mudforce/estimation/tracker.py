@@ -483,7 +483,7 @@ def _lowpass_step(e: float, c: float, y0: float, f0: float, f1: float) -> float:
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool, cache: np.ndarray) -> None:
+def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool | np.bool_, cache: np.ndarray) -> None:
     """Foot ``j``'s mean model force ``mean`` [N] after a (sub)step of ``h`` [s] low-passed by each lag hypothesis
     (:data:`_LAGS`) into ``aux[j, _A_LAG_Y + k]``, from the last (sub)step's ``aux[j, _A_PSUB]`` (ours).
 
@@ -524,7 +524,7 @@ def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.nd
         aux[j, lagged + m] = yl
         aux[j, previous + m] = fg
         mean += P[j, m] * fg
-    _lag_hypotheses(aux, j, h, mean, False, cache)
+    _lag_hypotheses(aux, j, h, mean, np.bool_(False), cache)  # (np.bool_: one compiled signature, see engine)
     aux[j, _A_PSUB] = mean
 
 

@@ -192,7 +192,7 @@ def _rk4(phase: int, t: float, y: np.ndarray, h: float, p: np.ndarray, aux: np.n
 
 
 @njit(cache=True, nogil=True)
-def _band(t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, necked: bool) -> tuple[float, float]:
+def _band(t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, necked: bool | np.bool_) -> tuple[float, float]:
     """``(F_up, F_down)`` [N] of a foot at rest at time ``t`` (necked or in contact)."""
     if necked:
         f_neck, zm = _neck(p, aux, t)
@@ -234,8 +234,12 @@ def _event(phase: int, t0: float, y0: np.ndarray, t1: float, y1: np.ndarray, p: 
 
 @njit(cache=True, nogil=True)
 def _decide_at_rest(t: float, y: np.ndarray, p: np.ndarray, aux: np.ndarray, mg: float, tp: np.ndarray,
-                    fp: np.ndarray, necked: bool) -> Phase:
-    """Filippov's choice for a foot at rest: slide down, slide up, or stick. Sets ``y``, returns the phase."""
+                    fp: np.ndarray, necked: bool | np.bool_) -> Phase:
+    """Filippov's choice for a foot at rest: slide down, slide up, or stick. Sets ``y``, returns the phase.
+
+    (Its callers pass ``np.bool_(False)``, not ``False``: numba types a constant as a literal and compiles a
+    callee once more for it; speed plumbing, the same bits.)
+    """
     y[1] = 0.0
     load = _load(t, mg, tp, fp)
     f_up, f_down = _band(t, y, p, aux, necked)
@@ -261,7 +265,7 @@ def _apply_event(code: int, phase: Phase, t: float, y: np.ndarray, p: np.ndarray
         y[2] = y[0]
         if y[1] > 0.0:
             return Phase.INTRUSION
-        return _decide_at_rest(t, y, p, aux, mg, tp, fp, False)
+        return _decide_at_rest(t, y, p, aux, mg, tp, fp, np.bool_(False))
     if phase == Phase.STUCK:
         necked = aux[A_STUCK_NECKED] != 0.0
         aux[A_STUCK_NECKED] = 0.0
@@ -307,7 +311,7 @@ def _integrate(p: np.ndarray, m: float, gravity: float, z0: float, v0: float, t_
         elif v0 < 0.0:
             phase = Phase.WITHDRAWAL
         else:
-            phase = _decide_at_rest(t, y, p, aux, mg, tp, fp, False)
+            phase = _decide_at_rest(t, y, p, aux, mg, tp, fp, np.bool_(False))
     else:
         phase = Phase.FREE
     events = 0
