@@ -512,7 +512,9 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     # Eq. (4) at every sample, 0 above the surface (one compiled loop over the same function: its power gives the
     # same bits in a loop as in a single call)
     spring = spring_stress(depth, q.alpha, q.beta, foot.width)
-    return _band_through_lag(time, depth, force, state, mud, spring, q.k_m_i, q.k_m_w, foot.area, lag)  # type: ignore[no-any-return]
+    # (time contiguous, as run_compact takes it: the half-rate runs' strided times compiled the loop a second time)
+    return _band_through_lag(np.ascontiguousarray(time), depth, force, state, mud, spring, q.k_m_i, q.k_m_w,  # type: ignore[no-any-return]
+                             foot.area, lag)
 
 
 def _with_neighbours(x: np.ndarray) -> np.ndarray:
