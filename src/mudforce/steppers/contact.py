@@ -10,9 +10,9 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
-from mudforce._kernel.layout import S_CACHE_DT, S_CACHE_PHI, STATE_NAMES
+from mudforce._kernel.layout import S_CACHE_DT, STATE_NAMES, store_cache
+from mudforce._kernel.transitions import step_cache
 from mudforce.errors import InputError, real_array, real_number
-from mudforce.model.equations import array_form, neck_filter_response, neck_filter_transition
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -52,22 +52,35 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
             raise InputError(f"{where}: {message}; expected a state taken from a contact")
 
 
-def _cache_as_computed(state: np.ndarray, params_row: np.ndarray) -> bool:
-    """Whether a state row's step-length cache holds, bit for bit, what the stepper computes for its step length
-    (:func:`mudforce._kernel.transitions.step_cache`, here in Python on the same operations); no cache counts as one.
+def _recompute_caches(states: np.ndarray, params: np.ndarray) -> None:
+    """Each state row's step-length cache recomputed, by the stepper's own code, for the step length ``dt`` [s] it
+    holds, with its row of ``params`` (rows without a cache are left so); what a restored state needs.
 
-    A restored state keeps its cache only then, so that a replay is the same bits (the stepper reuses a cache
-    within 1e-9 of its step length, so the cache depends on the history), while cached decays edited within
-    [0, 1] are recomputed rather than used as given.
+    A replay is then the same bits: the stepper reuses a cache within 1e-9 of its step length, so a cache dropped
+    instead was recomputed for the next step's length, which may differ from the cached one in the last bits (and
+    so did the forces after it, by ~1e-9 relative); and cached decays edited within [0, 1] are recomputed, not used
+    as given. Once per distinct parameter row and length.
     """
-    dt = float(state[S_CACHE_DT])
-    if not dt > 0.0:
-        return True
-    p = K.params_of(params_row)
-    g_d, gi_d = neck_filter_response.py_func(dt, p.zeta, p.omega_0)
-    expected = (dt, math.exp(-dt / p.tau_i), math.exp(-dt / p.tau_w),
-                *array_form(neck_filter_transition)(p.zeta, p.omega_0, g_d, gi_d))
-    return bool(np.array_equal(state[S_CACHE_DT:S_CACHE_PHI + 4], np.array(expected)))
+    rows = np.flatnonzero(states[:, S_CACHE_DT] > 0.0)  # finite: checked (check_states)
+    if not rows.size:
+        return
+    keys = np.ascontiguousarray(np.hstack((params[rows], states[rows, S_CACHE_DT : S_CACHE_DT + 1])))
+    rowwise = keys.view(np.dtype((np.void, keys.itemsize * keys.shape[1]))).ravel()  # each row's bytes, one key
+    _, first, where = np.unique(rowwise, return_index=True, return_inverse=True)
+    caches = np.zeros((first.size, K.N_STATE), dtype=np.float64)
+    none = K.Cache(-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    table = np.ascontiguousarray(keys[first, :-1])
+    for k in range(first.size):
+        store_cache(caches, k, step_cache(none, K.load_params(table, k), float(keys[first[k], -1])))
+    states[rows, S_CACHE_DT:] = caches[where.reshape(-1), S_CACHE_DT:]
+
+
+def _restore_rows(states: np.ndarray, ring: np.ndarray, params: np.ndarray, saved: np.ndarray) -> None:
+    """Write a checked state ``saved`` (its state columns, then its ring's) into ``states`` and ``ring``, and
+    recompute their step-length caches (:func:`_recompute_caches`): every stepper's restore, after its checks."""
+    states[:] = saved[:, :K.N_STATE]
+    ring[:] = saved[:, K.N_STATE:]
+    _recompute_caches(states, params)
 
 
 class ContactSample(NamedTuple):
@@ -279,8 +292,7 @@ class MudContact:
                                  "the state was taken with the exact filter")
             self._ring[0] = value.ring
         self._states[0] = value.data
-        if value.params_key != self._params.tobytes() or not _cache_as_computed(self._states[0], self._params):
-            K.forget_cache(self._states)  # other parameters, or cached values not its own: recompute the cache
+        _recompute_caches(self._states, self._params[None, :])  # this contact's parameters; a replay: same bits
 
     def __repr__(self) -> str:
         return f"MudContact({self.params.source!r}, foot={self.foot.shape!r}, state={self.state.mode})"

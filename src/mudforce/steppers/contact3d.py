@@ -60,8 +60,8 @@ from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.model.velocity import resolve_velocity_filter
 from mudforce.steppers import many as vectorized
-from mudforce.steppers.contact import check_states
-from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows, _recompute_caches
+from mudforce.steppers.contact import _restore_rows, check_states
+from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows
 
 __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
 
@@ -251,9 +251,7 @@ class MudContact3D:
                              f"{elements.shape}")
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")
         # written as MudContacts' setter writes them (checked above once, in elements' words)
-        self._elements._states[:] = elements[:, :K.N_STATE]
-        self._elements.ring[:] = elements[:, K.N_STATE:]
-        _recompute_caches(self._elements._states, self._elements.params_array)  # a replay is the same bits
+        _restore_rows(self._elements._states, self._elements.ring, self._elements.params_array, elements)
         self._slip[:] = slip
         self._centroids[:] = centroids
         self._started = started
@@ -867,9 +865,7 @@ class MudContacts3D:
                              f"{elements.shape}, {slip.shape}, {centroids.shape} and {started.shape} {started.dtype}")
         _check_saved_places(slip, centroids, float(self._ft[:, S3.F_REACH].max()))
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")  # row: element
-        self._states[:] = elements[:, :K.N_STATE]
-        self._ring[:] = elements[:, K.N_STATE:]
-        _recompute_caches(self._states, self._params_rows)  # a replay is the same bits
+        _restore_rows(self._states, self._ring, self._params_rows, elements)  # a replay is the same bits
         self._el[:, S3.E_SLIPX:S3.E_SLIPY + 1] = slip
         self._el[:, S3.E_CX:S3.E_CZ + 1] = centroids
         self._ft[:, S3.F_STARTED] = started

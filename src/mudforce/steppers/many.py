@@ -31,14 +31,13 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
-from mudforce._kernel.layout import S_CACHE_DT, STATE_NAMES, store_cache
-from mudforce._kernel.transitions import step_cache
+from mudforce._kernel.layout import STATE_NAMES
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.errors import InputError, positive_int, real_array, real_number
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import PARAMETER_NAMES, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
-from mudforce.steppers.contact import check_states
+from mudforce.steppers.contact import _restore_rows, check_states
 
 __all__ = ["MudContacts"]
 
@@ -191,27 +190,6 @@ def _chosen_feet(feet: Any, n: int) -> np.ndarray:
     if idx.size and (idx.min() < -n or idx.max() >= n):
         raise InputError(f"foot index out of range 0..{n - 1}: {idx.tolist()}")
     return np.atleast_1d(idx) % n
-
-
-def _recompute_caches(states: np.ndarray, params: np.ndarray) -> None:
-    """Each row's step-length cache recomputed, by the stepper's own code, for the step length ``dt`` [s] it holds.
-
-    A restored state then replays bit for bit: the stepper reuses a cache within 1e-9 of its step length, so a
-    cache dropped instead was recomputed for the next step's length, which may differ from the cached one in the
-    last bits (and so did the forces after it, by ~1e-9 relative). Once per distinct parameter row and length.
-    """
-    rows = np.flatnonzero(states[:, S_CACHE_DT] > 0.0)  # finite: checked (check_states)
-    if not rows.size:
-        return
-    keys = np.ascontiguousarray(np.hstack((params[rows], states[rows, S_CACHE_DT : S_CACHE_DT + 1])))
-    rowwise = keys.view(np.dtype((np.void, keys.itemsize * keys.shape[1]))).ravel()  # each row's bytes, one key
-    _, first, where = np.unique(rowwise, return_index=True, return_inverse=True)
-    caches = np.zeros((first.size, K.N_STATE), dtype=np.float64)
-    none = K.Cache(-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    table = np.ascontiguousarray(keys[first, :-1])
-    for k in range(first.size):
-        store_cache(caches, k, step_cache(none, K.load_params(table, k), float(keys[first[k], -1])))
-    states[rows, S_CACHE_DT:] = caches[where.reshape(-1), S_CACHE_DT:]
 
 
 class MudContacts:
@@ -379,9 +357,7 @@ class MudContacts:
         if arr.shape != shape:
             raise InputError(f"a state of {self.n} feet has shape {shape}, got {arr.shape}")
         check_states(arr[:, : K.N_STATE], arr[:, K.N_STATE :], "a state")
-        self._states[:] = arr[:, : K.N_STATE]
-        self.ring[:] = arr[:, K.N_STATE :]
-        _recompute_caches(self._states, self.params_array)
+        _restore_rows(self._states, self.ring, self.params_array, arr)
 
     @property
     def states(self) -> np.ndarray:
