@@ -186,11 +186,11 @@ def test_fit_cli_accepts_a_baseline_model(tmp_path) -> None:
     (lambda: maxwell_only_force([0.0, 0.01], [0.0, 0.01], True, 1e5, 1e5, 1e5), "k_m_i must be a number"),
     (lambda: maxwell_only_force([0.0, 0.01], [0.0, 0.01], [1e5], 1e5, 1e5, 1e5), "k_m_i must be a number"),
     # beyond the stepper's bounds: k z, dz/dt and v|v| overflowed, inf forces returned
-    (lambda: granular_rft_force([0.0, 0.01], [0.0, 1e300], 1e5), "expected a finite depth within +-100 m"),
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 1e300], 1e5), "depth at sample 1 (1e+300 m) is beyond +-100 m"),
     # the same words as simulate's for the same times
     (lambda: drft_force([0.0, 0.0], [0.0, 0.01], 1e5), "time repeats at sample 1"),
     (lambda: drft_force([0.0, math.nan], [0.0, 0.01], 1e5), "time is not finite at sample 1"),
-    (lambda: drft_force([0.0, 0.01], [0.0, math.inf], 1e5), "depth at sample 1 is inf m"),
+    (lambda: drft_force([0.0, 0.01], [0.0, math.inf], 1e5), "depth is not finite at sample 1 (inf)"),
     (lambda: drft_force([0.0, 1e-300], [0.0, 0.01], 1e5), "expected steps within [1e-09, 1000] s"),
     (lambda: maxwell_only_force([0.0, 1e-300], [0.0, 0.01], 1e5, 1e5, 1e5, 1e5), "expected steps within"),
 ])

@@ -44,7 +44,7 @@ import numpy as np
 from numba import njit
 
 from mudforce.errors import InputError, finite_number, real_array
-from mudforce.model.bounds import MAX_DEPTH, check_times
+from mudforce.model.bounds import check_depths, check_times
 from mudforce.model.equations import (
     array_form,
     drag_acts,
@@ -83,12 +83,9 @@ def _trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
     z = real_array(depth, "depth", "m")
     if t.ndim != 1 or t.shape != z.shape or t.size == 0:
         raise InputError(f"time and depth must be 1-D arrays of the same non-zero length, got {t.shape}, {z.shape}")
-    check_times(t)  # the words simulate's refusals use (finite, within +-MAX_TIME, steps within [MIN_DT, MAX_DT])
-    # the stepper's bound on the depth (mudforce.simulate): beyond, k z, dz/dt and the drag's v|v| overflowed to inf
-    bad = np.flatnonzero(~(np.abs(z) <= MAX_DEPTH))  # (NaN too)
-    if bad.size:
-        raise InputError(f"depth at sample {bad[0]} is {float(z[bad[0]])!r} m; expected a finite depth within "
-                         f"+-{MAX_DEPTH:g} m")
+    # simulate's bounds and words (beyond them, k z, dz/dt and the drag's v|v| overflowed to inf)
+    check_depths(z)
+    check_times(t)
     return t, z
 
 

@@ -6,7 +6,8 @@ of them, and the baselines (:mod:`mudforce.model.baselines`). :mod:`mudforce.ste
 as the public :data:`~mudforce.steppers.simulation.MAX_DEPTH`, :data:`~mudforce.steppers.simulation.MIN_DT`,
 :data:`~mudforce.steppers.simulation.MAX_DT` and :data:`~mudforce.steppers.simulation.MAX_TIME`. Inside these
 bounds every output is finite (``tests/api/test_promise.py``). :func:`check_times` words the refusal of sample
-times, for ``simulate``, ``simulate_3d``, ``fit_3d`` and the baselines alike; :func:`bounded_depth` that of one
+times, for ``simulate``, ``simulate_3d``, ``fit_3d`` and the baselines alike, :func:`check_depths` that of a
+trajectory's depths, for ``simulate`` and the baselines; :func:`bounded_depth` that of one
 depth or height (a protocol's depths, a drop's height, a surface height), for every path that takes one.
 """
 
@@ -18,7 +19,8 @@ import numpy as np
 
 from mudforce.errors import InputError, finite_number
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "bounded_depth", "check_times"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "bounded_depth", "check_depths",
+           "check_times"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -61,6 +63,18 @@ def check_times(t: np.ndarray) -> None:
     # repr: a step just outside a bound must not print as the bound
     raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
                      f"[{MIN_DT:g}, {MAX_DT:g}] s")
+
+
+def check_depths(z: np.ndarray) -> None:
+    """Refuse a trajectory's depths [m] (float64, 1-D) that are not finite or beyond +-:data:`MAX_DEPTH`: one line
+    naming the first bad sample, for :func:`mudforce.simulate` and the baselines alike."""
+    bad = np.flatnonzero(~np.isfinite(z))
+    if bad.size:
+        raise InputError(f"depth is not finite at sample {bad[0]} ({float(z[bad[0]])!r}); expected numbers [m]")
+    bad = np.flatnonzero(np.abs(z) > MAX_DEPTH)
+    if bad.size:
+        raise InputError(f"depth at sample {bad[0]} ({float(z[bad[0]])!r} m) is beyond +-{MAX_DEPTH:g} m; "
+                         "expected depths [m] within that")
 
 
 def bounded_depth(value: Any, name: str, *, of: str = "") -> float:

@@ -13,6 +13,7 @@ from numba import njit
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, check_times, out_of_bounds
 from mudforce.errors import InputError, real_array
+from mudforce.model.bounds import check_depths
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import (
@@ -263,14 +264,7 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
     """Raise :class:`InputError` naming the first bad time or depth, or the first step out of bounds."""
     if _values_ok(t, z):
         return
-    # the depths first: a sample whose depth is bad says so even where the step before it is also refused
-    bad = np.flatnonzero(~np.isfinite(z))
-    if bad.size:
-        raise InputError(f"depth is not finite at sample {bad[0]} ({float(z[bad[0]])!r}); expected numbers [m]")
-    bad = np.flatnonzero(np.abs(z) > MAX_DEPTH)
-    if bad.size:
-        raise InputError(f"depth at sample {bad[0]} ({float(z[bad[0]])!r} m) is beyond +-{MAX_DEPTH:g} m; "
-                         "expected depths [m] within that")
+    check_depths(z)  # the depths first: a sample whose depth is bad says so even where the step before it is refused
     check_times(t)
 
 
