@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import re
 import subprocess
+import warnings
 from pathlib import Path
 
 import pytest
@@ -108,8 +109,8 @@ def test_the_number_of_jobs_changes_no_fit_and_no_figure_byte(tmp_path: Path) ->
     def report(pool: object, folder: Path) -> tuple[dict[object, object], dict[str, bytes]]:
         fits = run_fits(config, dataset, pool, quiet)
         specs = figure_specs(config, dataset, *sort_fits(fits))
-        keep = [spec for spec in specs if spec[0].startswith(("fig06", "fig07", "fig10"))]
-        assert len(keep) == 3, [spec[0] for spec in specs]
+        keep = [spec for spec in specs if spec[0].startswith(("fig02", "fig06", "fig07", "fig10"))]
+        assert len(keep) == 4, [spec[0] for spec in specs]
         folder.mkdir()
         write_figures(folder, keep, pool, quiet)
         return ({job: fit.to_dict() for job, fit in fits.items()},
@@ -120,7 +121,10 @@ def test_the_number_of_jobs_changes_no_fit_and_no_figure_byte(tmp_path: Path) ->
         in_two = report(pool, tmp_path / "two")
     finally:
         pool.shutdown()
-    assert report(None, tmp_path / "one") == in_two
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # one repeat: Fig. 2 draws no scatter band (it was numpy's NaN, warned of)
+        in_one = report(None, tmp_path / "one")
+    assert in_one == in_two
 
 
 def test_bad_seeds_and_unwritable_outs_are_one_line_exit_2(tmp_path: Path) -> None:

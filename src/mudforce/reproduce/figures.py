@@ -73,11 +73,13 @@ def _fig02(table: dict[float, ConditionFit], v: float) -> Any:
     s = _norm_time(trials[0].time)
     forces = np.array([t.force for t in trials])
     scale = float(np.max(np.abs(forces.mean(axis=0))))
-    mean, std = forces.mean(axis=0) / scale, forces.std(axis=0, ddof=1) / scale
+    mean = forces.mean(axis=0) / scale
+    # the repeats' scatter (none with one repeat: no band, rather than numpy's NaN and its warning)
+    std = forces.std(axis=0, ddof=1) / scale if len(trials) > 1 else np.zeros_like(mean)
     model = trials[0].fitted / scale
     zn = trials[0].depth / float(np.max(trials[0].depth))
     ax = axes[0, 0]
-    ax.fill_between(s, mean - std, mean + std, color="#85c1e9", lw=0, label="±1 sd")
+    ax.fill_between(s, mean - std, mean + std, color="#85c1e9", lw=0, label="±1 sd" if len(trials) > 1 else None)
     ax.plot(s, mean, color="#1b4f72", lw=1.2, label=f"mean of {len(trials)} trials")
     ax.plot(s, model, color="k", lw=0.8, ls="--", label="model (fitted)")
     ax.set_xlabel("normalised process time [-]")
