@@ -48,9 +48,9 @@ from enum import IntEnum
 from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
-from numba import njit
 
 from mudforce._plumbing import cache as _cache
+from mudforce._plumbing.jit import njit
 from mudforce.model.equations import array_form, relaxation_time
 from mudforce.model.law3d import root, select
 from mudforce.model.velocity import MAX_WINDOW

@@ -42,11 +42,12 @@ from typing import Any
 
 import numpy as np
 from llvmlite import ir
-from numba import njit, types
+from numba import types
 from numba.core import cgutils, config
 from numba.extending import intrinsic
 
 from mudforce._plumbing import cache as _cache
+from mudforce._plumbing.jit import njit
 
 _cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._plumbing.cache)
 

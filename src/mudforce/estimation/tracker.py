@@ -104,13 +104,13 @@ from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 import numpy as np
-from numba import njit
 
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_TIME, MIN_DT
 from mudforce._kernel.layout import N_RING, P_DEADBAND, P_WINDOW, R_HEAD, R_T, R_Z, RING, S_CACHE_DT, store_cache
 from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
+from mudforce._plumbing.jit import njit
 from mudforce.engines.dynamics.rest_band import rest_band
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number, true_or_false
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED

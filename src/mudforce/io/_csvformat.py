@@ -20,7 +20,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, uint32, uint64
+from numba import uint32, uint64
+
+from mudforce._plumbing.jit import njit
 
 __all__ = ["format_rows", "row_width"]
 

@@ -41,8 +41,8 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
 
+from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, finite_number, real_array
 from mudforce.model.bounds import check_depths, check_times
 from mudforce.model.equations import (

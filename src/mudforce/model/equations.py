@@ -65,9 +65,8 @@ import types
 from collections.abc import Callable
 from typing import Any, TypeVar
 
-from numba import njit
-
 from mudforce._plumbing import cache as _cache
+from mudforce._plumbing.jit import njit
 from mudforce._plumbing.pow import power
 
 _cache.install()  # numba's cache keyed on the shared sources' content (see mudforce._plumbing.cache)

@@ -98,9 +98,8 @@ from collections.abc import Callable
 from typing import Any, TypeVar
 
 import numpy as np
-from numba import njit
-from numba.extending import overload
 
+from mudforce._plumbing.jit import njit, overload
 from mudforce.errors import InputError, is_real, real_array
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, rft3d_alpha

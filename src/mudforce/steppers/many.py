@@ -33,6 +33,7 @@ from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce._plumbing.deprecation import warn_renamed
+from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, positive_int, real_array, real_number
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import PARAMETER_NAMES, MudParameters
@@ -90,7 +91,7 @@ def _resolve_threads(threads: int | None, n: int) -> int:
     """Number of slices to step ``n`` feet in: ``threads`` if given, else automatic (see the module docstring)."""
     if threads is not None:
         return min(positive_int(threads, "threads", " or None (automatic)"), n)
-    auto = min(numba.get_num_threads(), n // FEET_PER_THREAD)
+    auto = min(int(numba.get_num_threads()), n // FEET_PER_THREAD)
     if auto <= 1 or _forked or not _fast_threading_layer():
         return 1
     return auto
@@ -151,7 +152,7 @@ def _param_rows(
     return rows
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy")
 def _depths_ok(z: np.ndarray) -> bool:
     """True if every depth is finite and within +-MAX_DEPTH [m] (one pass over the feet).
 

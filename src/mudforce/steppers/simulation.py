@@ -8,10 +8,10 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numba import njit
 
 from mudforce import _kernel as K
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, check_times, out_of_bounds
+from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, real_array
 from mudforce.model.bounds import check_depths
 from mudforce.model.foot import Foot

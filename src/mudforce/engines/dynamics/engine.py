@@ -25,10 +25,10 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
 
 from mudforce._kernel import ContactMode, params_from_row, params_row
 from mudforce._plumbing.deprecation import warn_renamed
+from mudforce._plumbing.jit import njit
 from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase

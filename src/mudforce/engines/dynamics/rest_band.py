@@ -22,10 +22,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from mudforce._kernel import ContactMode, load_cache, load_state, params_from_row
 from mudforce._kernel.layout import FREE, N_PARAMS, N_STATE, S_DEPTH, S_MODE, S_STARTED, S_VELOCITY
+from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError
 from mudforce.model.equations import (
     maxwell_strain_step,

@@ -43,9 +43,9 @@ import math
 import warnings
 
 import numpy as np
-from numba import njit
 from scipy.special import log_ndtr
 
+from mudforce._plumbing.jit import njit
 from mudforce.model.velocity import NOISE_FLOOR_M
 
 __all__ = [

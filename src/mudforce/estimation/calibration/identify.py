@@ -80,7 +80,6 @@ from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
-from numba import njit
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq, least_squares, minimize_scalar
 from scipy.stats import chi2
@@ -88,6 +87,7 @@ from scipy.stats import t as student_t
 
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
+from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_integer, is_real
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
