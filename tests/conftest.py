@@ -29,7 +29,7 @@ if os.environ.get("CI"):
 #: Seconds each of the slowest modules takes on one of two cores (measured 2026-11-25 from a clean clone; a module
 #: not listed counts 0.02 s a test). Only their order matters: see :func:`pytest_collection_modifyitems`.
 SLOW_MODULES: dict[str, float] = {
-    "api/test_typing.py": 25,  # mypy, cold on a clean clone
+    "api/test_typing.py": 16,  # mypy, cold on a clean clone (measured 2026-11-29, eighth session)
     "reproduce/test_reproduce.py": 39,
     "steppers/test_properties.py": 15,
     "engines/test_mjx_drop.py": 5,
