@@ -171,3 +171,20 @@ def test_bad_records_are_refused(time: np.ndarray, depth: np.ndarray, match: str
         estimate_depth_noise(time, depth)
 
 
+
+
+@pytest.mark.parametrize(("scale", "words"), [
+    (1e-200, "the time step before sample 1 is 1e-203 s; expected steps within [1e-09, 1000] s"),  # overflowed
+    (-1.0, "time goes backwards at sample 1"),
+    (1e7, "the time step before sample 1 is 10000.0 s; expected steps within"),
+])
+def test_times_are_refused_as_simulate_refuses_them(scale: float, words: str) -> None:
+    """The noise analysis refuses sample times with simulate's words (model.bounds.check_times): a step of 1e-200 s
+    overflowed its differences into NaN, with numpy's warnings and an answer (2026-11-29)."""
+    t = np.arange(200) * 1e-3 * scale
+    z = 0.01 * np.sin(np.arange(200) / 20.0)
+    with pytest.raises(InputError) as info:
+        analyse_depth_noise(t, z)
+    assert words in str(info.value) and "\n" not in str(info.value)
+    with pytest.raises(InputError, match="depth is not finite at sample 3"):
+        analyse_depth_noise(np.arange(200) * 1e-3, np.where(np.arange(200) == 3, np.nan, z))

@@ -120,7 +120,8 @@ def test_bad_recordings_are_refused_in_one_line_and_the_input_is_left_as_it_was(
     kept = f.copy()
     for args, words in (
         ((t, z, f, SensorChain(rate=5000.0), 0), "finer than the clean recording's 1000 Hz"),
-        ((t[::-1], z, f, SensorChain(), 0), "time must be strictly increasing"),
+        ((t[::-1], z, f, SensorChain(), 0), "expected strictly increasing time"),  # simulate's words
+        ((t * 1e-200, z, f, SensorChain(), 0), "the time step before sample 1 is 1e-203 s; expected steps within"),
         ((t, z[:-1], f, SensorChain(), 0), "of one length"),
         ((t, z, np.where(t > 1, np.nan, f), SensorChain(), 0), "force must be finite [N]; sample 1001"),
         ((t, z, f, {"rate": 50.0}, 0), "chain must be a SensorChain"),
@@ -140,7 +141,7 @@ def test_a_recording_of_text_booleans_or_huge_values_is_refused_not_read_or_over
         (([0.0, 1.0], [True, False], [1.0, 2.0]), "depth must be an array of real numbers"),
         (([0.0, 1.0], [0.0, 0.0], [1e308, 1e308]), "force must be within +-1e+07 N; sample 0"),
         (([0.0, 1.0], [0.0, 1e300], [1.0, 2.0]), "depth must be within +-100 m; sample 1"),
-        (([0.0, 1e300], [0.0, 0.0], [1.0, 2.0]), "time must be within +-1e+09 s; sample 1"),
+        (([0.0, 1e300], [0.0, 0.0], [1.0, 2.0]), "time at sample 1 (1e+300 s) is beyond +-1e+09 s"),
     ):
         with pytest.raises(InputError) as info:
             apply(*args, SensorChain(force_gain=2.0), 0)

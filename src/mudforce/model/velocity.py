@@ -48,6 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mudforce.errors import InputError, is_real, real_array
+from mudforce.model.bounds import check_times
 
 #: The longest smoothing window [steps] (the compiled steppers keep ``MAX_WINDOW + 1`` samples of depth).
 MAX_WINDOW = 64
@@ -209,14 +210,10 @@ def _check_record(time: np.ndarray, depth: np.ndarray) -> tuple[np.ndarray, np.n
     z = real_array(depth, "depth", "m")
     if t.ndim != 1 or z.ndim != 1 or t.size != z.size:
         raise InputError(f"time and depth must be 1-D arrays of one length, got shapes {t.shape} and {z.shape}")
-    finite = np.isfinite(t) & np.isfinite(z)
-    if not finite.all():
-        k = int(np.flatnonzero(~finite)[0])
-        raise InputError(f"time and depth must be finite, got {float(t[k])!r} s and {float(z[k])!r} m at sample {k}")
-    if t.size > 1 and not (np.diff(t) > 0.0).all():
-        k = int(np.flatnonzero(~(np.diff(t) > 0.0))[0]) + 1
-        raise InputError(f"time must be strictly increasing, got {float(t[k - 1])!r} s then {float(t[k])!r} s at "
-                         f"sample {k}")
+    check_times(t)  # simulate's refusal and words: finite, within +-MAX_TIME, steps within [MIN_DT, MAX_DT]
+    if not np.isfinite(z).all():
+        k = int(np.flatnonzero(~np.isfinite(z))[0])
+        raise InputError(f"depth is not finite at sample {k} ({float(z[k])!r}); expected numbers [m]")
     return t, z
 
 

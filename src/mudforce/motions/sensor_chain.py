@@ -54,7 +54,7 @@ import numpy as np
 
 from mudforce.errors import InputError, number_within, real_array, seed_int
 from mudforce.io.tables import COLUMN_LIMITS
-from mudforce.model.bounds import MAX_DEPTH, MAX_TIME
+from mudforce.model.bounds import MAX_DEPTH, check_times
 
 __all__ = ["LIMITS", "SensorChain", "apply", "drift_path"]
 
@@ -178,8 +178,8 @@ def _check_recording(time: Any, depth: Any, force: Any) -> tuple[np.ndarray, np.
     if t.ndim != 1 or t.shape != z.shape or t.shape != f.shape or t.size < 2:
         raise InputError(f"time, depth and force must be 1-D of one length >= 2, got shapes {t.shape}, {z.shape}, "
                          f"{f.shape}")
-    for name, a, unit, bound in (("time", t, "s", MAX_TIME), ("depth", z, "m", MAX_DEPTH),
-                                 ("force", f, "N", COLUMN_LIMITS["force"])):
+    check_times(t)  # simulate's refusal and words: finite, within +-MAX_TIME, steps within [MIN_DT, MAX_DT]
+    for name, a, unit, bound in (("depth", z, "m", MAX_DEPTH), ("force", f, "N", COLUMN_LIMITS["force"])):
         if not np.all(np.isfinite(a)):
             bad = int(np.argmin(np.isfinite(a)))
             raise InputError(f"{name} must be finite [{unit}]; sample {bad} is {float(a[bad])!r}")
@@ -187,8 +187,6 @@ def _check_recording(time: Any, depth: Any, force: Any) -> tuple[np.ndarray, np.
         if beyond.size:
             raise InputError(f"{name} must be within +-{bound:g} {unit}; sample {int(beyond[0])} is "
                              f"{float(a[beyond[0]])!r}")
-    if not np.all(np.diff(t) > 0.0):
-        raise InputError(f"time must be strictly increasing [s]; sample {int(np.argmin(np.diff(t) > 0.0)) + 1} is not")
     return t, z, f
 
 
