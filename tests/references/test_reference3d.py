@@ -372,3 +372,36 @@ def test_the_yield_dominated_sideways_factors() -> None:
         res = simulate_3d(t, pos, np.tile(quat, (t.size, 1)), weak, shape)
         n_factor = (-res.force[-1, 0] - weak.sigma_y * ends) / (weak.sigma_y * ref_area)
         assert n_factor == pytest.approx(factor, rel=0.01)
+
+
+# ------------------------------------------------------------------ inputs
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    ({"surface_height": math.nan}, "surface_height must be finite"),
+    ({"surface_height": "0.01"}, "surface_height must be a number"),
+    ({"surface_height": True}, "surface_height must be a number"),
+    ({"surface_height": 1e3}, "surface_height must be within +-100 m"),
+    ({"width": "0.05"}, "width must be a number"),
+    ({"width": True}, "width must be a number"),
+    ({"lateral_stiffness": "1e5"}, "lateral_stiffness must be within"),
+    ({"lateral_stiffness": -1e5}, "lateral_stiffness must be within"),
+    ({"lateral_stiffness": math.nan}, "lateral_stiffness must be within"),
+])
+def test_the_reference_refuses_scalar_arguments_as_simulate_3d_does(kwargs: dict[str, object], match: str) -> None:
+    # a NaN surface height gave zero forces, a string was parsed, True was 1 m, a negative stiffness was taken
+    sphere = shapes.sphere(0.04, resolution=0.03)
+    t = np.linspace(0.0, 0.04, 5)
+    pos = np.column_stack([np.zeros(5), np.zeros(5), np.linspace(0.02, -0.01, 5)])
+    quat = np.tile(UPRIGHT, (5, 1))
+    with pytest.raises(mf.InputError, match=match.replace("+", r"\+")) as err:
+        reference_simulate_3d(t, pos, quat, PARAMS, sphere, **kwargs)  # type: ignore[arg-type]
+    assert "\n" not in str(err.value)
+
+
+def test_the_reference_refuses_a_mud_or_shape_of_another_type() -> None:
+    sphere = shapes.sphere(0.04, resolution=0.03)
+    t, pos, quat = [0.0, 0.01], [[0.0, 0.0, 0.0]] * 2, [UPRIGHT] * 2
+    with pytest.raises(mf.InputError, match="params must be a MudParameters, got NoneType"):
+        reference_simulate_3d(t, pos, quat, None, sphere)  # type: ignore[arg-type]
+    with pytest.raises(mf.InputError, match=r"shape must be a mudforce\.model\.shapes\.Shape, got NoneType"):
+        reference_simulate_3d(t, pos, quat, PARAMS, None)  # type: ignore[arg-type]

@@ -81,8 +81,10 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 from mudforce.errors import InputError, real_array
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, RFT3D_C3, rft3d_alpha, rft3d_alpha_unchecked
+from mudforce.model.law3d import check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.references.trajectory import reference_simulate
@@ -434,6 +436,10 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
     -------
     Reference3DResult
     """
+    if not isinstance(params, MudParameters):
+        raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
+    if not isinstance(shape, Shape):
+        raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
     t = real_array(time, "time", "s")
     x = real_array(positions, "positions", "m")
     q = real_array(quaternions, "quaternions", "-")
@@ -447,19 +453,20 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
         raise InputError("time must be strictly increasing [s]")
     if not np.all(np.abs(np.sqrt(np.sum(q * q, axis=1)) - 1.0) <= 1e-6):
         raise InputError("quaternions must have norm 1 (within 1e-6)")
-    h_width = shape.width if width is None else float(width)
-    if h_width is None:
+    h = bounded_depth(surface_height, "surface_height")  # MudContact3D's checks, in its words
+    given = shape.width if width is None else width
+    if given is None:
         raise InputError("this shape has no width H for Eq. (4); give width= [m]")
-    k = params.k_m_w if lateral_stiffness is None else float(lateral_stiffness)
+    element = Foot(area=1.0, width=given, shape="element")  # checks H
+    h_width = element.width
+    k = check_lateral_stiffness(params.k_m_w if lateral_stiffness is None else lateral_stiffness)
     law = _Law(params, h_width, k)
-    h = float(surface_height)
     n = shape.n
     areas = np.asarray(shape.areas, dtype=np.float64)
 
     offsets, centroids, normals, depth = place(shape, x, q, h)
 
     # --- vertical: the 1-D oracle on each element's depth history (identical histories solved once)
-    element = Foot(area=1.0, width=h_width, shape="element")
     stress = np.zeros((m, n))
     solved: dict[bytes, Float] = {}
     for i in range(n):
