@@ -114,3 +114,19 @@ def test_fit_3d_searches_only_values_the_model_takes() -> None:
             warnings.simplefilter("ignore", RuntimeWarning)  # the data hardly determine it: not the point here
             fit = fit_3d(t, pos, quat, forces, SHAPE, **args)  # type: ignore[arg-type]
         assert all(0.0 < v <= 1e12 for v in fit.values.values())
+
+
+def test_fit_3d_names_the_sample_of_a_pose_the_model_refuses() -> None:
+    """A pose beyond the model's bounds was refused from inside the fit in MudContacts3D's words, "foot 0: ...; no
+    foot was stepped" (foot 0: a point of the Jacobian's differences), without the sample; now in simulate_3d's."""
+    t, pos, quat = _motion()
+    t, pos, quat = t[:12], pos[:12].copy(), quat[:12]
+    forces = simulate_3d(t, pos, quat, MUD, SHAPE).force
+    far, deep = pos.copy(), pos.copy()
+    far[5, 0] = 2e4
+    deep[7, 2] = -500.0
+    for moved, match in ((far, r"^sample 5 \(t = 0\.01 s\): position x and y must be within \+-10000 m"),
+                         (deep, r"^sample 7 \(t = 0\.014 s\): element \d+ would be at depth")):
+        with pytest.raises(InputError, match=match) as info:
+            fit_3d(t, moved, quat, forces, SHAPE, MUD)
+        assert "foot 0" not in str(info.value) and "\n" not in str(info.value)

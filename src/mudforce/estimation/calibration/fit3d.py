@@ -42,7 +42,7 @@ from mudforce.model import law3d
 from mudforce.model.law3d import MAX_LATERAL_STIFFNESS, check_lateral_stiffness
 from mudforce.model.parameters import PARAMETER_RANGES, MudParameters
 from mudforce.model.shapes import Shape
-from mudforce.steppers.contact3d import MudContacts3D
+from mudforce.steppers.contact3d import MudContacts3D, simulate_3d
 
 __all__ = ["FIT3D_PARAMETERS", "Fit3D", "fit_3d"]
 
@@ -194,6 +194,10 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
         width = finite_number(width, "width", "m", positive=True)
     # MudContact3D's check
     k0 = check_lateral_stiffness(params0.k_m_w if lateral_stiffness is None else lateral_stiffness)
+    # the poses through simulate_3d once: a pose the model refuses (beyond its depths or horizontal bounds, at any
+    # value of the parameters) in its words, with the sample, not from inside the search as a point of the
+    # Jacobian ("foot 0: ...")
+    simulate_3d(t, x, q, params0, shape, surface_height=surface_height, width=width, lateral_stiffness=k0)
     start = {n: float(k0) if n == "lateral_stiffness" else float(getattr(params0, n)) for n in names}
     if any(v <= 0.0 for v in start.values()):
         bad = next(n for n, v in start.items() if v <= 0.0)
