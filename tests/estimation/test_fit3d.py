@@ -94,6 +94,8 @@ def test_fit_3d_refuses_bad_input_in_one_line(data: tuple[np.ndarray, np.ndarray
         ({"surface_height": [0.0, 0.0, 0.01]}, "surface_height must be a number"),
         ({"width": [0.04, 0.04, 0.05]}, "width must be a number"),
         ({"width": True}, "width must be a number"),  # was in MudContacts3D's words, "widths ..."
+        ({"time": 0.0}, r"time must have shape \(m,\) \[s\], got \(\)$"),  # was "must have shape (-1,)"
+        ({"time": t[None]}, r"time must have shape \(m,\) \[s\], got \(1, 200\)$"),
     ):
         args = {"time": t, "positions": pos, "quaternions": quat, "forces": forces, "shape": SHAPE, "params0": MUD,
                 **kwargs}

@@ -165,7 +165,9 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
         raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
     names = _free(free)
     t = real_array(time, "time", "s")
-    t = _array(t, "time", (t.shape[0] if t.ndim == 1 else -1,), "s")
+    if t.ndim != 1:
+        raise InputError(f"time must have shape (m,) [s], got {t.shape}")
+    t = _array(t, "time", t.shape, "s")
     m = t.shape[0]
     if m < 2 * len(names) + 2:
         raise InputError(f"fit_3d needs at least {2 * len(names) + 2} samples to fit {len(names)} parameter(s), "
