@@ -359,3 +359,26 @@ def test_more_bad_input_is_one_line(call: Any, words: str) -> None:
         with pytest.raises(InputError) as error:
             call()
     assert words in str(error.value) and "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize("law", ["rft3d", "li2013"])
+def test_a_tiny_velocity_has_its_direction(law: str) -> None:
+    """RFT depends on the direction of motion only; below about 1e-154 m/s |v|^2 underflowed, and a moving element
+    got the zero stress of one at rest (rft3d_angles refused its velocity as zero), or a direction rounded off."""
+    _, normals, _, velocities = _random_elements(40, seed=3)
+    for power in (-560, -600, -1000):  # about 1e-170 to 1e-302 m/s
+        tiny = np.ldexp(velocities, power)  # the same directions, exactly
+        assert np.all(np.abs(tiny).max(axis=1) > 0.0)
+        np.testing.assert_array_equal(G.rft_element_alpha(normals, tiny, law=law),
+                                      G.rft_element_alpha(normals, velocities, law=law))
+        if law == "rft3d":
+            np.testing.assert_array_equal(G.rft3d_alpha(normals, tiny), G.rft3d_alpha(normals, velocities))
+            for got, want in zip(G.rft3d_angles(normals, tiny), G.rft3d_angles(normals, velocities), strict=True):
+                np.testing.assert_array_equal(got, want)
+    subnormal = np.ldexp([[3.0, 0.0, -4.0], [0.0, 0.0, -1.0]], -1074)  # 1.5e-323 ... m/s
+    np.testing.assert_array_equal(G.rft_element_alpha([DOWN] * 2, subnormal, law=law),
+                                  G.rft_element_alpha([DOWN] * 2, [[3.0, 0.0, -4.0], [0.0, 0.0, -1.0]], law=law))
+    forces = G.rft_element_forces([[0.0, 0.0, -0.01]], [DOWN], [1e-4], [[0.0, 0.0, -1e-170]], scale=1e5,
+                                  law=law, inertial_drag=1e3)
+    assert forces[0, 2] == pytest.approx(G.rft_element_forces([[0.0, 0.0, -0.01]], [DOWN], [1e-4], [[0.0, 0.0, -1.0]],
+                                                              scale=1e5, law=law)[0, 2], rel=1e-15)

@@ -163,6 +163,7 @@ _GRAVITY = 9.81  # standard gravity [m/s^2], as mudforce.engines.dynamics.GRAVIT
 _TINY = 1e-12  # length below which a unit vector's horizontal part counts as zero [-]
 _NORMAL_TOLERANCE = 1e-6  # accepted deviation of |n| from 1 [-]
 _MAX_VELOCITY = 1e150  # largest |velocity component| accepted [m/s]: |v|^2 stays finite (the direction's scale)
+_SMALL_VELOCITY = 1e-100  # a velocity whose components are all below it [m/s] is scaled up for its direction
 
 
 class LiCoefficients(NamedTuple):
@@ -311,7 +312,7 @@ def rft3d_angles(normals: Any, velocities: Any) -> tuple[np.ndarray, np.ndarray,
         Element velocities [m/s], not zero.
     """
     n = _unit_normals(normals)
-    v = _velocities(velocities, len(n))
+    v = _direction_scale(_velocities(velocities, len(n)))
     speed = np.linalg.norm(v, axis=1)
     if np.any(speed == 0.0):
         raise InputError("velocities [m/s] must be non-zero for the 3D-RFT angles (their direction is needed)")
@@ -363,7 +364,7 @@ def rft3d_alpha(normals: Any, velocities: Any,
     """
     if xp is np:
         n = _unit_normals(normals)
-        v = _velocities(velocities, len(n))
+        v = _direction_scale(_velocities(velocities, len(n)))
         c1, c2, c3 = _rft3d_coefficients(coefficients)
     elif getattr(xp, "__name__", None) != "jax.numpy":
         raise InputError(f"xp must be numpy or jax.numpy, got {getattr(xp, '__name__', type(xp).__name__)!r}")
@@ -436,7 +437,7 @@ def rft_element_alpha(normals: Any, velocities: Any, *, law: str = "rft3d", surf
         ``alpha`` [-], zero on trailing elements (``n . v < 0``) and elements at rest.
     """
     n = _unit_normals(normals)
-    v = _velocities(velocities, len(n))
+    v = _direction_scale(_velocities(velocities, len(n)))
     mu = _friction(surface_friction)
     return _element_alpha(n, v, _law(law), mu, _li_coefficients(li_coefficients, "li_coefficients"))
 
@@ -517,7 +518,7 @@ def rft_element_forces(centroids: Any, normals: Any, areas: Any, velocities: Any
     li = _li_coefficients(li_coefficients, "li_coefficients")
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
         depth = np.maximum(height - c[:, 2], 0.0)
-        alpha = _element_alpha(n, v, kind, mu, li)
+        alpha = _element_alpha(n, _direction_scale(v), kind, mu, li)
         forces: np.ndarray = (k * depth * a)[:, None] * alpha
         if drag > 0.0:
             vn = np.einsum("ij,ij->i", n, v)
@@ -623,6 +624,20 @@ def _velocities(value: Any, count: int) -> np.ndarray:
         raise InputError(f"velocities [m/s] must be within +-{_MAX_VELOCITY:g} (their squares finite), got "
                          f"{float(np.abs(v).max())!r}")
     return v
+
+
+def _direction_scale(v: np.ndarray) -> np.ndarray:
+    """``v`` (n, 3) [m/s] with each row whose components are all below :data:`_SMALL_VELOCITY` (and not all 0)
+    multiplied by the power of two that brings it near 1 [-]: exactly the same direction, which is all the laws take
+    from it, without the underflow of ``|v|^2`` (below about 1e-154 m/s an element in motion got the stress of one
+    at rest, a little above it a direction rounded off). Other rows, and ``v`` if there are none, are as given."""
+    largest = np.abs(v).max(axis=1, initial=0.0)
+    small = (largest > 0.0) & (largest < _SMALL_VELOCITY)
+    if not small.any():
+        return v
+    scaled: np.ndarray = v.copy()
+    scaled[small] = np.ldexp(v[small], -np.frexp(largest[small])[1][:, None])
+    return scaled
 
 
 def _refuse_overflow(values: np.ndarray, what: str, product: str) -> None:
