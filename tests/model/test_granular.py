@@ -349,6 +349,14 @@ def test_bad_angles_and_scales() -> None:
     (lambda: G.rft_element_forces([[0.0, 0.0, -1e308]], [DOWN], [1.0], [[0.0, 0.0, -1.0]], 1e308, scale=1e5),
      "forces [N] overflow"),
     (lambda: G.rft_wrench([[1e200, 0.0, 0.0]], [[0.0, 1e200, 0.0]]), "torque [N m] overflow"),
+    # finite inputs whose sums and cubes overflowed: inf and NaN stresses returned, with numpy's warnings
+    (lambda: G.rft_alpha(0.0, PI / 2, G.LiCoefficients(*[1e308] * 9)),
+     "stresses per depth (alpha_x, alpha_z) overflow"),
+    (lambda: G.rft3d_basis(1e200, 0.0, 0.0), "basis monomials overflow"),
+    (lambda: G.rft3d_alpha([DOWN], [DOWN], coefficients=(np.full(20, 1e308),) * 3),
+     "stresses per depth alpha overflow"),
+    (lambda: G.rft_element_alpha([DOWN], [DOWN], law="li2013", li_coefficients=G.LiCoefficients(*[1e308] * 9)),
+     "stresses per depth alpha overflow"),
     # mu ** 3 raised OverflowError; rho_c 1e300 gave inf
     (lambda: G.medium_scale(1000.0, 1e300), "medium_scale overflows"),
     (lambda: G.medium_scale(1e308, 10.0), "medium_scale overflows"),

@@ -251,7 +251,10 @@ def rft_alpha(beta: Any, gamma: Any, coefficients: LiCoefficients = LI2013_GENER
     back = np.abs(g) > 0.5 * math.pi
     g = np.where(back, np.copysign(math.pi, g) - g, g)
     b = np.where(back, -b, b)
-    return _li(b, g, coefficients, np.where(back, -1.0, 1.0))
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
+        alpha_x, alpha_z = _li(b, g, coefficients, np.where(back, -1.0, 1.0))
+    _refuse_overflow(np.stack([alpha_x, alpha_z]), "stresses per depth (alpha_x, alpha_z)", "the coefficients' sums")
+    return alpha_x, alpha_z
 
 
 def _li(b: np.ndarray, g: np.ndarray, c: LiCoefficients, sign: np.ndarray | float = 1.0
@@ -281,7 +284,9 @@ def rft3d_basis(x1: Any, x2: Any, x3: Any) -> np.ndarray:
         a, b, c = np.broadcast_arrays(*arrays)
     except ValueError:
         raise InputError(f"x1, x2 and x3 must broadcast together, got shapes {[x.shape for x in arrays]}") from None
-    out: np.ndarray = _basis(a, b, c, np)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
+        out: np.ndarray = _basis(a, b, c, np)
+    _refuse_overflow(out, "basis monomials", "x1, x2 or x3 cubed")
     return out
 
 
@@ -372,7 +377,11 @@ def rft3d_alpha(normals: Any, velocities: Any,
         n = normals / _norm(normals, xp)[:, None]
         v = velocities
         c1, c2, c3 = (xp.asarray(c) for c in coefficients)
-    return rft3d_alpha_unchecked(n, v, c1, c2, c3, xp)
+        return rft3d_alpha_unchecked(n, v, c1, c2, c3, xp)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
+        alpha = rft3d_alpha_unchecked(n, v, c1, c2, c3, xp)
+    _refuse_overflow(alpha, "stresses per depth alpha", "the coefficients times the basis")
+    return alpha
 
 
 def _norm(x: Any, xp: Any = np) -> Any:
@@ -439,7 +448,11 @@ def rft_element_alpha(normals: Any, velocities: Any, *, law: str = "rft3d", surf
     n = _unit_normals(normals)
     v = _direction_scale(_velocities(velocities, len(n)))
     mu = _friction(surface_friction)
-    return _element_alpha(n, v, _law(law), mu, _li_coefficients(li_coefficients, "li_coefficients"))
+    kind, li = _law(law), _li_coefficients(li_coefficients, "li_coefficients")
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
+        alpha = _element_alpha(n, v, kind, mu, li)
+    _refuse_overflow(alpha, "stresses per depth alpha", "the coefficients' sums")
+    return alpha
 
 
 def _element_alpha(n: np.ndarray, v: np.ndarray, law: str, mu: float, li: LiCoefficients) -> np.ndarray:
