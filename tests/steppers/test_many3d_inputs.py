@@ -310,3 +310,21 @@ def test_a_nested_list_of_feet_is_refused_in_one_line() -> None:
     assert _same(feet.state, before)
     feet.reset([1])
     assert feet.state.started.tolist() == [True, False]
+
+
+@pytest.mark.parametrize(("kwargs", "words"), [
+    ({"surface_heights": {0: 0.0, 1: 0.1}}, "surface_heights must be a number [m] or a sequence of them, one per "
+                                             "foot, got dict"),  # its keys were the heights, 0 and 1 m
+    ({"surface_heights": {0.0, 0.1}}, "surface_heights must be a number [m] or a sequence of them, one per foot, "
+                                      "got set"),  # in the set's order, not the caller's
+    ({"widths": {0.03: "a", 0.04: "b"}}, "widths must be a number [m] or a sequence of them, one per foot, got dict"),
+    ({"lateral_stiffness": frozenset({1e5, 2e5})}, "lateral_stiffness must be a number [Pa/m] or a sequence of "
+                                                   "them, one per foot, got frozenset"),
+    ({"params": {"mud": mf.MudParameters.from_water_content(0.25)}},
+     "params must be a MudParameters or a sequence of them, one per foot, got dict"),
+])
+def test_per_foot_values_in_a_mapping_or_a_set_are_refused(kwargs: dict[str, object], words: str) -> None:
+    args: dict[str, object] = {"params": mf.MudParameters.from_water_content(0.25), "shapes": SHAPE, "n": 2, **kwargs}
+    with pytest.raises(InputError) as info:
+        MudContacts3D(**args)  # type: ignore[arg-type]
+    assert str(info.value) == words

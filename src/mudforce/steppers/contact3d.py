@@ -32,7 +32,8 @@ docs/model.md, "Mud in 3-D".
 from __future__ import annotations
 
 import sys
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
@@ -546,7 +547,7 @@ def _per_foot(value: Any, m: int | None, name: str, kind: type | tuple[type, ...
     """
     if isinstance(value, kind) or value is None or is_real(value):
         return None
-    if isinstance(value, (str, bytes)):
+    if isinstance(value, (str, bytes, Mapping, AbstractSet)):  # a mapping's keys, a set's order: not one per foot
         raise InputError(f"{name} must be {expected} or a sequence of them, one per foot, got {type(value).__name__}")
     try:
         items = list(value)
