@@ -199,3 +199,19 @@ def test_add_mud_refuses_a_dtype_that_is_not_float_and_init_another_type_of_mud(
     with pytest.raises(InputError, match="mud must be a Mud3D"):
         mud3d.init(None)  # type: ignore[arg-type]
     assert mud3d.add_mud(model, ["toe"], MudPatch(MUD), dtype=np.float32).areas.dtype == np.float32
+
+
+def test_add_mud_bounds_a_patch_s_surface_height_as_the_cpu_adapter_does() -> None:
+    """A patch's surface 1 km up was taken (MudAdapter3D refuses it: beyond +-100 m the law's depths mean nothing
+    and are refused on the CPU), and 1e300 m became inf in float32 with numpy's overflow warning."""
+    import mudforce.engines.mjx3d as mud3d
+
+    model = mujoco.MjModel.from_xml_string(PLANE)
+    for height in (1e3, -1e3, 1e300):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            with pytest.raises(InputError, match=r"^surface_height must be within \+-100 m, got ") as err:
+                mud3d.add_mud(model, ["toe"], [MudPatch(MUD, extent=(-0.5, 0.5, -0.5, 0.5)),
+                                                MudPatch(MUD, surface_height=height)], dtype=np.float32)
+        assert "\n" not in str(err.value)
+    assert float(mud3d.add_mud(model, ["toe"], MudPatch(MUD, surface_height=-100.0)).surface_height[0]) == -100.0

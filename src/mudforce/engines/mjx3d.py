@@ -112,6 +112,7 @@ from mudforce.engines.mujoco.adapter3d import (
 )
 from mudforce.errors import InputError, is_integer
 from mudforce.model import law3d
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape, from_mujoco_geom
@@ -245,6 +246,7 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
     if not names or not all(isinstance(f, str) for f in names) or len(set(names)) != len(names):
         raise InputError(f"feet must be a name or a non-empty sequence of distinct names (str), got {feet!r}")
     plist = _patch_list(patches)
+    heights = [bounded_depth(p.surface_height, "surface_height") for p in plist]  # MudAdapter3D's bound and words
     gids = [foot_geom(model, name) for name in names]
     if shapes is None:
         slist = [from_mujoco_geom(model, g, resolution=resolution) for g in gids]
@@ -285,7 +287,7 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
         areas=jnp.asarray(areas, dtype=ftype), widths=jnp.asarray(widths, dtype=ftype), elements=elements,
         lateral_stiffness=jnp.stack([jnp.broadcast_to(jnp.asarray(p.params.k_m_w, dtype=ftype), (len(gids),))
                                      for p in plist]),
-        surface_height=jnp.asarray([p.surface_height for p in plist], dtype=ftype),
+        surface_height=jnp.asarray(heights, dtype=ftype),
         extents=jnp.asarray(extents, dtype=ftype))
 
 
