@@ -225,3 +225,13 @@ def test_a_drop_s_window_must_be_a_positive_number_of_seconds() -> None:
             with pytest.raises(InputError, match=r"last must be"):
                 method(last)  # type: ignore[arg-type]
     assert res.speed(0.5) >= 0.0 and res.force_std(0.5) >= 0.0
+
+
+def test_a_drop_ends_within_its_duration_as_the_1d_drops_do() -> None:
+    """simulate_drop_3d took round(duration / dt) steps, at least one: 2.6 ms at 1 ms steps ran 3 ms, 3.5 ms ran 4 ms
+    (2.5 ms ran 2: Python rounds halves to even), 0.5 ms ran 1 ms, past the duration asked for; now, as the 1-D
+    engines' floor(duration / dt) + 1 samples, the last sample is the last step within it."""
+    for duration, rows in ((0.0026, 3), (0.0035, 4), (0.0025, 3), (0.003, 4), (0.0005, 1)):
+        res = simulate_drop_3d(2.0, MUD, "sphere", (0.04,), duration=duration, dt=1e-3)
+        assert res.time.shape == (rows,) and res.position.shape == (rows, 3) and res.force.shape == (rows, 3)
+        assert res.time[-1] <= duration

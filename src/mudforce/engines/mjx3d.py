@@ -521,14 +521,13 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
     mjx = _mjx()
     if not isinstance(params, MudParameters):
         raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
-    duration, vx = check_drop_motion(duration, vx, dt)
+    duration, vx, steps = check_drop_motion(duration, vx, dt)
     spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
     model = compile_drop(spec)
     mud = add_mud(model, ["foot"], MudPatch(params), resolution=resolution)
     m = mjx.put_model(model)
     d0 = mjx.make_data(m)
     d0 = d0.replace(qvel=d0.qvel.at[0].set(vx))
-    steps = max(1, round(duration / float(dt)))
 
     def body(carry: tuple[Any, MudState3D], _: Any) -> tuple[tuple[Any, MudState3D], tuple[Array, ...]]:
         d, s = carry

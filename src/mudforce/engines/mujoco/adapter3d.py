@@ -685,8 +685,9 @@ def compile_drop(spec: Any) -> Any:
                          "e.g. 2 kg and 40 mm") from None
 
 
-def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float]:
-    """A drop's ``duration`` [s] and ``vx`` [m/s] as floats, else InputError: ``duration / dt`` at most
+def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float, int]:
+    """A drop's ``duration`` [s], ``vx`` [m/s] and number of steps (``floor(duration / dt)``, the 1-D drops' samples
+    less one: the last step within the duration), else InputError: ``duration / dt`` at most
     :data:`~mudforce.engines._checks.MAX_SAMPLES` steps (1e300 s asked numpy for an array too large to make), and
     ``|vx|`` within a recording's velocity bound (1e3 m/s: 1e300 m/s made MuJoCo's state unstable, which it reset
     with a warning, and the drop was returned as if the foot had not moved sideways)."""
@@ -698,8 +699,8 @@ def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float]:
     most = COLUMN_LIMITS["velocity"]
     if abs(vx) > most:
         raise InputError(f"vx must be within +-{most:g} m/s, got {vx!r}")
-    max_samples(duration, finite_number(dt, "dt", "s", positive=True))
-    return duration, vx
+    steps = max_samples(duration, finite_number(dt, "dt", "s", positive=True)) - 1
+    return duration, vx, steps
 
 
 def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float = 0.0, tilt: float = 0.0,
@@ -774,12 +775,11 @@ def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float]
     mj = mujoco_module()
     from mudforce.engines.mujoco import MudPatch
 
-    duration, vx = check_drop_motion(duration, vx, dt)
+    duration, vx, steps = check_drop_motion(duration, vx, dt)
     model = drop_model_3d(mass, shape, size, height=height, tilt=tilt, dt=dt)
     data = mj.MjData(model)
     data.qvel[0] = vx
     mud = MudAdapter3D(model, data, ["foot"], MudPatch(params), resolution=resolution)
-    steps = max(1, round(duration / dt))
     position = np.empty((steps + 1, 3))
     velocity = np.empty((steps + 1, 3))
     force = np.zeros((steps + 1, 3))
