@@ -93,6 +93,9 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
      ("force_N", "magnitude")),
     ("fit-drag-huge-density", ["fit-drag", "s.csv", "--rho-m", "1e300kg/m3"], {"s.csv": SLIDING}, ("--rho-m",)),
     ("fit-drag-huge-area", ["fit-drag", "s.csv", "--area", "200m2"], {"s.csv": SLIDING}, ("--area",)),
+    # an empty value is refused, not taken as "not given" (the paper's foot, silently)
+    ("fit-drag-empty-area", ["fit-drag", "s.csv", "--area", ""], {"s.csv": SLIDING}, ("--area", "''")),
+    ("fit-drag-empty-foot", ["fit-drag", "s.csv", "--foot", ""], {"s.csv": SLIDING}, ("--foot", "''")),
     # item 4: finite input, non-finite output is refused at the source
     ("trajectory-depth-1e307", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,-1e307\n0.02,0\n"},
      ("traj.csv", "row 3", "depth_m")),
