@@ -66,6 +66,11 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("fix-twice", ["fit", "ds", "--out", "f.json", "--fix", "beta=0.5,beta=0.6"], {}, ("--fix", "twice")),
     ("free-and-fix", ["fit", "ds", "--out", "f.json", "--free", "lambda", "--fix", "lambda=0.01"], {},
      ("--free", "--fix", "conflict")),
+    # an empty value is refused, not taken as "not given" (the manifest's foot, no shared parameter, silently)
+    ("fit-empty-foot", ["fit", "ds", "--out", "f.json", "--foot", ""], {}, ("--foot", "''")),
+    ("fit-empty-shared", ["fit", "ds", "--out", "f.json", "--shared", ""], {}, ("--shared", "empty list")),
+    ("fit-empty-free", ["fit", "ds", "--out", "f.json", "--free", ""], {}, ("--free", "empty list")),
+    ("fit-empty-fix", ["fit", "ds", "--out", "f.json", "--fix", ""], {}, ("--fix", "empty list")),
     ("fit-seed-negative", ["fit", "ds", "--out", "f.json", "--seed", "-1"], {}, ("--seed",)),
     ("synth-seed-negative", ["synth", "--out", "new", "--seed", "-1"], {}, ("--seed",)),
     ("synth-depth-1e300m", ["synth", "--out", "new", "--depth", "1e300m"], {}, ("--depth", "too large")),
