@@ -99,7 +99,8 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         # "--water-content 25" (25 % or 2500 %?) must never be guessed
         raise InputError(f"{name}: {text!r} has no unit; expected a {kind} with a unit, e.g. {example}")
     table = {_case_key(kind, u): f for u, f in _UNITS[kind].items()}
-    factor = table.get(_case_key(kind, unit.replace(" ", "")))
+    # spaces around "/" only ("10 mm / s"): "20m m" is no "20mm"
+    factor = table.get(_case_key(kind, re.sub(r"\s*/\s*", "/", unit)))
     if factor is None:
         known = ", ".join(_UNITS[kind])
         raise InputError(f"{name}: unknown {kind} unit {unit!r} in {text!r}; use one of {known}, e.g. {example}")
