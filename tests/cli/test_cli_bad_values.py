@@ -119,8 +119,9 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
      ("traj.csv", "row 3", "not a number")),
     ("unit-arabic-digits", _sim("--depth", "\u0662\u0660mm"), {}, ("--depth",)),
     ("unit-underscore", _sim("--depth", "2_0mm"), {}, ("--depth",)),
-    # a space inside a unit is no part of it: "20m m" ran as 20 mm
+    # a space inside a unit is no part of it: "20m m" ran as 20 mm; a literal that underflows is not zero
     ("unit-space-inside", _sim("--depth", "20m m"), {}, ("--depth", "unknown length unit 'm m'")),
+    ("unit-underflow-to-zero", _sim("--rise", "1e-400mm"), {}, ("--rise", "too small")),
     ("manifest-dotdot", ["fit", "ds2", "--out", "f.json"],
      {"ds2/dataset.json": _manifest([{"file": "../secret.csv", "water_content": 0.25}]),
       "secret.csv": "root:x:0:0:secret\n"}, ("relative to the dataset folder",)),

@@ -108,7 +108,8 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
     tiny, huge = LIMITS[kind]
     if not math.isfinite(value) or abs(value) > huge:
         raise InputError(f"{name}: {text!r} is too large (at most {huge:g} in SI); expected e.g. {example}")
-    if 0.0 < abs(value) < tiny:
+    # a literal that is not zero is not read as zero when it underflows ("1e-400mm")
+    if abs(value) < tiny and any(c in "123456789" for c in number.lower().partition("e")[0]):
         raise InputError(f"{name}: {text!r} is too small (at least {tiny:g} in SI, or 0 where allowed); "
                          f"expected e.g. {example}")
     if value < 0.0 and not allow_negative:
