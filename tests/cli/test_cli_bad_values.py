@@ -227,3 +227,16 @@ def test_fit_json_is_strict_json() -> None:
 
     with pytest.raises(InputError, match="not finite"):
         dumps_json({"rmse_N": math.inf})
+
+
+def test_minus_zero_is_zero(tmp_path: Path) -> None:
+    """'-0N' was read as a negative zero, which reached the outputs: a synth dataset's "bias_N": -0.0 (other bytes
+    than with 0N), identify's "force_gain_uncertainty": -0.0; a signed zero is now zero."""
+    base = ["synth", "--velocities", "20mm/s", "--repeats", "1", "--quiet"]
+    results = run_batch([([*base, "--out", "minus", "--bias", "-0N"], tmp_path),
+                         ([*base, "--out", "plus", "--bias", "0N"], tmp_path),
+                         (["identify", "plus/w25_v20_r1.csv", "--json", "--force-gain-uncertainty", "-0%"], tmp_path)])
+    for r in results:
+        assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+    assert snapshot(tmp_path / "minus") == snapshot(tmp_path / "plus")
+    assert '"force_gain_uncertainty": 0.0,' in results[2].stdout

@@ -116,7 +116,7 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         raise InputError(f"{name}: {text!r} must not be negative; expected e.g. {example}")
     if value == 0.0 and not allow_zero:
         raise InputError(f"{name}: {text!r} must be greater than zero; expected e.g. {example}")
-    return value
+    return value + 0.0  # "-0N" is 0 N: no negative zero reaches an output ("bias_N": -0.0)
 
 
 def parse_list(text: str, kind: str, *, name: str = "value", **kwargs: bool) -> list[float]:
