@@ -66,6 +66,11 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("fix-twice", ["fit", "ds", "--out", "f.json", "--fix", "beta=0.5,beta=0.6"], {}, ("--fix", "twice")),
     ("free-and-fix", ["fit", "ds", "--out", "f.json", "--free", "lambda", "--fix", "lambda=0.01"], {},
      ("--free", "--fix", "conflict")),
+    # an empty value is refused, not taken as "not given" (the manifest's foot, no shared parameter, silently)
+    ("fit-empty-foot", ["fit", "ds", "--out", "f.json", "--foot", ""], {}, ("--foot", "''")),
+    ("fit-empty-shared", ["fit", "ds", "--out", "f.json", "--shared", ""], {}, ("--shared", "empty list")),
+    ("fit-empty-free", ["fit", "ds", "--out", "f.json", "--free", ""], {}, ("--free", "empty list")),
+    ("fit-empty-fix", ["fit", "ds", "--out", "f.json", "--fix", ""], {}, ("--fix", "empty list")),
     ("fit-seed-negative", ["fit", "ds", "--out", "f.json", "--seed", "-1"], {}, ("--seed",)),
     ("synth-seed-negative", ["synth", "--out", "new", "--seed", "-1"], {}, ("--seed",)),
     ("synth-depth-1e300m", ["synth", "--out", "new", "--depth", "1e300m"], {}, ("--depth", "too large")),
@@ -78,6 +83,10 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("synth-seed-underscore", ["synth", "--out", "new", "--seed", "1_0"], {}, ("--seed", "'1_0'")),
     ("fit-seed-underscore", ["fit", "ds", "--out", "f.json", "--seed", "1_0"], {}, ("--seed", "'1_0'")),
     ("synth-gain-underscore", ["synth", "--out", "new", "--force-gain", "1_0%"], {}, ("--force-gain", "'1_0%'")),
+    ("synth-jitter-arabic-digits", ["synth", "--out", "new", "--motion", "gait", "--jitter", "\u0660.\u0661"], {},
+     ("--jitter",)),
+    ("synth-jitter-underscore", ["synth", "--out", "new", "--motion", "gait", "--jitter", "0_1"], {},
+     ("--jitter", "invalid float value: '0_1'")),
     ("synth-repeated-water", ["synth", "--out", "new", "--water-content", "25%,25%"], {},
      ("--water-content", "repeated")),
     ("synth-repeated-velocity", ["synth", "--out", "new", "--velocities", "10mm/s,0.01m/s"], {},
@@ -89,6 +98,9 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
      ("force_N", "magnitude")),
     ("fit-drag-huge-density", ["fit-drag", "s.csv", "--rho-m", "1e300kg/m3"], {"s.csv": SLIDING}, ("--rho-m",)),
     ("fit-drag-huge-area", ["fit-drag", "s.csv", "--area", "200m2"], {"s.csv": SLIDING}, ("--area",)),
+    # an empty value is refused, not taken as "not given" (the paper's foot, silently)
+    ("fit-drag-empty-area", ["fit-drag", "s.csv", "--area", ""], {"s.csv": SLIDING}, ("--area", "''")),
+    ("fit-drag-empty-foot", ["fit-drag", "s.csv", "--foot", ""], {"s.csv": SLIDING}, ("--foot", "''")),
     # item 4: finite input, non-finite output is refused at the source
     ("trajectory-depth-1e307", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,-1e307\n0.02,0\n"},
      ("traj.csv", "row 3", "depth_m")),
@@ -107,6 +119,9 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
      ("traj.csv", "row 3", "not a number")),
     ("unit-arabic-digits", _sim("--depth", "\u0662\u0660mm"), {}, ("--depth",)),
     ("unit-underscore", _sim("--depth", "2_0mm"), {}, ("--depth",)),
+    # a space inside a unit is no part of it: "20m m" ran as 20 mm; a literal that underflows is not zero
+    ("unit-space-inside", _sim("--depth", "20m m"), {}, ("--depth", "unknown length unit 'm m'")),
+    ("unit-underflow-to-zero", _sim("--rise", "1e-400mm"), {}, ("--rise", "too small")),
     ("manifest-dotdot", ["fit", "ds2", "--out", "f.json"],
      {"ds2/dataset.json": _manifest([{"file": "../secret.csv", "water_content": 0.25}]),
       "secret.csv": "root:x:0:0:secret\n"}, ("relative to the dataset folder",)),
@@ -212,3 +227,16 @@ def test_fit_json_is_strict_json() -> None:
 
     with pytest.raises(InputError, match="not finite"):
         dumps_json({"rmse_N": math.inf})
+
+
+def test_minus_zero_is_zero(tmp_path: Path) -> None:
+    """'-0N' was read as a negative zero, which reached the outputs: a synth dataset's "bias_N": -0.0 (other bytes
+    than with 0N), identify's "force_gain_uncertainty": -0.0; a signed zero is now zero."""
+    base = ["synth", "--velocities", "20mm/s", "--repeats", "1", "--quiet"]
+    results = run_batch([([*base, "--out", "minus", "--bias", "-0N"], tmp_path),
+                         ([*base, "--out", "plus", "--bias", "0N"], tmp_path),
+                         (["identify", "plus/w25_v20_r1.csv", "--json", "--force-gain-uncertainty", "-0%"], tmp_path)])
+    for r in results:
+        assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+    assert snapshot(tmp_path / "minus") == snapshot(tmp_path / "plus")
+    assert '"force_gain_uncertainty": 0.0,' in results[2].stdout

@@ -24,6 +24,8 @@ def test_force_gain_uncertainty_widens_identify(tmp_path: Path) -> None:
         (["identify", "walks/w22_gait_r1.csv", "--json", "--depth-noise", "0.05mm"], tmp_path),
         (["identify", "walks/w22_gait_r1.csv", "--depth-noise", "20mm"], tmp_path),
         (["fit", "walks", "--out", "bad.json", "--force-gain-uncertainty", "80%"], tmp_path),
+        # 0% in other words: refused as 'must be greater than zero', though [0%, 50%) is what it takes
+        (["identify", "walks/w22_gait_r1.csv", "--json", "--force-gain-uncertainty", "0 %"], tmp_path),
     ])
     assert runs[0].returncode == 0, runs[0].stderr
     default, ten, none = (json.loads(r.stdout) for r in runs[1:4])
@@ -41,3 +43,5 @@ def test_force_gain_uncertainty_widens_identify(tmp_path: Path) -> None:
     assert_refused(runs[6], "depth noise")
     assert_refused(runs[7], "--force-gain-uncertainty")
     assert not (tmp_path / "bad.json").exists()
+    assert runs[8].returncode == 0, runs[8].stderr
+    assert json.loads(runs[8].stdout) == none

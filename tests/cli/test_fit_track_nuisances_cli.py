@@ -24,9 +24,12 @@ def test_force_gain_uncertainty_widens_track(tmp_path: Path) -> None:
         (["track", walk, "--out", "default.csv", "--quiet"], tmp_path),
         (["track", walk, "--out", "wide.csv", "--force-gain-uncertainty", "20%", "--quiet"], tmp_path),
         (["track", walk, "--out", "bad.csv", "--force-gain-uncertainty", "80%"], tmp_path),
+        # 0% in other words: refused as 'must be greater than zero', though [0%, 50%) is what it takes
+        (["track", walk, "--out", "zero.csv", "--force-gain-uncertainty", "0.0%", "--quiet"], tmp_path),
     ])
-    for r in runs[:4]:
+    for r in [*runs[:4], runs[5]]:
         assert r.returncode == 0, r.stderr
+    assert (tmp_path / "zero.csv").read_bytes() == (tmp_path / "none.csv").read_bytes()
     none, default, wide = (_last_interval(tmp_path / f"{n}.csv") for n in ("none", "default", "wide"))
     # the gain hypotheses the walk's force shape rules out get no mass: wider or equal, never narrower than none
     # (to 0.01 of a point: the surface offsets' weights move with the gain's; here by 0.0002 points the other way)

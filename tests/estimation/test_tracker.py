@@ -231,3 +231,26 @@ def test_gain_uncertainty_spans_each_gain_and_lag_allowance_is_checked() -> None
                 {"force_lag": float("nan")}):
         with pytest.raises(InputError, match=next(iter(bad))):
             MudTracker(**bad)
+
+
+@pytest.mark.parametrize(("time", "depth", "force", "message"), [
+    ([0.0, 0.01, 0.02, 0.03], [0.0, 0.0, 99.999, 0.0], [0.0] * 4,
+     r"^depth at sample 2 \(0\.02 s\) must be within \+-99\.994 m, got 99\.999$"),
+    ([0.0, 0.01, 0.02, 0.03], [0.0] * 4, [0.0, math.inf, 0.0, 0.0],
+     r"^force is not finite at sample 1 \(inf\); expected numbers \[N\]$"),
+    ([0.0, 0.01, 0.02, 0.03], [0.0, math.nan, 0.0, 0.0], [0.0] * 4,
+     r"^depth is not finite at sample 1 \(nan\); expected numbers \[m\]$"),
+    ([0.0, math.nan, 0.02, 0.03], [0.0] * 4, [0.0] * 4,
+     r"^time is not finite at sample 1 \(nan\); expected numbers \[s\]$"),
+    ([0.0, 0.01, 0.01, 0.03], [0.0] * 4, [0.0] * 4,
+     r"^time repeats at sample 2 \(0\.01 s then 0\.01 s\); expected strictly increasing time$"),
+    ([0.0, 0.01, 0.01 + 1e-12, 0.03], [0.0] * 4, [0.0] * 4,
+     r"^the time step before sample 2 is 1\.\d+e-12 s; expected steps within \[1e-09, 1e\+09\] s$"),
+])
+def test_a_recording_is_refused_naming_its_sample(time: list[float], depth: list[float], force: list[float],
+                                                  message: str) -> None:
+    """track() named a recording's sample k "foot k" (the words of MudTrackers' feet: 'depth of foot 2 must be within',
+    which `mudforce track` printed for a CSV's fourth row), a NaN depth "foot 0" whatever its sample, and a NaN time
+    "not strictly increasing"; each refusal now names the sample, as simulate()'s do."""
+    with pytest.raises(InputError, match=message):
+        track(np.array(time), np.array(depth), np.array(force))

@@ -140,7 +140,7 @@ def test_a_finite_sample_beyond_the_bounds_is_refused_and_changes_nothing() -> N
     assert math.isfinite(tracker.update(z, f, 0.01).force_predicted)
     with pytest.raises(InputError, match="depth of foot 1"):
         MudTrackers(2).update(np.array([0.0, 200.0]), np.zeros(2), 0.0)
-    with pytest.raises(InputError, match="time steps"):
+    with pytest.raises(InputError, match="time step before sample 1"):
         track([0.0, 1e-12, 0.01], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
 
 

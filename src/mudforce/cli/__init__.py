@@ -71,6 +71,9 @@ def plain_float(text: str) -> float:
     return float(text)
 
 
+plain_float.__name__ = "float"  # as plain_int's: "argument --jitter: invalid float value: '0_1'"
+
+
 class _Parser(argparse.ArgumentParser):
     """An argparse parser whose errors are one line and exit status 2, and which reads ``--bias -0.5N`` as
     an option and its value (argparse's own rule only takes plain numbers like ``-1`` for values, so it

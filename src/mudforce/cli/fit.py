@@ -53,7 +53,7 @@ _TAG = "mudforce-fit"
 
 
 def _names(text: str | None, option: str) -> list[str]:
-    if not text:
+    if text is None:
         return []
     names = [x.strip() for x in text.split(",") if x.strip()]
     if not names:
@@ -119,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
     if args.report is not None:
         refuse_overwriting_inputs([("--out", out)], [], [("--report", args.report)])
     model = get_model(args.model)
-    dataset = load_dataset(args.dataset, foot=parse_foot(args.foot) if args.foot else None)
+    dataset = load_dataset(args.dataset, foot=parse_foot(args.foot) if args.foot is not None else None)
     # every input the dataset was read from (a manifest's trial files too), before anything is written
     inputs = [("DATASET", args.dataset), *(("file", p) for p in dataset.inputs)]
     refuse_overwriting_inputs([("--out", out)], inputs, [("--report", args.report)])

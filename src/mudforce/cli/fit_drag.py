@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.estimation.calibration.drag import fit_drag, read_sliding
     from mudforce.io.units import parse_quantity
 
-    if args.area:
+    if args.area is not None:
         from mudforce.model.foot import AREA_RANGE
 
         area = parse_quantity(args.area, "area", name="--area")
@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         if not lo <= area <= hi:  # (fit_drag's own refusal named "area", not the option)
             raise InputError(f"--area: {args.area!r} must be an area within [{lo:g}, {hi:g}] m2, e.g. 19.38cm2")
     else:
-        area = parse_foot(args.foot or "paper").area
+        area = parse_foot("paper" if args.foot is None else args.foot).area
     velocity, force = read_sliding(args.file)
     result = fit_drag(velocity, force, area, rho_m=_density(args.rho_m), intercept=args.intercept)
     if args.json:

@@ -56,7 +56,8 @@ def _force_gain_uncertainty(value: str) -> float:
     from mudforce.io.units import parse_quantity
 
     text = str(value).strip()
-    gain = 0.0 if text in ("0", "0%") else parse_quantity(text, "fraction", name="--force-gain-uncertainty")
+    # 0 without its unit too (no other value is unambiguous without one); 0.0% and 0 % are 0%
+    gain = 0.0 if text == "0" else parse_quantity(text, "fraction", name="--force-gain-uncertainty", allow_zero=True)
     if not 0.0 <= gain < 0.5:
         raise InputError(f"--force-gain-uncertainty: {value!r} must be in [0%, 50%), e.g. 5%")
     return gain

@@ -73,7 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the paper's intrude/hold/withdraw protocol (default), or robot-like walks: "
                              "touchdowns, stances with sway, re-pushes, lift-offs (--repeats walks per water content)")
     parser.add_argument("--duration", default=None, help="gait: length of each walk (default 25s)")
-    parser.add_argument("--jitter", type=float, default=None, metavar="FRACTION",
+    parser.add_argument("--jitter", type=plain_float, default=None, metavar="FRACTION",
                         help="gait: time-stamp jitter, fraction of a sample period (default 0)")
     parser.add_argument("--start-below", choices=("never", "always", "alternate"), default=None,
                         help="gait: which walks start in the mud (default never)")

@@ -71,12 +71,9 @@ def run(args: argparse.Namespace) -> int:
 
         require("matplotlib", "plot", "--plot")
     foot = parse_foot(args.foot) if args.foot is not None else None
-    from mudforce.io.units import parse_quantity
+    from mudforce.cli.identify import _force_gain_uncertainty
 
-    text = str(args.force_gain_uncertainty).strip()
-    gain = 0.0 if text in ("0", "0%") else parse_quantity(text, "fraction", name="--force-gain-uncertainty")
-    if not 0.0 <= gain < 0.5:
-        raise InputError(f"--force-gain-uncertainty: {args.force_gain_uncertainty!r} must be in [0%, 50%), e.g. 5%")
+    gain = _force_gain_uncertainty(args.force_gain_uncertainty)  # identify's and fit's reading
 
     from mudforce.io.tables import COLUMN_UNITS, check_time, read_columns
 

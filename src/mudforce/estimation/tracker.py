@@ -971,14 +971,16 @@ def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray)
             store_cache(states, j, step_cache(none, K.load_params(params, j), dt))
 
 
-def _check_bounds(depths: np.ndarray, forces: np.ndarray, max_depth: float) -> None:
+def _check_bounds(depths: np.ndarray, forces: np.ndarray, max_depth: float, time: np.ndarray | None = None) -> None:
     """Refuse a depth beyond ``max_depth`` [m] or a force beyond :data:`MAX_FORCE` [N] in one line (NaN is left to
-    the caller): :func:`track`'s check of a whole recording, and the words for a sample :func:`_track_step` refused."""
+    the caller): :func:`track`'s check of a whole recording (``time``: its samples' times, named with the sample),
+    and the words for a foot's sample :func:`_track_step` refused."""
     for name, values, bound, unit in (("depth", depths, max_depth, "m"), ("force", forces, MAX_FORCE, "N")):
         beyond = np.flatnonzero(np.abs(values) > bound)
         if beyond.size:
             j = int(beyond[0])
-            raise InputError(f"{name} of foot {j} must be within +-{bound:.6g} {unit}, got {float(values[j])!r}")
+            where = f"of foot {j}" if time is None else f"at sample {j} ({float(time[j])!r} s)"
+            raise InputError(f"{name} {where} must be within +-{bound:.6g} {unit}, got {float(values[j])!r}")
 
 
 #: The tracker's own arrays packed for :func:`_track_step`, in its order.
@@ -1859,13 +1861,25 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     f = real_array(force, "force", "N")
     if t.ndim != 1 or t.shape != z.shape or t.shape != f.shape or t.size < 1:
         raise InputError(f"time, depth and force must be 1-D of one length >= 1, got {t.shape}, {z.shape}, {f.shape}")
+    # each refusal names the sample, in simulate()'s words (mudforce.model.bounds.check_times), though a gap of up to
+    # MAX_TIME is taken here, as MudTracker.update takes it
+    for name, values, unit in (("time", t, "s"), ("depth", z, "m"), ("force", f, "N")):
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            raise InputError(f"{name} is not finite at sample {bad[0]} ({float(values[bad[0]])!r}); "
+                             f"expected numbers [{unit}]")
     steps = np.diff(t)
-    if not np.all(steps > 0.0):
-        raise InputError("time must be strictly increasing [s]")
-    if not np.all((steps >= MIN_DT) & (steps <= MAX_TIME)):
-        raise InputError(f"time steps must be within [{MIN_DT:g}, {MAX_TIME:g}] s")
+    bad = np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_TIME)))
+    if bad.size:
+        i = int(bad[0]) + 1
+        if steps[i - 1] <= 0.0:
+            what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
+            raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
+                             "expected strictly increasing time")
+        raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
+                         f"[{MIN_DT:g}, {MAX_TIME:g}] s")
     tracker = _one_foot(foot, options)
-    _check_bounds(z, f, tracker._max_depth)
+    _check_bounds(z, f, tracker._max_depth, t)
     m = t.size
     cols = np.empty((m, _N_OUT), dtype=np.float64)
     previous = t[0]

@@ -99,7 +99,8 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         # "--water-content 25" (25 % or 2500 %?) must never be guessed
         raise InputError(f"{name}: {text!r} has no unit; expected a {kind} with a unit, e.g. {example}")
     table = {_case_key(kind, u): f for u, f in _UNITS[kind].items()}
-    factor = table.get(_case_key(kind, unit.replace(" ", "")))
+    # spaces around "/" only ("10 mm / s"): "20m m" is no "20mm"
+    factor = table.get(_case_key(kind, re.sub(r"\s*/\s*", "/", unit)))
     if factor is None:
         known = ", ".join(_UNITS[kind])
         raise InputError(f"{name}: unknown {kind} unit {unit!r} in {text!r}; use one of {known}, e.g. {example}")
@@ -107,14 +108,15 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
     tiny, huge = LIMITS[kind]
     if not math.isfinite(value) or abs(value) > huge:
         raise InputError(f"{name}: {text!r} is too large (at most {huge:g} in SI); expected e.g. {example}")
-    if 0.0 < abs(value) < tiny:
+    # a literal that is not zero is not read as zero when it underflows ("1e-400mm")
+    if abs(value) < tiny and any(c in "123456789" for c in number.lower().partition("e")[0]):
         raise InputError(f"{name}: {text!r} is too small (at least {tiny:g} in SI, or 0 where allowed); "
                          f"expected e.g. {example}")
     if value < 0.0 and not allow_negative:
         raise InputError(f"{name}: {text!r} must not be negative; expected e.g. {example}")
     if value == 0.0 and not allow_zero:
         raise InputError(f"{name}: {text!r} must be greater than zero; expected e.g. {example}")
-    return value
+    return value + 0.0  # "-0N" is 0 N: no negative zero reaches an output ("bias_N": -0.0)
 
 
 def parse_list(text: str, kind: str, *, name: str = "value", **kwargs: bool) -> list[float]:
