@@ -114,6 +114,7 @@ from mudforce._plumbing.jit import njit
 from mudforce.engines.dynamics.rest_band import rest_band
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number, true_or_false
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
+from mudforce.model.bounds import check_times
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -1861,23 +1862,14 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     f = real_array(force, "force", "N")
     if t.ndim != 1 or t.shape != z.shape or t.shape != f.shape or t.size < 1:
         raise InputError(f"time, depth and force must be 1-D of one length >= 1, got {t.shape}, {z.shape}, {f.shape}")
-    # each refusal names the sample, in simulate()'s words (mudforce.model.bounds.check_times), though a gap of up to
-    # MAX_TIME is taken here, as MudTracker.update takes it
-    for name, values, unit in (("time", t, "s"), ("depth", z, "m"), ("force", f, "N")):
+    # each refusal names the sample, in simulate()'s words, though a gap of up to MAX_TIME is taken here, as
+    # MudTracker.update takes it
+    check_times(t, max_dt=MAX_TIME)
+    for name, values, unit in (("depth", z, "m"), ("force", f, "N")):
         bad = np.flatnonzero(~np.isfinite(values))
         if bad.size:
             raise InputError(f"{name} is not finite at sample {bad[0]} ({float(values[bad[0]])!r}); "
                              f"expected numbers [{unit}]")
-    steps = np.diff(t)
-    bad = np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_TIME)))
-    if bad.size:
-        i = int(bad[0]) + 1
-        if steps[i - 1] <= 0.0:
-            what = "repeats" if steps[i - 1] == 0.0 else "goes backwards"
-            raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
-                             "expected strictly increasing time")
-        raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
-                         f"[{MIN_DT:g}, {MAX_TIME:g}] s")
     tracker = _one_foot(foot, options)
     _check_bounds(z, f, tracker._max_depth, t)
     m = t.size

@@ -41,10 +41,11 @@ MAX_DT = 1e3
 MAX_TIME = 1e9
 
 
-def check_times(t: np.ndarray) -> None:
+def check_times(t: np.ndarray, max_dt: float = MAX_DT) -> None:
     """Refuse sample times [s] (float64, 1-D) that are not finite, beyond +-:data:`MAX_TIME` (where a step of 1 ms
-    would lose its digits), or not stepping by [:data:`MIN_DT`, :data:`MAX_DT`]: one line naming the first bad
-    sample, for :func:`mudforce.simulate` and :func:`mudforce.simulate_3d` alike."""
+    would lose its digits), or not stepping by [:data:`MIN_DT`, ``max_dt``]: one line naming the first bad
+    sample, for :func:`mudforce.simulate` and :func:`mudforce.simulate_3d` alike (and :func:`mudforce.track`, whose
+    tracker takes gaps of up to :data:`MAX_TIME`, as ``MudTracker.update`` does: ``max_dt=MAX_TIME``)."""
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
         raise InputError(f"time is not finite at sample {bad[0]} ({float(t[bad[0]])!r}); expected numbers [s]")
@@ -52,7 +53,7 @@ def check_times(t: np.ndarray) -> None:
     if bad.size:
         raise InputError(f"time at sample {bad[0]} ({float(t[bad[0]])!r} s) is beyond +-{MAX_TIME:g} s")
     steps = np.diff(t)
-    bad = np.flatnonzero(~((steps >= MIN_DT) & (steps <= MAX_DT)))
+    bad = np.flatnonzero(~((steps >= MIN_DT) & (steps <= max_dt)))
     if not bad.size:
         return
     i = int(bad[0]) + 1
@@ -62,7 +63,7 @@ def check_times(t: np.ndarray) -> None:
                          "expected strictly increasing time")
     # repr: a step just outside a bound must not print as the bound
     raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
-                     f"[{MIN_DT:g}, {MAX_DT:g}] s")
+                     f"[{MIN_DT:g}, {max_dt:g}] s")
 
 
 def check_depths(z: np.ndarray) -> None:
