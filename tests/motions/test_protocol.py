@@ -26,3 +26,9 @@ def test_paper_takes_a_numpy_approach() -> None:
 def test_protocol_refuses_steps_that_are_no_sequence(steps: Any) -> None:
     with pytest.raises(InputError, match="steps must be a sequence"):
         Protocol(steps)
+
+
+def test_a_zero_rise_ends_at_zero_not_minus_zero() -> None:
+    # the withdraw target was -rise: with rise=0 the last depth was -0.0, which a CSV wrote as '-0'
+    _, depth = Protocol.paper(rise=0.0).sample()
+    assert depth[-1] == 0.0 and not np.signbit(depth[-1])

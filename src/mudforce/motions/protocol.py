@@ -199,7 +199,7 @@ class Protocol:
                 times.append(times[-1] + st.duration)
                 depths.append(here)
             elif isinstance(st, Withdraw):
-                target = -st.rise
+                target = 0.0 - st.rise  # not -rise: a zero rise ends at 0, not at -0.0
                 if target >= here:
                     raise InputError(
                         f"step {i + 1} (Withdraw to {st.rise:g} m above the surface) must go up from {here:g} m"
