@@ -60,6 +60,8 @@ UNUSABLE_OUTPUTS = [
     (["--out", "no/such/dir/fit.json"], "--out: directory 'no/such/dir' does not exist"),
     (["--out", "."], "names a directory"),
     (["--out", "same", "--report", "same"], "is the --report folder"),
+    # an empty --report was refused as a folder holding --out ("--out 'fit.json' is inside the --report folder '.'")
+    (["--out", "fit.json", "--report", ""], "--report: empty folder name; expected a folder for the report"),
 ]
 
 

@@ -116,6 +116,8 @@ def run(args: argparse.Namespace) -> int:
     out = check_output_path(args.out, "--out")
     seed = seed_int(args.seed)
     gain = _force_gain_uncertainty(args.force_gain_uncertainty)
+    if args.report is not None and not args.report.strip():  # not the folder '.' the overlap checks would take it for
+        raise InputError("--report: empty folder name; expected a folder for the report")  # check_replaceable_dir's
     if args.report is not None:
         refuse_overwriting_inputs([("--out", out)], [], [("--report", args.report)])
     model = get_model(args.model)
