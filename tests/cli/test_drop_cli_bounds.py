@@ -42,3 +42,16 @@ def test_a_foot_still_moving_is_not_called_at_rest(tmp_path: Path) -> None:
     assert "rest depth" not in proc.stdout
     assert "not at rest after 0.05 s: depth 9.003 mm, moving at 292.003 mm/s (INTRUSION)" in proc.stdout
     assert "force std over the last 0.05 s" in proc.stdout
+
+
+def test_a_water_content_out_of_range_is_refused_as_simulate_refuses_it(tmp_path: Path) -> None:
+    """Was: "water content 0.35 is outside Table I's range [0.15, 0.35]", not naming --water-content and showing
+    35.0000000001% as 0.35; drop now reads it with the parser the other commands use, in their words."""
+    (tmp_path / "drop.csv").write_bytes(PREVIOUS)
+    values = ["50%", "35.0000000001%"]
+    runs = run_batch([([command, *extra, "--water-content", w, "--out", "drop.csv"], tmp_path)
+                      for w in values for command, extra in (("drop", ["--mass", "5kg"]), ("simulate", []))])
+    for w, drop, simulate in zip(values, runs[::2], runs[1::2], strict=True):
+        assert_refused(drop, f"--water-content: '{w}' is outside Table I's range 15% to 35%; expected e.g. 25%")
+        assert drop.stderr.replace("mudforce drop:", "mudforce simulate:") == simulate.stderr
+    assert (tmp_path / "drop.csv").read_bytes() == PREVIOUS

@@ -90,10 +90,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``mudforce drop``; returns the exit status."""
+    from mudforce.cli.params import parse_water_content
     from mudforce.model.parameters import MudParameters
 
     mass = parse_quantity(args.mass, "mass", name="--mass")
-    water = parse_quantity(args.water_content, "fraction", name="--water-content")
+    water = parse_water_content(args.water_content)  # within Table I's range, in the other commands' words
     duration = parse_quantity(args.duration, "time", name="--duration")
     height = parse_quantity(args.height, "length", name="--height", allow_zero=True)
     if duration > _MAX_DURATION:
