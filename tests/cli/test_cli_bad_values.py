@@ -122,6 +122,11 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     # a space inside a unit is no part of it: "20m m" ran as 20 mm; a literal that underflows is not zero
     ("unit-space-inside", _sim("--depth", "20m m"), {}, ("--depth", "unknown length unit 'm m'")),
     ("unit-underflow-to-zero", _sim("--rise", "1e-400mm"), {}, ("--rise", "too small")),
+    # "as a area", "expected a area": the article follows the kind
+    ("unit-area-unreadable", ["fit-drag", "s.csv", "--area", "big"], {"s.csv": SLIDING},
+     ("--area", "cannot read 'big' as an area;")),
+    ("unit-area-no-unit", ["fit-drag", "s.csv", "--area", "5"], {"s.csv": SLIDING},
+     ("--area", "expected an area with a unit")),
     ("manifest-dotdot", ["fit", "ds2", "--out", "f.json"],
      {"ds2/dataset.json": _manifest([{"file": "../secret.csv", "water_content": 0.25}]),
       "secret.csv": "root:x:0:0:secret\n"}, ("relative to the dataset folder",)),

@@ -66,6 +66,11 @@ def _case_key(kind: str, unit: str) -> str:
     return unit.lower() if kind in ("frequency", "force", "pressure", "fraction", "area", "mass") else unit
 
 
+def _a(kind: str) -> str:
+    """``kind`` with its indefinite article: "a length", "an area"."""
+    return f"an {kind}" if kind[0] in "aeiou" else f"a {kind}"
+
+
 def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative: bool = False,
                    allow_zero: bool = False) -> float:
     """Parse ``text`` as a quantity of ``kind`` and return it in SI.
@@ -92,12 +97,12 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
     example = _EXAMPLES[kind]
     match = _NUMBER.match(str(text))
     if match is None:
-        raise InputError(f"{name}: cannot read {text!r} as a {kind}; expected a number with a unit, e.g. {example}")
+        raise InputError(f"{name}: cannot read {text!r} as {_a(kind)}; expected a number with a unit, e.g. {example}")
     number, unit = match.group(1), (match.group(2) or "").strip()
     if not unit:
         # a bare number is refused for every kind, percentages included:
         # "--water-content 25" (25 % or 2500 %?) must never be guessed
-        raise InputError(f"{name}: {text!r} has no unit; expected a {kind} with a unit, e.g. {example}")
+        raise InputError(f"{name}: {text!r} has no unit; expected {_a(kind)} with a unit, e.g. {example}")
     table = {_case_key(kind, u): f for u, f in _UNITS[kind].items()}
     # spaces around "/" only ("10 mm / s"): "20m m" is no "20mm"
     factor = table.get(_case_key(kind, re.sub(r"\s*/\s*", "/", unit)))
