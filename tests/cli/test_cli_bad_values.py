@@ -245,3 +245,16 @@ def test_minus_zero_is_zero(tmp_path: Path) -> None:
         assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
     assert snapshot(tmp_path / "minus") == snapshot(tmp_path / "plus")
     assert '"force_gain_uncertainty": 0.0,' in results[2].stdout
+
+
+def test_greek_mu_is_the_micro_sign(tmp_path: Path) -> None:
+    """'μm' (U+03BC, the Greek letter) was refused while 'µm' (U+00B5, the micro sign) was read, in a message listing
+    'µm', which looks the same; both now mean micrometres."""
+    base = ["simulate", "--water-content", "25%", "--quiet"]
+    results = run_batch([([*base, "--depth", "20000\u03bcm", "--velocity", "10000\u03bcm/s", "--out", "greek.csv"],
+                          tmp_path),
+                         ([*base, "--depth", "20000\u00b5m", "--velocity", "10000\u00b5m/s", "--out", "micro.csv"],
+                          tmp_path)])
+    for r in results:
+        assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+    assert (tmp_path / "greek.csv").read_bytes() == (tmp_path / "micro.csv").read_bytes()

@@ -104,8 +104,8 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         # "--water-content 25" (25 % or 2500 %?) must never be guessed
         raise InputError(f"{name}: {text!r} has no unit; expected {_a(kind)} with a unit, e.g. {example}")
     table = {_case_key(kind, u): f for u, f in _UNITS[kind].items()}
-    # spaces around "/" only ("10 mm / s"): "20m m" is no "20mm"
-    factor = table.get(_case_key(kind, re.sub(r"\s*/\s*", "/", unit)))
+    # spaces around "/" only ("10 mm / s"): "20m m" is no "20mm"; the Greek mu (U+03BC) is the micro sign (U+00B5)
+    factor = table.get(_case_key(kind, re.sub(r"\s*/\s*", "/", unit).replace("\u03bc", "\u00b5")))
     if factor is None:
         known = ", ".join(_UNITS[kind])
         raise InputError(f"{name}: unknown {kind} unit {unit!r} in {text!r}; use one of {known}, e.g. {example}")
