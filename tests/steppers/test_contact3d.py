@@ -500,3 +500,15 @@ def test_simulate_3d_refuses_element_forces_that_would_not_fit_in_memory() -> No
     assert "\n" not in str(error.value)
     short = simulate_3d(time[:3], positions[:3], quaternions[:3], mud, shape, elements=True)
     assert short.element_forces is not None and short.element_forces.shape == (3, shape.n, 3)
+
+
+@pytest.mark.parametrize(("width", "words"), [
+    (True, "width must be a number [m], got bool"),
+    ("3cm", "width must be a number [m], got str"),
+    (1e-9, "width must be within [0.0001, 10] m, got 1e-09"),
+])
+def test_a_bad_width_is_refused_by_its_name(width: object, words: str) -> None:
+    """Was refused as "foot width must be ...", a Foot's words, not the argument's (as surface_height's are)."""
+    with pytest.raises(InputError) as info:
+        MudContact3D(mf.MudParameters.from_water_content(0.25), SPHERE, width=width)  # type: ignore[arg-type]
+    assert str(info.value) == words

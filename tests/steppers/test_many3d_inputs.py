@@ -318,6 +318,9 @@ def test_a_nested_list_of_feet_is_refused_in_one_line() -> None:
     ({"surface_heights": {0.0, 0.1}}, "surface_heights must be a number [m] or a sequence of them, one per foot, "
                                       "got set"),  # in the set's order, not the caller's
     ({"widths": {0.03: "a", 0.04: "b"}}, "widths must be a number [m] or a sequence of them, one per foot, got dict"),
+    # a bad width was refused as "foot width must be ...", not naming the argument
+    ({"widths": [True, 0.03]}, "widths must be a number [m], got bool"),
+    ({"widths": [0.03, 1e-9]}, "widths must be within [0.0001, 10] m, got 1e-09"),
     ({"lateral_stiffness": frozenset({1e5, 2e5})}, "lateral_stiffness must be a number [Pa/m] or a sequence of "
                                                    "them, one per foot, got frozenset"),
     ({"params": {"mud": mf.MudParameters.from_water_content(0.25)}},

@@ -48,6 +48,7 @@ from mudforce.errors import (
     InputError,
     is_integer,
     is_real,
+    number_within,
     positive_int,
     real_array,
     real_number,
@@ -55,7 +56,7 @@ from mudforce.errors import (
 )
 from mudforce.model import law3d
 from mudforce.model.bounds import bounded_depth
-from mudforce.model.foot import Foot
+from mudforce.model.foot import SIZE_RANGE, Foot
 from mudforce.model.law3d import check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
@@ -159,7 +160,7 @@ class MudContact3D:
         self._params = params
         self._shape = shape
         self._surface_height = bounded_depth(surface_height, "surface_height")
-        h = width if width is not None else shape.width
+        h = number_within(width, "width", *SIZE_RANGE, "m") if width is not None else shape.width  # named as given
         if h is None:
             raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
                              "a mudforce.model.shapes constructor, which sets it)")
@@ -765,7 +766,8 @@ class MudContacts3D:
         for f in range(m):
             q, shape = muds[f], feet[f]
             h = bounded_depth(heights[f], "surface_height")
-            w = given_widths[f] if given_widths[f] is not None else shape.width
+            w = (number_within(given_widths[f], "widths", *SIZE_RANGE, "m") if given_widths[f] is not None
+                 else shape.width)
             if w is None:
                 raise InputError("this shape has no width H for Eq. (4); give width= [m] (or build the shape with "
                                  "a mudforce.model.shapes constructor, which sets it)")
