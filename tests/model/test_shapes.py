@@ -175,6 +175,12 @@ def test_capsule_of_zero_length_is_the_sphere() -> None:
     np.testing.assert_array_equal(cap.areas, s.areas)
 
 
+def test_capsule_of_minus_zero_length_is_named_length_0() -> None:
+    # was named "capsule 40 mm, length -0 mm": a negative zero is a length of 0
+    name = shapes.capsule(0.04, -0.0).name
+    assert name == shapes.capsule(0.04, 0.0).name and name.startswith("capsule 40 mm, length 0 mm,")
+
+
 # --------------------------------------------------------------------------------------------------------- sole
 
 def test_paper_sole() -> None:

@@ -672,7 +672,7 @@ def capsule(diameter: float, length: float, *, resolution: float | None = None) 
     Total area ``pi d^2 + pi d length`` to rounding.
     """
     d = _size(diameter, "capsule diameter")
-    span = number_within(length, "capsule length", 0.0, SIZE_RANGE[1], "m")
+    span = number_within(length, "capsule length", 0.0, SIZE_RANGE[1], "m") + 0.0  # -0.0 is a length of 0
     label = f"capsule {_mm(d)} mm, length {_mm(span)} mm"
     r = 0.5 * d
     total = math.pi * d * (d + span)
