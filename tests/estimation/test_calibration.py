@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -95,6 +96,23 @@ def test_bad_manifests(small: Path, tmp_path: Path, change: object, message: str
     assert message in str(info.value)
     assert "\n" not in str(info.value)
     assert str(tmp_path / "dataset.json") in str(info.value)
+
+
+def test_one_file_under_two_names_is_listed_twice(small: Path, tmp_path: Path) -> None:
+    """A link to a trial file listed beside it counted that trial twice in every fit, silently (2026-11-29)."""
+    for f in small.glob("*.csv"):
+        (tmp_path / f.name).write_text(f.read_text())
+    manifest = json.loads((small / "dataset.json").read_text())
+    first = manifest["trials"][0]["file"]
+    for link, kind in (("again.csv", os.symlink), ("hard.csv", os.link)):
+        kind(tmp_path / first, tmp_path / link)
+        changed = json.loads(json.dumps(manifest))
+        changed["trials"][1]["file"] = link
+        _manifest(tmp_path, changed)
+        with pytest.raises(InputError) as info:
+            load_dataset(tmp_path)
+        assert f"trials[1]: file '{link}' is '{first}' under another name, listed twice" in str(info.value)
+        assert "\n" not in str(info.value)
 
 
 def test_malformed_json_and_missing_folder(tmp_path: Path) -> None:

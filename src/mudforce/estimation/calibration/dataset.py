@@ -288,6 +288,7 @@ def _load_manifest(path: Path) -> Dataset:
         raise InputError(f'{where}: "trials" must be a non-empty list of {{"file": ..., "water_content": ...}}')
     trials: list[Trial] = []
     seen: set[str] = set()
+    files: dict[tuple[int, int], str] = {}  # each trial file's (device, inode): its name in the manifest
     for i, entry in enumerate(entries):
         at = f"{where}: trials[{i}]"
         if not isinstance(entry, dict):
@@ -313,6 +314,13 @@ def _load_manifest(path: Path) -> Dataset:
             raise InputError(f"{at}: repeat is {repeat!r}; expected a non-negative integer")
         if not file.is_file():
             raise InputError(f"{at}: trial file {path.parent / name} not found")
+        # one file under two names (a link, hard or symbolic) would count its trial twice in every fit
+        stat = file.stat()
+        same = files.get((stat.st_dev, stat.st_ino))
+        if same is not None:
+            raise InputError(f"{at}: file {name!r} is {same!r} under another name, listed twice; expected each trial "
+                             "once")
+        files[(stat.st_dev, stat.st_ino)] = name
         trials.append(load_trial(file, w, velocity=velocity, repeat=repeat))
     extra = {k: data[k] for k in ("description", "synthetic") if k in data}
     inputs = (str(path.parent), where, *sorted(seen))
