@@ -97,7 +97,17 @@ def real_number(value: Any, name: str) -> float:
         if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
             return float(value)
         raise InputError(f"{name} must be a real number, got {type(value).__name__}")
-    return float(value)
+    return _as_float(value, name)
+
+
+def _as_float(value: Any, name: str) -> float:
+    """``float(value)`` of a real number (:func:`is_real`); one line for a Python int beyond float64, for which
+    ``float()`` raises OverflowError (its size, not its digits: a repr of 10**5000 raises ValueError)."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise InputError(f"{name} must be a real number within float64's range (+-1.8e308), got an integer of "
+                         f"{int(value).bit_length()} bits") from None
 
 
 def real_array(value: Any, name: str, unit: str) -> np.ndarray:
@@ -178,7 +188,7 @@ def finite_number(value: Any, name: str, unit: str, *, positive: bool = False, n
     """
     if not is_real(value):
         raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__} {value!r}")
-    number = float(value)
+    number = _as_float(value, name)
     if not math.isfinite(number):
         raise InputError(f"{name} must be finite [{unit}], got {value!r}")
     if positive and number <= 0.0:
@@ -204,7 +214,7 @@ def number_within(value: Any, name: str, lo: float, hi: float, unit: str) -> flo
     """
     if not is_real(value):
         raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__}")
-    number = float(value)
+    number = _as_float(value, name)
     if not (math.isfinite(number) and lo <= number <= hi):
         raise InputError(f"{name} must be within [{lo:g}, {hi:g}] {unit}, got {value!r}")
     return number
@@ -224,7 +234,7 @@ def positive_number(value: Any, name: str, unit: str) -> float:
     """
     if not is_real(value):
         raise InputError(f"{name} must be a number [{unit}], got {value!r}")
-    number = float(value)
+    number = _as_float(value, name)
     if not (math.isfinite(number) and number > 0.0):
         raise InputError(f"{name} must be finite and > 0 [{unit}], got {value!r}")
     return number

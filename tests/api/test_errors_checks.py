@@ -110,6 +110,34 @@ def test_the_checks_share_one_type_test() -> None:
             == positive_number(good, "x", "m") == 1.0
 
 
+def _huge_int_calls() -> list[Any]:
+    from mudforce import Foot, MudContact, MudParameters, VelocityFilter
+
+    paper = MudParameters.from_water_content(0.25)
+    return [
+        (lambda v: real_number(v, "depth"), "depth must be a real number within float64's range"),
+        (lambda v: finite_number(v, "mass", "kg"), "mass must be a real number within float64's range"),
+        (lambda v: number_within(v, "x", 0.0, 2.0, "m"), "x must be a real number within float64's range"),
+        (lambda v: positive_number(v, "x", "m"), "x must be a real number within float64's range"),
+        (lambda v: MudContact(paper).step(v, 0.01), "depth must be a real number within float64's range"),
+        (lambda v: paper.replace(alpha=v), "parameter alpha must be a real number within float64's range"),
+        (lambda v: MudParameters.from_water_content(v), "water content must be a real number within float64's"),
+        (lambda v: Foot(v, 0.03), "foot area must be a real number within float64's range"),
+        (lambda v: VelocityFilter(2, v), "velocity filter deadband must be a real number within float64's range"),
+        (lambda v: VelocityFilter.for_noise(v, 0.01), "noise level must be a real number within float64's range"),
+    ]
+
+
+@pytest.mark.parametrize("sign", [1, -1])
+def test_a_python_int_beyond_float64_is_refused_in_one_line(sign: int) -> None:
+    """float(10**400) raises OverflowError, which every check of a number let out (and a repr of 10**5000 raises
+    ValueError, so the message gives its size, not its digits)."""
+    for call, words in _huge_int_calls():
+        with pytest.raises(InputError) as error:
+            call(sign * 10**5000)
+        assert words in str(error.value) and "an integer of 16610 bits" in str(error.value), str(error.value)
+
+
 @pytest.mark.parametrize("bad", ["x", None, True, float("nan"), -1.0])
 def test_velocity_filter_refuses_a_deadband_that_is_not_a_number(bad: object) -> None:
     from mudforce import VelocityFilter

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
-from mudforce.errors import InputError, is_real
+from mudforce.errors import InputError, is_real, real_number
 
 __all__ = [
     "CITATION",
@@ -190,7 +190,7 @@ class MudParameters:
             value = getattr(self, attr)
             if not is_real(value):
                 raise InputError(f"parameter {name} must be a number, got {value!r}")
-            value = float(value)
+            value = real_number(value, f"parameter {name}")
             object.__setattr__(self, attr, value)
             if not math.isfinite(value):
                 raise InputError(f"parameter {name} must be finite, got {value!r}")
@@ -250,7 +250,7 @@ class MudParameters:
         if not is_real(water_content):
             raise InputError(f"water content must be a number (a fraction: 0.25 means 25%), "
                              f"got {type(water_content).__name__}")
-        w = float(water_content)
+        w = real_number(water_content, "water content")
         lo, hi = WATER_CONTENT_RANGE
         if not math.isfinite(w) or w < lo - 1e-12 or w > hi + 1e-12:
             raise InputError(

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mudforce.errors import InputError, is_real, real_array
+from mudforce.errors import InputError, is_real, real_array, real_number
 from mudforce.model.bounds import check_times
 
 #: The longest smoothing window [steps] (the compiled steppers keep ``MAX_WINDOW + 1`` samples of depth).
@@ -117,7 +117,8 @@ class VelocityFilter:
             raise InputError(f"velocity filter window must be an integer number of steps, got {self.window!r}")
         if not 1 <= int(self.window) <= MAX_WINDOW:
             raise InputError(f"velocity filter window must be 1..{MAX_WINDOW} steps, got {self.window}")
-        if not is_real(self.deadband) or not math.isfinite(self.deadband) or self.deadband < 0.0:
+        deadband = real_number(self.deadband, "velocity filter deadband") if is_real(self.deadband) else math.nan
+        if not math.isfinite(deadband) or deadband < 0.0:
             raise InputError(f"velocity filter deadband must be finite and >= 0 [m/s], got {self.deadband!r}")
         object.__setattr__(self, "window", int(self.window))
         object.__setattr__(self, "deadband", float(self.deadband))
@@ -141,11 +142,15 @@ class VelocityFilter:
         capture (tens of um at 100 Hz) fills ``window_s``; small noise gets
         a short window. ``noise_std <= 1 nm`` gives :meth:`exact`.
         """
-        if not is_real(noise_std) or not math.isfinite(noise_std) or noise_std < 0.0:
+        # a Python int beyond float64 refused in real_number's words (math.isfinite raised OverflowError)
+        noise = real_number(noise_std, "noise level") if is_real(noise_std) else math.nan
+        if not math.isfinite(noise) or noise < 0.0:
             raise InputError(f"noise level must be finite and >= 0 [m], got {noise_std!r}")
-        if not is_real(dt) or not math.isfinite(dt) or dt <= 0.0:
+        step = real_number(dt, "time step") if is_real(dt) else math.nan
+        if not math.isfinite(step) or step <= 0.0:
             raise InputError(f"time step must be finite and > 0 [s], got {dt!r}")
-        if not is_real(window_s) or not math.isfinite(window_s) or window_s <= 0.0:
+        window_length = real_number(window_s, "velocity window") if is_real(window_s) else math.nan
+        if not math.isfinite(window_length) or window_length <= 0.0:
             raise InputError(f"velocity window must be finite and > 0 [s], got {window_s!r}")
         if noise_std <= NOISE_FLOOR_M:
             return cls.exact()
