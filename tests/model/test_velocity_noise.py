@@ -188,3 +188,27 @@ def test_times_are_refused_as_simulate_refuses_them(scale: float, words: str) ->
     assert words in str(info.value) and "\n" not in str(info.value)
     with pytest.raises(InputError, match="depth is not finite at sample 3"):
         analyse_depth_noise(np.arange(200) * 1e-3, np.where(np.arange(200) == 3, np.nan, z))
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    # the deadband overflowed: OverflowError from math.ceil(inf)
+    ((1e-3, 1e-320), "time step must be at least 1e-09 s (the steppers' shortest step), got 1e-320"),
+    ((1.7e308, 1e-3), "noise level must be within [0, 100] m (the depths' bound), got 1.7e+308"),
+    ((150.0, 1e-3), "noise level must be within [0, 100] m (the depths' bound), got 150.0"),
+])
+def test_for_noise_refuses_what_overflows_its_window_in_one_line(args: tuple[float, float], words: str) -> None:
+    """for_noise's window and deadband overflowed (math.ceil(inf): OverflowError) for a denormal step or a noise of
+    1e308 m; it takes noise within the depths' +-100 m and steps of at least the steppers' 1 ns (2026-11-29)."""
+    with pytest.raises(InputError) as info:
+        VelocityFilter.for_noise(*args)
+    assert words in str(info.value) and "\n" not in str(info.value)
+    with pytest.raises(InputError) as info:
+        mf.MudContact(W20, noise_std=args[0], dt=args[1])
+    assert words in str(info.value)
+
+
+def test_for_noise_takes_any_window_length() -> None:
+    """A window of 1e300 s at a 1 ns step (round(inf): OverflowError) is the longest window, 64 steps."""
+    assert VelocityFilter.for_noise(1e-3, 1e-9, 1e300) == VelocityFilter.for_noise(1e-3, 1e-9, 1.0)
+    assert VelocityFilter.for_noise(1e-3, 1e-9, 1e300).window == 64
+    assert VelocityFilter.for_noise(100.0, 1e-9).deadband < 1e12

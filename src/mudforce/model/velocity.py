@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mudforce.errors import InputError, is_real, real_array, real_number
-from mudforce.model.bounds import check_times
+from mudforce.model.bounds import MAX_DEPTH, MIN_DT, check_times
 
 #: The longest smoothing window [steps] (the compiled steppers keep ``MAX_WINDOW + 1`` samples of depth).
 MAX_WINDOW = 64
@@ -152,10 +152,16 @@ class VelocityFilter:
         window_length = real_number(window_s, "velocity window") if is_real(window_s) else math.nan
         if not math.isfinite(window_length) or window_length <= 0.0:
             raise InputError(f"velocity window must be finite and > 0 [s], got {window_s!r}")
+        # within these the deadband is finite (< 1e12 m/s); a denormal step or a noise of 1e308 m overflowed it
+        if noise > MAX_DEPTH:
+            raise InputError(f"noise level must be within [0, {MAX_DEPTH:g}] m (the depths' bound), got {noise_std!r}")
+        if step < MIN_DT:
+            raise InputError(f"time step must be at least {MIN_DT:g} s (the steppers' shortest step), got {dt!r}")
         if noise_std <= NOISE_FLOOR_M:
             return cls.exact()
-        longest = int(min(MAX_WINDOW, max(2, round(window_s / dt))))
-        needed = math.ceil(DEADBAND_SIGMAS * math.sqrt(2.0) * noise_std / (dt * SLOWEST_MOTION))
+        # the ratios capped before they are rounded to steps: round(inf) and math.ceil(inf) raise OverflowError
+        longest = int(min(MAX_WINDOW, max(2, round(min(window_s / dt, MAX_WINDOW)))))
+        needed = math.ceil(min(DEADBAND_SIGMAS * math.sqrt(2.0) * noise_std / (dt * SLOWEST_MOTION), MAX_WINDOW))
         window = int(min(longest, max(1, needed)))
         deadband = DEADBAND_SIGMAS * math.sqrt(2.0) * noise_std / (window * dt)
         return cls(window, deadband)
