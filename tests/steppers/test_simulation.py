@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import pathlib
+from typing import Any
 
 import numpy as np
 import pytest
@@ -208,6 +209,22 @@ def test_velocity_filter_for_noise_and_validation() -> None:
         VelocityFilter(3, -1.0)
     c = MudContact(W25, noise_std=5e-5, dt=0.01)
     assert c.velocity_filter == vf
+
+
+@pytest.mark.parametrize(("kwargs", "words"), [
+    # noise_std replaced the filter given, silently
+    ({"noise_std": 5e-5, "dt": 0.01, "velocity_filter": VelocityFilter(3, 0.1)},
+     "give velocity_filter or noise_std (with dt), not both"),
+    ({"noise_std": 5e-5, "dt": 0.01, "velocity_filter": VelocityFilter.exact()},
+     "give velocity_filter or noise_std (with dt)"),
+    # dt without noise_std was ignored, even a negative one
+    ({"dt": 0.01}, "dt is the nominal time step for noise_std; give noise_std too, or leave dt out"),
+    ({"dt": -1.0, "velocity_filter": VelocityFilter(3, 0.1)}, "dt is the nominal time step for noise_std"),
+])
+def test_mud_contact_refuses_a_filter_argument_it_would_ignore(kwargs: dict[str, Any], words: str) -> None:
+    with pytest.raises(InputError) as error:
+        MudContact(W25, **kwargs)
+    assert words in str(error.value) and "\n" not in str(error.value)
 
 
 def test_rate_independence_of_the_exact_discretisation() -> None:

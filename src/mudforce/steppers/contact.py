@@ -187,7 +187,7 @@ class MudContact:
     noise_std : float, optional
         Depth noise [m]; with ``dt``, builds ``VelocityFilter.for_noise(noise_std, dt)``.
     dt : float, optional
-        Nominal time step [s], needed with ``noise_std``.
+        Nominal time step [s], needed with ``noise_std`` (and refused without it).
 
     Examples
     --------
@@ -213,7 +213,11 @@ class MudContact:
         if noise_std is not None:
             if dt is None:
                 raise InputError("noise_std needs the nominal time step dt [s]")
+            if not (isinstance(velocity_filter, str) and velocity_filter == "exact"):  # not the default
+                raise InputError("give velocity_filter or noise_std (with dt), not both: noise_std builds the filter")
             velocity_filter = VelocityFilter.for_noise(noise_std, dt)
+        elif dt is not None:
+            raise InputError("dt is the nominal time step for noise_std; give noise_std too, or leave dt out")
         self.velocity_filter = resolve_velocity_filter(velocity_filter)
         self._params = K.params_row(params, self.foot, self.velocity_filter)
         self._buf = K.new_stream_buffer(self._params)
