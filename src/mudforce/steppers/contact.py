@@ -223,6 +223,7 @@ class MudContact:
         self._buf = K.new_stream_buffer(self._params)
         # views into the one buffer the compiled step sees
         self._states, _, self._out, self._ring = K.stream_parts(self._buf)
+        K.outputs(self._out).neck_offset[:] = np.nan  # last before a step: no neck (a step writes NaN for none)
         self._step = K.stream_step
 
     def step(self, depth: float, dt: float) -> float:
