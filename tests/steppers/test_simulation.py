@@ -118,6 +118,20 @@ def test_last_before_the_first_step_has_not_necked() -> None:
     assert c.last.necked is False
 
 
+@pytest.mark.parametrize(("bad", "named"), [(np.array(["exact"]), "ndarray"), (np.zeros((40, 40)), "ndarray"),
+                                            (["exact"], "list"), (1, "int")])
+def test_a_velocity_filter_that_is_not_a_name_or_a_filter_is_refused(bad: Any, named: str) -> None:
+    """An array compared with "exact" elementwise: simulate raised numpy's ValueError (truth value of an array is
+    ambiguous) for two elements, and np.array(["exact"]) was taken as the exact rule by every stepper."""
+    t, z = np.arange(5) * 0.01, np.linspace(0.0, 0.01, 5)
+    calls = [lambda: simulate(t, z, W25, velocity_filter=bad), lambda: MudContact(W25, velocity_filter=bad),
+             lambda: mf.MudContacts(W25, 2, velocity_filter=bad)]
+    for call in calls:
+        with pytest.raises(InputError) as error:
+            call()
+        assert str(error.value) == f'velocity_filter must be "auto", "exact" or a VelocityFilter, got {named}'
+
+
 def test_streaming_refuses_bad_steps() -> None:
     c = MudContact(W25)
     c.step(0.0, 0.0)

@@ -398,6 +398,9 @@ def resolve_velocity_filter(
     """Turn ``"auto"``, ``"exact"`` or a :class:`VelocityFilter` into a filter."""
     if isinstance(velocity_filter, VelocityFilter):
         return velocity_filter
+    if not isinstance(velocity_filter, str):  # an array compared with "exact" elementwise: ambiguous, or [True]
+        raise InputError(f'velocity_filter must be "auto", "exact" or a VelocityFilter, '
+                         f'got {type(velocity_filter).__name__}')  # an array's repr has many lines
     if velocity_filter == "exact":
         return VelocityFilter.exact()
     if velocity_filter == "auto":

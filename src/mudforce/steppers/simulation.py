@@ -362,7 +362,8 @@ def simulate(
     # the result owns its time and depth: the caller's arrays are copied (in the loop), new ones kept
     callers = any(isinstance(given, np.ndarray) and np.may_share_memory(arr, given)
                   for arr, given in ((t, time), (z, depth)))
-    if not (callers and (isinstance(velocity_filter, VelocityFilter) or velocity_filter == "exact")):
+    if not (callers and (isinstance(velocity_filter, VelocityFilter)
+                         or (isinstance(velocity_filter, str) and velocity_filter == "exact"))):
         # bounds, in a pass of their own: "auto" estimates the noise from valid samples only, and
         # arrays of our own are not copied; the compiled loop holds every sample it copies to them
         _check_values(t, z)
