@@ -35,6 +35,17 @@ def test_table_i_row_in_si() -> None:
     assert "arXiv:2403.02617" in p.source and "Table I" in p.source
 
 
+@pytest.mark.parametrize(("bad", "named"), [("0.25", "str"), (None, "NoneType"), (0.25 + 0j, "complex"),
+                                            (np.array([0.25]), "ndarray"), (True, "bool")])
+def test_table_i_takes_a_number_only(bad: object, named: str) -> None:
+    """table_i compared abs(water_content - w) as given: a str or None raised TypeError, a complex 0.25 + 0j and an
+    array [0.25] were taken as 25 %, True was read as a water content of 1; from_water_content's words now."""
+    with pytest.raises(InputError) as error:
+        MudParameters.table_i(bad)  # type: ignore[arg-type]
+    assert str(error.value) == f"water content must be a number (a fraction: 0.25 means 25%), got {named}"
+    assert MudParameters.table_i(np.float32(0.25)) == MudParameters.table_i(0.25) == TABLE_I[0.25]
+
+
 @pytest.mark.parametrize("w", TABLE_I_WATER_CONTENTS)
 def test_exact_at_the_five_table_values(w: float) -> None:
     assert MudParameters.from_water_content(w) == TABLE_I[w]

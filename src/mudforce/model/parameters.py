@@ -128,6 +128,13 @@ RHO_M = 1.84e3
 _LAMBDA = 0.013  # [-], Fig. 5 of [1], common to all rows
 
 
+def _water_content(value: Any) -> float:
+    """A water content [-] as a float if it is a real number (not bool), else one line; its range is not checked."""
+    if not is_real(value):
+        raise InputError(f"water content must be a number (a fraction: 0.25 means 25%), got {type(value).__name__}")
+    return real_number(value, "water content")
+
+
 @dataclass(frozen=True)
 class MudParameters:
     """The 11 parameters of the mud resistive-force model, in SI.
@@ -212,8 +219,9 @@ class MudParameters:
         water_content : float
             Volume fraction of water [-], one of 0.15, 0.20, 0.25, 0.30, 0.35.
         """
+        given = _water_content(water_content)  # abs(x - w) took a complex, an array, True (as 1); a str: TypeError
         for w, row in zip(TABLE_I_WATER_CONTENTS, _TABLE_I_PAPER_UNITS, strict=True):
-            if abs(water_content - w) < 1e-9:
+            if abs(given - w) < 1e-9:
                 values = [v * s for v, s in zip(row, _TABLE_I_SCALE, strict=True)]
                 return cls._from_nine(values, f"{CITATION}, Table I, W = {w:.0%}")
         raise InputError(
@@ -247,10 +255,7 @@ class MudParameters:
         would. The paper gives no law between its rows; this is a
         project choice.
         """
-        if not is_real(water_content):
-            raise InputError(f"water content must be a number (a fraction: 0.25 means 25%), "
-                             f"got {type(water_content).__name__}")
-        w = real_number(water_content, "water content")
+        w = _water_content(water_content)
         lo, hi = WATER_CONTENT_RANGE
         if not math.isfinite(w) or w < lo - 1e-12 or w > hi + 1e-12:
             raise InputError(
