@@ -57,7 +57,7 @@ from mudforce.model.equations import (
     withdrawal_stress,
 )
 from mudforce.model.foot import Foot
-from mudforce.model.parameters import PARAMETER_RANGES, PARAMETER_UNITS, TABLE_I
+from mudforce.model.parameters import TABLE_I
 
 __all__ = [
     "BASELINE_NAMES",
@@ -76,17 +76,6 @@ DEFAULT_K_RFT = 1.4e6
 
 _RHO_M = TABLE_I[0.25].rho_m  # [kg/m^3], Section III-A of Chen, Yi & Shan
 _LAMBDA = TABLE_I[0.25].lambda_  # [-], Fig. 5 of Chen, Yi & Shan
-
-
-def _within(number: float, value: Any, name: str, key: str, lo: float | None = None) -> float:
-    """``number`` (``value`` checked finite, of its sign) if it lies in MudParameters' range for the parameter ``key``
-    (its lower bound replaced by ``lo`` if given), else one line naming ``name``: beyond it a stiffness, damper,
-    density or drag factor overflowed the force to inf (or, denormal, gave NaN)."""
-    low, high = PARAMETER_RANGES[key]
-    low = low if lo is None else lo
-    if not low <= number <= high:
-        raise InputError(f"{name} must be within [{low:g}, {high:g}] [{PARAMETER_UNITS[key]}], got {value!r}")
-    return number
 
 
 def _trajectory(time: Any, depth: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -142,7 +131,6 @@ def granular_rft_force(time: Any, depth: Any, k_rft: float, foot: Foot | None = 
         Gives the area ``S`` [m^2]; the paper's 51 x 38 mm cuboid by default.
     """
     k = finite_number(k_rft, "k_rft", "Pa/m", positive=True)  # "1e5" was parsed, True was 1, NaN gave NaN
-    k = _within(k, k_rft, "k_rft", "k_m_i", 0.0)  # a stiffness [Pa/m]: 1e308 overflowed k z S to inf
     area = _area(foot)
     v = branch_velocity(time, depth)
     z = np.asarray(depth, dtype=np.float64)
@@ -163,8 +151,8 @@ def drft_force(time: Any, depth: Any, k_rft: float, lambda_: float = _LAMBDA, rh
     rho : float
         Density of the medium [kg/m^3] (the paper's mud, 1840, by default).
     """
-    lam = _within(finite_number(lambda_, "lambda_", "-", nonnegative=True), lambda_, "lambda_", "lambda")
-    density = _within(finite_number(rho, "rho", "kg/m^3", nonnegative=True), rho, "rho", "rho_m", 0.0)
+    lam = finite_number(lambda_, "lambda_", "-", nonnegative=True)
+    density = finite_number(rho, "rho", "kg/m^3", nonnegative=True)
     v = branch_velocity(time, depth)
     z = np.asarray(depth, dtype=np.float64)
     drag = np.where(array_form(drag_acts)(z), array_form(drag_stress)(lam, density, v), 0.0) * _area(foot)
@@ -249,7 +237,6 @@ def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w:
         if number < 0.0 or (positive and number == 0.0):  # (finite_number refused NaN and infinities)
             raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
                              f"got {value!r}")
-        _within(number, value, f"maxwell_only: {name}", name, None if positive else 0.0)
     tau = array_form(relaxation_time)  # Eq. (3)
     force: np.ndarray = _maxwell_only_loop(t, z, float(k_m_i), tau(float(k_m_i), float(b_m_i)), float(k_m_w),
                                            tau(float(k_m_w), float(b_m_w)), float(lambda_), float(rho_m), _area(foot))
