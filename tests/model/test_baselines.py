@@ -193,6 +193,19 @@ def test_fit_cli_accepts_a_baseline_model(tmp_path) -> None:
     (lambda: drft_force([0.0, 0.01], [0.0, math.inf], 1e5), "depth is not finite at sample 1 (inf)"),
     (lambda: drft_force([0.0, 1e-300], [0.0, 0.01], 1e5), "expected steps within [1e-09, 1000] s"),
     (lambda: maxwell_only_force([0.0, 1e-300], [0.0, 0.01], 1e5, 1e5, 1e5, 1e5), "expected steps within"),
+    # finite parameters whose forces overflow: inf forces (with numpy's warnings), NaN forces from a denormal
+    # stiffness, ZeroDivisionError from a denormal damper (2026-11-29); refused on the output, since the fits step
+    # these parameters a little past any range (finite differences)
+    (lambda: granular_rft_force([0.0, 0.01], [0.0, 50.0], 1e308), "granular_rft: the force overflows (not finite) at "
+     "sample 1: a parameter beyond float64's reach"),
+    (lambda: drft_force([0.0, 0.01], [0.0, 50.0], 1e5, rho=1e308), "drft: the force overflows (not finite) at"),
+    (lambda: drft_force([0.0, 0.01], [0.0, 50.0], 1e5, 1e308), "drft: the force overflows (not finite) at"),
+    (lambda: maxwell_only_force([0.0, 0.01], [0.0, 50.0], 1e5, 1e5, 1e5, 1e5, rho_m=1e308),
+     "maxwell_only: the force overflows (not finite) at sample 1"),
+    (lambda: maxwell_only_force([0.0, 0.01], [0.0, 50.0], 1e-320, 1e5, 1e5, 1e5),
+     "maxwell_only: the intrusion branch's relaxation time b / k is inf s"),
+    (lambda: maxwell_only_force([0.0, 0.01], [0.0, 50.0], 1e5, 1e-320, 1e5, 1e5),
+     "maxwell_only: the intrusion branch's relaxation time b / k is 0.0 s"),
 ])
 def test_bad_parameters_and_out_of_bounds_trajectories_are_refused_in_one_line(call: Any, words: str) -> None:
     with warnings.catch_warnings():

@@ -112,6 +112,19 @@ def _area(foot: Foot | None) -> float:
     return (Foot.paper() if foot is None else foot).area
 
 
+def _finite_force(force: np.ndarray, model: str) -> np.ndarray:
+    """``force`` [N], refused in one line where finite inputs overflowed it (a parameter beyond float64's reach).
+
+    The check is on the output, not the parameters' ranges: the fits step these parameters to their bounds and
+    a little past them (finite differences), which a range would refuse.
+    """
+    if not np.isfinite(force).all():
+        k = int(np.flatnonzero(~np.isfinite(force))[0])
+        raise InputError(f"{model}: the force overflows (not finite) at sample {k}: a parameter beyond float64's "
+                         "reach; expected parameters of physical size")
+    return force
+
+
 def granular_rft_force(time: Any, depth: Any, k_rft: float, foot: Foot | None = None) -> np.ndarray:
     """Granular RFT force on a horizontal plate in vertical intrusion [N], positive up.
 
@@ -134,8 +147,9 @@ def granular_rft_force(time: Any, depth: Any, k_rft: float, foot: Foot | None = 
     area = _area(foot)
     v = branch_velocity(time, depth)
     z = np.asarray(depth, dtype=np.float64)
-    force: np.ndarray = np.where(v >= 0.0, k * np.maximum(z, 0.0), 0.0) * area
-    return force
+    with np.errstate(over="ignore", invalid="ignore"):  # refused below, without numpy's warnings
+        force: np.ndarray = np.where(v >= 0.0, k * np.maximum(z, 0.0), 0.0) * area
+    return _finite_force(force, "granular_rft")
 
 
 def drft_force(time: Any, depth: Any, k_rft: float, lambda_: float = _LAMBDA, rho: float = _RHO_M,
@@ -155,9 +169,10 @@ def drft_force(time: Any, depth: Any, k_rft: float, lambda_: float = _LAMBDA, rh
     density = finite_number(rho, "rho", "kg/m^3", nonnegative=True)
     v = branch_velocity(time, depth)
     z = np.asarray(depth, dtype=np.float64)
-    drag = np.where(array_form(drag_acts)(z), array_form(drag_stress)(lam, density, v), 0.0) * _area(foot)
-    force: np.ndarray = granular_rft_force(time, depth, k_rft, foot) + drag
-    return force
+    with np.errstate(over="ignore", invalid="ignore"):  # refused below, without numpy's warnings
+        drag = np.where(array_form(drag_acts)(z), array_form(drag_stress)(lam, density, v), 0.0) * _area(foot)
+        force: np.ndarray = granular_rft_force(time, depth, k_rft, foot) + drag
+    return _finite_force(force, "drft")
 
 
 @njit(cache=True, nogil=True)
@@ -238,6 +253,13 @@ def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w:
             raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
                              f"got {value!r}")
     tau = array_form(relaxation_time)  # Eq. (3)
-    force: np.ndarray = _maxwell_only_loop(t, z, float(k_m_i), tau(float(k_m_i), float(b_m_i)), float(k_m_w),
-                                           tau(float(k_m_w), float(b_m_w)), float(lambda_), float(rho_m), _area(foot))
-    return force
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        taus = {"intrusion": float(tau(float(k_m_i), float(b_m_i))),
+                "withdrawal": float(tau(float(k_m_w), float(b_m_w)))}
+    for branch, value in taus.items():  # b / k beyond float64 (1e-320 / 1e5 is 0: a division by zero in the loop)
+        if not 0.0 < value < math.inf:
+            raise InputError(f"maxwell_only: the {branch} branch's relaxation time b / k is {value!r} s; expected a "
+                             "positive finite time (k and b of physical size)")
+    force: np.ndarray = _maxwell_only_loop(t, z, float(k_m_i), taus["intrusion"], float(k_m_w), taus["withdrawal"],
+                                           float(lambda_), float(rho_m), _area(foot))
+    return _finite_force(force, "maxwell_only")
