@@ -114,7 +114,7 @@ from mudforce._plumbing.jit import njit
 from mudforce.engines.dynamics.rest_band import rest_band
 from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number, true_or_false
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
-from mudforce.model.bounds import check_times
+from mudforce.model.bounds import check_finite, check_times
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -1865,11 +1865,8 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     # each refusal names the sample, in simulate()'s words, though a gap of up to MAX_TIME is taken here, as
     # MudTracker.update takes it
     check_times(t, max_dt=MAX_TIME)
-    for name, values, unit in (("depth", z, "m"), ("force", f, "N")):
-        bad = np.flatnonzero(~np.isfinite(values))
-        if bad.size:
-            raise InputError(f"{name} is not finite at sample {bad[0]} ({float(values[bad[0]])!r}); "
-                             f"expected numbers [{unit}]")
+    check_finite(z, "depth", "m")
+    check_finite(f, "force", "N")
     tracker = _one_foot(foot, options)
     _check_bounds(z, f, tracker._max_depth, t)
     m = t.size

@@ -8,7 +8,8 @@ as the public :data:`~mudforce.steppers.simulation.MAX_DEPTH`, :data:`~mudforce.
 bounds every output is finite (``tests/api/test_promise.py``). :func:`check_times` words the refusal of sample
 times, for ``simulate``, ``simulate_3d``, ``fit_3d`` and the baselines alike, :func:`check_depths` that of a
 trajectory's depths, for ``simulate`` and the baselines; :func:`bounded_depth` that of one
-depth or height (a protocol's depths, a drop's height, a surface height), for every path that takes one.
+depth or height (a protocol's depths, a drop's height, a surface height), for every path that takes one;
+:func:`check_finite` that of a recording's column that is not finite (in their words), for those and the tracker.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import numpy as np
 from mudforce.errors import InputError, finite_number
 
 __all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "bounded_depth", "check_depths",
-           "check_times"]
+           "check_finite", "check_times"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -41,14 +42,21 @@ MAX_DT = 1e3
 MAX_TIME = 1e9
 
 
+def check_finite(values: np.ndarray, name: str, unit: str) -> None:
+    """Refuse a recording's column ``values`` (float64, 1-D) that is not finite: one line naming the first bad
+    sample, ``name`` and its ``unit``, the words of :func:`check_times` and :func:`check_depths`."""
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise InputError(f"{name} is not finite at sample {bad[0]} ({float(values[bad[0]])!r}); "
+                         f"expected numbers [{unit}]")
+
+
 def check_times(t: np.ndarray, max_dt: float = MAX_DT) -> None:
     """Refuse sample times [s] (float64, 1-D) that are not finite, beyond +-:data:`MAX_TIME` (where a step of 1 ms
     would lose its digits), or not stepping by [:data:`MIN_DT`, ``max_dt``]: one line naming the first bad
     sample, for :func:`mudforce.simulate` and :func:`mudforce.simulate_3d` alike (and :func:`mudforce.track`, whose
     tracker takes gaps of up to :data:`MAX_TIME`, as ``MudTracker.update`` does: ``max_dt=MAX_TIME``)."""
-    bad = np.flatnonzero(~np.isfinite(t))
-    if bad.size:
-        raise InputError(f"time is not finite at sample {bad[0]} ({float(t[bad[0]])!r}); expected numbers [s]")
+    check_finite(t, "time", "s")
     bad = np.flatnonzero(np.abs(t) > MAX_TIME)
     if bad.size:
         raise InputError(f"time at sample {bad[0]} ({float(t[bad[0]])!r} s) is beyond +-{MAX_TIME:g} s")
@@ -69,9 +77,7 @@ def check_times(t: np.ndarray, max_dt: float = MAX_DT) -> None:
 def check_depths(z: np.ndarray) -> None:
     """Refuse a trajectory's depths [m] (float64, 1-D) that are not finite or beyond +-:data:`MAX_DEPTH`: one line
     naming the first bad sample, for :func:`mudforce.simulate` and the baselines alike."""
-    bad = np.flatnonzero(~np.isfinite(z))
-    if bad.size:
-        raise InputError(f"depth is not finite at sample {bad[0]} ({float(z[bad[0]])!r}); expected numbers [m]")
+    check_finite(z, "depth", "m")
     bad = np.flatnonzero(np.abs(z) > MAX_DEPTH)
     if bad.size:
         raise InputError(f"depth at sample {bad[0]} ({float(z[bad[0]])!r} m) is beyond +-{MAX_DEPTH:g} m; "

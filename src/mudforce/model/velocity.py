@@ -44,11 +44,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from mudforce.errors import InputError, is_real, real_array, real_number
-from mudforce.model.bounds import MAX_DEPTH, MIN_DT, check_times
+from mudforce.model.bounds import MAX_DEPTH, MIN_DT, check_finite, check_times
 
 #: The longest smoothing window [steps] (the compiled steppers keep ``MAX_WINDOW + 1`` samples of depth).
 MAX_WINDOW = 64
@@ -97,6 +98,16 @@ DEADBAND_SIGMAS = 5.0
 SLOWEST_MOTION = 1e-3
 
 
+def _finite_at_least_zero(value: Any, name: str, unit: str, *, positive: bool = False) -> float:
+    """``value`` as a float if it is a finite real number >= 0 (> 0 if ``positive``), else one line naming ``name``
+    (a Python int beyond float64 in :func:`~mudforce.errors.real_number`'s words: math.isfinite raised
+    OverflowError for it)."""
+    number = real_number(value, name) if is_real(value) else math.nan
+    if not math.isfinite(number) or number < 0.0 or (positive and number == 0.0):
+        raise InputError(f"{name} must be finite and {'> 0' if positive else '>= 0'} [{unit}], got {value!r}")
+    return number
+
+
 @dataclass(frozen=True)
 class VelocityFilter:
     """How the branch velocity is estimated from sampled depth.
@@ -117,9 +128,7 @@ class VelocityFilter:
             raise InputError(f"velocity filter window must be an integer number of steps, got {self.window!r}")
         if not 1 <= int(self.window) <= MAX_WINDOW:
             raise InputError(f"velocity filter window must be 1..{MAX_WINDOW} steps, got {self.window}")
-        deadband = real_number(self.deadband, "velocity filter deadband") if is_real(self.deadband) else math.nan
-        if not math.isfinite(deadband) or deadband < 0.0:
-            raise InputError(f"velocity filter deadband must be finite and >= 0 [m/s], got {self.deadband!r}")
+        _finite_at_least_zero(self.deadband, "velocity filter deadband", "m/s")
         object.__setattr__(self, "window", int(self.window))
         object.__setattr__(self, "deadband", float(self.deadband))
 
@@ -142,16 +151,9 @@ class VelocityFilter:
         capture (tens of um at 100 Hz) fills ``window_s``; small noise gets
         a short window. ``noise_std <= 1 nm`` gives :meth:`exact`.
         """
-        # a Python int beyond float64 refused in real_number's words (math.isfinite raised OverflowError)
-        noise = real_number(noise_std, "noise level") if is_real(noise_std) else math.nan
-        if not math.isfinite(noise) or noise < 0.0:
-            raise InputError(f"noise level must be finite and >= 0 [m], got {noise_std!r}")
-        step = real_number(dt, "time step") if is_real(dt) else math.nan
-        if not math.isfinite(step) or step <= 0.0:
-            raise InputError(f"time step must be finite and > 0 [s], got {dt!r}")
-        window_length = real_number(window_s, "velocity window") if is_real(window_s) else math.nan
-        if not math.isfinite(window_length) or window_length <= 0.0:
-            raise InputError(f"velocity window must be finite and > 0 [s], got {window_s!r}")
+        noise = _finite_at_least_zero(noise_std, "noise level", "m")
+        step = _finite_at_least_zero(dt, "time step", "s", positive=True)
+        _finite_at_least_zero(window_s, "velocity window", "s", positive=True)
         # within these the deadband is finite (< 1e12 m/s); a denormal step or a noise of 1e308 m overflowed it
         if noise > MAX_DEPTH:
             raise InputError(f"noise level must be within [0, {MAX_DEPTH:g}] m (the depths' bound), got {noise_std!r}")
@@ -222,9 +224,7 @@ def _check_record(time: np.ndarray, depth: np.ndarray) -> tuple[np.ndarray, np.n
     if t.ndim != 1 or z.ndim != 1 or t.size != z.size:
         raise InputError(f"time and depth must be 1-D arrays of one length, got shapes {t.shape} and {z.shape}")
     check_times(t)  # simulate's refusal and words: finite, within +-MAX_TIME, steps within [MIN_DT, MAX_DT]
-    if not np.isfinite(z).all():
-        k = int(np.flatnonzero(~np.isfinite(z))[0])
-        raise InputError(f"depth is not finite at sample {k} ({float(z[k])!r}); expected numbers [m]")
+    check_finite(z, "depth", "m")
     return t, z
 
 
