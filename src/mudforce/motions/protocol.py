@@ -39,12 +39,6 @@ MIN_RATE = 1.0 / MAX_DT
 MAX_RATE = 1e8
 
 
-def _depth_within(value: float, name: str) -> float:
-    """``value`` [m] if it is a finite number within +-MAX_DEPTH (what simulate() accepts), else InputError naming
-    it (:func:`mudforce.model.bounds.bounded_depth`)."""
-    return bounded_depth(value, name)
-
-
 @dataclass(frozen=True)
 class Intrude:
     """Move down at constant speed to an absolute depth.
@@ -62,7 +56,7 @@ class Intrude:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "velocity", positive_number(self.velocity, "intrusion velocity", "m/s"))
-        object.__setattr__(self, "depth", _depth_within(self.depth, "intrusion depth"))
+        object.__setattr__(self, "depth", bounded_depth(self.depth, "intrusion depth"))
 
 
 @dataclass(frozen=True)
@@ -99,7 +93,7 @@ class Withdraw:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "velocity", positive_number(self.velocity, "withdrawal velocity", "m/s"))
-        object.__setattr__(self, "rise", _depth_within(self.rise, "withdrawal rise"))
+        object.__setattr__(self, "rise", bounded_depth(self.rise, "withdrawal rise"))
         if self.rise < 0.0:
             raise InputError(f"withdrawal rise must be >= 0 [m], got {self.rise!r}")
 
@@ -142,7 +136,7 @@ class Protocol:
             raise InputError(f"sampling rate must be within [{MIN_RATE:g}, {MAX_RATE:g}] Hz (steps simulate() "
                              f"accepts), got {self.rate!r}")
         object.__setattr__(self, "rate", rate)
-        object.__setattr__(self, "start_depth", _depth_within(self.start_depth, "start depth"))
+        object.__setattr__(self, "start_depth", bounded_depth(self.start_depth, "start depth"))
         if not self.steps:
             raise InputError("a protocol needs at least one step (Intrude, Hold or Withdraw)")
         bt, _ = self.breakpoints()  # validates the sequence
