@@ -7,11 +7,16 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_SEED", "InputError", "finite_number", "holds_boolean", "is_integer", "is_real", "number_within",
-           "positive_int", "positive_number", "real_array", "real_number", "seed_int", "true_or_false"]
+__all__ = ["MAX_FEET", "MAX_SEED", "InputError", "feet_count", "finite_number", "holds_boolean", "is_integer",
+           "is_real", "number_within", "positive_int", "positive_number", "real_array", "real_number", "seed_int",
+           "true_or_false"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
+
+#: Most feet one stepper or tracker holds [-] (ours): ten million 1-D feet are a few GB of state; past this a count
+#: is a mistake, which would otherwise end in numpy's MemoryError or OverflowError when the state is allocated.
+MAX_FEET = 10**7
 
 
 class InputError(ValueError):
@@ -37,6 +42,16 @@ def positive_int(value: Any, name: str, alternative: str = "") -> int:
     if not is_integer(value) or value < 1:
         raise InputError(f"{name} must be an integer >= 1{alternative}, got {value!r}")
     return int(value)
+
+
+def feet_count(value: Any, name: str = "the number of feet n") -> int:
+    """``value`` as a number of feet: an integer in [1, :data:`MAX_FEET`] (not ``bool``), else :class:`InputError`."""
+    count = positive_int(value, name)
+    if count > MAX_FEET:
+        shown = str(count) if count < 10**15 else f"{count:.3g}" if count < 10**300 else \
+            f"an integer of {count.bit_length()} bits"
+        raise InputError(f"{name} must be at most {MAX_FEET} (one object's feet), got {shown}")
+    return count
 
 
 def seed_int(value: Any, name: str = "--seed") -> int:

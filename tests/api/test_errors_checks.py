@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from mudforce.errors import (
+    MAX_FEET,
     InputError,
+    feet_count,
     finite_number,
     is_integer,
     number_within,
@@ -222,3 +224,22 @@ def test_boolean_options_take_numpy_booleans(tmp_path: Any) -> None:
     for name in ("elements", "quiet (write_csv)", "intercept", "start_below (gait)", "quick", "twin"):
         options[name](np.bool_(True))
     assert options["elements"](np.bool_(True)).element_forces is not None
+
+
+def test_a_count_of_feet_past_ten_million_is_refused_in_one_line_before_anything_is_allocated() -> None:
+    """``feet_count``, which every stepper and tracker of many feet takes its ``n`` through: before, 10**30 feet
+    raised numpy's OverflowError and 10**12 its MemoryError."""
+    import mudforce as mf
+    from mudforce.model import shapes
+
+    assert feet_count(MAX_FEET) == MAX_FEET == 10**7 and feet_count(np.int64(3)) == 3
+    mud = mf.MudParameters.from_water_content(0.25)
+    for n, shown in ((MAX_FEET + 1, "10000001"), (10**30, "1e+30"), (10**5000, "an integer of 16610 bits")):
+        for make, args in ((mf.MudContacts, (mud, n)), (mf.MudContacts3D, (mud, shapes.sphere(0.04), n)),
+                           (mf.MudTrackers, (n,))):
+            with pytest.raises(InputError) as info:
+                make(*args)
+            assert str(info.value) == f"the number of feet n must be at most 10000000 (one object's feet), got {shown}"
+    for bad in (0, True, 2.0):
+        with pytest.raises(InputError, match=r"^the number of feet n must be an integer >= 1, got "):
+            feet_count(bad)

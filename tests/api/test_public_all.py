@@ -148,8 +148,8 @@ PINNED: dict[str, list[str]] = {
         "submerged_drag_stress", "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [
-        "MAX_SEED", "InputError", "finite_number", "holds_boolean", "is_integer", "is_real", "number_within",
-        "positive_int", "positive_number", "real_array", "real_number", "seed_int", "true_or_false",
+        "MAX_FEET", "MAX_SEED", "InputError", "feet_count", "finite_number", "holds_boolean", "is_integer", "is_real",
+        "number_within", "positive_int", "positive_number", "real_array", "real_number", "seed_int", "true_or_false",
     ],
     "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],

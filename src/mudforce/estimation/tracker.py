@@ -112,7 +112,14 @@ from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce._plumbing.jit import njit
 from mudforce.engines.dynamics.rest_band import rest_band
-from mudforce.errors import InputError, positive_int, positive_number, real_array, real_number, true_or_false
+from mudforce.errors import (
+    InputError,
+    feet_count,
+    positive_number,
+    real_array,
+    real_number,
+    true_or_false,
+)
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
 from mudforce.model.bounds import check_finite, check_times
 from mudforce.model.foot import Foot
@@ -1371,7 +1378,7 @@ class MudTrackers:
         depth_offset_prior: float = DEFAULT_DEPTH_OFFSET_PRIOR,
         max_step: float = DEFAULT_MAX_STEP,
     ) -> None:
-        self.n = positive_int(n, "the number of feet n")
+        self.n = feet_count(n)
         if foot is not None and not isinstance(foot, Foot):
             raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")
         self.foot = Foot.paper() if foot is None else foot

@@ -95,7 +95,7 @@ import numpy as np
 from mudforce import _kernel
 from mudforce._kernel.layout import ContactMode
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
-from mudforce.errors import InputError, positive_int
+from mudforce.errors import InputError, feet_count
 from mudforce.model import equations as _eq
 from mudforce.model import law3d as _law3d
 from mudforce.model.foot import Foot
@@ -268,7 +268,7 @@ def make_params(
         if len(seq) not in (1, count):
             raise InputError(f"got {len(seq)} {name} for {count} feet; give one or one per foot")
     if n is not None:
-        n = positive_int(n, "the number of feet n")
+        n = feet_count(n)
         if per_foot and count != n:
             raise InputError(f"got {count} per-foot entries for n = {n} feet")
     values = np.array([m.as_array() for m in muds], dtype=np.float64)  # (count or 1, 11), PARAMETER_NAMES order
@@ -285,7 +285,7 @@ def init(n: int, dtype: Any = None) -> State:
     ``dtype`` is the float dtype (JAX's default float by default); it should
     be the params'.
     """
-    n = positive_int(n, "the number of feet n")
+    n = feet_count(n)
     dt_ = _float_dtype(dtype)
     # a buffer per field, so that the state can be donated (jax.jit(..., donate_argnums=...))
     return State(jnp.full((n,), UNSTARTED, dtype=jnp.int8), *(jnp.zeros((n,), dtype=dt_) for _ in range(8)))

@@ -46,10 +46,10 @@ from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT, c
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce.errors import (
     InputError,
+    feet_count,
     is_integer,
     is_real,
     number_within,
-    positive_int,
     real_array,
     real_number,
     true_or_false,
@@ -731,7 +731,7 @@ class MudContacts3D:
                  n: int | None = None, *, surface_heights: float | Sequence[float] = 0.0,
                  widths: float | Sequence[float] | None = None,
                  lateral_stiffness: float | Sequence[float] | None = None, threads: int | None = 1) -> None:
-        m = None if n is None else positive_int(n, "the number of feet n")
+        m = None if n is None else feet_count(n)
         muds = _per_foot(params, m, "params", MudParameters, "a MudParameters")
         m = len(muds) if muds is not None and m is None else m
         feet = _per_foot(shapes, m, "shapes", Shape, "a mudforce.model.shapes.Shape")

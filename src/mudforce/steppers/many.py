@@ -34,7 +34,7 @@ from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce._plumbing.jit import njit
-from mudforce.errors import InputError, positive_int, real_array, real_number
+from mudforce.errors import InputError, feet_count, positive_int, real_array, real_number
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import PARAMETER_NAMES, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -243,7 +243,7 @@ class MudContacts:
         velocity_filter: VelocityFilter | str = "exact",
         threads: int | None = None,
     ) -> None:
-        self.n = positive_int(n, "the number of feet n")
+        self.n = feet_count(n)
         self.velocity_filter = resolve_velocity_filter(velocity_filter)
         self.params_array = _param_rows(params, self.n, foot, self.velocity_filter)
         self._states = K.new_states(self.n)  # the live rows (kernel layout); save and restore with .state
