@@ -109,13 +109,17 @@ def test_streaming_equals_batch_and_snapshot_restore() -> None:
     assert c.step(0.01, 0.01) == pytest.approx(res.f_e2[100] * 0 + W25.alpha * (0.01 / 0.038) ** 0.54 * res.foot.area)
 
 
-def test_last_before_the_first_step_has_not_necked() -> None:
+def test_last_before_the_first_step_and_after_a_reset_has_not_necked() -> None:
     """A new contact's ``last`` said ``necked=True`` (its outputs' zeros read as a neck offset of 0 s); it is the
     FREE, zero-force sample of a foot that has not necked, as a first step without necking reports."""
     c = MudContact(W25)
     assert c.last == mf.ContactSample(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, "FREE", False)
     c.step(-0.01, 0.01)
     assert c.last.necked is False
+    c.step(0.005, 0.01)
+    assert c.last.force > 0.0
+    c.reset()  # `last` was the step before the reset: it is the fresh contact's again
+    assert c.last == mf.ContactSample(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, "FREE", False)
 
 
 @pytest.mark.parametrize(("bad", "named"), [(np.array(["exact"]), "ndarray"), (np.zeros((40, 40)), "ndarray"),

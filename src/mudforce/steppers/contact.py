@@ -223,8 +223,13 @@ class MudContact:
         self._buf = K.new_stream_buffer(self._params)
         # views into the one buffer the compiled step sees
         self._states, _, self._out, self._ring = K.stream_parts(self._buf)
-        K.outputs(self._out).neck_offset[:] = np.nan  # last before a step: no neck (a step writes NaN for none)
+        self._clear_last()
         self._step = K.stream_step
+
+    def _clear_last(self) -> None:
+        """:attr:`last` as before any step: zeros, and no neck (a step writes NaN for none)."""
+        self._out[:] = 0.0
+        K.outputs(self._out).neck_offset[:] = np.nan
 
     def step(self, depth: float, dt: float) -> float:
         """Advance to the next depth sample and return the force [N].
@@ -279,8 +284,10 @@ class MudContact:
         )
 
     def reset(self) -> None:
-        """Forget the history: the next call to :meth:`step` sets the initial sample."""
+        """Forget the history: the next call to :meth:`step` sets the initial sample, and :attr:`last` is as
+        before any step."""
         self._states[:] = K.new_states(1)
+        self._clear_last()
 
     @property
     def state(self) -> ContactState:
