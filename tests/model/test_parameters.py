@@ -128,6 +128,8 @@ def test_from_dict_refuses_unknown_and_missing_keys() -> None:
     d = TABLE_I[0.25].to_dict()
     with pytest.raises(InputError, match="unknown parameter key"):
         MudParameters.from_dict({**d, "k_mi": 1.0})
+    with pytest.raises(InputError, match=r"^unknown parameter key\(s\) 3, k_mi; expected k_m_i, "):
+        MudParameters.from_dict({**d, "k_mi": 1.0, 3: 2.0})  # keys of two types: named, not numpy's TypeError
     del d["sigma_y"]
     with pytest.raises(InputError, match=r"missing parameter key.*sigma_y"):
         MudParameters.from_dict(d)

@@ -286,7 +286,7 @@ class MudParameters:
             raise InputError(f"parameters must be a JSON object with keys {', '.join(PARAMETER_NAMES)}")
         keys = set(data)
         allowed = set(PARAMETER_NAMES) | {"source"}
-        unknown = sorted(keys - allowed)
+        unknown = sorted(repr(k) if not isinstance(k, str) else k for k in keys - allowed)  # (keys of any type)
         if unknown:
             raise InputError(
                 f"unknown parameter key(s) {', '.join(unknown)}; expected {', '.join(PARAMETER_NAMES)}"
