@@ -12,7 +12,7 @@ import numpy as np
 
 import mudforce as mf
 from mudforce import _kernel as K
-from mudforce.estimation.calibration.models import CHEN2024, _chen_force, trajectory_force
+from mudforce.estimation.calibration.models import CHEN2024, _chen_force, _chen_row, trajectory_force
 from mudforce.steppers import simulation as S
 
 FOOT = mf.Foot.paper()
@@ -67,3 +67,12 @@ def test_trajectory_force_is_the_models_force() -> None:
         for w in (0.15, 0.35, 0.15):
             values = CHEN2024.vector(mf.MudParameters.from_water_content(w).to_dict())
             assert force(values).tobytes() == _chen_force(t, depth, values, FOOT).tobytes()
+
+
+def test_the_kept_constants_are_the_vectors_own() -> None:
+    """``models._chen_row`` keeps the last vector's row: every vector and foot, in any order, gets its own."""
+    feet = (FOOT, mf.Foot.disc(0.05))
+    for w, foot in ((0.15, FOOT), (0.15, FOOT), (0.35, FOOT), (0.15, feet[1]), (0.15, FOOT), (0.35, feet[1])):
+        values = mf.MudParameters.from_water_content(w).as_array()
+        expected = K.make_params(values, foot.area, foot.width, 1, 0.0)
+        assert _chen_row(values, foot).tobytes() == expected.tobytes()

@@ -175,9 +175,27 @@ _CHEN_SEARCH: dict[str, tuple[float, float]] = {
 }
 
 
+#: the last parameter vector's stepper constants: ``(values' bytes, foot, row)`` (see :func:`_chen_row`)
+_LAST_ROW: tuple[bytes, Foot | None, np.ndarray] = (b"", None, np.empty((1, K.N_PARAMS)))
+
+
 def _chen_row(values: np.ndarray, foot: Foot) -> np.ndarray:
-    """The stepper's constants for ``values`` [SI] on ``foot`` with the exact rule, shape ``(1, N_PARAMS)``."""
-    return K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
+    """The stepper's constants for ``values`` [SI] on ``foot`` with the exact rule, shape ``(1, N_PARAMS)``.
+
+    Speed plumbing: a fit evaluates every trial of a condition with one
+    parameter vector, and its standard errors the same vector many times;
+    the row of the last vector is kept (``make_params`` of the same numbers
+    gives the same row) and handed out again, never written. The memo is
+    one tuple, swapped whole, so that threads can share it.
+    """
+    global _LAST_ROW
+    key = np.ascontiguousarray(values, dtype=np.float64).tobytes()
+    last = _LAST_ROW
+    if last[1] is foot and last[0] == key:
+        return last[2]
+    row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
+    _LAST_ROW = (key, foot, row)
+    return row
 
 
 def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
