@@ -271,6 +271,77 @@ def _check_values(t: np.ndarray, z: np.ndarray) -> None:
 _NO_COPY = np.empty(0, dtype=np.float64)
 
 
+class CompactRun:
+    """The compiled batch loop (``_kernel.run_batch_compact``) over one trajectory, on work arrays made once.
+
+    Speed plumbing: a fit runs the same trajectory tens of thousands of
+    times with other constants; the arrays the loop writes (and its state,
+    velocity history and spring scratch, reset before each run) are made
+    here once instead of at every run. The loop writes every output it
+    returns whatever the arrays held, so each run gives what a fresh one
+    (:func:`run_compact`) gives, bit for bit.
+
+    Parameters
+    ----------
+    t, z : ndarray
+        Sample times [s] and depths [m], float64 (copied if not contiguous; values not checked here).
+    window : int
+        The velocity filter's window [steps].
+
+    Attributes
+    ----------
+    time, depth : ndarray
+        The trajectory as the loop reads it (contiguous float64) [s], [m].
+    force : ndarray
+        The last run's force [N] (overwritten by the next run).
+    state : ndarray of int8
+        The last run's contact state per sample.
+    mud : ndarray
+        The last run's ``z_m`` [m].
+    """
+
+    __slots__ = ("_counts", "_fresh", "_neck_index", "_neck_offset", "_ring", "_scratch", "_states", "depth",
+                 "force", "mud", "state", "time")
+
+    def __init__(self, t: np.ndarray, z: np.ndarray, window: int) -> None:
+        # one compiled specialisation: a strided column (a table's) would compile the loop a second time (~15 s cold)
+        self.time = np.ascontiguousarray(t, dtype=np.float64)
+        self.depth = np.ascontiguousarray(z, dtype=np.float64)
+        n = self.time.size
+        self.state = np.empty(n, dtype=np.int8)
+        self.mud = np.empty(n, dtype=np.float64)
+        # written at neckings only (pages never touched cost nothing)
+        self._neck_index = np.empty(n, dtype=np.int64)
+        self._neck_offset = np.empty(n, dtype=np.float64)
+        self._counts = np.zeros(1, dtype=np.int64)
+        self.force = np.empty(n, dtype=np.float64)
+        self._fresh = K.new_states(1)
+        self._states = self._fresh.copy()
+        self._ring = K.new_ring(1, window)
+        self._scratch = K.new_spring_scratch(SPRING_BLOCK)
+
+    def run(self, prow: np.ndarray, time_out: np.ndarray = _NO_COPY, depth_out: np.ndarray = _NO_COPY) -> int:
+        """Run the loop from a fresh state with the constants ``prow`` (shape ``(1, N_PARAMS)``, :func:`params_row`).
+
+        ``time_out`` and ``depth_out`` are :func:`run_compact`'s. Returns the
+        first sample the stepper refused (the outputs are then valid before
+        it) or -1.
+        """
+        np.copyto(self._states, self._fresh)
+        if self._ring.size:
+            self._ring.fill(0.0)
+        self._counts[0] = 0
+        return int(K.run_batch_compact(self.time, self.depth, self._states, self._ring, prow, self.state, self.mud,
+                                       self._neck_index, self._neck_offset, self._counts, self.force,
+                                       *self._scratch, time_out, depth_out))
+
+    def necking_times(self) -> np.ndarray:
+        """The instants at which the last run's neck broke [s], located inside the step."""
+        necks = int(self._counts[0])
+        out: np.ndarray = self.time[self._neck_index[:necks] - 1] + self._neck_offset[:necks]
+        return out
+
+
 def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int, time_out: np.ndarray = _NO_COPY,
                 depth_out: np.ndarray = _NO_COPY) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The compiled batch loop (``_kernel.run_batch_compact``) over a trajectory, on fresh arrays.
@@ -294,22 +365,9 @@ def run_compact(t: np.ndarray, z: np.ndarray, prow: np.ndarray, window: int, tim
         ``bad`` is the first sample the stepper refused (the arrays are
         then valid before it) or -1.
     """
-    # one compiled specialisation: a strided column (a table's) would compile the loop a second time (~15 s cold)
-    t = np.ascontiguousarray(t, dtype=np.float64)
-    z = np.ascontiguousarray(z, dtype=np.float64)
-    n = t.size
-    state = np.empty(n, dtype=np.int8)
-    mud = np.empty(n, dtype=np.float64)
-    # written at neckings only (pages never touched cost nothing)
-    neck_index = np.empty(n, dtype=np.int64)
-    neck_offset = np.empty(n, dtype=np.float64)
-    counts = np.zeros(1, dtype=np.int64)
-    force = np.empty(n, dtype=np.float64)
-    bad = K.run_batch_compact(t, z, K.new_states(1), K.new_ring(1, window), prow, state, mud, neck_index,
-                              neck_offset, counts, force, *K.new_spring_scratch(SPRING_BLOCK), time_out, depth_out)
-    necks = int(counts[0])
-    necking_times = t[neck_index[:necks] - 1] + neck_offset[:necks]
-    return int(bad), force, state, mud, necking_times
+    work = CompactRun(t, z, window)
+    bad = work.run(prow, time_out, depth_out)
+    return bad, work.force, work.state, work.mud, work.necking_times()
 
 
 def simulate(

@@ -55,7 +55,7 @@ from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.progress import Progress
 from mudforce.errors import InputError, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
-from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model
+from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor_parts, prepare_trial, tare_correction
 from mudforce.estimation.calibration.results import (
     MISFIT_WARNING_RATIO,
@@ -74,7 +74,6 @@ from mudforce.estimation.calibration.uncertainty import (
     jackknife_variance,
     jacobian,
     motion_sensitivity,
-    profiled,
 )
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, check_force_gain_uncertainty
 from mudforce.model.foot import Foot
@@ -125,6 +124,38 @@ class FitOptions:
 
 
 # ---------------------------------------------------------------------------- the objective
+class _Piece:
+    """One trial's rows of the objective: its force residual [N] with the tare offset profiled out, and the prior.
+
+    Speed plumbing: what depends only on the trial and the window (the
+    trajectory's work arrays, the measured force in the window, where its
+    rows go) is found once, so that an evaluation is the model's run and
+    three passes over the rows, written where :class:`_Objective` returns
+    them.
+    """
+
+    __slots__ = ("force", "measured", "precontact", "prior", "root", "rows", "skip")
+
+    def __init__(self, force: Callable[[np.ndarray], np.ndarray], skip: int, measured: np.ndarray, rows: slice,
+                 prior: int, precontact: int) -> None:
+        self.force = force  # values -> the model's force [N] (the rows' samples from skip on)
+        self.skip = skip
+        self.measured = np.ascontiguousarray(measured)
+        self.rows = rows
+        self.prior = prior
+        self.precontact = precontact
+        self.root = math.sqrt(precontact)
+
+    def write(self, values: np.ndarray, out: np.ndarray) -> None:
+        """Write the rows for parameters ``values`` [SI] into ``out`` (:func:`profiled`'s numbers, bit for bit)."""
+        force = self.force(values)
+        r = out[self.rows]
+        np.subtract(force[self.skip:] if self.skip else force, self.measured, out=r)
+        offset = tare_correction(r, self.precontact)
+        np.add(r, offset, out=r)
+        out[self.prior] = offset * self.root
+
+
 class _Objective:
     """Force residuals [N] of groups of trials for a vector of log-parameters.
 
@@ -147,6 +178,31 @@ class _Objective:
             resume = model.resume
             self.tails = [[resume(tr.time, tr.depth, b, foot, tr.reversal_index) for tr in group]
                           for b, group in zip(self.base, groups, strict=True)]
+        self._pieces = self._make_pieces()
+
+    def _make_pieces(self) -> list[list[_Piece]]:
+        """Each trial's :class:`_Piece`: its data rows in trial order, then one prior row per trial."""
+        n_data = 0
+        windows = []
+        for g, group in enumerate(self.groups):
+            for i, tr in enumerate(group):
+                if self.tails is not None:
+                    k = tr.reversal_index
+                    spec = (self.tails[g][i], 0, tr.force[k:])
+                elif self.window == "intrusion":  # the force up to the reversal does not depend on what follows
+                    a, b = tr.intrusion_window  # a trial that starts in the mud: its first touchdown, from a free foot
+                    spec = (trajectory_force(self.model, self.foot, tr.time[a:b], tr.depth[a:b]), 0, tr.force[a:b])
+                else:
+                    k = tr.reversal_index if self.window == "withdrawal" else 0
+                    spec = (trajectory_force(self.model, self.foot, tr.time, tr.depth), k, tr.force[k:])
+                windows.append((g, spec, n_data, tr.precontact))
+                n_data += spec[2].size
+        self._size = n_data + len(windows)
+        pieces: list[list[_Piece]] = [[] for _ in self.groups]
+        for j, (g, (force, skip, measured), start, precontact) in enumerate(windows):
+            pieces[g].append(_Piece(force, skip, measured, slice(start, start + measured.size), n_data + j,
+                                    precontact))
+        return pieces
 
     def values(self, x: np.ndarray) -> list[np.ndarray]:
         out = [b.copy() for b in self.base]
@@ -156,18 +212,11 @@ class _Objective:
         return out
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
-        parts = []
-        priors = []
-        for g, (values, group) in enumerate(zip(self.values(x), self.groups, strict=True)):
-            for i, tr in enumerate(group):
-                if self.tails is not None:
-                    r = self.tails[g][i](values) - tr.force[tr.reversal_index:]
-                else:
-                    r = _trial_residual(self.model, self.foot, tr, values, self.window)
-                data, prior = profiled(r, tr.precontact)
-                parts.append(data)
-                priors.append(prior)
-        return np.concatenate([*parts, np.array(priors)])
+        out = np.empty(self._size)
+        for values, pieces in zip(self.values(x), self._pieces, strict=True):
+            for piece in pieces:
+                piece.write(values, out)
+        return out
 
     def cost(self, x: np.ndarray) -> float:
         r = self(x)

@@ -30,7 +30,7 @@ from mudforce.model.baselines import DEFAULT_K_RFT, drft_force, granular_rft_for
 from mudforce.model.equations import array_form, relaxation_time
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import PARAMETER_NAMES, PARAMETER_UNITS, TABLE_I, TABLE_I_WATER_CONTENTS, MudParameters
-from mudforce.steppers.simulation import run_compact, simulate
+from mudforce.steppers.simulation import CompactRun, run_compact, simulate
 
 __all__ = [
     "CHEN2024",
@@ -175,6 +175,29 @@ _CHEN_SEARCH: dict[str, tuple[float, float]] = {
 }
 
 
+#: the last parameter vector's stepper constants: ``(values' bytes, foot, row)`` (see :func:`_chen_row`)
+_LAST_ROW: tuple[bytes, Foot | None, np.ndarray] = (b"", None, np.empty((1, K.N_PARAMS)))
+
+
+def _chen_row(values: np.ndarray, foot: Foot) -> np.ndarray:
+    """The stepper's constants for ``values`` [SI] on ``foot`` with the exact rule, shape ``(1, N_PARAMS)``.
+
+    Speed plumbing: a fit evaluates every trial of a condition with one
+    parameter vector, and its standard errors the same vector many times;
+    the row of the last vector is kept (``make_params`` of the same numbers
+    gives the same row) and handed out again, never written. The memo is
+    one tuple, swapped whole, so that threads can share it.
+    """
+    global _LAST_ROW
+    key = np.ascontiguousarray(values, dtype=np.float64).tobytes()
+    last = _LAST_ROW
+    if last[1] is foot and last[0] == key:
+        return last[2]
+    row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
+    _LAST_ROW = (key, foot, row)
+    return row
+
+
 def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot) -> np.ndarray:
     """The paper's force [N] with the exact branch rule.
 
@@ -182,10 +205,25 @@ def _chen_force(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: F
     directly: the fit evaluates this tens of thousands of times on inputs
     already validated, and only needs the force.
     """
-    row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
-    bad, force, *_ = run_compact(time, depth, row, 1)
+    bad, force, *_ = run_compact(time, depth, _chen_row(values, foot), 1)
     if bad >= 0:  # numerically impossible parameters: a huge, finite residual
         force[bad:] = 1e6
+    return force
+
+
+def _chen_on(time: np.ndarray, depth: np.ndarray, foot: Foot) -> Callable[[np.ndarray], np.ndarray]:
+    """``values -> _chen_force(time, depth, values, foot)`` [N], on work arrays made once (:func:`trajectory_force`).
+
+    Speed plumbing: the array returned is the work's own, overwritten by the next call.
+    """
+    work = CompactRun(time, depth, 1)
+
+    def force(values: np.ndarray) -> np.ndarray:
+        bad = work.run(_chen_row(values, foot))
+        if bad >= 0:  # as _chen_force
+            work.force[bad:] = 1e6
+        return work.force
+
     return force
 
 
@@ -202,7 +240,7 @@ def _chen_resume(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: 
 
     def tail(new_values: np.ndarray) -> np.ndarray:
         states = snapshot.copy()
-        prow = K.make_params(new_values, foot.area, foot.width, 1, 0.0)[None, :]
+        prow = _chen_row(new_values, foot)
         bad = K.run_batch(time, depth, states, ring, prow, out, first)
         force: np.ndarray = K.outputs(out).force.copy()
         # from the first sample refused or with a NaN force on: a huge, finite residual
@@ -343,3 +381,17 @@ def get_model(model: str | ForceModel) -> ForceModel:
         return MODELS[model]
     except KeyError:
         raise InputError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}") from None
+
+
+def trajectory_force(model: ForceModel, foot: Foot, time: np.ndarray,
+                     depth: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """``values -> model.force(time, depth, values, foot)`` [N] along one trajectory, for a fit's many evaluations.
+
+    Speed plumbing: the paper's model runs on work arrays made once per
+    trajectory (:func:`_chen_on`), the same numbers bit for bit; the
+    array it returns is overwritten by the next call, so the caller uses
+    it before calling again. Any other model's force is called as it is.
+    """
+    if model.force is _chen_force:
+        return _chen_on(time, depth, foot)
+    return lambda values: model.force(time, depth, values, foot)
