@@ -482,7 +482,9 @@ def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: n
     written) or -1.
     """
     bad = -1
-    m = 0
+    # an int64 from the start: a constant 0 is a literal type of its own, which numba's first pass of type inference
+    # compiled spring_pass for before the loop's count made it int64 (one compiled signature now)
+    m = np.int64(0)
     for j in range(depths.shape[0]):
         # advance_quick, written out: a foot that takes quiet_step stores only
         # its state, on a path of its own (through _advance_row's shared
