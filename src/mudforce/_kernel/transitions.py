@@ -405,7 +405,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
         return Step(s, c, False, nan, 0.0)  # no room for the filter's history (arrays are not bounds-checked)
     if s.started == 0.0:
         if window > 1:
-            ring_start(ring, j, depth)
+            ring_start(ring, int(j), depth)  # int(j): see ring_velocity's call below
         return Step(first_sample(s, depth), c, True, nan, 0.0)
     if not (dt > 0.0) or not math.isfinite(dt):
         return Step(s, c, False, nan, 0.0)
@@ -413,7 +413,9 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
     z1 = depth
     v = (z1 - s.depth) / dt  # first-order hold: constant velocity over the step
     t1 = s.time + dt
-    vhat = v if window <= 1 else ring_velocity(ring, j, window, z1, t1)
+    # int(j): one compiled signature of the ring's functions, int64, whether the caller's row is a variable or
+    # a constant 0 (numba types a constant as a literal type of its own)
+    vhat = v if window <= 1 else ring_velocity(ring, int(j), window, z1, t1)
     d = _direction(vhat, s.direction, p.deadband)
     c = step_cache(c, p, dt)
 
