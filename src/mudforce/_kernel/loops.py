@@ -225,7 +225,11 @@ def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
     and checking them here costs nothing, where Python would pay for it on
     every call.
     """
-    states, params, out, ring = _stream_parts(buf)
+    states, params, out, _ = _stream_parts(buf)
+    # the ring's whole row (C-contiguous, where stream_parts' column slice is not: one compiled signature of the
+    # ring's functions, the one every other caller passes); its N_RING columns for a window > 1 (new_stream_buffer),
+    # and fewer than N_RING otherwise, which advance refuses for a window > 1 as it does the slice's 0
+    ring = buf[_STREAM_RING:_STREAM_RING + 1]
     if not -MAX_DEPTH <= depth <= MAX_DEPTH:  # False for NaN
         return math.nan
     if states[0, S_STARTED] != 0.0 and not MIN_DT <= dt <= MAX_DT:
