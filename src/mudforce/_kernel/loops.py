@@ -225,7 +225,11 @@ def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
     and checking them here costs nothing, where Python would pay for it on
     every call.
     """
-    states, params, out, ring = _stream_parts(buf)
+    states, params, out, _ = _stream_parts(buf)
+    # the ring's whole row (C-contiguous, where stream_parts' column slice is not: one compiled signature of the
+    # ring's functions, the one every other caller passes); its N_RING columns for a window > 1 (new_stream_buffer),
+    # and fewer than N_RING otherwise, which advance refuses for a window > 1 as it does the slice's 0
+    ring = buf[_STREAM_RING:_STREAM_RING + 1]
     if not -MAX_DEPTH <= depth <= MAX_DEPTH:  # False for NaN
         return math.nan
     if states[0, S_STARTED] != 0.0 and not MIN_DT <= dt <= MAX_DT:
@@ -482,7 +486,9 @@ def run_feet(states: np.ndarray, ring: np.ndarray, params: np.ndarray, depths: n
     written) or -1.
     """
     bad = -1
-    m = 0
+    # an int64 from the start: a constant 0 is a literal type of its own, which numba's first pass of type inference
+    # compiled spring_pass for before the loop's count made it int64 (one compiled signature now)
+    m = np.int64(0)
     for j in range(depths.shape[0]):
         # advance_quick, written out: a foot that takes quiet_step stores only
         # its state, on a path of its own (through _advance_row's shared

@@ -210,6 +210,11 @@ def step_cache(c: Cache, p: Params, dt: float) -> Cache:
 
 
 # ---------------------------------------------------------------- the transitions
+# the modes _moved is given, as int64 values: numba types a global int as a literal type of its own value, and
+# compiled _moved once per mode (one compiled signature now, the state's int64 mode)
+_FREE, _CONTACT = np.int64(FREE), np.int64(CONTACT)
+
+
 @_compiled(inline=_in_full_output_loop)
 def _moved(s: State, mode: int, mud: float, strain: float) -> State:
     """``s`` with a new contact state, ``z_m`` [m] and extension ``z_i - z_m`` [m]."""
@@ -232,8 +237,8 @@ def leave_necked(s: State) -> State:
     """
     z0 = s.depth
     if z0 > 0.0:
-        return _moved(s, CONTACT, s.mud, z0 - s.mud)
-    return _moved(s, FREE, z0, s.strain)
+        return _moved(s, _CONTACT, s.mud, z0 - s.mud)
+    return _moved(s, _FREE, z0, s.strain)
 
 
 @_compiled()
@@ -247,13 +252,13 @@ def touchdown(s: State, v: float) -> tuple[State, float]:
     """
     z0 = s.depth
     start = -z0 / v if z0 < 0.0 else 0.0
-    return _moved(s, CONTACT, 0.0, 0.0), start
+    return _moved(s, _CONTACT, 0.0, 0.0), start
 
 
 @_compiled(inline=_in_full_output_loop)
 def free_step(s: State, z1: float) -> State:
     """A step in FREE that stays above the surface (``z1 <= 0`` [m]): the mud surface follows the foot."""
-    return _moved(s, FREE, z1, s.strain)
+    return _moved(s, _FREE, z1, s.strain)
 
 
 @_compiled()
@@ -267,8 +272,8 @@ def intrusion_step(s: State, c: Cache, p: Params, z1: float, v: float, dt: float
     decay = c.decay_i if start == 0.0 else math.exp(-(dt - start) / p.tau_i)
     strain = maxwell_strain_step(s.strain, v, p.tau_i, decay)
     if z1 <= 0.0:
-        return _moved(s, FREE, z1, strain)
-    return _moved(s, CONTACT, z1 - strain, strain)
+        return _moved(s, _FREE, z1, strain)
+    return _moved(s, _CONTACT, z1 - strain, strain)
 
 
 @_compiled()
@@ -304,7 +309,7 @@ def withdrawal_step(s: State, c: Cache, p: Params, z_start: float, z1: float, v:
         tn = necking_time(s.strain, v, p.tau_w, p.k_w, fs, p.sigma_y, dt, c.decay_w)
         if tn < 0.0:
             strain = maxwell_strain_step(s.strain, v, p.tau_w, c.decay_w)
-            return _moved(s, CONTACT, z1 - strain, strain), math.nan
+            return _moved(s, _CONTACT, z1 - strain, strain), math.nan
     return withdrawal_general(s, c, p, z_start, z1, v, dt, start)
 
 
@@ -347,7 +352,7 @@ def withdrawal_general(s: State, c: Cache, p: Params, z_start: float, z1: float,
         strain = maxwell_strain_step(strain, v, tau_w, decay)
         t_a = t_b
         z_a = 0.0 if piece == 0 and pieces == 2 else z1
-    return _moved(s, CONTACT, z1 - strain, strain), math.nan
+    return _moved(s, _CONTACT, z1 - strain, strain), math.nan
 
 
 @_compiled()
@@ -405,7 +410,7 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
         return Step(s, c, False, nan, 0.0)  # no room for the filter's history (arrays are not bounds-checked)
     if s.started == 0.0:
         if window > 1:
-            ring_start(ring, j, depth)
+            ring_start(ring, int(j), depth)  # int(j): see ring_velocity's call below
         return Step(first_sample(s, depth), c, True, nan, 0.0)
     if not (dt > 0.0) or not math.isfinite(dt):
         return Step(s, c, False, nan, 0.0)
@@ -413,7 +418,9 @@ def advance(s: State, c: Cache, p: Params, ring: np.ndarray, j: int, depth: floa
     z1 = depth
     v = (z1 - s.depth) / dt  # first-order hold: constant velocity over the step
     t1 = s.time + dt
-    vhat = v if window <= 1 else ring_velocity(ring, j, window, z1, t1)
+    # int(j): one compiled signature of the ring's functions, int64, whether the caller's row is a variable or
+    # a constant 0 (numba types a constant as a literal type of its own)
+    vhat = v if window <= 1 else ring_velocity(ring, int(j), window, z1, t1)
     d = _direction(vhat, s.direction, p.deadband)
     c = step_cache(c, p, dt)
 

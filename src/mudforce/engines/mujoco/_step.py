@@ -69,7 +69,10 @@ def commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray, 
     n = ints.shape[1]
     dt = conf[C_DT]
     commit = conf[C_COMMIT] != 0.0
-    ring = states[:, :0]  # the adapter's velocity filter has window 1: no history to keep
+    # the adapter's velocity filter has window 1: no history to keep. No rows, and N_STATE < N_RING columns, which
+    # advance refuses for a window > 1; C-contiguous (a slice of rows): one compiled signature of the ring's
+    # functions, the one every other caller passes
+    ring = states[:0]
     for j in range(n):
         # take back the force applied for the step just taken (see apply_mud)
         body = ints[I_BODY, j]
