@@ -75,6 +75,7 @@ from mudforce.model.equations import nonlinear_spring_stress
 
 __all__ = [
     "N_SPRING",
+    "advance_row",
     "foot_force_or_defer",
     "glide",
     "new_feet_scratch",
@@ -168,6 +169,26 @@ def _advance_row(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarra
     return r, p
 
 
+@_compiled()
+def advance_row(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float) -> Step:
+    """:func:`_advance_row` as a call of its own, without the params: the state machine compiled once.
+
+    Speed plumbing. The loops over samples and feet (:func:`run_batch_compact`,
+    :func:`run_batch_compiled`, :func:`run_feet`) compile :func:`advance` into
+    their own loops. The paths where a call costs nothing next to their own
+    work share this one copy instead, each of which compiled the whole state
+    machine into itself before (a few seconds of compile each, on every cold
+    start): :func:`step` (so the streaming step, the 1-D MuJoCo adapter's step
+    and a direct call of it), and the 3-D step's elements that do not take the
+    quiet step (~1 % of a walk's element-steps, where ~1,000 instructions
+    inlined into the element loop would also crowd the quiet steps'
+    registers). Every caller passes C-contiguous float64 rows, so that it is
+    compiled once.
+    """
+    r, _ = _advance_row(states, ring, j, params, depth, dt)
+    return r
+
+
 @_compiled(inline="always")
 def step(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth: float, dt: float,
          out: np.ndarray, k: int) -> float:
@@ -180,10 +201,10 @@ def step(states: np.ndarray, ring: np.ndarray, j: int, params: np.ndarray, depth
     ``dt`` that is not finite and > 0, and for a filter window > 1 without
     a ring row of ``N_RING`` columns (:func:`~mudforce._kernel.layout.new_ring`).
     """
-    r, p = _advance_row(states, ring, j, params, depth, dt)
+    r = advance_row(states, ring, int(j), params, depth, dt)  # (a call: see advance_row; int(j): not a literal 0)
     if not r.ok:
         return math.nan
-    return _write_sample(out, k, p, r)
+    return _write_sample(out, k, load_params(params, j), r)
 
 
 # rows of a stream buffer: the state, the params, the ring, then the outputs in column 0
@@ -225,10 +246,13 @@ def stream_step(buf: np.ndarray, depth: float, dt: float) -> float:
     and checking them here costs nothing, where Python would pay for it on
     every call.
     """
-    states, params, out, _ = _stream_parts(buf)
-    # the ring's whole row (C-contiguous, where stream_parts' column slice is not: one compiled signature of the
-    # ring's functions, the one every other caller passes); its N_RING columns for a window > 1 (new_stream_buffer),
+    _, _, out, _ = _stream_parts(buf)
+    # the state's, the params' and the ring's whole rows (C-contiguous, where stream_parts' column slices are not:
+    # the one compiled signature of advance_row and of the ring's functions that every other caller passes; the
+    # columns past a row's own are never read); the ring's N_RING columns for a window > 1 (new_stream_buffer),
     # and fewer than N_RING otherwise, which advance refuses for a window > 1 as it does the slice's 0
+    states = buf[_STREAM_STATE:_STREAM_STATE + 1]
+    params = buf[_STREAM_PARAMS:_STREAM_PARAMS + 1]
     ring = buf[_STREAM_RING:_STREAM_RING + 1]
     if not -MAX_DEPTH <= depth <= MAX_DEPTH:  # False for NaN
         return math.nan

@@ -74,8 +74,8 @@ from mudforce._kernel.layout import (
     load_state,
     store_state,
 )
-from mudforce._kernel.loops import _advance_row
-from mudforce._kernel.transitions import Step, exact_rule, quiet_step, stress_parts, total_force
+from mudforce._kernel.loops import advance_row
+from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
@@ -309,19 +309,6 @@ def _unpack(block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
 
 
 @_compiled()
-def _advance_element(states: np.ndarray, ring: np.ndarray, i: int, params: np.ndarray, z: float, dt: float
-                     ) -> Step:
-    """Element ``i``'s paper step through the whole state machine (``_advance_row``: a touchdown, a necking,
-    a change of branch or of step length, a first step), at depth ``z`` [m] after ``dt`` [s].
-
-    Speed plumbing: a call of its own, not inlined into :func:`_step_foot`'s loop, where its ~1,000
-    instructions, taken by ~1 % of the element-steps of a walk, would crowd the registers of the quiet steps.
-    """
-    q, _ = _advance_row(states, ring, i, params, z, dt)
-    return q
-
-
-@_compiled()
 def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.ndarray,
                lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, f: int, dt: float,
                forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
@@ -332,7 +319,7 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
     1. each element's paper step: its depth settled
        (:func:`mudforce.model.law3d.settle_depth`), then the 1-D stepper's
        calls (:func:`mudforce._kernel.loops.run_feet`'s: :func:`~mudforce._kernel.transitions.quiet_step`,
-       else ``advance`` through ``_advance_row``, called out of line (:func:`_advance_element`);
+       else ``advance`` through :func:`~mudforce._kernel.loops.advance_row`, called out of line;
        ``stress_parts``), with the
        foot's params row loaded once (every element of a foot has the same
        mud and width: :class:`~mudforce.steppers.contact3d.MudContacts3D` builds them
@@ -405,7 +392,7 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
                 if ok:
                     store_state(states, i, q.state)
         if not ok:
-            q = _advance_element(states, ring, i, params, z, dt)
+            q = advance_row(states, ring, i, params, z, dt)
             if not q.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
                 return i
         fe1, fs, _, spring = stress_parts(p, q.state, q.velocity)
