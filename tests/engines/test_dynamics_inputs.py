@@ -41,6 +41,9 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"duration": 1e12}, "too many"),
         ({"dt": 0.0}, "dt must be > 0"),
         ({"substeps": 2.5}, "substeps"),
+        ({"substeps": 10**400}, r"substeps must be an integer in \[1, 1000000\]"),  # was OverflowError
+        ({"dt": 1e308, "substeps": 10**400}, r"dt must be within \[1e-09, 1000\] s"),  # was OverflowError
+        ({"substeps": 10**7}, r"an RK4 sub-step dt / substeps of at least 1e-09 s"),  # a 0.1 ns step: was taken
         ({"height": [0.0]}, "height must be a number"),
         ({"height": -200.0}, r"height must be within \+-100 m of the mud surface, got -200.0"),  # was taken
         ({"height": 200.0}, r"height must be within \+-100 m"),

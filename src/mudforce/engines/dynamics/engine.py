@@ -33,7 +33,7 @@ from mudforce.engines._checks import check_finite_output, check_foot, check_mass
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
 from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array
-from mudforce.model.bounds import bounded_depth
+from mudforce.model.bounds import MAX_DT, MIN_DT, bounded_depth
 from mudforce.model.equations import (
     intrusion_stress,
     maxwell_strain_rate,
@@ -401,9 +401,11 @@ def simulate_foot(
     duration : float
         Simulated time [s], > 0; at most 1e8 output samples (``duration / dt``).
     dt : float
-        Output sampling interval [s], > 0.
+        Output sampling interval [s], within [1e-9, 1000] (:data:`mudforce.steppers.simulation.MIN_DT`,
+        :data:`~mudforce.steppers.simulation.MAX_DT`).
     substeps : int
-        RK4 steps per output interval (default 10: ``h = 0.1 ms`` for ``dt = 1 ms``).
+        RK4 steps per output interval (default 10: ``h = 0.1 ms`` for ``dt = 1 ms``); at most ``dt / 1e-9``
+        (a sub-step of at least :data:`~mudforce.steppers.simulation.MIN_DT`).
     height : float
         Release height of the foot's bottom above the mud surface [m], positive up (as everywhere a drop
         starts: :func:`mudforce.engines.mujoco.simulate_drop`, :func:`mudforce.engines.mjx.simulate_drop`,
@@ -444,6 +446,12 @@ def simulate_foot(
         z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
     velocity0 = finite_number(velocity0, "velocity0", "m/s")
     substeps = positive_int(substeps, "substeps")
+    if not MIN_DT <= dt <= MAX_DT:  # as naive_drop: dt = 1e308 then 10**400 substeps raised OverflowError
+        raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+    if substeps > dt / MIN_DT:  # (int against float, exact: dt / 10**400 raised OverflowError)
+        shown = str(substeps) if substeps < 10**15 else f"an integer of {substeps.bit_length()} bits"
+        raise InputError(f"substeps must be an integer in [1, {math.floor(dt / MIN_DT + 1e-9):d}] (an RK4 "
+                         f"sub-step dt / substeps of at least {MIN_DT:g} s, the shortest step accepted), got {shown}")
     mass = check_mass(mass, params, foot, dt / substeps, "RK4 sub-step")
     n = max_samples(duration, dt)
     p = params_row(params, foot, VelocityFilter.exact())
