@@ -50,6 +50,7 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"velocity0": float("inf")}, "velocity0 must be finite"),
         ({"gravity": "g"}, "gravity must be a number"),
         ({"applied_force": "push"}, "applied_force"),
+        ({"applied_force": 10**400}, r"applied force must be a real number within float64's range"),  # OverflowError
         ({"applied_force": ("01", "23")}, r"applied_force times must be an array of real numbers \[s\], got string"),
         ({"applied_force": ([0.0, 0.005], [True, False])},  # was parsed, read as 0 and 1
          r"applied_force forces must be an array of real numbers \[N\], got boolean"),

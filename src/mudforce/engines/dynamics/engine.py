@@ -471,11 +471,8 @@ def simulate_foot(
 def _profile(applied_force: Any) -> tuple[np.ndarray, np.ndarray]:
     if applied_force is None:
         return np.empty(0), np.empty(0)
-    if is_real(applied_force):
-        value = float(applied_force)
-        if not math.isfinite(value):
-            raise InputError(f"applied force must be finite [N], got {applied_force!r}")
-        return np.zeros(1), np.array([value])
+    if is_real(applied_force):  # (float() of 10**400 raised OverflowError)
+        return np.zeros(1), np.array([finite_number(applied_force, "applied force", "N")])
     # a pair of arrays of real numbers (np.ascontiguousarray parsed strings, "01" was times 0 and 1 s, and read
     # booleans as 0 and 1)
     if not (isinstance(applied_force, (tuple, list)) or (isinstance(applied_force, np.ndarray)
