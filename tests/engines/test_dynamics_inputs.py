@@ -225,3 +225,25 @@ def test_add_mud_twice_for_a_foot_is_refused_and_changes_nothing() -> None:
             add_mud(spec, feet)
         assert spec.to_xml() == before
     add_mud(spec, ["sole"], prefix="more_")  # another prefix is another set of names
+
+
+@needs_mujoco
+@pytest.mark.parametrize("extent", [{0: 1.0, 1: 2.0, 2: 3.0, 3: 4.0}, {0.0, 1.0, 2.0, 3.0},
+                                    (v for v in (0.0, 1.0, 0.0, 1.0)), "abcd", np.zeros((2, 2))])
+def test_a_patch_extent_that_is_no_sequence_of_four_is_refused(extent: Any) -> None:
+    from mudforce.engines.mujoco import MudPatch
+
+    # a dict's keys and a set's members were taken as the bounds; a generator was checked, then kept exhausted
+    with pytest.raises(InputError, match=r"^patch extent must be \(xmin, xmax, ymin, ymax\) \[m\], got"):
+        MudPatch(W25, extent=extent)
+
+
+@needs_mujoco
+def test_a_patch_keeps_its_extent_as_given_then() -> None:
+    from mudforce.engines.mujoco import MudPatch
+
+    bounds = [0.0, 1.0, -1.0, 1.0]
+    patch = MudPatch(W25, extent=bounds)  # type: ignore[arg-type]
+    bounds[1] = -5.0  # the list's later edits do not reach the patch that checked it
+    assert patch.extent == (0.0, 1.0, -1.0, 1.0)
+    assert MudPatch(W25, extent=np.array([0.0, 1.0, -1.0, 1.0])) == patch  # type: ignore[arg-type]

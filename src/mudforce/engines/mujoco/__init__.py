@@ -139,12 +139,16 @@ class MudPatch:
             raise InputError(f"a MudPatch needs MudParameters, got {type(self.params).__name__}")
         finite_number(self.surface_height, "patch surface_height", "m")
         if self.extent is not None:
-            try:
-                x0, x1, y0, y1 = (finite_number(v, "patch extent", "m") for v in self.extent)
-            except (TypeError, ValueError):  # not 4 values, or not a sequence
-                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {self.extent!r}") from None
+            extent = self.extent
+            # a sequence of four (a dict's keys or a set's members were the bounds; a generator was checked, then
+            # kept exhausted), kept as a tuple of floats: later edits of a list do not reach the checked patch
+            if not (isinstance(extent, (tuple, list)) or (isinstance(extent, np.ndarray) and extent.ndim == 1)) \
+                    or len(extent) != 4:
+                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {extent!r}")
+            x0, x1, y0, y1 = (finite_number(v, "patch extent", "m") for v in extent)
             if not (x0 < x1 and y0 < y1):
-                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got {self.extent}")
+                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got {extent}")
+            object.__setattr__(self, "extent", (x0, x1, y0, y1))
 
     @property
     def height(self) -> float:
