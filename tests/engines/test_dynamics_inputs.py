@@ -247,3 +247,15 @@ def test_a_patch_keeps_its_extent_as_given_then() -> None:
     bounds[1] = -5.0  # the list's later edits do not reach the patch that checked it
     assert patch.extent == (0.0, 1.0, -1.0, 1.0)
     assert MudPatch(W25, extent=np.array([0.0, 1.0, -1.0, 1.0])) == patch  # type: ignore[arg-type]
+
+
+@needs_mujoco
+@pytest.mark.parametrize("height", [1e12, -1e12, 1e300, 100.5])
+def test_a_patch_surface_beyond_the_depth_bound_is_refused(height: float) -> None:
+    from mudforce.engines.mujoco import MudPatch
+
+    # the 1-D adapter took it (1e300: a force of 2e164 N and MuJoCo's "Nan, Inf or huge value" warning); the 3-D
+    # adapter refused it only when it was built
+    with pytest.raises(InputError, match=r"^patch surface_height must be within \+-100 m"):
+        MudPatch(W25, height)
+    assert MudPatch(W25, np.float64(-100.0)).surface_height == -100.0

@@ -78,6 +78,7 @@ from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, positive_int, real_array
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -109,7 +110,8 @@ class MudPatch:
     params : MudParameters
         Mud parameters.
     surface_height : float
-        World height ``z`` of the undisturbed mud surface [m] (the name
+        World height ``z`` of the undisturbed mud surface [m], within +-100 m
+        (:data:`mudforce.steppers.simulation.MAX_DEPTH`) (the name
         :class:`mudforce.steppers.contact3d.MudContact3D` uses; ``height=``
         is its deprecated name, kept for one release: a drop's ``height``
         is the release height above the surface).
@@ -137,7 +139,8 @@ class MudPatch:
     def __post_init__(self) -> None:
         if not isinstance(self.params, MudParameters):
             raise InputError(f"a MudPatch needs MudParameters, got {type(self.params).__name__}")
-        finite_number(self.surface_height, "patch surface_height", "m")
+        # the steppers' bound on a depth, as MudAdapter3D's contacts refuse it (1e300 was a force of 2e164 N here)
+        object.__setattr__(self, "surface_height", bounded_depth(self.surface_height, "patch surface_height"))
         if self.extent is not None:
             extent = self.extent
             # a sequence of four (a dict's keys or a set's members were the bounds; a generator was checked, then
