@@ -144,6 +144,21 @@ def test_bad_input_is_refused_in_one_line_before_anything_changes() -> None:
     assert np.array_equal(model.site_pos, before[0]) and np.array_equal(model.tendon_frictionloss, before[1])
 
 
+
+@pytest.mark.parametrize("field", ["contacts", "arrays", "model_rows"])
+@pytest.mark.parametrize("value", [None, 3, "ab"])
+def test_a_saved_state_whose_parts_are_no_tuples_is_refused_and_changes_nothing(field: str, value: object) -> None:
+    spec = mujoco.MjSpec.from_string(XML)
+    add_mud_3d(spec, ["toe"])
+    model = spec.compile()
+    mud = MudAdapter3D(model, mujoco.MjData(model), ["toe"], MudPatch(MUD))
+    saved = mud.state
+    with pytest.raises(InputError, match=r"^a state of this adapter is an AdapterState3D taken from an adapter"):
+        mud.state = saved._replace(**{field: value})  # was TypeError: object of type 'NoneType' has no len()
+    after = mud.state
+    assert all(np.array_equal(a, b) for a, b in zip(after.arrays, saved.arrays, strict=True))
+
+
 def test_a_rigid_floor_under_the_mud_is_reported_once() -> None:
     spec = mujoco.MjSpec.from_string(XML)
     add_mud_3d(spec, ["toe"])

@@ -539,7 +539,9 @@ class MudAdapter3D:
         if not isinstance(saved, AdapterState3D):
             raise InputError(f"state must be an AdapterState3D from MudAdapter3D.state, got {type(saved).__name__}")
         mine = self.state  # (its contacts' states restore them if a later one is refused)
-        shapes_ok = (len(saved.contacts) == len(mine.contacts) and len(saved.arrays) == len(mine.arrays)
+        # (its parts are tuples: len() of None or a number raised TypeError)
+        shapes_ok = (all(isinstance(part, (tuple, list)) for part in (saved.contacts, saved.arrays, saved.model_rows))
+                     and len(saved.contacts) == len(mine.contacts) and len(saved.arrays) == len(mine.arrays)
                      and len(saved.model_rows) == 2
                      and all(isinstance(a, np.ndarray) and a.shape == b.shape and a.dtype == b.dtype
                              for a, b in zip((*saved.arrays, *saved.model_rows), (*mine.arrays, *mine.model_rows),
