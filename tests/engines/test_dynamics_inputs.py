@@ -90,6 +90,9 @@ def test_a_diverging_solution_is_refused_not_returned() -> None:
         (lambda: exact_drop(5.0, W25, height=-0.01), "height must be >= 0"),
         (lambda: exact_drop("5", W25), "mass must be a number"),
         (lambda: exact_drop(5.0, W25, foot="cube"), "foot must be a Foot"),  # type: ignore[arg-type]
+        # scipy's "rtol is too small" UserWarning (then 2.2e-14 silently), and a tolerance of 1e12 taken
+        (lambda: exact_drop(5.0, W25, rtol=1e-300), r"rtol must be within \[1e-13, 0.1\] -, got 1e-300"),
+        (lambda: exact_drop(5.0, W25, rtol=1e12), r"rtol must be within \[1e-13, 0.1\]"),
     ],
 )
 def test_other_entry_points_refuse_bad_types(call: Any, message: str) -> None:
