@@ -90,6 +90,8 @@ def test_a_diverging_solution_is_refused_not_returned() -> None:
         (lambda: exact_drop(5.0, W25, height=-0.01), "height must be >= 0"),
         (lambda: exact_drop("5", W25), "mass must be a number"),
         (lambda: exact_drop(5.0, W25, foot="cube"), "foot must be a Foot"),  # type: ignore[arg-type]
+        # a release from 1e12 m was taken (and simulated as a foot that never arrives), simulate_foot's bound not
+        (lambda: exact_drop(5.0, W25, height=1e12), r"height must be within \+-100 m of the mud surface"),
         # scipy's "rtol is too small" UserWarning (then 2.2e-14 silently), and a tolerance of 1e12 taken
         (lambda: exact_drop(5.0, W25, rtol=1e-300), r"rtol must be within \[1e-13, 0.1\] -, got 1e-300"),
         (lambda: exact_drop(5.0, W25, rtol=1e12), r"rtol must be within \[1e-13, 0.1\]"),
@@ -125,6 +127,9 @@ def test_mujoco_entry_points_refuse() -> None:
         simulate_drop(1e-3, W25, duration=0.01)  # was a foot thrown 16 km up
     with pytest.raises(InputError, match="height must be >= 0"):
         simulate_drop(5.0, W25, height=-0.01)
+    for call in (lambda: simulate_drop(5.0, W25, height=1e12), lambda: drop_model(5.0, height=1e308)):
+        with pytest.raises(InputError, match=r"height must be within \+-100 m of the mud surface"):
+            call()  # were taken: a foot 1e12 m up, at -1e308 m depth
     with pytest.raises(InputError, match="mass must be a number"):
         drop_model("5")
     with pytest.raises(InputError, match="patch surface_height must be a number"):

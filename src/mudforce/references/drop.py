@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.errors import InputError, finite_number, number_within, real_array
+from mudforce.model.bounds import bounded_depth
 from mudforce.model.equations import neck_filter_response
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -93,7 +94,7 @@ def exact_drop(
     duration : float
         Time span [s], > 0.
     height : float
-        Release height of the foot's bottom above the surface [m], >= 0.
+        Release height of the foot's bottom above the surface [m], in [0, 100].
     dt : float
         Grid of the dense output [s], > 0 (at most 1e8 points).
     gravity : float
@@ -124,6 +125,7 @@ def _checked_numbers(mass: Any, duration: Any, height: Any, dt: Any, gravity: An
     """A drop's numbers as floats, each refused in one line if it is not finite or out of its range."""
     mass = finite_number(mass, "mass", "kg", positive=True)
     duration = finite_number(duration, "duration", "s", positive=True)
+    height = bounded_depth(height, "height", of=" of the mud surface")  # simulate_foot's bound: 1e12 m was taken
     height = finite_number(height, "height", "m", nonnegative=True)
     dt = finite_number(dt, "dt", "s", positive=True)
     gravity = finite_number(gravity, "gravity", "m/s^2", positive=True)

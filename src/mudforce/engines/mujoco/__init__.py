@@ -553,6 +553,7 @@ def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickne
     mj = _mujoco()
     mass = finite_number(mass, "mass", "kg", positive=True)
     foot = check_foot(foot)
+    height = bounded_depth(height, "height", of=" of the mud surface")  # simulate_foot's bound: 1e12 m was taken
     height = finite_number(height, "height", "m", nonnegative=True)
     dt = finite_number(dt, "dt", "s", positive=True)
     thickness = finite_number(thickness, "thickness", "m", positive=True)
@@ -588,7 +589,7 @@ def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt
         The foot; its bottom face is ``sqrt(area) x sqrt(area)`` unless it is
         the paper's 51 x 38 mm cuboid (the default), which is kept as is.
     height : float
-        Release height of the foot's bottom above the surface [m], >= 0.
+        Release height of the foot's bottom above the surface [m], in [0, 100].
     dt : float
         Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here).
     thickness : float
@@ -631,7 +632,7 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     duration : float
         Simulated time [s], > 0 (at most 1e8 steps).
     height : float
-        Release height of the foot's bottom above the surface [m], >= 0.
+        Release height of the foot's bottom above the surface [m], in [0, 100].
     dt : float
         Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here); also the
         output sampling interval.
@@ -646,6 +647,7 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     params = check_params(params)
     foot = check_foot(foot)
     duration = finite_number(duration, "duration", "s", positive=True)
+    height = bounded_depth(height, "height", of=" of the mud surface")  # simulate_foot's bound: 1e12 m was taken
     height = finite_number(height, "height", "m", nonnegative=True)
     dt = finite_number(dt, "dt", "s", positive=True)
     mass = check_mass(mass, params, foot, dt, "MuJoCo time step")
