@@ -130,6 +130,10 @@ def test_mujoco_entry_points_refuse() -> None:
     for call in (lambda: simulate_drop(5.0, W25, height=1e12), lambda: drop_model(5.0, height=1e308)):
         with pytest.raises(InputError, match=r"height must be within \+-100 m of the mud surface"):
             call()  # were taken: a foot 1e12 m up, at -1e308 m depth
+    with pytest.raises(InputError, match=r"^thickness must be within \[1e-06, 100\] m, got 1e-12"):
+        drop_model(5.0, thickness=1e-12)  # was MuJoCo's ValueError "mass and inertia ... larger than mjMINVAL"
+    with pytest.raises(InputError, match=r"^dt must be within \[1e-09, 1000\] s, got 1e-300"):
+        drop_model(5.0, dt=1e-300)  # was taken
     with pytest.raises(InputError, match="mass must be a number"):
         drop_model("5")
     with pytest.raises(InputError, match="patch surface_height must be a number"):

@@ -77,8 +77,8 @@ from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
-from mudforce.errors import InputError, finite_number, positive_int, real_array
-from mudforce.model.bounds import bounded_depth
+from mudforce.errors import InputError, finite_number, number_within, positive_int, real_array
+from mudforce.model.bounds import MAX_DEPTH, MAX_DT, MIN_DT, bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -555,8 +555,10 @@ def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickne
     foot = check_foot(foot)
     height = bounded_depth(height, "height", of=" of the mud surface")  # simulate_foot's bound: 1e12 m was taken
     height = finite_number(height, "height", "m", nonnegative=True)
-    dt = finite_number(dt, "dt", "s", positive=True)
-    thickness = finite_number(thickness, "thickness", "m", positive=True)
+    # the steppers' bounds (a step of 1e-300 s was taken; a foot 1e-12 m thick ended in MuJoCo's ValueError)
+    dt = number_within(finite_number(dt, "dt", "s", positive=True), "dt", MIN_DT, MAX_DT, "s")
+    thickness = number_within(finite_number(thickness, "thickness", "m", positive=True), "thickness", 1e-6,
+                              MAX_DEPTH, "m")
     if foot == Foot.paper():
         lx, ly = 0.051, 0.038
     else:
@@ -591,9 +593,9 @@ def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt
     height : float
         Release height of the foot's bottom above the surface [m], in [0, 100].
     dt : float
-        Time step [s], > 0 (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here).
+        Time step [s], within [1e-9, 1000] (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here).
     thickness : float
-        Foot height [m], > 0 (the paper's 25 mm); irrelevant to the vertical dynamics.
+        Foot height [m], within [1e-6, 100] (the paper's 25 mm); irrelevant to the vertical dynamics.
     """
     return _drop_spec(mass, foot, height, dt, thickness).compile()
 
