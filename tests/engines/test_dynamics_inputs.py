@@ -271,3 +271,16 @@ def test_a_patch_surface_beyond_the_depth_bound_is_refused(height: float) -> Non
     with pytest.raises(InputError, match=r"^patch surface_height must be within \+-100 m"):
         MudPatch(W25, height)
     assert MudPatch(W25, np.float64(-100.0)).surface_height == -100.0
+
+
+@needs_mujoco
+@pytest.mark.parametrize("points", [[{0.0, 1.0, 2.0}], [{0: 0.0, 1: 0.0, 2: 0.0}], {0: (0.0, 0.0, 0.0)}, "xyz",
+                                    [[0.0, 0.0]], [[0.0, 0.0, float("nan")]], [[True, 0.0, 0.0]]])
+def test_add_mud_refuses_contact_points_that_are_no_triples_of_numbers(points: Any) -> None:
+    from mudforce.engines.mujoco import _drop_spec, add_mud
+
+    spec = _drop_spec(5.0, None, 0.0, 1e-3, 0.025)
+    before = spec.to_xml()
+    with pytest.raises(InputError, match=r"^(points|contact point) must be"):
+        add_mud(spec, ["sole"], points=points)  # a set's members (in set order) or a dict's keys were the point
+    assert spec.to_xml() == before

@@ -211,10 +211,13 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
     prefix = _check_prefix(prefix)
     chosen: list[list[float]] | None = None
     if points is not None:
-        try:
-            chosen = [[finite_number(v, "contact point", "m") for v in point] for point in points]
+        try:  # each point an array of numbers: a set's members (in set order) or a dict's keys were taken
+            rows = [real_array(point, "contact point", "m") for point in points]
         except TypeError:
             raise InputError("points must be a sequence of (x, y, z) contact points [m]") from None
+        if any(row.ndim != 1 for row in rows):
+            raise InputError("points must be a sequence of (x, y, z) contact points [m]")
+        chosen = [[finite_number(v, "contact point", "m") for v in row.tolist()] for row in rows]
         if len(chosen) != len(feet) or any(len(point) != 3 for point in chosen):
             raise InputError(f"points must be one (x, y, z) [m] per foot: got {len(chosen)} for {len(feet)} feet")
     # every foot is checked before the spec is changed: a refused call leaves it as it was
