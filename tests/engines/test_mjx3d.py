@@ -202,15 +202,16 @@ def test_add_mud_refuses_a_dtype_that_is_not_float_and_init_another_type_of_mud(
 
 
 def test_add_mud_bounds_a_patch_s_surface_height_as_the_cpu_adapter_does() -> None:
-    """A patch's surface 1 km up was taken (MudAdapter3D refuses it: beyond +-100 m the law's depths mean nothing
-    and are refused on the CPU), and 1e300 m became inf in float32 with numpy's overflow warning."""
+    """A patch's surface 1 km up was taken (MudPatch itself now refuses it, as MudAdapter3D did: beyond +-100 m
+    the law's depths mean nothing and are refused on the CPU), and 1e300 m became inf in float32 with numpy's
+    overflow warning."""
     import mudforce.engines.mjx3d as mud3d
 
     model = mujoco.MjModel.from_xml_string(PLANE)
     for height in (1e3, -1e3, 1e300):
         with warnings.catch_warnings():
             warnings.simplefilter("error")
-            with pytest.raises(InputError, match=r"^surface_height must be within \+-100 m, got ") as err:
+            with pytest.raises(InputError, match=r"^patch surface_height must be within \+-100 m, got ") as err:
                 mud3d.add_mud(model, ["toe"], [MudPatch(MUD, extent=(-0.5, 0.5, -0.5, 0.5)),
                                                 MudPatch(MUD, surface_height=height)], dtype=np.float32)
         assert "\n" not in str(err.value)
