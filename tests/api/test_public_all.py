@@ -100,6 +100,7 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.estimation.calibration.uncertainty": [
         "correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled",
+        "profiled_in_place",
     ],
     "mudforce.cli": ["COMMANDS", "main"],
     "mudforce.engines": [],  # a package of modules by concept

@@ -74,6 +74,7 @@ from mudforce.estimation.calibration.uncertainty import (
     jackknife_variance,
     jacobian,
     motion_sensitivity,
+    profiled_in_place,
 )
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, check_force_gain_uncertainty
 from mudforce.model.foot import Foot
@@ -134,7 +135,7 @@ class _Piece:
     them.
     """
 
-    __slots__ = ("force", "measured", "precontact", "prior", "root", "rows", "skip")
+    __slots__ = ("force", "measured", "precontact", "prior", "rows", "skip")
 
     def __init__(self, force: Callable[[np.ndarray], np.ndarray], skip: int, measured: np.ndarray, rows: slice,
                  prior: int, precontact: int) -> None:
@@ -144,16 +145,13 @@ class _Piece:
         self.rows = rows
         self.prior = prior
         self.precontact = precontact
-        self.root = math.sqrt(precontact)
 
     def write(self, values: np.ndarray, out: np.ndarray) -> None:
         """Write the rows for parameters ``values`` [SI] into ``out`` (:func:`profiled`'s numbers, bit for bit)."""
         force = self.force(values)
         r = out[self.rows]
         np.subtract(force[self.skip:] if self.skip else force, self.measured, out=r)
-        offset = tare_correction(r, self.precontact)
-        np.add(r, offset, out=r)
-        out[self.prior] = offset * self.root
+        out[self.prior] = profiled_in_place(r, self.precontact)
 
 
 class _Objective:

@@ -20,13 +20,24 @@ from mudforce.estimation.calibration.models import ForceModel
 from mudforce.estimation.calibration.preprocess import PreparedTrial, tare_correction
 from mudforce.model.foot import Foot
 
-__all__ = ["correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled"]
+__all__ = ["correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled",
+           "profiled_in_place"]
 
 
 def profiled(residual: np.ndarray, precontact: int) -> tuple[np.ndarray, float]:
     """A trial's residual with its tare offset profiled out, and the offset's prior row (see ``tare_correction``)."""
+    out = np.array(residual, dtype=np.float64)
+    return out, profiled_in_place(out, precontact)
+
+
+def profiled_in_place(residual: np.ndarray, precontact: int) -> float:
+    """:func:`profiled` on ``residual`` [N] itself (float64, written): returns the offset's prior row [N].
+
+    The fit's objective writes each trial's rows where it returns them (speed plumbing: no array per call).
+    """
     offset = tare_correction(residual, precontact)
-    return residual + offset, offset * math.sqrt(precontact)
+    np.add(residual, offset, out=residual)
+    return offset * math.sqrt(precontact)
 
 
 def correlation_inflation(residuals: Sequence[np.ndarray]) -> float:
