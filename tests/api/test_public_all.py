@@ -156,7 +156,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.model.bounds": [
         "MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "bounded_depth", "check_depths",
-        "check_finite", "check_times"],
+        "check_finite", "check_step", "check_times"],
     "mudforce.model.law3d": [
         "FLAT_PLATE_ALPHA", "MAX_LATERAL_STIFFNESS", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor",
         "check_lateral_stiffness", "element_depth",

@@ -21,7 +21,7 @@ import numpy as np
 from mudforce.errors import InputError, finite_number
 
 __all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "bounded_depth", "check_depths",
-           "check_finite", "check_times"]
+           "check_finite", "check_step", "check_times"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -49,6 +49,13 @@ def check_finite(values: np.ndarray, name: str, unit: str) -> None:
     if bad.size:
         raise InputError(f"{name} is not finite at sample {bad[0]} ({float(values[bad[0]])!r}); "
                          f"expected numbers [{unit}]")
+
+
+def check_step(dt: float) -> None:
+    """Refuse a step ``dt`` [s] (a float) outside [:data:`MIN_DT`, :data:`MAX_DT`] (NaN too): one line, the words
+    every stepper and engine refuses a step in."""
+    if not MIN_DT <= dt <= MAX_DT:
+        raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
 
 
 def check_times(t: np.ndarray, max_dt: float = MAX_DT) -> None:

@@ -9,10 +9,11 @@ from typing import NamedTuple
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce._kernel.bounds import MAX_DEPTH, MIN_DT
 from mudforce._kernel.layout import S_CACHE_DT, STATE_NAMES, store_cache
 from mudforce._kernel.transitions import step_cache
 from mudforce.errors import InputError, real_array, real_number
+from mudforce.model.bounds import check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -264,8 +265,8 @@ class MudContact:
         """Raise for a bad depth or step (a step's length is ignored on the first call); else return."""
         if not (math.isfinite(depth) and abs(depth) <= MAX_DEPTH):
             raise InputError(f"depth must be finite and within [-{MAX_DEPTH:g}, {MAX_DEPTH:g}] m, got {depth!r}")
-        if K.state_column(self._states, "started")[0] != 0.0 and not MIN_DT <= dt <= MAX_DT:
-            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+        if K.state_column(self._states, "started")[0] != 0.0:
+            check_step(dt)
 
     @property
     def last(self) -> ContactSample:

@@ -35,6 +35,7 @@ from mudforce._kernel.layout import STATE_NAMES
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, feet_count, positive_int, real_array, real_number
+from mudforce.model.bounds import check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import PARAMETER_NAMES, MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -293,7 +294,7 @@ class MudContacts:
             dt = real_number(dt, "dt")
         # dt is ignored by a foot's first step (as MudContact.step ignores it): refused only if a foot has started
         if not MIN_DT <= dt <= MAX_DT and K.state_column(self._states, "started").any():
-            raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+            check_step(dt)
         if out is not None and not (isinstance(out, np.ndarray) and out.dtype == np.float64
                                     and out.shape == (self.n,) and out.flags.writeable):
             raise InputError(f"out must be a writable float64 array of shape ({self.n},)")

@@ -33,7 +33,7 @@ from mudforce.engines._checks import check_finite_output, check_foot, check_mass
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
 from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array
-from mudforce.model.bounds import MAX_DT, MIN_DT, bounded_depth
+from mudforce.model.bounds import MIN_DT, bounded_depth, check_step
 from mudforce.model.equations import (
     intrusion_stress,
     maxwell_strain_rate,
@@ -446,8 +446,7 @@ def simulate_foot(
         z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
     velocity0 = finite_number(velocity0, "velocity0", "m/s")
     substeps = positive_int(substeps, "substeps")
-    if not MIN_DT <= dt <= MAX_DT:  # as naive_drop: dt = 1e308 then 10**400 substeps raised OverflowError
-        raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+    check_step(dt)  # as naive_drop: dt = 1e308 then 10**400 substeps raised OverflowError
     if substeps > dt / MIN_DT:  # (int against float, exact: dt / 10**400 raised OverflowError)
         shown = str(substeps) if substeps < 10**15 else f"an integer of {substeps.bit_length()} bits"
         raise InputError(f"substeps must be an integer in [1, {math.floor(dt / MIN_DT + 1e-9):d}] (an RK4 "

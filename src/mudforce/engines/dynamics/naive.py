@@ -18,11 +18,10 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
-from mudforce._kernel.bounds import MAX_DT, MIN_DT
 from mudforce.engines._checks import check_finite_output, check_foot, check_params, max_samples
 from mudforce.engines.dynamics.result import GRAVITY
 from mudforce.errors import InputError, finite_number
-from mudforce.model.bounds import bounded_depth
+from mudforce.model.bounds import bounded_depth, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -124,8 +123,7 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     # solution is not finite ... use a heavier foot or a shorter step"
     z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
     gravity = finite_number(gravity, "gravity", "m/s^2")
-    if not MIN_DT <= dt <= MAX_DT:
-        raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s, got {dt!r}")
+    check_step(dt)
     max_samples(duration, dt)
     buf = K.new_stream_buffer(params_row(params, foot, VelocityFilter.exact()))
     n = round(duration / dt)
