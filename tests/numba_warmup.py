@@ -154,6 +154,9 @@ PARTS = {"a": _one_d, "b": _three_d_and_engines}
 
 
 def main(part: str) -> int:
+    from numba_typing_memo import install  # tests/ is this script's folder
+
+    install()
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="mudforce-warmup-") as folder:
         for name, step in PARTS[part](Path(folder)):
