@@ -10,14 +10,15 @@ sites, so the same ``float64 * float64`` is resolved thousands of times: 2 ms ea
 own cache of overload implementations is keyed on (``_OverloadFunctionTemplate._get_impl``): the function
 type, the typing context, the argument types (literal types are types of their own), the keywords, and the
 compiler flags in force (``ConfigStack``). A resolution that fails is not remembered (numba raises as before).
-Each resolution also leaves the inline IR and compiled-overload entries that numba's later passes read, in the
-templates' class-level tables keyed by the argument types; a hit puts back the entries of its own first
-resolution, so those passes read what a fresh resolution under the same flags would have left.
+Each resolution also leaves what numba's later passes read, keyed by the argument types: the implementation's
+key (the lowering's), and the inline IR and compiled-overload entries in the templates' class-level tables; a hit
+puts back those of its own first resolution, so those passes read what a fresh resolution under the same flags
+would have left.
 
 The machine code is the same: every compiled function of both warm-up halves, compiled with and without the
 memo in fresh caches, gave the same instructions (their assembly, numba's generated symbol names aside;
-2026-11-30, numba 0.63). The workers only load that cache; whatever one compiles itself is compiled without the
-memo. The warm-up's CPU, both halves: 110 -> 87 s. Where numba's internals differ from what this expects,
+2026-11-30, numba 0.68.1). The workers only load that cache; whatever one compiles itself is compiled without the
+memo. The warm-up's CPU, both halves: 104-108 -> 86-91 s. Where numba's internals differ from what this expects,
 :func:`install` does nothing and the warm-up compiles as before; so does ``MUDFORCE_NO_TYPING_MEMO=1``.
 
 ``python tests/numba_typing_memo.py check`` repeats that comparison (after a numba upgrade, say): both warm-up
@@ -59,7 +60,7 @@ def install() -> bool:
         return original is not None
     if not hasattr(targetconfig.ConfigStack, "top_or_none"):
         return False
-    memo: dict[Any, tuple[Any, list[tuple[Any, str, Any]]]] = {}
+    memo: dict[Any, tuple[Any, Any, list[tuple[Any, str, Any]]]] = {}
     tables = ("_inline_overloads", "_compiled_overloads")
 
     def get_call_type(self: Any, context: Any, args: Any, kws: Any) -> Any:
@@ -69,7 +70,8 @@ def install() -> bool:
         except TypeError:  # an unhashable argument type: numba's own way
             return original(self, context, args, kws)
         if hit is not None:
-            sig, entries = hit
+            sig, impl_key, entries = hit
+            self._impl_keys[sig.args] = impl_key  # what the lowering of this call looks up, as numba sets it
             for template, table, entry in entries:
                 getattr(template, table)[sig.args] = entry
             return sig
@@ -77,7 +79,7 @@ def install() -> bool:
         if sig is not None:
             entries = [(template, table, getattr(template, table)[sig.args]) for template in self.templates
                        for table in tables if sig.args in getattr(template, table, {})]
-            memo[key] = (sig, entries)
+            memo[key] = (sig, self._impl_keys[sig.args], entries)
         return sig
 
     get_call_type._mudforce_memo = True  # type: ignore[attr-defined]
