@@ -78,7 +78,7 @@ from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, number_within, positive_int, real_array
-from mudforce.model.bounds import MAX_DEPTH, MAX_DT, MIN_DT, bounded_depth
+from mudforce.model.bounds import MAX_DEPTH, bounded_depth, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -559,7 +559,8 @@ def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickne
     height = bounded_depth(height, "height", of=" of the mud surface")  # simulate_foot's bound: 1e12 m was taken
     height = finite_number(height, "height", "m", nonnegative=True)
     # the steppers' bounds (a step of 1e-300 s was taken; a foot 1e-12 m thick ended in MuJoCo's ValueError)
-    dt = number_within(finite_number(dt, "dt", "s", positive=True), "dt", MIN_DT, MAX_DT, "s")
+    dt = finite_number(dt, "dt", "s", positive=True)
+    check_step(dt)
     thickness = number_within(finite_number(thickness, "thickness", "m", positive=True), "thickness", 1e-6,
                               MAX_DEPTH, "m")
     if foot == Foot.paper():
