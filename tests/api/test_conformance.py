@@ -433,7 +433,7 @@ def test_drop_paths_agree_with_the_exact_drop(drops: _Once, exact: dict[tuple[fl
     deepest = float(np.max(ref.depth))
     err = float(np.max(np.abs(got.depth - ref.depth)))
     assert err <= spec.depth * deepest, f"{path}: depth differs by {err / deepest:.3g} of the deepest point"
-    end = abs(float(got.depth[-1]) / ref.rest_depth - 1.0)
+    end = abs(float(got.depth[-1]) / ref.end_depth - 1.0)
     assert end <= spec.end, f"{path}: depth at the end differs by {end:.3g} (allowed {spec.end:g})"
     # at rest at the end exactly when the exact drop is, and then carrying the weight
     resting = ref.events[-1][1] == "STUCK"

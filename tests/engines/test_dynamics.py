@@ -38,12 +38,12 @@ def test_builtin_drop_rests_at_the_exact_depth(water: float, mass: float,
     res = simulate_foot(mass, params)
     ref = exact[(water, mass)]
     # the requirement is 2%; the event-driven RK4 engine is far closer
-    assert abs(res.end_depth / ref.rest_depth - 1.0) < 1e-4  # (W = 25%, 15-20 kg: still creeping at 8 s)
+    assert abs(res.end_depth / ref.end_depth - 1.0) < 1e-4  # (W = 25%, 15-20 kg: still creeping at 8 s)
     # no chatter: the force over the last second is the weight
     assert res.force_std(1.0) <= 0.02 * mass * GRAVITY
     assert abs(np.mean(res.force[res.time >= 7.0]) - mass * GRAVITY) < 1e-3 * mass * GRAVITY
     # the whole trajectory follows the exact solution, not only its end
-    np.testing.assert_allclose(res.depth, ref.depth, atol=2e-6 + 1e-4 * abs(ref.rest_depth))
+    np.testing.assert_allclose(res.depth, ref.depth, atol=2e-6 + 1e-4 * abs(ref.end_depth))
 
 
 @pytest.mark.parametrize(("water", "mass"), [(0.15, 5.0), (0.25, 15.0), (0.25, 20.0)])

@@ -115,6 +115,23 @@ def test_a_moving_foot_has_no_rest_depth() -> None:
     assert held.at_rest and held.rest_depth == held.depth[-1] > 0.0
 
 
+def test_the_exact_drop_has_a_rest_depth_only_at_rest() -> None:
+    """exact_drop's rest_depth follows the engines' rule: NaN unless stuck at the end; end_depth always.
+
+    At 100 m/s^2 the 5 kg paper foot is thrown back out of W = 25 % mud and is in flight at 0.5 s (measured:
+    end depth -0.358 m, simulate_foot within 2e-6 m); the old rest_depth returned that flight depth.
+    """
+    held = exact_drop(5.0, W25, duration=0.5)
+    assert held.at_rest and held.rest_depth == held.end_depth == held.depth[-1] > 0.0
+    thrown = exact_drop(5.0, W25, duration=0.5, gravity=100.0)
+    assert not thrown.at_rest and np.isnan(thrown.rest_depth) and thrown.end_depth < -0.3
+    assert thrown.end_depth == pytest.approx(simulate_foot(5.0, W25, duration=0.5, gravity=100.0).end_depth,
+                                             abs=1e-5)
+    # a load too small for DOP853's tolerances stalls at t = 0: one line at once, not 10,000 phases (35 s)
+    with pytest.raises(InputError, match=r"cannot follow this drop .* load m g = 5e-09 N"):
+        exact_drop(5.0, W25, duration=0.5, gravity=1e-9)
+
+
 @needs_mujoco
 def test_mujoco_entry_points_refuse() -> None:
     import mujoco

@@ -44,10 +44,12 @@ class ExactDrop:
         ``(time [s], new phase, depth [m], velocity [m/s], strain [m])`` at each phase change.
     time, depth, velocity, force : ndarray
         Dense output on the requested grid [s, m, m/s, N].
-    rest_depth : float
-        Depth at the end of the requested duration [m].
+    end_depth : float
+        Depth at the end of the requested duration [m], whether or not the foot rests there.
     final_depth : float
-        Depth where the foot comes to rest for good [m] (if it does within ``horizon``).
+        Depth where the foot comes to rest for good [m] (if it does within the duration; NaN otherwise).
+    at_rest : bool
+        Whether the foot is stuck (at rest in the mud, phase STUCK or STUCK_NECKED) at the end of the duration.
     """
 
     events: list[tuple[float, str, float, float, float]]
@@ -55,8 +57,18 @@ class ExactDrop:
     depth: np.ndarray
     velocity: np.ndarray
     force: np.ndarray
-    rest_depth: float
+    end_depth: float
     final_depth: float
+    at_rest: bool
+
+    @property
+    def rest_depth(self) -> float:
+        """Depth where the foot rests at the end of the duration [m]; NaN if it is moving there (:attr:`at_rest`).
+
+        The same rule as the engines' :attr:`mudforce.engines.dynamics.FootResult.rest_depth`; use
+        :attr:`end_depth` for the depth at the end in any case.
+        """
+        return self.end_depth if self.at_rest else math.nan
 
 
 def exact_drop(
@@ -236,6 +248,9 @@ def _solve_drop(mass: float, params: MudParameters, offsets: np.ndarray, weights
     tau_i = q.b_m_i / q.k_m_i
     tau_w = q.b_m_w / q.k_m_w
     lr = q.lambda_ * q.rho_m
+    # DOP853's absolute tolerance [m, m/s]: 1e-14, or a millionth of the strain m g / (S k_m_i) when that is smaller
+    # (5 kg under 1e-8 m/s^2 sinks 1e-21 m; at 1e-14 every phase ended where it began)
+    atol = min(1e-14, 1e-6 * load / (float(np.sum(w)) * q.k_m_i))
     mode = np.full(levels, _FREE, dtype=np.int8)
     wet = np.zeros(levels, dtype=bool)  # below the surface: the drag acts (Eq. (5))
     nk = np.zeros((levels, 3))  # each necked level's (t_n, v_m0, z_m at necking)
@@ -366,14 +381,20 @@ def _solve_drop(mass: float, params: MudParameters, offsets: np.ndarray, weights
     final = math.nan
     horizon = duration
     guard = 0
+    stalled = 0  # moving phases in a row that ended where they began
     while t < horizon and guard < 10000:
         guard += 1
         if phase in ("FREE", "INTRUSION", "WITHDRAWAL", "NECKED"):
             down = phase in ("FREE", "INTRUSION")
             named = moving_events(down)
-            sol = solve_ivp(make_rhs(down), (t, horizon), y, method="DOP853", rtol=rtol, atol=1e-14,
+            sol = solve_ivp(make_rhs(down), (t, horizon), y, method="DOP853", rtol=rtol, atol=atol,
                             events=[fn for _, fn in named], dense_output=True)
             t1 = float(sol.t[-1])
+            stalled = stalled + 1 if t1 <= t else 0
+            if stalled > 50:  # DOP853 finds the stop at the phase's start again and again: a Zeno loop
+                raise InputError(f"exact_drop: the solver cannot follow this drop (its phase ended where it began "
+                                 f"{stalled} times at t = {t:g} s); the load m g = {load:.3g} N is likely too small "
+                                 f"for its tolerances: use a larger mass or gravity")
 
             pieces.append((t, t1, moving(sol.sol, down)))
             y = sol.y[:, -1].copy()
@@ -471,4 +492,5 @@ def _solve_drop(mass: float, params: MudParameters, offsets: np.ndarray, weights
             zz, vv, ff = fn(np.minimum(grid[sel], t1))
             depth[sel], vel[sel], frc[sel] = zz, vv, ff
     zend, _, _ = pieces[-1][2](np.array([min(duration, pieces[-1][1])]))
-    return ExactDrop(events, grid, depth, vel, frc, float(zend[0]), float(final))
+    return ExactDrop(events, grid, depth, vel, frc, float(zend[0]), float(final),
+                     phase in ("STUCK", "STUCK_NECKED"))
