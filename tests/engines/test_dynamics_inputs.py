@@ -85,8 +85,11 @@ def test_a_diverging_solution_is_refused_not_returned() -> None:
         # the stepper's bounds: each was "the naive engine's solution is not finite ... use a heavier foot"
         (lambda: naive_drop(5.0, W25, duration=0.01, height=-200.0), r"height must be within \+-100 m"),
         (lambda: naive_drop(5.0, W25, duration=1e-6, dt=1e-12), r"dt must be within \[1e-09, 1000\] s"),
-        # shorter than half a step: an empty NaiveDrop was returned
-        (lambda: naive_drop(5.0, W25, duration=1e-3, dt=1e-2), "shorter than half a step"),
+        # shorter than one step: an empty NaiveDrop was returned (under half a step), or the start alone
+        (lambda: naive_drop(5.0, W25, duration=1e-3, dt=1e-2), r"duration 0.001 s is shorter than one step"),
+        (lambda: naive_drop(5.0, W25, duration=6e-3, dt=1e-2), r"duration 0.006 s is shorter than one step"),
+        (lambda: simulate_foot(5.0, W25, duration=5e-4), r"duration 0.0005 s is shorter than one step \(dt = 0.001"),
+        (lambda: exact_drop(5.0, W25, duration=5e-4), r"duration 0.0005 s is shorter than one step \(dt = 0.001"),
         (lambda: exact_drop(5.0, W25, height=-0.01), "height must be >= 0"),
         (lambda: exact_drop("5", W25), "mass must be a number"),
         (lambda: exact_drop(5.0, W25, foot="cube"), "foot must be a Foot"),  # type: ignore[arg-type]
@@ -144,6 +147,8 @@ def test_mujoco_entry_points_refuse() -> None:
         simulate_drop(1e-3, W25, duration=0.01)  # was a foot thrown 16 km up
     with pytest.raises(InputError, match="height must be >= 0"):
         simulate_drop(5.0, W25, height=-0.01)
+    with pytest.raises(InputError, match=r"duration 0.0005 s is shorter than one step"):
+        simulate_drop(5.0, W25, duration=5e-4)  # was the start alone
     for call in (lambda: simulate_drop(5.0, W25, height=1e12), lambda: drop_model(5.0, height=1e308)):
         with pytest.raises(InputError, match=r"height must be within \+-100 m of the mud surface"):
             call()  # were taken: a foot 1e12 m up, at -1e308 m depth

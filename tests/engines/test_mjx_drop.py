@@ -61,3 +61,16 @@ def test_add_mud_refuses_a_surface_height_that_is_no_height(height: object, word
     with pytest.raises(InputError, match=f"^surface_height {words}"):
         mud.add_mud(mud.drop_model(5.0), ["sole"], MudParameters.from_water_content(0.25), surface_height=height,
                     dtype="float32")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("duration", "words"), [
+    (5e-4, r"duration 0.0005 s is shorter than one step \(dt = 0.001 s\)"),  # was the start alone
+    (float("nan"), "duration must be finite"),  # was math.floor's ValueError
+    (1e300, "samples is too many"),
+])
+def test_simulate_drop_refuses_a_duration_as_the_other_drops_do(duration: float, words: str) -> None:
+    import mudforce.engines.mjx as mud
+    from mudforce.errors import InputError
+
+    with pytest.raises(InputError, match=words):
+        mud.simulate_drop(5.0, MudParameters.from_water_content(0.25), duration=duration)

@@ -222,6 +222,7 @@ def test_a_drop_of_bad_sizes_durations_or_speeds_is_refused_in_one_line() -> Non
                           ({"mass": 1e-300}, "MuJoCo refused the drop's model"),
                           ({"duration": 1e9}, "samples is too many"),
                           ({"duration": 1e300}, "samples is too many"),
+                          ({"duration": 5e-4}, r"duration 0.0005 s is shorter than one step"),  # was no step
                           ({"vx": 1e300}, r"vx must be within \+-1000 m/s")):
         args = {"mass": 2.0, "params": MUD, "shape": "sphere", "size": [0.04], "duration": 0.005, **kwargs}
         with pytest.raises(InputError, match=match) as err:
@@ -245,8 +246,9 @@ def test_a_drop_s_window_must_be_a_positive_number_of_seconds() -> None:
 def test_a_drop_ends_within_its_duration_as_the_1d_drops_do() -> None:
     """simulate_drop_3d took round(duration / dt) steps, at least one: 2.6 ms at 1 ms steps ran 3 ms, 3.5 ms ran 4 ms
     (2.5 ms ran 2: Python rounds halves to even), 0.5 ms ran 1 ms, past the duration asked for; now, as the 1-D
-    engines' floor(duration / dt) + 1 samples, the last sample is the last step within it."""
-    for duration, rows in ((0.0026, 3), (0.0035, 4), (0.0025, 3), (0.003, 4), (0.0005, 1)):
+    engines' floor(duration / dt) + 1 samples, the last sample is the last step within it (a duration under one
+    step, which gave the start alone, is refused, as the test above checks)."""
+    for duration, rows in ((0.0026, 3), (0.0035, 4), (0.0025, 3), (0.003, 4), (0.001, 2)):
         res = simulate_drop_3d(2.0, MUD, "sphere", (0.04,), duration=duration, dt=1e-3)
         assert res.time.shape == (rows,) and res.position.shape == (rows, 3) and res.force.shape == (rows, 3)
         assert res.time[-1] <= duration

@@ -64,8 +64,12 @@ def check_mass(mass: Any, params: MudParameters, foot: Foot, step: float, what: 
 
 
 def max_samples(duration: float, dt: float) -> int:
-    """Number of output samples ``floor(duration / dt) + 1``, at most :data:`MAX_SAMPLES`, else InputError."""
+    """Number of output samples ``floor(duration / dt) + 1``, at least 2 (a duration of at least one step ``dt``) and
+    at most :data:`MAX_SAMPLES`, else InputError (a duration under ``dt`` returned the start alone)."""
     ratio = duration / dt
+    if not ratio >= 1.0 - 1e-9:
+        raise InputError(f"duration {duration:g} s is shorter than one step (dt = {dt:g} s): the result would hold "
+                         "the start alone; expected a duration of at least dt")
     if not ratio < MAX_SAMPLES:
         raise InputError(f"duration / dt = {ratio:.3g} samples is too many (at most {MAX_SAMPLES:.0e}); "
                          "use a shorter duration or a longer dt")

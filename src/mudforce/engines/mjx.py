@@ -77,7 +77,8 @@ import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError, real_array
+from mudforce.engines._checks import max_samples
+from mudforce.errors import InputError, finite_number, real_array
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -429,9 +430,9 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     mjx = _mjx()  # first: a clear error if MJX is missing
     foot = Foot.paper() if foot is None else foot
     model = drop_model(mass, foot, height=height, dt=timestep)
+    n = max_samples(finite_number(duration, "duration", "s", positive=True), timestep)
     m = mjx.put_model(model)
     patch = add_mud(model, ["sole"], params, foot)
-    n = math.floor(duration / timestep + 1e-9) + 1
 
     def body(carry: tuple[Any, MudState], _: Any) -> tuple[tuple[Any, MudState], tuple[Array, ...]]:
         d, c = carry

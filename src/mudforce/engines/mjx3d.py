@@ -498,7 +498,7 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
         Full dimensions [m]: a sphere's diameter; a capsule's or cylinder's diameter and length (a capsule's
         between its caps' centres); a box's length, width and height.
     duration : float
-        Simulated time [s], > 0.
+        Simulated time [s], at least ``dt`` (at most 1e8 steps).
     height : float
         Release height of the lowest point above the surface [m], >= 0.
     tilt : float

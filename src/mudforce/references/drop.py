@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from mudforce.engines._checks import max_samples
 from mudforce.errors import InputError, finite_number, number_within, real_array
 from mudforce.model.bounds import bounded_depth
 from mudforce.model.equations import neck_filter_response
@@ -104,7 +105,7 @@ def exact_drop(
     foot : Foot, optional
         Foot geometry; the paper's cuboid by default.
     duration : float
-        Time span [s], > 0.
+        Time span [s], at least ``dt``.
     height : float
         Release height of the foot's bottom above the surface [m], in [0, 100].
     dt : float
@@ -143,8 +144,7 @@ def _checked_numbers(mass: Any, duration: Any, height: Any, dt: Any, gravity: An
     gravity = finite_number(gravity, "gravity", "m/s^2", positive=True)
     # scipy raises a tolerance under 100 ulp to it with a UserWarning only; one of 1 or more controls nothing
     rtol = number_within(rtol, "rtol", 1e-13, 0.1, "-")
-    if not duration / dt < 1e8:
-        raise InputError(f"duration / dt = {duration / dt:.3g} is too many output points (at most 1e8)")
+    max_samples(duration, dt)  # the engines' bounds: at least one step dt, at most 1e8 samples
     return mass, duration, height, dt, gravity, rtol
 
 

@@ -399,7 +399,7 @@ def simulate_foot(
     foot : Foot, optional
         Foot geometry (area ``S`` [m^2], width ``H`` [m]); the paper's 51 x 38 mm cuboid by default.
     duration : float
-        Simulated time [s], > 0; at most 1e8 output samples (``duration / dt``).
+        Simulated time [s], at least ``dt``; at most 1e8 output samples (``duration / dt``).
     dt : float
         Output sampling interval [s], within [1e-9, 1000] (:data:`mudforce.steppers.simulation.MIN_DT`,
         :data:`~mudforce.steppers.simulation.MAX_DT`).

@@ -20,7 +20,7 @@ from mudforce import _kernel as K
 from mudforce._kernel import params_row
 from mudforce.engines._checks import check_finite_output, check_foot, check_params, max_samples
 from mudforce.engines.dynamics.result import GRAVITY
-from mudforce.errors import InputError, finite_number
+from mudforce.errors import finite_number
 from mudforce.model.bounds import bounded_depth, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -100,7 +100,7 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     foot : Foot, optional
         Foot geometry; the paper's cuboid by default.
     duration : float
-        Simulated time [s], > 0 (at most 1e8 steps).
+        Simulated time [s], at least ``dt`` (at most 1e8 steps).
     dt : float
         Time step [s], > 0.
     height : float
@@ -126,10 +126,7 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     check_step(dt)
     max_samples(duration, dt)
     buf = K.new_stream_buffer(params_row(params, foot, VelocityFilter.exact()))
-    n = round(duration / dt)
-    if n < 1:  # an empty NaiveDrop was returned
-        raise InputError(f"duration {duration:g} s is shorter than half a step (dt = {dt:g} s): no sample; expected "
-                         "a duration of at least one step")
+    n = round(duration / dt)  # at least 1: max_samples refuses a duration under one step
     depth = np.empty(n)
     force = np.empty(n)
     _naive(buf, mass, gravity, z0, dt, n, depth, force)

@@ -636,7 +636,7 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     foot : Foot, optional
         Foot geometry; the paper's 51 x 38 mm cuboid by default.
     duration : float
-        Simulated time [s], > 0 (at most 1e8 steps).
+        Simulated time [s], at least ``dt`` (at most 1e8 steps).
     height : float
         Release height of the foot's bottom above the surface [m], in [0, 100].
     dt : float

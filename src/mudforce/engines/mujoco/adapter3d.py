@@ -770,7 +770,7 @@ def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float]
     params : MudParameters
         The mud.
     duration : float
-        Simulated time [s], > 0.
+        Simulated time [s], at least ``dt`` (at most 1e8 steps).
     vx : float
         Initial horizontal velocity along x [m/s].
     resolution : float, optional
