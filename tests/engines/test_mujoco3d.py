@@ -223,6 +223,10 @@ def test_a_drop_of_bad_sizes_durations_or_speeds_is_refused_in_one_line() -> Non
                           ({"duration": 1e9}, "samples is too many"),
                           ({"duration": 1e300}, "samples is too many"),
                           ({"duration": 5e-4}, r"duration 0.0005 s is shorter than one step"),  # was no step
+                          # the 1-D drops' bounds (each was taken: a 1e308 rad tilt, a release 1e12 m up, 1e-300 s)
+                          ({"tilt": 1e308}, r"tilt must be within \[-3.14159, 3.14159\] rad, got 1e\+308"),
+                          ({"height": 1e12}, r"height must be within \+-100 m of the mud surface"),
+                          ({"dt": 1e-300}, r"dt must be within \[1e-09, 1000\] s, got 1e-300"),
                           ({"vx": 1e300}, r"vx must be within \+-1000 m/s")):
         args = {"mass": 2.0, "params": MUD, "shape": "sphere", "size": [0.04], "duration": 0.005, **kwargs}
         with pytest.raises(InputError, match=match) as err:

@@ -73,12 +73,13 @@ from mudforce.engines._checks import check_finite_output, check_foot, check_mass
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
 from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
+from mudforce.engines.mujoco._spec import drop_numbers as _drop_numbers
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, number_within, positive_int, real_array
-from mudforce.model.bounds import MAX_DEPTH, bounded_depth, check_step
+from mudforce.model.bounds import MAX_DEPTH, bounded_depth
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
@@ -554,13 +555,9 @@ class MudAdapter:
 
 def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickness: float) -> Any:
     mj = _mujoco()
-    mass = finite_number(mass, "mass", "kg", positive=True)
+    mass, height, dt = _drop_numbers(mass, height, dt)
     foot = check_foot(foot)
-    height = bounded_depth(height, "height", of=" of the mud surface")  # simulate_foot's bound: 1e12 m was taken
-    height = finite_number(height, "height", "m", nonnegative=True)
-    # the steppers' bounds (a step of 1e-300 s was taken; a foot 1e-12 m thick ended in MuJoCo's ValueError)
-    dt = finite_number(dt, "dt", "s", positive=True)
-    check_step(dt)
+    # the steppers' bound on a length (a foot 1e-12 m thick ended in MuJoCo's ValueError)
     thickness = number_within(finite_number(thickness, "thickness", "m", positive=True), "thickness", 1e-6,
                               MAX_DEPTH, "m")
     if foot == Foot.paper():

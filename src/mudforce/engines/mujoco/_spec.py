@@ -7,9 +7,10 @@ from collections.abc import Sequence
 from typing import Any
 
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError
+from mudforce.errors import InputError, finite_number
+from mudforce.model.bounds import bounded_depth, check_step
 
-__all__ = ["check_prefix", "mujoco_module", "name_list"]
+__all__ = ["check_prefix", "drop_numbers", "mujoco_module", "name_list"]
 
 
 def mujoco_module() -> Any:
@@ -33,3 +34,14 @@ def check_prefix(prefix: Any) -> str:
     if not isinstance(prefix, str):
         raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
     return prefix
+
+
+def drop_numbers(mass: Any, height: Any, dt: Any) -> tuple[float, float, float]:
+    """A drop model's ``mass`` [kg] (> 0), release ``height`` [m] (>= 0, within the steppers' depth bound) and
+    step ``dt`` [s] (within the steppers' [MIN_DT, MAX_DT]) as floats, else InputError: both adapters' drops refuse
+    the same numbers (a release 1e12 m up and a step of 1e-300 s were taken)."""
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    height = finite_number(bounded_depth(height, "height", of=" of the mud surface"), "height", "m", nonnegative=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    check_step(dt)
+    return mass, height, dt

@@ -70,7 +70,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
-from mudforce.engines.mujoco._spec import check_prefix, mujoco_module, name_list
+from mudforce.engines.mujoco._spec import check_prefix, drop_numbers, mujoco_module, name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
 from mudforce.engines.mujoco._step3d import (
     C_ALPHA,
@@ -697,13 +697,16 @@ def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float, in
     with a warning, and the drop was returned as if the foot had not moved sideways)."""
     from mudforce.engines._checks import max_samples
     from mudforce.io.tables import COLUMN_LIMITS
+    from mudforce.model.bounds import check_step
 
     duration = finite_number(duration, "duration", "s", positive=True)
     vx = finite_number(vx, "vx", "m/s")
     most = COLUMN_LIMITS["velocity"]
     if abs(vx) > most:
         raise InputError(f"vx must be within +-{most:g} m/s, got {vx!r}")
-    steps = max_samples(duration, finite_number(dt, "dt", "s", positive=True)) - 1
+    dt = finite_number(dt, "dt", "s", positive=True)
+    check_step(dt)  # before the count: a step of 1e-300 s is named as such, not as too many samples
+    steps = max_samples(duration, dt) - 1
     return duration, vx, steps
 
 
@@ -721,19 +724,17 @@ def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float 
         Full dimensions [m]: a sphere's diameter; a capsule's or cylinder's diameter and length (a capsule's
         between its caps' centres); a box's length, width and height.
     height : float
-        Release height of the lowest point above the surface [m], >= 0.
+        Release height of the lowest point above the surface [m], within [0, 100].
     tilt : float
-        Rotation about the world x axis [rad].
+        Rotation about the world x axis [rad], within [-pi, pi].
     dt : float
-        Time step [s], > 0.
+        Time step [s], within the steppers' [1e-9, 1000].
     """
     mj = mujoco_module()
     from mudforce.model.foot import SIZE_RANGE
 
-    mass = finite_number(mass, "mass", "kg", positive=True)
-    height = finite_number(height, "height", "m", nonnegative=True)
-    tilt = finite_number(tilt, "tilt", "rad")
-    dt = finite_number(dt, "dt", "s", positive=True)
+    mass, height, dt = drop_numbers(mass, height, dt)
+    tilt = number_within(tilt, "tilt", -math.pi, math.pi, "rad")  # as --tilt's +-180 deg (1e308 rad was taken)
     if shape not in DROP_SHAPES:
         raise InputError(f"shape must be one of {', '.join(DROP_SHAPES)}, got {shape!r}")
     needs = {"sphere": 1, "capsule": 2, "cylinder": 2, "box": 3}[shape]
