@@ -297,7 +297,8 @@ def test_a_patch_surface_beyond_the_depth_bound_is_refused(height: float) -> Non
 
 @needs_mujoco
 @pytest.mark.parametrize("points", [[{0.0, 1.0, 2.0}], [{0: 0.0, 1: 0.0, 2: 0.0}], {0: (0.0, 0.0, 0.0)}, "xyz",
-                                    [[0.0, 0.0]], [[0.0, 0.0, float("nan")]], [[True, 0.0, 0.0]]])
+                                    [[0.0, 0.0]], [[0.0, 0.0, float("nan")]], [[True, 0.0, 0.0]],
+                                    [[0.0, 0.0, 1e308]], [[-100.5, 0.0, 0.0]]])  # the last two were taken
 def test_add_mud_refuses_contact_points_that_are_no_triples_of_numbers(points: Any) -> None:
     from mudforce.engines.mujoco import _drop_spec, add_mud
 

@@ -201,7 +201,7 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         bottom of the geom (box, sphere, capsule, cylinder, ellipsoid, local
         z up); for a body it is the body's origin unless ``points`` says otherwise.
     points : sequence of (x, y, z), optional
-        Contact points in each foot body's frame [m], overriding the above.
+        Contact points in each foot body's frame [m], overriding the above; each coordinate within +-100 m.
     prefix : str
         Prefix of the names of the added sites and tendons.
     """
@@ -218,7 +218,9 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
             raise InputError("points must be a sequence of (x, y, z) contact points [m]") from None
         if any(row.ndim != 1 for row in rows):
             raise InputError("points must be a sequence of (x, y, z) contact points [m]")
-        chosen = [[finite_number(v, "contact point", "m") for v in row.tolist()] for row in rows]
+        # within the steppers' depth bound of the body's origin (a point 1e308 m away was taken)
+        chosen = [[number_within(v, "contact point", -MAX_DEPTH, MAX_DEPTH, "m") for v in row.tolist()]
+                  for row in rows]
         if len(chosen) != len(feet) or any(len(point) != 3 for point in chosen):
             raise InputError(f"points must be one (x, y, z) [m] per foot: got {len(chosen)} for {len(feet)} feet")
     # every foot is checked before the spec is changed: a refused call leaves it as it was
