@@ -35,7 +35,7 @@ def test_foot_band_is_branch_forces_summed() -> None:
     tilt = 0.4
     quats = np.array([[1.0, 0.0, 0.0, 0.0], [np.cos(tilt / 2), np.sin(tilt / 2), 0.0, 0.0]])
     mats = np.array([law3d.rotation_matrix(q).ravel() for q in quats])
-    states, rows = feet._states, feet._params_rows  # the writable rows MudAdapter3D passes (one compiled signature)
+    states, rows = feet._live_rows()  # the writable rows MudAdapter3D passes (one compiled signature)
     nb = np.vstack([SPHERE.normals] * 2)
     area = np.concatenate([SPHERE.areas] * 2)
     up, down, drag = (np.zeros(len(area)) for _ in range(3))

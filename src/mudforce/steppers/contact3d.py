@@ -830,11 +830,16 @@ class MudContacts3D:
         own solver (:class:`mudforce.engines.mujoco.MudAdapter3D`); the views
         follow the feet as they are stepped.
         """
-        states = self._states.view()
+        states, rows = (a.view() for a in self._live_rows())
         states.flags.writeable = False
-        rows = self._params_rows.view()
         rows.flags.writeable = False
         return states, rows
+
+    def _live_rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """The elements' own state and constant rows, writable (what :meth:`kernel_rows` views): for the engines
+        in this package that pass them to compiled code, which compiles once for writable arrays (the MuJoCo
+        3-D adapter's rest band); they follow the feet as they are stepped."""
+        return self._states, self._params_rows
 
     @property
     def surface_heights(self) -> np.ndarray:

@@ -332,7 +332,7 @@ class MudAdapter3D:
         self._contacts = [MudContacts3D(p.params, list(slist), n, surface_heights=p.surface_height) for p in plist]
         # the feet's own state and constant rows (they follow the feet as they are stepped), not kernel_rows()'s
         # read-only views: one compiled signature of prepare's rest band, the writable rows the 1-D adapter passes
-        self._rows = [(c._states, c._params_rows) for c in self._contacts]
+        self._rows = [c._live_rows() for c in self._contacts]
         # one patch with no extent holds every foot at every step: no feet enter or leave it (a fast path)
         self._everywhere = len(plist) == 1 and plist[0].extent is None
         sizes = [s.n for s in slist]
