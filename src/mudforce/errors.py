@@ -9,7 +9,7 @@ import numpy as np
 
 __all__ = ["MAX_FEET", "MAX_SEED", "InputError", "feet_count", "finite_number", "holds_boolean", "is_integer",
            "is_real", "number_within", "positive_int", "positive_number", "real_array", "real_number", "seed_int",
-           "true_or_false"]
+           "shown", "true_or_false"]
 
 #: Largest seed accepted [-]: what numpy's generators take as one 32-bit word.
 MAX_SEED = 2**32 - 1
@@ -27,6 +27,19 @@ class InputError(ValueError):
     """
 
 
+def shown(value: Any) -> str:
+    """``value`` as a message shows it: its ``repr``, but an integer past 15 digits as ``1e+20`` and one past 300
+    digits as its size in bits (Python refuses to print an integer of over 4,300 digits: ValueError)."""
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        count = int(value)
+        if abs(count) < 10**15:
+            return repr(value)
+        if abs(count) < 10**300:
+            return f"{count:.3g}"
+        return f"{'a negative' if count < 0 else 'an'} integer of {count.bit_length()} bits"
+    return repr(value)
+
+
 def positive_int(value: Any, name: str, alternative: str = "") -> int:
     """``value`` as an ``int`` if it is an integer >= 1 (Python or numpy, not ``bool``), else :class:`InputError`.
 
@@ -40,7 +53,7 @@ def positive_int(value: Any, name: str, alternative: str = "") -> int:
         What else the caller accepts, for the message (``" or None (automatic)"``).
     """
     if not is_integer(value) or value < 1:
-        raise InputError(f"{name} must be an integer >= 1{alternative}, got {value!r}")
+        raise InputError(f"{name} must be an integer >= 1{alternative}, got {shown(value)}")
     return int(value)
 
 
@@ -48,16 +61,14 @@ def feet_count(value: Any, name: str = "the number of feet n") -> int:
     """``value`` as a number of feet: an integer in [1, :data:`MAX_FEET`] (not ``bool``), else :class:`InputError`."""
     count = positive_int(value, name)
     if count > MAX_FEET:
-        shown = str(count) if count < 10**15 else f"{count:.3g}" if count < 10**300 else \
-            f"an integer of {count.bit_length()} bits"
-        raise InputError(f"{name} must be at most {MAX_FEET} (one object's feet), got {shown}")
+        raise InputError(f"{name} must be at most {MAX_FEET} (one object's feet), got {shown(count)}")
     return count
 
 
 def seed_int(value: Any, name: str = "--seed") -> int:
     """``value`` as a seed: an integer in [0, :data:`MAX_SEED`] (not bool), else :class:`InputError`."""
     if not is_integer(value) or not 0 <= value <= MAX_SEED:
-        raise InputError(f"{name} must be an integer in [0, {MAX_SEED}], got {value!r}")
+        raise InputError(f"{name} must be an integer in [0, {MAX_SEED}], got {shown(value)}")
     return int(value)
 
 
@@ -121,8 +132,8 @@ def _as_float(value: Any, name: str) -> float:
     try:
         return float(value)
     except OverflowError:
-        raise InputError(f"{name} must be a real number within float64's range (+-1.8e308), got an integer of "
-                         f"{int(value).bit_length()} bits") from None
+        raise InputError(f"{name} must be a real number within float64's range (+-1.8e308), got "
+                         f"{shown(int(value))}") from None
 
 
 def real_array(value: Any, name: str, unit: str) -> np.ndarray:

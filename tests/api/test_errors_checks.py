@@ -137,7 +137,32 @@ def test_a_python_int_beyond_float64_is_refused_in_one_line(sign: int) -> None:
     for call, words in _huge_int_calls():
         with pytest.raises(InputError) as error:
             call(sign * 10**5000)
-        assert words in str(error.value) and "an integer of 16610 bits" in str(error.value), str(error.value)
+        assert words in str(error.value) and "integer of 16610 bits" in str(error.value), str(error.value)
+
+
+def test_an_integer_of_over_4300_digits_is_shown_by_its_size_in_every_refusal_of_a_count_or_index() -> None:
+    """A refusal that printed the integer itself raised ValueError instead (Python prints at most 4,300 digits):
+    positive_int(-10**5000), seed_int(10**5000), synth's seed, a foot index, identify's points."""
+    import mudforce as mf
+    from mudforce.errors import positive_int, seed_int, shown
+    from mudforce.estimation.calibration.dataset import Trial
+    from mudforce.estimation.calibration.identify import identify_water_content
+    from mudforce.estimation.calibration.synth import synthesize_gait
+    from mudforce.model import shapes
+
+    assert [shown(v) for v in (3, np.int64(-7), 10**20, -(10**5000), 2.5, True)] == [
+        "3", "np.int64(-7)", "1e+20", "a negative integer of 16610 bits", "2.5", "True"]
+    feet = mf.MudContacts3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.04), 2)
+    t = np.arange(3) * 0.01
+    for call, words in ((lambda: positive_int(-(10**5000), "n"), "n must be an integer >= 1, got a negative"),
+                        (lambda: seed_int(10**5000), r"--seed must be an integer in \[0, 4294967295\], got an"),
+                        (lambda: feet.element_slice(10**5000), r"foot index out of range 0..1: an integer"),
+                        (lambda: synthesize_gait(seed=-(10**5000)), "seed must be an integer >= 0, got a negative"),
+                        (lambda: identify_water_content(Trial("w", 0.25, t, np.zeros(3), np.zeros(3)), points=10**5000),
+                         r"points must be an integer in \[2, \d+\], got an")):
+        with pytest.raises(InputError, match=words) as error:
+            call()
+        assert "integer of 16610 bits" in str(error.value), str(error.value)
 
 
 @pytest.mark.parametrize("bad", ["x", None, True, float("nan"), -1.0])

@@ -150,7 +150,8 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.errors": [
         "MAX_FEET", "MAX_SEED", "InputError", "feet_count", "finite_number", "holds_boolean", "is_integer", "is_real",
-        "number_within", "positive_int", "positive_number", "real_array", "real_number", "seed_int", "true_or_false",
+        "number_within", "positive_int", "positive_number", "real_array", "real_number", "seed_int", "shown",
+        "true_or_false",
     ],
     "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],

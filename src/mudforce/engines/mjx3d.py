@@ -110,7 +110,7 @@ from mudforce.engines.mujoco.adapter3d import (
     compile_drop,
     foot_geom,
 )
-from mudforce.errors import InputError, is_integer
+from mudforce.errors import InputError, is_integer, shown
 from mudforce.model import law3d
 from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
@@ -302,7 +302,7 @@ def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
         raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
     count = mud.surface_height.shape[-1]
     if not is_integer(patch) or not 0 <= patch < count:  # not a bool: True was patch 1
-        raise InputError(f"patch must be an index 0 to {count - 1}, got {patch!r}")
+        raise InputError(f"patch must be an index 0 to {count - 1}, got {shown(patch)}")
     patch = int(patch)
     dtype = mud.areas.dtype
     new = _element_params(params, mud.widths, dtype)

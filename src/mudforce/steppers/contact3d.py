@@ -52,6 +52,7 @@ from mudforce.errors import (
     number_within,
     real_array,
     real_number,
+    shown,
     true_or_false,
 )
 from mudforce.model import law3d
@@ -813,10 +814,10 @@ class MudContacts3D:
     def element_slice(self, foot: int) -> slice:
         """The rows of foot ``foot``'s elements in :attr:`state`'s arrays."""
         if not is_integer(foot):  # not int(): 0.7 would be foot 0
-            raise InputError(f"foot must be an integer index 0..{self.n - 1}, got {type(foot).__name__} {foot!r}")
+            raise InputError(f"foot must be an integer index 0..{self.n - 1}, got {type(foot).__name__} {shown(foot)}")
         f = int(foot)
         if not -self.n <= f < self.n:
-            raise InputError(f"foot index out of range 0..{self.n - 1}: {foot!r}")
+            raise InputError(f"foot index out of range 0..{self.n - 1}: {shown(foot)}")
         f %= self.n
         return slice(int(self._starts[f]), int(self._starts[f + 1]))
 

@@ -32,7 +32,7 @@ from mudforce._plumbing.jit import njit
 from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
-from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array
+from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, shown
 from mudforce.model.bounds import MIN_DT, bounded_depth, check_step
 from mudforce.model.equations import (
     intrusion_stress,
@@ -448,9 +448,9 @@ def simulate_foot(
     substeps = positive_int(substeps, "substeps")
     check_step(dt)  # as naive_drop: dt = 1e308 then 10**400 substeps raised OverflowError
     if substeps > dt / MIN_DT:  # (int against float, exact: dt / 10**400 raised OverflowError)
-        shown = str(substeps) if substeps < 10**15 else f"an integer of {substeps.bit_length()} bits"
         raise InputError(f"substeps must be an integer in [1, {math.floor(dt / MIN_DT + 1e-9):d}] (an RK4 "
-                         f"sub-step dt / substeps of at least {MIN_DT:g} s, the shortest step accepted), got {shown}")
+                         f"sub-step dt / substeps of at least {MIN_DT:g} s, the shortest step accepted), got "
+                         f"{shown(substeps)}")
     mass = check_mass(mass, params, foot, dt / substeps, "RK4 sub-step")
     n = max_samples(duration, dt)
     p = params_row(params, foot, VelocityFilter.exact())

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, is_integer, is_real, real_array
+from mudforce.errors import InputError, is_integer, is_real, real_array, shown
 from mudforce.io import atomic_write_text, dumps_json, load_json
 from mudforce.io.tables import COLUMN_LIMITS, COLUMN_UNITS, check_time, read_columns
 from mudforce.model.foot import Foot, parse_foot
@@ -107,7 +107,7 @@ class Trial:
             object.__setattr__(self, "velocity", float(v))
         r = self.repeat
         if r is not None and (not is_integer(r) or r < 0):
-            raise InputError(f"{self.name}: repeat is {r!r}; expected None or a non-negative integer")
+            raise InputError(f"{self.name}: repeat is {shown(r)}; expected None or a non-negative integer")
         if r is not None:
             object.__setattr__(self, "repeat", int(r))
         # the calibration's entry: real numbers only (complex, boolean, string and object arrays refused)
@@ -311,7 +311,7 @@ def _load_manifest(path: Path) -> Dataset:
             velocity = _number(entry["velocity_m_s"], at, "velocity_m_s", 0.0, math.inf, "0.01 for 10 mm/s")
         repeat = entry.get("repeat")
         if repeat is not None and (not is_integer(repeat) or repeat < 0):
-            raise InputError(f"{at}: repeat is {repeat!r}; expected a non-negative integer")
+            raise InputError(f"{at}: repeat is {shown(repeat)}; expected a non-negative integer")
         if not file.is_file():
             raise InputError(f"{at}: trial file {path.parent / name} not found")
         # one file under two names (a link, hard or symbolic) would count its trial twice in every fit

@@ -88,7 +88,7 @@ from scipy.stats import t as student_t
 from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.jit import njit
-from mudforce.errors import InputError, is_integer, is_real
+from mudforce.errors import InputError, is_integer, is_real, shown
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.estimation.calibration.models import CHEN2024
@@ -876,7 +876,7 @@ def identify_water_content(
         raise InputError(f"confidence level must be in (0, 1), got {level!r}")
     check_force_gain_uncertainty(force_gain_uncertainty)
     if not is_integer(points) or not 2 <= points <= _MAX_POINTS:  # one point searched [low, low]: always low
-        raise InputError(f"points must be an integer in [2, {_MAX_POINTS}], got {points!r}")
+        raise InputError(f"points must be an integer in [2, {_MAX_POINTS}], got {shown(points)}")
     if foot is not None and not isinstance(foot, Foot):
         raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")
     foot = Foot.paper() if foot is None else foot

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, is_integer, positive_int, seed_int
+from mudforce.errors import InputError, is_integer, positive_int, seed_int, shown
 from mudforce.estimation.calibration.dataset import Dataset, Trial, save_dataset
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -262,7 +262,7 @@ def synthesize_gait(
     if not water_contents:
         raise InputError("synthesize_gait needs at least one water content")
     if not is_integer(seed) or seed < 0:
-        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
+        raise InputError(f"seed must be an integer >= 0, got {shown(seed)}")
     foot = Foot.paper() if foot is None else foot
     if chain is not None:
         if jitter:
