@@ -85,7 +85,7 @@ def true_or_false(value: Any, name: str) -> bool:
         The option, for the message (``"quiet"``).
     """
     if not isinstance(value, (bool, np.bool_)):
-        raise InputError(f"{name} must be True or False, got {value!r}")
+        raise InputError(f"{name} must be True or False, got {shown(value)}")
     return bool(value)
 
 
@@ -213,14 +213,14 @@ def finite_number(value: Any, name: str, unit: str, *, positive: bool = False, n
         ``value`` [``unit``].
     """
     if not is_real(value):
-        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__} {value!r}")
+        raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__} {shown(value)}")
     number = _as_float(value, name)
     if not math.isfinite(number):
-        raise InputError(f"{name} must be finite [{unit}], got {value!r}")
+        raise InputError(f"{name} must be finite [{unit}], got {shown(value)}")
     if positive and number <= 0.0:
-        raise InputError(f"{name} must be > 0 [{unit}], got {value!r}")
+        raise InputError(f"{name} must be > 0 [{unit}], got {shown(value)}")
     if nonnegative and number < 0.0:
-        raise InputError(f"{name} must be >= 0 [{unit}], got {value!r}")
+        raise InputError(f"{name} must be >= 0 [{unit}], got {shown(value)}")
     return number
 
 
@@ -242,7 +242,7 @@ def number_within(value: Any, name: str, lo: float, hi: float, unit: str) -> flo
         raise InputError(f"{name} must be a number [{unit}], got {type(value).__name__}")
     number = _as_float(value, name)
     if not (math.isfinite(number) and lo <= number <= hi):
-        raise InputError(f"{name} must be within [{lo:g}, {hi:g}] {unit}, got {value!r}")
+        raise InputError(f"{name} must be within [{lo:g}, {hi:g}] {unit}, got {shown(value)}")
     return number
 
 
@@ -259,8 +259,8 @@ def positive_number(value: Any, name: str, unit: str) -> float:
         Its unit, for the message (``"s"``).
     """
     if not is_real(value):
-        raise InputError(f"{name} must be a number [{unit}], got {value!r}")
+        raise InputError(f"{name} must be a number [{unit}], got {shown(value)}")
     number = _as_float(value, name)
     if not (math.isfinite(number) and number > 0.0):
-        raise InputError(f"{name} must be finite and > 0 [{unit}], got {value!r}")
+        raise InputError(f"{name} must be finite and > 0 [{unit}], got {shown(value)}")
     return number

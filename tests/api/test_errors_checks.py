@@ -144,7 +144,7 @@ def test_an_integer_of_over_4300_digits_is_shown_by_its_size_in_every_refusal_of
     """A refusal that printed the integer itself raised ValueError instead (Python prints at most 4,300 digits):
     positive_int(-10**5000), seed_int(10**5000), synth's seed, a foot index, identify's points."""
     import mudforce as mf
-    from mudforce.errors import positive_int, seed_int, shown
+    from mudforce.errors import number_within, positive_int, seed_int, shown, true_or_false
     from mudforce.estimation.calibration.dataset import Trial
     from mudforce.estimation.calibration.identify import identify_water_content
     from mudforce.estimation.calibration.synth import synthesize_gait
@@ -163,6 +163,10 @@ def test_an_integer_of_over_4300_digits_is_shown_by_its_size_in_every_refusal_of
         with pytest.raises(InputError, match=words) as error:
             call()
         assert "integer of 16610 bits" in str(error.value), str(error.value)
+    with pytest.raises(InputError, match=r"^quiet must be True or False, got an integer of 16610 bits$"):
+        true_or_false(10**5000, "quiet")  # ValueError too
+    with pytest.raises(InputError, match=r"^x must be within \[0, 1\] m, got 1e\+200$"):
+        number_within(10**200, "x", 0.0, 1.0, "m")  # its 201 digits
 
 
 @pytest.mark.parametrize("bad", ["x", None, True, float("nan"), -1.0])

@@ -1,4 +1,4 @@
-"""Checks of the dynamics' inputs and outputs, shared by the built-in engine, the exact drop and MuJoCo.
+"""Checks of the dynamics' inputs and outputs, shared by the built-in engine, the naive drop and MuJoCo.
 
 Each raises :class:`mudforce.errors.InputError` with one line naming the
 problem and what is expected, for bad values and bad types alike.
@@ -6,7 +6,6 @@ problem and what is expected, for bad values and bad types alike.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -15,12 +14,7 @@ from mudforce.errors import InputError, finite_number
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
-__all__ = ["MAX_SAMPLES", "check_finite_output", "check_foot", "check_mass", "check_params", "max_samples",
-           "min_stable_mass"]
-
-#: Most output samples one simulation may produce (``duration / dt + 1``): 8 bytes x 6 arrays x 1e8 = 4.8 GB.
-MAX_SAMPLES = 100_000_000
-
+__all__ = ["check_finite_output", "check_foot", "check_mass", "check_params", "min_stable_mass"]
 
 def check_params(params: Any) -> MudParameters:
     """``params`` if it is a :class:`MudParameters`, else InputError."""
@@ -61,19 +55,6 @@ def check_mass(mass: Any, params: MudParameters, foot: Foot, step: float, what: 
                          f"the foot's oscillation on the mud only from {lightest:.3g} kg (h sqrt(S k_m / m) <= 1); "
                          "use a heavier foot or a shorter step")
     return m
-
-
-def max_samples(duration: float, dt: float) -> int:
-    """Number of output samples ``floor(duration / dt) + 1``, at least 2 (a duration of at least one step ``dt``) and
-    at most :data:`MAX_SAMPLES`, else InputError (a duration under ``dt`` returned the start alone)."""
-    ratio = duration / dt
-    if not ratio >= 1.0 - 1e-9:
-        raise InputError(f"duration {duration:g} s is shorter than one step (dt = {dt:g} s): the result would hold "
-                         "the start alone; expected a duration of at least dt")
-    if not ratio < MAX_SAMPLES:
-        raise InputError(f"duration / dt = {ratio:.3g} samples is too many (at most {MAX_SAMPLES:.0e}); "
-                         "use a shorter duration or a longer dt")
-    return math.floor(ratio + 1e-9) + 1
 
 
 def check_finite_output(engine: str, time: np.ndarray, *arrays: np.ndarray) -> None:

@@ -77,8 +77,8 @@ import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
-from mudforce.engines._checks import max_samples
 from mudforce.errors import InputError, finite_number, real_array
+from mudforce.model.bounds import max_samples
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 

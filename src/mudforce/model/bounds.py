@@ -14,14 +14,15 @@ depth or height (a protocol's depths, a drop's height, a surface height), for ev
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
 from mudforce.errors import InputError, finite_number
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_TIME", "MIN_DT", "bounded_depth", "check_depths",
-           "check_finite", "check_step", "check_times"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_OUTPUT_SAMPLES", "MAX_TIME", "MIN_DT", "bounded_depth",
+           "check_depths", "check_finite", "check_step", "check_times", "max_samples"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -40,6 +41,23 @@ MAX_DT = 1e3
 #: Largest |time| accepted [s] (~30 years; one ulp of 1e9 s is 1.2e-7 s, so short steps that
 #: late are refused as repeated times or as shorter than MIN_DT rather than rounded silently).
 MAX_TIME = 1e9
+#: Most output samples one simulated drop may produce (``duration / dt + 1``): 8 bytes x 6 arrays x 1e8 = 4.8 GB.
+MAX_OUTPUT_SAMPLES = 100_000_000
+
+
+def max_samples(duration: float, dt: float) -> int:
+    """Number of output samples ``floor(duration / dt) + 1`` of a drop of ``duration`` [s] in steps ``dt`` [s] (both
+    checked finite and > 0 by the caller), at least 2 (a duration of at least one step) and at most
+    :data:`MAX_OUTPUT_SAMPLES`, else InputError (a duration under ``dt`` returned the start alone): the words every
+    drop, built-in, MuJoCo, MJX and exact, refuses its duration in."""
+    ratio = duration / dt
+    if not ratio >= 1.0 - 1e-9:
+        raise InputError(f"duration {duration:g} s is shorter than one step (dt = {dt:g} s): the result would hold "
+                         "the start alone; expected a duration of at least dt")
+    if not ratio < MAX_OUTPUT_SAMPLES:
+        raise InputError(f"duration / dt = {ratio:.3g} samples is too many (at most {MAX_OUTPUT_SAMPLES:.0e}); "
+                         "use a shorter duration or a longer dt")
+    return math.floor(ratio + 1e-9) + 1
 
 
 def check_finite(values: np.ndarray, name: str, unit: str) -> None:

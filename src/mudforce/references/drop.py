@@ -21,9 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.engines._checks import max_samples
 from mudforce.errors import InputError, finite_number, number_within, real_array
-from mudforce.model.bounds import bounded_depth
+from mudforce.model.bounds import bounded_depth, max_samples
 from mudforce.model.equations import neck_filter_response
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters

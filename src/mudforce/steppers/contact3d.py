@@ -69,7 +69,7 @@ from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows
 __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
 
 #: Most element forces :func:`simulate_3d` keeps with ``elements=True``, samples x elements [-]: 3 numbers each,
-#: 2.4 GB (as many numbers as the engines' largest output, mudforce.engines._checks.MAX_SAMPLES x 6 arrays / 3).
+#: 2.4 GB (as many numbers as the engines' largest output, mudforce.model.bounds.MAX_OUTPUT_SAMPLES x 6 arrays / 3).
 MAX_ELEMENT_SAMPLES = 200_000_000
 
 

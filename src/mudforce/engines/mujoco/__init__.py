@@ -69,7 +69,7 @@ import numpy as np
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
-from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params, max_samples
+from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
 from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
@@ -79,7 +79,7 @@ from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, number_within, positive_int, real_array
-from mudforce.model.bounds import MAX_DEPTH, bounded_depth
+from mudforce.model.bounds import MAX_DEPTH, bounded_depth, max_samples
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter

@@ -692,12 +692,11 @@ def compile_drop(spec: Any) -> Any:
 def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float, int]:
     """A drop's ``duration`` [s], ``vx`` [m/s] and number of steps (``floor(duration / dt)``, the 1-D drops' samples
     less one: the last step within the duration), else InputError: ``duration / dt`` at most
-    :data:`~mudforce.engines._checks.MAX_SAMPLES` steps (1e300 s asked numpy for an array too large to make), and
+    :data:`~mudforce.model.bounds.MAX_OUTPUT_SAMPLES` steps (1e300 s asked numpy for an array too large to make), and
     ``|vx|`` within a recording's velocity bound (1e3 m/s: 1e300 m/s made MuJoCo's state unstable, which it reset
     with a warning, and the drop was returned as if the foot had not moved sideways)."""
-    from mudforce.engines._checks import max_samples
     from mudforce.io.tables import COLUMN_LIMITS
-    from mudforce.model.bounds import check_step
+    from mudforce.model.bounds import check_step, max_samples
 
     duration = finite_number(duration, "duration", "s", positive=True)
     vx = finite_number(vx, "vx", "m/s")
