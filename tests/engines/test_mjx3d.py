@@ -198,6 +198,20 @@ def test_add_mud_refuses_a_dtype_that_is_not_float_and_init_another_type_of_mud(
             mud3d.add_mud(model, ["toe"], MudPatch(MUD), dtype=dtype)
     with pytest.raises(InputError, match="mud must be a Mud3D"):
         mud3d.init(None)  # type: ignore[arg-type]
+
+
+
+def test_an_extent_past_float32_is_the_infinity_it_rounds_to_without_a_warning() -> None:
+    """add_mud(dtype="float32") of a patch reaching +-1e300 m: numpy's "overflow encountered in cast"."""
+    import warnings
+
+    import mudforce.engines.mjx3d as mud3d
+
+    model = mujoco.MjModel.from_xml_string(PLANE)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mud = mud3d.add_mud(model, ["toe"], MudPatch(MUD, extent=(-1e300, 0.5, -0.5, 1e300)), dtype="float32")
+    assert np.asarray(mud.extents).tolist() == [[-np.inf, 0.5, -0.5, np.inf]]
     assert mud3d.add_mud(model, ["toe"], MudPatch(MUD), dtype=np.float32).areas.dtype == np.float32
 
 

@@ -280,6 +280,9 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
     elements = mj.Params(*(jnp.stack(f) for f in zip(*per_patch, strict=True)))
     big = math.inf
     extents = np.array([p.extent if p.extent is not None else (-big, big, -big, big) for p in plist])
+    # a finite extent past float32's range holds every position, as the infinity it rounds to does: made that
+    # infinity here, without numpy's overflow warning (1e300 in float32)
+    extents = np.where(np.abs(extents) > float(np.finfo(ftype).max), np.copysign(big, extents), extents)
     return Mud3D(
         geoms=jnp.asarray(gids, dtype=jnp.int32),
         bodies=jnp.asarray([int(model.geom_bodyid[g]) for g in gids], dtype=jnp.int32),
