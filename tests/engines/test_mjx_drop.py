@@ -74,3 +74,47 @@ def test_simulate_drop_refuses_a_duration_as_the_other_drops_do(duration: float,
 
     with pytest.raises(InputError, match=words):
         mud.simulate_drop(5.0, MudParameters.from_water_content(0.25), duration=duration)
+
+
+@pytest.mark.parametrize(("arguments", "words"), [
+    ({"mass": float("nan")}, "^mass must be finite"),  # was a model of NaN mass
+    ({"mass": True}, "^mass must be a number"),  # was MuJoCo's two-line XML ValueError
+    ({"mass": -1.0}, r"^mass must be > 0"),  # was MuJoCo's ValueError
+    ({"height": 1e12}, r"^height must be within \+-100 m of the mud surface"),  # was a release 1e12 m up
+    ({"height": -1.0}, "^height must be >= 0"),  # was a release 1 m under the surface
+    ({"height": "0"}, "^height must be a number"),  # was a TypeError
+    ({"dt": 0.0}, r"^dt must be > 0"),  # was a model of step 0 (simulate_drop: ZeroDivisionError)
+    ({"dt": 1e-300}, r"^dt must be within \[1e-09, 1000\] s"),
+    ({"dt": 5000.0}, r"^dt must be within \[1e-09, 1000\] s"),
+    ({"thickness": 1e300}, r"^thickness must be within \[1e-06, 100\] m"),  # was a foot 1e300 m thick
+    ({"thickness": 1e-12}, r"^thickness must be within \[1e-06, 100\] m"),  # was MuJoCo's ValueError
+    ({"foot": 5}, "^foot must be a Foot"),  # was an AttributeError
+])
+def test_drop_model_refuses_what_mujocos_drop_model_refuses(arguments: dict[str, object], words: str) -> None:
+    import mudforce.engines.mjx as mud
+    from mudforce.engines import mujoco as cpu
+    from mudforce.errors import InputError
+
+    given = {"mass": 5.0, **arguments}
+    mass = given.pop("mass")
+    for drop_model in (mud.drop_model, cpu.drop_model):  # the same refusal, in the same words
+        with pytest.raises(InputError, match=words):
+            drop_model(mass, **given)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("arguments", "words"), [
+    ({"dt": 0.0}, r"^dt must be > 0"),  # was ZeroDivisionError
+    ({"dt": -1e-3}, r"^dt must be > 0"),  # was "duration 0.002 s is shorter than one step (dt = -0.001 s)"
+    ({"dt": "0.001"}, "^dt must be a number"),  # was MuJoCo's XML ValueError
+    ({"mass": -1.0}, r"^mass must be > 0"),  # was MuJoCo's ValueError
+    ({"height": -0.1}, "^height must be >= 0"),  # was a drop from under the surface
+    ({"params": None}, "^params must be a MudParameters"),  # was a TypeError
+])
+def test_simulate_drop_refuses_bad_arguments_before_compiling(arguments: dict[str, object], words: str) -> None:
+    import mudforce.engines.mjx as mud
+    from mudforce.errors import InputError
+
+    given: dict[str, object] = {"mass": 5.0, "params": MudParameters.from_water_content(0.25), "duration": 0.002,
+                                **arguments}
+    with pytest.raises(InputError, match=words):
+        mud.simulate_drop(given.pop("mass"), given.pop("params"), **given)  # type: ignore[arg-type]

@@ -77,6 +77,7 @@ import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
+from mudforce.engines._checks import check_foot, check_params
 from mudforce.errors import InputError, finite_number, real_array
 from mudforce.model.bounds import max_samples
 from mudforce.model.foot import Foot
@@ -383,15 +384,18 @@ def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt
                thickness: float = 0.025) -> Any:
     """A compiled ``mujoco.MjModel`` of the drop: a cuboid foot on a vertical slide joint, a site ``sole`` below.
 
-    The same model and arguments as :func:`mudforce.engines.mujoco.drop_model`: ``mass`` [kg];
-    ``height`` [m] of the sole above the mud surface at ``z = 0``; ``dt`` [s] the
-    time step (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here);
-    ``thickness`` [m]. The foot's bottom face is the paper's 51 x 38 mm, or
+    The same model and arguments as :func:`mudforce.engines.mujoco.drop_model`, refused alike: ``mass`` [kg],
+    > 0; ``height`` [m] of the sole above the mud surface at ``z = 0``, in [0, 100]; ``dt`` [s] the
+    time step (MuJoCo's ``opt.timestep``; ``timestep=`` is its deprecated name here), within [1e-9, 1000];
+    ``thickness`` [m], within [1e-6, 100]. The foot's bottom face is the paper's 51 x 38 mm, or
     ``sqrt(area)`` square for another foot.
     """
-    timestep = dt
+    from mudforce.engines.mujoco._spec import drop_numbers, drop_thickness
+
     mujoco = require("mujoco", "mjx", "mud in MJX")
-    foot = Foot.paper() if foot is None else foot
+    mass, height, timestep = drop_numbers(mass, height, dt)  # MuJoCo's drop_model's checks and words
+    thickness = drop_thickness(thickness)
+    foot = check_foot(foot)
     lx, ly = (0.051, 0.038) if foot == Foot.paper() else (math.sqrt(foot.area),) * 2
     xml = f"""
 <mujoco model="mudforce_drop_mjx">
@@ -428,8 +432,10 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
                                                      Phase.NECKED)
 
     mjx = _mjx()  # first: a clear error if MJX is missing
-    foot = Foot.paper() if foot is None else foot
-    model = drop_model(mass, foot, height=height, dt=timestep)
+    params = check_params(params)
+    model = drop_model(mass, foot, height=height, dt=timestep)  # checks mass, foot, height and dt
+    foot = check_foot(foot)
+    height, timestep = float(height), float(timestep)
     n = max_samples(finite_number(duration, "duration", "s", positive=True), timestep)
     m = mjx.put_model(model)
     patch = add_mud(model, ["sole"], params, foot)

@@ -74,6 +74,7 @@ from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Ph
 from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
 from mudforce.engines.mujoco._spec import drop_numbers as _drop_numbers
+from mudforce.engines.mujoco._spec import drop_thickness as _drop_thickness
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
@@ -559,9 +560,7 @@ def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickne
     mj = _mujoco()
     mass, height, dt = _drop_numbers(mass, height, dt)
     foot = check_foot(foot)
-    # the steppers' bound on a length (a foot 1e-12 m thick ended in MuJoCo's ValueError)
-    thickness = number_within(finite_number(thickness, "thickness", "m", positive=True), "thickness", 1e-6,
-                              MAX_DEPTH, "m")
+    thickness = _drop_thickness(thickness)
     if foot == Foot.paper():
         lx, ly = 0.051, 0.038
     else:

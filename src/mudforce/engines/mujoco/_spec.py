@@ -7,10 +7,10 @@ from collections.abc import Sequence
 from typing import Any
 
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError, finite_number
-from mudforce.model.bounds import bounded_depth, check_step
+from mudforce.errors import InputError, finite_number, number_within
+from mudforce.model.bounds import MAX_DEPTH, bounded_depth, check_step
 
-__all__ = ["check_prefix", "drop_numbers", "mujoco_module", "name_list"]
+__all__ = ["check_prefix", "drop_numbers", "drop_thickness", "mujoco_module", "name_list"]
 
 
 def mujoco_module() -> Any:
@@ -45,3 +45,11 @@ def drop_numbers(mass: Any, height: Any, dt: Any) -> tuple[float, float, float]:
     dt = finite_number(dt, "dt", "s", positive=True)
     check_step(dt)
     return mass, height, dt
+
+
+def drop_thickness(thickness: Any) -> float:
+    """A drop foot's ``thickness`` [m] as a float within [1e-6, :data:`~mudforce.model.bounds.MAX_DEPTH`], else
+    InputError: the steppers' bound on a length (a foot 1e-12 m thick ended in MuJoCo's ValueError), for both
+    1-D drop models (MuJoCo's and MJX's)."""
+    return number_within(finite_number(thickness, "thickness", "m", positive=True), "thickness", 1e-6, MAX_DEPTH,
+                         "m")
