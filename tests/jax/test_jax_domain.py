@@ -56,3 +56,5 @@ def test_concrete_water_content_out_of_range_is_refused() -> None:
         params_from_water_content(np.array([0.15, 0.4]))
     with pytest.raises(InputError, match="water content must be numbers"):
         params_from_water_content("wet")
+    with pytest.raises(InputError, match=r"^foot must be a Foot or a non-empty sequence of Foot, got int"):
+        params_from_water_content(0.25, foot=5)  # type: ignore[arg-type]  # was list()'s TypeError

@@ -211,6 +211,9 @@ def test_make_params_shapes_and_errors() -> None:
         mj.make_params([mud, mud], n=4)
     with pytest.raises(InputError):
         mj.make_params("mud")  # type: ignore[arg-type]
+    for mud_given in (5, None):  # were list()'s TypeError
+        with pytest.raises(InputError, match=r"^make_params needs MudParameters or a non-empty sequence"):
+            mj.make_params(mud_given)  # type: ignore[arg-type]
 
 
 def test_rest_band_and_branch_forces_equal_dynamics(compared: dict[str, np.ndarray]) -> None:

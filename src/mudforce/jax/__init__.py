@@ -221,10 +221,18 @@ def _feet(foot: Foot | Sequence[Foot] | None) -> list[Foot]:
         return [Foot.paper()]
     if isinstance(foot, Foot):
         return [foot]
-    feet = list(foot)
+    feet = _listed(foot)
     if not feet or not all(isinstance(f, Foot) for f in feet):
-        raise InputError("foot must be a Foot or a non-empty sequence of Foot")
+        raise InputError(f"foot must be a Foot or a non-empty sequence of Foot, got {type(foot).__name__}")
     return feet
+
+
+def _listed(value: Any) -> list[Any]:
+    """``list(value)``, or ``[]`` for a value that is not iterable (a number, None): refused by the caller."""
+    try:
+        return list(value)
+    except TypeError:
+        return []
 
 
 @renamed_keywords(mud="params")
@@ -258,9 +266,9 @@ def make_params(
         n, foot = foot, n  # type: ignore[assignment]
     mud = params
     dt_ = _float_dtype(dtype)
-    muds = [mud] if isinstance(mud, MudParameters) else list(mud)
+    muds = [mud] if isinstance(mud, MudParameters) else _listed(mud)
     if not muds or not all(isinstance(m, MudParameters) for m in muds):
-        raise InputError("make_params needs MudParameters or a non-empty sequence of them")
+        raise InputError(f"make_params needs MudParameters or a non-empty sequence of them, got {type(mud).__name__}")
     feet = _feet(foot)
     per_foot = not isinstance(mud, MudParameters) or (foot is not None and not isinstance(foot, Foot))
     count = max(len(muds), len(feet))
