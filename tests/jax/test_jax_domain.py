@@ -49,12 +49,21 @@ def test_traced_water_content_gives_the_cpu_parameters() -> None:
         jax.config.update("jax_enable_x64", was)
 
 
-def test_concrete_water_content_out_of_range_is_refused() -> None:
+@pytest.mark.parametrize(("w", "arguments", "words"), [
+    (np.array([0.15, 0.4]), {}, r"within Table I's range \[0.15, 0.35\].*got 0.15 to 0.4"),
+    ("wet", {}, "^water content must be an array of real numbers"),
+    ("0.25", {}, "^water content must be an array of real numbers"),  # was parsed
+    (np.array([0.25 + 1j]), {}, "^water content must be an array of real numbers.*complex"),  # 1j was dropped
+    ([0.25, True], {}, "^water content must be an array of real numbers.*booleans"),
+    (0.25, {"foot": 5}, r"^foot must be a Foot or a non-empty sequence of Foot, got int"),  # was list()'s TypeError
+    (np.array([0.25, 0.3]), {"foot": [Foot.paper()] * 3}, r"^got 3 feet for water contents of shape \(2,\)"),
+    (0.25, {"foot": [Foot.paper()] * 2}, r"^got 2 feet for water contents of shape \(\)"),  # were broadcast errors
+    (0.25, {"dtype": "int32"}, "^dtype must be float32 or float64"),  # was k_i = 162755 Pa/m for 260000
+    (0.25, {"dtype": "float16"}, "^dtype must be float32 or float64"),  # was k_i = inf
+    (0.25, {"dtype": "nope"}, "^dtype must be float32 or float64"),  # was numpy's TypeError
+])
+def test_concrete_water_content_out_of_range_is_refused(w: object, arguments: dict[str, object], words: str) -> None:
     from mudforce.jax.domain import params_from_water_content
 
-    with pytest.raises(InputError, match=r"within Table I's range \[0.15, 0.35\].*got 0.15 to 0.4"):
-        params_from_water_content(np.array([0.15, 0.4]))
-    with pytest.raises(InputError, match="water content must be numbers"):
-        params_from_water_content("wet")
-    with pytest.raises(InputError, match=r"^foot must be a Foot or a non-empty sequence of Foot, got int"):
-        params_from_water_content(0.25, foot=5)  # type: ignore[arg-type]  # was list()'s TypeError
+    with pytest.raises(InputError, match=words):
+        params_from_water_content(w, **arguments)  # type: ignore[arg-type]

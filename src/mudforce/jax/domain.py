@@ -31,7 +31,7 @@ import jax.numpy as jnp
 import numpy as np
 
 import mudforce.jax as mj
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import TABLE_I_WATER_CONTENTS, WATER_CONTENT_RANGE, MudParameters
 
@@ -62,7 +62,7 @@ def params_from_water_content(w: Array, foot: Foot | Sequence[Foot] | None = Non
         sequence: one per foot, along ``w``'s last axis); the paper's
         51 x 38 mm cuboid by default.
     dtype : dtype, optional
-        Float dtype; JAX's default float by default (float64 needs ``jax_enable_x64``).
+        Float dtype, float32 or float64; JAX's default float by default (float64 needs ``jax_enable_x64``).
 
     Returns
     -------
@@ -75,13 +75,10 @@ def params_from_water_content(w: Array, foot: Foot | Sequence[Foot] | None = Non
         the foot's: what :func:`mudforce.jax.step` and the ``params`` of a
         :class:`mudforce.engines.mjx.MudPatch` take.
     """
-    dt_ = jnp.dtype(dtype) if dtype is not None else jnp.result_type(float)
+    dt_ = mj._float_dtype(dtype)  # an int32 dtype gave a wrong mud (k_i 162755 Pa/m for 260000), float16 inf
     lo, hi = WATER_CONTENT_RANGE
     if not isinstance(w, jax.core.Tracer):
-        try:
-            concrete = np.asarray(w, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputError(f"water content must be numbers (a fraction: 0.25 means 25%), got {w!r}") from None
+        concrete = real_array(w, "water content", "-")  # not "0.25" parsed, True as 1 or a complex number's real part
         if not np.isfinite(concrete).all() or (concrete < lo - 1e-12).any() or (concrete > hi + 1e-12).any():
             raise InputError(f"water content must be within Table I's range [{lo:g}, {hi:g}] (a fraction: "
                              f"0.25 means 25%), got {concrete.min():g} to {concrete.max():g}")
@@ -89,6 +86,9 @@ def params_from_water_content(w: Array, foot: Foot | Sequence[Foot] | None = Non
     table = _table()
     rows = jnp.asarray(TABLE_I_WATER_CONTENTS, dtype=dt_)
     w = jnp.clip(jnp.asarray(w, dtype=dt_), lo, hi)
+    if len(feet) > 1 and w.shape[-1:] != (len(feet),):
+        raise InputError(f"got {len(feet)} feet for water contents of shape {w.shape}; give one foot or one per "
+                         "water content along its last axis")
     nearest = jnp.argmin(jnp.abs(w[..., None] - rows), axis=-1)  # the row closest to each w
     on_row = jnp.abs(w - rows[nearest]) < _ROW
     fields = []
