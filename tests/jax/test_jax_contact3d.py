@@ -335,6 +335,8 @@ def test_inputs_of_wrong_types_are_refused_when_tracing() -> None:
         (lambda: mj3.step3d(state, params, p, q, DT, hold=np.ones(5)), "hold must be one number"),
         (lambda: mj3.step3d(state, params, p, q, DT, hold=math.inf), "hold must be finite and >= 0"),
         (lambda: mj3.step3d(state, params, p, q, DT, hold=-1e-9), "hold must be finite and >= 0"),
+        (lambda: mj3.step3d(state, params, [0, 0, 10**400], q, DT), "^position .* integer too large"),  # OverflowError
+        (lambda: mj3.step3d(state, params, p, q, 10**400), "^dt .* integer too large"),  # was OverflowError
         (lambda: mj3.step3d(None, params, p, q, DT), "State3D"),
         (lambda: mj3.step3d(params, state, p, q, DT), "State3D"),
         (lambda: mj3.step3d(state, None, p, q, DT), "Params3D"),

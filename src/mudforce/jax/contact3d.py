@@ -129,6 +129,10 @@ def _real(value: Any, name: str, unit: str) -> Any:
             value = jnp.asarray(value)
         except (TypeError, ValueError):  # strings, objects, None, ragged nesting
             raise InputError(f"{name} must be real numbers [{unit}], got {type(value).__name__} {value!r}") from None
+        except OverflowError:  # a Python int beyond JAX's integers (10**400, or 2**31 without x64)
+            what = "an integer" if isinstance(value, int) else f"a {type(value).__name__} holding an integer"
+            raise InputError(f"{name} must be real numbers [{unit}], got {what} too large for JAX's integers "
+                             "(write it as a float)") from None
     if not (jnp.issubdtype(value.dtype, jnp.integer) or jnp.issubdtype(value.dtype, jnp.floating)):
         raise InputError(f"{name} must be real numbers [{unit}], got dtype {value.dtype}")
     return value
