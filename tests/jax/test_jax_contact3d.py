@@ -257,6 +257,7 @@ def test_wrong_shapes_and_bad_params_raise() -> None:
         (lambda: mj3.make_params3d(mud, SPHERE, lateral_stiffness=-1.0), "lateral_stiffness"),
         (lambda: mj3.make_params3d(mud, shapes.Shape(SOLE.centroids, SOLE.normals, SOLE.areas)), "width"),
         (lambda: mj3.init3d(SPHERE, batch=0), "batch"),
+        (lambda: mj3.init3d(SPHERE, batch=10**400), r"^batch \(the number of feet\) must be at most 10000000"),
     ):
         with pytest.raises(InputError, match=match):
             call()

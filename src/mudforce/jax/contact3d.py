@@ -63,7 +63,7 @@ import numpy as np
 
 from mudforce import jax as mj
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
-from mudforce.errors import InputError, holds_boolean, positive_int
+from mudforce.errors import InputError, feet_count, holds_boolean
 from mudforce.model import law3d
 from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
@@ -200,7 +200,7 @@ def init3d(shape: Shape, batch: int | None = None, dtype: Any = None) -> State3D
     """
     n = _shape(shape).n
     ftype = mj._float_dtype(dtype)
-    lead: tuple[int, ...] = () if batch is None else (positive_int(batch, "batch (the number of feet)"),)
+    lead: tuple[int, ...] = () if batch is None else (feet_count(batch, "batch (the number of feet)"),)
     one = mj.init(n, ftype)
     # a buffer per field, so that the state can be donated (jax.jit(..., donate_argnums=...))
     return State3D(mj.State(*(jnp.broadcast_to(f, lead + f.shape).copy() for f in one)),
