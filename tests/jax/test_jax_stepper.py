@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -180,6 +182,30 @@ def test_first_step_reset_and_bad_input() -> None:
     assert np.isnan(np.asarray(f3)).all() and (np.asarray(s3.depth) == np.asarray(s.depth)).all()
     r = light_jit(mj.reset)(s2, jnp.array([False, True, False]))
     assert np.asarray(r.mode).tolist() == [mj.FREE, mj.UNSTARTED, mj.CONTACT]
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda s, p: mj.step(s, p, jnp.zeros(4), DT), r"^depths must be one value or one per foot, shape \(3,\)"),
+    (lambda s, p: mj.step(s, p, np.zeros((3, 1)), DT), r"^depths .* got shape \(3, 1\)"),  # was a (3, 3) state
+    (lambda s, p: mj.step(s, p, "0.01", DT), r"^depths must be real numbers \[m\]"),  # was parsed
+    (lambda s, p: mj.step(s, p, True, DT), r"^depths must be real numbers .* bool"),  # was 1 m
+    (lambda s, p: mj.step(s, p, np.full(3, 0.01 + 1j), DT), "^depths .* complex"),  # 1j was dropped
+    (lambda s, p: mj.step(s, p, [0.0, 0.0, 10**400], DT), "^depths .* integer too large"),  # was OverflowError
+    (lambda s, p: mj.step(s, p, jnp.zeros(3), "1e-3"), r"^dt must be real numbers \[s\]"),  # was a force of 0
+    (lambda s, p: mj.step(s, p, jnp.zeros(3), np.full(2, DT)), r"^dt must be one value or one per foot"),
+    (lambda s, p: mj.step(s, p._replace(area=jnp.ones(4)), jnp.zeros(3), DT), r"^params.area must be one value"),
+    (lambda s, p: mj.step(s, None, jnp.zeros(3), DT), "^params must be a mudforce.jax.Params"),  # was a TypeError
+    (lambda s, p: mj.step(None, p, jnp.zeros(3), DT), "^state must be a mudforce.jax.State"),  # was AttributeError
+    (lambda s, p: mj.reset(s, [True, False]), r"^mask must be a bool or bools of the state's shape \(3,\)"),
+    (lambda s, p: mj.reset(s, np.ones((3, 1), bool)), "^mask must be a bool"),  # was a (3, 3) state
+    (lambda s, p: mj.reset(s, "x"), "^mask must be a bool"),  # was True for every foot
+    (lambda s, p: mj.reset(s, [0.5, 0.0, 0.0]), "^mask must be a bool"),  # was True for every foot
+    (lambda s, p: mj.reset(None, [True] * 3), "^state must be a mudforce.jax.State"),  # was AttributeError
+])
+def test_step_and_reset_refuse_inputs_of_wrong_type_or_shape(call: Any, words: str) -> None:
+    """Checked when tracing (types, dtypes, shapes), before anything is computed or compiled."""
+    with pytest.raises(InputError, match=words):
+        call(mj.init(3), mj.make_params(MudParameters.from_water_content(0.25)))
 
 
 def test_vmap_per_foot_params_equals_batch(batch: dict[str, dict[str, object]]) -> None:

@@ -89,13 +89,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
 from mudforce import _kernel
 from mudforce._kernel.layout import ContactMode
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
-from mudforce.errors import InputError, feet_count
+from mudforce.errors import InputError, feet_count, holds_boolean
 from mudforce.model import equations as _eq
 from mudforce.model import law3d as _law3d
 from mudforce.model.foot import Foot
@@ -215,6 +216,45 @@ def _float_dtype(dtype: Any) -> Any:
     return ftype
 
 
+def _real(value: Any, name: str, unit: str) -> Any:
+    """``value`` as a JAX array (a tracer under ``jit`` as it is) if it holds real numbers, else InputError: checked
+    when tracing, not inside ``jit`` (the 1-D and 3-D steps' inputs). ``jnp.asarray`` with a float dtype would read
+    ``"0.01"`` as a number, ``True`` as 1 and drop a complex number's imaginary part."""
+    if not isinstance(value, jax.Array):
+        if isinstance(value, (list, tuple)) and holds_boolean(value):
+            raise InputError(f"{name} must be real numbers [{unit}], got a sequence holding booleans "
+                             "(True/False among the numbers)")
+        try:
+            value = jnp.asarray(value)
+        except (TypeError, ValueError):  # strings, objects, None, ragged nesting
+            raise InputError(f"{name} must be real numbers [{unit}], got {type(value).__name__} {value!r}") from None
+        except OverflowError:  # a Python int beyond JAX's integers (10**400, or 2**31 without x64)
+            what = "an integer" if isinstance(value, int) else f"a {type(value).__name__} holding an integer"
+            raise InputError(f"{name} must be real numbers [{unit}], got {what} too large for JAX's integers "
+                             "(write it as a float)") from None
+    if not (jnp.issubdtype(value.dtype, jnp.integer) or jnp.issubdtype(value.dtype, jnp.floating)):
+        raise InputError(f"{name} must be real numbers [{unit}], got dtype {value.dtype}")
+    return value
+
+
+def _state(state: Any) -> State:
+    """``state`` if it is a :class:`State`, else InputError (checked when tracing)."""
+    if not isinstance(state, State):
+        raise InputError(f"state must be a mudforce.jax.State (init), got {type(state).__name__}")
+    return state
+
+
+def _over_feet(value: Any, name: str, feet: tuple[int, ...]) -> None:
+    """Refuse ``value`` (a JAX array) whose shape does not broadcast to the feet's ``feet`` unchanged: one line
+    (checked when tracing; a shape (n, 1) made every field of the state (n, n), (n + 1,) was JAX's TypeError)."""
+    try:
+        fits = jnp.broadcast_shapes(value.shape, feet) == feet
+    except ValueError:
+        fits = False
+    if not fits:
+        raise InputError(f"{name} must be one value or one per foot, shape {feet}, got shape {value.shape}")
+
+
 def _feet(foot: Foot | Sequence[Foot] | None) -> list[Foot]:
     """``foot`` as a non-empty list of :class:`Foot` (None: the paper's); InputError otherwise."""
     if foot is None:
@@ -301,6 +341,11 @@ def init(n: int, dtype: Any = None) -> State:
 
 def reset(state: State, mask: Array) -> State:
     """``state`` with the feet where ``mask`` (bool, shape ``(n,)``) is True set back to not started."""
+    feet = _state(state).depth.shape
+    given = mask if isinstance(mask, jax.Array) else np.asarray(mask)
+    if given.dtype != bool or given.shape not in ((), feet):  # reset3d's rule: "x" and 0.5 were True
+        raise InputError(f"mask must be a bool or bools of the state's shape {feet}, got {given.dtype} of shape "
+                         f"{given.shape}")
     mask = jnp.asarray(mask, dtype=bool)
     fresh = init(state.depth.shape[0], state.depth.dtype)
     return State(*(jnp.where(mask, f, s) for f, s in zip(fresh, state, strict=True)))
@@ -703,10 +748,16 @@ def step(state: State, params: Params, depths: Array, dt: Array) -> tuple[State,
     Pure and element-wise: use it under ``jax.jit``, ``jax.vmap``,
     ``jax.lax.scan`` and ``jax.grad``.
     """
-    ftype = state.depth.dtype
-    z1 = jnp.asarray(depths, dtype=ftype)
-    dt = jnp.asarray(dt, dtype=ftype)
-    p = Params(*(jnp.asarray(f, dtype=ftype) for f in params))
+    if not isinstance(params, Params):
+        raise InputError(f"params must be a mudforce.jax.Params (make_params), got {type(params).__name__}")
+    ftype = _state(state).depth.dtype
+    feet = state.depth.shape
+    z1 = jnp.asarray(_real(depths, "depths", "m"), dtype=ftype)
+    dt = jnp.asarray(_real(dt, "dt", "s"), dtype=ftype)
+    p = Params(*(jnp.asarray(_real(f, f"params.{k}", "SI"), dtype=ftype) for k, f in zip(Params._fields, params,
+                                                                                             strict=True)))
+    for name, value in (("depths", z1), ("dt", dt), *zip((f"params.{k}" for k in Params._fields), p, strict=True)):
+        _over_feet(value, name, feet)
     first = state.mode == UNSTARTED
     dt_ok = (dt > 0.0) & jnp.isfinite(dt)
     ok = jnp.isfinite(z1) & (first | dt_ok)

@@ -63,7 +63,7 @@ import numpy as np
 
 from mudforce import jax as mj
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
-from mudforce.errors import InputError, feet_count, holds_boolean
+from mudforce.errors import InputError, feet_count
 from mudforce.model import law3d
 from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
@@ -115,27 +115,6 @@ def _shape(shape: Any) -> Shape:
     if not isinstance(shape, Shape):
         raise InputError(f"shape must be a mudforce.model.shapes.Shape, got {type(shape).__name__}")
     return shape
-
-
-def _real(value: Any, name: str, unit: str) -> Any:
-    """``value`` as a JAX array (a tracer under ``jit`` as it is) if it holds real numbers, else InputError: checked
-    when tracing, not inside ``jit``. ``jnp.asarray`` with a float dtype would read ``"0.01"`` as a number,
-    ``True`` as 1 and drop a complex number's imaginary part."""
-    if not isinstance(value, jax.Array):
-        if isinstance(value, (list, tuple)) and holds_boolean(value):
-            raise InputError(f"{name} must be real numbers [{unit}], got a sequence holding booleans "
-                             "(True/False among the numbers)")
-        try:
-            value = jnp.asarray(value)
-        except (TypeError, ValueError):  # strings, objects, None, ragged nesting
-            raise InputError(f"{name} must be real numbers [{unit}], got {type(value).__name__} {value!r}") from None
-        except OverflowError:  # a Python int beyond JAX's integers (10**400, or 2**31 without x64)
-            what = "an integer" if isinstance(value, int) else f"a {type(value).__name__} holding an integer"
-            raise InputError(f"{name} must be real numbers [{unit}], got {what} too large for JAX's integers "
-                             "(write it as a float)") from None
-    if not (jnp.issubdtype(value.dtype, jnp.integer) or jnp.issubdtype(value.dtype, jnp.floating)):
-        raise InputError(f"{name} must be real numbers [{unit}], got dtype {value.dtype}")
-    return value
 
 
 def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, surface_height: float = 0.0, *,
@@ -278,19 +257,19 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
         raise InputError(f"params must be a Params3D (make_params3d), got {type(params).__name__}")
     ftype = state.slip.dtype
     n = state.slip.shape[-2] if state.slip.ndim == 2 else -1
-    p = jnp.asarray(_real(position, "position", "m"), dtype=ftype)
-    q = jnp.asarray(_real(quaternion, "quaternion", "-"), dtype=ftype)
+    p = jnp.asarray(mj._real(position, "position", "m"), dtype=ftype)
+    q = jnp.asarray(mj._real(quaternion, "quaternion", "-"), dtype=ftype)
     if p.shape != (3,) or q.shape != (4,):
         raise InputError(f"position must be 3 numbers [m] and the quaternion 4 (w, x, y, z), got shapes {p.shape} "
                          f"and {q.shape} (jax.vmap over many feet)")
     if n < 1 or params.centroids.shape != (n, 3) or state.centroids.shape != (n, 3):
         raise InputError(f"state and params must be of one foot of the same shape: slips {state.slip.shape}, "
                          f"centroids {state.centroids.shape} and {params.centroids.shape}")
-    dt = jnp.asarray(_real(dt, "dt", "s"), dtype=ftype)
+    dt = jnp.asarray(mj._real(dt, "dt", "s"), dtype=ftype)
     if dt.shape != ():
         raise InputError(f"dt must be one number [s] (jax.vmap over many feet), got shape {dt.shape}")
     if hold is not None:
-        hold = jnp.asarray(_real(hold, "hold", "m"), dtype=ftype)
+        hold = jnp.asarray(mj._real(hold, "hold", "m"), dtype=ftype)
         if hold.shape not in ((), (n,)):
             raise InputError(f"hold must be one number [m] or one per element ({n},), got shape {hold.shape}")
         # where known when tracing (not a traced value): inf held every element still (a foot that never sinks),
