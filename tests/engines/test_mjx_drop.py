@@ -5,6 +5,8 @@ refusal are checked in tests/cli/test_drop3d_cli.py, in the subprocesses it alre
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -13,6 +15,7 @@ from jax_compile import light_jit
 pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 
+from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
 
@@ -50,7 +53,8 @@ def test_worlds_with_their_own_mud_in_one_jit() -> None:
 @pytest.mark.parametrize(("height", "words"), [
     (True, "must be an array of real numbers"),  # was a surface 1 m up
     ("0.01", "must be an array of real numbers"),  # was parsed
-    (1e39, "must be finite in float32"),  # was inf
+    (1e39, r"must be within \+-100 m"),  # was inf
+    (1e12, r"must be within \+-100 m"),  # was taken: a foot 1e12 m deep pushed up by 1.4e9 N
     ([0.0, 0.0], r"must be one height \[m\] or one per foot \(1\), got shape \(2,\)"),  # numpy's ValueError
     (float("nan"), "must be finite"),
 ])
@@ -61,6 +65,26 @@ def test_add_mud_refuses_a_surface_height_that_is_no_height(height: object, word
     with pytest.raises(InputError, match=f"^surface_height {words}"):
         mud.add_mud(mud.drop_model(5.0), ["sole"], MudParameters.from_water_content(0.25), surface_height=height,
                     dtype="float32")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda mud, model, p: mud.add_mud(model, [5], p), "^feet must be a name or a non-empty sequence of names"),
+    (lambda mud, model, p: mud.add_mud(model, None, p), "^feet must be a name or a non-empty sequence of names"),
+    (lambda mud, model, p: mud.add_mud(model, [], p), "^feet must be a name or a non-empty sequence of names"),
+    (lambda mud, model, p: mud.add_mud(model, ["sole", "sole"], p), r"^feet must be distinct names"),  # was taken
+    (lambda mud, model, p: mud.add_mud(None, ["sole"], p), "^model must be a compiled mujoco.MjModel"),
+    (lambda mud, model, p: mud.add_mud(model, ["sole"], 5), "^make_params needs MudParameters"),
+    (lambda mud, model, p: mud.add_mud(model, ["sole"], p, foot=5), "^foot must be a Foot"),
+    (lambda mud, model, p: mud.add_mud(model, ["sole"], [p, p]), r"^got 2 per-foot entries .* for 1 sites"),
+    (lambda mud, model, p: mud.add_mud(model, ["sole"], p, foot=[Foot.paper()] * 2), "^got 2 per-foot entries"),
+    (lambda mud, model, p: mud.init(None), "^patch must be a MudPatch"),  # was an AttributeError
+])
+def test_add_mud_and_init_refuse_what_is_no_patch(call: Any, words: str) -> None:
+    import mudforce.engines.mjx as mud
+    from mudforce.errors import InputError
+
+    with pytest.raises(InputError, match=words):
+        call(mud, mud.drop_model(5.0), MudParameters.from_water_content(0.25))
 
 
 @pytest.mark.parametrize(("duration", "words"), [

@@ -79,7 +79,7 @@ from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
 from mudforce.engines._checks import check_foot, check_params
 from mudforce.errors import InputError, finite_number, real_array
-from mudforce.model.bounds import max_samples
+from mudforce.model.bounds import bounded_depth, max_samples
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -169,12 +169,12 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
     dtype : dtype, optional
         Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
     """
+    from mudforce.engines.mujoco._spec import name_list
+
     mujoco = require("mujoco", "mjx", "mud in MJX")
-    if isinstance(feet, str):
-        feet = [feet]
-    names = list(feet)
-    if not names:
-        raise InputError("add_mud needs at least one site name (the feet's soles)")
+    if not isinstance(model, mujoco.MjModel):
+        raise InputError(f"model must be a compiled mujoco.MjModel, got {type(model).__name__}")
+    names = name_list(feet)  # MuJoCo's add_mud's rule: distinct names (one site twice was two feet there)
     ids = []
     for name in names:
         sid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
@@ -182,19 +182,24 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
             raise InputError(f"no site named {name!r} in the model; add a site at each sole")
         ids.append(sid)
     n = len(ids)
-    # one height or one per foot, real numbers (np.asarray took True as 1 m and parsed "0.01"), finite in the
-    # patch's dtype (1e39 m became inf in float32; a height per foot of another length raised numpy's ValueError)
+    # one height or one per foot, real numbers (np.asarray took True as 1 m and parsed "0.01"), each within the
+    # steppers' depth bound as MuJoCo's MudPatch's (1e12 m was taken; 1e39 m became inf in float32; a height per
+    # foot of another length raised numpy's ValueError)
     given = real_array(surface_height, "surface_height", "m")
     if given.shape not in ((), (n,)):
         raise InputError(f"surface_height must be one height [m] or one per foot ({n}), got shape {given.shape}")
     heights = np.broadcast_to(given, (n,))
-    if not np.isfinite(heights).all():
-        raise InputError(f"surface_height must be finite [m], got {surface_height!r}")
+    for height in heights.tolist():
+        bounded_depth(height, "surface_height")
     dt_ = mj._float_dtype(dtype)
-    if not np.all(np.abs(heights) <= np.finfo(dt_).max):
-        raise InputError(f"surface_height must be finite in {dt_} [m], got {surface_height!r}")
+    if foot is not None:
+        mj._feet(foot)  # a Foot or Foots (5 was read as make_params' deprecated order: 5 feet)
     per_foot = not isinstance(params, MudParameters) or (foot is not None and not isinstance(foot, Foot))
     jparams = mj.make_params(params, n=n if not per_foot else None, foot=foot, dtype=dt_)
+    count = jparams.k_i.shape[0] if jparams.k_i.ndim else 1
+    if count not in (1, n):  # was JAX's broadcasting ValueError
+        raise InputError(f"got {count} per-foot entries (mud parameter sets or feet) for {n} sites; give one or "
+                         "one per site")
     jparams = mj.Params(*(jnp.broadcast_to(f, (n,)) for f in jparams))
     return MudPatch(jnp.asarray(ids, dtype=jnp.int32), jnp.asarray(model.site_bodyid[ids], dtype=jnp.int32),
                     jnp.asarray(heights, dtype=dt_), jparams)
@@ -209,6 +214,8 @@ def _make_patch(model: Any, sites: Sequence[str], mud: MudParameters | Sequence[
 
 def init(patch: MudPatch) -> MudState:
     """The mud's state at the start of an episode (no foot started: the first step sets each foot's sample)."""
+    if not isinstance(patch, MudPatch):  # was an AttributeError
+        raise InputError(f"patch must be a MudPatch (add_mud), got {type(patch).__name__}")
     n = patch.sites.shape[-1]
     dtype = patch.surface_height.dtype
     return MudState(mj.init(n, dtype), jnp.zeros((n,), dtype=bool), jnp.zeros((n,), dtype=dtype))
