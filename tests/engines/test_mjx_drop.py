@@ -133,6 +133,10 @@ def test_drop_model_refuses_what_mujocos_drop_model_refuses(arguments: dict[str,
     ({"mass": -1.0}, r"^mass must be > 0"),  # was MuJoCo's ValueError
     ({"height": -0.1}, "^height must be >= 0"),  # was a drop from under the surface
     ({"params": None}, "^params must be a MudParameters"),  # was a TypeError
+    ({"weight": 2.0}, r"^weight must be within \[0, 1\]"),  # was taken: the band extrapolated
+    ({"weight": float("nan")}, r"^weight must be within \[0, 1\]"),  # was NaN forces
+    ({"weight": True}, "^weight must be a number"),  # was taken as 1
+    ({"weight": "0.5"}, "^weight must be a number"),  # was parsed
 ])
 def test_simulate_drop_refuses_bad_arguments_before_compiling(arguments: dict[str, object], words: str) -> None:
     import mudforce.engines.mjx as mud

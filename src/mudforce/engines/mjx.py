@@ -78,7 +78,7 @@ from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
 from mudforce.engines._checks import check_foot, check_params
-from mudforce.errors import InputError, finite_number, real_array
+from mudforce.errors import InputError, finite_number, number_within, real_array
 from mudforce.model.bounds import bounded_depth, max_samples
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -322,6 +322,15 @@ def _joint_rows(delassus: Array, target: Array, lo: Array, hi: Array, drag: Arra
     return jnp.where(held, jnp.clip(solved, low, high), f), stuck
 
 
+def _weight(weight: Any) -> Any:
+    """:func:`step`'s ``weight`` [-] if it is traced, else as a float in [0, 1] (the MuJoCo adapter's bound), else
+    InputError: 2.0 extrapolated the band, NaN gave NaN forces, True and "0.5" were taken."""
+    if isinstance(weight, jax.core.Tracer):
+        return weight
+    value = np.asarray(weight)[()] if isinstance(weight, jax.Array) else weight
+    return number_within(value, "weight", 0.0, 1.0, "-")
+
+
 @renamed_keywords(contact="state")
 def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) -> tuple[Any, MudState, Array]:
     """One physics step of an MJX model with the mud force on every foot; replaces ``mjx.step(m, d)``.
@@ -352,6 +361,7 @@ def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) 
         The vertical mud force applied on each sole during the step [N], positive up.
     """
     mjx = _mjx()
+    weight = _weight(weight)
     if m.opt.integrator == mjx.IntegratorType.RK4:
         raise InputError("mudforce.engines.mjx supports the Euler and implicitfast integrators, not RK4")
     dt = m.opt.timestep
@@ -440,6 +450,7 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
 
     mjx = _mjx()  # first: a clear error if MJX is missing
     params = check_params(params)
+    weight = _weight(weight)
     model = drop_model(mass, foot, height=height, dt=timestep)  # checks mass, foot, height and dt
     foot = check_foot(foot)
     height, timestep = float(height), float(timestep)
