@@ -180,6 +180,11 @@ def test_first_step_reset_and_bad_input() -> None:
     assert float(s2.depth[0]) == -1e-3  # refused foot unchanged
     s3, f3 = STEP(s, params, jnp.array([1e-3, 1e-3, 6e-3]), 0.0)
     assert np.isnan(np.asarray(f3)).all() and (np.asarray(s3.depth) == np.asarray(s.depth)).all()
+    for dt in (1e-12, 5000.0):  # outside [MIN_DT, MAX_DT]: were 4.6e16 N (a velocity of 1e9 m/s kept) and taken
+        s4, f4 = STEP(s, params, jnp.array([1e-3, 1e-3, 6e-3]), dt)
+        assert np.isnan(np.asarray(f4)).all() and (np.asarray(s4.depth) == np.asarray(s.depth)).all()
+    s5, f5 = STEP(s, params, jnp.array([1e-3, 1e3, 6e-3]), DT)  # beyond MAX_DEPTH: was 4.6e10 N, the depth kept
+    assert np.isnan(np.asarray(f5)[1]) and float(s5.depth[1]) == 0.0 and np.isfinite(np.asarray(f5)[[0, 2]]).all()
     r = light_jit(mj.reset)(s2, jnp.array([False, True, False]))
     assert np.asarray(r.mode).tolist() == [mj.FREE, mj.UNSTARTED, mj.CONTACT]
 

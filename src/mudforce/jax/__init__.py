@@ -94,6 +94,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mudforce import _kernel
+from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import ContactMode
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce.errors import InputError, feet_count, holds_boolean
@@ -733,7 +734,7 @@ def step(state: State, params: Params, depths: Array, dt: Array) -> tuple[State,
     depths : array, shape (n,)
         Foot depths below the surface ``z_i`` [m], positive down.
     dt : float or array
-        Time since the previous sample [s], > 0 (ignored by a foot's first
+        Time since the previous sample [s], within [1e-9, 1e3] (ignored by a foot's first
         step, which sets its initial sample: FREE at or above the surface,
         else CONTACT with relaxed mud ``z_m = z_i``).
 
@@ -742,8 +743,8 @@ def step(state: State, params: Params, depths: Array, dt: Array) -> tuple[State,
     state : State
     forces : array, shape (n,)
         Vertical mud force on each foot [N], positive up. A foot given a
-        non-finite depth, or a ``dt`` that is not finite and > 0, gets NaN
-        and keeps its state.
+        depth that is not finite or beyond +-100 m, or (after its first
+        step) a ``dt`` outside [1e-9, 1e3] s, gets NaN and keeps its state.
 
     Pure and element-wise: use it under ``jax.jit``, ``jax.vmap``,
     ``jax.lax.scan`` and ``jax.grad``.
@@ -759,8 +760,10 @@ def step(state: State, params: Params, depths: Array, dt: Array) -> tuple[State,
     for name, value in (("depths", z1), ("dt", dt), *zip((f"params.{k}" for k in Params._fields), p, strict=True)):
         _over_feet(value, name, feet)
     first = state.mode == UNSTARTED
-    dt_ok = (dt > 0.0) & jnp.isfinite(dt)
-    ok = jnp.isfinite(z1) & (first | dt_ok)
+    # the steppers' bounds (mudforce.model.bounds), as step3d's: a depth of 1000 m gave 4.6e10 N, a step of
+    # 1e-12 s a velocity of 1e9 m/s kept in the state, and 5000 s was taken
+    dt_ok = (dt >= MIN_DT) & (dt <= MAX_DT)
+    ok = (jnp.abs(z1) <= MAX_DEPTH) & (first | dt_ok)
     dts = _safe(dt_ok, dt)
     k = step_constants(p, dts)
 
