@@ -1,4 +1,4 @@
-"""Checks of the dynamics' inputs and outputs, shared by the built-in engine, the naive drop and MuJoCo.
+"""Checks of the engines' inputs and outputs, shared by the built-in engine, the naive drop, MuJoCo and MJX.
 
 Each raises :class:`mudforce.errors.InputError` with one line naming the
 problem and what is expected, for bad values and bad types alike.
@@ -6,15 +6,19 @@ problem and what is expected, for bad values and bad types alike.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, finite_number
+from mudforce.errors import InputError, finite_number, number_within
+from mudforce.model.bounds import MAX_DEPTH, bounded_depth, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
-__all__ = ["check_finite_output", "check_foot", "check_mass", "check_params", "min_stable_mass"]
+__all__ = ["check_finite_output", "check_foot", "check_mass", "check_params", "drop_numbers", "drop_thickness",
+           "min_stable_mass", "name_list"]
+
 
 def check_params(params: Any) -> MudParameters:
     """``params`` if it is a :class:`MudParameters`, else InputError."""
@@ -67,3 +71,33 @@ def check_finite_output(engine: str, time: np.ndarray, *arrays: np.ndarray) -> N
         raise InputError(f"the {engine} engine's solution is not finite from t = {time[k]:g} s: the inputs are "
                          "outside what its step can resolve (a lighter foot, a stiffer mud or a longer step "
                          "than it can follow); use a heavier foot or a shorter step")
+
+
+def name_list(feet: Any) -> list[str]:
+    """``feet`` (one name or a sequence of names) as a list of distinct strings, else InputError."""
+    if isinstance(feet, str):
+        return [feet]
+    if not isinstance(feet, Sequence) or not feet or not all(isinstance(f, str) for f in feet):
+        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {feet!r}")
+    if len(set(feet)) != len(feet):
+        raise InputError(f"feet must be distinct names, got {list(feet)}")
+    return list(feet)
+
+
+def drop_numbers(mass: Any, height: Any, dt: Any) -> tuple[float, float, float]:
+    """A drop model's ``mass`` [kg] (> 0), release ``height`` [m] (>= 0, within the steppers' depth bound) and
+    step ``dt`` [s] (within the steppers' [MIN_DT, MAX_DT]) as floats, else InputError: both adapters' drops refuse
+    the same numbers (a release 1e12 m up and a step of 1e-300 s were taken)."""
+    mass = finite_number(mass, "mass", "kg", positive=True)
+    height = finite_number(bounded_depth(height, "height", of=" of the mud surface"), "height", "m", nonnegative=True)
+    dt = finite_number(dt, "dt", "s", positive=True)
+    check_step(dt)
+    return mass, height, dt
+
+
+def drop_thickness(thickness: Any) -> float:
+    """A drop foot's ``thickness`` [m] as a float within [1e-6, :data:`~mudforce.model.bounds.MAX_DEPTH`], else
+    InputError: the steppers' bound on a length (a foot 1e-12 m thick ended in MuJoCo's ValueError), for both
+    1-D drop models (MuJoCo's and MJX's)."""
+    return number_within(finite_number(thickness, "thickness", "m", positive=True), "thickness", 1e-6, MAX_DEPTH,
+                         "m")

@@ -169,7 +169,7 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
     dtype : dtype, optional
         Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
     """
-    from mudforce.engines.mujoco._spec import name_list
+    from mudforce.engines._checks import name_list
 
     mujoco = require("mujoco", "mjx", "mud in MJX")
     if not isinstance(model, mujoco.MjModel):
@@ -407,7 +407,7 @@ def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt
     ``thickness`` [m], within [1e-6, 100]. The foot's bottom face is the paper's 51 x 38 mm, or
     ``sqrt(area)`` square for another foot.
     """
-    from mudforce.engines.mujoco._spec import drop_numbers, drop_thickness
+    from mudforce.engines._checks import drop_numbers, drop_thickness
 
     mujoco = require("mujoco", "mjx", "mud in MJX")
     mass, height, timestep = drop_numbers(mass, height, dt)  # MuJoCo's drop_model's checks and words

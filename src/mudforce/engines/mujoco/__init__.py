@@ -69,14 +69,19 @@ import numpy as np
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
-from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params
+from mudforce.engines._checks import (
+    check_finite_output,
+    check_foot,
+    check_mass,
+    check_params,
+    drop_numbers,
+    drop_thickness,
+    name_list,
+)
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
 from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
-from mudforce.engines.mujoco._spec import drop_numbers as _drop_numbers
-from mudforce.engines.mujoco._spec import drop_thickness as _drop_thickness
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
-from mudforce.engines.mujoco._spec import name_list as _name_list
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, number_within, positive_int, real_array
@@ -209,7 +214,7 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
     mj = _mujoco()
     if not isinstance(spec, mj.MjSpec):
         raise InputError(f"spec must be a mujoco.MjSpec (edited before compiling), got {type(spec).__name__}")
-    feet = _name_list(feet)
+    feet = name_list(feet)
     prefix = _check_prefix(prefix)
     chosen: list[list[float]] | None = None
     if points is not None:
@@ -373,7 +378,7 @@ class MudAdapter:
         self._mj = mj
         self.model = model
         self.data = data
-        self.feet: tuple[str, ...] = tuple(_name_list(feet))
+        self.feet: tuple[str, ...] = tuple(name_list(feet))
         prefix = _check_prefix(prefix)
         n = len(self.feet)
         if isinstance(patches, MudPatch):
@@ -558,9 +563,9 @@ class MudAdapter:
 
 def _drop_spec(mass: float, foot: Foot | None, height: float, dt: float, thickness: float) -> Any:
     mj = _mujoco()
-    mass, height, dt = _drop_numbers(mass, height, dt)
+    mass, height, dt = drop_numbers(mass, height, dt)
     foot = check_foot(foot)
-    thickness = _drop_thickness(thickness)
+    thickness = drop_thickness(thickness)
     if foot == Foot.paper():
         lx, ly = 0.051, 0.038
     else:

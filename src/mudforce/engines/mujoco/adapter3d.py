@@ -69,8 +69,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from mudforce.engines._checks import drop_numbers, name_list
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
-from mudforce.engines.mujoco._spec import check_prefix, drop_numbers, mujoco_module, name_list
+from mudforce.engines.mujoco._spec import check_prefix, mujoco_module
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
 from mudforce.engines.mujoco._step3d import (
     C_ALPHA,
