@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mudforce.estimation.calibration import Trial, fit_condition, prepare_trial
+from mudforce.estimation.calibration import FitOptions, Trial, fit_condition, prepare_trial
 from mudforce.estimation.calibration.branches import label_branches
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.model.foot import Foot
@@ -72,3 +72,16 @@ def test_fit_of_a_walk_that_starts_in_the_mud_reaches_the_noise_and_the_truth(be
     (trial,) = fit.trials
     assert trial.bias_method == "estimated"
     assert abs(trial.bias - BIAS) < 3.0 * trial.bias_stderr < 0.2
+
+
+def test_fit_of_a_push_that_starts_in_the_mud_and_never_withdraws_says_what_it_cannot_tell() -> None:
+    # no pre-contact sample to tare from and no withdrawal in the mud: the withdrawal stage had no rows and its tare
+    # offset divided 0 by 0 (ZeroDivisionError; `mudforce fit`: "the input could not be processed")
+    t = np.arange(0.0, 1.0, 0.01)
+    z = 0.002 + 0.015 * t
+    force = CHEN2024.force(t, z, CHEN2024.vector({}), Foot.paper()) + np.random.default_rng(0).normal(0, NOISE, t.size)
+    quick = FitOptions(starts=1, popsize=4, maxiter=3, max_nfev=40)
+    fit = fit_condition([Trial("push", 0.25, t, z, force)], options=quick)
+    for name in ("k_m_w", "b_m_w", "sigma_y", "zeta", "omega_0"):  # the withdrawal's
+        assert fit.stderr[name] is None
+        assert f"{name} is not determined by the data" in " ".join(fit.warnings)

@@ -285,7 +285,8 @@ def tare_correction(residual: np.ndarray, precontact: int) -> float:
     the tare's uncertainty. Subtract the offset from the tared force (add
     it to the bias).
     """
-    return -float(np.add.reduce(residual)) / (residual.size + precontact)  # np.sum's sum, without its dispatch
+    # no rows and no tare (a trial starting in the mud that never withdraws, in the withdrawal window): no offset
+    return -float(np.add.reduce(residual)) / max(residual.size + precontact, 1)  # np.sum's sum, without its dispatch
 
 
 @dataclass(frozen=True, eq=False)
