@@ -1,7 +1,8 @@
 """fit_condition's trials: a list of Trial (or PreparedTrial); anything else is refused in one line, before any work.
 
 One Trial passed without its list raised ``TypeError: 'Trial' object is not iterable``, and a list of other
-things raised ``AttributeError`` from deep in the preparation.
+things raised ``AttributeError`` from deep in the preparation. A trial that a file's reader would refuse (too few
+samples, a value beyond the readers' bounds) is refused as identify refuses it.
 """
 
 from __future__ import annotations
@@ -25,6 +26,11 @@ TRIAL = Trial("a", 0.25, _T, 0.01 * np.sin(_T), np.sin(_T))
     (None, "got NoneType"),
     ([TRIAL, 3], "trials[1] must be a Trial (or PreparedTrial), got int"),
     ([], "no trials to fit"),
+    # what a file's reader refuses: 5 samples fitted zeta and omega_0 with a standard error of 0, a time of 1e300 s
+    # raised ValueError and a force of 1e300 N gave an RMSE of inf
+    ([Trial("b", 0.25, _T[:5], 0.01 * _T[:5], _T[:5])], "trial b: only 5 samples"),
+    ([Trial("c", 0.25, _T * 1e300, 0.01 * np.sin(_T), np.sin(_T))], "trial c: the time reaches 1.99e+300 s"),
+    ([TRIAL, Trial("d", 0.25, _T, 0.01 * np.sin(_T), 1e300 * np.sin(_T))], "trial d: the force reaches 1e+300 N"),
 ])
 def test_trials_that_are_not_a_list_of_trials_are_refused_in_one_line(trials: Any, words: str) -> None:
     with pytest.raises(InputError) as err:

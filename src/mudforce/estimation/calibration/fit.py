@@ -359,6 +359,9 @@ def _prepare(trials: Sequence[Trial | PreparedTrial]) -> list[PreparedTrial]:
     for k, t in enumerate(trials):
         if not isinstance(t, (Trial, PreparedTrial)):
             raise InputError(f"trials[{k}] must be a Trial (or PreparedTrial), got {type(t).__name__}")
+        # what a file's reader would refuse, as identify refuses it (2 samples gave zeta +- 0, a time of 1e300 s
+        # raised ValueError, a force of 1e300 N an RMSE of inf)
+        (t.trial if isinstance(t, PreparedTrial) else t).check_bounds()
     return [t if isinstance(t, PreparedTrial) else prepare_trial(t) for t in trials]
 
 
