@@ -119,7 +119,9 @@ def test_no_change_is_flagged_while_the_reported_interval_holds_the_old_estimate
 def test_a_finite_sample_beyond_the_bounds_is_refused_and_changes_nothing() -> None:
     """A force of 1e300 N or a dt of 1e-300 s were taken, and left the posterior NaN for good (the tracker then
     refused its own snapshot); a depth of 1 km was taken too. Now each is refused in one line before anything
-    changes (found 2026-11-29); a long gap (a clock jump) is still taken (test_tracker_lag.py), up to 1e9 s."""
+    changes (found 2026-11-29); a long gap (a clock jump) is still taken (test_tracker_lag.py), up to 1e9 s. A depth of
+    99.995 m, beyond the first bank's bound (100 m less its 6-mm offsets) but within the twin's (less 3 mm), was refused
+    after the twin had taken it."""
     import pickle
 
     from mudforce import MudTracker
@@ -133,7 +135,7 @@ def test_a_finite_sample_beyond_the_bounds_is_refused_and_changes_nothing() -> N
     before = pickle.dumps(tracker.state)
     z, f = float(w.depth[200]), float(w.force[200])
     for depth, force, dt, words in ((z, 1e300, 0.01, "force"), (z, f, 1e-300, "dt"), (1e3, f, 0.01, "depth"),
-                                    (z, f, 2e9, "dt"), (z, -2e7, 0.01, "force")):
+                                    (z, f, 2e9, "dt"), (z, -2e7, 0.01, "force"), (99.995, f, 0.01, "depth")):
         with pytest.raises(InputError, match=words):
             tracker.update(depth, force, dt)
         assert pickle.dumps(tracker.state) == before

@@ -1487,8 +1487,10 @@ class MudTrackers:
                 force_gain_uncertainty=force_gain_uncertainty, force_lag=force_lag,
                 depth_offsets=(near if near.size else self.depth_offsets).tolist(),
                 depth_offset_prior=depth_offset_prior, max_step=max_step)
-            # the twin's interval is a guard of this bank's, not reported: it keeps no hull (_HULL_MEMORY)
+            # the twin's interval is a guard of this bank's, not reported: it keeps no hull (_HULL_MEMORY); and it takes
+            # the depths this bank takes, no more (its offsets span less: a depth it took, refused here, moved it)
             self._twin._cfg[_C_HULL] = 0.0
+            self._twin._max_depth = self._twin._cfg[_C_MAX_DEPTH] = self._max_depth
             self._twin._state_key = self._twin._own_key()
         # what a snapshot must have been taken from (fixed once made, so built once here: about 0.4 MB with the twin,
         # 37 us a snapshot when built at each)
