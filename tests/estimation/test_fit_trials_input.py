@@ -36,3 +36,18 @@ def test_trials_that_are_not_a_list_of_trials_are_refused_in_one_line(trials: An
     with pytest.raises(InputError) as err:
         fit_condition(trials)
     assert words in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_dataset_trial_without_a_water_content_is_refused_by_name() -> None:
+    """fit_dataset and fit_by_velocity group trials by water content; a NaN one (load_trial's default) fell in no
+    group (NaN equals nothing), and both said "no trials to fit"."""
+    import math
+
+    from mudforce import Foot
+    from mudforce.estimation.calibration import fit_by_velocity, fit_dataset
+    from mudforce.estimation.calibration.dataset import Dataset
+
+    data = Dataset(Foot.paper(), (TRIAL, Trial("unknown", math.nan, _T, 0.01 * np.sin(_T), np.sin(_T))))
+    for fit in (fit_dataset, fit_by_velocity):
+        with pytest.raises(InputError, match=r"^trial unknown has no water content \(NaN\)"):
+            fit(data)

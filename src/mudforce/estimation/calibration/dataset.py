@@ -180,7 +180,12 @@ class Dataset:
         return sorted({t.water_content for t in self.trials})
 
     def conditions(self) -> dict[float, tuple[Trial, ...]]:
-        """Trials grouped by water content [-], ascending."""
+        """Trials grouped by water content [-], ascending; InputError if a trial's is unknown (NaN)."""
+        unknown = [t.name for t in self.trials if math.isnan(t.water_content)]
+        if unknown:  # NaN equals nothing: its group was empty, and the fits said "no trials to fit"
+            raise InputError(f"trial {unknown[0]} has no water content (NaN), and a dataset's trials are grouped by "
+                             "it; give each trial its water_content (e.g. 0.25), or fit them as one mud with "
+                             "fit_condition")
         return {w: tuple(t for t in self.trials if t.water_content == w) for w in self.water_contents}
 
 
