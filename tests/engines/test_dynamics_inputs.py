@@ -221,9 +221,10 @@ def test_result_methods_refuse_bad_types(tmp_path: Any) -> None:
 
 
 @needs_mujoco
-def test_a_step_count_below_one_is_refused_by_both_adapters() -> None:
+def test_a_step_count_below_one_or_beyond_mujoco_s_int_is_refused_by_both_adapters() -> None:
     """MudAdapter.step(0) and step(-1) (and MudAdapter3D's) returned having done nothing: a plain int skipped the
-    check that a float or a numpy integer gets; now every count below 1 is refused, and nothing moves."""
+    check that a float or a numpy integer gets; now every count below 1 is refused, and nothing moves. So is one
+    beyond MuJoCo's C int, which mj_step's own nstep refuses."""
     import mujoco
 
     from mudforce.engines.mujoco import MudAdapter, MudAdapter3D, MudPatch, _drop_spec
@@ -240,6 +241,9 @@ def test_a_step_count_below_one_is_refused_by_both_adapters() -> None:
         before = (float(state.time), np.array(state.qpos))
         for bad in (0, -1, np.int64(0)):
             with pytest.raises(InputError, match=r"^nstep must be an integer >= 1, got "):
+                mud.step(bad)
+        for bad in (2**31, 10**30, np.int64(2**40)):  # 10**30 was taken and stepped for ever (mj_step: a C int)
+            with pytest.raises(InputError, match=r"^nstep must be at most 2147483647 \(MuJoCo's mj_step takes a C"):
                 mud.step(bad)
         assert (float(state.time), np.array(state.qpos).tolist()) == (before[0], before[1].tolist())
 

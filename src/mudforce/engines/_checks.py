@@ -11,13 +11,13 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, finite_number, number_within
+from mudforce.errors import InputError, finite_number, number_within, positive_int, shown
 from mudforce.model.bounds import MAX_DEPTH, bounded_depth, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
-__all__ = ["check_finite_output", "check_foot", "check_mass", "check_params", "drop_numbers", "drop_thickness",
-           "min_stable_mass", "name_list"]
+__all__ = ["MAX_NSTEP", "check_finite_output", "check_foot", "check_mass", "check_params", "drop_numbers",
+           "drop_thickness", "min_stable_mass", "name_list", "step_count"]
 
 
 def check_params(params: Any) -> MudParameters:
@@ -101,3 +101,16 @@ def drop_thickness(thickness: Any) -> float:
     1-D drop models (MuJoCo's and MJX's)."""
     return number_within(finite_number(thickness, "thickness", "m", positive=True), "thickness", 1e-6, MAX_DEPTH,
                          "m")
+
+
+#: Most MuJoCo steps one adapter call takes [-]: MuJoCo's C int, as ``mujoco.mj_step``'s own ``nstep`` (beyond it
+#: mj_step raises TypeError; the adapters' Python loop took 10**30 and ran for ever).
+MAX_NSTEP = 2**31 - 1
+
+
+def step_count(nstep: Any) -> int:
+    """An adapter's ``nstep`` as an int in [1, :data:`MAX_NSTEP`] (not bool), else InputError."""
+    count = positive_int(nstep, "nstep")
+    if count > MAX_NSTEP:
+        raise InputError(f"nstep must be at most {MAX_NSTEP} (MuJoCo's mj_step takes a C int), got {shown(count)}")
+    return count

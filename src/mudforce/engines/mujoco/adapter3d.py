@@ -69,7 +69,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from mudforce.engines._checks import drop_numbers, name_list
+from mudforce.engines._checks import MAX_NSTEP, drop_numbers, name_list, step_count
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
 from mudforce.engines.mujoco._spec import check_prefix, mujoco_module
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
@@ -89,7 +89,7 @@ from mudforce.engines.mujoco._step3d import (
     prepare,
     scratch,
 )
-from mudforce.errors import InputError, finite_number, number_within, positive_int, true_or_false
+from mudforce.errors import InputError, finite_number, number_within, true_or_false
 from mudforce.model.shapes import Shape, from_mujoco_geom
 from mudforce.steppers.contact3d import ContactStates3D, MudContacts3D
 
@@ -397,8 +397,8 @@ class MudAdapter3D:
 
     def step(self, nstep: int = 1) -> None:
         """Advance the simulation ``nstep`` MuJoCo steps with the mud's wrench and holds."""
-        if nstep.__class__ is not int or nstep < 1:  # 0 and -1 refused, not taken as no step
-            nstep = positive_int(nstep, "nstep")
+        if nstep.__class__ is not int or not 1 <= nstep <= MAX_NSTEP:  # 0 and -1 refused, not taken as no step
+            nstep = step_count(nstep)
         mj, model, data = self._mj, self.model, self.data
         xfrc = data.xfrc_applied
         dt = float(self._opt.timestep)
