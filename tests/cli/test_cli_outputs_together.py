@@ -5,7 +5,7 @@
 - ``fit`` into a folder that takes no file: one line naming ``--out``'s file, exit 2 (it was exit 1, naming a
   temporary file);
 - ``synth`` without ``--motion gait``: ``--duration``, ``--jitter`` and ``--start-below`` are refused, not ignored
-  (``--duration xyz`` wrote a dataset);
+  (``--duration xyz`` wrote a dataset); with it, ``--velocities``, ``--depth``, ``--hold`` and ``--approach`` are;
 - ``mudforce`` with no command, and a subcommand's unknown option: one line each, naming the parser they belong to.
 
 The write failures need a folder that passes the up-front check (``os.access``) yet refuses to create files: Linux's
@@ -64,15 +64,18 @@ def test_a_plot_or_fit_that_cannot_be_written_leaves_every_output_as_it_was(tmp_
     assert snapshot(tmp_path) == before  # the CSVs as they were, nothing staged left behind
 
 
-def test_synth_refuses_gait_options_for_the_protocol(tmp_path: Path) -> None:
+def test_synth_refuses_gait_options_for_the_protocol_and_protocol_options_for_a_gait(tmp_path: Path) -> None:
     base = ["synth", "--quiet", "--repeats", "1", "--velocities", "40mm/s", "--hold", "0.2s", "--out", "g"]
     extra = [["--duration", "xyz"], ["--duration", "10s"], ["--jitter", "nan"], ["--jitter", "0.1"],
              ["--start-below", "always"]]
-    runs = run_batch([([*base, *e], tmp_path) for e in extra] + [([*base, "--motion", "gait", "--duration", "xyz"],
-                                                                   tmp_path)])
-    for e, run in zip(extra, runs, strict=False):
-        assert_refused(run, e[0], "--motion gait only")
-    assert_refused(runs[-1], "--duration")  # with gait, checked as a duration
+    # with a gait, the protocol's options were ignored: --hold 100s wrote the same walks as no --hold
+    gait = ["synth", "--quiet", "--repeats", "1", "--motion", "gait", "--duration", "2s", "--out", "g"]
+    protocol = [["--hold", "100s"], ["--velocities", "1mm/s"], ["--depth", "50mm"], ["--approach", "30mm"]]
+    runs = run_batch([([*base, *e], tmp_path) for e in extra] + [([*gait, *e], tmp_path) for e in protocol]
+                     + [([*gait, "--duration", "xyz"], tmp_path)])
+    for e, run in zip(extra + protocol, runs, strict=False):
+        assert_refused(run, e[0], "--motion gait only" if e in extra else "--motion protocol only")
+    assert_refused(runs[-1], "--duration: cannot read 'xyz'")  # with gait, checked as a duration
     assert not (tmp_path / "g").exists()
 
 

@@ -58,6 +58,8 @@ DEPTH_NOISE_SIGMAS = 7
 #: Final height of the protocol's withdrawal above the surface [m]
 #: (:func:`mudforce.estimation.calibration.synthesize`'s rise).
 _RISE = 0.02
+#: The protocol's options (``--motion protocol`` only) and their defaults.
+_PROTOCOL_DEFAULTS = {"--velocities": "10mm/s,20mm/s,40mm/s", "--depth": "20mm", "--hold": "6s", "--approach": "5mm"}
 #: The hidden folders beside DIR while it is written: ``.DIR.mudforce-synth-new-XXXXXXXX``.
 _TAG = "mudforce-synth"
 
@@ -78,17 +80,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--start-below", choices=("never", "always", "alternate"), default=None,
                         help="gait: which walks start in the mud (default never)")
     parser.add_argument("--water-content", default="25%", metavar="LIST", help="e.g. 15%%,25%% (default 25%%)")
-    parser.add_argument("--velocities", default="10mm/s,20mm/s,40mm/s", metavar="LIST",
-                        help="intrusion/withdrawal speeds (default 10mm/s,20mm/s,40mm/s)")
+    parser.add_argument("--velocities", default=None, metavar="LIST",
+                        help="protocol: intrusion/withdrawal speeds (default 10mm/s,20mm/s,40mm/s)")
     parser.add_argument("--repeats", type=plain_int, default=3, metavar="N", help="trials per condition (default 3)")
     parser.add_argument("--force-noise", default="0.2N", metavar="F",
                         help=f"white force noise, std, at most {MAX_FORCE_NOISE:g}N (default 0.2N)")
     parser.add_argument("--depth-noise", default="0.03mm", metavar="Z", help="white depth noise, std (default 0.03mm)")
     parser.add_argument("--bias", default="0.5N", metavar="F",
                         help=f"force-sensor offset, within +-{MAX_BIAS:g}N, e.g. -0.5N (default 0.5N)")
-    parser.add_argument("--depth", default="20mm", help="hold depth (default 20mm)")
-    parser.add_argument("--hold", default="6s", help="hold time (default 6s)")
-    parser.add_argument("--approach", default="5mm", help="start height above the surface (default 5mm)")
+    parser.add_argument("--depth", default=None, help="protocol: hold depth (default 20mm)")
+    parser.add_argument("--hold", default=None, help="protocol: hold time (default 6s)")
+    parser.add_argument("--approach", default=None, help="protocol: start height above the surface (default 5mm)")
     parser.add_argument("--rate", default="100Hz", help="sampling rate (default 100Hz)")
     parser.add_argument("--depth-offset", default=None, metavar="Z",
                         help="sensor chain: error of the surface estimate, within +-100mm; a positive offset reads "
@@ -280,6 +282,15 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.estimation.calibration.synth import synthesize
     from mudforce.io import StagedOutputs, check_replaceable_dir
 
+    gait = args.motion == "gait"
+    # refused, not ignored (a gait walk with --hold 100s wrote the same dataset as without): a walk draws its own
+    # touchdown speeds, depths and stances
+    for option, default in _PROTOCOL_DEFAULTS.items():
+        value = getattr(args, option[2:])
+        if gait and value is not None:
+            raise InputError(f"{option} applies to --motion protocol only; a gait draws its own touchdown speeds, "
+                             "depths and stances (--duration, --jitter and --start-below shape it)")
+        setattr(args, option[2:], default if value is None else value)
     waters = parse_list(args.water_content, "fraction", name="--water-content")
     velocities = parse_list(args.velocities, "velocity", name="--velocities")
     for option, values in (("--water-content", waters), ("--velocities", velocities)):
@@ -288,7 +299,6 @@ def run(args: argparse.Namespace) -> int:
     seed = seed_int(args.seed)
     if args.repeats < 1 or args.repeats > MAX_TRIALS:
         raise InputError(f"--repeats: {args.repeats} must be within [1, {MAX_TRIALS}]")
-    gait = args.motion == "gait"
     if not gait:  # refused, not ignored: the protocol's trials are timed by --depth, --hold and --velocities
         for option, value in (("--duration", args.duration), ("--jitter", args.jitter),
                               ("--start-below", args.start_below)):
