@@ -165,6 +165,8 @@ def test_the_quadruped_foot_strikes_the_mud_and_repeats_bit_for_bit() -> None:
     assert again.depth.tobytes() == run.depth.tobytes() and again.force_contact.tobytes() == run.force_contact.tobytes()
     with pytest.raises(InputError, match="gait must be one of walk, walk-fast, trot, trot-fast, bound"):
         robot_walk("gallop")
+    with pytest.raises(InputError, match=r"gait must be one of .*, got \['trot'\]"):  # was TypeError: unhashable
+        robot_walk(["trot"])  # type: ignore[arg-type]
 
 
 def test_the_synthesizers_take_a_chain_without_its_noise_and_refuse_one_with_it() -> None:

@@ -228,7 +228,7 @@ def robot_walk(gait: str = "trot", water_content: float = 0.25, *, seed: int = 0
     from mudforce.steppers.simulation import simulate
 
     mj = require("mujoco", "mujoco", "the quadruped test bench")
-    if gait not in GAITS:
+    if not isinstance(gait, str) or gait not in GAITS:  # a list was looked up in the dict: TypeError, unhashable
         raise InputError(f"gait must be one of {', '.join(GAITS)}, got {gait!r}")
     if foot not in FEET:
         raise InputError(f"foot must be one of {', '.join(FEET)}, got {foot!r}")
