@@ -62,6 +62,13 @@ def test_walk_refuses_text_and_booleans_for_numbers(kwargs: dict[str, object], m
         walk(duration=25.0, **kwargs)  # type: ignore[arg-type]
 
 
+@pytest.mark.parametrize("change", [0.0, -5.0])
+def test_walk_refuses_a_change_at_its_first_swing_apex(change: float) -> None:
+    # the walk starts at a swing apex: the first mud had no samples, refused as 'the trajectory is empty'
+    with pytest.raises(InputError, match=r"falls on the walk's first swing apex.*water content 0.2 would have no"):
+        walk((0.2, 0.3), change_times=(change,), duration=5.0)
+
+
 def test_walk_takes_a_0d_array_as_one_water_content() -> None:  # TypeError: iteration over a 0-d array
     a = walk(np.array(0.25), duration=5.0)
     b = walk(0.25, duration=5.0)

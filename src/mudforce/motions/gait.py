@@ -281,6 +281,9 @@ def walk(
         if not later:
             raise InputError(f"no swing after the change time {c:g} s within the walk's {duration:g} s")
         switch_times.append(later[0])
+    if switch_times and switch_times[0] <= time[0]:  # the first mud had no samples: "the trajectory is empty"
+        raise InputError(f"the change time {changes[0]:g} s falls on the walk's first swing apex, at its start: water "
+                         f"content {contents[0]:g} would have no samples; expected change times after 0 s")
     bounds = [0, *(int(np.searchsorted(time, s)) for s in switch_times), time.size]
     force = np.empty_like(time)
     truth = np.empty_like(time)
