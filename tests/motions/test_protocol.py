@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from mudforce.errors import InputError
-from mudforce.motions.protocol import Protocol
+from mudforce.motions.protocol import Hold, Intrude, Protocol
 
 
 @pytest.mark.parametrize("approach", [True, "0.01", np.array([0.01]), float("nan"), -0.01])
@@ -32,3 +32,9 @@ def test_a_zero_rise_ends_at_zero_not_minus_zero() -> None:
     # the withdraw target was -rise: with rise=0 the last depth was -0.0, which a CSV wrote as '-0'
     _, depth = Protocol.paper(rise=0.0).sample()
     assert depth[-1] == 0.0 and not np.signbit(depth[-1])
+
+
+def test_a_start_depth_of_minus_zero_starts_at_zero() -> None:
+    # it was kept: the samples before the first step moved were -0.0 (a CSV's '-0', other bytes than a start at 0)
+    _, depth = Protocol((Hold(0.5), Intrude(0.01, 0.02)), rate=10.0, start_depth=-0.0).sample()
+    assert not np.any(np.signbit(depth))

@@ -136,7 +136,8 @@ class Protocol:
             raise InputError(f"sampling rate must be within [{MIN_RATE:g}, {MAX_RATE:g}] Hz (steps simulate() "
                              f"accepts), got {self.rate!r}")
         object.__setattr__(self, "rate", rate)
-        object.__setattr__(self, "start_depth", bounded_depth(self.start_depth, "start depth"))
+        # + 0.0: a start depth of -0.0 sampled as -0.0 until the first step moved, which a CSV wrote as '-0'
+        object.__setattr__(self, "start_depth", bounded_depth(self.start_depth, "start depth") + 0.0)
         if not self.steps:
             raise InputError("a protocol needs at least one step (Intrude, Hold or Withdraw)")
         bt, _ = self.breakpoints()  # validates the sequence
