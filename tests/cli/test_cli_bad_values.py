@@ -122,6 +122,8 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     # a space inside a unit is no part of it: "20m m" ran as 20 mm; a literal that underflows is not zero
     ("unit-space-inside", _sim("--depth", "20m m"), {}, ("--depth", "unknown length unit 'm m'")),
     ("unit-underflow-to-zero", _sim("--rise", "1e-400mm"), {}, ("--rise", "too small")),
+    # forces were compared case-free: mega- read as milli-newtons (0.5 MN, 5e5 N, beyond the bound, ran as 0.5 mN)
+    ("unit-meganewton", ["synth", "--out", "new", "--bias", "0.5MN"], {}, ("--bias", "unknown force unit 'MN'")),
     # "as a area", "expected a area": the article follows the kind
     ("unit-area-unreadable", ["fit-drag", "s.csv", "--area", "big"], {"s.csv": SLIDING},
      ("--area", "cannot read 'big' as an area;")),

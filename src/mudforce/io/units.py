@@ -21,9 +21,9 @@ _UNITS: dict[str, dict[str, float]] = {
     "time": _TIME,
     "frequency": {"hz": 1.0, "khz": 1e3},
     "fraction": {"%": 1e-2},
-    "force": {"n": 1.0, "kn": 1e3, "mn": 1e-3},
+    "force": {"N": 1.0, "kN": 1e3, "mN": 1e-3},
     "mass": {"kg": 1.0, "g": 1e-3},
-    "pressure": {"pa": 1.0, "kpa": 1e3, "mpa": 1e6},
+    "pressure": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6},
     "area": {"m2": 1.0, "cm2": 1e-4, "mm2": 1e-6},
 }
 _EXAMPLES = {
@@ -62,7 +62,10 @@ _NUMBER = re.compile(r"^\s*([+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-
 def _case_key(kind: str, unit: str) -> str:
     # lengths and times are case-sensitive in principle (mm vs Mm), but no
     # one means megametres here; frequencies, forces and pressures are
-    # conventionally capitalised (Hz, N, kPa) and compared case-free
+    # conventionally capitalised (Hz, N, kPa) and compared case-free, but for the case of a leading m or M, which
+    # is milli or mega there ("0.2MN" was read as 0.2 mN, "6mPa" as 6 MPa)
+    if kind in ("force", "pressure") and unit[:1] in ("m", "M"):
+        return unit[0] + unit[1:].lower()
     return unit.lower() if kind in ("frequency", "force", "pressure", "fraction", "area", "mass") else unit
 
 
