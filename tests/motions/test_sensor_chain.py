@@ -73,6 +73,12 @@ def test_drift_starts_at_zero_and_stays_within_a_quarter_of_its_size_from_the_ra
     assert down[-1] < -0.002 * 1.5
     _, zo, _ = apply(t, 0 * t, 0 * t, chain, seed=4)
     assert np.array_equal(zo, drift_path(t, chain, 4))
+    # IndexError, ValueError, AttributeError and TypeError; a NaN time gave a NaN drift
+    for args, words in ((([], chain, 0), "time must be 1-D"), ((["0", "1"], chain, 0), "array of real numbers"),
+                        (([0.0, 1.0], "chain", 0), "chain must be a SensorChain"), (([[0.0, 1.0]], chain, 0), "1-D"),
+                        (([0.0, math.nan], chain, 0), "time is not finite")):
+        with pytest.raises(InputError, match=words):
+            drift_path(*args)  # type: ignore[arg-type]
 
 
 def test_resampling_samples_the_fine_model_not_the_model_of_the_samples() -> None:

@@ -142,7 +142,14 @@ def drift_path(time: np.ndarray, chain: SensorChain, seed: int) -> np.ndarray:
     amplitude ``|drift| / 8``, period in ``[drift_time / 4, drift_time]`` and
     random phase (from ``seed``), shifted to start at zero.
     """
-    t = np.asarray(time, dtype=np.float64) - float(time[0])
+    # checked as apply() checks a recording's time: [] raised IndexError, text ValueError, a NaN came back as NaN
+    if not isinstance(chain, SensorChain):
+        raise InputError(f"chain must be a SensorChain, got {type(chain).__name__}")
+    given = real_array(time, "time", "s")
+    if given.ndim != 1 or not given.size:
+        raise InputError(f"time must be 1-D with at least one sample [s], got shape {given.shape}")
+    check_times(given)
+    t = given - float(given[0])
     if chain.drift == 0.0:
         return np.zeros_like(t)
     rng = np.random.default_rng([seed_int(seed, "seed"), _DRIFT])
