@@ -107,7 +107,7 @@ def test_a_trial_made_in_python_is_checked_as_a_file_is() -> None:
             Trial("x", 0.25, *arrays)
     for trial, kw, words in (
             (Trial("x", 0.25, t, d, np.where(at, 1e300, f)), {}, "the force reaches 1e\\+300 N, beyond"),
-            (Trial("x", 0.25, t[:1], d[:1], f[:1]), {}, "only 1 samples"),
+            (Trial("x", 0.25, t[:1], d[:1], f[:1]), {}, "only 1 sample;"),
             (Trial("x", 0.25, t, d, f), {"bounds": (0.3, 0.2)}, "low < high")):
         with pytest.raises(InputError, match=words):
             identify_water_content(trial, **kw)

@@ -134,7 +134,7 @@ class Trial:
         message says what to change."""
         where = f"trial {self.name}"
         if self.time.size < MIN_SAMPLES:
-            raise InputError(f"{where}: only {self.time.size} samples; the readers need at least {MIN_SAMPLES} "
+            raise InputError(f"{where}: only {_samples(self.time.size)}; the readers need at least {MIN_SAMPLES} "
                              "per trial" + (" (a higher rate or a longer motion)" if made else ""))
         for quantity, unit, values in (("time", "s", self.time), ("depth", "m", self.depth),
                                        ("force", "N", self.force)):
@@ -242,9 +242,14 @@ def foot_to_json(foot: Foot) -> dict[str, Any]:
 
 
 # ---------------------------------------------------------------------------- loading
+def _samples(count: int) -> str:
+    """``"1 sample"``, ``"5 samples"``: a count of samples as a message says it."""
+    return f"{count} sample" + ("" if count == 1 else "s")
+
+
 def _check_trial_arrays(where: str, time: np.ndarray, column: str, lines: np.ndarray) -> None:
     if time.size < MIN_SAMPLES:
-        raise InputError(f"{where}: only {time.size} samples; a trial needs at least {MIN_SAMPLES}")
+        raise InputError(f"{where}: only {_samples(time.size)}; a trial needs at least {MIN_SAMPLES}")
     check_time(where, time, column, lines=lines)
 
 
