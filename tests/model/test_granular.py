@@ -297,6 +297,9 @@ def test_drft_baseline_on_intrusion_and_its_withdrawal_drag() -> None:
     ({"centroids": "here"}, "real numbers"),
     ({"scale": 0.0}, "scale must be > 0"),
     ({"law": "drft"}, "law must be one of rft3d, li2013"),
+    # an array compared equal elementwise: ["rft3d"] gave Li's law, two names numpy's ValueError
+    ({"law": np.array(["rft3d"])}, "law must be one of rft3d, li2013, got ndarray"),
+    ({"law": np.array(["rft3d", "li2013"])}, "law must be one of rft3d, li2013, got ndarray"),
     ({"surface_friction": -0.1}, "surface_friction"),
     ({"inertial_drag": math.inf}, "inertial_drag"),
     ({"surface_height": "0"}, "surface_height"),

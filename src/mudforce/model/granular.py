@@ -684,8 +684,11 @@ def _horizontal_direction(u: np.ndarray, fallback: np.ndarray) -> np.ndarray:
 
 
 def _law(law: Any) -> str:
-    if law not in LAWS:
-        raise InputError(f"law must be one of {', '.join(LAWS)}, got {law!r}")
+    """``law`` if it is the name of one of :data:`LAWS` (a str: an array ``["rft3d"]`` compared equal elementwise,
+    passed, and was read as ``"['rft3d']"``, Li's law), else InputError."""
+    if not isinstance(law, str) or law not in LAWS:
+        got = repr(law) if isinstance(law, str) else type(law).__name__
+        raise InputError(f"law must be one of {', '.join(LAWS)}, got {got}")
     return str(law)
 
 
