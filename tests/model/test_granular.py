@@ -335,6 +335,8 @@ def test_bad_angles_and_scales() -> None:
     # Li's coefficients unchecked: NaN gave NaN, a string a TypeError, an array an array of results
     (lambda: G.rft_alpha(0.1, 0.5, G.LI2013_GENERIC._replace(A00=math.nan)), "A00 = nan"),
     (lambda: G.rft_alpha(0.1, 0.5, G.LI2013_GENERIC._replace(A00="x")), "A00 = 'x'"),
+    # a Python int beyond float64: OverflowError from math.isfinite
+    (lambda: G.rft_alpha(0.1, 0.5, G.LI2013_GENERIC._replace(C11=10**400)), "C11 = an integer of 1329 bits"),
     (lambda: G.rft_element_alpha([DOWN], [[0.0, 0.0, -1.0]], law="li2013",
                                  li_coefficients=G.LI2013_GENERIC._replace(B01=np.ones(3))), "li_coefficients"),
     # rft3d_basis took anything np.asarray did: "1" as 1, NaN, None as NaN; a complex or a shape mismatch raised

@@ -128,11 +128,12 @@ moves down and ``0`` while it moves up, which is
 from __future__ import annotations
 
 import math
+import sys
 from typing import Any, NamedTuple
 
 import numpy as np
 
-from mudforce.errors import InputError, finite_number, is_real, real_array
+from mudforce.errors import InputError, finite_number, is_real, real_array, shown
 
 __all__ = [
     "LAWS",
@@ -704,8 +705,10 @@ def _li_coefficients(value: Any, name: str) -> LiCoefficients:
     if not isinstance(value, LiCoefficients):
         raise InputError(f"{name} must be a LiCoefficients, got {type(value).__name__}")
     for field, number in zip(LiCoefficients._fields, value, strict=True):
-        if not (is_real(number) and math.isfinite(number)):
-            raise InputError(f"{name} must hold finite real numbers, got {field} = {number!r}")
+        # abs(x) <= the largest float, not math.isfinite(x): that raised OverflowError for a Python int beyond it
+        if not (is_real(number) and abs(number) <= sys.float_info.max):
+            got = shown(number) if is_real(number) or isinstance(number, str) else type(number).__name__
+            raise InputError(f"{name} must hold finite real numbers, got {field} = {got}")
     return value
 
 
