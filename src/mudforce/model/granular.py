@@ -164,6 +164,7 @@ _GRAVITY = 9.81  # standard gravity [m/s^2], as mudforce.engines.dynamics.GRAVIT
 _TINY = 1e-12  # length below which a unit vector's horizontal part counts as zero [-]
 _NORMAL_TOLERANCE = 1e-6  # accepted deviation of |n| from 1 [-]
 _MAX_VELOCITY = 1e150  # largest |velocity component| accepted [m/s]: |v|^2 stays finite (the direction's scale)
+_MAX_BETA = 0.5 * sys.float_info.max  # largest |beta| accepted [rad]: 2 beta stays finite
 _SMALL_VELOCITY = 1e-100  # a velocity whose components are all below it [m/s] is scaled up for its direction
 
 
@@ -242,6 +243,9 @@ def rft_alpha(beta: Any, gamma: Any, coefficients: LiCoefficients = LI2013_GENER
         The broadcast shape of ``beta`` and ``gamma``.
     """
     b = _finite_array(beta, "beta [rad]")
+    if not np.all(np.abs(b) <= _MAX_BETA):  # 2 beta overflowed: refused as the coefficients' sums overflowing
+        raise InputError(f"beta [rad] must be within +-{_MAX_BETA:.4g} (the fit takes cos and sin of 2 beta; "
+                         f"it is pi-periodic, wrap beta first), got {float(np.abs(b).max())!r} in size")
     g = _finite_array(gamma, "gamma [rad]")
     coefficients = _li_coefficients(coefficients, "coefficients")
     try:
