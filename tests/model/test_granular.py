@@ -339,6 +339,9 @@ def test_bad_angles_and_scales() -> None:
     (lambda: G.rft_alpha(0.1, 0.5, G.LI2013_GENERIC._replace(C11=10**400)), "C11 = an integer of 1329 bits"),
     (lambda: G.rft_element_alpha([DOWN], [[0.0, 0.0, -1.0]], law="li2013",
                                  li_coefficients=G.LI2013_GENERIC._replace(B01=np.ones(3))), "li_coefficients"),
+    # |n|^2 overflowed with numpy's RuntimeWarning before the refusal
+    (lambda: G.rft_element_alpha([[0.0, 0.0, -1e200]], [[0.0, 0.0, -1.0]]), "normals must be unit vectors"),
+    (lambda: G.rft3d_angles([[1e300, 0.0, 0.0]], [[0.0, 0.0, -1.0]]), "normals must be unit vectors"),
     # 2 beta overflowed: refused as "the coefficients' sums beyond float64", not naming beta
     (lambda: G.rft_alpha([0.1, -1e308], 0.5), "beta [rad] must be within +-8.988e+307"),
     # rft3d_basis took anything np.asarray did: "1" as 1, NaN, None as NaN; a complex or a shape mismatch raised

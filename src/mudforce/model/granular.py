@@ -667,7 +667,8 @@ def _refuse_overflow(values: np.ndarray, what: str, product: str) -> None:
 
 def _unit_normals(value: Any) -> np.ndarray:
     n = _vectors(value, "normals", None)
-    length = _norm(n)
+    with np.errstate(over="ignore"):  # |n|^2 of a normal beyond 1e154: inf, refused below without numpy's warning
+        length = _norm(n)
     if np.any(np.abs(length - 1.0) > _NORMAL_TOLERANCE):
         worst = float(length[np.argmax(np.abs(length - 1.0))])
         raise InputError(f"normals must be unit vectors (|n| = 1 within {_NORMAL_TOLERANCE:g}), got |n| = {worst:g}")
