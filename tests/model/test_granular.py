@@ -339,6 +339,9 @@ def test_bad_angles_and_scales() -> None:
     (lambda: G.rft_alpha(0.1, 0.5, G.LI2013_GENERIC._replace(C11=10**400)), "C11 = an integer of 1329 bits"),
     (lambda: G.rft_element_alpha([DOWN], [[0.0, 0.0, -1.0]], law="li2013",
                                  li_coefficients=G.LI2013_GENERIC._replace(B01=np.ones(3))), "li_coefficients"),
+    # the point's repr: over lines for a 2-D array, ValueError for a Python int of over 4300 digits
+    (lambda: G.rft_wrench([[0.0, 0.0, 0.0]], [[1.0, 0.0, 0.0]], np.zeros((3, 3))), "got shape (3, 3)"),
+    (lambda: G.rft_wrench([[0.0, 0.0, 0.0]], [[1.0, 0.0, 0.0]], [0, 0, 10**5000]), "point [m] must be 3 finite"),
     # |n|^2 overflowed with numpy's RuntimeWarning before the refusal
     (lambda: G.rft_element_alpha([[0.0, 0.0, -1e200]], [[0.0, 0.0, -1.0]]), "normals must be unit vectors"),
     (lambda: G.rft3d_angles([[1e300, 0.0, 0.0]], [[0.0, 0.0, -1.0]]), "normals must be unit vectors"),

@@ -567,8 +567,10 @@ def rft_wrench(centroids: Any, forces: Any, point: Any = (0.0, 0.0, 0.0)) -> tup
     c = _vectors(centroids, "centroids [m]", None)
     f = _vectors(forces, "forces [N]", len(c))
     p = _reals(point)
-    if p is None or p.shape != (3,) or not np.all(np.isfinite(p)):
-        raise InputError(f"point [m] must be 3 finite numbers, got {point!r}")
+    if p is None or p.shape != (3,) or not np.all(np.isfinite(p)):  # words of one line (a repr spans lines)
+        got = (f"{type(point).__name__} (not real numbers)" if p is None else f"shape {p.shape}" if p.shape != (3,)
+               else repr(p.tolist()))
+        raise InputError(f"point [m] must be 3 finite numbers, got {got}")
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one line
         force, torque = f.sum(axis=0), np.cross(c - p, f).sum(axis=0)
     _refuse_overflow(np.stack([force, torque]), "force [N] and torque [N m]", "the forces and lever arms")
