@@ -154,6 +154,9 @@ def test_bad_input_is_refused_and_changes_nothing() -> None:
         ([0.0, 0.0, -0.01], [2.0, 0.0, 0.0, 0.0], 0.01, "norm 1"),
         ([0.0, 0.0, -0.01], [1.0, 0.0, math.inf, 0.0], 0.01, "quaternion"),
         ([0.0, 0.0, -0.01], UPRIGHT, 0.0, "dt"),
+        # a Python int beyond float64: OverflowError from float(dt)
+        ([0.0, 0.0, -0.01], UPRIGHT, 10**400, r"dt must be within \[1e-09, 1000\] s after the first step, got an "),
+        ([0.0, 0.0, -0.01], UPRIGHT, 10**5000, "got an integer of 16610 bits"),
         ([0.0, 0.0, -200.0], UPRIGHT, 0.01, "depth"),
         ([0.0, 0.0], UPRIGHT, 0.01, "position"),
     ):

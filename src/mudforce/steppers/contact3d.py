@@ -340,7 +340,7 @@ class MudContact3D:
             q = np.array(real_array(quaternion, "quaternion", "-"), order="C")
         except InputError:
             return self._step_numpy(position, quaternion, dt)
-        if is_real(dt):
+        if is_real(dt) and abs(dt) <= MAX_DT:  # (a Python int beyond float64: float() raised OverflowError)
             h = float(dt)
         elif not self._started:
             h = 1.0  # ignored by a first step (as the numpy step ignores it)
@@ -364,8 +364,8 @@ class MudContact3D:
         """
         p, rotation = _pose(position, quaternion)
         if self._started:
-            if not is_real(dt) or not MIN_DT <= float(dt) <= MAX_DT:
-                raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s after the first step, got {dt!r}")
+            if not is_real(dt) or not MIN_DT <= dt <= MAX_DT:  # compared as given: float() of 10**400 overflowed
+                raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_DT:g}] s after the first step, got {shown(dt)}")
             dt = float(dt)
         else:
             dt = 1.0  # ignored by the elements' first step
