@@ -159,9 +159,14 @@ def test_bad_input_is_refused_and_changes_nothing() -> None:
         ([0.0, 0.0, -0.01], UPRIGHT, 10**5000, "got an integer of 16610 bits"),
         ([0.0, 0.0, -200.0], UPRIGHT, 0.01, "depth"),
         ([0.0, 0.0], UPRIGHT, 0.01, "position"),
+        # the pose's repr in the message: over lines for a 2-D array, ValueError (4300 digits) for 10**5000
+        (np.zeros((4, 4)), UPRIGHT, 0.01, r"position must be 3 finite numbers \[m\], got shape \(4, 4\)$"),
+        ([0.0, 0.0, 10**5000], UPRIGHT, 0.01, r"position must be 3 real numbers \[m\], got object values"),
+        ([0.0, 0.0, -0.01], np.eye(4), 0.01, r"quaternion must be 4 finite numbers \(w, x, y, z\), got shape"),
     ):
-        with pytest.raises(InputError, match=match):
+        with pytest.raises(InputError, match=match) as info:
             contact.step(position, quaternion, dt)
+        assert "\n" not in str(info.value)
         after = contact.state
         np.testing.assert_array_equal(after.elements, saved.elements)
         np.testing.assert_array_equal(after.slip, saved.slip)

@@ -228,8 +228,9 @@ def rotation_matrix(quaternion: Any) -> np.ndarray:
     refused with an :class:`~mudforce.errors.InputError`.
     """
     q = real_array(quaternion, "quaternion", "-")  # real numbers only (a complex or boolean array refused)
-    if q.shape != (4,) or not np.all(np.isfinite(q)):
-        raise InputError(f"a quaternion must be 4 finite numbers (w, x, y, z), got {quaternion!r}")
+    if q.shape != (4,) or not np.all(np.isfinite(q)):  # (not its repr: over lines for a 2-D array)
+        got = f"shape {q.shape}" if q.shape != (4,) else repr(q.tolist())
+        raise InputError(f"a quaternion must be 4 finite numbers (w, x, y, z), got {got}")
     norm = math.sqrt(float(q @ q))
     if abs(norm - 1.0) > QUATERNION_TOLERANCE:
         raise InputError(f"a quaternion must have norm 1 (within {QUATERNION_TOLERANCE:g}), got norm {norm:.9g}")
