@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -163,8 +164,10 @@ def test_bad_input_is_refused_and_changes_nothing() -> None:
         (np.zeros((4, 4)), UPRIGHT, 0.01, r"position must be 3 finite numbers \[m\], got shape \(4, 4\)$"),
         ([0.0, 0.0, 10**5000], UPRIGHT, 0.01, r"position must be 3 real numbers \[m\], got object values"),
         ([0.0, 0.0, -0.01], np.eye(4), 0.01, r"quaternion must be 4 finite numbers \(w, x, y, z\), got shape"),
+        ([0.0, 0.0, -0.01], [1e200, 0.0, 0.0, 0.0], 0.01, "got norm inf"),  # with numpy's overflow warning
     ):
-        with pytest.raises(InputError, match=match) as info:
+        with pytest.raises(InputError, match=match) as info, warnings.catch_warnings():
+            warnings.simplefilter("error")
             contact.step(position, quaternion, dt)
         assert "\n" not in str(info.value)
         after = contact.state

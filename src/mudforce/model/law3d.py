@@ -231,7 +231,8 @@ def rotation_matrix(quaternion: Any) -> np.ndarray:
     if q.shape != (4,) or not np.all(np.isfinite(q)):  # (not its repr: over lines for a 2-D array)
         got = f"shape {q.shape}" if q.shape != (4,) else repr(q.tolist())
         raise InputError(f"a quaternion must be 4 finite numbers (w, x, y, z), got {got}")
-    norm = math.sqrt(float(q @ q))
+    with np.errstate(over="ignore"):  # a component beyond 1e154: norm inf, refused below without numpy's warning
+        norm = math.sqrt(float(q @ q))
     if abs(norm - 1.0) > QUATERNION_TOLERANCE:
         raise InputError(f"a quaternion must have norm 1 (within {QUATERNION_TOLERANCE:g}), got norm {norm:.9g}")
     return np.reshape(np.array(_rotation_compiled(*q.tolist())), (3, 3))
