@@ -256,7 +256,8 @@ def test_a_restored_state_no_step_could_leave_is_refused_and_changes_nothing() -
 
 def test_lateral_stiffness_and_shapes_are_bounded() -> None:
     mud = mf.MudParameters.from_water_content(0.25)
-    for k in (0.0, -1.0, 1e12 * (1 + 1e-15), 1e300, float("inf"), float("nan"), True):
+    for k in (0.0, -1.0, 1e12 * (1 + 1e-15), 1e300, float("inf"), float("nan"), True, 10**5000):  # 10**5000: its
+        # repr in the message raised ValueError (Exceeds the limit (4300 digits))
         with pytest.raises(InputError, match=r"lateral_stiffness must be within \(0, 1e\+12\] \[Pa/m\]"):
             mf.MudContact3D(mud, SHAPE, lateral_stiffness=k)
         with pytest.raises(InputError, match=r"lateral_stiffness must be (within \(0, 1e\+12\] \[Pa/m\]|a number)"):

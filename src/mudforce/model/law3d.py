@@ -100,7 +100,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from mudforce._plumbing.jit import njit, overload
-from mudforce.errors import InputError, is_real, real_array
+from mudforce.errors import InputError, is_real, real_array, shown
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, rft3d_alpha
 
@@ -137,7 +137,8 @@ def check_lateral_stiffness(k: object) -> float:
     """``lateral_stiffness`` [Pa/m] as a float within (0, :data:`MAX_LATERAL_STIFFNESS`], else a one-line InputError
     (the one check of it, for the CPU step, the JAX step and the 3-D fit)."""
     if not is_real(k) or not 0.0 < k <= MAX_LATERAL_STIFFNESS:  # type: ignore[operator]
-        raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got {k!r}")
+        # shown, not repr: a Python int of over 4300 digits has no repr (ValueError)
+        raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got {shown(k)}")
     return float(k)  # type: ignore[arg-type]
 
 #: 3D-RFT's generic vertical stress on a flat plate facing down and pushed down [-] (the bearing's unit).
