@@ -301,6 +301,15 @@ def test_a_bad_element_row_in_a_restored_state_names_the_element() -> None:
     assert _same(many.state, saved)
 
 
+def test_a_ragged_started_in_a_restored_state_is_refused_in_one_line() -> None:
+    """``started=[[True], [True, False]]`` raised numpy's ValueError ("inhomogeneous shape")."""
+    feet = MudContacts3D(mf.MudParameters.from_water_content(0.25), SHAPE, 2)
+    saved = feet.state
+    with pytest.raises(InputError, match=r"a state's started must be an array of bool of shape \(2,\), got list"):
+        feet.state = saved._replace(started=[[True], [True, False]])  # type: ignore[arg-type]
+    assert _same(feet.state, saved)
+
+
 def test_a_nested_list_of_feet_is_refused_in_one_line() -> None:
     """``reset([[0]])`` raised TypeError ("only 0-dimensional arrays can be converted to Python scalars")."""
     feet = MudContacts3D(mf.MudParameters.from_water_content(0.25), SHAPE, 2)

@@ -866,7 +866,11 @@ class MudContacts3D:
         elements = real_array(saved.elements, "a state's elements", "SI")
         slip = real_array(saved.slip, "a state's slips", "m")
         centroids = real_array(saved.centroids, "a state's centroids", "m")
-        started = np.asarray(saved.started)
+        try:
+            started = np.asarray(saved.started)
+        except (TypeError, ValueError):  # ragged nesting (numpy's ValueError, "inhomogeneous shape")
+            raise InputError(f"a state's started must be an array of bool of shape ({self.n},), got "
+                             f"{type(saved.started).__name__} of rows of different lengths") from None
         width = K.N_STATE + self._ring.shape[1]
         if (elements.shape != (total, width) or slip.shape != (total, 2) or centroids.shape != (total, 3)
                 or started.shape != (self.n,) or started.dtype != np.bool_):
