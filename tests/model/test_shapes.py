@@ -543,6 +543,9 @@ def test_mujoco_errors_name_the_geom(mj_model: object) -> None:
     assert _one_line(lambda: shapes.from_mujoco_geom(mj_model, "toe")) == (
         f"the model has no geom named 'toe'; expected a geom's name or an id 0 to {n - 1}")
     assert f"geom id {n} is out of range" in _one_line(lambda: shapes.from_mujoco_geom(mj_model, n))
+    # the id's str in the message raised ValueError (Exceeds the limit (4300 digits))
+    assert "geom id an integer of 16610 bits is out of range" in _one_line(
+        lambda: shapes.from_mujoco_geom(mj_model, 10**5000))
     assert "got bool" in _one_line(lambda: shapes.from_mujoco_geom(mj_model, True))
     assert "needs a compiled mujoco.MjModel, got str" in _one_line(lambda: shapes.from_mujoco_geom("model", 0))
     assert _one_line(lambda: shapes.from_mujoco_geom(mj_model, "ball", resolution=-1.0)).startswith(

@@ -107,7 +107,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError, is_real, number_within, real_array
+from mudforce.errors import InputError, is_real, number_within, real_array, shown
 from mudforce.model.foot import AREA_RANGE, SIZE_RANGE, Foot
 
 __all__ = ["DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
@@ -957,7 +957,9 @@ def from_mujoco_geom(model: Any, geom: int | str, *, resolution: float | None = 
     elif isinstance(geom, (int, np.integer)) and not isinstance(geom, bool):
         gid = int(geom)
         if not 0 <= gid < ngeom:
-            raise InputError(f"geom id {gid} is out of range; expected 0 to {ngeom - 1} (the model has {ngeom})")
+            # shown: an int of over 4300 digits has no str (ValueError)
+            raise InputError(f"geom id {shown(geom)} is out of range; expected 0 to {ngeom - 1} (the model has "
+                             f"{ngeom})")
     else:
         raise InputError(f"geom must be a geom's id (int) or name (str), got {type(geom).__name__}")
     if resolution is not None and not is_real(resolution):
