@@ -76,6 +76,9 @@ def test_fit_3d_refuses_bad_input_in_one_line(data: tuple[np.ndarray, np.ndarray
         ({"time": t[::-1]}, "strictly increasing"),
         ({"free": ("beta",)}, "cannot fit"),
         ({"free": ("sigma_y", "sigma_y")}, "twice"),
+        # free's repr in the message: ValueError (4300 digits) for 10**5000, over lines for a 2-D array
+        ({"free": ("sigma_y", 10**5000)}, "got an integer of 16610 bits among them$"),
+        ({"free": np.full((2, 2), "sigma_y")}, "got ndarray$"),
         ({"params0": "mud"}, "MudParameters"),
         ({"noise": -1.0}, "noise"),
         ({"lateral_stiffness": 0.0}, "lateral_stiffness"),

@@ -36,7 +36,7 @@ import numpy as np
 
 from mudforce._kernel.bounds import check_times
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce.errors import InputError, finite_number, positive_int, real_array
+from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, shown
 from mudforce.io.tables import COLUMN_LIMITS
 from mudforce.model import law3d
 from mudforce.model.law3d import MAX_LATERAL_STIFFNESS, check_lateral_stiffness
@@ -110,7 +110,12 @@ def _array(value: Any, name: str, shape: tuple[int, ...], unit: str) -> np.ndarr
 def _free(free: Any) -> tuple[str, ...]:
     names = (free,) if isinstance(free, str) else tuple(free) if isinstance(free, Sequence) else None
     if not names or not all(isinstance(n, str) for n in names):
-        raise InputError(f"free must name one or more of {', '.join(FIT3D_PARAMETERS)}, got {free!r}")
+        # words of one line, not free's repr (over lines for a 2-D array, ValueError for an int of 10**5000)
+        others = [n for n in names or () if not isinstance(n, str)]
+        bad = others[0] if others else free
+        got = repr(free) if names is not None and not others else (
+            f"{shown(bad) if is_real(bad) else type(bad).__name__}{' among them' if others else ''}")
+        raise InputError(f"free must name one or more of {', '.join(FIT3D_PARAMETERS)}, got {got}")
     unknown = [n for n in names if n not in FIT3D_PARAMETERS]
     if unknown:
         raise InputError(f"free names {unknown[0]!r}, which fit_3d cannot fit; expected one of "
