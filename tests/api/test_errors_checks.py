@@ -157,6 +157,7 @@ def test_an_integer_of_over_4300_digits_is_shown_by_its_size_in_every_refusal_of
     for call, words in ((lambda: positive_int(-(10**5000), "n"), "n must be an integer >= 1, got a negative"),
                         (lambda: seed_int(10**5000), r"--seed must be an integer in \[0, 4294967295\], got an"),
                         (lambda: feet.element_slice(10**5000), r"foot index out of range 0..1: an integer"),
+                        (lambda: mf.VelocityFilter(10**5000), r"window must be 1..64 steps, got an"),
                         (lambda: synthesize_gait(seed=-(10**5000)), "seed must be an integer >= 0, got a negative"),
                         (lambda: identify_water_content(Trial("w", 0.25, t, np.zeros(3), np.zeros(3)), points=10**5000),
                          r"points must be an integer in \[2, \d+\], got an")):

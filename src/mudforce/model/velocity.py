@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, is_real, real_array, real_number
+from mudforce.errors import InputError, is_real, real_array, real_number, shown
 from mudforce.model.bounds import MAX_DEPTH, MIN_DT, check_finite, check_times
 
 #: The longest smoothing window [steps] (the compiled steppers keep ``MAX_WINDOW + 1`` samples of depth).
@@ -127,7 +127,7 @@ class VelocityFilter:
         if isinstance(self.window, bool) or not isinstance(self.window, (int, np.integer)):
             raise InputError(f"velocity filter window must be an integer number of steps, got {self.window!r}")
         if not 1 <= int(self.window) <= MAX_WINDOW:
-            raise InputError(f"velocity filter window must be 1..{MAX_WINDOW} steps, got {self.window}")
+            raise InputError(f"velocity filter window must be 1..{MAX_WINDOW} steps, got {shown(self.window)}")
         _finite_at_least_zero(self.deadband, "velocity filter deadband", "m/s")
         object.__setattr__(self, "window", int(self.window))
         object.__setattr__(self, "deadband", float(self.deadband))
