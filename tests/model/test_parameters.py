@@ -130,6 +130,15 @@ def test_from_dict_refuses_unknown_and_missing_keys() -> None:
         MudParameters.from_dict({**d, "k_mi": 1.0})
     with pytest.raises(InputError, match=r"^unknown parameter key\(s\) 3, k_mi; expected k_m_i, "):
         MudParameters.from_dict({**d, "k_mi": 1.0, 3: 2.0})  # keys of two types: named, not numpy's TypeError
+    # an int key or source of 5,001 digits: their repr or str raised ValueError (Exceeds the limit (4300 digits));
+    # a source that is not a str was read as its str ("None")
+    with pytest.raises(InputError, match=r"^unknown parameter key\(s\) an integer of 16610 bits; expected k_m_i, "):
+        MudParameters.from_dict({**d, 10**5000: 2.0})
+    for source in (10**5000, None, ["a"]):
+        with pytest.raises(InputError, match=r"^source must be a str, got "):
+            MudParameters.from_dict({**d, "source": source})
+        with pytest.raises(InputError, match=r"^source must be a str, got "):
+            MudParameters.from_dict(d, source=source)  # type: ignore[arg-type]
     del d["sigma_y"]
     with pytest.raises(InputError, match=r"missing parameter key.*sigma_y"):
         MudParameters.from_dict(d)

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
-from mudforce.errors import InputError, is_real, real_number
+from mudforce.errors import InputError, is_real, real_number, shown
 
 __all__ = [
     "CITATION",
@@ -286,7 +286,7 @@ class MudParameters:
             raise InputError(f"parameters must be a JSON object with keys {', '.join(PARAMETER_NAMES)}")
         keys = set(data)
         allowed = set(PARAMETER_NAMES) | {"source"}
-        unknown = sorted(repr(k) if not isinstance(k, str) else k for k in keys - allowed)  # (keys of any type)
+        unknown = sorted(shown(k) if not isinstance(k, str) else k for k in keys - allowed)  # (keys of any type)
         if unknown:
             raise InputError(
                 f"unknown parameter key(s) {', '.join(unknown)}; expected {', '.join(PARAMETER_NAMES)}"
@@ -295,8 +295,9 @@ class MudParameters:
         if missing:
             raise InputError(f"missing parameter key(s) {', '.join(missing)} (SI units)")
         kwargs = {_PY_NAME[k]: data[k] for k in PARAMETER_NAMES}
-        src = data.get("source", source)
-        return cls(**kwargs, source=str(src))
+        # a source that is not a str is refused (the constructor's words): str() read None as "None" and raised
+        # ValueError for 10**5000
+        return cls(**kwargs, source=data.get("source", source))
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> MudParameters:
