@@ -212,3 +212,14 @@ def test_for_noise_takes_any_window_length() -> None:
     assert VelocityFilter.for_noise(1e-3, 1e-9, 1e300) == VelocityFilter.for_noise(1e-3, 1e-9, 1.0)
     assert VelocityFilter.for_noise(1e-3, 1e-9, 1e300).window == 64
     assert VelocityFilter.for_noise(100.0, 1e-9).deadband < 1e12
+
+
+def test_depths_at_random_within_100_m_are_simulated() -> None:
+    """Depths of +-100 m at random (valid input) read as white noise of 121 m, which simulate's "auto" handed to
+    VelocityFilter.for_noise, which refused it ('noise level must be within [0, 100] m'): the filter is now the one
+    for 100 m, and the noise found is reported as found."""
+    z = np.array([100.0 if c == "+" else -100.0 for c in "+----+---++++-+-+--+"])
+    res = simulate(np.arange(20) * 0.01, z, mf.MudParameters.from_water_content(0.25))
+    assert res.depth_noise is not None and res.depth_noise.std > 100.0
+    assert res.velocity_filter == VelocityFilter.for_noise(100.0, 0.01)
+    assert np.isfinite(res.force).all()

@@ -374,7 +374,9 @@ def choose_velocity_filter(time: np.ndarray, depth: np.ndarray) -> tuple[Velocit
         return VelocityFilter.exact(), noise
     t = np.asarray(time, dtype=np.float64)
     dt = float(t[-1] - t[0]) / (t.size - 1)  # mean step
-    return VelocityFilter.for_noise(noise.std, dt), noise
+    # depths of +-100 m at random read as noise of up to ~120 m (more on an uneven grid), which for_noise refuses
+    # as a noise level beyond the depths' bound: the filter for the largest noise the depths can hold
+    return VelocityFilter.for_noise(min(noise.std, MAX_DEPTH), dt), noise
 
 
 def auto_velocity_filter(time: np.ndarray, depth: np.ndarray) -> VelocityFilter:
