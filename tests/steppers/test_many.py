@@ -79,6 +79,11 @@ def test_parameter_array_for_domain_randomisation() -> None:
         MudContacts(np.tile(np.r_[base[:5], 2.0, base[6:]], (2, 1)), 2)
     with pytest.raises(InputError, match="shape"):
         MudContacts(values[:, :5], 4)
+    # a complex array lost its imaginary part (numpy's ComplexWarning), a boolean one read as 1.0, strings were
+    # parsed and objects taken: each is refused in one line naming its dtype
+    for bad in (values + 0j, values.astype(str), values.astype(object), np.ones((4, 11), dtype=bool)):
+        with pytest.raises(InputError, match=r"^a parameter array must be an array of real numbers \[SI\], got "):
+            MudContacts(bad, 4)
 
 
 def test_reset_selected_feet() -> None:

@@ -122,10 +122,8 @@ def _param_rows(
     if isinstance(params, MudParameters):
         values = np.tile(params.as_array(), (n, 1))
     elif isinstance(params, np.ndarray):
-        try:
-            values = np.array(params, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputError(f"a parameter array must be numeric, got dtype {params.dtype}") from None
+        # real numbers only: complex (imaginary part dropped), boolean (1.0), string (parsed) and object arrays passed
+        values = np.array(real_array(params, "a parameter array", "SI"))
         if values.ndim == 1:
             values = np.tile(values, (n, 1))
         if values.shape != (n, len(PARAMETER_NAMES)):
