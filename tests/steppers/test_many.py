@@ -254,7 +254,7 @@ def test_reset_refuses_booleans_among_indices_and_nested_indices() -> None:
     three_d.step(np.zeros((3, 3)), np.tile([1.0, 0.0, 0.0, 0.0], (3, 1)), 0.0)
     for feet, modes in ((one_d, lambda: one_d.modes), (three_d, lambda: three_d.state.started.tolist())):
         before = modes()
-        for bad in ([True, 2], [[0]]):
+        for bad in ([True, 2], [[0]], [[0], [0, 1]]):  # ragged: numpy's ValueError (inhomogeneous shape)
             with pytest.raises(InputError):
                 feet.reset(bad)
             assert modes() == before

@@ -175,7 +175,11 @@ def _chosen_feet(feet: Any, n: int) -> np.ndarray:
             and not all(isinstance(x, (bool, np.bool_)) for x in feet):  # numpy reads [True, 2] as [1, 2]
         raise InputError(f"feet mixes booleans and indices: {list(feet)!r}; expected indices, or a boolean mask of "
                          f"shape ({n},)")
-    idx = np.asarray(feet)
+    try:
+        idx = np.asarray(feet)
+    except (TypeError, ValueError):  # ragged nesting ([[0], [0, 1]]): numpy's ValueError
+        raise InputError(f"feet must be an index, a list of indices or a boolean mask of shape ({n},), got a "
+                         f"ragged {type(feet).__name__}") from None
     if idx.ndim > 1:
         raise InputError(f"feet must be an index, a list of indices or a boolean mask of shape ({n},), got an array "
                          f"of shape {idx.shape}")
