@@ -276,3 +276,26 @@ def test_a_restored_state_replays_bit_for_bit_when_the_step_length_wavers_in_its
     feet.state = saved
     again = np.array([feet.step(np.full(2, z[k]), float(dts[k - 1])) for k in range(k0, t.size)])
     assert first.tobytes() == again.tobytes()
+
+
+def test_a_reset_forgets_the_filter_history_so_the_state_is_a_fresh_ones() -> None:
+    """reset() cleared the state rows but kept the filter's old samples: after a reset and three steps the state
+    differed from a fresh contact's fed the same three (MudContact.state != the twin's, MudContacts.state's bytes
+    differed) until the window had filled again; the forces were the same."""
+    from mudforce import VelocityFilter
+
+    vf = VelocityFilter.for_noise(5e-5, 0.01)
+    depths = 0.01 + 0.002 * np.sin(np.arange(10.0))
+    one, many = MudContact(W25, velocity_filter=vf), MudContacts(W25, 2, velocity_filter=vf)
+    for z in depths:
+        one.step(float(z), 0.01)
+        many.step(np.full(2, z), 0.01)
+    one.reset()
+    many.reset([0])
+    fresh, fresh_many = MudContact(W25, velocity_filter=vf), MudContacts(W25, 1, velocity_filter=vf)
+    for z in depths[:3]:
+        assert one.step(float(z), 0.01) == fresh.step(float(z), 0.01)
+        many.step(np.full(2, z), 0.01)
+        fresh_many.step(np.full(1, z), 0.01)
+    assert one.state == fresh.state
+    assert many.state[0].tobytes() == fresh_many.state[0].tobytes()

@@ -288,6 +288,7 @@ class MudContact:
         """Forget the history: the next call to :meth:`step` sets the initial sample, and :attr:`last` is as
         before any step."""
         self._states[:] = K.new_states(1)
+        self._ring[:] = 0.0  # the filter's old samples too: the state is then a fresh contact's, bit for bit
         self._clear_last()
 
     @property

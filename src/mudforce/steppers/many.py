@@ -327,7 +327,9 @@ class MudContacts:
         feet : int, sequence of int, or boolean mask of shape (n,), optional
             Which feet to reset; their next :meth:`step` sets their initial sample.
         """
-        self._states[_chosen_feet(feet, self.n)] = K.new_states(1)[0]
+        chosen = _chosen_feet(feet, self.n)
+        self._states[chosen] = K.new_states(1)[0]
+        self.ring[chosen] = 0.0  # their filter's old samples too: their state is then a fresh foot's
 
     @property
     def modes(self) -> list[str]:
