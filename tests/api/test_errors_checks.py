@@ -273,3 +273,28 @@ def test_a_count_of_feet_past_ten_million_is_refused_in_one_line_before_anything
     for bad in (0, True, 2.0):
         with pytest.raises(InputError, match=r"^the number of feet n must be an integer >= 1, got "):
             feet_count(bad)
+
+
+def _calls_of_a_value() -> list[Any]:
+    import mudforce as mf
+    from mudforce.errors import positive_int
+    from mudforce.model import baselines
+    from mudforce.model.bounds import bounded_depth
+
+    w25 = mf.MudParameters.from_water_content(0.25)
+    t = np.arange(5) * 0.01
+    return [lambda v: finite_number(v, "x", "m", positive=True), lambda v: positive_int(v, "n"),
+            lambda v: positive_number(v, "d", "s"), lambda v: mf.MudContacts(w25, v), mf.VelocityFilter,
+            lambda v: mf.VelocityFilter(2, v), lambda v: mf.VelocityFilter.for_noise(v, 0.01),
+            lambda v: w25.replace(beta=v), lambda v: baselines.granular_rft_force(t, t, v),
+            lambda v: baselines.maxwell_only_force(t, t, v, 1.0, 1.0, 1.0), lambda v: bounded_depth(v, "h")]
+
+
+@pytest.mark.parametrize("value", [np.zeros((3, 3)), -(10**300)], ids=["2-D array", "-10**300"])
+def test_a_refused_value_is_shown_in_one_short_line(value: Any) -> None:
+    """The messages printed the value's repr: a 2-D array's spans lines, and -10**300 ran to 301 digits (shown()
+    gives the one line and the size)."""
+    for call in _calls_of_a_value():
+        with pytest.raises(InputError) as error:
+            call(value)
+        assert "\n" not in str(error.value) and len(str(error.value)) < 200, str(error.value)

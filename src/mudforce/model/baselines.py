@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from mudforce._plumbing.jit import njit
-from mudforce.errors import InputError, finite_number, real_array
+from mudforce.errors import InputError, finite_number, real_array, shown
 from mudforce.model.bounds import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT, check_depths, check_times
 from mudforce.model.equations import (
     array_form,
@@ -268,7 +268,7 @@ def maxwell_only_force(time: Any, depth: Any, k_m_i: float, b_m_i: float, k_m_w:
         number = finite_number(value, f"maxwell_only: {name}", "SI")
         if number < 0.0 or (positive and number == 0.0):  # (finite_number refused NaN and infinities)
             raise InputError(f"maxwell_only: {name} must be finite and {'> 0' if positive else '>= 0'}, "
-                             f"got {value!r}")
+                             f"got {shown(value)}")
     tau = array_form(relaxation_time)  # Eq. (3)
     with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
         taus = {"intrusion": float(tau(float(k_m_i), float(b_m_i))),

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, finite_number
+from mudforce.errors import InputError, finite_number, shown
 
 __all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_OUTPUT_SAMPLES", "MAX_TIME", "MIN_DT", "bounded_depth",
            "check_depths", "check_finite", "check_step", "check_times", "max_samples"]
@@ -125,5 +125,5 @@ def bounded_depth(value: Any, name: str, *, of: str = "") -> float:
     """
     number = finite_number(value, name, "m")
     if not abs(number) <= MAX_DEPTH:
-        raise InputError(f"{name} must be within +-{MAX_DEPTH:g} m{of}, got {value!r}")
+        raise InputError(f"{name} must be within +-{MAX_DEPTH:g} m{of}, got {shown(value)}")
     return number

@@ -196,7 +196,7 @@ class MudParameters:
             attr = _PY_NAME[name]
             value = getattr(self, attr)
             if not is_real(value):
-                raise InputError(f"parameter {name} must be a number, got {value!r}")
+                raise InputError(f"parameter {name} must be a number, got {shown(value)}")
             value = real_number(value, f"parameter {name}")
             object.__setattr__(self, attr, value)
             if not math.isfinite(value):

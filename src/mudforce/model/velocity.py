@@ -104,7 +104,7 @@ def _finite_at_least_zero(value: Any, name: str, unit: str, *, positive: bool = 
     OverflowError for it)."""
     number = real_number(value, name) if is_real(value) else math.nan
     if not math.isfinite(number) or number < 0.0 or (positive and number == 0.0):
-        raise InputError(f"{name} must be finite and {'> 0' if positive else '>= 0'} [{unit}], got {value!r}")
+        raise InputError(f"{name} must be finite and {'> 0' if positive else '>= 0'} [{unit}], got {shown(value)}")
     return number
 
 
@@ -125,7 +125,7 @@ class VelocityFilter:
 
     def __post_init__(self) -> None:
         if isinstance(self.window, bool) or not isinstance(self.window, (int, np.integer)):
-            raise InputError(f"velocity filter window must be an integer number of steps, got {self.window!r}")
+            raise InputError(f"velocity filter window must be an integer number of steps, got {shown(self.window)}")
         if not 1 <= int(self.window) <= MAX_WINDOW:
             raise InputError(f"velocity filter window must be 1..{MAX_WINDOW} steps, got {shown(self.window)}")
         _finite_at_least_zero(self.deadband, "velocity filter deadband", "m/s")
@@ -156,9 +156,10 @@ class VelocityFilter:
         _finite_at_least_zero(window_s, "velocity window", "s", positive=True)
         # within these the deadband is finite (< 1e12 m/s); a denormal step or a noise of 1e308 m overflowed it
         if noise > MAX_DEPTH:
-            raise InputError(f"noise level must be within [0, {MAX_DEPTH:g}] m (the depths' bound), got {noise_std!r}")
+            raise InputError(f"noise level must be within [0, {MAX_DEPTH:g}] m (the depths' bound), "
+                             f"got {shown(noise_std)}")
         if step < MIN_DT:
-            raise InputError(f"time step must be at least {MIN_DT:g} s (the steppers' shortest step), got {dt!r}")
+            raise InputError(f"time step must be at least {MIN_DT:g} s (the steppers' shortest step), got {shown(dt)}")
         if noise_std <= NOISE_FLOOR_M:
             return cls.exact()
         # the ratios capped before they are rounded to steps: round(inf) and math.ceil(inf) raise OverflowError
