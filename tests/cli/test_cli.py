@@ -19,6 +19,7 @@ import os
 import shutil
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -342,9 +343,11 @@ def test_parse_foot(spec: str, area: float, width: float) -> None:
 @pytest.mark.parametrize(
     "spec",
     ["", "cuboid", "cuboid:", "cuboid:51mm", "cuboid:51mmx38mmx25mm", "cuboid:51x38", "disc:50", "disc:-5mm",
-     "area:19cm2", "area:19cm2,width:38mm,area:1cm2", "area:19mm,width:38mm", "sphere:5mm", "51mmx38mm"],
+     "area:19cm2", "area:19cm2,width:38mm,area:1cm2", "area:19mm,width:38mm", "sphere:5mm", "51mmx38mm",
+     # not a str: str() raised ValueError (4300 digits), spanned lines, read "None"
+     pytest.param(10**5000, id="10**5000"), pytest.param(np.zeros((3, 3)), id="2-D array"), None],
 )
-def test_parse_foot_refuses(spec: str) -> None:
+def test_parse_foot_refuses(spec: Any) -> None:
     with pytest.raises(InputError, match="--foot") as info:
         parse_foot(spec)
     assert "\n" not in str(info.value)

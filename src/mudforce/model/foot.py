@@ -103,7 +103,9 @@ def parse_foot(text: str, *, name: str = "--foot") -> Foot:
     """
     from mudforce.io.units import parse_quantity
 
-    spec = str(text).strip()
+    if not isinstance(text, str):  # str() of 10**5000 raised ValueError, of a 2-D array spanned lines; None read "None"
+        raise InputError(f"{name}: expected a foot specification (a str: {FOOT_EXAMPLES}), got {type(text).__name__}")
+    spec = text.strip()
     kind, sep, body = spec.partition(":")
     kind = kind.strip().lower()
     if kind == "paper" and not sep:
