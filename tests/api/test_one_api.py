@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from mudforce import InputError, MudContact, MudContacts, MudParameters, MudTracker, MudTrackers
+from mudforce import InputError, MudContact, MudContacts, MudParameters, MudTracker, MudTrackers, simulate
 from mudforce.engines.dynamics import FootResult, NaiveDrop, naive_drop, simulate_foot
 from mudforce.estimation.tracker import TrackerState, TrackResult, track
 from mudforce.motions.gait import walk
@@ -196,3 +196,16 @@ def test_a_tracker_state_no_update_makes_is_refused_and_changes_nothing() -> Non
             assert np.array_equal(getattr(after, key), getattr(before, key), equal_nan=True), key
             assert np.array_equal(getattr(after.twin, key), getattr(before.twin, key), equal_nan=True), key
     tracker.state = before  # its own state is accepted
+
+
+@pytest.mark.parametrize("title", [pytest.param(10**5000, id="10**5000"), np.zeros((2, 2)), b"walk"])
+def test_a_plot_title_that_is_not_a_str_is_refused_in_one_line(tracked: TrackResult, title: Any) -> None:
+    """``if title:`` raised numpy's ValueError (truth value ambiguous) for an array, matplotlib's str() of 10**5000
+    ValueError (4300 digits), and bytes were drawn as "b'walk'": each is refused before anything is drawn."""
+    from mudforce import Protocol
+
+    time, depth = Protocol.paper().sample()
+    for plot in (simulate(time, depth, W25).plot, tracked.plot,
+                 simulate_foot(5.0, W25, duration=0.05, height=0.001).plot):
+        with pytest.raises(InputError, match=r"^title must be a str or None, got "):
+            plot(title=title)

@@ -199,7 +199,7 @@ PINNED: dict[str, list[str]] = {
         "CITATION", "PAPER_UNITS", "PARAMETER_NAMES", "PARAMETER_RANGES", "RHO_M", "TABLE_I", "TABLE_I_RMSE_N",
         "TABLE_I_WATER_CONTENTS", "WATER_CONTENT_RANGE", "MudParameters"
     ],
-    "mudforce.io.plotting": ["figure_to_png", "new_figure", "save_png"],
+    "mudforce.io.plotting": ["check_title", "figure_to_png", "new_figure", "save_png"],
     "mudforce.io.results": ["to_pandas", "write_text"],
     "mudforce.steppers.plots": ["STATE_COLOURS", "plot_result"],
     "mudforce.engines.dynamics.plots": ["PHASE_COLOURS", "plot_foot_result"],

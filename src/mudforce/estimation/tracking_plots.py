@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mudforce._plumbing.optional import require
+from mudforce.io.plotting import check_title
 
 if TYPE_CHECKING:
     from mudforce.estimation.tracker import TrackResult
@@ -52,6 +53,7 @@ def plot_track(result: TrackResult, path: str | os.PathLike[str] | None = None, 
     -------
     matplotlib.figure.Figure
     """
+    check_title(title)
     require("matplotlib", "plot", "plotting")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

@@ -17,12 +17,21 @@ from typing import Any, Literal
 from mudforce._plumbing.deprecation import module_getattr
 from mudforce._plumbing.optional import require
 
-__all__ = ["figure_to_png", "new_figure", "save_png"]
+__all__ = ["check_title", "figure_to_png", "new_figure", "save_png"]
 
 _FIGSIZE = (9.0, 7.0)  # [in]
 _DPI = 100
 #: PNG metadata keys set to ``None`` are left out of the file (matplotlib writes "Software" by default).
 _PNG_METADATA: dict[str, Any] = {"Software": None}
+
+
+def check_title(title: Any) -> None:
+    """Refuse a figure title that is not a str or None in one line: the plots' ``if title:`` raised numpy's
+    ValueError (truth value ambiguous) for an array, and matplotlib's str() of 10**5000 raised ValueError."""
+    if title is not None and not isinstance(title, str):
+        from mudforce.errors import InputError
+
+        raise InputError(f"title must be a str or None, got {type(title).__name__}")
 
 
 def new_figure(width: float, height: float, *, dpi: float = _DPI,

@@ -21,7 +21,7 @@ import numpy as np
 
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce._plumbing.optional import require
-from mudforce.io.plotting import new_figure, save_png
+from mudforce.io.plotting import check_title, new_figure, save_png
 
 if TYPE_CHECKING:
     from mudforce.steppers.simulation import SimulationResult
@@ -94,6 +94,7 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     mudforce._plumbing.optional.MissingDependencyError
         If matplotlib is not installed.
     """
+    check_title(title)
     require("matplotlib", "plot", "plotting")
     from matplotlib.lines import Line2D
 

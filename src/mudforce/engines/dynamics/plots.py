@@ -12,7 +12,7 @@ import numpy as np
 
 from mudforce._plumbing.optional import require
 from mudforce.engines.dynamics.result import PHASE_NAMES, FootResult, check_path
-from mudforce.io.plotting import new_figure, save_png
+from mudforce.io.plotting import check_title, new_figure, save_png
 
 __all__ = ["PHASE_COLOURS", "plot_foot_result"]
 
@@ -44,6 +44,7 @@ def plot_foot_result(result: FootResult, path: str | os.PathLike[str] | None = N
         raise InputError(f"result must be a FootResult, got {type(result).__name__}")
     if path is not None:
         check_path(path, "path")
+    check_title(title)
     require("matplotlib", "plot", "plotting")
     from matplotlib.patches import Patch
 
