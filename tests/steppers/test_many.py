@@ -162,6 +162,12 @@ def test_snapshot_restore_with_a_smoothing_filter() -> None:
     np.testing.assert_array_equal(np.array([many.step(d, 0.01).copy() for d in walks[40:]]), first)
     with pytest.raises(InputError, match="shape"):
         many.state = snap[:, : K.N_STATE]
+    # one contact likewise: a filtered state into an exact contact dropped its history (read back, it differed)
+    exact = MudContact(W25)
+    before = exact.state
+    with pytest.raises(InputError, match=r"^this contact's exact velocity rule keeps no history"):
+        exact.state = single[0].state
+    assert exact.state == before
 
 
 @pytest.mark.parametrize("window", [1, 6])

@@ -305,6 +305,9 @@ class MudContact:
                 raise InputError("this contact's velocity filter needs the history of one with a window > 1; "
                                  "the state was taken with the exact filter")
             self._ring[0] = value.ring
+        elif value.ring.size:  # as MudContacts refuses it: its history was dropped, and the state read back differed
+            raise InputError("this contact's exact velocity rule keeps no history; the state was taken with a "
+                             "velocity filter (a window > 1): restore it into a contact with that filter")
         self._states[0] = value.data
         _recompute_caches(self._states, self._params[None, :])  # this contact's parameters; a replay: same bits
 
