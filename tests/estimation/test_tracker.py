@@ -145,11 +145,11 @@ def test_bad_options_are_refused(options: dict[str, object]) -> None:
 
 @pytest.mark.parametrize(("option", "bound", "unit"), [
     ("misfit", "1000", "-"), ("floor", "1e+07", "N"), ("noise", "1e+07", "N"), ("bias", "1e+07", "N"),
-    ("force_lag", "1000", "s"),
+    ("force_lag", "1000", "s"), ("discrepancy", "1", "-"),
 ])
 def test_a_likelihood_scale_too_large_to_square_is_refused(option: str, bound: str, unit: str) -> None:
     # taken, its square overflowed: every estimate after the first samples was NaN (force_predicted) or an end
-    # of the grid
+    # of the grid; a discrepancy of 1e20 or more blurred with 0/0 (RuntimeWarning) and read 35.25 %, off the grid
     message = re.escape(f"{option} must be at most {bound} [{unit}], got 1e+300")
     with pytest.raises(InputError, match=f"^{message}$"):
         MudTracker(**{option: 1e300})  # type: ignore[arg-type]

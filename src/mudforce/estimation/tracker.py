@@ -1314,7 +1314,7 @@ class MudTrackers:
     discrepancy : float
         Standard deviation [-] of the model's systematic error in water
         content (default 0.0075, three quarters of a point): the fit's posterior is
-        blurred by it before the estimate and interval are read (0: none).
+        blurred by it before the estimate and interval are read (0: none); at most 1.
     force_gain_uncertainty : float
         Relative uncertainty of the force sensor's gain [-], >= 0 (default
         :data:`~mudforce.estimation.nuisances.DEFAULT_FORCE_GAIN_UNCERTAINTY`,
@@ -1445,7 +1445,8 @@ class MudTrackers:
         if isinstance(discrepancy, (int, float)) and not isinstance(discrepancy, bool) and discrepancy == 0.0:
             self.discrepancy = 0.0
         else:
-            self.discrepancy = positive_number(discrepancy, "discrepancy", "-")
+            # at most 1 (100 points of water content): far wider, the blurs' cells lost their mass to rounding (0/0)
+            self.discrepancy = _at_most(positive_number(discrepancy, "discrepancy", "-"), "discrepancy", 1.0, "-")
         # transposed: _blurred_quantiles reads them column by column
         # (one per factor of _BLUR_FACTORS, then the widened ones' piled twins: _blur_matrix's pile)
         self._blur = np.ascontiguousarray(np.stack(
