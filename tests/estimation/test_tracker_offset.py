@@ -13,6 +13,7 @@ throughout, and the offset -4.8 +- 1.5 mm (the model follows the depth plus it).
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -69,6 +70,14 @@ def test_one_offset_hypothesis_and_bad_offsets() -> None:
                 {"depth_offsets": [float("nan")]}, {"depth_offset_prior": 0.0}):
         with pytest.raises(InputError, match=next(iter(bad))):
             MudTracker(**bad)  # type: ignore[arg-type]
+    # every offset 39 or more prior spreads out: the prior was 0/0, the posterior NaN, every estimate 35.25 % (off
+    # the grid) with force_predicted NaN; an offset 1e154 spreads out or more warned of an overflow
+    with pytest.raises(InputError, match=r"^depth_offset_prior 0\.0001 m leaves every one of depth_offsets a prior "
+                                         r"probability of 0 \(the nearest to 0, 0\.004 m, lies 40 standard"):
+        MudTracker(depth_offsets=[0.004, 0.005], depth_offset_prior=1e-4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert MudTracker(depth_offset_prior=1e-300, twin=False).posterior.sum() == pytest.approx(1.0)
 
 
 def test_change_from_18_to_28_percent_is_flagged_and_followed() -> None:

@@ -1337,7 +1337,8 @@ class MudTrackers:
         posterior mean and spread. ``[0.0]``: the depth is taken as exact.
     depth_offset_prior : float
         Prior standard deviation of the surface offset [m], > 0 (default
-        :data:`DEFAULT_DEPTH_OFFSET_PRIOR`, 4 mm).
+        :data:`DEFAULT_DEPTH_OFFSET_PRIOR`, 4 mm), and at least a 38th of the
+        offset nearest 0 (beyond, every offset's prior is 0 in float64).
     max_step : float
         The bank's longest step [s], >= 0 (default :data:`DEFAULT_MAX_STEP`,
         10 ms): a sample interval ``dt`` is cut into ``round(dt / max_step)``
@@ -1435,7 +1436,13 @@ class MudTrackers:
         cfg[_C_RATE_GAIN] = _RATE_WIDENING
         cfg[_C_OFFSET_RES] = 0.5 * float(np.max(np.diff(self.depth_offsets))) if self.depth_offsets.size > 1 else 0.0
         prior = positive_number(depth_offset_prior, "depth_offset_prior", "m")
-        self._log_prior = np.ascontiguousarray(-0.5 * (self.depth_offsets / prior) ** 2)
+        with np.errstate(over="ignore"):  # an offset beyond 1e154 priors out: -inf, a prior probability of 0
+            self._log_prior = np.ascontiguousarray(-0.5 * (self.depth_offsets / prior) ** 2)
+        if not np.exp(self._log_prior).max() > 0.0:  # reset()'s prior would be 0/0: a NaN posterior for good
+            near = float(np.min(np.abs(self.depth_offsets)))
+            raise InputError(f"depth_offset_prior {prior:g} m leaves every one of depth_offsets a prior probability "
+                             f"of 0 (the nearest to 0, {near:g} m, lies {near / prior:.3g} standard deviations out); "
+                             f"expected depth_offset_prior >= {near / 38.0:.3g} m or an offset nearer 0")
         self.depth_offset_prior = prior
         G = self.grid.size
         M = self.depth_offsets.size * G  # models per foot
