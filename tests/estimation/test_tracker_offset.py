@@ -70,6 +70,10 @@ def test_one_offset_hypothesis_and_bad_offsets() -> None:
                 {"depth_offsets": [float("nan")]}, {"depth_offset_prior": 0.0}):
         with pytest.raises(InputError, match=next(iter(bad))):
             MudTracker(**bad)  # type: ignore[arg-type]
+    # one line, whatever the array: its repr in the message spanned lines (2-D, or more than a few values)
+    for offsets in (np.zeros((2, 2)), np.linspace(0.001, -0.001, 30)):
+        with pytest.raises(InputError, match=r"^depth_offsets must list .*, got (shape \(2, 2\)|\[ 0\.001 .*\])$"):
+            MudTracker(depth_offsets=offsets)
     # every offset 39 or more prior spreads out: the prior was 0/0, the posterior NaN, every estimate 35.25 % (off
     # the grid) with force_predicted NaN; an offset 1e154 spreads out or more warned of an overflow
     with pytest.raises(InputError, match=r"^depth_offset_prior 0\.0001 m leaves every one of depth_offsets a prior "

@@ -1240,8 +1240,11 @@ def _offsets(depth_offsets: Sequence[float] | None) -> np.ndarray:
     d = np.array(real_array(depth_offsets, "depth_offsets", "m"), dtype=np.float64)
     if d.ndim != 1 or d.size < 1 or not np.all(np.isfinite(d)) or np.any(np.diff(d) <= 0.0) \
             or np.any(np.abs(d) > 0.02):
+        # one line, of a few values: the repr of a 2-D or long array spans lines
+        got = f"shape {d.shape}" if d.ndim != 1 or d.size < 1 else \
+            np.array2string(d, separator=", ", threshold=8, edgeitems=3, max_line_width=1 << 30)
         raise InputError(f"depth_offsets must list at least one surface offset [m], finite, strictly increasing and "
-                         f"within 20 mm (e.g. (-0.003, 0.0, 0.003)), got {depth_offsets!r}")
+                         f"within 20 mm (e.g. (-0.003, 0.0, 0.003)), got {got}")
     return np.ascontiguousarray(d)
 
 
