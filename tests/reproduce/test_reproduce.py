@@ -149,3 +149,12 @@ def test_config_refuses_bad_values() -> None:
         ReproduceConfig(seed=-3)
     with pytest.raises(InputError):
         ReproduceConfig(water_contents=(0.15, 0.35))
+
+
+def test_synthesize_refuses_a_noise_that_is_no_number_in_one_line() -> None:
+    from mudforce.estimation.calibration import synthesize
+
+    # np.isfinite raised TypeError on these; a bool was taken as 1
+    for noise in ("0.2", 10**5000, True):
+        with pytest.raises(InputError, match=r"^force noise must be a (real )?number"):
+            synthesize(force_noise=noise)  # type: ignore[arg-type]

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, is_integer, positive_int, seed_int, shown
+from mudforce.errors import InputError, finite_number, is_integer, positive_int, seed_int, shown
 from mudforce.estimation.calibration.dataset import Dataset, Trial, save_dataset
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -150,9 +150,11 @@ def synthesize(
     for name, values in (("water_contents", water_contents), ("velocities", velocities)):
         if len(set(values)) != len(list(values)):
             raise InputError(f"{name} repeats a value; give each once (each makes its own trials)")
-    for name, value in (("force noise", force_noise), ("depth noise", depth_noise), ("bias", bias)):
-        if not np.isfinite(value) or (value < 0 and name != "bias"):
-            raise InputError(f"{name} must be finite and >= 0, got {value!r}")
+    # checked, not converted (the manifest records them as given): np.isfinite raised TypeError on a string or an
+    # int beyond float64, and a bool was taken as 0 or 1
+    finite_number(force_noise, "force noise", "N", nonnegative=True)
+    finite_number(depth_noise, "depth noise", "m", nonnegative=True)
+    finite_number(bias, "bias", "N")
     if not water_contents or not velocities:
         raise InputError("synthesize needs at least one water content and one velocity")
     foot = Foot.paper() if foot is None else foot
