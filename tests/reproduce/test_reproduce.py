@@ -8,6 +8,7 @@ import subprocess
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from mudforce.errors import InputError
@@ -149,6 +150,25 @@ def test_config_refuses_bad_values() -> None:
         ReproduceConfig(seed=-3)
     with pytest.raises(InputError):
         ReproduceConfig(water_contents=(0.15, 0.35))
+    assert ReproduceConfig(velocities=np.array([0.01, 0.03])).velocities.size == 2  # not numpy's ValueError
+
+
+@pytest.mark.parametrize(("fields", "message"), [
+    # were a TypeError (a scalar, a string), a ValueError (an array's truth value), taken (True as one repeat, a
+    # scatter of -1 as none, a speed twice: made once, fitted twice), run for ever (10**400 repeats) or an
+    # AttributeError in make_experiments (fit_options=None)
+    ({"velocities": 0.01}, r"velocities must be a sequence of numbers \[m/s\], got shape \(\)"),
+    ({"water_contents": "0.25"}, r"water_contents must be an array of real numbers \[-\], got string"),
+    ({"velocities": (0.01, 0.01)}, r"velocities repeats a value"),
+    ({"repeats": True}, r"repeats must be an integer >= 1, got True"),
+    ({"repeats": 10**5000}, r"repeats must be at most 1000 .*, got an integer of 16610 bits"),
+    ({"repeat_scatter": -1.0}, r"repeat_scatter must be within \[0, 1\] -, got -1.0"),
+    ({"fit_options": None}, r"fit_options must be a FitOptions, got NoneType"),
+])
+def test_config_refuses_bad_fields_in_one_line(fields: dict[str, object], message: str) -> None:
+    with pytest.raises(InputError, match=f"^{message}") as info:
+        ReproduceConfig(**fields)  # type: ignore[arg-type]
+    assert "\n" not in str(info.value)
 
 
 def test_synthesize_refuses_a_noise_that_is_no_number_in_one_line() -> None:

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, true_or_false
+from mudforce.errors import InputError, number_within, positive_int, real_array, shown, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.fit import FitOptions
 from mudforce.estimation.calibration.synth import synthesize, trial_name
@@ -31,6 +31,9 @@ __all__ = ["SCATTERED", "ReproduceConfig", "make_experiments"]
 
 #: Parameters that scatter from repeat to repeat in the synthetic experiments.
 SCATTERED: tuple[str, ...] = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y")
+#: Most trials per water content and speed a report makes [-] (ours; the paper's protocol has 3): past it a count is
+#: a mistake, which ran for hours or for ever.
+MAX_REPEATS = 1000
 
 
 @dataclass(frozen=True)
@@ -44,12 +47,12 @@ class ReproduceConfig:
     velocities : tuple of float
         Intrusion and withdrawal speeds [m/s]; the first is the reference speed.
     repeats : int
-        Trials per (water content, speed).
+        Trials per (water content, speed), in [1, :data:`MAX_REPEATS`].
     rate : float
         Sampling rate [Hz].
     repeat_scatter : float
         Relative standard deviation of the trial-to-trial scatter of
-        :data:`SCATTERED` [-] (lognormal).
+        :data:`SCATTERED` [-] (lognormal), in [0, 1].
     force_noise, depth_noise, bias : float
         Sensor imperfections: white force noise [N], white depth noise [m], force bias [N].
     fit_options : FitOptions
@@ -78,10 +81,25 @@ class ReproduceConfig:
     def __post_init__(self) -> None:
         check_seed(self.seed)
         object.__setattr__(self, "quick", true_or_false(self.quick, "quick"))  # numpy's bool as bool (JSON)
+        # checked here, not where they are first used (a TypeError or AttributeError in make_experiments, a
+        # scatter of -1 taken as 0, repeats=10**400 run for ever, a repeated speed made once and fitted twice)
+        for name, unit in (("water_contents", "-"), ("velocities", "m/s")):
+            values = real_array(getattr(self, name), name, unit)
+            if values.ndim != 1:
+                raise InputError(f"{name} must be a sequence of numbers [{unit}], got shape {values.shape}")
+            if np.unique(values).size != values.size:
+                raise InputError(f"{name} repeats a value; give each once (each makes its own trials)")
         if not any(abs(w - 0.25) < 1e-9 for w in self.water_contents):
             raise InputError("the water contents must include 0.25 (the paper's Figs. 2, 6 and 11)")
-        if not self.velocities or self.repeats < 1:
+        if len(self.velocities) < 1:
             raise InputError("reproduce needs at least one speed and one repeat")
+        if positive_int(self.repeats, "repeats") > MAX_REPEATS:
+            raise InputError(f"repeats must be at most {MAX_REPEATS} (trials per water content and speed), got "
+                             f"{shown(self.repeats)}")
+        number_within(self.repeat_scatter, "repeat_scatter", 0.0, 1.0, "-")
+        for name in ("fit_options", "velocity_fit_options"):
+            if not isinstance(getattr(self, name), FitOptions):
+                raise InputError(f"{name} must be a FitOptions, got {type(getattr(self, name)).__name__}")
 
     @classmethod
     def full(cls, seed: int = 0) -> ReproduceConfig:
