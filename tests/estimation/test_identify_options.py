@@ -34,6 +34,15 @@ def trial() -> Trial:
     ({"depth_noise": "1"}, "w.csv: depth noise must be between 0 and 10 mm"),  # was TypeError
     ({"family": lambda w: None}, "family(0.15) must return MudParameters, got NoneType"),  # was AttributeError
     ({"family": 3}, "family must be a function of the water content [-] returning MudParameters, got int"),
+    # past 4,300 digits the message's repr raised ValueError (Exceeds the limit ...), math.isfinite OverflowError
+    ({"level": 10**5000}, "confidence level must be in (0, 1), got an integer of 16610 bits"),
+    ({"force_gain_uncertainty": 10**5000}, "force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got an "
+                                           "integer of 16610 bits"),
+    ({"depth_noise": 10**5000}, "w.csv: depth noise must be between 0 and 10 mm (e.g. 0.03 mm), got an integer of "
+                                "16610 bits m"),
+    ({"bounds": (0.2, 10**400)}, "bounds must be (low, high) with low < high, both finite [-], got (0.2, an integer "
+                                 "of 1329 bits)"),
+    ({"bounds": np.zeros((2, 2))}, "bounds must be (low, high) with low < high, both finite [-], got ndarray"),
 ])
 def test_identify_refuses_options_of_the_wrong_type(trial: Trial, options: dict[str, Any], message: str) -> None:
     with pytest.raises(InputError) as info:

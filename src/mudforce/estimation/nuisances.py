@@ -6,7 +6,7 @@ A light module (no scipy): the tracker imports it without the calibration packag
 
 from __future__ import annotations
 
-from mudforce.errors import InputError, is_real
+from mudforce.errors import InputError, is_real, shown
 
 __all__ = ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"]
 
@@ -20,4 +20,4 @@ REST_SPEED = 0.005
 def check_force_gain_uncertainty(g: float) -> None:
     """Refuse a force gain uncertainty ``g`` [-] outside [0, 0.5) in one line (identify's and fit's check)."""
     if not is_real(g) or not 0.0 <= g < 0.5:  # a string or None raised TypeError, False read as 0
-        raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got {g!r}")
+        raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got {shown(g)}")

@@ -123,6 +123,7 @@ MIN_HALF_WIDTH = 0.0025
 
 #: Most grid points of identify's scan [-] (10**9 hung allocating the grid).
 _MAX_POINTS = 100_000
+_FLOAT_MAX = float(np.finfo(np.float64).max)  # the largest finite float64: a bound beyond it is no number to search
 #: Largest surface offset of the depth that identify fits [m] (+-10 mm).
 MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
@@ -873,7 +874,7 @@ def identify_water_content(
     if not isinstance(trial, (Trial, PreparedTrial)):
         raise InputError(f"trial must be a Trial or a PreparedTrial, got {type(trial).__name__}")
     if not is_real(level) or not 0.0 < level < 1.0:
-        raise InputError(f"confidence level must be in (0, 1), got {level!r}")
+        raise InputError(f"confidence level must be in (0, 1), got {shown(level)}")
     check_force_gain_uncertainty(force_gain_uncertainty)
     if not is_integer(points) or not 2 <= points <= _MAX_POINTS:  # one point searched [low, low]: always low
         raise InputError(f"points must be an integer in [2, {_MAX_POINTS}], got {shown(points)}")
@@ -892,8 +893,12 @@ def identify_water_content(
         raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
                          "the trial carries no force to identify a water content from (is the column right?)")
     lo, hi = bounds if isinstance(bounds, (tuple, list)) and len(bounds) == 2 else (math.nan, math.nan)
-    if not (is_real(lo) and is_real(hi) and math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise InputError(f"bounds must be (low, high) with low < high, both finite [-], got {bounds!r}")
+    # each end finite within float64 (math.isfinite raised OverflowError on 10**400); the message in one line
+    if not (is_real(lo) and is_real(hi) and abs(lo) <= _FLOAT_MAX and abs(hi) <= _FLOAT_MAX and lo < hi):
+        got = type(bounds).__name__ if not isinstance(bounds, (tuple, list)) else \
+            "(" + ", ".join(shown(x) if is_real(x) else type(x).__name__ for x in bounds[:3]) \
+            + (", ...)" if len(bounds) > 3 else ")")
+        raise InputError(f"bounds must be (low, high) with low < high, both finite [-], got {got}")
     t = tr.time
     general = tr.motion is None
     raw = tr.trial.force

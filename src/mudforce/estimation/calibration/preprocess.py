@@ -29,7 +29,7 @@ import numpy as np
 from scipy.ndimage import median_filter
 from scipy.optimize import least_squares
 
-from mudforce.errors import InputError, is_real, real_array
+from mudforce.errors import InputError, is_real, real_array, shown
 from mudforce.estimation.calibration.branches import (
     denoise_depth,
     estimate_force_noise,
@@ -563,7 +563,7 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: fl
         raise InputError(f'{trial.name}: depth_noise_from must be "all" or "quiet", got {depth_noise_from!r}')
     if depth_noise is not None and not (is_real(depth_noise) and 0.0 <= depth_noise <= _MAX_DEPTH_NOISE_M):
         raise InputError(f"{trial.name}: depth noise must be between 0 and {_MAX_DEPTH_NOISE_M * 1e3:g} mm "
-                         f"(e.g. 0.03 mm), got {depth_noise!r} m")
+                         f"(e.g. 0.03 mm), got {shown(depth_noise)} m")
     if protocol is not None and not isinstance(protocol, (bool, np.bool_)):
         raise InputError(f"{trial.name}: protocol must be True, False or None, got {protocol!r}")
     quiet = depth_noise_from == "quiet"
