@@ -95,8 +95,8 @@ PINNED: dict[str, list[str]] = {
         "load_fit_parameters", "misfit_ratio", "speed_key",
     ],
     "mudforce.estimation.calibration.synth": [
-        "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "START_BELOW", "synthesize",
-        "synthesize_gait", "trial_name",
+        "DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "MAX_REPEATS", "START_BELOW",
+        "repeat_count", "synthesize", "synthesize_gait", "trial_name",
     ],
     "mudforce.estimation.calibration.uncertainty": [
         "correlation_inflation", "covariance", "jackknife_variance", "jacobian", "motion_sensitivity", "profiled",

@@ -178,3 +178,9 @@ def test_synthesize_refuses_a_noise_that_is_no_number_in_one_line() -> None:
     for noise in ("0.2", 10**5000, True):
         with pytest.raises(InputError, match=r"^force noise must be a (real )?number"):
             synthesize(force_noise=noise)  # type: ignore[arg-type]
+    # a count of repeats past MAX_REPEATS ran for ever (10**400), as ReproduceConfig's did
+    from mudforce.estimation.calibration.synth import synthesize_gait
+
+    for make in (synthesize, synthesize_gait):
+        with pytest.raises(InputError, match=r"^repeats must be at most 1000 .*, got 1e\+20$"):
+            make(repeats=10**20)

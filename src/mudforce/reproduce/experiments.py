@@ -19,10 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, number_within, positive_int, real_array, shown, true_or_false
+from mudforce.errors import InputError, number_within, real_array, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.fit import FitOptions
-from mudforce.estimation.calibration.synth import synthesize, trial_name
+from mudforce.estimation.calibration.synth import repeat_count, synthesize, trial_name
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.reproduce._checks import check_seed
@@ -31,9 +31,6 @@ __all__ = ["SCATTERED", "ReproduceConfig", "make_experiments"]
 
 #: Parameters that scatter from repeat to repeat in the synthetic experiments.
 SCATTERED: tuple[str, ...] = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y")
-#: Most trials per water content and speed a report makes [-] (ours; the paper's protocol has 3): past it a count is
-#: a mistake, which ran for hours or for ever.
-MAX_REPEATS = 1000
 
 
 @dataclass(frozen=True)
@@ -93,9 +90,7 @@ class ReproduceConfig:
             raise InputError("the water contents must include 0.25 (the paper's Figs. 2, 6 and 11)")
         if len(self.velocities) < 1:
             raise InputError("reproduce needs at least one speed and one repeat")
-        if positive_int(self.repeats, "repeats") > MAX_REPEATS:
-            raise InputError(f"repeats must be at most {MAX_REPEATS} (trials per water content and speed), got "
-                             f"{shown(self.repeats)}")
+        repeat_count(self.repeats)
         number_within(self.repeat_scatter, "repeat_scatter", 0.0, 1.0, "-")
         for name in ("fit_options", "velocity_fit_options"):
             if not isinstance(getattr(self, name), FitOptions):

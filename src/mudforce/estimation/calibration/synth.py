@@ -28,8 +28,12 @@ from mudforce.motions.sensor_chain import SensorChain
 from mudforce.motions.sensor_chain import apply as apply_chain
 from mudforce.steppers.simulation import simulate
 
-__all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "START_BELOW",
-           "synthesize", "synthesize_gait", "trial_name"]
+__all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "MAX_REPEATS",
+           "START_BELOW", "repeat_count", "synthesize", "synthesize_gait", "trial_name"]
+
+#: Most trials per water content (and speed) one synthetic dataset makes [-] (ours; the paper's protocol has 3): past
+#: it a count is a mistake, which ran for hours or for ever (10**400).
+MAX_REPEATS = 1000
 
 #: How ``synthesize_gait`` chooses where each walk starts: above the surface, in the mud, or every other one.
 START_BELOW = ("never", "always", "alternate")
@@ -75,6 +79,15 @@ def _chain_entry(chain: SensorChain) -> dict[str, Any]:
              if k not in ("depth_noise_m", "force_noise_N", "force_bias_N", "rate_Hz")}
     entry["fine_rate_Hz"] = FINE_RATE
     return entry
+
+
+def repeat_count(repeats: Any) -> int:
+    """``repeats`` as an int in [1, :data:`MAX_REPEATS`], else InputError (the synthetic datasets' and the report's
+    count of trials per water content and speed)."""
+    if positive_int(repeats, "repeats") > MAX_REPEATS:
+        raise InputError(f"repeats must be at most {MAX_REPEATS} (trials per water content and speed), got "
+                         f"{shown(repeats)}")
+    return int(repeats)
 
 
 def trial_name(water_content: float, velocity: float, repeat: int) -> str:
@@ -145,7 +158,7 @@ def synthesize(
     Dataset
         With the true parameters under ``extra["synthetic"]``.
     """
-    repeats = positive_int(repeats, "repeats")
+    repeats = repeat_count(repeats)
     seed = seed_int(seed, "seed")
     for name, values in (("water_contents", water_contents), ("velocities", velocities)):
         if len(set(values)) != len(list(values)):
@@ -258,7 +271,7 @@ def synthesize_gait(
     """
     from mudforce.motions.gait import gait, walk
 
-    repeats = positive_int(repeats, "repeats")
+    repeats = repeat_count(repeats)
     if start_below not in START_BELOW:
         raise InputError(f"start_below must be one of {', '.join(START_BELOW)}, got {start_below!r}")
     if not water_contents:
