@@ -51,3 +51,32 @@ def test_a_dataset_trial_without_a_water_content_is_refused_by_name() -> None:
     for fit in (fit_dataset, fit_by_velocity):
         with pytest.raises(InputError, match=r"^trial unknown has no water content \(NaN\)"):
             fit(data)
+
+
+@pytest.mark.parametrize(("options", "words"), [
+    # an unknown name was silently ignored; a str's letters were read as fixed names; True was held as 1
+    ({"fixed": {"bogus": 1.0}}, "fixed: unknown parameter 'bogus' for model chen2024"),
+    ({"fixed": "beta"}, "fixed must be a mapping of parameter names to values [SI]"),
+    ({"fixed": {"beta": True}}, "fixed beta must be a number [-], got bool"),
+    # NaN raised scipy's ValueError, 10**5000 OverflowError; a start of NaN, -0.5 or inf numpy's LinAlgError, 0 log(0)
+    ({"fixed": {"beta": float("nan")}}, "fixed beta must be within [0.001, 1] -, got nan"),
+    ({"fixed": {"k_m_i": 10**5000}}, "fixed k_m_i must be a real number within float64's range"),
+    ({"start": {"beta": -0.5}}, "start beta must be within [0.001, 1] -, got -0.5"),
+    ({"start": {"alpha": 0}}, "start alpha must be > 0"),
+    ({"start": {"k_m_i": float("inf")}}, "start k_m_i must be within"),
+    ({"start": {"bogus": 1.0}}, "start: unknown parameter 'bogus'"),
+])
+def test_fixed_and_start_values_are_checked_before_any_fit(options: dict[str, Any], words: str) -> None:
+    from mudforce import Foot
+    from mudforce.estimation.calibration import fit_by_velocity, fit_dataset
+    from mudforce.estimation.calibration.dataset import Dataset
+
+    fits = [lambda: fit_condition([TRIAL], **options)]
+    if "fixed" in options:
+        data = Dataset(Foot.paper(), (TRIAL,))
+        fits += [lambda: fit_dataset(data, fixed=options["fixed"], quiet=True),
+                 lambda: fit_by_velocity(data, fixed=options["fixed"], quiet=True)]
+    for fit in fits:
+        with pytest.raises(InputError) as err:
+            fit()
+        assert str(err.value).startswith(words) and "\n" not in str(err.value)

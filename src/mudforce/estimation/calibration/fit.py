@@ -53,7 +53,7 @@ from scipy.optimize import differential_evolution, least_squares
 
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.progress import Progress
-from mudforce.errors import InputError, true_or_false
+from mudforce.errors import InputError, number_within, shown, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor_parts, prepare_trial, tare_correction
@@ -78,6 +78,7 @@ from mudforce.estimation.calibration.uncertainty import (
 )
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, check_force_gain_uncertainty
 from mudforce.model.foot import Foot
+from mudforce.model.parameters import PARAMETER_RANGES
 
 # the results and the uncertainty live in their own modules; their names stay importable from here
 __all__ = [
@@ -348,6 +349,28 @@ def _resolve_free(model: ForceModel, free: Iterable[str] | None, fixed: Mapping[
     return tuple(n for n in names if n in chosen and n not in held)
 
 
+def _parameter_values(model: ForceModel, values: Mapping[str, float] | None, what: str) -> dict[str, float]:
+    """``fixed`` or ``start`` (``what``) as name -> float [SI], else InputError: a mapping of ``model``'s parameter
+    names to finite real numbers (not bool or str) within the parameter's range (``PARAMETER_RANGES``, as
+    ``--fix``; >= 0 for another model's names), a start > 0 (the fit starts from its logarithm)."""
+    if values is None:
+        return {}
+    if not isinstance(values, Mapping):
+        raise InputError(f"{what} must be a mapping of parameter names to values [SI], e.g. {{'beta': 0.5}}, "
+                         f"got {type(values).__name__}")
+    out: dict[str, float] = {}
+    for name, value in values.items():
+        if name not in model.parameter_names:
+            raise InputError(f"{what}: unknown parameter {shown(name)} for model {model.name}; expected some of "
+                             f"{', '.join(model.parameter_names)}")
+        lo, hi = PARAMETER_RANGES.get(name, (0.0, math.inf))
+        number = number_within(value, f"{what} {name}", lo, hi, model.units.get(name, "SI"))
+        if what == "start" and not number > 0.0:
+            raise InputError(f"start {name} must be > 0 (the fit starts from its logarithm), got {shown(value)}")
+        out[name] = number
+    return out
+
+
 def _prepare(trials: Sequence[Trial | PreparedTrial]) -> list[PreparedTrial]:
     if isinstance(trials, (Trial, PreparedTrial)):
         raise InputError("trials must be a list of Trial (or PreparedTrial), got one Trial: pass [trial]")
@@ -552,9 +575,10 @@ def fit_condition(
         The parameters to fit; by default all but the model's fixed ones
         (``rho_m`` and ``lambda`` for the paper's model).
     fixed : mapping, optional
-        Name -> value [SI] for parameters held fixed (overrides ``free``).
+        Name -> value [SI] for parameters held fixed (overrides ``free``): finite, within the parameter's range
+        (:data:`~mudforce.model.parameters.PARAMETER_RANGES`, as ``--fix``; >= 0 for a name not there).
     start : mapping, optional
-        Name -> value [SI] to start from (default: the model's defaults).
+        Name -> value [SI] to start from (default: the model's defaults): as ``fixed``, and > 0.
     seed : int
         Seeds the global search; the same seed and data give the same fit.
     options : FitOptions, optional
@@ -574,6 +598,7 @@ def fit_condition(
     """
     check_force_gain_uncertainty(force_gain_uncertainty)
     m = get_model(model)
+    fixed, start = _parameter_values(m, fixed, "fixed"), _parameter_values(m, start, "start")
     foot = Foot.paper() if foot is None else foot
     options = FitOptions() if options is None else options
     prepared = _prepare(trials)
@@ -652,6 +677,7 @@ def fit_dataset(
     check_force_gain_uncertainty(force_gain_uncertainty)
     quiet = true_or_false(quiet, "quiet")
     m = get_model(model)
+    fixed = _parameter_values(m, fixed, "fixed")
     free_names = _resolve_free(m, free, fixed)
     if isinstance(shared, (str, bytes)):  # its letters are no names
         raise InputError(f"shared must be a sequence of parameter names, e.g. ('k_m_w', 'b_m_w'), got {shared!r}")
@@ -701,6 +727,7 @@ def fit_by_velocity(
     """
     quiet = true_or_false(quiet, "quiet")
     m = get_model(model)
+    fixed = _parameter_values(m, fixed, "fixed")
     groups: dict[tuple[float, float], list[PreparedTrial]] = {}
     for w, trials in dataset.conditions().items():
         for tr in _prepare(trials):
