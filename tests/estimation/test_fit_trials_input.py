@@ -80,3 +80,26 @@ def test_fixed_and_start_values_are_checked_before_any_fit(options: dict[str, An
         with pytest.raises(InputError) as err:
             fit()
         assert str(err.value).startswith(words) and "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize(("fields", "words"), [
+    # 0 max_nfev raised scipy's ValueError mid-fit, a float popsize TypeError; starts=0 and popsize=0 were taken
+    # as 1 and 5 and True as 1 without a word; a NaN tol ran on
+    ({"max_nfev": 0}, "FitOptions.max_nfev must be an integer >= 1, got 0"),
+    ({"popsize": 3.5}, "FitOptions.popsize must be an integer >= 1, got 3.5"),
+    ({"starts": 0}, "FitOptions.starts must be an integer >= 1, got 0"),
+    ({"maxiter": True}, "FitOptions.maxiter must be an integer >= 0, got True"),
+    ({"tol": float("nan")}, "FitOptions.tol must be finite [-], got nan"),
+])
+def test_fit_options_are_checked_when_made(fields: dict[str, Any], words: str) -> None:
+    from mudforce.estimation.calibration import FitOptions
+
+    with pytest.raises(InputError) as err:
+        FitOptions(**fields)
+    assert str(err.value) == words
+
+
+def test_options_that_are_not_fit_options_are_refused_in_one_line() -> None:
+    """A dict raised AttributeError ('dict' object has no attribute 'starts') after the trials were prepared."""
+    with pytest.raises(InputError, match=r"^options must be a FitOptions \(or None: the defaults\), got dict$"):
+        fit_condition([TRIAL], options={"starts": 1})  # type: ignore[arg-type]

@@ -53,7 +53,7 @@ from scipy.optimize import differential_evolution, least_squares
 
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.progress import Progress
-from mudforce.errors import InputError, number_within, shown, true_or_false
+from mudforce.errors import InputError, finite_number, is_integer, number_within, positive_int, shown, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor_parts, prepare_trial, tare_correction
@@ -123,6 +123,24 @@ class FitOptions:
     maxiter: int = 60
     tol: float = 1e-4
     max_nfev: int = 400
+
+    def __post_init__(self) -> None:
+        # checked when made (0 or a float reached scipy's ValueError or TypeError mid-fit, True was 1, NaN ran on)
+        for name in ("starts", "popsize", "max_nfev"):
+            object.__setattr__(self, name, positive_int(getattr(self, name), f"FitOptions.{name}"))
+        if not is_integer(self.maxiter) or self.maxiter < 0:  # 0: the initial population alone
+            raise InputError(f"FitOptions.maxiter must be an integer >= 0, got {shown(self.maxiter)}")
+        object.__setattr__(self, "maxiter", int(self.maxiter))
+        object.__setattr__(self, "tol", finite_number(self.tol, "FitOptions.tol", "-", nonnegative=True))
+
+
+def _options(options: FitOptions | None) -> FitOptions:
+    """``options``, or the defaults for None; anything else is refused in one line."""
+    if options is None:
+        return FitOptions()
+    if not isinstance(options, FitOptions):
+        raise InputError(f"options must be a FitOptions (or None: the defaults), got {type(options).__name__}")
+    return options
 
 
 # ---------------------------------------------------------------------------- the objective
@@ -600,7 +618,7 @@ def fit_condition(
     m = get_model(model)
     fixed, start = _parameter_values(m, fixed, "fixed"), _parameter_values(m, start, "start")
     foot = Foot.paper() if foot is None else foot
-    options = FitOptions() if options is None else options
+    options = _options(options)
     prepared = _prepare(trials)
     free_names = _resolve_free(m, free, fixed)
     if not free_names:
@@ -677,7 +695,7 @@ def fit_dataset(
     check_force_gain_uncertainty(force_gain_uncertainty)
     quiet = true_or_false(quiet, "quiet")
     m = get_model(model)
-    fixed = _parameter_values(m, fixed, "fixed")
+    fixed, options = _parameter_values(m, fixed, "fixed"), _options(options)
     free_names = _resolve_free(m, free, fixed)
     if isinstance(shared, (str, bytes)):  # its letters are no names
         raise InputError(f"shared must be a sequence of parameter names, e.g. ('k_m_w', 'b_m_w'), got {shared!r}")
@@ -727,7 +745,7 @@ def fit_by_velocity(
     """
     quiet = true_or_false(quiet, "quiet")
     m = get_model(model)
-    fixed = _parameter_values(m, fixed, "fixed")
+    fixed, options = _parameter_values(m, fixed, "fixed"), _options(options)
     groups: dict[tuple[float, float], list[PreparedTrial]] = {}
     for w, trials in dataset.conditions().items():
         for tr in _prepare(trials):
@@ -746,7 +764,7 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
                 free: Sequence[str], shared: tuple[str, ...], options: FitOptions | None,
                 force_gain_uncertainty: float = 0.0) -> list[ConditionFit]:
     """Refit all conditions jointly, with the ``shared`` parameters tied across them."""
-    options = FitOptions() if options is None else options
+    options = _options(options)
     names = model.parameter_names
     base = [model.vector(f.parameters) for f in fits]
     slots: list[list[tuple[int, int]]] = []
