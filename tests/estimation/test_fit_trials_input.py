@@ -103,3 +103,27 @@ def test_options_that_are_not_fit_options_are_refused_in_one_line() -> None:
     """A dict raised AttributeError ('dict' object has no attribute 'starts') after the trials were prepared."""
     with pytest.raises(InputError, match=r"^options must be a FitOptions \(or None: the defaults\), got dict$"):
         fit_condition([TRIAL], options={"starts": 1})  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("seed", "words"), [
+    # a str or float raised TypeError at the global search, -8000 numpy's ValueError there; True and -5 were
+    # recorded as fit.json's seed (true, -5), 10**5000 made its writer call the result not finite
+    ("1", "seed must be an integer"),
+    (1.5, "seed must be an integer"),
+    (-8000, "seed must be an integer"),
+    (True, "seed must be an integer"),
+    pytest.param(10**5000, "seed must be an integer in [0, 4294967295], got an integer of 16610 bits", id="10**5000"),
+])
+def test_seeds_that_are_not_integers_in_range_are_refused_in_one_line(seed: Any, words: str) -> None:
+    from mudforce import Foot
+    from mudforce.estimation.calibration import fit_by_velocity, fit_dataset
+    from mudforce.estimation.calibration.dataset import Dataset
+
+    data = Dataset(Foot.paper(), (TRIAL,))
+    fits = [lambda: fit_dataset(data, seed=seed, quiet=True), lambda: fit_by_velocity(data, seed=seed, quiet=True)]
+    if seed != 10**5000:
+        fits.append(lambda: fit_condition([TRIAL], seed=seed))
+    for fit in fits:
+        with pytest.raises(InputError) as err:
+            fit()
+        assert str(err.value).startswith(words) and "\n" not in str(err.value)

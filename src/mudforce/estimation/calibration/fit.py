@@ -53,7 +53,16 @@ from scipy.optimize import differential_evolution, least_squares
 
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.progress import Progress
-from mudforce.errors import InputError, finite_number, is_integer, number_within, positive_int, shown, true_or_false
+from mudforce.errors import (
+    InputError,
+    finite_number,
+    is_integer,
+    number_within,
+    positive_int,
+    seed_int,
+    shown,
+    true_or_false,
+)
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor_parts, prepare_trial, tare_correction
@@ -598,7 +607,8 @@ def fit_condition(
     start : mapping, optional
         Name -> value [SI] to start from (default: the model's defaults): as ``fixed``, and > 0.
     seed : int
-        Seeds the global search; the same seed and data give the same fit.
+        Seeds the global search; the same seed and data give the same fit. An integer >= 0 (for
+        :func:`fit_dataset` and :func:`fit_by_velocity` at most ``2**32 - 1``, as ``--seed``).
     options : FitOptions, optional
         Optimiser budget.
     progress : Progress, optional
@@ -615,6 +625,8 @@ def fit_condition(
     ConditionFit
     """
     check_force_gain_uncertainty(force_gain_uncertainty)
+    if not is_integer(seed) or seed < 0:  # fit_dataset's conditions' seeds pass MAX_SEED: no upper bound here
+        raise InputError(f"seed must be an integer >= 0, got {shown(seed)}")
     m = get_model(model)
     fixed, start = _parameter_values(m, fixed, "fixed"), _parameter_values(m, start, "start")
     foot = Foot.paper() if foot is None else foot
@@ -693,7 +705,7 @@ def fit_dataset(
     FitResult
     """
     check_force_gain_uncertainty(force_gain_uncertainty)
-    quiet = true_or_false(quiet, "quiet")
+    quiet, seed = true_or_false(quiet, "quiet"), seed_int(seed, "seed")
     m = get_model(model)
     fixed, options = _parameter_values(m, fixed, "fixed"), _options(options)
     free_names = _resolve_free(m, free, fixed)
@@ -743,7 +755,7 @@ def fit_by_velocity(
     measured one to 0.5 mm/s). Returns ``(speed [m/s], fit)`` pairs,
     ordered by water content, then speed.
     """
-    quiet = true_or_false(quiet, "quiet")
+    quiet, seed = true_or_false(quiet, "quiet"), seed_int(seed, "seed")
     m = get_model(model)
     fixed, options = _parameter_values(m, fixed, "fixed"), _options(options)
     groups: dict[tuple[float, float], list[PreparedTrial]] = {}
