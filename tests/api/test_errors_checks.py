@@ -114,6 +114,7 @@ def test_the_checks_share_one_type_test() -> None:
 
 def _huge_int_calls() -> list[Any]:
     from mudforce import Foot, MudContact, MudParameters, VelocityFilter
+    from mudforce.estimation.calibration.drag import fit_drag
 
     paper = MudParameters.from_water_content(0.25)
     return [
@@ -127,6 +128,9 @@ def _huge_int_calls() -> list[Any]:
         (lambda v: Foot(v, 0.03), "foot area must be a real number within float64's range"),
         (lambda v: VelocityFilter(2, v), "velocity filter deadband must be a real number within float64's range"),
         (lambda v: VelocityFilter.for_noise(v, 0.01), "noise level must be a real number within float64's range"),
+        # fit_drag's refusal showed the value by its repr: ValueError (Exceeds the limit (4300 digits))
+        (lambda v: fit_drag([0.01, 0.02], [1.0, 2.0], v), "area must be a real number within float64's range"),
+        (lambda v: fit_drag([0.01, 0.02], [1.0, 2.0], 0.002, rho_m=v), "rho_m must be a real number within"),
     ]
 
 

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce.errors import InputError, is_real, real_array, true_or_false
+from mudforce.errors import InputError, number_within, real_array, true_or_false
 from mudforce.io.tables import COLUMN_UNITS, read_columns
 from mudforce.model.equations import array_form, drag_stress
 from mudforce.model.foot import AREA_RANGE
@@ -120,9 +120,9 @@ def fit_drag(velocity: Any, force: Any, area: float, *, rho_m: float = RHO_M,
     f = real_array(force, "force", "N")
     if v.shape != f.shape or v.ndim != 1:
         raise InputError(f"velocity and force must be 1-D arrays of equal length, got {v.shape} and {f.shape}")
-    for name, value, (lo, hi) in (("area", area, AREA_RANGE), ("rho_m", rho_m, PARAMETER_RANGES["rho_m"])):
-        if not is_real(value) or not lo <= value <= hi:
-            raise InputError(f"{name} must be within [{lo:g}, {hi:g}] (SI), got {value!r}")
+    for name, value, (lo, hi), unit in (("area", area, AREA_RANGE, "m^2"),
+                                        ("rho_m", rho_m, PARAMETER_RANGES["rho_m"], "kg/m^3")):
+        number_within(value, name, lo, hi, unit)  # a repr of 10**5000 raised ValueError
     if not (np.all(np.isfinite(v)) and np.all(np.isfinite(f))):
         raise InputError("velocity and force must be finite")
     p = 2 if true_or_false(intercept, "intercept") else 1
