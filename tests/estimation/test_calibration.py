@@ -285,6 +285,9 @@ def test_identify_water_content(water_content: float) -> None:
     ({"velocity": "fast"}, "t.csv: velocity is 'fast'; expected None or a number > 0 [m/s]"),
     ({"velocity": -0.01}, "t.csv: velocity is -0.01; expected None or a number > 0 [m/s]"),
     ({"repeat": 1.5}, "t.csv: repeat is 1.5; expected None or a non-negative integer"),
+    # math.isnan(10**5000) and float(10**400) raised OverflowError
+    pytest.param({"water_content": 10**5000}, "t.csv: water_content is an integer of 16610 bits; expected", id="w"),
+    pytest.param({"velocity": 10**400}, "t.csv: velocity is an integer of 1329 bits; expected None", id="v"),
 ])
 def test_a_trial_made_in_python_has_its_labels_checked(fields: dict[str, object], message: str) -> None:
     """A Trial's labels were taken as given: water_content="x" (or 25 for 25 %) was fitted and came back as the

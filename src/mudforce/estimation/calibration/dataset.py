@@ -54,6 +54,8 @@ MANIFEST_NAME = "dataset.json"
 
 #: Fewest samples a trial may have [-] (the motion fit needs a handful per segment).
 MIN_SAMPLES = 20
+#: Largest finite float64 [-]: a label beyond it (a Python int such as 10**400) cannot be held as a float.
+_FLOAT_MAX = float(np.finfo(np.float64).max)
 
 _TRIAL_COLUMNS = {"time": COLUMN_UNITS["time"], "depth": COLUMN_UNITS["depth"], "force": COLUMN_UNITS["force"]}
 _TOP_KEYS = ("foot", "trials", "description", "synthetic")
@@ -96,13 +98,13 @@ class Trial:
         if not isinstance(self.name, str):
             raise InputError(f"a trial's name must be a str, got {type(self.name).__name__}")
         w = self.water_content
-        if not is_real(w) or not (math.isnan(w) or 0.0 < w < 1.0):
-            raise InputError(f"{self.name}: water_content is {w!r}; expected a number in (0, 1), e.g. 0.25 for 25%, "
-                             "or NaN (unknown)")
+        if not is_real(w) or not (0.0 < w < 1.0 or (not is_integer(w) and math.isnan(w))):  # isnan(10**400) raised
+            raise InputError(f"{self.name}: water_content is {shown(w)}; expected a number in (0, 1), e.g. 0.25 for "
+                             "25%, or NaN (unknown)")
         object.__setattr__(self, "water_content", float(w))
         v = self.velocity
-        if v is not None and not (is_real(v) and 0.0 < v < math.inf):
-            raise InputError(f"{self.name}: velocity is {v!r}; expected None or a number > 0 [m/s], e.g. 0.01")
+        if v is not None and not (is_real(v) and 0.0 < v <= _FLOAT_MAX):  # float(10**400) raised OverflowError
+            raise InputError(f"{self.name}: velocity is {shown(v)}; expected None or a number > 0 [m/s], e.g. 0.01")
         if v is not None:
             object.__setattr__(self, "velocity", float(v))
         r = self.repeat
