@@ -127,3 +127,16 @@ def test_seeds_that_are_not_integers_in_range_are_refused_in_one_line(seed: Any,
         with pytest.raises(InputError) as err:
             fit()
         assert str(err.value).startswith(words) and "\n" not in str(err.value)
+
+
+def test_a_model_that_is_neither_a_name_nor_a_force_model_is_refused_in_one_line() -> None:
+    """get_model(['chen2024']) raised TypeError (unhashable type: 'list'), register_model('chen2024')
+    AttributeError ('str' object has no attribute 'name')."""
+    from mudforce.estimation.calibration import get_model, register_model
+
+    with pytest.raises(InputError, match=r"^model must be a model name or a ForceModel, got list; known models: "):
+        fit_condition([TRIAL], model=["chen2024"])  # type: ignore[arg-type]
+    with pytest.raises(InputError, match=r"^model must be a model name or a ForceModel, got dict"):
+        get_model({})  # type: ignore[arg-type]
+    with pytest.raises(InputError, match=r"^register_model takes a ForceModel, got str$"):
+        register_model("chen2024")  # type: ignore[arg-type]

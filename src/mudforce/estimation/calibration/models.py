@@ -370,6 +370,8 @@ MODELS: dict[str, ForceModel] = {m.name: m for m in (CHEN2024, GRANULAR_RFT, DRF
 
 def register_model(model: ForceModel) -> None:
     """Make ``model`` available to :func:`get_model` and ``--model NAME``."""
+    if not isinstance(model, ForceModel):  # a name or None raised AttributeError ('str' object has no attribute)
+        raise InputError(f"register_model takes a ForceModel, got {type(model).__name__}")
     MODELS[model.name] = model
 
 
@@ -377,6 +379,9 @@ def get_model(model: str | ForceModel) -> ForceModel:
     """A model by name (one of :data:`MODELS`), or the model itself."""
     if isinstance(model, ForceModel):
         return model
+    if not isinstance(model, str):  # a list or dict raised TypeError (unhashable type)
+        raise InputError(f"model must be a model name or a ForceModel, got {type(model).__name__}; known models: "
+                         f"{', '.join(sorted(MODELS))}")
     try:
         return MODELS[model]
     except KeyError:
