@@ -140,3 +140,19 @@ def test_a_model_that_is_neither_a_name_nor_a_force_model_is_refused_in_one_line
         get_model({})  # type: ignore[arg-type]
     with pytest.raises(InputError, match=r"^register_model takes a ForceModel, got str$"):
         register_model("chen2024")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("low", "high", "shown"), [
+    (1e3, float("inf"), "1000.0, inf"),  # the global search raised scipy's ValueError
+    (1e3, 10**5000, "1000.0, an integer of 16610 bits"),  # the force overflowed (not finite), its repr ValueError
+    (True, 10.0, "True, 10.0"),  # taken as 1
+    (10.0, 1.0, "10.0, 1.0"),
+], ids=["inf", "10**5000", "bool", "reversed"])
+def test_a_force_model_with_bounds_that_are_not_finite_and_ordered_is_refused_when_made(low: Any, high: Any,
+                                                                                      shown: str) -> None:
+    from mudforce.estimation.calibration import ForceModel
+
+    with pytest.raises(InputError) as err:
+        ForceModel(name="s", parameter_names=("k",), force=lambda t, z, v, foot: z, bounds={"k": (low, high)},
+                   defaults={"k": 1e6})
+    assert str(err.value) == f"model s: bounds of k must be numbers with 0 < low < high < inf, got {shown}"

@@ -17,6 +17,7 @@ one place; another model (a variant of your own) is added with
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
@@ -24,7 +25,7 @@ from typing import Literal
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce.errors import InputError
+from mudforce.errors import InputError, is_real, shown
 from mudforce.estimation.calibration.preprocess import PreparedTrial
 from mudforce.model.baselines import DEFAULT_K_RFT, drft_force, granular_rft_force, maxwell_only_force
 from mudforce.model.equations import array_form, relaxation_time
@@ -139,8 +140,10 @@ class ForceModel:
             if missing:
                 raise InputError(f"model {self.name}: {what} lacks {', '.join(sorted(missing))}")
         for n, (lo, hi) in self.bounds.items():
-            if not 0.0 < lo < hi:
-                raise InputError(f"model {self.name}: bounds of {n} must satisfy 0 < low < high, got {lo}, {hi}")
+            # finite: the global search refused inf (scipy's ValueError), 10**5000 overflowed the force to inf
+            if not (is_real(lo) and is_real(hi) and 0.0 < lo < hi <= sys.float_info.max):
+                raise InputError(f"model {self.name}: bounds of {n} must be numbers with 0 < low < high < inf, "
+                                 f"got {shown(lo)}, {shown(hi)}")
         unknown = set(self.force_scale) - names
         if unknown:
             raise InputError(f"model {self.name}: force_scale names {', '.join(sorted(unknown))}, "
