@@ -65,6 +65,8 @@ def test_a_dataset_trial_without_a_water_content_is_refused_by_name() -> None:
     ({"start": {"alpha": 0}}, "start alpha must be > 0"),
     ({"start": {"k_m_i": float("inf")}}, "start k_m_i must be within"),
     ({"start": {"bogus": 1.0}}, "start: unknown parameter 'bogus'"),
+    # its letters were read as names: "unknown parameter 'b'", where beta is one
+    ({"free": "beta"}, "free must be a sequence of parameter names, e.g. ('k_m_i', 'beta'), got 'beta'"),
 ])
 def test_fixed_and_start_values_are_checked_before_any_fit(options: dict[str, Any], words: str) -> None:
     from mudforce import Foot
@@ -72,6 +74,8 @@ def test_fixed_and_start_values_are_checked_before_any_fit(options: dict[str, An
     from mudforce.estimation.calibration.dataset import Dataset
 
     fits = [lambda: fit_condition([TRIAL], **options)]
+    if "free" in options:
+        fits.append(lambda: fit_dataset(Dataset(Foot.paper(), (TRIAL,)), free=options["free"], quiet=True))
     if "fixed" in options:
         data = Dataset(Foot.paper(), (TRIAL,))
         fits += [lambda: fit_dataset(data, fixed=options["fixed"], quiet=True),

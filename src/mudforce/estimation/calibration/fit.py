@@ -368,6 +368,8 @@ def _profiler(obj: _Objective, x: np.ndarray, jac: np.ndarray, lo: np.ndarray, h
 # ---------------------------------------------------------------------------- one condition
 def _resolve_free(model: ForceModel, free: Iterable[str] | None, fixed: Mapping[str, float] | None) -> tuple[str, ...]:
     names = model.parameter_names
+    if isinstance(free, (str, bytes)):  # its letters are no names (as shared's)
+        raise InputError(f"free must be a sequence of parameter names, e.g. ('k_m_i', 'beta'), got {shown(free)}")
     chosen = [n for n in names if n not in model.fixed] if free is None else list(free)
     for n in chosen:
         if n not in names:
