@@ -29,8 +29,8 @@ class InputError(ValueError):
 
 def shown(value: Any) -> str:
     """``value`` as a message shows it: its ``repr``, but an integer past 15 digits as ``1e+20`` and one past 300
-    digits as its size in bits (Python refuses to print an integer of over 4,300 digits: ValueError), and a repr
-    that spans lines (a 2-D array's) on one line."""
+    digits as its size in bits (Python refuses to print an integer of over 4,300 digits: ValueError), a value
+    holding such an integer (a list's item) by its type, and a repr that spans lines (a 2-D array's) on one line."""
     if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
         count = int(value)
         if abs(count) < 10**15:
@@ -38,7 +38,10 @@ def shown(value: Any) -> str:
         if abs(count) < 10**300:
             return f"{count:.3g}"
         return f"{'a negative' if count < 0 else 'an'} integer of {count.bit_length()} bits"
-    text = repr(value)
+    try:
+        text = repr(value)
+    except ValueError:  # an integer of over 4,300 digits inside it (a list's item): repr raised
+        return f"a {type(value).__name__} holding an integer too long to show"
     return " ".join(text.split()) if "\n" in text else text
 
 

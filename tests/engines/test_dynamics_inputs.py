@@ -182,6 +182,8 @@ def test_mujoco_entry_points_refuse() -> None:
     mud = MudAdapter(model, data, ["sole"], MudPatch(W25), Foot.paper())
     with pytest.raises(InputError, match="weight must be in"):
         mud.weight = 2.0
+    with pytest.raises(InputError, match=r"weight must be in \[0, 1\] \[-\], got an integer of 997 bits$"):
+        mud.weight = 10**300  # was its 301 digits
     with pytest.raises(InputError, match="nstep"):
         mud.step(0.5)  # type: ignore[arg-type]
     mud.step(5)
@@ -274,6 +276,25 @@ def test_a_patch_extent_that_is_no_sequence_of_four_is_refused(extent: Any) -> N
     # a dict's keys and a set's members were taken as the bounds; a generator was checked, then kept exhausted
     with pytest.raises(InputError, match=r"^patch extent must be \(xmin, xmax, ymin, ymax\) \[m\], got"):
         MudPatch(W25, extent=extent)
+
+
+@needs_mujoco
+@pytest.mark.parametrize("bad", [[10**5000], np.array(["sole"] * 30)], ids=["10**5000", "30 names"])
+def test_refused_feet_patches_and_extents_are_shown_in_one_line_whatever_they_hold(bad: Any) -> None:
+    """A list holding 10**5000 raised ValueError ("Exceeds the limit (4300 digits)") from the message's repr in place
+    of the refusal of add_mud's feet, a patch extent or MudAdapter3D's patches, and an array's repr spanned lines."""
+    import mujoco
+
+    from mudforce.engines.mujoco import MudAdapter3D, MudPatch, _drop_spec, add_mud
+
+    spec = _drop_spec(5.0, None, 0.0, 1e-3, 0.025)
+    model = spec.compile()
+    for call, words in ((lambda: add_mud(spec, bad), "feet must be a name"),
+                        (lambda: MudPatch(W25, extent=bad), r"patch extent must be \(xmin"),
+                        (lambda: MudAdapter3D(model, mujoco.MjData(model), ["sole"], bad), "patches must be a")):
+        with pytest.raises(InputError, match=f"^{words}") as error:
+            call()
+        assert "\n" not in str(error.value) and len(str(error.value)) < 600, str(error.value)
 
 
 @needs_mujoco

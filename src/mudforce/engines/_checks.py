@@ -78,9 +78,9 @@ def name_list(feet: Any) -> list[str]:
     if isinstance(feet, str):
         return [feet]
     if not isinstance(feet, Sequence) or not feet or not all(isinstance(f, str) for f in feet):
-        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {feet!r}")
+        raise InputError(f"feet must be a name or a non-empty sequence of names (str), got {shown(feet)}")
     if len(set(feet)) != len(feet):
-        raise InputError(f"feet must be distinct names, got {list(feet)}")
+        raise InputError(f"feet must be distinct names, got {shown(list(feet))}")
     return list(feet)
 
 

@@ -86,7 +86,7 @@ from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
-from mudforce.errors import InputError, finite_number, number_within, real_array
+from mudforce.errors import InputError, finite_number, number_within, real_array, shown
 from mudforce.model.bounds import MAX_DEPTH, bounded_depth, max_samples
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -156,10 +156,11 @@ class MudPatch:
             # kept exhausted), kept as a tuple of floats: later edits of a list do not reach the checked patch
             if not (isinstance(extent, (tuple, list)) or (isinstance(extent, np.ndarray) and extent.ndim == 1)) \
                     or len(extent) != 4:
-                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {extent!r}")
+                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) [m], got {shown(extent)}")
             x0, x1, y0, y1 = (finite_number(v, "patch extent", "m") for v in extent)
             if not (x0 < x1 and y0 < y1):
-                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got {extent}")
+                raise InputError(f"patch extent must be (xmin, xmax, ymin, ymax) with min < max [m], got "
+                                 f"{shown((x0, x1, y0, y1))}")
             object.__setattr__(self, "extent", (x0, x1, y0, y1))
 
     @property
@@ -503,7 +504,7 @@ class MudAdapter:
     def weight(self, value: float) -> None:
         w = finite_number(value, "weight", "-")
         if not 0.0 <= w <= 1.0:
-            raise InputError(f"weight must be in [0, 1] [-], got {value!r}")
+            raise InputError(f"weight must be in [0, 1] [-], got {shown(value)}")
         self._conf[C_WEIGHT] = w
 
     def _prepare(self) -> None:

@@ -89,7 +89,7 @@ from mudforce.engines.mujoco._step3d import (
     prepare,
     scratch,
 )
-from mudforce.errors import InputError, finite_number, number_within, true_or_false
+from mudforce.errors import InputError, finite_number, number_within, shown, true_or_false
 from mudforce.model.shapes import Shape, from_mujoco_geom
 from mudforce.steppers.contact3d import ContactStates3D, MudContacts3D
 
@@ -237,7 +237,7 @@ def _patch_list(patches: Any) -> list[Any]:
             and all(isinstance(p, MudPatch) for p in patches)):
         plist = list(patches)
     else:
-        raise InputError(f"patches must be a MudPatch or a non-empty sequence of MudPatch, got {patches!r}")
+        raise InputError(f"patches must be a MudPatch or a non-empty sequence of MudPatch, got {shown(patches)}")
     big = math.inf
     boxes = [p.extent if p.extent is not None else (-big, big, -big, big) for p in plist]
     for k, (x0, x1, y0, y1) in enumerate(boxes):
