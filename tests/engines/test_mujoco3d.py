@@ -219,6 +219,12 @@ def test_a_drop_of_bad_sizes_durations_or_speeds_is_refused_in_one_line() -> Non
     vx = 1e300 m/s a drop MuJoCo reset with a warning and returned as if the foot had not moved sideways."""
     for kwargs, match in (({"size": [5e-8]}, r"size must be within \[0.0001, 10\] m"),
                           ({"size": 0.04}, "size must be a sequence of 1 number"),
+                          # numpy's TypeError (iteration over a 0-d array), the repr's ValueError (4300 digits), an
+                          # array's `in` numpy's ValueError (truth value ambiguous)
+                          ({"size": np.array(0.04)}, "size must be a sequence of 1 number"),
+                          ({"size": 10**5000}, "size must be a sequence of 1 number.* an integer of 16610 bits"),
+                          ({"shape": 10**5000}, "shape must be one of sphere, .* an integer of 16610 bits"),
+                          ({"shape": np.array(["sphere", "box"])}, "shape must be one of sphere, capsule"),
                           ({"mass": 1e-300}, "MuJoCo refused the drop's model"),
                           ({"duration": 1e9}, "samples is too many"),
                           ({"duration": 1e300}, "samples is too many"),

@@ -735,12 +735,14 @@ def _drop_spec(mass: float, shape: str, size: Sequence[float], *, height: float 
 
     mass, height, dt = drop_numbers(mass, height, dt)
     tilt = number_within(tilt, "tilt", -math.pi, math.pi, "rad")  # as --tilt's +-180 deg (1e308 rad was taken)
-    if shape not in DROP_SHAPES:
-        raise InputError(f"shape must be one of {', '.join(DROP_SHAPES)}, got {shape!r}")
+    if not isinstance(shape, str) or shape not in DROP_SHAPES:  # (an array's `in` raised numpy's ValueError)
+        raise InputError(f"shape must be one of {', '.join(DROP_SHAPES)}, got {shown(shape)}")
     needs = {"sphere": 1, "capsule": 2, "cylinder": 2, "box": 3}[shape]
-    if isinstance(size, (str, bytes)) or not isinstance(size, (Sequence, np.ndarray)):  # 0.04: TypeError
+    # 0.04: TypeError, and a 0-d array's iteration too
+    if (isinstance(size, (str, bytes)) or not isinstance(size, (Sequence, np.ndarray))
+            or (isinstance(size, np.ndarray) and size.ndim != 1)):
         raise InputError(f"size must be a sequence of {needs} number(s) [m] for a {shape}, got "
-                         f"{type(size).__name__} {size!r}")
+                         f"{type(size).__name__} {shown(size)}")
     dims = [number_within(v, "size", *SIZE_RANGE, "m") for v in size]  # the shapes' bounds (5e-8 m: MuJoCo's error)
     if len(dims) != needs:
         raise InputError(f"a {shape} needs {needs} dimension(s) [m], got {len(dims)}")
