@@ -251,6 +251,24 @@ def test_a_step_count_below_one_or_beyond_mujoco_s_int_is_refused_by_both_adapte
 
 
 @needs_mujoco
+def test_both_adapters_refuse_the_data_of_another_model() -> None:
+    """MudAdapter(model, data) with the data of another model was taken, and MuJoCo stepped the model on it without
+    a word (the sole's slide moved the x of a sphere's free joint); MudAdapter3D's steps ended in NaN with MuJoCo's
+    "unstable" warning. Now refused when made, as a swapped model and data are."""
+    import mujoco
+
+    from mudforce.engines.mujoco import MudAdapter, MudAdapter3D, MudPatch, drop_model
+    from mudforce.engines.mujoco.adapter3d import drop_model_3d
+
+    model, model_3d = drop_model(5.0), drop_model_3d(2.0, "sphere", (0.04,))
+    with pytest.raises(InputError, match=r"^data is not this model's mujoco.MjData: its qpos has 7 rows, the mod"):
+        MudAdapter(model, mujoco.MjData(model_3d), ["sole"], MudPatch(W25))
+    with pytest.raises(InputError, match=r"^data is not this model's mujoco.MjData: its qpos has 1 rows, the mod"):
+        MudAdapter3D(model_3d, mujoco.MjData(model), ["foot"], MudPatch(W25))
+    MudAdapter(model, mujoco.MjData(drop_model(2.0)), ["sole"], MudPatch(W25))  # another model's of its sizes: taken
+
+
+@needs_mujoco
 def test_add_mud_twice_for_a_foot_is_refused_and_changes_nothing() -> None:
     """add_mud on a foot that already has mud raised MuJoCo's ValueError ("Error: repeated name 'mud_site_sole'
     in site") after the feet before it had been given their sites and tendons; now refused in one line, as

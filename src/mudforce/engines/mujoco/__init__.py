@@ -82,6 +82,7 @@ from mudforce.engines._checks import (
 )
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Phase
 from mudforce.engines.mujoco import _fast as fast
+from mudforce.engines.mujoco._spec import check_model_data
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
@@ -375,9 +376,7 @@ class MudAdapter:
     def __init__(self, model: Any, data: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPatch],
                  foot: Foot | Sequence[Foot] | None = None, *, prefix: str = "mud_") -> None:
         mj = _mujoco()
-        if not isinstance(model, mj.MjModel) or not isinstance(data, mj.MjData):
-            raise InputError(f"model and data must be a mujoco.MjModel and its mujoco.MjData, got "
-                             f"{type(model).__name__} and {type(data).__name__}")
+        check_model_data(mj, model, data)  # (another model's data was stepped without a word)
         self._mj = mj
         self.model = model
         self.data = data

@@ -9,7 +9,7 @@ from typing import Any
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
 
-__all__ = ["check_prefix", "mujoco_module"]
+__all__ = ["check_model_data", "check_prefix", "mujoco_module"]
 
 
 def mujoco_module() -> Any:
@@ -22,3 +22,23 @@ def check_prefix(prefix: Any) -> str:
     if not isinstance(prefix, str):
         raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
     return prefix
+
+
+#: Each of a model's sizes and an array of its MjData with that many rows: what :func:`check_model_data` compares.
+_DATA_ROWS = (("nq", "qpos"), ("nv", "qvel"), ("na", "act"), ("nu", "ctrl"), ("nbody", "xpos"), ("njnt", "xanchor"),
+              ("ngeom", "geom_xpos"), ("nsite", "site_xpos"), ("ncam", "cam_xpos"), ("nlight", "light_xpos"),
+              ("ntendon", "ten_length"), ("nmocap", "mocap_pos"), ("neq", "eq_active"), ("nuserdata", "userdata"),
+              ("nsensordata", "sensordata"))
+
+
+def check_model_data(mj: Any, model: Any, data: Any) -> None:
+    """Refuse ``model`` and ``data`` unless they are a ``mujoco.MjModel`` and an ``mujoco.MjData`` of its sizes (made
+    by ``mujoco.MjData(model)``): MuJoCo steps a model with another's data without a word, and an adapter's compiled
+    steps index its arrays by the model's ids."""
+    if not isinstance(model, mj.MjModel) or not isinstance(data, mj.MjData):
+        raise InputError(f"model and data must be a mujoco.MjModel and its mujoco.MjData, got "
+                         f"{type(model).__name__} and {type(data).__name__}")
+    for size, rows in _DATA_ROWS:
+        if len(getattr(data, rows)) != getattr(model, size):
+            raise InputError(f"data is not this model's mujoco.MjData: its {rows} has {len(getattr(data, rows))} "
+                             f"rows, the model's {size} is {getattr(model, size)}; expected mujoco.MjData(model)")

@@ -71,7 +71,7 @@ import numpy as np
 
 from mudforce.engines._checks import MAX_NSTEP, drop_numbers, name_list, step_count
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
-from mudforce.engines.mujoco._spec import check_prefix, mujoco_module
+from mudforce.engines.mujoco._spec import check_model_data, check_prefix, mujoco_module
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
 from mudforce.engines.mujoco._step3d import (
     C_ALPHA,
@@ -288,9 +288,7 @@ class MudAdapter3D:
                  shapes: Shape | Sequence[Shape] | None = None, *, resolution: float | None = None,
                  prefix: str = "mud_") -> None:
         mj = mujoco_module()
-        if not isinstance(model, mj.MjModel) or not isinstance(data, mj.MjData):
-            raise InputError(f"model and data must be a mujoco.MjModel and its mujoco.MjData, got "
-                             f"{type(model).__name__} and {type(data).__name__}")
+        check_model_data(mj, model, data)  # (another model's data was stepped without a word)
         names = name_list(feet)
         if not isinstance(prefix, str):
             raise InputError(f"prefix must be a str, got {type(prefix).__name__}")
