@@ -553,6 +553,14 @@ class MudAdapter3D:
         patch_changed = true_or_false(saved.patch_changed, "a state's patch_changed")
         if not np.all((saved.arrays[0] >= -1) & (saved.arrays[0] < len(self._contacts))):
             raise InputError(f"a state's patches must be -1 (none) or 0 to {len(self._contacts) - 1}")
+        # each foot's constants (its patch's mud and surface, its own width) are this adapter's: an adapter over
+        # another mud was taken, and its constants stepped with this one's contacts
+        patch, const = saved.arrays[0], saved.arrays[_STATE_ARRAYS.index("_const")]
+        inside = patch >= 0
+        if not (np.array_equal(const[inside, :C_WIDTH], self._patch_const[patch[inside], :C_WIDTH])
+                and np.array_equal(const[:, C_WIDTH], self._width, equal_nan=True)):
+            raise InputError("a state of this adapter is one taken from an adapter of the same feet, shapes and "
+                             "patches; got one of another mud, surface or foot width")
         # the contacts last: each refuses a bad state without changing anything, and a refusal of a later one must
         # leave the earlier ones as they were
         try:
