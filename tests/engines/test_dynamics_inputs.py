@@ -251,6 +251,39 @@ def test_a_step_count_below_one_or_beyond_mujoco_s_int_is_refused_by_both_adapte
 
 
 @needs_mujoco
+def test_a_restored_mud_adapter_state_leaves_xfrc_applied_alone_and_replays_bit_for_bit() -> None:
+    """MudAdapter.state = saved took the coming step's mid-band force from data.xfrc_applied (16.4 N on a 5 kg sole
+    after 30 steps, once more at each restore), which then pushed the foot at every later step: a replay with
+    mj_setState had differed by 142 N within 200 steps."""
+    import mujoco
+
+    from mudforce.engines.mujoco import MudAdapter, MudPatch, drop_model
+
+    model = drop_model(5.0)
+    data = mujoco.MjData(model)
+    mud = MudAdapter(model, data, ["sole"], MudPatch(W25))
+    mud.step(30)
+    kind = mujoco.mjtState.mjSTATE_INTEGRATION
+    physics = np.empty(mujoco.mj_stateSize(model, kind))
+    mujoco.mj_getState(model, data, physics, kind)
+    saved = mud.state
+    mud.state = saved
+    assert not data.xfrc_applied.any()
+
+    def run() -> list[float]:
+        out = []
+        for _ in range(50):
+            mud.step()
+            out += [float(data.qpos[0]), float(mud.contact_forces[0])]
+        return out
+
+    first = run()
+    mujoco.mj_setState(model, data, physics, kind)
+    mud.state = saved
+    assert run() == first
+
+
+@needs_mujoco
 def test_both_adapters_refuse_the_data_of_another_model() -> None:
     """MudAdapter(model, data) with the data of another model was taken, and MuJoCo stepped the model on it without
     a word (the sole's slide moved the x of a sphere's free joint); MudAdapter3D's steps ended in NaN with MuJoCo's

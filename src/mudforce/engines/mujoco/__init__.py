@@ -466,6 +466,9 @@ class MudAdapter:
         check_states(arr, np.empty((n, 0)), "a state")
         self._states[:] = arr
         K.forget_cache(self._states)
+        # as reset: the last step's force was taken back after it, and the coming one is prepared from the state (the
+        # preparation takes back the force in work: the coming step's, never applied, was taken from xfrc_applied)
+        self._work[:] = 0.0
         self._mj.mj_forward(self.model, self.data)
         self._conf[C_COMMIT] = 0.0
         self._prepare()
