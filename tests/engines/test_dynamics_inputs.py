@@ -54,6 +54,8 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"applied_force": ("01", "23")}, r"applied_force times must be an array of real numbers \[s\], got string"),
         ({"applied_force": ([0.0, 0.005], [True, False])},  # was parsed, read as 0 and 1
          r"applied_force forces must be an array of real numbers \[N\], got boolean"),
+        # a step of inf s (numpy's overflow warning): the force's slope 0, 1 N held where 1.5 N was asked
+        ({"applied_force": ([-1e308, 1e308], [1.0, 2.0])}, r"applied_force times must be finite and strictly incr"),
     ],
 )
 def test_simulate_foot_refuses(kwargs: dict[str, Any], message: str) -> None:

@@ -481,8 +481,11 @@ def _profile(applied_force: Any) -> tuple[np.ndarray, np.ndarray]:
     fp = np.ascontiguousarray(real_array(applied_force[1], "applied_force forces", "N"))
     if tp.ndim != 1 or tp.shape != fp.shape or tp.size == 0:
         raise InputError("applied_force times and forces must be 1-D arrays of the same, non-zero length")
-    if not (np.isfinite(tp).all() and np.isfinite(fp).all()) or (tp.size > 1 and np.any(np.diff(tp) <= 0.0)):
-        raise InputError("applied_force times must be finite and strictly increasing, forces finite")
+    with np.errstate(over="ignore"):  # times 1e308 s apart: their step is inf, the slope of the force 0
+        steps = np.diff(tp)
+    if not (np.isfinite(tp).all() and np.isfinite(fp).all() and np.isfinite(steps).all()) or np.any(steps <= 0.0):
+        raise InputError("applied_force times must be finite and strictly increasing (steps within float64's range, "
+                         "+-1.8e308 s), forces finite")
     return tp, fp
 
 
