@@ -157,7 +157,9 @@ def test_bad_input_is_refused_in_one_line() -> None:
     hidden = [MudPatch(MUD), MudPatch(MUD, extent=(-0.1, 0.1, -0.1, 0.1))]
     for feet, patches, match in ((["floor"], MudPatch(MUD), "plane"), (["nope"], MudPatch(MUD), "names no geom"),
                                  (["toe"], hidden, "misses every foot"), (["two"], MudPatch(MUD), "2 geoms"),
-                                 (["toe", "toe"], MudPatch(MUD), "distinct")):
+                                 (["toe", "toe"], MudPatch(MUD), "distinct"),
+                                 # its repr raised ValueError (an integer of over 4,300 digits)
+                                 ([10**5000], MudPatch(MUD), "got a list holding an integer too long to show")):
         with pytest.raises(InputError, match=match) as err:
             mud3d.add_mud(model, feet, patches)
         assert "\n" not in str(err.value)

@@ -244,7 +244,7 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
                          f"{type(model).__name__}")
     names = [feet] if isinstance(feet, str) else list(feet) if isinstance(feet, Sequence) else []
     if not names or not all(isinstance(f, str) for f in names) or len(set(names)) != len(names):
-        raise InputError(f"feet must be a name or a non-empty sequence of distinct names (str), got {feet!r}")
+        raise InputError(f"feet must be a name or a non-empty sequence of distinct names (str), got {shown(feet)}")
     plist = _patch_list(patches)
     heights = [bounded_depth(p.surface_height, "surface_height") for p in plist]  # MudAdapter3D's bound and words
     gids = [foot_geom(model, name) for name in names]
