@@ -107,6 +107,9 @@ def test_options_that_are_not_fit_options_are_refused_in_one_line() -> None:
     """A dict raised AttributeError ('dict' object has no attribute 'starts') after the trials were prepared."""
     with pytest.raises(InputError, match=r"^options must be a FitOptions \(or None: the defaults\), got dict$"):
         fit_condition([TRIAL], options={"starts": 1})  # type: ignore[arg-type]
+    # a progress of 3 raised AttributeError ('int' object has no attribute 'update') after the first stage's fit
+    with pytest.raises(InputError, match=r"^progress must be a mudforce Progress or None, got int$"):
+        fit_condition([TRIAL], progress=3)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(("seed", "words"), [

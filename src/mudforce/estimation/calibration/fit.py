@@ -633,6 +633,8 @@ def fit_condition(
     fixed, start = _parameter_values(m, fixed, "fixed"), _parameter_values(m, start, "start")
     foot = Foot.paper() if foot is None else foot
     options = _options(options)
+    if progress is not None and not isinstance(progress, Progress):  # 3 raised AttributeError after the first stage
+        raise InputError(f"progress must be a mudforce Progress or None, got {type(progress).__name__}")
     prepared = _prepare(trials)
     free_names = _resolve_free(m, free, fixed)
     if not free_names:
