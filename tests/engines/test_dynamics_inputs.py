@@ -48,6 +48,9 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"height": -200.0}, r"height must be within \+-100 m of the mud surface, got -200.0"),  # was taken
         ({"height": 200.0}, r"height must be within \+-100 m"),
         ({"velocity0": float("inf")}, "velocity0 must be finite"),
+        # a foot leaving the model's depth bound was returned: 1e6 m/s sent it 27 km, -900 m/s 1.78 km up (2 s)
+        ({"velocity0": 1e6, "duration": 2.0}, r"velocity0 must be within \[-1000, 1000\] m/s, got 1000000.0"),
+        ({"velocity0": -900.0, "duration": 2.0}, r"foot leaves the model's depth bound \(\+-100 m of the mud surf"),
         ({"gravity": "g"}, "gravity must be a number"),
         ({"applied_force": "push"}, "applied_force"),
         ({"applied_force": 10**400}, r"applied force must be a real number within float64's range"),  # OverflowError

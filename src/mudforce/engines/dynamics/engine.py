@@ -32,8 +32,9 @@ from mudforce._plumbing.jit import njit
 from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
-from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, shown
-from mudforce.model.bounds import MIN_DT, bounded_depth, check_step, max_samples
+from mudforce.errors import InputError, finite_number, is_real, number_within, positive_int, real_array, shown
+from mudforce.io.tables import COLUMN_LIMITS
+from mudforce.model.bounds import MAX_DEPTH, MIN_DT, bounded_depth, check_step, max_samples
 from mudforce.model.equations import (
     intrusion_stress,
     maxwell_strain_rate,
@@ -444,7 +445,9 @@ def simulate_foot(
         z0 = bounded_depth(depth0, "depth0", of=" of the mud surface")
     else:  # the stepper's bound on a depth, as every other path refuses it
         z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
-    velocity0 = finite_number(velocity0, "velocity0", "m/s")
+    # a recording's velocity bound (mudforce.io.tables.COLUMN_LIMITS): 1e6 m/s sent the foot 484 m deep
+    most = COLUMN_LIMITS["velocity"]
+    velocity0 = number_within(finite_number(velocity0, "velocity0", "m/s"), "velocity0", -most, most, "m/s")
     substeps = positive_int(substeps, "substeps")
     check_step(dt)  # as naive_drop: dt = 1e308 then 10**400 substeps raised OverflowError
     if substeps > dt / MIN_DT:  # (int against float, exact: dt / 10**400 raised OverflowError)
@@ -464,6 +467,12 @@ def simulate_foot(
     events = _integrate(p, mass, gravity, z0, velocity0, t_out, substeps, tp, fp,
                         depth, velocity, force, phase, strain)
     check_finite_output("built-in", t_out, depth, velocity, force)
+    beyond = np.flatnonzero(np.abs(depth) > MAX_DEPTH)
+    if beyond.size:  # the model's depth bound, as every path refuses a depth (a foot thrown 1 km up was returned)
+        k = int(beyond[0])
+        raise InputError(f"the built-in engine's foot leaves the model's depth bound (+-{MAX_DEPTH:g} m of the mud "
+                         f"surface) at t = {t_out[k]:g} s (depth {depth[k]:.4g} m); use a smaller initial speed or "
+                         "applied force, or a shorter duration")
     return FootResult(t_out, depth, velocity, force, phase, mass, gravity, "builtin", int(events), strain)
 
 
