@@ -77,7 +77,7 @@ import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
-from mudforce.engines._checks import check_foot, check_params
+from mudforce.engines._checks import check_foot, check_params, drop_numbers, drop_thickness, name_list
 from mudforce.errors import InputError, finite_number, number_within, real_array
 from mudforce.model.bounds import bounded_depth, max_samples
 from mudforce.model.foot import Foot
@@ -169,8 +169,6 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
     dtype : dtype, optional
         Float dtype (JAX's default float by default; MJX runs in float32 unless x64 is enabled).
     """
-    from mudforce.engines._checks import name_list
-
     mujoco = require("mujoco", "mjx", "mud in MJX")
     if not isinstance(model, mujoco.MjModel):
         raise InputError(f"model must be a compiled mujoco.MjModel, got {type(model).__name__}")
@@ -407,8 +405,6 @@ def drop_model(mass: float, foot: Foot | None = None, *, height: float = 0.0, dt
     ``thickness`` [m], within [1e-6, 100]. The foot's bottom face is the paper's 51 x 38 mm, or
     ``sqrt(area)`` square for another foot.
     """
-    from mudforce.engines._checks import drop_numbers, drop_thickness
-
     mujoco = require("mujoco", "mjx", "mud in MJX")
     mass, height, timestep = drop_numbers(mass, height, dt)  # MuJoCo's drop_model's checks and words
     thickness = drop_thickness(thickness)

@@ -98,6 +98,7 @@ import numpy as np
 import mudforce.jax as mj
 import mudforce.jax.contact3d as mj3
 from mudforce._plumbing.optional import require
+from mudforce.engines._checks import name_list
 from mudforce.engines.dynamics.result import REST_SPEED
 from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx
 from mudforce.engines.mujoco import MudPatch
@@ -242,9 +243,7 @@ def add_mud(model: Any, feet: Sequence[str], patches: MudPatch | Sequence[MudPat
     if not isinstance(model, mujoco.MjModel):
         raise InputError(f"model must be a compiled mujoco.MjModel (before mjx.put_model), got "
                          f"{type(model).__name__}")
-    names = [feet] if isinstance(feet, str) else list(feet) if isinstance(feet, Sequence) else []
-    if not names or not all(isinstance(f, str) for f in names) or len(set(names)) != len(names):
-        raise InputError(f"feet must be a name or a non-empty sequence of distinct names (str), got {shown(feet)}")
+    names = name_list(feet)  # the adapters' rule and words: names (str), distinct
     plist = _patch_list(patches)
     heights = [bounded_depth(p.surface_height, "surface_height") for p in plist]  # MudAdapter3D's bound and words
     gids = [foot_geom(model, name) for name in names]

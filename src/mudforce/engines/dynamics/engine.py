@@ -445,7 +445,7 @@ def simulate_foot(
         z0 = bounded_depth(depth0, "depth0", of=" of the mud surface")
     else:  # the stepper's bound on a depth, as every other path refuses it
         z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
-    # a recording's velocity bound (mudforce.io.tables.COLUMN_LIMITS): 1e6 m/s sent the foot 484 m deep
+    # a recording's velocity bound (mudforce.io.tables.COLUMN_LIMITS): 1e6 m/s left the foot 27 km up after 2 s
     most = COLUMN_LIMITS["velocity"]
     velocity0 = number_within(finite_number(velocity0, "velocity0", "m/s"), "velocity0", -most, most, "m/s")
     substeps = positive_int(substeps, "substeps")
