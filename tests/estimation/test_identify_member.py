@@ -86,7 +86,9 @@ def test_the_interval_reaches_the_member_and_the_truth(monkeypatch: pytest.Monke
     full = identify_water_content(trial, ROBOT_FOOT)
     assert full.interval == (pytest.approx(full.water_content - MIN_HALF_WIDTH - full.gain_shift - full.rate_shift,
                                            abs=1e-12), res.high)
-    assert full.low == pytest.approx(0.1549, abs=1e-4)
+    # measured 15.49 % on the hosts before 2026-11-30 and 15.50 % on one with AVX-512: numpy's SIMD paths move the
+    # last bits, and the fits' tolerances carry that to the fourth digit
+    assert full.low == pytest.approx(0.1549, abs=5e-4)
     assert full.member_water_content == member and full.least_squares_water_content == res.water_content
     assert full.misfit_ratio == pytest.approx(1.154, abs=0.005) and not full.model_misses_data
     assert full.tail_share == pytest.approx(0.041, abs=0.001)  # under the tail's 4.5 %: quiet
