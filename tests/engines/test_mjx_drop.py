@@ -131,6 +131,8 @@ def test_drop_model_refuses_what_mujocos_drop_model_refuses(arguments: dict[str,
     ({"dt": -1e-3}, r"^dt must be > 0"),  # was "duration 0.002 s is shorter than one step (dt = -0.001 s)"
     ({"dt": "0.001"}, "^dt must be a number"),  # was MuJoCo's XML ValueError
     ({"mass": -1.0}, r"^mass must be > 0"),  # was MuJoCo's ValueError
+    # MuJoCo's simulate_drop's refusal (engines._checks.check_mass): was a foot ending 1.03e6 m above the mud
+    ({"mass": 1e-9}, r"^mass 1e-09 kg is too light for a MuJoCo time step of 0.001 s in this mud: .* from 0.00234 kg"),
     ({"height": -0.1}, "^height must be >= 0"),  # was a drop from under the surface
     ({"params": None}, "^params must be a MudParameters"),  # was a TypeError
     ({"weight": 2.0}, r"^weight must be within \[0, 1\]"),  # was taken: the band extrapolated

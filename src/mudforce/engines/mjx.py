@@ -77,7 +77,7 @@ import mudforce.jax as mj
 from mudforce._plumbing.deprecation import module_getattr as _deprecated_getattr
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
 from mudforce._plumbing.optional import require
-from mudforce.engines._checks import check_foot, check_params, drop_numbers, drop_thickness, name_list
+from mudforce.engines._checks import check_foot, check_mass, check_params, drop_numbers, drop_thickness, name_list
 from mudforce.errors import InputError, finite_number, number_within, real_array
 from mudforce.model.bounds import bounded_depth, max_samples
 from mudforce.model.foot import Foot
@@ -434,9 +434,10 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     FREE or NECKED from the contact state, STUCK while the sole is held in
     the band, else INTRUSION (moving down) or WITHDRAWAL (moving up). The
     force is the mud force applied during the step that ends at the sample [N].
-    The arguments are those of :func:`mudforce.engines.mujoco.simulate_drop`: ``mass`` [kg],
-    ``duration`` [s], ``height`` [m] of the sole above the surface, ``dt`` [s] the time step
-    (``timestep=`` is its deprecated name here); ``weight`` [-] of the predicted end-of-step band.
+    The arguments are those of :func:`mudforce.engines.mujoco.simulate_drop`, refused alike: ``mass`` [kg]
+    (at least ``S max(k_m_i, k_m_w) dt^2``, the lightest foot the step resolves), ``duration`` [s],
+    ``height`` [m] of the sole above the surface, ``dt`` [s] the time step (``timestep=`` is its deprecated
+    name here); ``weight`` [-] of the predicted end-of-step band.
     """
     timestep = dt
     from mudforce.engines.dynamics.result import FootResult, Phase
@@ -447,9 +448,11 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
     mjx = _mjx()  # first: a clear error if MJX is missing
     params = check_params(params)
     weight = _weight(weight)
-    model = drop_model(mass, foot, height=height, dt=timestep)  # checks mass, foot, height and dt
+    mass, height, timestep = drop_numbers(mass, height, timestep)  # drop_model's checks, in its order
     foot = check_foot(foot)
-    height, timestep = float(height), float(timestep)
+    # the lightest foot the step resolves, as MuJoCo's simulate_drop: 1e-9 kg ended 1000 km above the mud
+    mass = check_mass(mass, params, foot, timestep, "MuJoCo time step")
+    model = drop_model(mass, foot, height=height, dt=timestep)
     n = max_samples(finite_number(duration, "duration", "s", positive=True), timestep)
     m = mjx.put_model(model)
     patch = add_mud(model, ["sole"], params, foot)
@@ -472,4 +475,4 @@ def simulate_drop(mass: float, params: MudParameters, foot: Foot | None = None, 
                                                                np.where(stuck, STUCK, moving)))
     strain_out = np.concatenate(([np.nan], np.where(mode == mj.CONTACT, strain.astype(np.float64), np.nan)))
     time = np.arange(n) * timestep
-    return FootResult(time, depth, velocity, force, phase, float(mass), 9.81, "mjx", 0, strain_out)
+    return FootResult(time, depth, velocity, force, phase, mass, 9.81, "mjx", 0, strain_out)
