@@ -52,6 +52,11 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"velocity0": 1e6, "duration": 2.0}, r"velocity0 must be within \[-1000, 1000\] m/s, got 1000000.0"),
         ({"velocity0": -900.0, "duration": 2.0}, r"foot leaves the model's depth bound \(\+-100 m of the mud surf"),
         ({"gravity": "g"}, "gravity must be a number"),
+        # engines._checks.check_gravity: 1e200 was refused as "not finite ... use a heavier foot"; MuJoCo's sign,
+        # -9.81, was taken and threw the 5 kg foot 1.23 m up in 0.5 s
+        ({"gravity": 1e200}, r"^gravity must be within \[0, 10000\] m/s\^2 \(positive pulls the foot down, into the "),
+        ({"gravity": -9.81}, r"^gravity must be within \[0, 10000\] m/s\^2 .*, got -9.81$"),
+        ({"gravity": float("nan")}, "^gravity must be finite"),
         ({"applied_force": "push"}, "applied_force"),
         ({"applied_force": 10**400}, r"applied force must be a real number within float64's range"),  # OverflowError
         ({"applied_force": ("01", "23")}, r"applied_force times must be an array of real numbers \[s\], got string"),
@@ -90,6 +95,8 @@ def test_a_diverging_solution_is_refused_not_returned() -> None:
         # the stepper's bounds: each was "the naive engine's solution is not finite ... use a heavier foot"
         (lambda: naive_drop(5.0, W25, duration=0.01, height=-200.0), r"height must be within \+-100 m"),
         (lambda: naive_drop(5.0, W25, duration=1e-6, dt=1e-12), r"dt must be within \[1e-09, 1000\] s"),
+        (lambda: naive_drop(5.0, W25, duration=0.01, gravity=1e200), r"gravity must be within \[0, 10000\] m/s\^2"),
+        (lambda: naive_drop(5.0, W25, duration=0.01, gravity=-9.81), r"gravity must be within \[0, 10000\] m/s\^2"),
         # shorter than one step: an empty NaiveDrop was returned (under half a step), or the start alone
         (lambda: naive_drop(5.0, W25, duration=1e-3, dt=1e-2), r"duration 0.001 s is shorter than one step"),
         (lambda: naive_drop(5.0, W25, duration=6e-3, dt=1e-2), r"duration 0.006 s is shorter than one step"),

@@ -29,7 +29,7 @@ import numpy as np
 from mudforce._kernel import ContactMode, params_from_row, params_row
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce._plumbing.jit import njit
-from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params
+from mudforce.engines._checks import check_finite_output, check_foot, check_gravity, check_mass, check_params
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
 from mudforce.errors import InputError, finite_number, is_real, number_within, positive_int, real_array, shown
@@ -418,7 +418,9 @@ def simulate_foot(
         Extra force on the foot [N], positive DOWN (pushing it into the mud);
         a pair of arrays is interpolated linearly in time [s] (held outside).
     gravity : float
-        Gravitational acceleration [m/s^2].
+        Gravitational acceleration [m/s^2], positive down, within [0, 1e4] (about 1000 g, beyond the geotechnical
+        centrifuges that test muds). A negative one is refused (MuJoCo's sign, ``-9.81``, given by habit threw the
+        foot up): an upward load is a negative ``applied_force``; zero leaves the applied force alone.
     depth0 : float, optional
         Deprecated: the initial depth [m], positive down; ``height = -depth0``.
 
@@ -437,7 +439,7 @@ def simulate_foot(
     foot = check_foot(foot)
     duration = finite_number(duration, "duration", "s", positive=True)
     dt = finite_number(dt, "dt", "s", positive=True)
-    gravity = finite_number(gravity, "gravity", "m/s^2")
+    gravity = check_gravity(gravity)
     if depth0 is not None:  # deprecated in 0.2, for height (positive up, as every drop's start)
         warn_renamed("simulate_foot(depth0=...)", "simulate_foot(height=-depth0)")
         if height != 0.0:

@@ -18,7 +18,7 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
-from mudforce.engines._checks import check_finite_output, check_foot, check_params
+from mudforce.engines._checks import check_finite_output, check_foot, check_gravity, check_params
 from mudforce.engines.dynamics.result import GRAVITY
 from mudforce.errors import finite_number
 from mudforce.model.bounds import bounded_depth, check_step, max_samples
@@ -106,7 +106,7 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     height : float
         Release height of the foot's bottom above the mud surface [m], positive up (negative: inside fresh mud).
     gravity : float
-        Gravitational acceleration [m/s^2].
+        Gravitational acceleration [m/s^2], positive down, within [0, 1e4] (as :func:`simulate_foot`).
 
     Raises
     ------
@@ -122,7 +122,7 @@ def naive_drop(mass: float, params: MudParameters, foot: Foot | None = None, *, 
     # the stepper's bounds, as simulate_foot refuses them: beyond, its refusal came back as "the naive engine's
     # solution is not finite ... use a heavier foot or a shorter step"
     z0 = 0.0 - bounded_depth(height, "height", of=" of the mud surface")  # (0.0 - 0.0 is +0.0)
-    gravity = finite_number(gravity, "gravity", "m/s^2")
+    gravity = check_gravity(gravity)
     check_step(dt)
     max_samples(duration, dt)
     buf = K.new_stream_buffer(params_row(params, foot, VelocityFilter.exact()))
