@@ -215,6 +215,11 @@ def test_mujoco_entry_points_refuse() -> None:
         with pytest.raises(InputError, match="state"):
             mud.state = bad  # type: ignore[assignment]
         assert np.array_equal(mud.state, before)
+    late = np.array(before)
+    K.state_column(late, "time")[0] = 1e308  # was taken (check_states refuses only a negative time)
+    with pytest.raises(InputError, match=r"^a state: time is beyond 1e\+09 s; expected a state taken from a contact$"):
+        mud.state = late
+    assert np.array_equal(mud.state, before)
     # text, booleans and complex numbers are no state (np.asarray parsed the text, took an all-True array for a
     # contact at 1 m, and dropped the imaginary parts with a warning only)
     for bad in (before.astype(str), np.ones(before.shape, dtype=bool), before.astype(complex)):

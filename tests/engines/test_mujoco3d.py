@@ -176,6 +176,20 @@ def test_a_state_of_an_adapter_over_another_patch_is_refused_and_changes_nothing
     mud.state = saved  # its own is taken
 
 
+def test_a_state_of_a_time_beyond_the_bound_is_refused_and_changes_nothing() -> None:
+    """An element time of 1e308 s was taken (the contacts' check_states refuses only a negative one)."""
+    model = drop_model_3d(2.0, "sphere", (0.04,), dt=2e-3)
+    mud = MudAdapter3D(model, mujoco.MjData(model), ["foot"], MudPatch(MUD))
+    saved = mud.state
+    elements = np.array(saved.contacts[0].elements)
+    elements[3, 2] = 1e308  # the time column (kernel layout)
+    late = saved._replace(contacts=(saved.contacts[0]._replace(elements=elements),))
+    with pytest.raises(InputError, match=r"^a state of this adapter's patches was refused: a state \(element 3\): "
+                                         r"time is beyond 1e\+09 s; expected a state taken from a contact$"):
+        mud.state = late
+    assert np.array_equal(mud.state.contacts[0].elements, saved.contacts[0].elements)
+
+
 def test_a_rigid_floor_under_the_mud_is_reported_once() -> None:
     spec = mujoco.MjSpec.from_string(XML)
     add_mud_3d(spec, ["toe"])
