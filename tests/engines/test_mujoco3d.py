@@ -190,6 +190,22 @@ def test_a_state_of_a_time_beyond_the_bound_is_refused_and_changes_nothing() -> 
     assert np.array_equal(mud.state.contacts[0].elements, saved.contacts[0].elements)
 
 
+def test_the_outputs_are_read_only_views_that_follow_the_adapter() -> None:
+    """law_forces, law_torques, band and capacity were the adapter's own writable arrays: a write through one changed
+    what it reported and what its state saved (law_forces[:] = 1e9 came back in mud.state.arrays)."""
+    model = drop_model_3d(2.0, "sphere", (0.04,), dt=2e-3)
+    mud = MudAdapter3D(model, mujoco.MjData(model), ["foot"], MudPatch(MUD, 0.01))  # the foot starts 1 cm deep
+    saved = mud.state
+    for out in (mud.law_forces, mud.law_torques, *mud.band, mud.capacity):
+        with pytest.raises(ValueError, match="read-only"):
+            out[...] = 1e9
+    assert all(np.array_equal(a, b) for a, b in zip(mud.state.arrays, saved.arrays, strict=True))
+    forces, up = mud.law_forces, mud.band[1]
+    assert forces[0, 2] > 0.0 and up[0] > 0.0
+    mud.reset()  # written in place: the views follow
+    assert np.shares_memory(forces, mud.law_forces) and np.shares_memory(up, mud.band[1])
+
+
 def test_a_rigid_floor_under_the_mud_is_reported_once() -> None:
     spec = mujoco.MjSpec.from_string(XML)
     add_mud_3d(spec, ["toe"])

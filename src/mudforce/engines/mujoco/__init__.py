@@ -86,6 +86,7 @@ from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._spec import check_model_data
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
+from mudforce.engines.mujoco._spec import read_only as _read_only
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
 from mudforce.engines.mujoco.adapter3d import MudAdapter3D, add_mud_3d, simulate_drop_3d
 from mudforce.errors import InputError, finite_number, number_within, real_array, shown
@@ -103,13 +104,6 @@ __all__ = [
 STICK_VELOCITY = REST_SPEED
 _SOLREF_FRICTION = (1e-9, 1.0)  # a tiny time constant: MuJoCo raises it to its minimum, 2 time steps
 _SOLIMP_FRICTION = (0.9999, 0.9999, 0.001, 0.5, 2.0)
-
-
-def _read_only(array: np.ndarray) -> np.ndarray:
-    """A view of ``array`` that cannot be written through."""
-    view: np.ndarray = array.view()
-    view.flags.writeable = False
-    return view
 
 
 @dataclass(frozen=True, init=False)

@@ -6,15 +6,25 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
 
-__all__ = ["check_model_data", "check_prefix", "mujoco_module"]
+__all__ = ["check_model_data", "check_prefix", "mujoco_module", "read_only"]
 
 
 def mujoco_module() -> Any:
     """The ``mujoco`` package, or a one-line error saying how to install it."""
     return require("mujoco", "mujoco", "the MuJoCo adapter")
+
+
+def read_only(array: np.ndarray) -> np.ndarray:
+    """A view of ``array`` that cannot be written through (it follows ``array``): what both adapters give out of
+    the arrays they write in place."""
+    view: np.ndarray = array.view()
+    view.flags.writeable = False
+    return view
 
 
 def check_prefix(prefix: Any) -> str:

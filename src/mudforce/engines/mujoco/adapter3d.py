@@ -73,6 +73,7 @@ from mudforce import _kernel as K
 from mudforce.engines._checks import MAX_NSTEP, check_state_times, drop_numbers, name_list, step_count
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
 from mudforce.engines.mujoco._spec import check_model_data, check_prefix, mujoco_module
+from mudforce.engines.mujoco._spec import read_only as _read_only
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
 from mudforce.engines.mujoco._step3d import (
     C_ALPHA,
@@ -101,7 +102,7 @@ __all__ = ["DROP_SHAPES", "SUPPORTED_GEOMS", "AdapterState3D", "Drop3D", "MudAda
 #: feet's patches, last horizontal directions, last poses, the coming step's wrench and anchors' directions and the
 #: last ones, the bands and holds, the constants of each foot's patch and the law's last wrench).
 _STATE_ARRAYS = ("_patch", "_u", "_last_pos", "_applied", "_dirs", "_last_applied", "_last_dirs", "_velocity_z",
-                 "_band", "capacity", "_bands", "_const", "law_forces", "law_torques", "_pos", "_mats", "_quats")
+                 "_band", "_capacity", "_bands", "_const", "_law_forces", "_law_torques", "_pos", "_mats", "_quats")
 
 
 class AdapterState3D(NamedTuple):
@@ -375,10 +376,9 @@ class MudAdapter3D:
         self._foot_rows = [(self._quats[f], self._mats[f]) for f in range(n)]  # each foot's quaternion and matrix
         self._submerged = np.zeros(n, dtype=bool)
         self._warned: set[str] = set()
-        self.law_forces = np.zeros((n, 3))  #: the law's force on each foot at the last committed pose [N]
-        self.law_torques = np.zeros((n, 3))  #: ... and its torque about the geom's centre [N m]
-        self.band = (self._band[0], self._band[1])  #: the vertical band (F_up, F_down) of the coming step [N]
-        self.capacity = np.zeros((n, 2))  #: the sideways holds along u and across it of the coming step [N]
+        self._law_forces = np.zeros((n, 3))  # law_forces, law_torques, capacity: written in place by each step
+        self._law_torques = np.zeros((n, 3))
+        self._capacity = np.zeros((n, 2))
         self.reset()
 
     # ---------------------------------------------------------------- stepping
@@ -435,10 +435,10 @@ class MudAdapter3D:
             self._patch_changed = bool(self._patch[0] != 0)
             self._patch[:] = 0
             try:
-                self._contacts[0].step(pos, quats, dt, out=(self.law_forces, self.law_torques))
+                self._contacts[0].step(pos, quats, dt, out=(self._law_forces, self._law_torques))
             except InputError:
-                self.law_forces[:] = 0.0
-                self.law_torques[:] = 0.0
+                self._law_forces[:] = 0.0
+                self._law_torques[:] = 0.0
                 raise
             return
         n = len(self.feet)
@@ -450,8 +450,8 @@ class MudAdapter3D:
                 x0, x1, y0, y1 = p.extent
                 inside = (where < 0) & (x0 <= pos[:, 0]) & (pos[:, 0] <= x1) & (y0 <= pos[:, 1]) & (pos[:, 1] <= y1)
             where[inside] = k
-        self.law_forces[:] = 0.0
-        self.law_torques[:] = 0.0
+        self._law_forces[:] = 0.0
+        self._law_torques[:] = 0.0
         for k, c in enumerate(self._contacts):
             mine = where == k
             entering = mine & (self._patch != k)
@@ -459,8 +459,8 @@ class MudAdapter3D:
                 c.reset(entering)  # a foot entering this patch starts afresh in it
             if mine.any():
                 forces, torques = c.step(pos, quats, dt)
-                self.law_forces[mine] = forces[mine]
-                self.law_torques[mine] = torques[mine]
+                self._law_forces[mine] = forces[mine]
+                self._law_torques[mine] = torques[mine]
             leaving = ~mine & (self._patch == k)
             if leaving.any():
                 c.reset(leaving)
@@ -493,7 +493,7 @@ class MudAdapter3D:
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
                 states, rows, k_band, self._bands, self._velocity_z, self._u, self._xipos, self._xpos, self._xmat,
                 self._bodies, self._sites, self._tendons, self._site_pos, self._frictionloss, REST_SPEED, self._band,
-                self.capacity, self._applied, self._dirs, self._scratch)
+                self._capacity, self._applied, self._dirs, self._scratch)
         # the anchors, 1 m from the contact site along the tendons' directions, where the next step's constraints
         # will see the site: at the current qpos, with the local position prepare gave it. After mj_step the
         # positions in data are those of the state the step started from (the feet's poses are committed from
@@ -510,7 +510,7 @@ class MudAdapter3D:
         pairs = np.asarray(d.contact.geom)[: d.ncon]
         for f, g in enumerate(self._gids):
             name = self.feet[f]
-            if name in self._warned or self._patch[f] < 0 or not self.band[1][f] > 0.0:
+            if name in self._warned or self._patch[f] < 0 or not self._band[1, f] > 0.0:
                 continue
             hit = pairs[(pairs == g).any(axis=1)]
             others = [int(o) for o in hit.ravel() if o != g and o not in self._gids]
@@ -580,6 +580,30 @@ class MudAdapter3D:
         self._patch_changed = patch_changed
 
     # ---------------------------------------------------------------- outputs
+    # (read-only views of the adapter's own arrays, which each step writes in place: they follow the steps, and a
+    # write through them, which changed what the adapter reported and saved in its state, is refused)
+    @property
+    def law_forces(self) -> np.ndarray:
+        """The law's force on each foot at the last committed pose [N], world frame, shape (n, 3) (a read-only
+        view)."""
+        return _read_only(self._law_forces)
+
+    @property
+    def law_torques(self) -> np.ndarray:
+        """The law's torque on each foot about its geom's centre at the last committed pose [N m], shape (n, 3) (a
+        read-only view)."""
+        return _read_only(self._law_torques)
+
+    @property
+    def band(self) -> tuple[np.ndarray, np.ndarray]:
+        """The vertical band ``(F_up, F_down)`` of the coming step [N], each of shape (n,) (read-only views)."""
+        return _read_only(self._band[0]), _read_only(self._band[1])
+
+    @property
+    def capacity(self) -> np.ndarray:
+        """The sideways holds along ``u`` and across it of the coming step [N], shape (n, 2) (a read-only view)."""
+        return _read_only(self._capacity)
+
     @property
     def contact_forces(self) -> np.ndarray:
         """The mud's force on each foot in the last step [N], world frame, shape (n, 3).
