@@ -254,6 +254,30 @@ def test_a_restored_state_no_step_could_leave_is_refused_and_changes_nothing() -
     many.state = saved_many
 
 
+def test_a_restored_state_of_another_shape_is_refused_and_changes_nothing() -> None:
+    """A state of a sphere twice as large (as many elements) was taken, its centroids and slips stepped with this
+    sphere's elements; a state's world centroids are its shape's turned and moved (each step writes them all)."""
+    one, many = _three_steps()
+    saved_one, saved_many = one.state, many.state
+    other = mf.MudContact3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.06, resolution=0.03))
+    assert other.shape.n == SHAPE.n
+    for k in range(3):
+        pos, quat = _poses(k)
+        other.step(pos[0], quat[0], DT if k else 0.0)
+    words = r"^a state's centroids{} are not this foot's shape turned and moved: a state of another shape; expected"
+    with pytest.raises(InputError, match=words.format("")):
+        one.state = other.state
+    assert _same_one(one.state, saved_one)
+    centroids = saved_many.centroids.copy()
+    centroids[many.element_slice(1)] = other.state.centroids
+    with pytest.raises(InputError, match=words.format(r" \(foot 1\)")):
+        many.state = saved_many._replace(centroids=centroids)
+    assert _same(many.state, saved_many)
+    one.reset()  # a foot that has not started holds no pose: any centroids
+    fresh = one.state
+    one.state = fresh._replace(centroids=other.state.centroids)
+
+
 def test_lateral_stiffness_and_shapes_are_bounded() -> None:
     mud = mf.MudParameters.from_water_content(0.25)
     for k in (0.0, -1.0, 1e12 * (1 + 1e-15), 1e300, float("inf"), float("nan"), True, 10**5000):  # 10**5000: its

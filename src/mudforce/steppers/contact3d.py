@@ -233,7 +233,8 @@ class MudContact3D:
     # ------------------------------------------------------------------ state
     @property
     def state(self) -> ContactState3D:
-        """A copy of everything the contact remembers; assign one back to restore it."""
+        """A copy of everything the contact remembers; assign one back to restore it (a state of another shape, whose
+        centroids are not this one's turned and moved, is refused and nothing is changed)."""
         return ContactState3D(self._elements.state, self._slip.copy(), self._centroids.copy(), self._started)
 
     @state.setter
@@ -248,6 +249,7 @@ class MudContact3D:
             raise InputError(f"a state of this {n}-element foot has slips (n, 2) and centroids (n, 3), got "
                              f"{slip.shape} and {centroids.shape}")
         _check_saved_places(slip, centroids, _reach(self.shape))
+        _check_saved_shapes(centroids, self._shape.centroids, np.array([0, n]), np.array([started]))
         elements = real_array(saved.elements, "a state's elements", "SI")
         rows = (n, K.N_STATE + self._elements.ring.shape[1])
         if elements.shape != rows:  # checked here, in elements' words (MudContacts' setter speaks of feet)
@@ -586,6 +588,42 @@ def _check_saved_places(slip: np.ndarray, centroids: np.ndarray, reach: float) -
                          f"within +-{bound:.6g} m (where a step can leave them)")
 
 
+def _check_saved_shapes(centroids: np.ndarray, body: np.ndarray, starts: np.ndarray, started: np.ndarray) -> None:
+    """Refuse a saved state whose world centroids [m] are not, for each foot that has started, its shape's body-frame
+    centroids ``body`` [m] turned and moved: a state of another shape with as many elements (a 4 cm sphere's took an
+    8 cm one's). Each step writes every element's world centroid ``p + R c`` (a foot that has not started holds no
+    pose, and is not checked); the best rotation of each foot is Kabsch's (an SVD of its 3 x 3 cross-covariance), and
+    the fit must hold within rounding (1024 ulps of the largest coordinate; a valid state's is within 8, a sphere
+    0.1 um wider missed by 5e-8 m). ``starts`` are the feet's first element rows, then the total."""
+    if not started.any():
+        return
+    tolerance = 1024.0 * np.finfo(np.float64).eps
+    if started.size == 1:  # one foot (MudContact3D): the same arithmetic without the feet's bookkeeping
+        world = centroids - centroids.mean(axis=0)
+        shape = body - body.mean(axis=0)
+        u, _, vt = np.linalg.svd(shape.T @ world)
+        if np.linalg.det(u @ vt) < 0.0:  # a rotation, not a reflection
+            u[:, 2] = -u[:, 2]
+        miss = float(np.abs(shape @ (u @ vt) - world).max())
+        bad = np.flatnonzero([miss > tolerance * (float(np.abs(centroids).max()) + float(np.abs(body).max()))])
+    else:
+        sizes = np.diff(starts)
+        foot_of = np.repeat(np.arange(sizes.size), sizes)
+        first = starts[:-1]
+        world = centroids - (np.add.reduceat(centroids, first, axis=0) / sizes[:, None])[foot_of]
+        shape = body - (np.add.reduceat(body, first, axis=0) / sizes[:, None])[foot_of]
+        u, _, vt = np.linalg.svd(np.add.reduceat(shape[:, :, None] * world[:, None, :], first, axis=0))
+        u[:, :, 2] *= np.where(np.linalg.det(u @ vt) < 0.0, -1.0, 1.0)[:, None]
+        fit = np.einsum("ei,eij->ej", shape, (u @ vt)[foot_of])
+        misses = np.maximum.reduceat(np.abs(fit - world).max(axis=1), first)
+        scale = np.maximum.reduceat(np.abs(centroids).max(axis=1) + np.abs(body).max(axis=1), first)
+        bad = np.flatnonzero(started & (misses > tolerance * scale))
+    if bad.size:
+        which = f" (foot {bad[0]})" if started.size > 1 else ""
+        raise InputError(f"a state's centroids{which} are not this foot's shape turned and moved: a state of another "
+                         "shape; expected a state taken from a contact of these shapes")
+
+
 def _reach(shape: Shape) -> float:
     """The farthest element centroid of ``shape`` from its body origin [m] (step3d's ``F_REACH``)."""
     return float(np.sqrt((np.asarray(shape.centroids, dtype=np.float64) ** 2).sum(axis=1)).max(initial=0.0))
@@ -852,7 +890,8 @@ class MudContacts3D:
     # ------------------------------------------------------------------ state
     @property
     def state(self) -> ContactStates3D:
-        """A copy of everything the feet remember; assign one back to restore it."""
+        """A copy of everything the feet remember; assign one back to restore it (a state of other shapes, whose
+        centroids are not these ones' turned and moved, is refused and nothing is changed)."""
         el = self._el
         return ContactStates3D(np.hstack((self._states, self._ring)),
                                el[:, S3.E_SLIPX:S3.E_SLIPY + 1].copy(), el[:, S3.E_CX:S3.E_CZ + 1].copy(),
@@ -878,6 +917,7 @@ class MudContacts3D:
                              f"slips ({total}, 2), centroids ({total}, 3) and started ({self.n},) bool, got "
                              f"{elements.shape}, {slip.shape}, {centroids.shape} and {started.shape} {started.dtype}")
         _check_saved_places(slip, centroids, float(self._ft[:, S3.F_REACH].max()))
+        _check_saved_shapes(centroids, self._el[:, S3.E_CBX:S3.E_CBZ + 1], self._starts, started)
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")  # row: element
         _restore_rows(self._states, self._ring, self._params_rows, elements)  # a replay is the same bits
         self._el[:, S3.E_SLIPX:S3.E_SLIPY + 1] = slip
