@@ -156,8 +156,8 @@ PINNED: dict[str, list[str]] = {
     "mudforce.model.foot": ["AREA_RANGE", "FOOT_EXAMPLES", "SIZE_RANGE", "Foot", "parse_foot"],
     "mudforce.motions.gait": ["Gait", "Walk", "gait", "walk"],
     "mudforce.model.bounds": [
-        "MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_OUTPUT_SAMPLES", "MAX_TIME", "MIN_DT", "bounded_depth",
-        "check_depths", "check_finite", "check_step", "check_times", "max_samples"],
+        "MAX_DEPTH", "MAX_DT", "MAX_GRAVITY", "MAX_HORIZONTAL", "MAX_OUTPUT_SAMPLES", "MAX_TIME", "MIN_DT",
+        "bounded_depth", "check_depths", "check_finite", "check_gravity", "check_step", "check_times", "max_samples"],
     "mudforce.model.law3d": [
         "FLAT_PLATE_ALPHA", "MAX_LATERAL_STIFFNESS", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor",
         "check_lateral_stiffness", "element_depth",

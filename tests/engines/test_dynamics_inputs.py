@@ -52,7 +52,7 @@ def test_phase_names_and_codes_are_stable() -> None:
         ({"velocity0": 1e6, "duration": 2.0}, r"velocity0 must be within \[-1000, 1000\] m/s, got 1000000.0"),
         ({"velocity0": -900.0, "duration": 2.0}, r"foot leaves the model's depth bound \(\+-100 m of the mud surf"),
         ({"gravity": "g"}, "gravity must be a number"),
-        # engines._checks.check_gravity: 1e200 was refused as "not finite ... use a heavier foot"; MuJoCo's sign,
+        # model.bounds.check_gravity: 1e200 was refused as "not finite ... use a heavier foot"; MuJoCo's sign,
         # -9.81, was taken and threw the 5 kg foot 1.23 m up in 0.5 s
         ({"gravity": 1e200}, r"^gravity must be within \[0, 10000\] m/s\^2 \(positive pulls the foot down, into the "),
         ({"gravity": -9.81}, r"^gravity must be within \[0, 10000\] m/s\^2 .*, got -9.81$"),
@@ -103,6 +103,11 @@ def test_a_diverging_solution_is_refused_not_returned() -> None:
         (lambda: simulate_foot(5.0, W25, duration=5e-4), r"duration 0.0005 s is shorter than one step \(dt = 0.001"),
         (lambda: exact_drop(5.0, W25, duration=5e-4), r"duration 0.0005 s is shorter than one step \(dt = 0.001"),
         (lambda: exact_drop(5.0, W25, height=-0.01), "height must be >= 0"),
+        # the engines' gravity bound (model.bounds.check_gravity): 1e200 raised IndexError, 1e6 sank 1.9 km in 0.2 s
+        (lambda: exact_drop(5.0, W25, gravity=1e200), r"^gravity must be within \[0, 10000\] m/s\^2"),
+        (lambda: exact_drop(5.0, W25, gravity=1e6), r"^gravity must be within \[0, 10000\] m/s\^2"),
+        (lambda: exact_drop(5.0, W25, gravity=0.0), r"^gravity must be > 0 \[m/s\^2\] for the exact drop, got 0$"),
+        (lambda: exact_drop(5.0, W25, gravity=-9.81), r"^gravity must be within \[0, 10000\] m/s\^2"),
         (lambda: exact_drop("5", W25), "mass must be a number"),
         (lambda: exact_drop(5.0, W25, foot="cube"), "foot must be a Foot"),  # type: ignore[arg-type]
         # a release from 1e12 m was taken (and simulated as a foot that never arrives), simulate_foot's bound not

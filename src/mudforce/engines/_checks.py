@@ -17,7 +17,7 @@ from mudforce.model.bounds import MAX_DEPTH, MAX_TIME, bounded_depth, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
-__all__ = ["MAX_GRAVITY", "MAX_NSTEP", "check_finite_output", "check_foot", "check_gravity", "check_mass",
+__all__ = ["MAX_NSTEP", "check_finite_output", "check_foot", "check_mass",
            "check_params", "check_state_times", "drop_numbers", "drop_thickness", "min_stable_mass", "name_list",
            "step_count"]
 
@@ -61,28 +61,6 @@ def check_mass(mass: Any, params: MudParameters, foot: Foot, step: float, what: 
                          f"the foot's oscillation on the mud only from {lightest:.3g} kg (h sqrt(S k_m / m) <= 1); "
                          "use a heavier foot or a shorter step")
     return m
-
-
-#: Strongest gravity a drop takes [m/s^2]: 1e4, about 1000 g, beyond the geotechnical centrifuges that test soils and
-#: muds (a few hundred g); the weight of a 1000 kg foot there is a recording's force bound, 1e7 N
-#: (``mudforce.io.tables.COLUMN_LIMITS``). Beyond, the foot leaves the model's depth bound at once, or the solution
-#: overflowed (1e200 m/s^2 was refused as a step too long for the foot: "use a heavier foot").
-MAX_GRAVITY = 1e4
-
-
-def check_gravity(gravity: Any) -> float:
-    """A drop's ``gravity`` [m/s^2] as a float within [0, :data:`MAX_GRAVITY`], else InputError.
-
-    Positive pulls the foot down, into the mud (every drop's depth is positive down). A negative one is refused:
-    it is MuJoCo's sign (``gravity="0 0 -9.81"``) given by habit, which threw a 5 kg foot 1.23 m up instead of
-    dropping it; an upward load is a negative ``applied_force`` (:func:`mudforce.engines.dynamics.simulate_foot`).
-    Zero is taken: a foot moved by its applied force alone.
-    """
-    g = finite_number(gravity, "gravity", "m/s^2")
-    if not 0.0 <= g <= MAX_GRAVITY:
-        raise InputError(f"gravity must be within [0, {MAX_GRAVITY:g}] m/s^2 (positive pulls the foot down, into "
-                         f"the mud), got {shown(gravity)}")
-    return g
 
 
 def check_finite_output(engine: str, time: np.ndarray, *arrays: np.ndarray) -> None:

@@ -9,7 +9,8 @@ bounds every output is finite (``tests/api/test_promise.py``). :func:`check_time
 times, for ``simulate``, ``simulate_3d``, ``fit_3d`` and the baselines alike, :func:`check_depths` that of a
 trajectory's depths, for ``simulate`` and the baselines; :func:`bounded_depth` that of one
 depth or height (a protocol's depths, a drop's height, a surface height), for every path that takes one;
-:func:`check_finite` that of a recording's column that is not finite (in their words), for those and the tracker.
+:func:`check_finite` that of a recording's column that is not finite (in their words), for those and the tracker;
+:func:`check_gravity` that of a drop's gravity, for the engines' drops and the exact one.
 """
 
 from __future__ import annotations
@@ -21,8 +22,9 @@ import numpy as np
 
 from mudforce.errors import InputError, finite_number, shown
 
-__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_HORIZONTAL", "MAX_OUTPUT_SAMPLES", "MAX_TIME", "MIN_DT", "bounded_depth",
-           "check_depths", "check_finite", "check_step", "check_times", "max_samples"]
+__all__ = ["MAX_DEPTH", "MAX_DT", "MAX_GRAVITY", "MAX_HORIZONTAL", "MAX_OUTPUT_SAMPLES", "MAX_TIME", "MIN_DT",
+           "bounded_depth", "check_depths", "check_finite", "check_gravity", "check_step", "check_times",
+           "max_samples"]
 
 #: Largest foot depth (or height above the surface) accepted [m]: |z| <= 100 m. A mud model
 #: for a foot means nothing beyond it, and it keeps ``(z/H)^beta``, ``k z`` and ``dz/dt`` finite.
@@ -43,6 +45,31 @@ MAX_DT = 1e3
 MAX_TIME = 1e9
 #: Most output samples one simulated drop may produce (``duration / dt + 1``): 8 bytes x 6 arrays x 1e8 = 4.8 GB.
 MAX_OUTPUT_SAMPLES = 100_000_000
+
+
+#: Strongest gravity a drop takes [m/s^2]: 1e4, about 1000 g, beyond the geotechnical centrifuges that test soils and
+#: muds (a few hundred g); the weight of a 1000 kg foot there is a recording's force bound, 1e7 N
+#: (``mudforce.io.tables.COLUMN_LIMITS``). Beyond, the foot leaves the model's depth bound at once, or the solution
+#: overflowed (1e200 m/s^2 was refused as a step too long for the foot: "use a heavier foot").
+MAX_GRAVITY = 1e4
+
+
+def check_gravity(gravity: Any, *, positive: bool = False) -> float:
+    """A drop's ``gravity`` [m/s^2] as a float within [0, :data:`MAX_GRAVITY`] (``positive``: above 0), else
+    InputError: the one check of every drop's gravity (the engines' and the exact drop's).
+
+    Positive pulls the foot down, into the mud (every drop's depth is positive down). A negative one is refused:
+    it is MuJoCo's sign (``gravity="0 0 -9.81"``) given by habit, which threw a 5 kg foot 1.23 m up instead of
+    dropping it; an upward load is a negative ``applied_force`` (:func:`mudforce.engines.dynamics.simulate_foot`).
+    Zero is taken: a foot moved by its applied force alone.
+    """
+    g = finite_number(gravity, "gravity", "m/s^2")
+    if positive and g == 0.0:
+        raise InputError("gravity must be > 0 [m/s^2] for the exact drop, got 0")
+    if not 0.0 <= g <= MAX_GRAVITY:
+        raise InputError(f"gravity must be within [0, {MAX_GRAVITY:g}] m/s^2 (positive pulls the foot down, into "
+                         f"the mud), got {shown(gravity)}")
+    return g
 
 
 def max_samples(duration: float, dt: float) -> int:

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.errors import InputError, finite_number, number_within, real_array
-from mudforce.model.bounds import bounded_depth, max_samples
+from mudforce.model.bounds import bounded_depth, check_gravity, max_samples
 from mudforce.model.equations import neck_filter_response
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
@@ -140,7 +140,7 @@ def _checked_numbers(mass: Any, duration: Any, height: Any, dt: Any, gravity: An
     height = bounded_depth(height, "height", of=" of the mud surface")  # simulate_foot's bound: 1e12 m was taken
     height = finite_number(height, "height", "m", nonnegative=True)
     dt = finite_number(dt, "dt", "s", positive=True)
-    gravity = finite_number(gravity, "gravity", "m/s^2", positive=True)
+    gravity = check_gravity(gravity, positive=True)  # the engines' bound: 1e200 raised IndexError, 1e6 sank 1.9 km
     # scipy raises a tolerance under 100 ulp to it with a UserWarning only; one of 1 or more controls nothing
     rtol = number_within(rtol, "rtol", 1e-13, 0.1, "-")
     max_samples(duration, dt)  # the engines' bounds: at least one step dt, at most 1e8 samples

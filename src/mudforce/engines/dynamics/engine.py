@@ -29,12 +29,12 @@ import numpy as np
 from mudforce._kernel import ContactMode, params_from_row, params_row
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce._plumbing.jit import njit
-from mudforce.engines._checks import check_finite_output, check_foot, check_gravity, check_mass, check_params
+from mudforce.engines._checks import check_finite_output, check_foot, check_mass, check_params
 from mudforce.engines.dynamics.rest_band import necked_force, rest_band
 from mudforce.engines.dynamics.result import GRAVITY, FootResult, Phase
 from mudforce.errors import InputError, finite_number, is_real, number_within, positive_int, real_array, shown
 from mudforce.io.tables import COLUMN_LIMITS
-from mudforce.model.bounds import MAX_DEPTH, MIN_DT, bounded_depth, check_step, max_samples
+from mudforce.model.bounds import MAX_DEPTH, MIN_DT, bounded_depth, check_gravity, check_step, max_samples
 from mudforce.model.equations import (
     intrusion_stress,
     maxwell_strain_rate,

@@ -18,10 +18,10 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel import params_row
-from mudforce.engines._checks import check_finite_output, check_foot, check_gravity, check_params
+from mudforce.engines._checks import check_finite_output, check_foot, check_params
 from mudforce.engines.dynamics.result import GRAVITY
 from mudforce.errors import finite_number
-from mudforce.model.bounds import bounded_depth, check_step, max_samples
+from mudforce.model.bounds import bounded_depth, check_gravity, check_step, max_samples
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter
