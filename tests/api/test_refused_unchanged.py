@@ -11,6 +11,7 @@ what a twin that never saw the bad input gives.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -23,7 +24,7 @@ from mudforce.io.units import parse_quantity
 from mudforce.model.parameters import PARAMETER_NAMES, PARAMETER_RANGES
 from mudforce.steppers.contact import ContactState
 from mudforce.steppers.many import MudContacts
-from mudforce.steppers.simulation import MAX_DEPTH, MAX_DT, MIN_DT
+from mudforce.steppers.simulation import MAX_DEPTH, MAX_DT, MAX_TIME, MIN_DT
 
 W25 = mf.MudParameters.from_water_content(0.25)
 SETTINGS = settings(max_examples=40, deadline=None)
@@ -72,9 +73,9 @@ def test_contact_state_garbage_is_refused(data: st.DataObject) -> None:
     column = data.draw(st.sampled_from([K.S_STARTED, K.S_MODE, K.S_DIRECTION, K.S_TIME, K.S_DEPTH, K.S_MUD,
                                         K.S_NECK_AGE, K.S_CACHE_DECAY_I, K.S_STRAIN, K.S_VELOCITY, K.S_NECK_V,
                                         K.S_NECK_G, K.S_NECK_GI]))
-    value = data.draw(st.sampled_from([np.nan, np.inf, 7.0, 0.5, -3.0, 1e9, -1e300]))
+    value = data.draw(st.sampled_from([np.nan, np.inf, 7.0, 0.5, -3.0, 1e9, -1e300, 1e300]))
     garbage[column] = value
-    plausible = {K.S_MUD: np.isfinite(value), K.S_TIME: 0 <= value < np.inf, K.S_NECK_AGE: 0 <= value < np.inf,
+    plausible = {K.S_MUD: np.isfinite(value), K.S_TIME: 0 <= value <= MAX_TIME, K.S_NECK_AGE: 0 <= value < np.inf,
                  K.S_DEPTH: abs(value) <= MAX_DEPTH, K.S_CACHE_DECAY_I: 0 <= value <= 1,
                  K.S_STRAIN: abs(value) <= 2.0 * MAX_DEPTH, K.S_VELOCITY: abs(value) <= 2.0 * MAX_DEPTH / MIN_DT,
                  K.S_NECK_V: abs(value) <= 2.0 * MAX_DEPTH / MIN_DT, K.S_NECK_G: abs(value) <= 1.0,
@@ -89,6 +90,38 @@ def test_contact_state_garbage_is_refused(data: st.DataObject) -> None:
         raise AssertionError(f"accepted column {column} = {value}")
     assert contact.state == before
     assert contact.state.mode in ("FREE", "CONTACT", "NECKED") and "MudContact(" in repr(contact)
+
+
+def test_a_state_time_beyond_the_time_bound_is_refused_by_every_contact_and_changes_nothing() -> None:
+    """steppers.contact.check_states (every contact's, and the MuJoCo adapters' through it): a time beyond MAX_TIME
+    (1e9 s, a recording's bound) was taken, 1e308 s included, by MudContact, MudContacts and both 3-D contacts."""
+    from mudforce.model import shapes
+
+    contact, feet = mf.MudContact(W25), MudContacts(W25, 2)
+    toe, toes = mf.MudContact3D(W25, shapes.sphere(0.04)), mf.MudContacts3D(W25, shapes.sphere(0.04), 2)
+    for _ in range(2):
+        contact.step(0.01, 0.01)
+        feet.step(np.full(2, 0.01), 0.01)
+    message = r"time is beyond 1e\+09 s; expected a state taken from a contact$"
+    before = contact.state
+    data = before.data.copy()
+    data[K.S_TIME] = 1e308
+    with pytest.raises(InputError, match=r"^a contact state: " + message):
+        contact.state = ContactState(data, before.params_key, before.ring)
+    assert contact.state == before
+    saved = feet.state
+    rows = saved.copy()
+    rows[1, K.S_TIME] = MAX_TIME * (1.0 + 1e-15)
+    with pytest.raises(InputError, match=r"\(foot 1\): " + message):
+        feet.state = rows
+    assert np.array_equal(feet.state, saved)
+    for three_d in (toe, toes):
+        kept = three_d.state
+        elements = kept.elements.copy()
+        elements[0, K.S_TIME] = 1e308
+        with pytest.raises(InputError, match=r"\(element 0\): " + message):
+            three_d.state = kept._replace(elements=elements)
+        assert np.array_equal(three_d.state.elements, kept.elements)
 
 
 @settings(max_examples=25, deadline=None)

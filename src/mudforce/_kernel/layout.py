@@ -349,7 +349,7 @@ def forget_cache(states: np.ndarray) -> None:
 
 
 def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float,
-                 max_speed: float = math.inf) -> list[tuple[str, np.ndarray]]:
+                 max_speed: float = math.inf, max_time: float = math.inf) -> list[tuple[str, np.ndarray]]:
     """Which rows of ``states`` (and of the filter histories ``ring``) the stepper could never have made.
 
     For validating a restored state as strictly as a fresh one
@@ -366,6 +366,8 @@ def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float,
     max_speed : float
         Largest velocity a state may hold [m/s] (the foot's estimate and the mud's at necking): the stepper's
         whole depth range in its shortest step.
+    max_time : float
+        Latest time a state may hold [s] (a recording's bound on a time).
 
     Returns
     -------
@@ -380,6 +382,7 @@ def invalid_rows(states: np.ndarray, ring: np.ndarray, max_depth: float,
         ("mode is not 0 (FREE), 1 (CONTACT) or 2 (NECKED)", ~np.isin(mode, (0.0, 1.0, 2.0))),
         ("direction is not -1, 0 or 1", ~np.isin(direction, (-1.0, 0.0, 1.0))),
         ("time is negative", states[:, S_TIME] < 0.0),
+        (f"time is beyond {max_time:g} s", states[:, S_TIME] > max_time),
         (f"depth is beyond +-{max_depth:g} m", np.abs(states[:, S_DEPTH]) > max_depth),
         # z_i - z_m: the mud relaxes toward depths within +-max_depth, so the strain stays within twice that
         (f"Maxwell strain is beyond +-{2.0 * max_depth:g} m", np.abs(states[:, S_STRAIN]) > 2.0 * max_depth),

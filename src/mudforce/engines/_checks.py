@@ -11,14 +11,13 @@ from typing import Any
 
 import numpy as np
 
-from mudforce import _kernel as K
 from mudforce.errors import InputError, finite_number, number_within, positive_int, shown
-from mudforce.model.bounds import MAX_DEPTH, MAX_TIME, bounded_depth, check_step
+from mudforce.model.bounds import MAX_DEPTH, bounded_depth, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
 __all__ = ["MAX_NSTEP", "check_finite_output", "check_foot", "check_mass",
-           "check_params", "check_state_times", "drop_numbers", "drop_thickness", "min_stable_mass", "name_list",
+           "check_params", "drop_numbers", "drop_thickness", "min_stable_mass", "name_list",
            "step_count"]
 
 
@@ -73,16 +72,6 @@ def check_finite_output(engine: str, time: np.ndarray, *arrays: np.ndarray) -> N
         raise InputError(f"the {engine} engine's solution is not finite from t = {time[k]:g} s: the inputs are "
                          "outside what its step can resolve (a lighter foot, a stiffer mud or a longer step "
                          "than it can follow); use a heavier foot or a shorter step")
-
-
-def check_state_times(states: np.ndarray, what: str, unit: str = "foot") -> None:
-    """Refuse restored state rows (:mod:`mudforce._kernel`'s layout, checked finite) whose time is beyond
-    :data:`~mudforce.model.bounds.MAX_TIME` (a recording's bound on a time), in the words of
-    :func:`mudforce.steppers.contact.check_states`, which refuses only a negative one: a time of 1e308 s was taken."""
-    rows = np.flatnonzero(K.state_column(states, "time") > MAX_TIME)
-    if rows.size:
-        where = f"{what} ({unit} {rows[0]})" if states.shape[0] > 1 else what
-        raise InputError(f"{where}: time is beyond {MAX_TIME:g} s; expected a state taken from a contact")
 
 
 def name_list(feet: Any) -> list[str]:

@@ -13,7 +13,7 @@ from mudforce._kernel.bounds import MAX_DEPTH, MIN_DT
 from mudforce._kernel.layout import S_CACHE_DT, STATE_NAMES, store_cache
 from mudforce._kernel.transitions import step_cache
 from mudforce.errors import InputError, real_array, real_number
-from mudforce.model.bounds import check_step
+from mudforce.model.bounds import MAX_TIME, check_step
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.model.velocity import VelocityFilter, resolve_velocity_filter
@@ -45,7 +45,7 @@ def check_states(states: np.ndarray, ring: np.ndarray, what: str = "a contact st
         1 ns, Eq. (7)'s filter state beyond its response, cached decays outside [0, 1],
         a filter history whose count or head is not a valid index.
     """
-    checks = K.invalid_rows(states, ring, MAX_DEPTH, 2.0 * MAX_DEPTH / MIN_DT)
+    checks = K.invalid_rows(states, ring, MAX_DEPTH, 2.0 * MAX_DEPTH / MIN_DT, MAX_TIME)
     for message, bad in checks:
         rows = np.flatnonzero(bad)
         if rows.size:

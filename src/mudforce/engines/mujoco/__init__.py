@@ -75,7 +75,6 @@ from mudforce.engines._checks import (
     check_foot,
     check_mass,
     check_params,
-    check_state_times,
     drop_numbers,
     drop_thickness,
     name_list,
@@ -459,7 +458,6 @@ class MudAdapter:
         if arr.shape != self._states.shape:
             raise InputError(f"a state of {n} feet has shape {self._states.shape}, got {arr.shape}")
         check_states(arr, np.empty((n, 0)), "a state")
-        check_state_times(arr, "a state")
         self._states[:] = arr
         K.forget_cache(self._states)
         # as reset: the last step's force was taken back after it, and the coming one is prepared from the state (the

@@ -69,8 +69,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from mudforce import _kernel as K
-from mudforce.engines._checks import MAX_NSTEP, check_state_times, drop_numbers, name_list, step_count
+from mudforce.engines._checks import MAX_NSTEP, drop_numbers, name_list, step_count
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
 from mudforce.engines.mujoco._spec import check_model_data, check_prefix, mujoco_module
 from mudforce.engines.mujoco._spec import read_only as _read_only
@@ -567,8 +566,6 @@ class MudAdapter3D:
         try:
             for c, s in zip(self._contacts, saved.contacts, strict=True):
                 c.state = s
-                # (the contacts' check_states refuses only a negative time: 1e308 s was taken)
-                check_state_times(c.state.elements[:, :K.N_STATE], "a state", unit="element")
         except (InputError, TypeError, AttributeError) as error:
             for c, s in zip(self._contacts, mine.contacts, strict=True):
                 c.state = s
