@@ -94,6 +94,17 @@ def test_fixed_and_start_values_are_checked_before_any_fit(options: dict[str, An
     ({"starts": 0}, "FitOptions.starts must be an integer >= 1, got 0"),
     ({"maxiter": True}, "FitOptions.maxiter must be an integer >= 0, got True"),
     ({"tol": float("nan")}, "FitOptions.tol must be finite [-], got nan"),
+    # 10**400 was taken: a popsize then raised OverflowError in scipy's population (10**12 MemoryError), a maxiter
+    # or max_nfev ran for as long as the fit did not converge, and an experiment's config could not be written
+    ({"popsize": 10**400}, "FitOptions.popsize must be at most 1000 (ours: a budget beyond it is a mistake), got an "
+                           "integer of 1329 bits"),
+    ({"popsize": 1001}, "FitOptions.popsize must be at most 1000 (ours: a budget beyond it is a mistake), got 1001"),
+    ({"maxiter": 10**400}, "FitOptions.maxiter must be at most 100000 (ours: a budget beyond it is a mistake), got "
+                           "an integer of 1329 bits"),
+    ({"max_nfev": 10**7}, "FitOptions.max_nfev must be at most 1000000 (ours: a budget beyond it is a mistake), got "
+                          "10000000"),
+    ({"starts": 10**400}, "FitOptions.starts must be at most 1000 (ours: a budget beyond it is a mistake), got an "
+                          "integer of 1329 bits"),
 ])
 def test_fit_options_are_checked_when_made(fields: dict[str, Any], words: str) -> None:
     from mudforce.estimation.calibration import FitOptions
@@ -101,6 +112,13 @@ def test_fit_options_are_checked_when_made(fields: dict[str, Any], words: str) -
     with pytest.raises(InputError) as err:
         FitOptions(**fields)
     assert str(err.value) == words
+
+
+def test_fit_options_take_their_bounds() -> None:
+    from mudforce.estimation.calibration import FitOptions
+
+    most = FitOptions(starts=1000, popsize=1000, maxiter=100_000, max_nfev=1_000_000)
+    assert (most.starts, most.popsize, most.maxiter, most.max_nfev) == (1000, 1000, 100_000, 1_000_000)
 
 
 def test_options_that_are_not_fit_options_are_refused_in_one_line() -> None:

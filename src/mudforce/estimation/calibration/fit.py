@@ -108,6 +108,11 @@ __all__ = [
     "speed_key",
 ]
 
+#: The most each count of :class:`FitOptions` may be [-] (ours): 80 to 2,500 times the defaults; past it a budget is a
+#: mistake, which ran for days or failed deep in scipy (``popsize=10**400``: OverflowError).
+_MAX_BUDGET = {"starts": 1000, "popsize": 1000, "maxiter": 100_000, "max_nfev": 1_000_000}
+
+
 @dataclass(frozen=True)
 class FitOptions:
     """The optimiser's budget (the defaults fit one condition of 9 trials in a few seconds).
@@ -116,15 +121,22 @@ class FitOptions:
     ----------
     starts : int
         Best starting points (by cost, among the model's ``starts`` and the
-        current values) from which each local stage runs least squares.
+        current values) from which each local stage runs least squares, in
+        [1, 1000].
     popsize : int
-        Differential-evolution population per parameter.
+        Differential-evolution population per parameter, in [1, 1000].
     maxiter : int
-        Differential-evolution generations at most.
+        Differential-evolution generations at most, in [0, 100000].
     tol : float
         Differential-evolution relative convergence tolerance.
     max_nfev : int
-        Residual evaluations per least-squares run, at most.
+        Residual evaluations per least-squares run, at most, in [1, 1000000].
+
+    The upper bounds are ours, as the package's other counts have theirs:
+    80 to 2,500 times the defaults, and 67 and 100 times
+    scipy's own defaults of ``popsize`` (15) and ``maxiter`` (1000). Past them
+    a budget is a mistake, which ran for days or failed deep in scipy
+    (``popsize=10**400`` raised OverflowError, ``10**12`` MemoryError).
     """
 
     starts: int = 2
@@ -140,6 +152,10 @@ class FitOptions:
         if not is_integer(self.maxiter) or self.maxiter < 0:  # 0: the initial population alone
             raise InputError(f"FitOptions.maxiter must be an integer >= 0, got {shown(self.maxiter)}")
         object.__setattr__(self, "maxiter", int(self.maxiter))
+        for name, most in _MAX_BUDGET.items():  # 10**400 was taken, then ran for ever or failed deep in scipy
+            if getattr(self, name) > most:
+                raise InputError(f"FitOptions.{name} must be at most {most} (ours: a budget beyond it is a mistake), "
+                                 f"got {shown(getattr(self, name))}")
         object.__setattr__(self, "tol", finite_number(self.tol, "FitOptions.tol", "-", nonnegative=True))
 
 
