@@ -181,3 +181,25 @@ def test_a_force_model_with_bounds_that_are_not_finite_and_ordered_is_refused_wh
         ForceModel(name="s", parameter_names=("k",), force=lambda t, z, v, foot: z, bounds={"k": (low, high)},
                    defaults={"k": 1e6})
     assert str(err.value) == f"model s: bounds of k must be numbers with 0 < low < high < inf, got {shown}"
+
+
+@pytest.mark.parametrize(("fields", "words"), [
+    # a NaN default was taken: chen2024's lambda = NaN stopped the fit at scipy's ValueError (residuals not finite)
+    ({"defaults": {"k": float("nan")}}, "model s: default of k must be a number with 0 < value < inf (the fit works "
+                                        "on logarithms), got nan"),
+    ({"defaults": {"k": -1.0}}, "model s: default of k must be a number with 0 < value < inf"),
+    ({"defaults": {"k": "1e6"}}, "model s: default of k must be a number with 0 < value < inf"),
+    # an unknown name was ignored: the parameter the user meant to hold was fitted
+    ({"fixed": ("kk",)}, "model s: fixed names kk, not among its parameters k"),
+    # two entries in the fit's vector for one parameter
+    ({"parameter_names": ("k", "k")}, "model s: parameter_names repeats k; expected each name once"),
+], ids=["nan-default", "negative-default", "str-default", "unknown-fixed", "repeated-name"])
+def test_a_force_model_with_bad_defaults_fixed_or_names_is_refused_when_made(fields: dict[str, Any],
+                                                                           words: str) -> None:
+    from mudforce.estimation.calibration import ForceModel
+
+    made: dict[str, Any] = {"name": "s", "parameter_names": ("k",), "force": lambda t, z, v, foot: z,
+                            "bounds": {"k": (1.0, 1e9)}, "defaults": {"k": 1e6}, **fields}
+    with pytest.raises(InputError) as err:
+        ForceModel(**made)
+    assert str(err.value).startswith(words) and "\n" not in str(err.value)

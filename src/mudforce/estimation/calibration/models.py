@@ -135,10 +135,26 @@ class ForceModel:
 
     def __post_init__(self) -> None:
         names = set(self.parameter_names)
+        # a name twice was taken, and the fit's vector had two entries for one parameter
+        repeated = sorted({n for n in self.parameter_names if self.parameter_names.count(n) > 1})
+        if repeated:
+            raise InputError(f"model {self.name}: parameter_names repeats {', '.join(repeated)}; expected each "
+                             "name once")
         for what, keys in (("bounds", self.bounds), ("defaults", self.defaults)):
             missing = names - set(keys)
             if missing:
                 raise InputError(f"model {self.name}: {what} lacks {', '.join(sorted(missing))}")
+        for n in self.parameter_names:
+            # a NaN default was taken: chen2024's lambda = NaN stopped the fit at scipy's ValueError (residuals not
+            # finite), drft's rho_m = NaN at its force's check, each after the trials' preparation
+            value = self.defaults[n]
+            if not (is_real(value) and 0.0 < value <= sys.float_info.max):
+                raise InputError(f"model {self.name}: default of {n} must be a number with 0 < value < inf (the fit "
+                                 f"works on logarithms), got {shown(value)}")
+        unknown_fixed = set(self.fixed) - names  # an unknown name (a typo) was ignored: the parameter was fitted
+        if unknown_fixed:
+            raise InputError(f"model {self.name}: fixed names {', '.join(sorted(unknown_fixed))}, not among its "
+                             f"parameters {', '.join(self.parameter_names)}")
         for n, (lo, hi) in self.bounds.items():
             # finite: the global search refused inf (scipy's ValueError), 10**5000 overflowed the force to inf
             if not (is_real(lo) and is_real(hi) and 0.0 < lo < hi <= sys.float_info.max):
