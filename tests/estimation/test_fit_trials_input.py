@@ -203,3 +203,28 @@ def test_a_force_model_with_bad_defaults_fixed_or_names_is_refused_when_made(fie
     with pytest.raises(InputError) as err:
         ForceModel(**made)
     assert str(err.value).startswith(words) and "\n" not in str(err.value)
+
+
+def test_register_model_refuses_a_built_in_name_and_takes_a_users_own_again() -> None:
+    """register_model(ForceModel(name='granular_rft', ...)) replaced the built-in model without a word: every later
+    fit of that name used the user's."""
+    import dataclasses
+
+    from mudforce.estimation.calibration import MODELS, register_model
+    from mudforce.estimation.calibration.models import GRANULAR_RFT
+
+    other = dataclasses.replace(GRANULAR_RFT, defaults={"k_rft": 1e6})
+    with pytest.raises(InputError) as err:
+        register_model(other)
+    assert str(err.value) == ("register_model: 'granular_rft' is a built-in model's name; give your model another "
+                              "name (not chen2024, drft, granular_rft, maxwell_only)")
+    assert MODELS["granular_rft"] is GRANULAR_RFT
+    register_model(GRANULAR_RFT)  # the built-in model itself: nothing changes
+    assert MODELS["granular_rft"] is GRANULAR_RFT
+    mine, revised = (dataclasses.replace(other, name="test_rft_variant", defaults={"k_rft": k}) for k in (1e6, 2e6))
+    try:
+        register_model(mine)
+        register_model(revised)  # a user's own name: the revision replaces it
+        assert MODELS["test_rft_variant"] is revised
+    finally:
+        MODELS.pop("test_rft_variant", None)

@@ -387,10 +387,25 @@ MAXWELL_ONLY = ForceModel(
 MODELS: dict[str, ForceModel] = {m.name: m for m in (CHEN2024, GRANULAR_RFT, DRFT, MAXWELL_ONLY)}
 
 
+_BUILT_IN = dict(MODELS)  # what register_model may not replace
+
+
 def register_model(model: ForceModel) -> None:
-    """Make ``model`` available to :func:`get_model` and ``--model NAME``."""
+    """Make ``model`` available to :func:`get_model` and ``--model NAME``.
+
+    A built-in model's name (``chen2024``, ``granular_rft``, ``drft``,
+    ``maxwell_only``) is refused: replacing it would change what every
+    later fit, report and reproduction of that name means, without a word
+    (give the variant a name of its own). A name you registered may be
+    registered again, and the new model replaces yours: that is how a
+    variant is revised in a running session (a notebook's cell run twice),
+    and the name was yours to give.
+    """
     if not isinstance(model, ForceModel):  # a name or None raised AttributeError ('str' object has no attribute)
         raise InputError(f"register_model takes a ForceModel, got {type(model).__name__}")
+    if model.name in _BUILT_IN and model is not _BUILT_IN[model.name]:  # it silently replaced the built-in
+        raise InputError(f"register_model: {model.name!r} is a built-in model's name; give your model another name "
+                         f"(not {', '.join(sorted(_BUILT_IN))})")
     MODELS[model.name] = model
 
 
