@@ -193,7 +193,12 @@ def test_a_force_model_with_bounds_that_are_not_finite_and_ordered_is_refused_wh
     ({"fixed": ("kk",)}, "model s: fixed names kk, not among its parameters k"),
     # two entries in the fit's vector for one parameter
     ({"parameter_names": ("k", "k")}, "model s: parameter_names repeats k; expected each name once"),
-], ids=["nan-default", "negative-default", "str-default", "unknown-fixed", "repeated-name"])
+    # a list raised TypeError (unhashable type) at register_model; 3 was registered, then refused by get_model
+    ({"name": ["s"]}, "a ForceModel's name must be a non-empty str (its --model NAME), got ['s']"),
+    ({"name": 3}, "a ForceModel's name must be a non-empty str (its --model NAME), got 3"),
+    ({"name": " "}, "a ForceModel's name must be a non-empty str (its --model NAME), got ' '"),
+], ids=["nan-default", "negative-default", "str-default", "unknown-fixed", "repeated-name", "list-name", "int-name",
+        "blank-name"])
 def test_a_force_model_with_bad_defaults_fixed_or_names_is_refused_when_made(fields: dict[str, Any],
                                                                            words: str) -> None:
     from mudforce.estimation.calibration import ForceModel

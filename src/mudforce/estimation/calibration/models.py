@@ -134,6 +134,9 @@ class ForceModel:
     force_scale: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        # a list raised TypeError (unhashable) at register_model, 3 was registered and then refused by get_model
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise InputError(f"a ForceModel's name must be a non-empty str (its --model NAME), got {shown(self.name)}")
         names = set(self.parameter_names)
         # a name twice was taken, and the fit's vector had two entries for one parameter
         repeated = sorted({n for n in self.parameter_names if self.parameter_names.count(n) > 1})
