@@ -233,3 +233,32 @@ def test_register_model_refuses_a_built_in_name_and_takes_a_users_own_again() ->
         assert MODELS["test_rft_variant"] is revised
     finally:
         MODELS.pop("test_rft_variant", None)
+
+
+@pytest.mark.parametrize(("stage", "words"), [
+    # fitted on all samples, without a word
+    ({"window": "intrusions"}, "stage a: window must be one of intrusion, withdrawal, all, got 'intrusions'"),
+    # ran the local search, without a word
+    ({"search": "globl"}, "stage a: search must be local or global, got 'globl'"),
+    # its letters were read as parameter names, none of them a parameter: the stage fitted nothing
+    ({"parameters": "k"}, "stage a: parameters must be a tuple of parameter names, e.g. ('k_m_i', 'beta'), got 'k'"),
+    ({"parameters": None}, "stage a: parameters must be a tuple of parameter names"),
+    ({"prefix_fixed": "no"}, "stage a: prefix_fixed must be True or False, got 'no'"),
+], ids=["window", "search", "str-parameters", "none-parameters", "prefix-fixed"])
+def test_a_fit_stage_with_an_unknown_window_or_search_is_refused_when_made(stage: dict[str, Any], words: str) -> None:
+    from mudforce.estimation.calibration import FitStage
+
+    with pytest.raises(InputError) as err:
+        FitStage(**{"name": "a", "parameters": ("k",), "window": "intrusion", **stage})
+    assert str(err.value).startswith(words) and "\n" not in str(err.value)
+
+
+def test_a_force_model_whose_stage_names_no_parameter_of_its_own_is_refused_when_made() -> None:
+    """A misspelt name in a stage was skipped: the stage left the parameter where it was."""
+    from mudforce.estimation.calibration import FitStage, ForceModel
+
+    with pytest.raises(InputError) as err:
+        ForceModel(name="s", parameter_names=("k", "b"), force=lambda t, z, v, foot: z,
+                   bounds={"k": (1.0, 1e9), "b": (1.0, 1e9)}, defaults={"k": 1e6, "b": 1e3},
+                   stages=(FitStage("a", ("k", "bb"), "intrusion"),))
+    assert str(err.value) == "model s: stage a names bb, not among its parameters k, b"

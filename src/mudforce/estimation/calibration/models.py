@@ -20,12 +20,12 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce.errors import InputError, is_real, shown
+from mudforce.errors import InputError, is_real, shown, true_or_false
 from mudforce.estimation.calibration.preprocess import PreparedTrial
 from mudforce.model.baselines import DEFAULT_K_RFT, drft_force, granular_rft_force, maxwell_only_force
 from mudforce.model.equations import array_form, relaxation_time
@@ -77,6 +77,19 @@ class FitStage:
     #: True when the stage's parameters do not change the force before its window
     #: (so a model with ``resume`` simulates the samples before the reversal once).
     prefix_fixed: bool = False
+
+    def __post_init__(self) -> None:
+        # a misspelt window was fitted on all samples, a misspelt search ran the local one, a str's letters were
+        # read as parameter names (none of them a parameter: the stage fitted nothing), each without a word
+        if not isinstance(self.parameters, (tuple, list)) or not all(isinstance(n, str) for n in self.parameters):
+            raise InputError(f"stage {self.name}: parameters must be a tuple of parameter names, e.g. ('k_m_i', "
+                             f"'beta'), got {shown(self.parameters)}")
+        if self.window not in get_args(Window):
+            raise InputError(f"stage {self.name}: window must be one of {', '.join(get_args(Window))}, got "
+                             f"{shown(self.window)}")
+        if self.search not in ("local", "global"):
+            raise InputError(f"stage {self.name}: search must be local or global, got {shown(self.search)}")
+        true_or_false(self.prefix_fixed, f"stage {self.name}: prefix_fixed")
 
 
 @dataclass(frozen=True)
@@ -163,6 +176,11 @@ class ForceModel:
             if not (is_real(lo) and is_real(hi) and 0.0 < lo < hi <= sys.float_info.max):
                 raise InputError(f"model {self.name}: bounds of {n} must be numbers with 0 < low < high < inf, "
                                  f"got {shown(lo)}, {shown(hi)}")
+        for stage in self.stages:  # a name not among them (a typo) was skipped: the stage left it where it was
+            strays = [n for n in stage.parameters if n not in names]
+            if strays:
+                raise InputError(f"model {self.name}: stage {stage.name} names {', '.join(strays)}, not among its "
+                                 f"parameters {', '.join(self.parameter_names)}")
         unknown = set(self.force_scale) - names
         if unknown:
             raise InputError(f"model {self.name}: force_scale names {', '.join(sorted(unknown))}, "
