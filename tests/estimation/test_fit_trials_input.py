@@ -262,3 +262,30 @@ def test_a_force_model_whose_stage_names_no_parameter_of_its_own_is_refused_when
                    bounds={"k": (1.0, 1e9), "b": (1.0, 1e9)}, defaults={"k": 1e6, "b": 1e3},
                    stages=(FitStage("a", ("k", "bb"), "intrusion"),))
     assert str(err.value) == "model s: stage a names bb, not among its parameters k, b"
+
+
+@pytest.mark.parametrize(("fields", "words"), [
+    # ignored: the search ran over the whole bounds
+    ({"search_bounds": {"kk": (1e3, 1e4)}}, "model s: search_bounds names kk, not among its parameters k, b"),
+    # searched without a word, from points outside the bounds
+    ({"search_bounds": {"k": (1e4, 1e3)}}, "model s: search_bounds of k must be numbers with low < high that "
+                                           "overlap its bounds (1, 1e+09), got 10000.0, 1000.0"),
+    ({"search_bounds": {"k": (2e9, 3e9)}}, "model s: search_bounds of k must be numbers with low < high that "
+                                           "overlap its bounds (1, 1e+09), got 2000000000.0, 3000000000.0"),
+    # ignored: the defaults started instead
+    ({"starts": ({"kk": 1e5},)}, "model s: starts[0] names 'kk', not among its parameters k, b"),
+    # stopped the fit after the trials' preparation (maxwell_only's force: k_m_i must be finite)
+    ({"starts": ({"k": 1e5}, {"k": float("nan")})}, "model s: starts[1] k must be a number with 0 < value < inf (the "
+                                                    "fit works on logarithms), got nan"),
+    # read as its keys: AttributeError ('str' object has no attribute 'get') after the trials' preparation
+    ({"starts": {"k": 1e5}}, "model s: starts must be a tuple of mappings of parameter names to values [SI], got "
+                             "dict"),
+], ids=["search-name", "search-reversed", "search-beside", "start-name", "start-nan", "starts-dict"])
+def test_a_force_model_with_bad_search_bounds_or_starts_is_refused_when_made(fields: dict[str, Any],
+                                                                           words: str) -> None:
+    from mudforce.estimation.calibration import ForceModel
+
+    with pytest.raises(InputError) as err:
+        ForceModel(**{"name": "s", "parameter_names": ("k", "b"), "force": lambda t, z, v, foot: z,
+                      "bounds": {"k": (1.0, 1e9), "b": (1.0, 1e9)}, "defaults": {"k": 1e6, "b": 1e3}, **fields})
+    assert str(err.value) == words

@@ -176,6 +176,30 @@ class ForceModel:
             if not (is_real(lo) and is_real(hi) and 0.0 < lo < hi <= sys.float_info.max):
                 raise InputError(f"model {self.name}: bounds of {n} must be numbers with 0 < low < high < inf, "
                                  f"got {shown(lo)}, {shown(hi)}")
+        # an unknown name was ignored (the search ran over the whole bounds); a reversed box, or one beside the
+        # bounds, was searched without a word, from points outside the bounds
+        strays = [n for n in self.search_bounds if n not in names]
+        if strays:
+            raise InputError(f"model {self.name}: search_bounds names {', '.join(map(str, strays))}, not among its "
+                             f"parameters {', '.join(self.parameter_names)}")
+        for n, (lo, hi) in self.search_bounds.items():
+            a, b = self.bounds[n]
+            if not (is_real(lo) and is_real(hi) and lo < hi and lo < b and hi > a):
+                raise InputError(f"model {self.name}: search_bounds of {n} must be numbers with low < high that "
+                                 f"overlap its bounds ({a:g}, {b:g}), got {shown(lo)}, {shown(hi)}")
+        # a start naming no parameter was ignored (the defaults started instead); a NaN value stopped the fit after
+        # the trials' preparation (maxwell_only's force: k_m_i must be finite), a dict raised AttributeError there
+        if not isinstance(self.starts, (tuple, list)) or not all(isinstance(x, Mapping) for x in self.starts):
+            raise InputError(f"model {self.name}: starts must be a tuple of mappings of parameter names to values "
+                             f"[SI], got {type(self.starts).__name__}")
+        for k, start in enumerate(self.starts):
+            for n, value in start.items():
+                if n not in names:
+                    raise InputError(f"model {self.name}: starts[{k}] names {shown(n)}, not among its parameters "
+                                     f"{', '.join(self.parameter_names)}")
+                if not (is_real(value) and 0.0 < value <= sys.float_info.max):
+                    raise InputError(f"model {self.name}: starts[{k}] {n} must be a number with 0 < value < inf (the "
+                                     f"fit works on logarithms), got {shown(value)}")
         for stage in self.stages:  # a name not among them (a typo) was skipped: the stage left it where it was
             strays = [n for n in stage.parameters if n not in names]
             if strays:
