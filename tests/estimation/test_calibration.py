@@ -83,6 +83,8 @@ def _manifest(folder: Path, data: object) -> Path:
         (lambda m: m["trials"][1].update(file="w25_v10_r1.csv"), "listed twice"),
         (lambda m: m["trials"][0].update(velocity_m_s=0), "velocity_m_s is 0"),
         (lambda m: m["trials"][0].update(speed=1), "unknown key(s) speed"),
+        # 10**400 was taken (a written copy could not be read back), as a Trial's was
+        (lambda m: m["trials"][0].update(repeat=1001), "trials[0]: repeat is 1001; expected an integer in [0, 1000]"),
     ],
 )
 def test_bad_manifests(small: Path, tmp_path: Path, change: object, message: str) -> None:
@@ -284,7 +286,13 @@ def test_identify_water_content(water_content: float) -> None:
     ({"name": 3}, "a trial's name must be a str, got int"),
     ({"velocity": "fast"}, "t.csv: velocity is 'fast'; expected None or a number > 0 [m/s]"),
     ({"velocity": -0.01}, "t.csv: velocity is -0.01; expected None or a number > 0 [m/s]"),
-    ({"repeat": 1.5}, "t.csv: repeat is 1.5; expected None or a non-negative integer"),
+    ({"repeat": 1.5}, "t.csv: repeat is 1.5; expected None or an integer in [0, 1000]"),
+    # at most MAX_REPEATS: 10**400 was taken and saved, and the saved manifest could not be read back ("an integer
+    # of 401 digits"); 10**5000 made the writer say "a result is not finite"
+    pytest.param({"repeat": 10**400}, "t.csv: repeat is an integer of 1329 bits; expected None or an integer in [0, "
+                 "1000]", id="r"),
+    ({"repeat": 1001}, "t.csv: repeat is 1001; expected None or an integer in [0, 1000]"),
+    ({"repeat": -1}, "t.csv: repeat is -1; expected None or an integer in [0, 1000]"),
     # math.isnan(10**5000) and float(10**400) raised OverflowError
     pytest.param({"water_content": 10**5000}, "t.csv: water_content is an integer of 16610 bits; expected", id="w"),
     pytest.param({"velocity": 10**400}, "t.csv: velocity is an integer of 1329 bits; expected None", id="v"),

@@ -54,6 +54,10 @@ MANIFEST_NAME = "dataset.json"
 
 #: Fewest samples a trial may have [-] (the motion fit needs a handful per segment).
 MIN_SAMPLES = 20
+#: Most trials per water content (and speed) one synthetic dataset makes [-] (ours; the paper's protocol has 3): past
+#: it a count is a mistake, which ran for hours or for ever (10**400). A trial's repeat number is at most this too.
+#: (Importable from :mod:`~mudforce.estimation.calibration.synth`, which makes the datasets.)
+MAX_REPEATS = 1000
 #: Largest finite float64 [-]: a label beyond it (a Python int such as 10**400) cannot be held as a float.
 _FLOAT_MAX = float(np.finfo(np.float64).max)
 
@@ -82,7 +86,7 @@ class Trial:
         Nominal intrusion/withdrawal speed from the manifest [m/s] (metadata;
         the fit measures the actual speed from ``depth``).
     repeat : int or None
-        Repeat number within its condition.
+        Repeat number within its condition, in [0, :data:`MAX_REPEATS`] (1000).
     """
 
     name: str
@@ -108,8 +112,9 @@ class Trial:
         if v is not None:
             object.__setattr__(self, "velocity", float(v))
         r = self.repeat
-        if r is not None and (not is_integer(r) or r < 0):
-            raise InputError(f"{self.name}: repeat is {shown(r)}; expected None or a non-negative integer")
+        # at most MAX_REPEATS: 10**400 was taken, saved, and the saved manifest could not be read back
+        if r is not None and (not is_integer(r) or not 0 <= r <= MAX_REPEATS):
+            raise InputError(f"{self.name}: repeat is {shown(r)}; expected None or an integer in [0, {MAX_REPEATS}]")
         if r is not None:
             object.__setattr__(self, "repeat", int(r))
         # the calibration's entry: real numbers only (complex, boolean, string and object arrays refused)
@@ -322,8 +327,8 @@ def _load_manifest(path: Path) -> Dataset:
         if entry.get("velocity_m_s") is not None:
             velocity = _number(entry["velocity_m_s"], at, "velocity_m_s", 0.0, math.inf, "0.01 for 10 mm/s")
         repeat = entry.get("repeat")
-        if repeat is not None and (not is_integer(repeat) or repeat < 0):
-            raise InputError(f"{at}: repeat is {shown(repeat)}; expected a non-negative integer")
+        if repeat is not None and (not is_integer(repeat) or not 0 <= repeat <= MAX_REPEATS):
+            raise InputError(f"{at}: repeat is {shown(repeat)}; expected an integer in [0, {MAX_REPEATS}]")
         if not file.is_file():
             raise InputError(f"{at}: trial file {path.parent / name} not found")
         # one file under two names (a link, hard or symbolic) would count its trial twice in every fit

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.errors import InputError, finite_number, is_integer, positive_int, seed_int, shown
-from mudforce.estimation.calibration.dataset import Dataset, Trial, save_dataset
+from mudforce.estimation.calibration.dataset import MAX_REPEATS, Dataset, Trial, save_dataset
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.motions.protocol import Protocol
@@ -30,10 +30,6 @@ from mudforce.steppers.simulation import simulate
 
 __all__ = ["DEFAULT_VELOCITIES", "DEFAULT_WATER_CONTENTS", "FINE_RATE", "MAX_FINE_SAMPLES", "MAX_REPEATS",
            "START_BELOW", "repeat_count", "synthesize", "synthesize_gait", "trial_name"]
-
-#: Most trials per water content (and speed) one synthetic dataset makes [-] (ours; the paper's protocol has 3): past
-#: it a count is a mistake, which ran for hours or for ever (10**400).
-MAX_REPEATS = 1000
 
 #: How ``synthesize_gait`` chooses where each walk starts: above the surface, in the mud, or every other one.
 START_BELOW = ("never", "always", "alternate")
