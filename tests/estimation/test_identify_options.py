@@ -11,6 +11,7 @@ from mudforce.errors import InputError
 from mudforce.estimation.calibration import identify_water_content
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import fit_condition
+from mudforce.model.parameters import MudParameters
 from mudforce.motions.gait import walk
 
 
@@ -43,6 +44,15 @@ def trial() -> Trial:
     ({"bounds": (0.2, 10**400)}, "bounds must be (low, high) with low < high, both finite [-], got (0.2, an integer "
                                  "of 1329 bits)"),
     ({"bounds": np.zeros((2, 2))}, "bounds must be (low, high) with low < high, both finite [-], got ndarray"),
+    # the family's refusal named the first grid point the scan met past its range: "water content 0.35375 is outside
+    # Table I's range", after the trial's preparation
+    ({"bounds": (0.2, 0.5)}, "bounds (0.2, 0.5) reach 0.5, outside the family's range of water contents [0.15, "
+                             "0.35]; pass bounds within it (fractions: 0.25 means 25%)"),
+    ({"bounds": (0.1, 0.3)}, "bounds (0.1, 0.3) reach 0.1, outside the family's range of water contents [0.15, "
+                             "0.35]"),
+    ({"family": lambda w: MudParameters.from_water_content(w + 0.1)},
+     "bounds (0.15, 0.35) reach 0.35, outside the family's range of water contents (the family: water content 0.45 "
+     "is outside Table I's range [0.15, 0.35] (a fraction: 0.25 means 25%)); pass bounds within it"),
 ])
 def test_identify_refuses_options_of_the_wrong_type(trial: Trial, options: dict[str, Any], message: str) -> None:
     with pytest.raises(InputError) as info:

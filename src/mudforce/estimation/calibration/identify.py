@@ -810,9 +810,13 @@ def _passing_members(root: Callable[[float, float, float], float], points: np.nd
     return low, high, least, at
 
 
-def _once_each(family: Callable[[float], MudParameters]) -> Callable[[float], MudParameters]:
+def _once_each(family: Callable[[float], MudParameters], lo: float, hi: float) -> Callable[[float], MudParameters]:
     """``family`` [-] -> :class:`MudParameters`, called once per water content (speed plumbing: an identify reads
-    the family thousands of times, at a few hundred water contents; a family is a function of the water content)."""
+    the family thousands of times, at a few hundred water contents; a family is a function of the water content).
+
+    The family is called at ``lo`` and ``hi`` [-] here, the scan's first and last grid points: an end it refuses is
+    refused as the bounds', naming the family's range (Table I's, for its own family), not as the first grid point
+    past that range the scan met (``water content 0.35375 is outside Table I's range`` for bounds (0.2, 0.5))."""
     made: dict[float, MudParameters] = {}
     if not callable(family):
         raise InputError(f"family must be a function of the water content [-] returning MudParameters, got "
@@ -826,6 +830,17 @@ def _once_each(family: Callable[[float], MudParameters]) -> Callable[[float], Mu
                 raise InputError(f"family({w:.6g}) must return MudParameters, got {type(q).__name__}")
         return q
 
+    for end in (lo, hi):
+        try:
+            q = family(end)
+        except InputError as err:
+            low, high = WATER_CONTENT_RANGE
+            where = f"[{low:g}, {high:g}]" if family == MudParameters.from_water_content else f"(the family: {err})"
+            raise InputError(f"bounds ({lo:g}, {hi:g}) reach {end:g}, outside the family's range of water contents "
+                             f"{where}; pass bounds within it (fractions: 0.25 means 25%)") from None
+        if not isinstance(q, MudParameters):
+            raise InputError(f"family({end:.6g}) must return MudParameters, got {type(q).__name__}")
+        made[end] = q
     return once
 
 
@@ -852,7 +867,7 @@ def identify_water_content(
     family : callable
         Water content [-] -> :class:`MudParameters`; Table I, interpolated, by default.
     bounds : tuple of float
-        Range of water contents to search [-].
+        Range of water contents to search [-], within the family's (Table I's, [0.15, 0.35], by default).
     level : float
         Confidence level of the interval, in (0, 1).
     points : int
@@ -881,6 +896,14 @@ def identify_water_content(
     if foot is not None and not isinstance(foot, Foot):
         raise InputError(f"foot must be a Foot or None, got {type(foot).__name__}")
     foot = Foot.paper() if foot is None else foot
+    lo, hi = bounds if isinstance(bounds, (tuple, list)) and len(bounds) == 2 else (math.nan, math.nan)
+    # each end finite within float64 (math.isfinite raised OverflowError on 10**400); the message in one line
+    if not (is_real(lo) and is_real(hi) and abs(lo) <= _FLOAT_MAX and abs(hi) <= _FLOAT_MAX and lo < hi):
+        got = type(bounds).__name__ if not isinstance(bounds, (tuple, list)) else \
+            "(" + ", ".join(shown(x) if is_real(x) else type(x).__name__ for x in bounds[:3]) \
+            + (", ...)" if len(bounds) > 3 else ")")
+        raise InputError(f"bounds must be (low, high) with low < high, both finite [-], got {got}")
+    family = _once_each(family, float(lo), float(hi))
     if isinstance(trial, PreparedTrial) and depth_noise is not None:
         raise InputError(f"{trial.trial.name}: a prepared trial already holds its depth noise "
                          f"({trial.depth_noise * 1e3:.3g} mm); pass the raw Trial with depth_noise=, or prepare it "
@@ -892,17 +915,9 @@ def identify_water_content(
     if not np.any(tr.trial.force != tr.trial.force[0]):
         raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
                          "the trial carries no force to identify a water content from (is the column right?)")
-    lo, hi = bounds if isinstance(bounds, (tuple, list)) and len(bounds) == 2 else (math.nan, math.nan)
-    # each end finite within float64 (math.isfinite raised OverflowError on 10**400); the message in one line
-    if not (is_real(lo) and is_real(hi) and abs(lo) <= _FLOAT_MAX and abs(hi) <= _FLOAT_MAX and lo < hi):
-        got = type(bounds).__name__ if not isinstance(bounds, (tuple, list)) else \
-            "(" + ", ".join(shown(x) if is_real(x) else type(x).__name__ for x in bounds[:3]) \
-            + (", ...)" if len(bounds) > 3 else ")")
-        raise InputError(f"bounds must be (low, high) with low < high, both finite [-], got {got}")
     t = tr.time
     general = tr.motion is None
     raw = tr.trial.force
-    family = _once_each(family)
 
     def at_rest(time: np.ndarray, depth: np.ndarray, turns: bool = True) -> np.ndarray:
         """Samples read through the rest band (general path; none on a protocol): those whose step moved the foot
