@@ -324,3 +324,46 @@ def test_load_trial_checks_the_water_content_as_a_trial_does(tmp_path: Path, wat
         load_trial(path, water_content)  # type: ignore[arg-type]
     assert str(info.value).startswith(message), str(info.value)
     assert load_trial(path, np.float64(0.25)).water_content == 0.25 and math.isnan(load_trial(path).water_content)
+
+
+_T30 = np.arange(30) * 0.01
+_TRIAL30 = Trial("t.csv", 0.25, _T30, 0.01 * _T30, _T30)
+
+
+@pytest.mark.parametrize(("fields", "message"), [
+    # the fits and save_dataset raised AttributeError ('str' object has no attribute 'area' / 'shape')
+    ({"foot": "paper"}, "a Dataset's foot must be a Foot, got str"),
+    # TypeError: 'Trial' object is not iterable
+    ({"trials": _TRIAL30}, "a Dataset's trials must be a tuple of Trial, got one Trial: pass (trial,)"),
+    ({"trials": (3,)}, "a Dataset's trials[0] must be a Trial, got int"),  # AttributeError: no attribute 'name'
+    # fit_dataset returned an empty FitResult; save_dataset wrote a dataset.json that load_dataset refuses
+    ({"trials": ()}, "a Dataset's trials must be a non-empty tuple of Trial, got an empty tuple"),
+    # written into dataset.json, which load_dataset then refused (unknown key(s) notes); "trials" replaced the trials
+    ({"extra": {"notes": "x"}}, "a Dataset's extra holds notes; expected only description and synthetic (what "
+                                "dataset.json keeps)"),
+    ({"extra": {"trials": []}}, "a Dataset's extra holds trials; expected only description and synthetic (what "
+                                "dataset.json keeps)"),
+    ({"extra": "x"}, "a Dataset's extra must be a mapping or None, got str"),
+], ids=["foot-str", "one-trial", "not-trials", "no-trials", "extra-notes", "extra-trials", "extra-str"])
+def test_a_dataset_made_in_python_is_checked_when_made(fields: dict[str, object], message: str) -> None:
+    from mudforce.estimation.calibration import Dataset
+
+    with pytest.raises(InputError) as info:
+        Dataset(**{"foot": Foot.paper(), "trials": (_TRIAL30,), **fields})  # type: ignore[arg-type]
+    assert str(info.value) == message
+    listed = Dataset(Foot.paper(), [_TRIAL30], extra={"description": "x"})  # type: ignore[arg-type]
+    assert listed.trials == (_TRIAL30,)
+
+
+def test_what_is_no_dataset_is_refused_by_the_fits_and_save_dataset(tmp_path: Path) -> None:
+    """A list of trials raised AttributeError ('list' object has no attribute 'conditions'), a dict given to
+    save_dataset AttributeError (no attribute 'trials')."""
+    from mudforce.estimation.calibration import fit_by_velocity, fit_dataset, save_dataset
+
+    for fit in (fit_dataset, fit_by_velocity):
+        with pytest.raises(InputError, match=r"^dataset must be a Dataset \(load_dataset, synthesize\), got list; "
+                                             r"fit a list of trials of one mud with fit_condition$"):
+            fit([_TRIAL30], quiet=True)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match=r"^save_dataset takes a Dataset, got dict$"):
+        save_dataset({"trials": []}, tmp_path / "out")  # type: ignore[arg-type]
+    assert not (tmp_path / "out").exists()

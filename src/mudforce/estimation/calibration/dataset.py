@@ -62,7 +62,8 @@ MAX_REPEATS = 1000
 _FLOAT_MAX = float(np.finfo(np.float64).max)
 
 _TRIAL_COLUMNS = {"time": COLUMN_UNITS["time"], "depth": COLUMN_UNITS["depth"], "force": COLUMN_UNITS["force"]}
-_TOP_KEYS = ("foot", "trials", "description", "synthetic")
+_EXTRA_KEYS = ("description", "synthetic")  # a manifest's entries a Dataset keeps verbatim (its extra)
+_TOP_KEYS = ("foot", "trials", *_EXTRA_KEYS)
 _TRIAL_KEYS = ("file", "water_content", "velocity_m_s", "repeat")
 
 
@@ -165,11 +166,12 @@ class Dataset:
     foot : Foot
         The intruder's geometry (contact area [m^2], width ``H`` [m]).
     trials : tuple of Trial
-        In manifest order.
+        In manifest order; at least one (a list is kept as a tuple).
     source : str
         Where it was loaded from.
-    extra : dict
-        The manifest's ``description`` and ``synthetic`` entries, if any (kept verbatim).
+    extra : dict or None
+        The manifest's ``description`` and ``synthetic`` entries, if any (kept verbatim); no other key
+        (:func:`save_dataset` writes them into ``dataset.json``, which keeps only these).
     inputs : tuple of str
         Every file and folder it was read from (folder, manifest, trial
         files), so that a command can refuse to write onto any of them.
@@ -180,6 +182,30 @@ class Dataset:
     source: str = ""
     extra: Mapping[str, Any] | None = None
     inputs: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        # checked when made, as a manifest is read: a str foot raised AttributeError in the fits and save_dataset, one
+        # Trial TypeError (not iterable), no trials fitted to an empty result and saved a manifest load_dataset
+        # refuses, as it refuses an extra key the manifest does not know (which save_dataset wrote)
+        if not isinstance(self.foot, Foot):
+            raise InputError(f"a Dataset's foot must be a Foot, got {type(self.foot).__name__}")
+        trials = self.trials
+        if isinstance(trials, Trial):
+            raise InputError("a Dataset's trials must be a tuple of Trial, got one Trial: pass (trial,)")
+        if not isinstance(trials, (tuple, list)) or not trials:
+            got = f"an empty {type(trials).__name__}" if isinstance(trials, (tuple, list)) else type(trials).__name__
+            raise InputError(f"a Dataset's trials must be a non-empty tuple of Trial, got {got}")
+        for k, trial in enumerate(trials):
+            if not isinstance(trial, Trial):
+                raise InputError(f"a Dataset's trials[{k}] must be a Trial, got {type(trial).__name__}")
+        object.__setattr__(self, "trials", tuple(trials))
+        if self.extra is not None:
+            if not isinstance(self.extra, Mapping):
+                raise InputError(f"a Dataset's extra must be a mapping or None, got {type(self.extra).__name__}")
+            unknown = sorted(map(str, set(self.extra) - set(_EXTRA_KEYS)))
+            if unknown:
+                raise InputError(f"a Dataset's extra holds {', '.join(unknown)}; expected only "
+                                 f"{' and '.join(_EXTRA_KEYS)} (what dataset.json keeps)")
 
     @property
     def water_contents(self) -> list[float]:
@@ -339,7 +365,7 @@ def _load_manifest(path: Path) -> Dataset:
                              "once")
         files[(stat.st_dev, stat.st_ino)] = name
         trials.append(load_trial(file, w, velocity=velocity, repeat=repeat))
-    extra = {k: data[k] for k in ("description", "synthetic") if k in data}
+    extra = {k: data[k] for k in _EXTRA_KEYS if k in data}
     inputs = (str(path.parent), where, *sorted(seen))
     return Dataset(foot=foot, trials=tuple(trials), source=where, extra=extra or None, inputs=inputs)
 
@@ -470,6 +496,8 @@ def save_dataset(dataset: Dataset, directory: str | os.PathLike[str]) -> Path:
     (at least :data:`MIN_SAMPLES` samples, values within :data:`mudforce.io.tables.COLUMN_LIMITS`,
     times that increase as written): no file that ``mudforce fit`` cannot read.
     """
+    if not isinstance(dataset, Dataset):  # a dict raised AttributeError (no 'trials')
+        raise InputError(f"save_dataset takes a Dataset, got {type(dataset).__name__}")
     out = Path(directory)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")

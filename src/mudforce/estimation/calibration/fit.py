@@ -416,6 +416,13 @@ def _parameter_values(model: ForceModel, values: Mapping[str, float] | None, wha
     return out
 
 
+def _check_dataset(dataset: Any) -> None:
+    """Refuse what is no :class:`Dataset` in one line (a list of trials raised AttributeError: no 'conditions')."""
+    if not isinstance(dataset, Dataset):
+        raise InputError(f"dataset must be a Dataset (load_dataset, synthesize), got {type(dataset).__name__}; fit "
+                         "a list of trials of one mud with fit_condition")
+
+
 def _prepare(trials: Sequence[Trial | PreparedTrial]) -> list[PreparedTrial]:
     if isinstance(trials, (Trial, PreparedTrial)):
         raise InputError("trials must be a list of Trial (or PreparedTrial), got one Trial: pass [trial]")
@@ -724,6 +731,7 @@ def fit_dataset(
     -------
     FitResult
     """
+    _check_dataset(dataset)
     check_force_gain_uncertainty(force_gain_uncertainty)
     quiet, seed = true_or_false(quiet, "quiet"), seed_int(seed, "seed")
     m = get_model(model)
@@ -775,6 +783,7 @@ def fit_by_velocity(
     measured one to 0.5 mm/s). Returns ``(speed [m/s], fit)`` pairs,
     ordered by water content, then speed.
     """
+    _check_dataset(dataset)
     quiet, seed = true_or_false(quiet, "quiet"), seed_int(seed, "seed")
     m = get_model(model)
     fixed, options = _parameter_values(m, fixed, "fixed"), _options(options)
