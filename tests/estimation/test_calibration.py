@@ -367,3 +367,17 @@ def test_what_is_no_dataset_is_refused_by_the_fits_and_save_dataset(tmp_path: Pa
     with pytest.raises(InputError, match=r"^save_dataset takes a Dataset, got dict$"):
         save_dataset({"trials": []}, tmp_path / "out")  # type: ignore[arg-type]
     assert not (tmp_path / "out").exists()
+
+
+def test_save_dataset_refuses_an_unknown_water_content_and_writes_nothing_it_cannot_finish(tmp_path: Path) -> None:
+    """A trial of unknown water content (NaN) made the manifest's writer say "a result is not finite" after the
+    trial's CSV was written, as a NaN in extra did: a folder with a CSV and no dataset.json."""
+    from mudforce.estimation.calibration import Dataset, save_dataset
+
+    unknown = Trial("t.csv", math.nan, _T30, 0.01 * _T30, _T30)
+    with pytest.raises(InputError, match=r"^trial t.csv has no water content \(NaN\), and dataset.json needs each "
+                                         r"trial's; give it its water_content \(e.g. 0.25\)$"):
+        save_dataset(Dataset(Foot.paper(), (unknown,)), tmp_path / "a")
+    with pytest.raises(InputError, match=r"^a result is not finite"):
+        save_dataset(Dataset(Foot.paper(), (_TRIAL30,), extra={"description": math.nan}), tmp_path / "b")
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()

@@ -511,10 +511,11 @@ def save_dataset(dataset: Dataset, directory: str | os.PathLike[str]) -> Path:
             raise InputError(f"trial name {name!r} must be a plain file name ending in .csv")
     for trial in dataset.trials:
         _check_readable(trial)
-    out.mkdir(parents=True, exist_ok=True)
+        if math.isnan(trial.water_content):  # the manifest's writer said "a result is not finite", after the CSVs
+            raise InputError(f"trial {trial.name} has no water content (NaN), and dataset.json needs each trial's; "
+                             "give it its water_content (e.g. 0.25)")
     entries: list[dict[str, Any]] = []
     for trial in dataset.trials:
-        atomic_write_text(out / trial.name, _trial_csv(trial))
         entry: dict[str, Any] = {"file": trial.name, "water_content": trial.water_content}
         if trial.velocity is not None:
             entry["velocity_m_s"] = trial.velocity
@@ -524,7 +525,11 @@ def save_dataset(dataset: Dataset, directory: str | os.PathLike[str]) -> Path:
     manifest: dict[str, Any] = {"foot": foot_to_json(dataset.foot), "trials": entries}
     if dataset.extra:
         manifest.update(dataset.extra)
+    text = dumps_json(manifest, indent=2) + "\n"  # before any file: an extra it cannot write left the CSVs alone
+    out.mkdir(parents=True, exist_ok=True)
+    for trial in dataset.trials:
+        atomic_write_text(out / trial.name, _trial_csv(trial))
     path = out / MANIFEST_NAME
-    atomic_write_text(path, dumps_json(manifest, indent=2) + "\n")
+    atomic_write_text(path, text)
     return path
 
