@@ -104,8 +104,11 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     # item 4: finite input, non-finite output is refused at the source
     ("trajectory-depth-1e307", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,-1e307\n0.02,0\n"},
      ("traj.csv", "row 3", "depth_m")),
+    # the step's refusal named neither the file nor the sample ("the time step before sample 2 is 1999.99 s")
     ("trajectory-step-1e-12", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n1e-12,0.001\n0.02,0\n"},
-     ("time step", "1e-09")),
+     ("traj.csv: the sample at time 1e-12 s (sample 2)", "time steps", "1e-09")),
+    ("trajectory-step-2000s", _traj(""), {"traj.csv": "time_s,depth_m\n0,0\n0.01,0.001\n2000,0.002\n"},
+     ("traj.csv: the sample at time 2000.0 s (sample 3) comes 1999.99 s after the last", "[1e-09, 1000] s")),
     ("fit-bias-1e300", ["fit", "big", "--out", "f.json"], {"big/dataset.json": "@manifest-big", "big/a.csv": "@big"},
      ("a.csv", "force_N", "magnitude")),
     # item 6: inputs mean one thing

@@ -153,6 +153,7 @@ def _motion(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, str]:
         from mudforce.io.tables import read_trajectory
 
         time, depth = read_trajectory(args.trajectory)
+        _check_steps(args.trajectory, time, "sample")
         return time, depth, f"trajectory {args.trajectory}"
 
     from mudforce.motions.protocol import Protocol
@@ -262,21 +263,30 @@ _POSE_OUTPUT = ("time_s", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz", "force_x_
                 "torque_x_N_m", "torque_y_N_m", "torque_z_N_m")
 
 
+def _check_steps(path: str, time: np.ndarray, what: str) -> None:
+    """Refuse, naming the file and the sample (1-based data row) by its time, a time step [s] outside
+    ``[MIN_DT, MAX_DT]``, which the stepper would refuse without naming the file (``what``: "sample" or "pose")."""
+    from mudforce._kernel.bounds import MAX_DT, MIN_DT
+
+    steps = np.diff(time)
+    bad = np.flatnonzero((steps < MIN_DT) | (steps > MAX_DT))
+    if bad.size:
+        k = int(bad[0]) + 1
+        # repr: a step just outside a bound must not print as the bound
+        raise InputError(f"{path}: the {what} at time {float(time[k])!r} s (sample {k + 1}) comes "
+                         f"{float(steps[k - 1])!r} s after the last; expected time steps within "
+                         f"[{MIN_DT:g}, {MAX_DT:g}] s")
+
+
 def _check_poses(path: str, time: np.ndarray, positions: np.ndarray, shape: Shape, surface: float) -> None:
     """Refuse, naming the sample by its time, a step or a depth the 3-D stepper would refuse without saying where.
 
     ``time`` [s], ``positions`` [m] (m, 3), ``surface`` [m]: the time steps must lie within
     ``[MIN_DT, MAX_DT]``, and every point of the shape within ``MAX_DEPTH`` of the surface.
     """
-    from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
+    from mudforce._kernel.bounds import MAX_DEPTH
 
-    steps = np.diff(time)
-    bad = np.flatnonzero((steps < MIN_DT) | (steps > MAX_DT))
-    if bad.size:
-        k = int(bad[0]) + 1
-        raise InputError(f"{path}: the pose at time {float(time[k])!r} s (sample {k + 1}) comes "
-                         f"{float(steps[k - 1]):g} s after the last; expected time steps within "
-                         f"[{MIN_DT:g}, {MAX_DT:g}] s")
+    _check_steps(path, time, "pose")
     reach = float(np.sqrt(np.einsum("ij,ij->i", shape.centroids, shape.centroids)).max())
     deep = np.flatnonzero(np.abs(surface - positions[:, 2]) + reach > MAX_DEPTH)
     if deep.size:
