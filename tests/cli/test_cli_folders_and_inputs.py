@@ -128,6 +128,10 @@ CASES: dict[str, tuple[list[str], tuple[str, ...] | None]] = {
     "rise-negative": (["simulate", "--water-content", "25%", "--rise", "-5mm", "--out", "o.csv"],
                       ("--rise", "-5mm")),
     "level-negative": (["identify", "t.csv", "--level", "-5%"], ("--level", "-5%")),
+    # a level that rounds to 100 % was refused as if outside "between 0% and 100%"
+    "level-rounds-to-100": (["identify", "t.csv", "--level", "99.99999999999%"],
+                            ("--level: '99.99999999999%' rounds to 100%", "at most 99.9999999%")),
+    "level-150": (["identify", "t.csv", "--level", "150%"], ("--level: '150%' must be below 100%",)),
     "reproduce-seed-negative": (["reproduce", "--out", "r", "--seed", "-3"], ("--seed", "-3")),
     # item 5: synth's options bounded by the readers
     "depth-noise-100m": (_synth("x", "--depth-noise", "100m"), ("--depth-noise 100m", "+-100 m", "at most 14.28 m")),

@@ -70,9 +70,13 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.estimation.calibration.identify import identify_water_content
     from mudforce.io.units import parse_quantity
 
-    level = round(parse_quantity(args.level, "fraction", name="--level"), 9)
-    if not 0.0 < level < 1.0:
-        raise InputError(f"--level: {args.level!r} must be between 0% and 100%, e.g. 95%")
+    asked = parse_quantity(args.level, "fraction", name="--level")  # > 0: at least 1e-7 %
+    level = round(asked, 9)
+    if not level < 1.0:  # "between 0% and 100%" read as if 99.99999999999% were outside that range
+        if not asked < 1.0:
+            raise InputError(f"--level: {args.level!r} must be below 100%, e.g. 95%")
+        raise InputError(f"--level: {args.level!r} rounds to 100% (a level is read to 1e-7 %); expected at most "
+                         "99.9999999%, e.g. 95%")
     gain = _force_gain_uncertainty(args.force_gain_uncertainty)
     foot = parse_foot(args.foot if args.foot is not None else "paper")
     depth_noise = None if args.depth_noise is None else parse_quantity(args.depth_noise, "length", allow_zero=True,
