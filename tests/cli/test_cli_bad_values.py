@@ -79,6 +79,16 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("synth-rate-huge", ["synth", "--out", "new", "--rate", "1e8Hz"], {}, ("samples",)),
     ("synth-repeats-100000", ["synth", "--out", "new", "--repeats", "100000"], {}, ("--repeats",)),
     # int() and float() took "1_0" as 10 (and other scripts' digits); the command line reads plain ASCII numbers
+    # a seed or count past 4,300 digits was echoed digit by digit (argparse's "invalid int value: '999...'", the
+    # range checks' "--repeats: 999... must be within"); now by its size
+    ("synth-seed-5000-digits", ["synth", "--out", "new", "--seed", "9" * 5000], {},
+     ("argument --seed: an integer of 5000 digits is too large (at most 4300 digits are read)",)),
+    ("synth-repeats-4000-digits", ["synth", "--out", "new", "--repeats", "9" * 4000], {},
+     ("--repeats: an integer of 13288 bits must be within [1, 1000]",)),
+    ("reproduce-seed-5000-digits", ["reproduce", "--out", "new", "--seed", "9" * 5000], {},
+     ("--seed: an integer of 5000 digits is too large", "expected an integer in [0, 4294967295]")),
+    ("reproduce-jobs-4000-digits", ["reproduce", "--out", "new", "--jobs", "9" * 4000], {},
+     ("--jobs: an integer of 13288 bits is out of range",)),
     ("synth-repeats-underscore", ["synth", "--out", "new", "--repeats", "1_0"], {}, ("--repeats", "'1_0'")),
     ("synth-seed-underscore", ["synth", "--out", "new", "--seed", "1_0"], {}, ("--seed", "'1_0'")),
     ("fit-seed-underscore", ["fit", "ds", "--out", "f.json", "--seed", "1_0"], {}, ("--seed", "'1_0'")),
@@ -193,6 +203,7 @@ def test_refused_in_one_line(runs: dict[str, tuple[Run, Path, dict[str, bytes | 
     """Exit 2, one line naming the problem, no traceback, no other file's content echoed, nothing changed."""
     run, root, before = runs[case_id]
     assert_refused(run, *words)
+    assert len(run.stderr) < 400  # a value is shown short, not digit by digit
     assert "root:x" not in run.stderr  # an error never echoes another file's content
     assert snapshot(root) == before
 

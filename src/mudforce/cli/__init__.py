@@ -48,13 +48,24 @@ COMMANDS: tuple[str, ...] = (
 _NEGATIVE_VALUE = re.compile(r"^-(?:\.?\d|inf|nan)", re.IGNORECASE)
 
 
+#: Most digits :func:`plain_int` reads, leading zeros aside [-]: Python's default limit on ``int()`` of a string
+#: (``sys.int_info.default_max_str_digits``), far past any count or seed.
+MAX_INT_DIGITS = 4300
+
+
 def plain_int(text: str) -> int:
     """An argparse ``type`` for a count or seed: a plain ASCII decimal integer (``12``, ``-3``), else ValueError,
     which argparse reports as ``invalid int value``. ``int`` itself also took ``1_0`` as 10 and other scripts'
-    digits, where every other number the command line reads is plain ASCII."""
-    if re.fullmatch(r"[+-]?[0-9]+", str(text).strip()) is None:
+    digits, where every other number the command line reads is plain ASCII. An integer of more than
+    :data:`MAX_INT_DIGITS` digits is refused by its size (argparse.ArgumentTypeError), not echoed digit by digit."""
+    text = str(text).strip()
+    if re.fullmatch(r"[+-]?[0-9]+", text) is None:
         raise ValueError(text)
-    return int(text)
+    sign, digits = ("-" if text[0] == "-" else ""), text.lstrip("+-").lstrip("0") or "0"
+    if len(digits) > MAX_INT_DIGITS:  # int() raised ValueError, and argparse then printed every digit
+        raise argparse.ArgumentTypeError(f"an integer of {len(digits)} digits is too large (at most "
+                                         f"{MAX_INT_DIGITS} digits are read)")
+    return int(sign + digits)
 
 
 plain_int.__name__ = "int"  # argparse's message names the type: "argument --repeats: invalid int value: '1_0'"

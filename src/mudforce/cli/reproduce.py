@@ -24,7 +24,7 @@ import argparse
 import os
 
 from mudforce.cli import plain_int
-from mudforce.errors import InputError
+from mudforce.errors import InputError, shown
 
 NAME = "reproduce"
 HELP = "regenerate the paper's figures and tables (with granular baselines) as an HTML report"
@@ -58,8 +58,10 @@ def _integer(text: str, option: str, low: int, high: int) -> int:
         value = plain_int(text)  # not int(): it took "1_0" as 10
     except (TypeError, ValueError):
         raise InputError(f"{option}: {text!r} is not an integer; expected an integer in [{low}, {high}]") from None
+    except argparse.ArgumentTypeError as exc:  # past 4,300 digits: its size, not its digits
+        raise InputError(f"{option}: {exc}; expected an integer in [{low}, {high}]") from None
     if not low <= value <= high:
-        raise InputError(f"{option}: {value} is out of range; expected an integer in [{low}, {high}]")
+        raise InputError(f"{option}: {shown(value)} is out of range; expected an integer in [{low}, {high}]")
     return value
 
 

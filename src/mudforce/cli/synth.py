@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from mudforce.cli import plain_float, plain_int
-from mudforce.errors import InputError, seed_int
+from mudforce.errors import InputError, seed_int, shown
 from mudforce.io.units import parse_list, parse_quantity
 from mudforce.model.foot import FOOT_EXAMPLES
 
@@ -298,7 +298,7 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"{option}: a value is repeated; give each once (each makes its own trials)")
     seed = seed_int(args.seed)
     if args.repeats < 1 or args.repeats > MAX_TRIALS:
-        raise InputError(f"--repeats: {args.repeats} must be within [1, {MAX_TRIALS}]")
+        raise InputError(f"--repeats: {shown(args.repeats)} must be within [1, {MAX_TRIALS}]")
     if not gait:  # refused, not ignored: the protocol's trials are timed by --depth, --hold and --velocities
         for option, value in (("--duration", args.duration), ("--jitter", args.jitter),
                               ("--start-below", args.start_below)):
