@@ -137,6 +137,10 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("unit-underflow-to-zero", _sim("--rise", "1e-400mm"), {}, ("--rise", "too small")),
     # forces were compared case-free: mega- read as milli-newtons (0.5 MN, 5e5 N, beyond the bound, ran as 0.5 mN)
     ("unit-meganewton", ["synth", "--out", "new", "--bias", "0.5MN"], {}, ("--bias", "unknown force unit 'MN'")),
+    # areas were compared case-free: "20MM2" ran as 20 mm^2, where "20MM" is refused as a length
+    ("unit-area-capitals", ["fit-drag", "s.csv", "--area", "20MM2"], {"s.csv": SLIDING},
+     ("--area", "unknown area unit 'MM2'", "m2, cm2, mm2")),
+    ("unit-area-capitals-foot", _sim("--foot", "area:19.38CM2,width:38mm"), {}, ("--foot", "unknown area unit 'CM2'")),
     # "as a area", "expected a area": the article follows the kind
     ("unit-area-unreadable", ["fit-drag", "s.csv", "--area", "big"], {"s.csv": SLIDING},
      ("--area", "cannot read 'big' as an area;")),

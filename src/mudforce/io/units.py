@@ -60,13 +60,13 @@ _NUMBER = re.compile(r"^\s*([+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-
 
 
 def _case_key(kind: str, unit: str) -> str:
-    # lengths and times are case-sensitive in principle (mm vs Mm), but no
-    # one means megametres here; frequencies, forces and pressures are
+    # lengths, times and areas are case-sensitive (mm vs Mm: "20MM2" was read as 20 mm^2, where "20MM" is refused);
+    # frequencies, forces and pressures are
     # conventionally capitalised (Hz, N, kPa) and compared case-free, but for the case of a leading m or M, which
     # is milli or mega there ("0.2MN" was read as 0.2 mN, "6mPa" as 6 MPa)
     if kind in ("force", "pressure") and unit[:1] in ("m", "M"):
         return unit[0] + unit[1:].lower()
-    return unit.lower() if kind in ("frequency", "force", "pressure", "fraction", "area", "mass") else unit
+    return unit.lower() if kind in ("frequency", "force", "pressure", "fraction", "mass") else unit
 
 
 def _a(kind: str) -> str:
