@@ -54,6 +54,16 @@ REFUSED: list[tuple[str, list[str], tuple[str, ...]]] = [
     ("synth-empty-out", ["synth", "--out", ""], ("--out", "empty")),
     ("simulate-out-fifo", ["simulate", "--water-content", "25%", "--out", "fifo.csv"], ("--out", "FIFO")),
     ("simulate-out-device", ["simulate", "--water-content", "25%", "--out", "/dev/null"], ("--out", "regular")),
+    # an --out in another format's suffix: simulate --out o.png wrote CSV under that name
+    ("simulate-out-png", ["simulate", "--water-content", "25%", "--out", "o.png"],
+     ("--out: 'o.png' ends in .png (PNG), but --out writes CSV; expected a name ending in .csv "
+      "(--plot FILE.png writes a plot)",)),
+    ("drop-out-json", ["drop", "--mass", "5kg", "--water-content", "25%", "--out", "d.JSON"],
+     ("--out: 'd.JSON' ends in .JSON (JSON)", ".csv", "--plot")),
+    ("track-out-svg", ["track", "traj.csv", "--out", "t.svg"], ("--out", "(SVG)", ".csv", "--plot")),
+    ("fit-out-csv", ["fit", "ds", "--out", "fit.csv", "--quiet"],
+     ("--out: 'fit.csv' ends in .csv (CSV), but --out writes JSON; expected a name ending in .json "
+      "(--report DIR writes a report with plots)",)),
     ("simulate-name-too-long", ["simulate", "--water-content", "25%", "--out", "n" * 300 + ".csv"],
      ("--out", "longer than the file system allows")),
 ]

@@ -43,6 +43,7 @@ from __future__ import annotations
 import argparse
 
 from mudforce.cli import plain_float
+from mudforce.cli._outputs import check_suffix
 from mudforce.cli._shape import SHAPE_EXAMPLES, parse_shape
 from mudforce.errors import InputError
 from mudforce.io import check_output_path
@@ -113,6 +114,7 @@ def run(args: argparse.Namespace) -> int:
     shape3d = _shape_options(args)
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
+    check_suffix(out, "--out", "CSV", ".csv", "--plot FILE.png writes a plot")
     if plot is not None and plot.resolve() == out.resolve():
         raise InputError("--plot and --out name the same file")
     if plot is not None:

@@ -30,6 +30,7 @@ import argparse
 import math
 
 from mudforce.cli import plain_int
+from mudforce.cli._outputs import check_suffix
 from mudforce.cli.identify import _force_gain_uncertainty
 from mudforce.errors import InputError, seed_int
 from mudforce.io import (
@@ -125,6 +126,7 @@ def run(args: argparse.Namespace) -> int:
     # every input the dataset was read from (a manifest's trial files too), before anything is written
     inputs = [("DATASET", args.dataset), *(("file", p) for p in dataset.inputs)]
     refuse_overwriting_inputs([("--out", out)], inputs, [("--report", args.report)])
+    check_suffix(out, "--out", "JSON", ".json", "--report DIR writes a report with plots")
     report = check_replaceable_dir(args.report, "--report", _REPORT_FILES, _TAG) if args.report is not None else None
     extra = _names(args.free, "--free")
     for name in extra:

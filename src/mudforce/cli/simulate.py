@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from mudforce.cli._outputs import check_suffix
 from mudforce.cli._shape import SHAPE_EXAMPLES, make_shape, parse_shape
 from mudforce.errors import InputError
 from mudforce.io import check_output_path, refuse_overwriting_inputs
@@ -212,6 +213,7 @@ def run(args: argparse.Namespace) -> int:
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
     refuse_overwriting_inputs([("--out", out), ("--plot", plot)],
                               [("--trajectory", args.trajectory), ("--params", args.params)])
+    check_suffix(out, "--out", "CSV", ".csv", "--plot FILE.png writes a plot")
     from mudforce.io.tables import is_pose_trajectory
 
     if args.trajectory is not None and is_pose_trajectory(args.trajectory):

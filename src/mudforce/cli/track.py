@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from mudforce.cli._outputs import check_suffix
 from mudforce.errors import InputError
 from mudforce.io import check_output_path, refuse_overwriting_inputs
 from mudforce.model.foot import FOOT_EXAMPLES, parse_foot
@@ -66,6 +67,7 @@ def run(args: argparse.Namespace) -> int:
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
     refuse_overwriting_inputs([("--out", out), ("--plot", plot)], [("file", source)])
+    check_suffix(out, "--out", "CSV", ".csv", "--plot FILE.png writes a plot")
     if plot is not None:
         from mudforce._plumbing.optional import require
 
