@@ -1,4 +1,5 @@
-"""The CSV reader's memory grows as the numbers do, not as Python objects (issue 15, item 5)."""
+"""The CSV reader's memory grows as the numbers do, not as Python objects (issue 15, item 5); an empty name is
+refused as one."""
 
 from __future__ import annotations
 
@@ -6,8 +7,22 @@ import tracemalloc
 from pathlib import Path
 
 import numpy as np
+import pytest
 
-from mudforce.io.tables import read_trajectory
+from mudforce.errors import InputError
+from mudforce.io import load_json
+from mudforce.io.tables import read_columns, read_trajectory
+
+
+@pytest.mark.parametrize("name", ["", " "])
+def test_an_empty_name_is_refused_as_one(name: str) -> None:
+    """Path('') is '.': the readers said ".: is a directory; expected a CSV file" (load_json: "a parameter file")."""
+    with pytest.raises(InputError, match=f"^empty file name '{name}'; expected a CSV file$"):
+        read_trajectory(name)
+    with pytest.raises(InputError, match=f"^empty file name '{name}'; expected a CSV file$"):
+        read_columns(name, {"time": (("time_s", 1.0),)})
+    with pytest.raises(InputError, match=f"^empty file name '{name}'; expected a parameter file$"):
+        load_json(name, "parameter file")
 
 
 def test_reading_a_long_trajectory_takes_memory_in_proportion_to_the_numbers(tmp_path: Path) -> None:

@@ -85,6 +85,15 @@ def plain_float(text: str) -> float:
 plain_float.__name__ = "float"  # as plain_int's: "argument --jitter: invalid float value: '0_1'"
 
 
+def refuse_empty_inputs(*inputs: tuple[str, str | None, str]) -> None:
+    """Refuse an input given as an empty name (``''``, spaces: an unset shell variable), naming its option: each
+    ``(option, name or None when not given, what is expected)``. ``Path('')`` is ``.``, the current folder, which
+    the readers refused as "is a directory" or searched for a dataset.json."""
+    for option, name, what in inputs:
+        if name is not None and not str(name).strip():
+            raise InputError(f"{option}: empty name {name!r}; expected {what}")
+
+
 class _Parser(argparse.ArgumentParser):
     """An argparse parser whose errors are one line and exit status 2, and which reads ``--bias -0.5N`` as
     an option and its value (argparse's own rule only takes plain numbers like ``-1`` for values, so it

@@ -29,7 +29,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from mudforce.cli import plain_int
+from mudforce.cli import plain_int, refuse_empty_inputs
 from mudforce.cli._outputs import check_suffix
 from mudforce.cli.identify import _force_gain_uncertainty
 from mudforce.errors import InputError, seed_int
@@ -109,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.estimation.calibration.fit import fit_by_velocity, fit_dataset, speed_key
     from mudforce.estimation.calibration.models import get_model
 
+    refuse_empty_inputs(("DATASET", args.dataset, "a dataset folder, its dataset.json, or a tidy CSV"))
     if args.report:
         from mudforce._plumbing.optional import require
 

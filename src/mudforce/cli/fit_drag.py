@@ -14,6 +14,7 @@ import argparse
 import re
 import sys
 
+from mudforce.cli import refuse_empty_inputs
 from mudforce.errors import InputError
 from mudforce.io import dumps_json
 from mudforce.model.foot import FOOT_EXAMPLES
@@ -60,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.estimation.calibration.drag import fit_drag, read_sliding
     from mudforce.io.units import parse_quantity
 
+    refuse_empty_inputs(("FILE.csv", args.file, "a CSV file"))
     if args.area is not None:
         from mudforce.model.foot import AREA_RANGE
 

@@ -27,6 +27,7 @@ import dataclasses
 import math
 from pathlib import Path
 
+from mudforce.cli import refuse_empty_inputs
 from mudforce.io import dumps_json
 from mudforce.model.foot import FOOT_EXAMPLES, Foot
 
@@ -70,6 +71,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.estimation.calibration.identify import identify_water_content
     from mudforce.io.units import parse_quantity
 
+    refuse_empty_inputs(("TRIAL.csv", args.trial, "a CSV file"))
     asked = parse_quantity(args.level, "fraction", name="--level")  # > 0: at least 1e-7 %
     level = round(asked, 9)
     if not level < 1.0:  # "between 0% and 100%" read as if 99.99999999999% were outside that range

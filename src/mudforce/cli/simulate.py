@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from mudforce.cli import refuse_empty_inputs
 from mudforce.cli._outputs import check_suffix
 from mudforce.cli._shape import SHAPE_EXAMPLES, make_shape, parse_shape
 from mudforce.errors import InputError
@@ -209,6 +210,8 @@ def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: P
 
 def run(args: argparse.Namespace) -> int:
     """Check all inputs, simulate, then write the CSV (and PNG) atomically; print a summary."""
+    refuse_empty_inputs(("--trajectory", args.trajectory, "a CSV file"),
+                        ("--params", args.params, "a parameter file (JSON)"))
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
     refuse_overwriting_inputs([("--out", out), ("--plot", plot)],

@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from mudforce.cli import refuse_empty_inputs
 from mudforce.cli._outputs import check_suffix
 from mudforce.errors import InputError
 from mudforce.io import check_output_path, refuse_overwriting_inputs
@@ -63,6 +64,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check all inputs, track, then write the CSV (and PNG) atomically; print a summary."""
+    refuse_empty_inputs(("FILE.csv", args.file, "a CSV file"))
     source = Path(args.file)
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None

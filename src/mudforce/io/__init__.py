@@ -723,6 +723,8 @@ def load_json(path: str | os.PathLike[str], what: str, example: str = "") -> Any
     example : str
         What is expected, for the malformed-JSON message.
     """
+    if isinstance(path, (str, os.PathLike)) and not os.fspath(path).strip():  # Path("") is "." (a directory)
+        raise InputError(f"empty file name {os.fspath(path)!r}; expected a {what}")
     p = Path(path)
     hint = f"; expected {example}" if example else ""
     try:

@@ -137,6 +137,8 @@ def read_columns(
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InputError(f"path must be a file name, got {type(path).__name__}")
+    if not os.fspath(path).strip():  # Path("") is ".": "is a directory" said nothing of the empty name
+        raise InputError(f"empty file name {os.fspath(path)!r}; expected a CSV file")
     p = Path(path)
     if not p.exists():
         raise InputError(f"{p}: file not found")
