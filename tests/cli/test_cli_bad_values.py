@@ -77,6 +77,9 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("synth-depth-beyond-model", ["synth", "--out", "new", "--depth", "500m"], {}, ("--depth", "100 m")),
     ("synth-hold-1e300s", ["synth", "--out", "new", "--hold", "1e300s"], {}, ("--hold",)),
     ("synth-rate-huge", ["synth", "--out", "new", "--rate", "1e8Hz"], {}, ("samples",)),
+    # a gait's walks are as long as --duration: the advice named --hold and --depth, which a gait refuses
+    ("synth-gait-too-many-samples", ["synth", "--out", "new", "--motion", "gait", "--duration", "1e9s"], {},
+     ("3e+11 samples", "lower --rate, --duration or the number of trials")),
     ("synth-repeats-100000", ["synth", "--out", "new", "--repeats", "100000"], {}, ("--repeats",)),
     # int() and float() took "1_0" as 10 (and other scripts' digits); the command line reads plain ASCII numbers
     # a seed or count past 4,300 digits was echoed digit by digit (argparse's "invalid int value: '999...'", the

@@ -327,9 +327,10 @@ def run(args: argparse.Namespace) -> int:
         ((approach + depth) / v + hold + (depth + 0.02) / v) * rate + 1 for v in velocities)
     if gait:  # one walk of --duration per repeat and water content
         samples = args.repeats * len(waters) * (duration * rate + 1)
-    if samples > MAX_SAMPLES:
+    if samples > MAX_SAMPLES:  # a gait's options: --hold and --depth are the protocol's, refused with a gait
+        shorter = "--duration" if gait else "--hold, --depth"
         raise InputError(f"the dataset would have {samples:.3g} samples, more than {MAX_SAMPLES:,} per command; "
-                         "lower --rate, --hold, --depth or the number of trials")
+                         f"lower --rate, {shorter} or the number of trials")
     foot = parse_foot(args.foot)
     force_noise = parse_quantity(args.force_noise, "force", name="--force-noise", allow_zero=True)
     depth_noise = parse_quantity(args.depth_noise, "length", name="--depth-noise", allow_zero=True)
