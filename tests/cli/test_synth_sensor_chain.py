@@ -20,7 +20,10 @@ BAD = [
     (["--force-lag", "fast"], ("--force-lag", "delay:5ms")),
     (["--force-lag", "delay:1ms,delay:2ms"], ("--force-lag", "each kind once")),
     (["--force-lag", "delay:2s"], ("--force-lag delay", "[0, 1] s")),
-    (["--force-lag", "10"], ("--force-lag", "'10'", "low-pass")),
+    (["--force-lag", "10"], ("--force-lag", "'10'", "low-pass", "has no unit")),
+    # a time that is read but out of range was "cannot read 'delay:-5ms' ... as a delay time"
+    (["--force-lag", "delay:-5ms"], ("--force-lag: 'delay:-5ms' in 'delay:-5ms' is no delay time ('-5ms' must not be "
+                                     "negative)", "delay:5ms")),
     (["--force-gain", "3"], ("--force-gain", "[0.5, 2]")),
     (["--force-gain", "-60%"], ("--force-gain", "0.4")),
     (["--force-gain", "abc"], ("--force-gain", "+5%")),
