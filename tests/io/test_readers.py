@@ -14,6 +14,14 @@ from mudforce.io import load_json
 from mudforce.io.tables import read_columns, read_trajectory
 
 
+def test_a_ragged_row_is_counted_in_words(tmp_path: Path) -> None:
+    """'row 2 has 1 fields' was the message of a row with one cell."""
+    path = tmp_path / "short.csv"
+    path.write_text("time_s,depth_m\n0\n0.01,0.001\n")
+    with pytest.raises(InputError, match=r"row 2 has 1 field, the header has 2; rows must not be ragged$"):
+        read_trajectory(path)
+
+
 @pytest.mark.parametrize("name", ["", " "])
 def test_an_empty_name_is_refused_as_one(name: str) -> None:
     """Path('') is '.': the readers said ".: is a directory; expected a CSV file" (load_json: "a parameter file")."""

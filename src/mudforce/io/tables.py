@@ -218,7 +218,8 @@ def _read(
             continue
         if len(row) != width:
             raise InputError(
-                f"{p}: row {line} has {len(row)} fields, the header has {width}; rows must not be ragged"
+                f"{p}: row {line} has {len(row)} field{'' if len(row) == 1 else 's'}, the header has {width}; "
+                "rows must not be ragged"
             )
         for quantity, (col, factor, spelling) in index.items():
             cell = row[col].strip()
