@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from mudforce.errors import InputError
-from mudforce.motions.protocol import Hold, Intrude, Protocol
+from mudforce.motions.protocol import Hold, Intrude, Protocol, Withdraw
 
 
 @pytest.mark.parametrize("approach", [True, "0.01", np.array([0.01]), float("nan"), -0.01])
@@ -38,3 +38,15 @@ def test_a_start_depth_of_minus_zero_starts_at_zero() -> None:
     # it was kept: the samples before the first step moved were -0.0 (a CSV's '-0', other bytes than a start at 0)
     _, depth = Protocol((Hold(0.5), Intrude(0.01, 0.02)), rate=10.0, start_depth=-0.0).sample()
     assert not np.any(np.signbit(depth))
+
+
+def test_a_rate_that_samples_past_a_moving_step_is_refused() -> None:
+    """simulate --rate 0.001Hz sampled the paper's protocol at 0 and 1000 s: a foot that never entered the mud (peak
+    force 0 N, exit 0). A sample interval longer than an intrusion or withdrawal is refused; a hold may be cut."""
+    with pytest.raises(InputError, match=r"^sampling rate 0.001 Hz samples every 1000 s, longer than step 1 \(Intrude, "
+                                         r"2 s\), which the samples would cut; expected a rate of at least 0.5 Hz$"):
+        Protocol.paper(depth=0.02, velocity=0.01, rate=0.001)
+    steps = (Intrude(depth=0.02, velocity=0.01), Hold(duration=0.1), Withdraw(velocity=0.1, rise=0.0))
+    with pytest.raises(InputError, match=r"step 3 \(Withdraw, 0.2 s\).* at least 5 Hz$"):
+        Protocol(steps, rate=4.0)
+    assert Protocol(steps, rate=5.0).sample()[0].size == 13  # the hold, shorter than a sample, may be cut

@@ -119,8 +119,10 @@ class Protocol:
     ------
     InputError
         For a motion :func:`mudforce.simulate` would refuse (a depth beyond
-        +-100 m, a rate outside the range, a sample after 1e9 s) or more
-        than :data:`MAX_SAMPLES` samples.
+        +-100 m, a rate outside the range, a sample after 1e9 s), more
+        than :data:`MAX_SAMPLES` samples, or a rate whose sample interval is
+        longer than an intrusion or withdrawal step (whose corners the
+        sampled path would cut).
     """
 
     steps: tuple[Step, ...]
@@ -141,6 +143,17 @@ class Protocol:
         if not self.steps:
             raise InputError("a protocol needs at least one step (Intrude, Hold or Withdraw)")
         bt, _ = self.breakpoints()  # validates the sequence
+        # a moving step shorter than a sample interval is cut by the sampled path, which the model then simulates
+        # instead: simulate --rate 0.001Hz sampled the paper's protocol at 0 and 1000 s, a foot that never entered
+        # (peak force 0 N, exit 0)
+        lengths = np.diff(bt)
+        moving = [i for i, st in enumerate(self.steps) if not isinstance(st, Hold)]
+        if moving:
+            i = min(moving, key=lambda k: lengths[k])
+            if lengths[i] * self.rate < 1.0:
+                raise InputError(f"sampling rate {self.rate:g} Hz samples every {1.0 / self.rate:.4g} s, longer than "
+                                 f"step {i + 1} ({type(self.steps[i]).__name__}, {lengths[i]:.4g} s), which the "
+                                 f"samples would cut; expected a rate of at least {1.0 / lengths[i]:.4g} Hz")
         n = self._samples(float(bt[-1]))
         if not n <= MAX_SAMPLES:
             raise InputError(f"sampling rate: {self.rate:g} Hz over the {float(bt[-1]):.4g} s motion is {n:.3g} "
