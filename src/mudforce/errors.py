@@ -149,8 +149,10 @@ def real_array(value: Any, name: str, unit: str) -> np.ndarray:
     numbers (whose imaginary part ``float64`` would drop with only a
     warning), booleans (also mixed among numbers in a list, which numpy
     would read as 0 and 1), strings (which numpy would parse) and objects are
-    refused with one line naming the dtype. NaN and infinities pass: the
-    caller checks the bounds.
+    refused with one line naming the dtype; a masked array with a masked
+    value is refused (its masked values were read as numbers), one without
+    is read as its data. NaN and infinities pass: the caller checks the
+    bounds.
 
     Parameters
     ----------
@@ -166,6 +168,12 @@ def real_array(value: Any, name: str, unit: str) -> np.ndarray:
     ndarray of float64
         ``value`` [``unit``]: ``value`` itself if it is already a float64 array.
     """
+    if isinstance(value, np.ma.MaskedArray):  # its masked values were read as numbers (float64: kept, mask and all)
+        masked = int(np.ma.count_masked(value))
+        if masked:
+            raise InputError(f"{name} must be an array of real numbers [{unit}], got a masked array with {masked} "
+                             "masked value(s); fill or drop them first")
+        value = value.data
     if isinstance(value, np.ndarray) and value.dtype == np.float64:
         return value
     try:

@@ -56,7 +56,8 @@ def test_a_reset_foot_alone_does_not_let_a_bad_dt_through() -> None:
     ({"rise": 100.5}, "withdrawal rise must be within +-100 m"),
     ({"approach": 1e3}, "start depth must be within +-100 m"),
     ({"rate": 1e6, "hold": 60.0}, "samples, more than 10,000,000"),
-    ({"rate": 1e-3, "hold": 2e9}, "its last sample beyond simulate()'s 1e+09 s"),
+    ({"rate": 1e-3, "velocity": 1e-5, "hold": 2e9}, "its last sample beyond simulate()'s 1e+09 s"),
+    ({"rate": 1e-3, "hold": 1e5}, "longer than step 1 (Intrude, 2 s), which the samples would cut"),
 ])
 def test_a_protocol_simulate_would_refuse_is_refused_on_construction(kwargs: dict[str, float],
                                                                       expected: str) -> None:
@@ -67,7 +68,7 @@ def test_a_protocol_simulate_would_refuse_is_refused_on_construction(kwargs: dic
 
 @pytest.mark.parametrize("protocol", [
     mf.Protocol.paper(depth=MAX_DEPTH, velocity=10.0, hold=1.0, rise=MAX_DEPTH, rate=100.0),
-    mf.Protocol.paper(rate=MIN_RATE, hold=1e5),
+    mf.Protocol.paper(velocity=1e-5, rate=MIN_RATE, hold=1e5),  # each step at least a sample long
     mf.Protocol.paper(depth=1e-4, velocity=10.0, hold=1e-5, rise=1e-4, rate=MAX_RATE),
 ])
 def test_a_protocol_at_the_bounds_is_simulated(protocol: mf.Protocol) -> None:
@@ -155,3 +156,17 @@ def test_a_step_just_under_1_ns_is_shown_as_it_is() -> None:
     for stepper in (lambda: one.step(0.0, step), lambda: many.step(np.zeros(1), step)):
         with pytest.raises(mf.InputError, match=r"got 9\.9999e-10$"):
             stepper()
+
+
+def test_real_array_refuses_a_masked_array_with_masked_values_and_reads_one_without() -> None:
+    """A masked value was read as a number: simulate ran on a masked time sample (float64 kept its mask; other
+    dtypes dropped it in np.asarray)."""
+    from mudforce.errors import real_array
+
+    for dtype in (np.float64, np.int64):
+        masked = np.ma.array(np.arange(5, dtype=dtype), mask=[0, 0, 1, 0, 0])
+        with pytest.raises(mf.InputError, match=r"^time must be an array of real numbers \[s\], got a masked array "
+                                                r"with 1 masked value\(s\); fill or drop them first$"):
+            real_array(masked, "time", "s")
+    plain = real_array(np.ma.array([0.0, 0.01]), "time", "s")
+    assert type(plain) is np.ndarray and plain.tolist() == [0.0, 0.01]
