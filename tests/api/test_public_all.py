@@ -85,9 +85,9 @@ PINNED: dict[str, list[str]] = {
         "get_model", "register_model",
     ],
     "mudforce.estimation.calibration.preprocess": [
-        "CLEAN_DEPTH_M", "MIN_PRECONTACT_SAMPLES", "Motion", "PreparedTrial", "fit_motion", "is_protocol",
-        "motion_covariance", "noise_floor", "noise_floor_parts", "prepare_trial", "snap_reversal", "tare",
-        "tare_correction",
+        "CLEAN_DEPTH_M", "MAX_DEPTH_NOISE_M", "MIN_PRECONTACT_SAMPLES", "Motion", "PreparedTrial", "fit_motion",
+        "is_protocol", "motion_covariance", "noise_floor", "noise_floor_parts", "prepare_trial", "snap_reversal",
+        "tare", "tare_correction",
     ],
     "mudforce.estimation.calibration.report": ["ERROR_PROFILE_POINTS", "error_profile", "write_report"],
     "mudforce.estimation.calibration.results": [

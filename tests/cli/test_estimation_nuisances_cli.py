@@ -40,7 +40,9 @@ def test_force_gain_uncertainty_widens_identify(tmp_path: Path) -> None:
     given = json.loads(runs[5].stdout)
     assert given["depth_noise_m"] == pytest.approx(5e-5) and default["depth_noise_m"] < 5e-5
     assert given["interval"][0] <= 0.22 <= given["interval"][1]
-    assert_refused(runs[6], "depth noise")
+    assert_refused(runs[6], "--depth-noise")  # the option, not the CSV file (its name was the message's subject)
+    assert runs[6].stderr.strip().endswith("--depth-noise: '20mm' is beyond 10 mm (beyond it the depth tells "
+                                           "nothing); expected 0mm to 10mm, e.g. 0.03mm"), runs[6].stderr
     assert_refused(runs[7], "--force-gain-uncertainty")
     assert not (tmp_path / "bad.json").exists()
     assert runs[8].returncode == 0, runs[8].stderr

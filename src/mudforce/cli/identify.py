@@ -69,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.errors import InputError
     from mudforce.estimation.calibration.dataset import load_trial, parse_foot
     from mudforce.estimation.calibration.identify import identify_water_content
+    from mudforce.estimation.calibration.preprocess import MAX_DEPTH_NOISE_M
     from mudforce.io.units import parse_quantity
 
     refuse_empty_inputs(("TRIAL.csv", args.trial, "a CSV file"))
@@ -83,6 +84,9 @@ def run(args: argparse.Namespace) -> int:
     foot = parse_foot(args.foot if args.foot is not None else "paper")
     depth_noise = None if args.depth_noise is None else parse_quantity(args.depth_noise, "length", allow_zero=True,
                                                                         name="--depth-noise")
+    if depth_noise is not None and depth_noise > MAX_DEPTH_NOISE_M:  # (prepare_trial's message named the CSV file)
+        raise InputError(f"--depth-noise: {args.depth_noise!r} is beyond {MAX_DEPTH_NOISE_M * 1e3:g} mm (beyond it "
+                         f"the depth tells nothing); expected 0mm to {MAX_DEPTH_NOISE_M * 1e3:g}mm, e.g. 0.03mm")
     result = identify_water_content(load_trial(args.trial), foot, level=level, force_gain_uncertainty=gain,
                                     depth_noise=depth_noise)
     listed = _manifest_foot(args.trial)

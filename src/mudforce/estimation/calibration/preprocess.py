@@ -42,6 +42,7 @@ from mudforce.model.velocity import estimate_depth_noise
 
 __all__ = [
     "CLEAN_DEPTH_M",
+    "MAX_DEPTH_NOISE_M",
     "MIN_PRECONTACT_SAMPLES",
     "Motion",
     "PreparedTrial",
@@ -61,7 +62,7 @@ MIN_PRECONTACT_SAMPLES = 3
 #: Depth noise [m] below which a trial of any motion counts as noise-free (0.1 um; motion capture gives ~30 um).
 CLEAN_DEPTH_M = 1e-7
 #: Largest depth noise :func:`prepare_trial` accepts as known [m] (10 mm: beyond it the depth tells nothing).
-_MAX_DEPTH_NOISE_M = 0.01
+MAX_DEPTH_NOISE_M = 0.01
 
 
 @dataclass(frozen=True)
@@ -561,8 +562,8 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: fl
     """
     if depth_noise_from not in ("all", "quiet"):
         raise InputError(f'{trial.name}: depth_noise_from must be "all" or "quiet", got {depth_noise_from!r}')
-    if depth_noise is not None and not (is_real(depth_noise) and 0.0 <= depth_noise <= _MAX_DEPTH_NOISE_M):
-        raise InputError(f"{trial.name}: depth noise must be between 0 and {_MAX_DEPTH_NOISE_M * 1e3:g} mm "
+    if depth_noise is not None and not (is_real(depth_noise) and 0.0 <= depth_noise <= MAX_DEPTH_NOISE_M):
+        raise InputError(f"{trial.name}: depth noise must be between 0 and {MAX_DEPTH_NOISE_M * 1e3:g} mm "
                          f"(e.g. 0.03 mm), got {shown(depth_noise)} m")
     if protocol is not None and not isinstance(protocol, (bool, np.bool_)):
         raise InputError(f"{trial.name}: protocol must be True, False or None, got {protocol!r}")
