@@ -164,6 +164,11 @@ def test_config_refuses_bad_values() -> None:
     ({"repeats": 10**5000}, r"repeats must be at most 1000 .*, got an integer of 16610 bits"),
     ({"repeat_scatter": -1.0}, r"repeat_scatter must be within \[0, 1\] -, got -1.0"),
     ({"fit_options": None}, r"fit_options must be a FitOptions, got NoneType"),
+    # two values alike to 6 digits were made and fitted as two, under one trial name (w20_v10_r1.csv four times),
+    # and summary.json kept one of their RMSEs under one key ("0.2") and one necking verdict ("0.01")
+    ({"water_contents": (0.2, 0.200000000001, 0.25)},
+     r"water_contents 0.2 and 0.200000000001 are the same to 6 significant digits \(both 0.2 in summary.json"),
+    ({"velocities": (0.01, 0.0100000001)}, r"velocities 0.01 and 0.0100000001 are the same to 6 significant digits"),
 ])
 def test_config_refuses_bad_fields_in_one_line(fields: dict[str, object], message: str) -> None:
     with pytest.raises(InputError, match=f"^{message}") as info:

@@ -33,6 +33,20 @@ __all__ = ["SCATTERED", "ReproduceConfig", "make_experiments"]
 SCATTERED: tuple[str, ...] = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y")
 
 
+def _distinct_labels(name: str, values: list[float], scale: float) -> None:
+    """Refuse two values that print alike to 6 significant digits: ``summary.json`` keys them by ``f"{v:g}"`` and
+    the trials are named by ``f"{v * scale:g}"`` (:func:`trial_name`); two alike were two trials of one name and one
+    key that kept only the last one's numbers."""
+    for label in (lambda v: f"{v:g}", lambda v: f"{v * scale:g}"):
+        seen: dict[str, float] = {}
+        for v in values:
+            if label(v) in seen:
+                raise InputError(f"{name} {seen[label(v)]!r} and {v!r} are the same to 6 significant digits "
+                                 f"(both {v:g} in summary.json and the trials' names); give values that differ "
+                                 "within 6 digits")
+            seen[label(v)] = v
+
+
 @dataclass(frozen=True)
 class ReproduceConfig:
     """What :func:`reproduce` makes and how hard it fits.
@@ -86,6 +100,7 @@ class ReproduceConfig:
                 raise InputError(f"{name} must be a sequence of numbers [{unit}], got shape {values.shape}")
             if np.unique(values).size != values.size:
                 raise InputError(f"{name} repeats a value; give each once (each makes its own trials)")
+            _distinct_labels(name, values.tolist(), 100.0 if name == "water_contents" else 1e3)
         if not any(abs(w - 0.25) < 1e-9 for w in self.water_contents):
             raise InputError("the water contents must include 0.25 (the paper's Figs. 2, 6 and 11)")
         if len(self.velocities) < 1:
