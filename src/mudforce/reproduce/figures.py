@@ -25,7 +25,7 @@ from mudforce.io.plotting import new_figure, save_png
 from mudforce.model.baselines import granular_rft_force
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
-from mudforce.reproduce.experiments import ReproduceConfig
+from mudforce.reproduce.experiments import ReproduceConfig, _is_reference
 from mudforce.reproduce.summary import MODEL_LABELS, PAPER_UNITS, determined, in_paper_units
 from mudforce.steppers.simulation import simulate
 
@@ -44,6 +44,12 @@ def _figure(nrows: int, ncols: int, width: float, height: float) -> tuple[Any, n
 def _norm_time(t: np.ndarray) -> np.ndarray:
     out: np.ndarray = (t - t[0]) / (t[-1] - t[0])
     return out
+
+
+def _at_reference(fits: dict[float, ConditionFit]) -> ConditionFit:
+    """The fit at the reference water content 0.25, whose key may be 0.25 to float rounding only (as
+    :class:`ReproduceConfig` takes it: ``table[0.25]`` was a KeyError after every fit of the run)."""
+    return next(f for w, f in fits.items() if _is_reference(w))
 
 
 def _reference_trials(fit: ConditionFit, v: float) -> list[TrialFit]:
@@ -68,7 +74,7 @@ def _log_axis(ax: Any) -> None:
 
 
 def _fig02(table: dict[float, ConditionFit], v: float) -> Any:
-    trials = _reference_trials(table[0.25], v)
+    trials = _reference_trials(_at_reference(table), v)
     fig, axes = _figure(1, 2, 10.0, 3.8)
     s = _norm_time(trials[0].time)
     forces = np.array([t.force for t in trials])
@@ -111,7 +117,7 @@ def _fig02(table: dict[float, ConditionFit], v: float) -> Any:
 
 
 def _fig06(table: dict[float, ConditionFit], dataset: Dataset, v: float) -> Any:
-    fit = table[0.25]
+    fit = _at_reference(table)
     trials = _reference_trials(fit, v)
     params = fit.mud_parameters()
     first = trials[0]
@@ -240,7 +246,7 @@ def _fig10(by_speed: dict[tuple[float, float], ConditionFit]) -> Any:
 
 
 def _fig11(table: dict[float, ConditionFit], v: float, foot: Foot) -> Any:
-    trials = _reference_trials(table[0.25], v)
+    trials = _reference_trials(_at_reference(table), v)
     t0 = trials[0]
     mean = np.mean([t.force for t in trials], axis=0)
     s = _norm_time(t0.time)
@@ -295,12 +301,12 @@ def _fig_baselines(table: dict[float, ConditionFit], baselines: dict[str, dict[f
                    v: float) -> Any:
     fig, axes = _figure(1, 2, 12.0, 4.0)
     ax = axes[0, 0]
-    ref = _reference_trials(table[0.25], v)[0]
+    ref = _reference_trials(_at_reference(table), v)[0]
     ax.plot(ref.time, ref.force, ".", ms=1.2, color="0.6", label="measured (synthetic)")
     ax.plot(ref.time, ref.fitted, color="k", lw=1.1, label=MODEL_LABELS["mud_model"])
     styles = {"granular_rft": ("#b9770e", "-"), "drft": ("#2471a3", "--"), "maxwell_only": ("#7d3c98", "-.")}
     for name, fits in baselines.items():
-        tr = next(t for t in fits[0.25].trials if t.name == ref.name)
+        tr = next(t for t in _at_reference(fits).trials if t.name == ref.name)
         colour, ls = styles.get(name, ("0.3", ":"))
         ax.plot(tr.time, tr.fitted, color=colour, ls=ls, lw=1.0, label=MODEL_LABELS.get(name, name))
     ax.axhline(0.0, color="0.6", lw=0.5)
