@@ -191,3 +191,20 @@ def test_synthesize_refuses_a_noise_that_is_no_number_in_one_line() -> None:
     for make in (synthesize, synthesize_gait):
         with pytest.raises(InputError, match=r"^repeats must be at most 1000 .*, got 1e\+20$"):
             make(repeats=10**20)
+
+
+def test_reproduce_refuses_bad_jobs_config_and_log_before_any_work(tmp_path: Path) -> None:
+    """Each in one line, before matplotlib is warmed up and before the folder is made: jobs=10**6 was taken (a fork
+    pool starts all its workers at its first job: a million processes), a config of another kind and a log that
+    is not callable were an AttributeError ('str' object has no attribute 'seed') and a TypeError after the
+    experiments were made."""
+    from mudforce.reproduce import reproduce
+
+    out = tmp_path / "r"
+    for kwargs, message in (({"jobs": 10**6}, r"jobs must be at most 64 \(worker processes\), got 1000000$"),
+                            ({"jobs": 65}, r"jobs must be at most 64"), ({"jobs": True}, r"jobs must be an integer"),
+                            ({"config": "quick"}, r"config must be a ReproduceConfig or None, got str$"),
+                            ({"log": 5}, r"log must be a callable \(e.g. print\) or None, got int$")):
+        with pytest.raises(InputError, match=f"^{message}"):
+            reproduce(out, quiet=True, **kwargs)  # type: ignore[arg-type]
+    assert not out.exists()

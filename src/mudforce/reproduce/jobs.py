@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from mudforce._plumbing.progress import Progress
+from mudforce.errors import InputError, positive_int, shown
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.fit import ConditionFit, FitOptions, fit_condition
 from mudforce.model.baselines import BASELINE_NAMES
@@ -197,6 +198,18 @@ def start_method() -> str | None:
     if "fork" in methods and not any(name in sys.modules for name in THREADED_RUNTIMES):
         return "fork"
     return "spawn" if "spawn" in methods else None
+
+
+#: The most worker processes :func:`mudforce.reproduce.reproduce` starts (``mudforce reproduce --jobs``'s bound too):
+#: with ``fork`` a pool starts all its workers at its first job, so that jobs=10**6 asked for a million processes.
+MAX_JOBS = 64
+
+
+def job_count(jobs: Any) -> int:
+    """``jobs`` as an int in [1, :data:`MAX_JOBS`], else a one-line InputError."""
+    if positive_int(jobs, "jobs") > MAX_JOBS:
+        raise InputError(f"jobs must be at most {MAX_JOBS} (worker processes), got {shown(jobs)}")
+    return int(jobs)
 
 
 def executor(jobs: int) -> Any:

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from mudforce._plumbing.progress import Progress
-from mudforce.errors import positive_int, true_or_false
+from mudforce.errors import InputError, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset
 from mudforce.estimation.calibration.fit import ConditionFit
 from mudforce.io import atomic_write_text
@@ -46,7 +46,7 @@ from mudforce.model.parameters import MudParameters
 from mudforce.reproduce.experiments import ReproduceConfig, make_experiments
 from mudforce.reproduce.figures import N_FIGURES, figure_specs, warm_up_matplotlib, write_figures
 from mudforce.reproduce.html import render_html
-from mudforce.reproduce.jobs import count_fits, executor, run_fits, sort_fits, terminate
+from mudforce.reproduce.jobs import count_fits, executor, job_count, run_fits, sort_fits, terminate
 from mudforce.reproduce.output import StagedFolder, check_report_dir
 from mudforce.reproduce.summary import make_summary, summary_json
 
@@ -118,7 +118,7 @@ def reproduce(out: str | os.PathLike[str], config: ReproduceConfig | None = None
     config : ReproduceConfig, optional
         :meth:`ReproduceConfig.full` by default.
     jobs : int
-        Worker processes for the fits (1: in this process). The result does not depend on it.
+        Worker processes for the fits (1: in this process), at most 64. The result does not depend on it.
     quiet : bool
         No progress on the terminal.
     log : callable, optional
@@ -132,18 +132,24 @@ def reproduce(out: str | os.PathLike[str], config: ReproduceConfig | None = None
     ------
     InputError
         If ``out`` cannot hold the report (see
-        :func:`mudforce.reproduce.output.check_report_dir`) or ``jobs`` < 1.
+        :func:`mudforce.reproduce.output.check_report_dir`), ``config`` is no
+        :class:`ReproduceConfig`, ``log`` is not callable, or ``jobs`` is not
+        in [1, :data:`mudforce.reproduce.jobs.MAX_JOBS`] (64).
     Terminated
         On SIGTERM (in the main thread): the workers are stopped and ``out`` is left as it was.
     """
     from mudforce._plumbing.optional import require
 
     require("matplotlib", "plot", "mudforce reproduce")
-    warm_up_matplotlib()  # before the workers fork, so that they do not each pay for it
     config = ReproduceConfig.full() if config is None else config
-    positive_int(jobs, "jobs")
+    if not isinstance(config, ReproduceConfig):  # was an AttributeError ('str' object has no attribute 'seed')
+        raise InputError(f"config must be a ReproduceConfig or None, got {type(config).__name__}")
+    jobs = job_count(jobs)
     quiet = true_or_false(quiet, "quiet")
+    if log is not None and not callable(log):  # was a TypeError once the experiments were made
+        raise InputError(f"log must be a callable (e.g. print) or None, got {type(log).__name__}")
     path = check_report_dir(out)
+    warm_up_matplotlib()  # before the workers fork, so that they do not each pay for it
     say = log if log is not None else (lambda _: None)
     with _sigterm_raises(), StagedFolder(path) as staged:
         dataset, truths = make_experiments(config)
