@@ -209,3 +209,20 @@ def test_a_plot_title_that_is_not_a_str_is_refused_in_one_line(tracked: TrackRes
                  simulate_foot(5.0, W25, duration=0.05, height=0.001).plot):
         with pytest.raises(InputError, match=r"^title must be a str or None, got "):
             plot(title=title)
+
+
+def test_a_plot_of_a_result_of_another_kind_is_refused_in_one_line(tracked: TrackResult) -> None:
+    """plot_result of a TrackResult, a dict or None, and plot_track of a SimulationResult, were AttributeErrors ('dict'
+    object has no attribute 'time', no attribute 'changed'): each is refused before anything is drawn."""
+    from mudforce import Protocol
+    from mudforce.estimation.tracking_plots import plot_track
+    from mudforce.steppers.plots import plot_result
+
+    time, depth = Protocol.paper().sample()
+    simulated = simulate(time, depth, W25)
+    for wrong in (tracked, {"time": time}, None):
+        with pytest.raises(InputError, match=r"^result must be a SimulationResult \(from mudforce.simulate\), got "):
+            plot_result(wrong)  # type: ignore[arg-type]
+    for wrong in (simulated, None):
+        with pytest.raises(InputError, match=r"^result must be a TrackResult \(from .*\), got [A-Za-z]+$"):
+            plot_track(wrong)  # type: ignore[arg-type]

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mudforce._plumbing.optional import require
+from mudforce.errors import InputError
 from mudforce.io.plotting import check_title
 
 if TYPE_CHECKING:
@@ -53,6 +54,11 @@ def plot_track(result: TrackResult, path: str | os.PathLike[str] | None = None, 
     -------
     matplotlib.figure.Figure
     """
+    from mudforce.estimation.tracker import TrackResult
+
+    if not isinstance(result, TrackResult):  # was an AttributeError (no attribute 'changed')
+        raise InputError(f"result must be a TrackResult (from mudforce.estimation.tracker.track), got "
+                         f"{type(result).__name__}")
     check_title(title)
     require("matplotlib", "plot", "plotting")
     from matplotlib.backends.backend_agg import FigureCanvasAgg

@@ -21,6 +21,7 @@ import numpy as np
 
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce._plumbing.optional import require
+from mudforce.errors import InputError
 from mudforce.io.plotting import check_title, new_figure, save_png
 
 if TYPE_CHECKING:
@@ -32,6 +33,8 @@ __all__ = ["STATE_COLOURS", "plot_result"]
 STATE_COLOURS: dict[str, str | None] = {"FREE": None, "CONTACT": "#cfe3f7", "NECKED": "#fbd9b5"}
 
 _NECK_COLOUR = "#c0392b"
+#: What plot_result reads of its result.
+_DRAWN = ("time", "depth", "force", "mud_displacement", "necking_times", "state")
 _FIGSIZE = (9.0, 7.0)  # [in]
 
 
@@ -91,9 +94,14 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
 
     Raises
     ------
+    InputError
+        If ``result`` is no :class:`SimulationResult` or ``title`` no str.
     mudforce._plumbing.optional.MissingDependencyError
         If matplotlib is not installed.
     """
+    # by what is drawn, not by class (steppers.simulation, a front end, is not imported here): was an AttributeError
+    if not all(hasattr(result, name) for name in _DRAWN):  # ('dict' object has no attribute 'time')
+        raise InputError(f"result must be a SimulationResult (from mudforce.simulate), got {type(result).__name__}")
     check_title(title)
     require("matplotlib", "plot", "plotting")
     from matplotlib.lines import Line2D
