@@ -226,3 +226,18 @@ def test_a_plot_of_a_result_of_another_kind_is_refused_in_one_line(tracked: Trac
     for wrong in (simulated, None):
         with pytest.raises(InputError, match=r"^result must be a TrackResult \(from .*\), got [A-Za-z]+$"):
             plot_track(wrong)  # type: ignore[arg-type]
+
+
+def test_a_plot_to_a_name_that_is_no_png_is_refused_in_one_line(tracked: TrackResult, tmp_path: Path) -> None:
+    """plot_result, plot_track (and the results' .plot) and tracking_figure wrote PNG bytes into a.pdf, fig.svg or
+    a name without a suffix; each is refused before anything is drawn (tracking_figure: before its walk)."""
+    from mudforce import Protocol
+    from mudforce.estimation.tracking_plots import tracking_figure
+
+    time, depth = Protocol.paper().sample()
+    simulated = simulate(time, depth, W25)
+    for plot in (simulated.plot, tracked.plot, tracking_figure):
+        for name in ("a.pdf", "fig.svg", "figure"):
+            with pytest.raises(InputError, match=rf"^path: '.*{name}' must end in .png \(only PNG is written\)$"):
+                plot(tmp_path / name)
+    assert list(tmp_path.iterdir()) == []

@@ -21,6 +21,7 @@ import numpy as np
 
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
+from mudforce.io import check_output_path
 from mudforce.io.plotting import check_title
 
 if TYPE_CHECKING:
@@ -44,7 +45,7 @@ def plot_track(result: TrackResult, path: str | os.PathLike[str] | None = None, 
     result : TrackResult
         From :func:`mudforce.estimation.tracker.track` (time [s], force [N], estimates [-]).
     path : path-like, optional
-        Also save the figure there as PNG, atomically and reproducibly.
+        Also save the figure there as PNG (a name ending in ``.png``), atomically and reproducibly.
     truth : array_like, optional
         The true water content at each sample [-], drawn dashed when given.
     title : str, optional
@@ -60,6 +61,8 @@ def plot_track(result: TrackResult, path: str | os.PathLike[str] | None = None, 
         raise InputError(f"result must be a TrackResult (from mudforce.estimation.tracker.track), got "
                          f"{type(result).__name__}")
     check_title(title)
+    if isinstance(path, (str, os.PathLike)):  # a.pdf was written with PNG bytes in it
+        check_output_path(path, "path", suffix=".png")
     require("matplotlib", "plot", "plotting")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -113,7 +116,8 @@ def tracking_figure(path: str | os.PathLike[str] | None = None, *, seed: int = 0
     Parameters
     ----------
     path : path-like, optional
-        Save the figure there as PNG (atomically, the same bytes for the same arguments).
+        Save the figure there as PNG (a name ending in ``.png``; atomically, the same bytes for the same
+        arguments).
     seed : int
         Seed of the gait and the sensor noise (>= 0).
     water_content : sequence of two float
@@ -129,6 +133,8 @@ def tracking_figure(path: str | os.PathLike[str] | None = None, *, seed: int = 0
     -------
     matplotlib.figure.Figure
     """
+    if isinstance(path, (str, os.PathLike)):  # refused before the walk is simulated and tracked
+        check_output_path(path, "path", suffix=".png")
     require("matplotlib", "plot", "the tracking figure")
     from mudforce.estimation.tracker import track
     from mudforce.motions.gait import walk

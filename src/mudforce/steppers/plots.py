@@ -22,6 +22,7 @@ import numpy as np
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
+from mudforce.io import check_output_path
 from mudforce.io.plotting import check_title, new_figure, save_png
 
 if TYPE_CHECKING:
@@ -79,7 +80,7 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     result : SimulationResult
         From :func:`mudforce.simulate` (time [s], depth [m], force [N], ...).
     path : path-like, optional
-        Also save the figure there as PNG [100 dpi], atomically (a temporary
+        Also save the figure there as PNG [100 dpi] (a name ending in ``.png``), atomically (a temporary
         file beside ``path``, then a rename: an existing file is replaced
         whole or not at all) and reproducibly (no version or timestamp in
         the metadata).
@@ -95,7 +96,8 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     Raises
     ------
     InputError
-        If ``result`` is no :class:`SimulationResult` or ``title`` no str.
+        If ``result`` is no :class:`SimulationResult`, ``title`` no str, or ``path`` does not end in
+        ``.png`` or cannot be written.
     mudforce._plumbing.optional.MissingDependencyError
         If matplotlib is not installed.
     """
@@ -103,6 +105,8 @@ def plot_result(result: SimulationResult, path: str | os.PathLike[str] | None = 
     if not all(hasattr(result, name) for name in _DRAWN):  # ('dict' object has no attribute 'time')
         raise InputError(f"result must be a SimulationResult (from mudforce.simulate), got {type(result).__name__}")
     check_title(title)
+    if isinstance(path, (str, os.PathLike)):  # a.pdf was written with PNG bytes in it
+        check_output_path(path, "path", suffix=".png")
     require("matplotlib", "plot", "plotting")
     from matplotlib.lines import Line2D
 
