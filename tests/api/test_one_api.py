@@ -241,3 +241,24 @@ def test_a_plot_to_a_name_that_is_no_png_is_refused_in_one_line(tracked: TrackRe
             with pytest.raises(InputError, match=rf"^path: '.*{name}' must end in .png \(only PNG is written\)$"):
                 plot(tmp_path / name)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_tracking_plot_s_truth_and_water_contents_are_checked_in_one_line(tracked: TrackResult) -> None:
+    """plot_track's truth of another length than the result's was matplotlib's ValueError ('x and y must have same
+    first dimension', not naming truth), a str truth 'could not convert string to float'; tracking_figure's
+    water_content=0.25 a TypeError ('float' object is not iterable), "ab" a ValueError: each now names its argument,
+    before anything is drawn or simulated."""
+    from mudforce.estimation.tracking_plots import plot_track, tracking_figure
+
+    n = tracked.time.size
+    for truth, got in ((np.ones(5), r"got shape \(5,\)"), (0.25, r"got shape \(\)")):
+        with pytest.raises(InputError, match=rf"^truth must hold one water content per sample \[-\], shape \({n},\), "
+                                             rf"{got}$"):
+            plot_track(tracked, truth=truth)
+    with pytest.raises(InputError, match=r"^truth must be an array of real numbers \[-\], got str"):
+        plot_track(tracked, truth="a")
+    with pytest.raises(InputError, match=r"^water_content must be a sequence of water contents \[-\] \(before and "
+                                         r"after the change\), got shape \(\)$"):
+        tracking_figure(water_content=0.25)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match=r"^water_content must be an array of real numbers \[-\], got str"):
+        tracking_figure(water_content="ab")  # type: ignore[arg-type]

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError
+from mudforce.errors import InputError, real_array
 from mudforce.io import check_output_path
 from mudforce.io.plotting import check_title
 
@@ -63,11 +63,16 @@ def plot_track(result: TrackResult, path: str | os.PathLike[str] | None = None, 
     check_title(title)
     if isinstance(path, (str, os.PathLike)):  # a.pdf was written with PNG bytes in it
         check_output_path(path, "path", suffix=".png")
+    t = np.asarray(result.time, dtype=np.float64)
+    if truth is not None:  # was matplotlib's ValueError, not naming truth ('x and y must have same first dimension')
+        truth = real_array(truth, "truth", "-")
+        if truth.shape != t.shape:
+            raise InputError(f"truth must hold one water content per sample [-], shape {t.shape}, got shape "
+                             f"{truth.shape}")
     require("matplotlib", "plot", "plotting")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    t = np.asarray(result.time, dtype=np.float64)
     fig = Figure(figsize=_FIGSIZE, dpi=_DPI, layout="constrained")
     FigureCanvasAgg(fig)
     ax_f, ax_w = fig.subplots(2, 1, sharex=True, height_ratios=(1.0, 1.0))
@@ -83,7 +88,7 @@ def plot_track(result: TrackResult, path: str | os.PathLike[str] | None = None, 
                       lw=0.0, label="95 % interval")
     ax_w.plot(t, 100.0 * np.asarray(result.water_content), color=_EST_COLOUR, lw=1.2, label="estimate")
     if truth is not None:
-        ax_w.plot(t, 100.0 * np.asarray(truth, dtype=np.float64), color="k", lw=1.0, ls="--", label="truth")
+        ax_w.plot(t, 100.0 * truth, color="k", lw=1.0, ls="--", label="truth")
     for ax in (ax_f, ax_w):
         for tf in flags:
             ax.axvline(tf, color=_FLAG_COLOUR, ls=":", lw=1.0)
@@ -139,7 +144,11 @@ def tracking_figure(path: str | os.PathLike[str] | None = None, *, seed: int = 0
     from mudforce.estimation.tracker import track
     from mudforce.motions.gait import walk
 
-    contents = tuple(float(w) for w in water_content)
+    values = real_array(water_content, "water_content", "-")  # 0.25 was a TypeError, "ab" a ValueError
+    if values.ndim != 1:
+        raise InputError(f"water_content must be a sequence of water contents [-] (before and after the change), "
+                         f"got shape {values.shape}")
+    contents = tuple(values.tolist())
     changes = [change_time] * (len(contents) - 1) if len(contents) <= 2 else [
         change_time * (k + 1) for k in range(len(contents) - 1)]
     w = walk(contents, change_times=changes, seed=seed, duration=duration, force_noise=force_noise,
