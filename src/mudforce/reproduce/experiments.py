@@ -64,7 +64,7 @@ class ReproduceConfig:
     velocities : tuple of float
         Intrusion and withdrawal speeds [m/s]; the first is the reference speed.
     repeats : int
-        Trials per (water content, speed), in [1, :data:`MAX_REPEATS`].
+        Trials per (water content, speed), in [1, :data:`mudforce.estimation.calibration.dataset.MAX_REPEATS`] (1000).
     rate : float
         Sampling rate [Hz].
     repeat_scatter : float
