@@ -43,6 +43,8 @@ from mujoco import mjx
 
 import mudforce.engines.mjx as mud
 from mudforce import MudParameters
+from mudforce.errors import InputError
+from mudforce.io import check_output_path
 
 LEG = """
 <mujoco model="leg_in_mud">
@@ -123,6 +125,11 @@ def main(argv: list[str] | None = None) -> dict[str, np.ndarray]:
         ap.error(f"--duration must be from {2.0 * cycle:.3g} s (two step cycles) to 600 s, got {args.duration}")
     if not all(0.15 <= w <= 0.35 for w in args.water):
         ap.error(f"--water must be two fractions within Table I's range [0.15, 0.35], got {args.water}")
+    if args.out:
+        try:  # before the compile and the run, not after them
+            check_output_path(args.out, "--out", suffix=".png")
+        except InputError as error:
+            ap.error(str(error))
     water = np.linspace(args.water[0], args.water[1], args.worlds)
     m, data, patch, _ = build(args.worlds, water)
     steps = round(args.duration / 1e-3)

@@ -35,6 +35,7 @@ import numpy as np
 from mudforce import MudParameters
 from mudforce.engines.mujoco import MudAdapter, MudPatch, add_mud
 from mudforce.errors import InputError
+from mudforce.io import check_output_path
 from mudforce.io.units import parse_quantity
 from mudforce.model.foot import Foot
 
@@ -184,6 +185,7 @@ def main(argv: list[str] | None = None) -> None:
     try:
         params = MudParameters.from_water_content(parse_quantity(args.water_content, "fraction",
                                                                  name="--water-content"))
+        check_output_path(args.out, "--out", suffix=".png")  # before the simulation, not after it
     except InputError as error:  # one line and exit status 2, as the mudforce command line gives
         parser.error(str(error))
     mud = run("mud", params, args.cycles)

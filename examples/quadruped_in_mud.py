@@ -39,6 +39,7 @@ import numpy as np
 from mudforce import MudParameters
 from mudforce.engines.mujoco import MudAdapter3D, MudPatch, add_mud_3d
 from mudforce.errors import InputError
+from mudforce.io import check_output_path
 from mudforce.io.units import parse_quantity
 
 #: The robot: torso 0.40 x 0.20 x 0.08 m, legs 2 x 0.14 m, toes 50 mm spheres; about 11.6 kg.
@@ -237,6 +238,8 @@ def main(argv: list[str] | None = None) -> None:
         dry, wet = (parse_quantity(w, "fraction", name=name) for w, name in ((args.dry, "--dry"), (args.wet, "--wet")))
         for w in (dry, wet):
             MudParameters.from_water_content(w)  # within Table I's range
+        if args.out:
+            check_output_path(args.out, "--out", suffix=".png")  # before the simulation, not after it
     except InputError as error:
         ap.error(str(error))
     if not 1e-4 <= dt <= 0.01:

@@ -40,6 +40,8 @@ import mudforce.engines.mjx3d as mud3d
 import mudforce.jax as mjax
 from mudforce import MudParameters
 from mudforce.engines.mujoco import MudPatch
+from mudforce.errors import InputError
+from mudforce.io import check_output_path
 
 
 def _quadruped() -> Any:
@@ -271,6 +273,11 @@ def main(argv: list[str] | None = None) -> None:
         ap.error(f"--duration must be within (0, 600] s, got {args.duration}")
     if not 0 <= args.seed < 2**32:
         ap.error(f"--seed must be an integer in [0, {2**32 - 1}], got {args.seed}")
+    if args.plot:
+        try:  # before the compile and the run, not after them
+            check_output_path(args.plot, "--plot", suffix=".png")
+        except InputError as error:
+            ap.error(str(error))
     worlds = args.worlds or (1024 if args.gpu else 16)
     env = QuadrupedMudEnv()
     if args.bench:

@@ -46,3 +46,21 @@ def test_the_hoppers_refuse_bad_options_before_compiling(argv: list[str], messag
     pytest.importorskip("mujoco.mjx")
     hoppers = load_example("mjx_hoppers_in_mud")
     assert _refused(hoppers.main, [*argv, "--out", ""], capsys).endswith(message)
+
+
+def test_the_examples_refuse_an_unwritable_out_before_simulating(tmp_path: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """A --out that could not be written was found only when the figure was saved, after the whole simulation: a
+    missing folder a FileNotFoundError, leg.xyz matplotlib's ValueError ('Format 'xyz' is not supported'), each a
+    traceback; a folder (--out /tmp) was saved as /tmp.png with 'wrote /tmp' printed. Each is one line, exit 2."""
+    pytest.importorskip("mujoco.mjx")
+    leg = load_example("mujoco_leg_in_mud")
+    hoppers = load_example("mjx_hoppers_in_mud")
+    for out, message in ((tmp_path / "none" / "leg.png", "does not exist"),
+                         (tmp_path / "leg.xyz", "must end in .png (only PNG is written)"),
+                         (tmp_path, "must end in .png (only PNG is written)")):
+        for main in (leg.main, hoppers.main):
+            refused = _refused(main, ["--out", str(out)], capsys)
+            assert "--out: " in refused and refused.endswith(message), refused
+    assert _refused(leg.main, ["--out", ""], capsys).endswith("--out: empty file name; expected a file name")
+    assert list(tmp_path.iterdir()) == []

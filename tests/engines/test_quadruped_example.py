@@ -44,7 +44,9 @@ def test_the_command_line_trots_and_refuses_bad_values_in_one_line(example, tmp_
     for argv, message in ((["--duration", "6"], "--duration: '6' has no unit"),
                           (["--dry", "50%"], "water content 0.5 is outside Table I's range"),
                           (["--dt", "20ms"], "--dt must be within 0.1ms to 10ms, got 20ms"),
-                          (["--duration", "0.2s"], "--duration must be from one gait cycle (0.5s) to 600s")):
+                          (["--duration", "0.2s"], "--duration must be from one gait cycle (0.5s) to 600s"),
+                          # found only when saved, after the trot: matplotlib's ValueError, a traceback
+                          (["--out", "q.xyz"], "--out: 'q.xyz' must end in .png (only PNG is written)")):
         with pytest.raises(SystemExit) as info:
             example.main(argv)
         assert info.value.code == 2 and message in capsys.readouterr().err

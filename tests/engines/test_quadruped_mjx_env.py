@@ -40,6 +40,8 @@ def test_the_environment_is_finite_reproducible_and_each_world_has_its_own_mud(e
     (["--worlds", "0"], "--worlds must be at least 1, got 0"),
     (["--duration", "nan"], "--duration must be within (0, 600] s, got nan"),
     (["--seed", "-1"], "--seed must be an integer in [0, 4294967295], got -1"),
+    # was matplotlib's ValueError after the compile and the run, a traceback
+    (["--plot", "env.xyz"], "--plot: 'env.xyz' must end in .png (only PNG is written)"),
 ])
 def test_the_command_line_refuses_bad_values_before_compiling(example, argv, message, capsys) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(SystemExit) as info:
