@@ -73,6 +73,7 @@ SWING_HEIGHT = 0.04  # [m] above the surface
 TARGET_DEPTH = 0.03  # [m] below the surface
 STRIDE = 0.06  # [m] half the fore-aft sweep
 RFT_K = 0.5e6  # [N/m^3] linear RFT depth coefficient (0.5 N/cm^3), illustrative
+MAX_DURATION = 600.0  # [s] the most simulated time --cycles asks for (the other examples' bound too)
 
 
 def foot_target(t: float) -> tuple[float, float]:
@@ -177,11 +178,14 @@ def work_per_step(res: dict[str, np.ndarray], cycles: int) -> np.ndarray:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--water-content", default="25%", help="mud water content, e.g. 25%%")
-    parser.add_argument("--cycles", type=int, default=5, help="number of steps")
+    parser.add_argument("--cycles", type=int, default=5, help="number of steps, 1 to 500 (default 5)")
     parser.add_argument("--out", default="leg_in_mud.png", help="figure (PNG)")
     args = parser.parse_args(argv)
     if args.cycles < 1:
         parser.error(f"--cycles must be at least 1, got {args.cycles}")
+    if args.cycles * PERIOD > MAX_DURATION:  # 10**9 was numpy's MemoryError (8.73 TiB) after compiling
+        parser.error(f"--cycles must be at most {round(MAX_DURATION / PERIOD)} ({MAX_DURATION:g} s of stepping), "
+                     f"got {args.cycles}")
     try:
         params = MudParameters.from_water_content(parse_quantity(args.water_content, "fraction",
                                                                  name="--water-content"))

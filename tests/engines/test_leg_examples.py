@@ -34,6 +34,9 @@ def test_the_leg_steps_in_mud_and_on_granular_ground(tmp_path: Path, capsys: pyt
     assert mud > sand > 0.0  # the mud takes more than the granular ground (suction, relaxation)
     message = _refused(leg.main, ["--water-content", "50%", "--out", str(out)], capsys)
     assert message.endswith("water content 0.5 is outside Table I's range [0.15, 0.35] (a fraction: 0.25 means 25%)")
+    # no bound: 10**9 steps was numpy's MemoryError (8.73 TiB) after compiling, 10**5 ran for hours
+    message = _refused(leg.main, ["--cycles", "501", "--out", str(out)], capsys)
+    assert message.endswith("--cycles must be at most 500 (600 s of stepping), got 501")
 
 
 @pytest.mark.parametrize(("argv", "message"), [
