@@ -171,6 +171,13 @@ def test_config_refuses_bad_values() -> None:
     ({"water_contents": (0.2, 0.200000000001, 0.25)},
      r"water_contents 0.2 and 0.200000000001 are the same to 6 significant digits \(both 0.2 in summary.json"),
     ({"velocities": (0.01, 0.0100000001)}, r"velocities 0.01 and 0.0100000001 are the same to 6 significant digits"),
+    # refused by make_experiments, after reproduce() had made the output folder's parents, and not naming the field
+    ({"rate": -1.0}, r"rate: sampling rate must be finite and > 0 \[Hz\], got -1.0$"),
+    ({"velocities": (0.01, -0.01)}, r"velocities: intrusion velocity must be finite and > 0 \[m/s\], got -0.01$"),
+    ({"water_contents": (0.25, 0.9)}, r"water content 0.9 is outside Table I's range \[0.15, 0.35\]"),
+    ({"force_noise": float("nan")}, r"force_noise must be finite \[N\], got nan$"),
+    ({"depth_noise": -1e-5}, r"depth_noise must be >= 0 \[m\], got -1e-05$"),
+    ({"bias": "0.5"}, r"bias must be a number \[N\], got str '0.5'$"),
 ])
 def test_config_refuses_bad_fields_in_one_line(fields: dict[str, object], message: str) -> None:
     with pytest.raises(InputError, match=f"^{message}") as info:

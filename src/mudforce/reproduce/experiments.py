@@ -19,12 +19,13 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, number_within, real_array, true_or_false
+from mudforce.errors import InputError, finite_number, number_within, real_array, true_or_false
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.fit import FitOptions
 from mudforce.estimation.calibration.synth import repeat_count, synthesize, trial_name
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
+from mudforce.motions.protocol import Protocol
 from mudforce.reproduce._checks import check_seed
 
 __all__ = ["SCATTERED", "ReproduceConfig", "make_experiments"]
@@ -113,6 +114,19 @@ class ReproduceConfig:
             raise InputError("reproduce needs at least one speed and one repeat")
         repeat_count(self.repeats)
         number_within(self.repeat_scatter, "repeat_scatter", 0.0, 1.0, "-")
+        # what make_experiments refuses, refused here: it was refused there, after reproduce() had made the output
+        # folder's parents, in messages that did not name the field (a rate of -1: 'sampling rate must be ...')
+        for w in self.water_contents:
+            MudParameters.from_water_content(w)  # within Table I's range
+        for name, speeds in (("rate", (0.01,)), ("velocities", self.velocities)):
+            for v in speeds:
+                try:  # the protocol's own checks of the speed and the rate, as synthesize makes it
+                    Protocol.paper(velocity=v, rate=self.rate)
+                except InputError as exc:
+                    raise InputError(f"{name}: {exc}") from None
+        finite_number(self.force_noise, "force_noise", "N", nonnegative=True)
+        finite_number(self.depth_noise, "depth_noise", "m", nonnegative=True)
+        finite_number(self.bias, "bias", "N")
         for name in ("fit_options", "velocity_fit_options"):
             if not isinstance(getattr(self, name), FitOptions):
                 raise InputError(f"{name} must be a FitOptions, got {type(getattr(self, name)).__name__}")
