@@ -357,6 +357,7 @@ def test_plot_is_deterministic_and_atomic(tmp_path: Path) -> None:
     """Two plots of the same result are byte-identical PNGs; a failing save leaves the old file."""
     pytest.importorskip("matplotlib")
     from mudforce import Protocol
+    from mudforce import errors as mf_errors
     from mudforce.io.plotting import save_png
     from mudforce.steppers.plots import plot_result
 
@@ -381,4 +382,7 @@ def test_plot_is_deterministic_and_atomic(tmp_path: Path) -> None:
     with pytest.raises(Boom):
         save_png(fig, target)
     assert target.read_bytes() == PREVIOUS_PNG
+    # a name in another format is refused before rendering (plot_foot_result wrote PNG bytes into 'foot.pdf')
+    with pytest.raises(mf_errors.InputError, match=r"^'.*c.pdf' must end in .png \(only PNG is written\)$"):
+        save_png(fig, tmp_path / "c.pdf")
     assert sorted(os.listdir(tmp_path)) == ["a.png", "b.png", "c.png"]

@@ -241,6 +241,9 @@ def test_result_methods_refuse_bad_types(tmp_path: Any) -> None:
         res.force_std("1")  # type: ignore[arg-type]
     with pytest.raises(InputError, match="path must be a file path"):
         res.plot(123)  # type: ignore[arg-type]
+    # 'foot.pdf' was written with PNG bytes; refused before drawing (io.check_output_path), as plot_result does
+    with pytest.raises(InputError, match=r"^path: '.*foot.pdf' must end in .png \(only PNG is written\)$"):
+        res.plot(tmp_path / "foot.pdf")
     assert list(tmp_path.iterdir()) == []
 
 

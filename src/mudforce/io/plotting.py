@@ -118,6 +118,10 @@ def save_png(fig: Any, path: str | os.PathLike[str], *, dpi: float | None = None
     """
     from mudforce.io import atomic_open
 
+    if os.fspath(path)[-4:].lower() != ".png":  # every caller checks first; a name in another format is no PNG
+        from mudforce.errors import InputError
+
+        raise InputError(f"{os.fspath(path)!r} must end in .png (only PNG is written)")
     data = figure_to_png(fig, dpi=dpi)
     with atomic_open(path, "wb") as handle:
         handle.write(data)

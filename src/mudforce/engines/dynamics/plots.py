@@ -12,6 +12,7 @@ import numpy as np
 
 from mudforce._plumbing.optional import require
 from mudforce.engines.dynamics.result import PHASE_NAMES, FootResult, check_path
+from mudforce.io import check_output_path
 from mudforce.io.plotting import check_title, new_figure, save_png
 
 __all__ = ["PHASE_COLOURS", "plot_foot_result"]
@@ -44,6 +45,7 @@ def plot_foot_result(result: FootResult, path: str | os.PathLike[str] | None = N
         raise InputError(f"result must be a FootResult, got {type(result).__name__}")
     if path is not None:
         check_path(path, "path")
+        check_output_path(path, "path", suffix=".png")  # 'foot.pdf' was written with PNG bytes
     check_title(title)
     require("matplotlib", "plot", "plotting")
     from matplotlib.patches import Patch
