@@ -215,3 +215,6 @@ def test_reproduce_refuses_bad_jobs_config_and_log_before_any_work(tmp_path: Pat
         with pytest.raises(InputError, match=f"^{message}"):
             reproduce(out, quiet=True, **kwargs)  # type: ignore[arg-type]
     assert not out.exists()
+    # an out that is no path: a bare TypeError from pathlib (io.check_replaceable_dir)
+    with pytest.raises(InputError, match=r"^--out: a folder is a path \(str or os.PathLike\), got int$"):
+        reproduce(5, quiet=True)  # type: ignore[arg-type]

@@ -69,9 +69,10 @@ def run(args: argparse.Namespace) -> int:
     """Validate the options, run :func:`mudforce.reproduce.reproduce`, print where the report went."""
     from mudforce._plumbing.optional import require
     from mudforce.reproduce import MAX_SEED, check_output_dir
+    from mudforce.reproduce.jobs import MAX_JOBS
 
     seed = _integer(args.seed, "--seed", 0, MAX_SEED)
-    jobs = _default_jobs() if args.jobs is None else _integer(args.jobs, "--jobs", 1, 64)
+    jobs = _default_jobs() if args.jobs is None else _integer(args.jobs, "--jobs", 1, MAX_JOBS)
     require("matplotlib", "plot", "mudforce reproduce")
     check_output_dir(args.out)
 

@@ -375,6 +375,8 @@ def check_replaceable_dir(out: str | os.PathLike[str], option: str, files: Colle
         overlaps the mudforce package, or its parent folder cannot be
         created or written.
     """
+    if not isinstance(out, (str, os.PathLike)):  # reproduce(out=5) raised a bare TypeError from Path()
+        raise InputError(f"{option}: a folder is a path (str or os.PathLike), got {type(out).__name__}")
     given = str(out)
     if not given.strip():
         raise InputError(f"{option}: empty folder name; expected a folder for the {what}")
