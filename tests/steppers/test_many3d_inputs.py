@@ -365,3 +365,22 @@ def test_per_foot_values_in_a_mapping_or_a_set_are_refused(kwargs: dict[str, obj
     with pytest.raises(InputError) as info:
         MudContacts3D(**args)  # type: ignore[arg-type]
     assert str(info.value) == words
+
+
+def test_masked_poses_and_depths_are_read_as_every_other_array_input_reads_them() -> None:
+    """errors.real_array's rule on the feet's hot paths: MudContacts3D stepped a masked position's masked value
+    (numba's dispatcher takes a masked array as its data), and both it and MudContacts raised numba's own
+    NumbaTypeError on a masked array before their first step; a masked value is refused, nothing moved, and a masked
+    array without one is read as its data."""
+    params = mf.MudParameters.from_water_content(0.25)
+    upright = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+    toes, feet = MudContacts3D(params, shapes.sphere(0.04), 2), mf.MudContacts(params, n=2)
+    toes.step(np.ma.masked_array(np.zeros((2, 3))), upright, 0.0)  # no masked value: its data
+    feet.step(np.ma.masked_array(np.zeros(2)), 0.0)
+    before, before_1d = toes.state, feet.state
+    message = r"must be an array of real numbers \[m\], got a masked array with 1 masked value\(s\)"
+    with pytest.raises(InputError, match="^positions " + message):
+        toes.step(np.ma.masked_array(np.full((2, 3), -0.01), mask=[[0, 0, 1], [0, 0, 0]]), upright, 0.01)
+    with pytest.raises(InputError, match="^depths " + message):
+        feet.step(np.ma.masked_array([0.01, 0.01], mask=[0, 1]), 0.01)
+    assert np.array_equal(toes.state.elements, before.elements) and np.array_equal(feet.state, before_1d)

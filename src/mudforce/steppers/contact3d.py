@@ -566,7 +566,7 @@ def _per_foot(value: Any, m: int | None, name: str, kind: type | tuple[type, ...
 
 def _float_rows(value: Any, name: str, shape: tuple[int, int], unit: str) -> np.ndarray:
     """``value`` as a float64 array of ``shape`` (no copy if it is one), else a one-line InputError."""
-    if isinstance(value, np.ndarray) and value.dtype == np.float64 and value.shape == shape:
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == shape:  # (not a masked array)
         return value
     try:
         array = real_array(value, name, unit)
@@ -976,7 +976,9 @@ class MudContacts3D:
             forces, torques = spare
         else:
             return self._step_checked(positions, quaternions, dt, out)
-        if type(dt) is float and fixed is not None:
+        # (plain arrays only, as MudContact3D's hot path: numba's dispatcher takes a masked array as its data, masked
+        # values and all)
+        if type(dt) is float and fixed is not None and type(positions) is _NDARRAY and type(quaternions) is _NDARRAY:
             try:
                 code = fixed(positions, quaternions, dt, *args, forces, torques, _NO_EACH)
             except TypeError:  # numba's "no matching definition": another type of argument

@@ -287,8 +287,9 @@ class MudContacts:
             Vertical mud force on each foot [N], positive up: a new array,
             or ``out``.
         """
-        # refuses complex, boolean, string and object arrays (a float64 array passes as it is)
-        z = depths if isinstance(depths, np.ndarray) and depths.dtype == np.float64 else real_array(
+        # refuses complex, boolean, string and object arrays (a float64 array passes as it is; a masked one, a
+        # subclass, goes to real_array, which refuses masked values: numba raised its own TypeError on it)
+        z = depths if type(depths) is np.ndarray and depths.dtype == np.float64 else real_array(
             depths, "depths", "m")
         if z.shape != (self.n,):
             raise InputError(f"depths must have shape ({self.n},), got {z.shape}")
