@@ -142,7 +142,8 @@ CASES: dict[str, tuple[list[str], tuple[str, ...] | None]] = {
     "bias-big": (_synth("x", "--bias", "-2e4N"), ("--bias", "'-2e4N'", "+-10000 N")),
     "rate-too-low": (_synth("x", "--rate", "1e-4Hz"), ("--rate", "0.001 Hz")),
     "rate-few-samples": (_synth("x", "--rate", "1Hz", "--hold", "1s"), ("--rate 1Hz", "9 samples", "20")),
-    "too-long": (_synth("x", "--hold", "1e9s", "--rate", "1e-3Hz", "--repeats", "1"), ("1e+09 s", "--hold")),
+    "too-long": (_synth("x", "--hold", "1e9s", "--rate", "1e-3Hz", "--velocities", "0.01mm/s", "--repeats", "1"),
+                 ("1e+09 s", "--hold")),  # (slow enough that a sample every 1000 s cuts no intrusion)
     "water-outside": (_synth("x", "--water-content", "25%,50%"), ("--water-content", "'50%'", "15% to 35%")),
     "force-beyond-readers": (_synth("x", "--foot", "cuboid:10mx10m", "--depth", "10m", "--velocities", "1m/s",
                                     "--hold", "1s", "--repeats", "1"), ("force reaches", "+-1e+07 N")),

@@ -185,6 +185,9 @@ def check_output_path(text: str | os.PathLike[str] | None, option: str, *, suffi
         a missing or unwritable directory, a name too long for the file
         system, or an existing unwritable file.
     """
+    if text is not None and not isinstance(text, (str, os.PathLike)):  # Path(3) raised a bare TypeError
+        raise InputError(f"{option}: output must be a file path (str or os.PathLike), got {type(text).__name__} "
+                         f"{text!r}")
     if text is None or not str(text).strip():
         raise InputError(f"{option}: empty file name; expected a file name")
     if str(text).strip() == "-":

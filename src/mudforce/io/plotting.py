@@ -118,7 +118,7 @@ def save_png(fig: Any, path: str | os.PathLike[str], *, dpi: float | None = None
     """
     from mudforce.io import atomic_open
 
-    if os.fspath(path)[-4:].lower() != ".png":  # every caller checks first; a name in another format is no PNG
+    if isinstance(path, (str, os.PathLike)) and os.fspath(path)[-4:].lower() != ".png":  # (callers check first)
         from mudforce.errors import InputError
 
         raise InputError(f"{os.fspath(path)!r} must end in .png (only PNG is written)")
