@@ -557,6 +557,27 @@ def test_mujoco_errors_name_the_geom(mj_model: object) -> None:
         assert text.startswith("MuJoCo geom 'foot': ") and message in text
 
 
+def test_a_geom_type_or_mesh_id_edited_after_compiling_is_refused_in_one_line() -> None:
+    """A model's geom_type or geom_dataid written by hand after compiling: a mesh id of -1 was the model's last mesh
+    (numpy's negative index), 5 numpy's IndexError, a geom_type of 99 mjtGeom's ValueError (Invalid int value)."""
+    mujoco = pytest.importorskip("mujoco")
+    model = mujoco.MjModel.from_xml_string(_mjcf())
+    ball = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "ball")
+    foot = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "foot")
+    model.geom_type[ball] = mujoco.mjtGeom.mjGEOM_MESH  # its geom_dataid is -1: no mesh
+    assert _one_line(lambda: shapes.from_mujoco_geom(model, "ball")) == (
+        "MuJoCo geom 'ball' is a mesh geom of mesh id -1 (geom_dataid); expected a mesh id 0 to 0")
+    model.geom_type[ball] = 99
+    assert _one_line(lambda: shapes.from_mujoco_geom(model, "ball")) == (
+        "MuJoCo geom 'ball' has geom_type 99, which is no MuJoCo geom type; expected sphere, capsule, cylinder, box, "
+        "ellipsoid or mesh (mujoco.mjtGeom)")
+    model.geom_dataid[foot] = 5
+    assert "MuJoCo geom 'foot' is a mesh geom of mesh id 5 (geom_dataid)" in _one_line(
+        lambda: shapes.from_mujoco_geom(model, "foot"))
+    model.geom_dataid[foot] = 0  # as compiled: taken
+    assert shapes.from_mujoco_geom(model, "foot").n == 192
+
+
 def test_arrays_that_are_not_real_numbers_are_refused_as_every_array_input_is() -> None:
     """A Shape's or a mesh's arrays of complex numbers (which numpy cut to their real part with only a warning),
     booleans (read as 0 and 1), strings (parsed) or ragged rows get one-line InputErrors naming what they hold, as

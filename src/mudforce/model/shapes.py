@@ -966,7 +966,11 @@ def from_mujoco_geom(model: Any, geom: int | str, *, resolution: float | None = 
         raise InputError(f"resolution must be a number [m] or None, got {type(resolution).__name__}")
     name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, gid)
     label = f"MuJoCo geom {name!r}" if name else f"MuJoCo geom {gid}"
-    kind = mujoco.mjtGeom(int(model.geom_type[gid]))
+    try:
+        kind = mujoco.mjtGeom(int(model.geom_type[gid]))
+    except ValueError:  # a geom_type written by hand after compiling: was mjtGeom's ValueError (Invalid int value)
+        raise InputError(f"{label} has geom_type {int(model.geom_type[gid])}, which is no MuJoCo geom type; expected "
+                         "sphere, capsule, cylinder, box, ellipsoid or mesh (mujoco.mjtGeom)") from None
     size = [float(s) for s in model.geom_size[gid]]
     try:
         if kind == mujoco.mjtGeom.mjGEOM_SPHERE:
@@ -980,7 +984,10 @@ def from_mujoco_geom(model: Any, geom: int | str, *, resolution: float | None = 
         elif kind == mujoco.mjtGeom.mjGEOM_ELLIPSOID:
             shape = ellipsoid(2.0 * size[0], 2.0 * size[1], 2.0 * size[2], resolution=resolution)
         elif kind == mujoco.mjtGeom.mjGEOM_MESH:
-            mid = int(model.geom_dataid[gid])
+            mid, nmesh = int(model.geom_dataid[gid]), int(model.nmesh)
+            if not 0 <= mid < nmesh:  # a geom_dataid written by hand: -1 was the model's last mesh, 5 an IndexError
+                expected = f"a mesh id 0 to {nmesh - 1}" if nmesh else "a mesh, and the model has none"
+                raise InputError(f"{label} is a mesh geom of mesh id {mid} (geom_dataid); expected {expected}")
             v0, nv = int(model.mesh_vertadr[mid]), int(model.mesh_vertnum[mid])
             f0, nf = int(model.mesh_faceadr[mid]), int(model.mesh_facenum[mid])
             shape = mesh(np.asarray(model.mesh_vert[v0:v0 + nv], dtype=np.float64),
