@@ -140,6 +140,20 @@ def test_each_foot_takes_its_sole_from_its_geom_and_none_is_silently_the_paper_s
     for name, match in (("two", "2 geoms"), ("none", "0 geoms"), ("nope", "no geom or body")):
         with pytest.raises(InputError, match=match):
             foot_of(model, name)
+    # a geom_type or mesh id written by hand after compiling: a mesh id of -1 was the model's last mesh (the wedge's
+    # 20 x 20 mm sole for the toe), 3 numpy's IndexError, a geom_type of 99 mjtGeom's ValueError
+    edited = mujoco.MjModel.from_xml_string(FEET_XML)
+    edited.geom_type[edited.geom("toe").id] = mujoco.mjtGeom.mjGEOM_MESH
+    edited.geom_dataid[edited.geom("wedge").id] = 3
+    for name, mesh in (("toe", -1), ("wedge", 3)):
+        with pytest.raises(InputError) as err:
+            foot_of(edited, name)
+        assert str(err.value) == (f"foot {name!r} is a mesh geom of mesh id {mesh} (geom_dataid); expected a mesh "
+                                  "id 0 to 0")
+    edited.geom_type[edited.geom("toe").id] = 99
+    with pytest.raises(InputError, match=r"^foot 'toe' has geom_type 99, which is no MuJoCo geom type; expected "
+                                         r"sphere, .*, or give foot= \(a mudforce.Foot per foot\)$"):
+        foot_of(edited, "toe")
     spec = mujoco.MjSpec.from_string(FEET_XML)
     add_mud(spec, ["toe", "two"])
     model = spec.compile()

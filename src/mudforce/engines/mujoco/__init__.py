@@ -317,11 +317,20 @@ def foot_of(model: Any, name: str) -> Foot:
         a, b = size[0], size[1]
         return Foot(area=math.pi * a * b, width=2.0 * min(a, b), shape=f"ellipse {2e3 * a:g}x{2e3 * b:g} mm")
     if kind == types.mjGEOM_MESH:
-        mesh = int(model.geom_dataid[gid])
+        mesh, nmesh = int(model.geom_dataid[gid]), int(model.nmesh)
+        if not 0 <= mesh < nmesh:  # a geom_dataid written by hand: -1 was the model's last mesh, 3 an IndexError
+            expected = f"a mesh id 0 to {nmesh - 1}" if nmesh else "a mesh, and the model has none"
+            raise InputError(f"foot {name!r} is a mesh geom of mesh id {mesh} (geom_dataid); expected {expected}")
         start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
         extent = np.ptp(np.asarray(model.mesh_vert[start:start + count]), axis=0)
         return Foot.cuboid(*sorted((float(extent[0]), float(extent[1])), reverse=True))
-    raise InputError(f"foot {name!r} is a geom of type {mj.mjtGeom(kind).name}, which has no sole: give foot= "
+    try:
+        kind_name = mj.mjtGeom(kind).name
+    except ValueError:  # a geom_type written by hand after compiling: was mjtGeom's ValueError (Invalid int value)
+        raise InputError(f"foot {name!r} has geom_type {kind}, which is no MuJoCo geom type; expected sphere, capsule, "
+                         "cylinder, box, ellipsoid or mesh (mujoco.mjtGeom), or give foot= (a mudforce.Foot per foot)"
+                         ) from None
+    raise InputError(f"foot {name!r} is a geom of type {kind_name}, which has no sole: give foot= "
                      "(a mudforce.Foot per foot)")
 
 
