@@ -273,6 +273,16 @@ def test_a_drop_of_bad_sizes_durations_or_speeds_is_refused_in_one_line() -> Non
                           ({"shape": 10**5000}, "shape must be one of sphere, .* an integer of 16610 bits"),
                           ({"shape": np.array(["sphere", "box"])}, "shape must be one of sphere, capsule"),
                           ({"mass": 1e-300}, "MuJoCo refused the drop's model"),
+                          # the 1-D drops' lightest foot (engines._checks.check_mass), S the sphere's projection: a
+                          # foot of 1e-9 kg was flung 100 m up ('an element would be beyond +-100 m'), 1.5 g boxes
+                          # bounced off the mud at rest, pushed by 2.9 times their weight
+                          ({"mass": 1e-9}, r"^mass 1e-09 kg is too light for a MuJoCo time step of 0.001 s in this "
+                                           r"mud: the step resolves the foot's oscillation on the mud only from "
+                                           r"0.00187 kg \(h sqrt\(S k_m / m\) <= 1\)"),
+                          ({"mass": 1.5e-3, "shape": "box", "size": (0.051, 0.038, 0.025)},
+                           "mass 0.0015 kg is too light .* only from 0.00287 kg"),  # the 1-D drop's paper sole's
+                          ({"mass": 2e-3, "shape": "box", "size": (0.051, 0.038, 0.025), "tilt": 0.3},
+                           "only from 0.0033 kg"),  # tilted: its two faces' projection
                           ({"duration": 1e9}, "samples is too many"),
                           ({"duration": 1e300}, "samples is too many"),
                           ({"duration": 5e-4}, r"duration 0.0005 s is shorter than one step"),  # was no step

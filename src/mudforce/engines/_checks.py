@@ -37,18 +37,24 @@ def check_foot(foot: Any) -> Foot:
     return foot
 
 
-def min_stable_mass(params: MudParameters, foot: Foot, step: float) -> float:
+def min_stable_mass(params: MudParameters, foot: Foot | float, step: float) -> float:
     """Lightest foot [kg] whose motion a time step of ``step`` [s] resolves: ``m = S max(k_m_i, k_m_w) h^2``.
 
     A foot of mass ``m`` on the Maxwell spring (Eq. (2)) oscillates at
     ``omega = sqrt(S k_m / m)``; an explicit step ``h`` follows it only
     while ``h omega <= 1`` (RK4 loses stability at 2.8, a semi-implicit
     step at 2; below that it is inaccurate).
+
+    ``foot``: a :class:`Foot` (``S`` its area), or a 3-D foot's loaded area ``S`` [m^2] itself: the 3-D law puts
+    each element on the paper's spring over its downward-facing projection ``A_i max(-n_z, 0)``
+    (:func:`mudforce.model.law3d.vertical_weight`), so its stiffest is ``k_m`` times their sum, the foot's
+    horizontal projection (a flat sole's whole area once it is wet).
     """
-    return foot.area * max(params.k_m_i, params.k_m_w) * step * step
+    area = foot.area if isinstance(foot, Foot) else foot
+    return area * max(params.k_m_i, params.k_m_w) * step * step
 
 
-def check_mass(mass: Any, params: MudParameters, foot: Foot, step: float, what: str) -> float:
+def check_mass(mass: Any, params: MudParameters, foot: Foot | float, step: float, what: str) -> float:
     """``mass`` [kg] as a float if it is a finite number of at least :func:`min_stable_mass`, else InputError.
 
     ``what`` names the step in the message (``"RK4 sub-step"``, ``"MuJoCo time step"``).

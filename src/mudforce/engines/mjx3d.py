@@ -107,6 +107,7 @@ from mudforce.engines.mujoco.adapter3d import (
     _drop_result,
     _drop_spec,
     _patch_list,
+    check_drop_mass,
     check_drop_motion,
     compile_drop,
     foot_geom,
@@ -491,7 +492,8 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
     Parameters
     ----------
     mass : float
-        [kg], > 0.
+        [kg], at least what the step resolves (as :func:`mudforce.engines.mujoco.simulate_drop_3d`'s:
+        :func:`mudforce.engines.mujoco.adapter3d.check_drop_mass`), refused before the scan is compiled.
     params : MudParameters
         The mud.
     shape : str
@@ -526,7 +528,9 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
     duration, vx, steps = check_drop_motion(duration, vx, dt)
     spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
     model = compile_drop(spec)
-    mud = add_mud(model, ["foot"], MudPatch(params), resolution=resolution)
+    surface = from_mujoco_geom(model, 0, resolution=resolution)  # add_mud's own (shapes=None)
+    check_drop_mass(mass, params, surface, float(tilt), float(dt))  # before the scan's compilation
+    mud = add_mud(model, ["foot"], MudPatch(params), surface)
     m = mjx.put_model(model)
     d0 = mjx.make_data(m)
     d0 = d0.replace(qvel=d0.qvel.at[0].set(vx))
