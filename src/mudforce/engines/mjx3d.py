@@ -186,8 +186,15 @@ def _element_params(params: Any, widths: np.ndarray, dtype: Any) -> mj.Params:
     if not isinstance(params, mj.Params):
         raise InputError(f"the mud must be MudParameters or a mudforce.jax.Params, got {type(params).__name__}")
     n = len(widths)
-    fields = [jnp.broadcast_to(jnp.asarray(f, dtype=dtype), (n,)) for f in params]
-    return mj.Params._make(fields)._replace(area=jnp.ones((n,), dtype=dtype), width=jnp.asarray(widths, dtype=dtype))
+    for name, f in zip(params._fields, params, strict=True):  # (static shapes: checked under jit and vmap alike)
+        if name not in ("area", "width") and jnp.shape(f) not in ((), (n,)):  # was JAX's broadcasting ValueError
+            raise InputError(f"a mud's fields must be scalars (one mud for every foot) or one per foot ({n}), got "
+                             f"{name} of shape {jnp.shape(f)}; vmap over worlds for a mud per world")
+    ignored = jnp.ones((n,), dtype=dtype)  # the area and width given are the elements' (an area per world was
+    # broadcast first, and raised JAX's ValueError)
+    fields = [ignored if name in ("area", "width") else jnp.broadcast_to(jnp.asarray(f, dtype=dtype), (n,))
+              for name, f in zip(params._fields, params, strict=True)]
+    return mj.Params._make(fields)._replace(area=ignored, width=jnp.asarray(widths, dtype=dtype))
 
 
 def _warn_floor(model: Any, gids: list[int]) -> None:
