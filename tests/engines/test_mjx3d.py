@@ -169,7 +169,7 @@ def test_bad_input_is_refused_in_one_line() -> None:
 
 
 
-def test_simulate_drop_refuses_a_foot_too_light_for_its_step_before_compiling(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_simulate_drop_refuses_a_too_light_foot_and_bad_compiler_options_before_compiling(monkeypatch: pytest.MonkeyPatch) -> None:
     """A box of 1e-6 kg at 1 ms steps was flung 872 m up in 0.3 s without a word (the mud pushing 1850 times its
     weight); refused by the CPU drop's rule (the 1-D drops' lightest foot on the foot's projection), before the scan
     is compiled."""
@@ -187,6 +187,12 @@ def test_simulate_drop_refuses_a_foot_too_light_for_its_step_before_compiling(mo
             mud3d.simulate_drop(mass, MudParameters.from_water_content(0.25), "box", (0.051, 0.038, 0.025),
                                 tilt=tilt)
         assert "\n" not in str(err.value)
+    # compiler_options that are no dict of names: JAX's AttributeError ('int' object has no attribute 'items') after
+    # the scan was traced
+    for options in (5, "fast", [("a", 1)], {1: True}):
+        with pytest.raises(InputError, match=r"^compiler_options must be a dict of XLA's compile options \(name: "
+                                             r"value\) or None, got "):
+            mud3d.simulate_drop(2.0, MUD, "sphere", (0.04,), compiler_options=options)  # type: ignore[arg-type]
 
 
 def test_set_mud_refuses_a_bool_patch_and_another_type_of_mud() -> None:

@@ -88,7 +88,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
 import jax
@@ -533,6 +533,11 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
     if not isinstance(params, MudParameters):
         raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
     duration, vx, steps = check_drop_motion(duration, vx, dt)
+    if compiler_options is not None and not (isinstance(compiler_options, Mapping)
+                                             and all(isinstance(k, str) for k in compiler_options)):
+        # (was JAX's AttributeError ('int' object has no attribute 'items') after the scan was traced)
+        raise InputError(f"compiler_options must be a dict of XLA's compile options (name: value) or None, got "
+                         f"{shown(compiler_options)}")
     spec = _drop_spec(mass, shape, size, height=height, tilt=tilt, dt=dt)
     model = compile_drop(spec)
     surface = from_mujoco_geom(model, 0, resolution=resolution)  # add_mud's own (shapes=None)
