@@ -169,7 +169,7 @@ def test_bad_input_is_refused_in_one_line() -> None:
 
 
 
-def test_simulate_drop_refuses_a_too_light_foot_and_bad_compiler_options_before_compiling(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_drop_and_step_refuse_bad_options_before_compiling(monkeypatch: pytest.MonkeyPatch) -> None:
     """A box of 1e-6 kg at 1 ms steps was flung 872 m up in 0.3 s without a word (the mud pushing 1850 times its
     weight); refused by the CPU drop's rule (the 1-D drops' lightest foot on the foot's projection), before the scan
     is compiled."""
@@ -187,6 +187,12 @@ def test_simulate_drop_refuses_a_too_light_foot_and_bad_compiler_options_before_
             mud3d.simulate_drop(mass, MudParameters.from_water_content(0.25), "box", (0.051, 0.038, 0.025),
                                 tilt=tilt)
         assert "\n" not in str(err.value)
+    # step's weight, as mudforce.engines.mjx.step's (refused before anything is read or traced): 2.0 and -5.0
+    # extrapolated the band, NaN gave no force at all (the foot fell through the mud), True and "0.5" were taken
+    for weight, words in ((2.0, r"within \[0, 1\] -, got 2.0"), (-5.0, "within"), (float("nan"), "got nan"),
+                          (True, r"a number \[-\], got bool"), ("0.5", "got str")):
+        with pytest.raises(InputError, match=rf"^weight must be .*{words}"):
+            mud3d.step(None, None, None, None, weight)  # type: ignore[arg-type]
     # compiler_options that are no dict of names: JAX's AttributeError ('int' object has no attribute 'items') after
     # the scan was traced
     for options in (5, "fast", [("a", 1)], {1: True}):

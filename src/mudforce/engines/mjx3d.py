@@ -100,7 +100,7 @@ import mudforce.jax.contact3d as mj3
 from mudforce._plumbing.optional import require
 from mudforce.engines._checks import name_list
 from mudforce.engines.dynamics.result import REST_SPEED
-from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx
+from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx, _weight
 from mudforce.engines.mujoco import MudPatch
 from mudforce.engines.mujoco.adapter3d import (
     Drop3D,
@@ -408,8 +408,8 @@ def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> 
     mud : Mud3D
         The feet and their mud (:func:`add_mud`, :func:`set_mud`).
     weight : float
-        Where in the step the elements' bands are taken [-] (:func:`mudforce.jax.branch_forces`): 0
-        (default) at its start, as :func:`mudforce.engines.mjx.step`.
+        Where in the step the elements' bands are taken [-] (:func:`mudforce.jax.branch_forces`), in [0, 1]
+        unless traced: 0 (default) at its start, as :func:`mudforce.engines.mjx.step`.
 
     Returns
     -------
@@ -420,6 +420,9 @@ def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> 
     forces : array, shape (feet, 3)
         The mud's force on each foot during the step [N], world frame, z up.
     """
+    # a number in [0, 1] unless traced, as mudforce.engines.mjx.step's: 2.0 and -5.0 extrapolated the band, NaN gave
+    # no force at all (the foot fell through the mud), True and "0.5" were taken
+    weight = _weight(weight)
     mjx = _mjx()
     if m.opt.integrator == mjx.IntegratorType.RK4:
         raise InputError("mudforce.engines.mjx3d supports the Euler and implicitfast integrators, not RK4")
