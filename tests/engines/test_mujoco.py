@@ -161,3 +161,18 @@ def test_each_foot_takes_its_sole_from_its_geom_and_none_is_silently_the_paper_s
         MudAdapter(model, mujoco.MjData(model), ["toe", "two"], MudPatch(MudParameters.from_water_content(0.25)))
     mud = MudAdapter(model, mujoco.MjData(model), ["toe"], MudPatch(MudParameters.from_water_content(0.25)))
     assert mud.params[0, 0] > 0.0  # built with the toe's disc
+
+
+def test_a_fromto_foot_s_contact_point_is_its_bottom() -> None:
+    """add_mud read a geom's pos, quat and size from the spec, where a fromto geom leaves them unset: a capsule
+    foot from 0.25 to 0.3 m below its body's origin got its contact point 10 mm below the origin (its radius), so
+    the foot met the mud 0.3 m late; now its bottom, where compiling puts it (local z from its second point to
+    its first), as a geom given by pos and quat."""
+    xml = ('<mujoco><worldbody><body pos="0 0 0.31"><freejoint/><geom name="pill" type="capsule" '
+           'fromto="0.1 0 -0.25 0.1 0 -0.3" size="0.01" mass="0.2"/><geom name="same" type="capsule" '
+           'pos="0.3 0 -0.275" size="0.01 0.025" mass="0.2"/></body></worldbody></mujoco>')
+    spec = mujoco.MjSpec.from_string(xml)
+    add_mud(spec, ["pill", "same"])
+    model = spec.compile()
+    np.testing.assert_allclose(model.site("mud_site_pill").pos, [0.1, 0.0, -0.31], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(model.site("mud_site_same").pos, [0.3, 0.0, -0.31], rtol=0, atol=1e-15)

@@ -319,3 +319,21 @@ def test_a_drop_ends_within_its_duration_as_the_1d_drops_do() -> None:
         res = simulate_drop_3d(2.0, MUD, "sphere", (0.04,), duration=duration, dt=1e-3)
         assert res.time.shape == (rows,) and res.position.shape == (rows, 3) and res.force.shape == (rows, 3)
         assert res.time[-1] <= duration
+
+
+def test_a_fromto_foot_gets_its_contact_site_at_its_centre() -> None:
+    """add_mud_3d put the contact site at the spec's pos, which a fromto geom leaves unset (0): a capsule foot 0.3 m
+    below its body's origin had its site at that origin, which MuJoCo keeps there (site_sameframe 1), so the holds
+    acted 0.3 m above the foot; now at the compiled geom's centre, as for a geom given by pos."""
+    import mujoco
+
+    xml = ('<mujoco><worldbody><body pos="0 0 0.31"><freejoint/><geom name="pill" type="capsule" '
+           'fromto="0.1 0 -0.25 0.1 0.05 -0.3" size="0.01" mass="0.2"/><geom name="toe" type="sphere" '
+           'pos="0.05 0 -0.2" size="0.02" mass="0.2"/></body></worldbody></mujoco>')
+    spec = mujoco.MjSpec.from_string(xml)
+    add_mud_3d(spec, ["pill", "toe"])
+    model = spec.compile()
+    for foot in ("pill", "toe"):
+        site = model.site(f"mud_site_{foot}")
+        np.testing.assert_allclose(site.pos, model.geom(foot).pos, rtol=0, atol=1e-15)
+        assert model.site_sameframe[site.id] != 1  # the adapter moves it: not held at the body's origin

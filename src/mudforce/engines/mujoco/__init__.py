@@ -84,6 +84,7 @@ from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Ph
 from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._spec import check_model_data
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
+from mudforce.engines.mujoco._spec import geom_frame as _geom_frame
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._spec import read_only as _read_only
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT, C_COMMIT, C_DT, C_WEIGHT, I_TENDON, W_DOWN, W_LAST, W_MID, W_UP
@@ -171,9 +172,11 @@ def _names(prefix: str, foot: str) -> tuple[str, str, str]:
 
 
 def _bottom_offset(geom: Any) -> list[float]:
-    """The bottom of a geom in its body's frame, assuming the geom's local z is up [m]."""
+    """The bottom of a geom in its body's frame, assuming the geom's local z is up [m] (a fromto geom's: from its
+    second point to its first, as MuJoCo compiles it; its pos and quat were unset, the bottom taken at its body's
+    origin)."""
     mj = _mujoco()
-    size = np.asarray(geom.size, dtype=float)
+    pos, quat, size = _geom_frame(geom)
     kind = geom.type
     if kind == mj.mjtGeom.mjGEOM_BOX or kind == mj.mjtGeom.mjGEOM_ELLIPSOID:
         depth = size[2]
@@ -185,8 +188,6 @@ def _bottom_offset(geom: Any) -> list[float]:
         depth = size[1]
     else:
         depth = 0.0
-    pos = np.asarray(geom.pos, dtype=float)
-    quat = np.asarray(geom.quat, dtype=float)
     down = np.zeros(3)
     mj.mju_rotVecQuat(down, np.array([0.0, 0.0, -depth]), quat / np.linalg.norm(quat))
     return [float(v) for v in pos + down]

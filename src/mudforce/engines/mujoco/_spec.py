@@ -11,7 +11,7 @@ import numpy as np
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
 
-__all__ = ["check_model_data", "check_prefix", "mujoco_module", "read_only"]
+__all__ = ["check_model_data", "check_prefix", "geom_frame", "mujoco_module", "read_only"]
 
 
 def mujoco_module() -> Any:
@@ -25,6 +25,30 @@ def read_only(array: np.ndarray) -> np.ndarray:
     view: np.ndarray = array.view()
     view.flags.writeable = False
     return view
+
+
+def geom_frame(geom: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A spec geom's position [m], quaternion [-] and MuJoCo size [m] in its body's frame, as compiling gives them.
+
+    For a geom given by ``fromto`` (a capsule, cylinder, box or ellipsoid between two points: MJCF's usual legs) the
+    spec's ``pos`` and ``quat`` are unset until the model is compiled: its centre is then the two points' midpoint,
+    its local z runs from the second to the first (``mju_quatZ2Vec``) and its half-length along it (``size[1]``;
+    ``size[2]`` for a box or ellipsoid, whose ``size[1]`` is then ``size[0]``) is half their distance. Otherwise
+    its ``pos``, ``quat`` and ``size`` as given (copies).
+    """
+    mj = mujoco_module()
+    pos, quat, size = (np.array(v, dtype=float) for v in (geom.pos, geom.quat, geom.size))
+    ends = np.array(geom.fromto, dtype=float)
+    if np.isnan(ends[0]):  # (MuJoCo's mark of no fromto)
+        return pos, quat, size
+    axis = ends[:3] - ends[3:]  # (MuJoCo's local z runs from the second point to the first)
+    mj.mju_quatZ2Vec(quat, axis)
+    half = 0.5 * float(np.linalg.norm(axis))
+    if geom.type in (mj.mjtGeom.mjGEOM_BOX, mj.mjtGeom.mjGEOM_ELLIPSOID):  # a square section of side size[0]
+        size[1:] = size[0], half
+    else:
+        size[1] = half
+    return 0.5 * (ends[:3] + ends[3:]), quat, size
 
 
 def check_prefix(prefix: Any) -> str:

@@ -71,7 +71,7 @@ import numpy as np
 
 from mudforce.engines._checks import MAX_NSTEP, check_mass, drop_numbers, name_list, step_count
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
-from mudforce.engines.mujoco._spec import check_model_data, check_prefix, mujoco_module
+from mudforce.engines.mujoco._spec import check_model_data, check_prefix, geom_frame, mujoco_module
 from mudforce.engines.mujoco._spec import read_only as _read_only
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
 from mudforce.engines.mujoco._step3d import (
@@ -218,7 +218,10 @@ def add_mud_3d(spec: Any, feet: Sequence[str], *, prefix: str = "mud_") -> None:
                          "another prefix=)")
     for name, geom in zip(feet, geoms, strict=True):
         n = _names(prefix, name)
-        geom.parent.add_site(name=n["site"], pos=[float(v) for v in geom.pos], size=[0.002, 0.0, 0.0])
+        # at the geom's centre: a fromto geom's pos is unset in the spec, and a site left at its body's origin is
+        # kept there by MuJoCo (site_sameframe), where the holds then acted, away from the foot
+        centre, _, _ = geom_frame(geom)
+        geom.parent.add_site(name=n["site"], pos=[float(v) for v in centre], size=[0.002, 0.0, 0.0])
         for anchor, tendon in (("anchor_z", "tendon_z"), ("anchor_u", "tendon_u"), ("anchor_v", "tendon_v")):
             spec.worldbody.add_site(name=n[anchor], pos=[0.0, 0.0, ANCHOR_HEIGHT], size=[0.002, 0.0, 0.0])
             t = spec.add_tendon(name=n[tendon])
