@@ -53,7 +53,9 @@ def test_bad_input_is_refused_in_one_line() -> None:
     sphere = shapes.sphere(0.04, resolution=0.01)
     for call, match in ((lambda: exact_drop_3d(2.0, params, "sphere"), "Shape"),  # type: ignore[arg-type]
                         (lambda: exact_drop_3d(2.0, params, sphere, orientation=(1.0, 1.0, 0.0, 0.0)), "unit"),
-                        (lambda: exact_drop_3d(-2.0, params, sphere), "mass")):
+                        (lambda: exact_drop_3d(-2.0, params, sphere), "mass"),
+                        # a 2-D orientation's repr spans lines
+                        (lambda: exact_drop_3d(2.0, params, sphere, orientation=np.eye(4)), "unit quaternion")):
         with pytest.raises(InputError, match=match) as err:
             call()
         assert "\n" not in str(err.value)

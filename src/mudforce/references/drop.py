@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from mudforce.errors import InputError, finite_number, number_within, real_array
+from mudforce.errors import InputError, finite_number, number_within, real_array, shown
 from mudforce.model.bounds import bounded_depth, check_gravity, max_samples
 from mudforce.model.equations import neck_filter_response
 from mudforce.model.foot import Foot
@@ -208,7 +208,7 @@ def exact_drop_3d(
     mass, duration, height, dt, gravity, rtol = _checked_numbers(mass, duration, height, dt, gravity, rtol)
     quat = real_array(orientation, "orientation", "-")
     if quat.shape != (4,) or not np.all(np.isfinite(quat)) or abs(float(np.sqrt(np.sum(quat * quat))) - 1.0) > 1e-6:
-        raise InputError(f"orientation must be a unit quaternion (w, x, y, z), got {orientation!r}")
+        raise InputError(f"orientation must be a unit quaternion (w, x, y, z), got {shown(orientation)}")
     _, _, normals, depth = place(shape, np.zeros((1, 3)), quat[None, :], 0.0)  # each centroid's depth: -c_z
     weights = vertical_weights(np.asarray(shape.areas, dtype=np.float64), normals[0])
     loaded = weights > 0.0
