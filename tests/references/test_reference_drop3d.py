@@ -55,7 +55,11 @@ def test_bad_input_is_refused_in_one_line() -> None:
                         (lambda: exact_drop_3d(2.0, params, sphere, orientation=(1.0, 1.0, 0.0, 0.0)), "unit"),
                         (lambda: exact_drop_3d(-2.0, params, sphere), "mass"),
                         # a 2-D orientation's repr spans lines
-                        (lambda: exact_drop_3d(2.0, params, sphere, orientation=np.eye(4)), "unit quaternion")):
+                        (lambda: exact_drop_3d(2.0, params, sphere, orientation=np.eye(4)), "unit quaternion"),
+                        # the sphere's lower half below the surface at release: it fell 1.23 m in 0.5 s, no force
+                        (lambda: exact_drop_3d(2.0, params, sphere, bottom=0.0), "0.0192388 m below the surface"),
+                        (lambda: exact_drop_3d(2.0, params, sphere, bottom=0.1, height=0.05), "below the surface"),
+                        (lambda: exact_drop_3d(2.0, params, sphere, bottom=1e300), "bottom must be within")):
         with pytest.raises(InputError, match=match) as err:
             call()
         assert "\n" not in str(err.value)

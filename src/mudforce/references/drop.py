@@ -187,7 +187,8 @@ def exact_drop_3d(
     bottom : float, optional
         Height of the reference point above the body origin in the world frame [m] (negative: below it): its
         depth is the result's ``depth``, and it is released ``height`` above the surface; by default the lowest
-        element centroid (a sphere of radius ``r``: pass ``-r`` for its lowest point, as the engines report).
+        element centroid (a sphere of radius ``r``: pass ``-r`` for its lowest point, as the engines report);
+        within +-100 m. Every loaded element must start at or above the surface (the release is a fall).
     duration, height, dt, gravity, rtol
         As for :func:`exact_drop` ([s], [m], [s], [m/s^2], [-]).
 
@@ -214,9 +215,13 @@ def exact_drop_3d(
     loaded = weights > 0.0
     if not np.any(loaded):
         raise InputError("the shape has no downward-facing element: nothing carries it")
-    ref = float(-depth[0].max()) if bottom is None else finite_number(bottom, "bottom", "m")
+    ref = float(-depth[0].max()) if bottom is None else bounded_depth(bottom, "bottom", of=" of the body origin")
     # element depth = reference point's depth + offset, offset = ref - c_z <= 0 for elements above it
     offset = np.round(depth[0, loaded] + ref, 12)  # one level for elements within 1e-12 m (a rotation's rounding)
+    if float(offset.max()) > height:  # the solver takes every level FREE at release: one below fell through the mud
+        raise InputError(f"with bottom={shown(bottom)} m and height={shown(height)} m a loaded element starts "
+                         f"{float(offset.max()) - height:.6g} m below the surface; expected the foot released above "
+                         "the mud (bottom at or below its lowest element centroid, or a larger height)")
     levels, which = np.unique(offset, return_inverse=True)
     summed = np.bincount(which, weights=weights[loaded], minlength=levels.size)
     order = np.argsort(-levels, kind="stable")  # the deepest level first
