@@ -274,3 +274,13 @@ def test_reference_closed_form_intrusion() -> None:
     stress[1:] += params.lambda_ * params.rho_m * speed**2
     assert_allclose(ref.force, stress * foot.area, rtol=1e-10)
     assert np.all(ref.state[1:] == CONTACT) and ref.state[0] == FREE
+
+
+def test_reference_refuses_a_mud_or_foot_of_another_type_in_one_line() -> None:
+    """Both were read for their fields: AttributeError ('str' object has no attribute 'k_m_i' / 'area')."""
+    t, z = np.array([0.0, 0.01]), np.array([0.0, 0.001])
+    mud = MudParameters.from_water_content(0.25)
+    for params, foot, match in (("w25", None, "params must be a MudParameters, got str"),
+                                (mud, "paper", "foot must be a Foot")):
+        with pytest.raises(mf.InputError, match=match):
+            reference_simulate(t, z, params, foot)  # type: ignore[arg-type]

@@ -39,7 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from mudforce._kernel.layout import ContactMode
-from mudforce.errors import real_array
+from mudforce.errors import InputError, real_array
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -184,6 +184,10 @@ def reference_simulate(
     -------
     ReferenceResult
     """
+    if not isinstance(params, MudParameters):  # (its fields are read below: AttributeError)
+        raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
+    if foot is not None and not isinstance(foot, Foot):
+        raise InputError(f"foot must be a Foot (or None for the paper's cuboid), got {type(foot).__name__}")
     t = real_array(time, "time", "s")
     z = real_array(depth, "depth", "m")
     if t.ndim != 1 or t.shape != z.shape or t.size == 0:
