@@ -214,6 +214,14 @@ def test_for_noise_takes_any_window_length() -> None:
     assert VelocityFilter.for_noise(100.0, 1e-9).deadband < 1e12
 
 
+def test_for_noise_of_float32_numbers_is_that_of_their_values() -> None:
+    """The arithmetic ran in float32 for a float32 noise or step (NumPy's promotion): deadband 0.007071067579 for
+    np.float32(1e-4) against 0.007071067633 for its value as a float."""
+    noise, dt, span = np.float32(1e-4), np.float32(0.01), np.float32(0.05)
+    assert VelocityFilter.for_noise(noise, dt, span) == VelocityFilter.for_noise(float(noise), float(dt), float(span))
+    assert VelocityFilter.for_noise(noise, 0.01).deadband == 0.007071067633235277
+
+
 def test_depths_at_random_within_100_m_are_simulated() -> None:
     """Depths of +-100 m at random (valid input) read as white noise of 121 m, which simulate's "auto" handed to
     VelocityFilter.for_noise, which refused it ('noise level must be within [0, 100] m'): the filter is now the one

@@ -151,22 +151,24 @@ class VelocityFilter:
         capture (tens of um at 100 Hz) fills ``window_s``; small noise gets
         a short window. ``noise_std <= 1 nm`` gives :meth:`exact`.
         """
+        # the arithmetic below on these Python floats: a float32 argument took it in float32 (NumPy's promotion),
+        # its deadband then 3e-8 off the float value's
         noise = _finite_at_least_zero(noise_std, "noise level", "m")
         step = _finite_at_least_zero(dt, "time step", "s", positive=True)
-        _finite_at_least_zero(window_s, "velocity window", "s", positive=True)
+        span = _finite_at_least_zero(window_s, "velocity window", "s", positive=True)
         # within these the deadband is finite (< 1e12 m/s); a denormal step or a noise of 1e308 m overflowed it
         if noise > MAX_DEPTH:
             raise InputError(f"noise level must be within [0, {MAX_DEPTH:g}] m (the depths' bound), "
                              f"got {shown(noise_std)}")
         if step < MIN_DT:
             raise InputError(f"time step must be at least {MIN_DT:g} s (the steppers' shortest step), got {shown(dt)}")
-        if noise_std <= NOISE_FLOOR_M:
+        if noise <= NOISE_FLOOR_M:
             return cls.exact()
         # the ratios capped before they are rounded to steps: round(inf) and math.ceil(inf) raise OverflowError
-        longest = int(min(MAX_WINDOW, max(2, round(min(window_s / dt, MAX_WINDOW)))))
-        needed = math.ceil(min(DEADBAND_SIGMAS * math.sqrt(2.0) * noise_std / (dt * SLOWEST_MOTION), MAX_WINDOW))
+        longest = int(min(MAX_WINDOW, max(2, round(min(span / step, MAX_WINDOW)))))
+        needed = math.ceil(min(DEADBAND_SIGMAS * math.sqrt(2.0) * noise / (step * SLOWEST_MOTION), MAX_WINDOW))
         window = int(min(longest, max(1, needed)))
-        deadband = DEADBAND_SIGMAS * math.sqrt(2.0) * noise_std / (window * dt)
+        deadband = DEADBAND_SIGMAS * math.sqrt(2.0) * noise / (window * step)
         return cls(window, deadband)
 
     @property
