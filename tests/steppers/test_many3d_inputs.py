@@ -152,6 +152,24 @@ def test_an_out_pair_of_one_array_is_refused_and_changes_nothing() -> None:
         assert pickle.dumps(feet.state) == before
 
 
+def test_an_out_pair_of_one_block_s_column_halves_is_taken() -> None:
+    """``out=(w[:, :3], w[:, 3:])`` of one (n, 6) wrench block was refused, "out's two arrays share memory", which
+    they do not (np.may_share_memory compared their bounds); now the step writes into them what it returns alone."""
+    import mudforce as mf
+    from mudforce.model import shapes
+
+    feet = mf.MudContacts3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.04), 2)
+    up = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+    feet.step(np.zeros((2, 3)), up, 0.0)
+    saved = feet.state
+    forces, torques = (a.copy() for a in feet.step(np.full((2, 3), -1e-3), up, 0.01))
+    feet.state = saved
+    wrench = np.zeros((2, 6))
+    got = feet.step(np.full((2, 3), -1e-3), up, 0.01, out=(wrench[:, :3], wrench[:, 3:]))
+    assert got[0].base is wrench and got[1].base is wrench and forces[0, 2] > 0.0
+    assert np.array_equal(wrench, np.hstack((forces, torques)))
+
+
 def test_resetting_no_feet_is_allowed_and_changes_nothing() -> None:
     """``reset([])`` was refused as "got float64" (numpy's dtype of an empty list); it resets no foot."""
     import pickle

@@ -1005,7 +1005,9 @@ class MudContacts3D:
             pair: tuple[Any, Any] = out if type(out) is tuple and len(out) == 2 else (None, None)
             if not (_writable_rows(pair[0], self.n) and _writable_rows(pair[1], self.n)):
                 raise InputError(f"out must be a tuple of two writable float64 arrays of shape ({self.n}, 3)")
-            if np.may_share_memory(pair[0], pair[1]):  # the torques would overwrite the forces
+            # the torques would overwrite the forces (exactly: the column halves of one (n, 6) block do not overlap,
+            # though their bounds do)
+            if np.shares_memory(pair[0], pair[1]):
                 raise InputError("out's two arrays share memory; expected two separate arrays, forces and torques")
         # the compiled step's one version takes C-contiguous, aligned, writable arrays: others are copied (numba
         # would compile another version of the step for them, for seconds); so are the results into such an out
