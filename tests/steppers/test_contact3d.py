@@ -194,6 +194,20 @@ def test_state_restores_and_replays_bit_for_bit() -> None:
         np.testing.assert_array_equal(a.torque, b.torque)
 
 
+def test_a_reset_clears_the_element_forces_as_a_new_contact_has_them() -> None:
+    """After reset() element_forces still held the last step's (a 40 mm sphere at 10 mm: Fz summing to 13.6 N), as
+    MudContact.last did before 754f9f7; now zeros, as a new contact's, and a kept array keeps its values."""
+    contact = MudContact3D(mf.MudParameters.from_water_content(0.25), SPHERE)
+    contact.step([0.0, 0.0, 0.02], UPRIGHT, 0.0)
+    contact.step([0.0, 0.0, 0.01], UPRIGHT, 0.01)
+    kept = contact.element_forces
+    total = float(kept[:, 2].sum())
+    assert total > 1.0
+    contact.reset()
+    assert contact.element_forces.shape == (SPHERE.n, 3) and not contact.element_forces.any()
+    assert float(kept[:, 2].sum()) == total
+
+
 @pytest.mark.parametrize("many", [False, True])
 def test_a_restore_replays_bit_for_bit_when_the_step_length_wavers_in_its_last_bits(many: bool) -> None:
     # steps of k/rate at t ~ 1000 s differ in their last bits; the restore dropped the step-length cache, so the

@@ -423,10 +423,11 @@ class MudContact3D:
         return _fixed_step()
 
     def reset(self) -> None:
-        """Forget the history: the next step is a first step."""
+        """Forget the history: the next step is a first step, and :attr:`element_forces` is as before any step."""
         self._elements.reset()
         self._slip[:] = 0.0
         self._started = False
+        self.element_forces = np.zeros(self._n3)  # (a new array: a kept one keeps its values)
 
     def __repr__(self) -> str:
         return f"MudContact3D({self.shape!r}, surface_height={self.surface_height:g})"
