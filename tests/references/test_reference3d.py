@@ -405,3 +405,5 @@ def test_the_reference_refuses_a_mud_or_shape_of_another_type() -> None:
         reference_simulate_3d(t, pos, quat, None, sphere)  # type: ignore[arg-type]
     with pytest.raises(mf.InputError, match=r"shape must be a mudforce\.model\.shapes\.Shape, got NoneType"):
         reference_simulate_3d(t, pos, quat, PARAMS, None)  # type: ignore[arg-type]
+    with pytest.raises(mf.InputError, match="the motion is empty"):  # it said they "must agree" (they did)
+        reference_simulate_3d([], np.zeros((0, 3)), np.zeros((0, 4)), PARAMS, sphere)

@@ -478,6 +478,8 @@ def test_simulate_3d_names_the_sample_a_bad_input_is_at() -> None:
          "+-1e+09 s"),
         (lambda: simulate_3d(t, bad_pos, quat, params, SPHERE), "sample 7 (t = 0.07 s): position must be 3 finite"),
         (lambda: simulate_3d(t, pos, bad_quat, params, SPHERE), "sample 4 (t = 0.04 s): a quaternion must have norm 1"),
+        # no sample: it said they "must agree" (they did)
+        (lambda: simulate_3d([], np.zeros((0, 3)), np.zeros((0, 4)), params, SPHERE), "the motion is empty"),
     ):
         with pytest.raises(InputError) as info:
             call()

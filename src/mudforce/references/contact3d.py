@@ -444,6 +444,9 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
     x = real_array(positions, "positions", "m")
     q = real_array(quaternions, "quaternions", "-")
     m = t.shape[0] if t.ndim == 1 else -1
+    if m == 0 and x.shape == (0, 3) and q.shape == (0, 4):  # they agree: "must agree" said otherwise
+        raise InputError("the motion is empty; expected at least one sample (time (m,), positions (m, 3) and "
+                         "quaternions (m, 4), m >= 1)")
     if m < 1 or x.shape != (m, 3) or q.shape != (m, 4):
         raise InputError(f"time (m,), positions (m, 3) and quaternions (m, 4) must agree, got {t.shape}, "
                          f"{x.shape} and {q.shape}")
