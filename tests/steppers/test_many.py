@@ -138,6 +138,10 @@ def test_bad_input_is_refused() -> None:
         many.reset([2])
     with pytest.raises(InputError, match="3 parameter sets"):
         MudContacts([W25] * 3, 2)
+    # a string's characters and a mapping's keys were counted as feet: "got 5 feet for 2 contacts" for "paper"
+    for foot in ("paper", {"a": Foot.paper(), "b": Foot.paper()}):
+        with pytest.raises(InputError, match=f"foot must be a Foot or a sequence of Foot, got {type(foot).__name__}$"):
+            MudContacts(W25, 2, foot)
 
 
 def test_snapshot_restore_with_a_smoothing_filter() -> None:

@@ -22,7 +22,8 @@ from __future__ import annotations
 import functools
 import os
 import threading
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from collections.abc import Set as AbstractSet
 from typing import Any
 
 import numba
@@ -109,6 +110,8 @@ def _param_rows(
         feet = [Foot.paper()] * n
     elif isinstance(foot, Foot):
         feet = [foot] * n
+    elif isinstance(foot, (str, bytes, Mapping, AbstractSet)):  # its characters or keys, counted as feet
+        raise InputError(f"foot must be a Foot or a sequence of Foot, got {type(foot).__name__}")
     else:
         try:
             feet = list(foot)
