@@ -231,3 +231,27 @@ def test_depths_at_random_within_100_m_are_simulated() -> None:
     assert res.depth_noise is not None and res.depth_noise.std > 100.0
     assert res.velocity_filter == VelocityFilter.for_noise(100.0, 0.01)
     assert np.isfinite(res.force).all()
+
+
+def test_a_quantised_depth_is_noise_and_gets_a_filter_long_enough_for_its_quantum() -> None:
+    """A depth read in 0.1 mm steps (an encoder) holds still between steps while the foot withdraws at 1 mm/s: its
+    residuals were exactly zero, so auto read it as clean, and the exact rule took each still run for a stop (the
+    intrusion branch's 52 N on 1,796 of 2,301 samples, where the motion gives -0.3 N). Now it reads the quantum,
+    takes its noise (q / sqrt(12)) and the shortest window whose secant reads 1 mm/s above it (21 steps): 34
+    samples more than 5 N off. A clean protocol with holds is still clean."""
+    from mudforce.motions.protocol import Hold, Intrude, Protocol, Withdraw
+
+    steps = (Intrude(depth=0.02, velocity=0.01), Hold(duration=1.0), Withdraw(velocity=0.001, rise=0.0))
+    t, z = Protocol(steps, rate=100.0).sample()
+    q = 1e-4
+    zq = np.round(z / q) * q
+    rule, noise = choose_velocity_filter(t, zq)
+    assert noise.quantum == pytest.approx(q, rel=1e-6) and noise.std == pytest.approx(q / math.sqrt(12), rel=1e-6)
+    assert noise.white and noise.describe().startswith("quantised depth: steps of 0.1 mm between still samples")
+    assert rule.window == 21 and rule.deadband < 1e-3
+    params = mf.MudParameters.from_water_content(0.25)
+    truth = simulate(t, z, params, velocity_filter="exact").force
+    off = np.abs(simulate(t, zq, params).force - truth) > 5.0
+    assert off.sum() == 34
+    clean = analyse_depth_noise(t, z)
+    assert clean.clean and clean.quantum == 0.0

@@ -90,6 +90,9 @@ _MIN_RESIDUALS = 16
 #: Ratio of successive orders' noise levels at or above which the residual is white noise [-] (for
 #: 100 residuals or more; fewer residuals scatter more and get a lower bar, :func:`_white_ratio`).
 WHITE_RATIO = 0.7
+# Fewest steps between still samples that make a depth quantised (:func:`analyse_depth_noise`) [-]: a clean
+# motion has one at each corner between holds, a few per stop.
+_MIN_QUANTISED_STEPS = 10
 
 #: Deadband in standard deviations of the filtered velocity noise.
 DEADBAND_SIGMAS = 5.0
@@ -195,12 +198,17 @@ class DepthNoise:
         apart from the motion: the depth is noisy. False for clean input.
     samples : int
         Number of samples analysed [-].
+    quantum : float
+        The step of a quantised depth [m] (an encoder's, or a depth written with few digits), 0 if none was found:
+        the depth then holds still between steps of one quantum while the foot moves, and ``std`` is the
+        quantisation's, ``quantum / sqrt(12)`` (``white`` true: the filter's rule).
     """
 
     std: float
     order: int
     white: bool
     samples: int
+    quantum: float = 0.0
 
     @property
     def clean(self) -> bool:
@@ -209,6 +217,9 @@ class DepthNoise:
 
     def describe(self) -> str:
         """One line: what was found, in mm."""
+        if self.quantum > 0.0:
+            return (f"quantised depth: steps of {self.quantum * 1e3:.3g} mm between still samples, taken as noise of "
+                    f"{self.std * 1e3:.3g} mm")
         if self.white:
             return f"depth noise {self.std * 1e3:.3g} mm (white, from order-{self.order} differences)"
         if self.samples < MIN_NOISE_SAMPLES:
@@ -272,6 +283,27 @@ def _sigma(t: np.ndarray, z: np.ndarray, k: int) -> tuple[float, float]:
     return 1.4826 * mad / norm, quartile / _QUARTILE_OF_HALF_NORMAL / norm
 
 
+def _quantum(z: np.ndarray) -> float:
+    """The step of a quantised depth [m], or 0 if the depth does not look quantised.
+
+    A depth read in steps of ``q`` (an encoder's count, a depth written with few digits) holds still between
+    steps while the foot moves slower than ``q`` a sample: its differences are runs of exact zeros broken by
+    single steps. Its order-``k`` residuals are then mostly exactly zero, so :func:`analyse_depth_noise`'s
+    estimate read it as clean, and the exact rule took each still run for a stop (a 1 mm/s withdrawal read to
+    0.1 mm at 100 Hz: the intrusion branch's 52 N where the motion gives -0.3 N). A clean motion holds still only
+    where it stops (a hold), and its steps between still samples are the few corners of the motion. So: at least
+    :data:`_MIN_QUANTISED_STEPS` steps, and at least a tenth of the steps, each between two still samples; the
+    quantum is their median size.
+    """
+    d = np.diff(z)
+    still = d == 0.0
+    lone = ~still[1:-1] & still[:-2] & still[2:]  # a step between two still samples
+    count = int(lone.sum())
+    if count < _MIN_QUANTISED_STEPS or count < 0.1 * int((~still).sum()):
+        return 0.0
+    return float(np.median(np.abs(d[1:-1][lone])))
+
+
 def _white_ratio(residuals: int) -> float:
     """Least ratio ``sigma_{k+1} / sigma_k`` taken as white noise, for ``residuals`` residuals [-].
 
@@ -316,6 +348,9 @@ def analyse_depth_noise(time: np.ndarray, depth: np.ndarray) -> DepthNoise:
     n = z.size
     if n < MIN_NOISE_SAMPLES:
         return DepthNoise(0.0, 2, False, int(n))
+    quantum = _quantum(z)
+    if quantum > 0.0:
+        return DepthNoise(quantum / math.sqrt(12.0), 1, True, int(n), quantum)
     if n > _MAX_NOISE_SAMPLES:
         # a deterministic, evenly spread subset of runs of consecutive samples is plenty
         # for a noise level and keeps this O(200k) for long recordings
@@ -379,6 +414,8 @@ def choose_velocity_filter(time: np.ndarray, depth: np.ndarray) -> tuple[Velocit
     dt = float(t[-1] - t[0]) / (t.size - 1)  # mean step
     # depths of +-100 m at random read as noise of up to ~120 m (more on an uneven grid), which for_noise refuses
     # as a noise level beyond the depths' bound: the filter for the largest noise the depths can hold
+    if noise.quantum > 0.0:  # the shortest window whose secant reads 1 mm/s above the quantisation, up to 64 steps
+        return VelocityFilter.for_noise(min(noise.std, MAX_DEPTH), dt, window_s=MAX_WINDOW * dt), noise
     return VelocityFilter.for_noise(min(noise.std, MAX_DEPTH), dt), noise
 
 
