@@ -79,3 +79,32 @@ def test_bad_input_exits_2_with_one_line_and_clobbers_nothing(tmp_path: Path) ->
     for run, (_, _, message), folder, before in zip(runs, BAD_INPUTS, folders, befores, strict=True):
         assert_refused(run, message)
         assert snapshot(folder) == before
+
+
+def test_an_out_that_cannot_be_written_whole_is_left_as_it_was(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """--out alone was written in place (Path.write_text): a write that failed (a full disk, a file size limit: 20 kB
+    of a 30 kB CSV) left the old file replaced by the part written. Now through atomic_open, as every output: a
+    failure leaves it as it was, and no temporary file. (In process, the tracker replaced by a canned result: the
+    write is what is tested.)"""
+    import os
+
+    from mudforce.cli import main
+    from mudforce.estimation import tracker
+
+    n = 3
+    x = np.linspace(0.0, 0.02, n)
+    canned = tracker.TrackResult(x, x, x, x, x, x, x, np.zeros(n, dtype=bool), x, x)
+    monkeypatch.setattr(tracker, "track", lambda *args, **kwargs: canned)
+    (tmp_path / "in.csv").write_text("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n0.02,0,0\n")
+    (tmp_path / "o.csv").write_bytes(b"previous output\n")
+    monkeypatch.chdir(tmp_path)
+
+    def full(fd: int) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full)
+    assert main(["track", "in.csv", "--out", "o.csv", "--quiet"]) == 2
+    assert capsys.readouterr().err.strip() == "mudforce track: error: cannot write o.csv: No space left on device"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.csv", "o.csv"]
+    assert (tmp_path / "o.csv").read_bytes() == b"previous output\n"

@@ -102,9 +102,10 @@ def run(args: argparse.Namespace) -> int:
         png = figure_to_png(plot_track(result, title=f"Tracking {source.name}"))
     text = result._csv_text()
 
-    from mudforce.io import write_outputs
+    from mudforce.io import atomic_write_text, write_outputs
 
-    write_outputs("mudforce-track", {out: lambda path: path.write_text(text, encoding="utf-8"),
+    # the CSV through atomic_open also when it is the only output (write_outputs writes that one in place)
+    write_outputs("mudforce-track", {out: lambda path: atomic_write_text(path, text),
                                      plot: None if png is None else (lambda path: path.write_bytes(png))})
     if not args.quiet:
         k = time.size - 1
