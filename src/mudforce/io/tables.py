@@ -13,6 +13,7 @@ import csv
 import math
 import os
 import re
+from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -177,8 +178,8 @@ def _read(
     header = _header(reader)
     if header is None:
         raise InputError(f"{p}: file is empty; expected a header row like {example} and data rows")
-    named = [h for h in header if h]
-    duplicates = sorted({h for h in named if named.count(h) > 1})
+    # counted once each (list.count per name was quadratic: a transposed recording's header of 40,000 times took 18 s)
+    duplicates = sorted(h for h, k in Counter(h for h in header if h).items() if k > 1)
     if duplicates:
         raise InputError(f"{p}: column {duplicates[0]} appears more than once in the header; "
                          "each column must be named once")
