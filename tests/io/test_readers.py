@@ -69,3 +69,17 @@ def test_a_wide_header_is_checked_in_linear_time(tmp_path: Path) -> None:
     path.write_text("depth_m,b,time_s,b,depth_m\n0,0,0,0,0\n")
     with pytest.raises(InputError, match="column b appears more than once in the header; each column must be "):
         read_trajectory(path)
+
+
+def test_a_name_the_file_system_cannot_take_is_refused_in_one_line(tmp_path: Path) -> None:
+    """A name longer than the file system allows raised Path.exists()'s OSError (mudforce track and simulate exited 1,
+    'File name too long', as for a failing disk); a NUL said 'file not found' with the NUL printed raw, and
+    is_pose_trajectory raised ValueError (embedded null byte) where it answers False for what it cannot read."""
+    from mudforce.io.tables import is_pose_trajectory
+
+    long = tmp_path / ("x" * 300 + ".csv")
+    with pytest.raises(InputError, match=r"^\S+x\.csv: cannot read \(File name too long\)$"):
+        read_trajectory(long)
+    with pytest.raises(InputError, match=r"^the file name 'a\\x00b\.csv' contains a NUL character; expected a CSV "):
+        read_trajectory("a\x00b.csv")
+    assert is_pose_trajectory("a\x00b.csv") is False

@@ -140,10 +140,16 @@ def read_columns(
         raise InputError(f"path must be a file name, got {type(path).__name__}")
     if not os.fspath(path).strip():  # Path("") is ".": "is a directory" said nothing of the empty name
         raise InputError(f"empty file name {os.fspath(path)!r}; expected a CSV file")
+    if "\x00" in os.fspath(path):  # "file not found", the NUL printed raw into the message
+        raise InputError(f"the file name {_clip(os.fspath(path))!r} contains a NUL character; expected a CSV file")
     p = Path(path)
-    if not p.exists():
+    try:
+        found, folder = p.exists(), p.is_dir()
+    except OSError as exc:  # a name too long for the file system: exists() raised it, and the command exited 1
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    if not found:
         raise InputError(f"{p}: file not found")
-    if p.is_dir():
+    if folder:
         raise InputError(f"{p}: is a directory; expected a CSV file")
     wanted = {**columns, **(optional or {})}
     example = ",".join(spellings[0][0] for spellings in columns.values())
@@ -292,7 +298,7 @@ def is_pose_trajectory(path: str | os.PathLike[str]) -> bool:
     try:
         with Path(path).open(newline="", encoding="utf-8-sig") as handle:
             header = _header(csv.reader(handle))
-    except (OSError, UnicodeDecodeError, csv.Error, TypeError):
+    except (OSError, UnicodeDecodeError, csv.Error, TypeError, ValueError):  # ValueError: a NUL in the name
         return False
     if header is None:
         return False
