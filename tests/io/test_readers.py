@@ -83,3 +83,15 @@ def test_a_name_the_file_system_cannot_take_is_refused_in_one_line(tmp_path: Pat
     with pytest.raises(InputError, match=r"^the file name 'a\\x00b\.csv' contains a NUL character; expected a CSV "):
         read_trajectory("a\x00b.csv")
     assert is_pose_trajectory("a\x00b.csv") is False
+
+
+@pytest.mark.parametrize(("path", "message"), [
+    (3, "path must be a file name, got int; expected a fit result"),
+    (None, "path must be a file name, got NoneType; expected a fit result"),
+    ("a\x00b.json", r"the file name 'a\\x00b\.json' contains a NUL character; expected a fit result"),
+])
+def test_load_json_refuses_what_is_no_file_name_in_one_line(path: object, message: str) -> None:
+    """load_json (and so load_fit) raised Path()'s TypeError for 3 or None, and stat()'s ValueError (embedded null
+    byte) for a NUL; MudParameters.load checked the first itself."""
+    with pytest.raises(InputError, match=f"^{message}$"):
+        load_json(path, "fit result")  # type: ignore[arg-type]

@@ -728,8 +728,12 @@ def load_json(path: str | os.PathLike[str], what: str, example: str = "") -> Any
     example : str
         What is expected, for the malformed-JSON message.
     """
-    if isinstance(path, (str, os.PathLike)) and not os.fspath(path).strip():  # Path("") is "." (a directory)
+    if not isinstance(path, (str, os.PathLike)):  # Path(3) raised a bare TypeError (load_fit(3), load_json(None))
+        raise InputError(f"path must be a file name, got {type(path).__name__}; expected a {what}")
+    if not os.fspath(path).strip():  # Path("") is "." (a directory)
         raise InputError(f"empty file name {os.fspath(path)!r}; expected a {what}")
+    if "\x00" in os.fspath(path):  # stat() raised ValueError (embedded null byte)
+        raise InputError(f"the file name {os.fspath(path)[:60]!r} contains a NUL character; expected a {what}")
     p = Path(path)
     hint = f"; expected {example}" if example else ""
     try:
