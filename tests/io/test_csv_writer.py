@@ -148,6 +148,23 @@ def test_a_path_that_cannot_be_written_is_refused_in_one_line(tmp_path: Path) ->
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize(("name", "words"), [
+    ("x" * 300 + ".csv", "File name too long"),
+    ("x" * 300 + "/out.csv", "File name too long"),
+    ("a\x00b.csv", "the file name contains a NUL character"),
+])
+def test_a_name_the_file_system_cannot_take_is_refused_in_one_line(tmp_path: Path, name: str, words: str) -> None:
+    """atomic_open (every writer: to_csv, save, write_csv) raised a bare OSError ([Errno 36] File name too long, from
+    the symbolic-link check) for a name longer than the file system allows, and ValueError (embedded null byte) for a
+    NUL; now one InputError naming the path, and nothing is written."""
+    from mudforce.io import atomic_write_text
+
+    for write in (lambda path: write_csv(path, {"a": np.zeros(2)}), lambda path: atomic_write_text(path, "a\n")):
+        with pytest.raises(InputError, match=f"^cannot write '.{{1,80}}': {words}$"):
+            write(str(tmp_path / name))
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize(("columns", "label", "words"), [
     # a code beyond the texts was read outside the compiled formatter's table: a segmentation fault
     ({"a": np.array([1.0, 2.0])}, ("state", np.array([0, 5_000_000]), ["A", "B"]), "label codes must be 2 integers"),

@@ -124,7 +124,12 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     """
     if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
         raise InputError(f"output must be a file path (str or os.PathLike), got {type(path).__name__} {path!r}")
-    target = write_target(path)
+    if "\x00" in str(path):  # stat() raised ValueError (embedded null byte)
+        raise InputError(f"cannot write {str(path)[:80]!r}: the file name contains a NUL character")
+    try:
+        target = write_target(path)
+    except OSError as exc:  # a name longer than the file system allows: is_symlink() raised it, a bare OSError
+        raise InputError(f"cannot write {str(path)[:80]!r}: {exc.strerror or exc}") from None
     _refuse_special(target, "output", str(path))
     directory = target.parent if str(target.parent) else Path(".")
     try:
