@@ -156,3 +156,19 @@ def test_reproduce_removes_a_killed_runs_folder_of_a_glob_name(tmp_path: Path) -
     assert _hidden(tmp_path) == []
 
 
+
+
+def test_an_output_folder_name_too_long_is_refused_in_one_line(tmp_path: Path) -> None:
+    """A folder name longer than the file system allows raised is_dir()'s or exists()'s OSError from the up-front
+    checks (mudforce track --out LONG/a.csv, reproduce --out LONG, synth --out LONG exited 1, 'File name too long',
+    as for a failing disk); now an InputError naming the option."""
+    from mudforce.errors import InputError
+
+    long = tmp_path / ("x" * 300)
+    checks = [lambda: mudforce.io.check_output_path(str(long / "a.csv"), "--out"),
+              lambda: mudforce.io.check_output_dir(long, "--out"),
+              lambda: mudforce.io.check_replaceable_dir(long, "--out", {"report.md"}, "mudforce-test")]
+    for check in checks:
+        with pytest.raises(InputError, match=r"^--out:? '.{1,80}': File name too long$"):
+            check()
+    assert list(tmp_path.iterdir()) == []

@@ -206,10 +206,10 @@ def check_output_path(text: str | os.PathLike[str] | None, option: str, *, suffi
     if str(text).endswith(("/", os.sep)) or path.name in ("", ".", ".."):
         raise InputError(f"{option}: {shown!r} names a directory; expected a file name")
     given_parent = path.parent if str(path.parent) else Path(".")
-    if given_parent.is_dir() and len(os.fsencode(path.name)) > _name_max(given_parent):
-        raise InputError(f"{option}: the file name {path.name[:40]!r}... is longer than the file system "
-                         f"allows ({_name_max(given_parent)} bytes)")
-    try:
+    try:  # (is_dir() raises a folder name longer than the file system allows: the command exited 1)
+        if given_parent.is_dir() and len(os.fsencode(path.name)) > _name_max(given_parent):
+            raise InputError(f"{option}: the file name {path.name[:40]!r}... is longer than the file system "
+                             f"allows ({_name_max(given_parent)} bytes)")
         target = write_target(path)
     except OSError as exc:
         raise InputError(f"{option}: {shown[:80]!r}: {exc.strerror or exc}") from None
@@ -240,8 +240,11 @@ def check_output_dir(out: str | os.PathLike[str] | None, option: str = "--out") 
     if "\x00" in str(out):
         raise InputError(f"{option}: the folder name contains a NUL character")
     path = Path(out)
-    if path.exists() and not path.is_dir():
-        raise InputError(f"{option} {path}: exists and is not a directory")
+    try:  # (exists() raises a name longer than the file system allows: the command exited 1)
+        if path.exists() and not path.is_dir():
+            raise InputError(f"{option} {path}: exists and is not a directory")
+    except OSError as exc:
+        raise InputError(f"{option} {str(path)[:80]!r}: {exc.strerror or exc}") from None
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -391,8 +394,11 @@ def check_replaceable_dir(out: str | os.PathLike[str], option: str, files: Colle
     if "\x00" in given:
         raise InputError(f"{option}: the folder name contains a NUL character")
     path = Path(out).resolve()
-    if path.exists() and not path.is_dir():
-        raise InputError(f"{option} {given}: exists and is not a directory")
+    try:  # (exists() raises a name longer than the file system allows: the command exited 1)
+        if path.exists() and not path.is_dir():
+            raise InputError(f"{option} {given}: exists and is not a directory")
+    except OSError as exc:
+        raise InputError(f"{option} {given[:80]!r}: {exc.strerror or exc}") from None
     if path.parent == path:
         raise InputError(f"{option} {given}: the root folder cannot hold a {what}; expected a folder below it")
     package = _package_dir()
