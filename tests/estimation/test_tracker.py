@@ -190,6 +190,16 @@ def test_same_input_same_output() -> None:
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
 
 
+def test_the_result_holds_copies_of_the_recording() -> None:
+    """track() returned the caller's float64 arrays as the result's time, depth and force: a buffer refilled after
+    the call changed result.time (and what to_csv writes) beside estimates made from the old samples."""
+    time, depth, force = np.arange(3) * 0.01, np.zeros(3), np.zeros(3)
+    result = track(time, depth, force)
+    time[:], depth[:], force[:] = 5.0, 1.0, 9.0
+    np.testing.assert_array_equal(result.time, [0.0, 0.01, 0.02])
+    assert not result.depth.any() and not result.force.any()
+
+
 def test_tracking_figure_is_deterministic(tmp_path: object) -> None:
     pytest.importorskip("matplotlib")
     from pathlib import Path

@@ -1774,7 +1774,7 @@ class TrackResult:
     Attributes
     ----------
     time, depth, force : numpy.ndarray
-        The input [s], [m], [N].
+        The input [s], [m], [N] (copies).
     water_content, low, high : numpy.ndarray
         Estimate and 95 % interval [-] after each sample.
     force_predicted : numpy.ndarray
@@ -1898,6 +1898,7 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         tracker._step(float(t[k] - previous) if k else 1.0)
         cols[k] = tracker._out[0]
         previous = t[k]
-    return TrackResult(t, z, f, cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
+    # copies: a float64 input came back as the result's own array, which changed with the caller's buffer
+    return TrackResult(t.copy(), z.copy(), f.copy(), cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
                        cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0,
                        cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD], cols[:, _O_LAG], cols[:, _O_LAG_SD])
