@@ -95,3 +95,13 @@ def test_load_json_refuses_what_is_no_file_name_in_one_line(path: object, messag
     byte) for a NUL; MudParameters.load checked the first itself."""
     with pytest.raises(InputError, match=f"^{message}$"):
         load_json(path, "fit result")  # type: ignore[arg-type]
+
+
+def test_time_that_goes_backwards_is_shown_in_seconds_said_so(tmp_path: Path) -> None:
+    """A time_ms column's 10 then 5 was shown as '(0.01 then 0.005)', values in seconds under the file's column in
+    milliseconds; now with their unit, as model.bounds.check_times words it."""
+    path = tmp_path / "back.csv"
+    path.write_text("time_ms,depth_mm\n0,0\n10,0\n5,0\n")
+    with pytest.raises(InputError, match=r"back\.csv: row 4, column time_ms: time goes backwards \(0\.01 s then "
+                                         r"0\.005 s\); expected strictly increasing time$"):
+        read_trajectory(path)

@@ -266,7 +266,8 @@ def check_time(
         what = "repeats" if steps[i] == 0.0 else "goes backwards"
         row = int(lines[i + 1]) if lines is not None else i + 3
         raise InputError(
-            f"{path}: row {row}, column {column}: time {what} ({float(time[i])!r} then {float(time[i + 1])!r}); "
+            # in seconds, said so (a time_ms column's 10 then 5 read '(0.01 then 0.005)'), as model.bounds.check_times
+            f"{path}: row {row}, column {column}: time {what} ({float(time[i])!r} s then {float(time[i + 1])!r} s); "
             f"expected strictly increasing time"
         )
 
