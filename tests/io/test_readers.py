@@ -54,18 +54,15 @@ def test_reading_a_long_trajectory_takes_memory_in_proportion_to_the_numbers(tmp
     assert peak < 100 * n, peak / n
 
 
-def test_a_wide_header_is_checked_in_linear_time(tmp_path: Path) -> None:
+def test_a_wide_header_is_refused_with_its_duplicates_named_as_before(tmp_path: Path) -> None:
     """A transposed recording (one row per quantity): its header of 40,000 times was checked for names given twice
-    by a list.count per name, 18 s before 'missing column'; now one count (about 15 ms). Duplicates as before."""
-    import time
-
+    by a list.count per name, 18 s before 'missing column'; now one count (about 15 ms, measured, not asserted: the
+    suite's own time would show a return of the quadratic check). Duplicates as before."""
     times = [repr(0.01 * k) for k in range(40_000)]
     path = tmp_path / "transposed.csv"
     path.write_text("\n".join(",".join(row) for row in (times, ["0"] * len(times), ["1"] * len(times))) + "\n")
-    start = time.perf_counter()
     with pytest.raises(InputError, match=r"missing column time_s or time_ms; the header is '0\.0,0\.01,"):
         read_trajectory(path)
-    assert time.perf_counter() - start < 2.0
     path.write_text("depth_m,b,time_s,b,depth_m\n0,0,0,0,0\n")
     with pytest.raises(InputError, match="column b appears more than once in the header; each column must be "):
         read_trajectory(path)
