@@ -381,3 +381,12 @@ def test_save_dataset_refuses_an_unknown_water_content_and_writes_nothing_it_can
     with pytest.raises(InputError, match=r"^a result is not finite"):
         save_dataset(Dataset(Foot.paper(), (_TRIAL30,), extra={"description": math.nan}), tmp_path / "b")
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+
+
+def test_load_dataset_refuses_a_name_the_file_system_cannot_take_in_one_line(tmp_path: Path) -> None:
+    """A name too long raised Path.is_dir()'s OSError (mudforce fit LONG exited 1, as for a failing disk); a NUL
+    said 'not found' with the NUL printed raw."""
+    with pytest.raises(InputError, match=r"^'\S+x': cannot read \(File name too long\)$"):
+        load_dataset(tmp_path / ("x" * 300))
+    with pytest.raises(InputError, match=r"^'a\\x00b': cannot read \(the name holds a NUL character\)$"):
+        load_dataset("a\x00b")

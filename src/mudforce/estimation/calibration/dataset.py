@@ -22,6 +22,7 @@ volume fraction [-].
 
 from __future__ import annotations
 
+import errno
 import math
 import os
 from collections.abc import Mapping
@@ -449,6 +450,12 @@ def load_dataset(path: str | os.PathLike[str], *, foot: Foot | None = None) -> D
     if not isinstance(path, (str, os.PathLike)):
         raise InputError(f"path must be a dataset folder or file name, got {type(path).__name__}")
     p = Path(path)
+    try:  # a name too long raised is_dir()'s OSError (mudforce fit exited 1), a NUL its ValueError
+        p.stat()
+    except (OSError, ValueError) as error:
+        if isinstance(error, ValueError) or error.errno not in (errno.ENOENT, errno.ENOTDIR):
+            reason = error.strerror if isinstance(error, OSError) else "the name holds a NUL character"
+            raise InputError(f"{shown(str(p))}: cannot read ({reason})") from None
     if p.is_dir():
         manifest = p / MANIFEST_NAME
         if not manifest.is_file():
