@@ -401,6 +401,19 @@ def test_meshes_with_two_vertices_at_one_point_are_refused() -> None:
     assert shapes.mesh(apart_v, twice_f).volume == pytest.approx(2 * 0.02**3, rel=1e-12)
 
 
+def test_a_separate_shell_facing_inward_is_refused_and_a_cavity_taken() -> None:
+    """A 10 mm cube beside a 20 mm one, its faces inside out, was taken (volume 7e-6 m^3 for 9e-6, the small cube's
+    normals pointing into it) because the whole mesh's signed volume stayed positive; the same shell inside the big
+    cube is a cavity, and taken."""
+    v, f = cube_mesh()
+    inverted = np.vstack([f, f[:, ::-1] + len(v)])
+    assert _one_line(lambda: shapes.mesh(np.vstack([v, 0.5 * v + [0.05, 0.0, 0.0]]), inverted, resolution=1.0)) == (
+        "the mesh's shell of 12 faces from face 12 points inward (its signed volume is -1e-06 m^3 < 0) and lies "
+        "outside the solid the other shells enclose, so it is no cavity; reverse the winding of its faces")
+    hollow = shapes.mesh(np.vstack([v, 0.5 * v]), inverted, resolution=1.0)
+    assert hollow.volume == pytest.approx(0.02**3 - 0.01**3, rel=1e-12)
+
+
 def test_refused_mesh_inputs_are_left_unchanged() -> None:
     v, f = cube_mesh()
     v0, f0 = v.copy(), f.copy()

@@ -92,9 +92,10 @@ right-hand rule. It refuses, each with a one-line :class:`InputError`
 naming the face or edge: faces that are not an ``(m, 3)`` integer array,
 indices out of range, non-finite vertices, zero-area faces, an open mesh
 (an edge of one face only), a non-manifold edge (three faces or more),
-inconsistent winding, a mesh that encloses no volume, and an inward-facing
+inconsistent winding, a mesh that encloses no volume, an inward-facing
 mesh (negative signed volume: "faces point inward; reverse their
-winding").
+winding"), and a separate shell facing inward outside the other shells
+(one inside them, facing inward, is a cavity: taken).
 """
 
 from __future__ import annotations
@@ -819,6 +820,42 @@ def _check_closed(tris: NDArray[np.int64]) -> None:
                          f"winding; expected each edge run once each way (reverse one of them)")
 
 
+def _check_shells(verts: Float, tris: NDArray[np.int64], signed: Float, extent: float) -> None:
+    """InputError if a separate shell of the mesh faces inward (negative signed volume) outside the rest of it.
+
+    ``signed`` (m,) is each face's ``v0 . (v1 - v0) x (v2 - v0)`` [m^3] (six times its share of the volume). A
+    shell (faces joined through their vertices) with a negative volume is a cavity when it lies inside the other
+    shells (their winding number at one of its vertices is 1); outside them (winding number 0) it is a solid
+    whose faces point inward.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    k = verts.shape[0]
+    graph = coo_matrix((np.ones(2 * tris.shape[0]), (tris[:, :2].ravel(), tris[:, 1:].ravel())), shape=(k, k))
+    label = connected_components(graph, directed=False)[1]
+    shell = label[tris[:, 0]]
+    names, shell = np.unique(shell, return_inverse=True)
+    if names.size == 1:  # one shell: its volume is the mesh's, checked already
+        return
+    volume = np.bincount(shell, weights=signed) / 6.0
+    for s in np.flatnonzero(volume < -_FLAT * extent**3):
+        mine = shell == s
+        rest = tris[~mine]
+        point = verts[tris[np.argmax(mine), 0]]
+        a, b, c = (verts[rest[:, i]] - point for i in range(3))  # each triangle's solid angle (Van Oosterom)
+        la, lb, lc = (np.linalg.norm(x, axis=1) for x in (a, b, c))
+        numerator = np.einsum("ij,ij->i", a, np.cross(b, c))
+        denominator = (la * lb * lc + np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", a, c) * lb
+                       + np.einsum("ij,ij->i", b, c) * la)
+        winding = 2.0 * math.fsum(np.arctan2(numerator, denominator).tolist()) / (4.0 * math.pi)
+        if winding < 0.5:
+            first = int(np.argmax(mine))
+            raise InputError(f"the mesh's shell of {int(mine.sum())} faces from face {first} points inward (its "
+                             f"signed volume is {volume[s]:.3g} m^3 < 0) and lies outside the solid the other shells "
+                             "enclose, so it is no cavity; reverse the winding of its faces")
+
+
 def mesh(vertices: Any, faces: Any, *, resolution: float | None = None) -> Shape:
     """A closed, outward-facing triangle mesh: each triangle an element (subdivided to meet ``resolution``).
 
@@ -847,8 +884,9 @@ def mesh(vertices: Any, faces: Any, *, resolution: float | None = None) -> Shape
         (three faces or more), inconsistent winding (two faces running an
         edge the same way), two vertices at the same point (a mesh not
         welded, or shells that overlay or touch), a mesh enclosing no volume,
-        a mesh whose faces point inward (negative signed volume), or too many
-        elements.
+        a mesh whose faces point inward (negative signed volume), a separate
+        shell whose faces point inward outside the other shells (inside them it
+        is a cavity, and taken), or too many elements.
     """
     verts, tris = _mesh_arrays(vertices, faces)
     used = np.unique(tris)
@@ -875,12 +913,14 @@ def mesh(vertices: Any, faces: Any, *, resolution: float | None = None) -> Shape
         raise InputError(f"mesh vertices {i} and {j} are the same point {verts[i].tolist()} m though no edge joins "
                          "them: the surface overlays or touches itself (two shells, or one pinched); expected each "
                          "point of a closed surface once (give separate solids as separate shapes)")
-    volume = math.fsum(np.einsum("ij,ij->i", v0, cross).tolist()) / 6.0
+    signed = np.einsum("ij,ij->i", v0, cross)
+    volume = math.fsum(signed.tolist()) / 6.0
     if abs(volume) < _FLAT * extent**3:
         raise InputError(f"the mesh encloses no volume ({volume:.3g} m^3); expected a closed solid's surface")
     if volume < 0.0:
         raise InputError(f"the mesh's faces point inward; reverse their winding (its signed volume is "
                          f"{volume:.3g} m^3 < 0)")
+    _check_shells(verts, tris, signed, extent)
     label = f"mesh of {tris.shape[0]} triangles"
     total = 0.5 * math.fsum(doubled.tolist())
     # a triangle with edges up to r has at most 0.43 r^2: the default doubles the grids' r for about as many
