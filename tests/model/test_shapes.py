@@ -366,6 +366,10 @@ def test_bad_meshes_get_one_line_errors_naming_the_problem() -> None:
     assert "mesh face 1 has vertex index 9, expected 0 to 3" in _one_line(
         lambda: shapes.mesh(tv, np.where(tf == 3, 9, tf)))
     assert "integer array (m, 3)" in _one_line(lambda: shapes.mesh(tv, tf.astype(float)))
+    # a boolean among the indices of a list was read as vertex 0 or 1 (numpy's int array of a mixed list)
+    assert _one_line(lambda: shapes.mesh(tv, [[False, 2, 1], [0, 1, 3], [0, 3, 2], [True, 2, 3]])) == (
+        "mesh faces must be an integer array (m, 3) of vertex indices, got a sequence holding booleans (True/False "
+        "among the indices)")
     assert "integer array (m, 3)" in _one_line(lambda: shapes.mesh(tv, tf[:, :2]))
     assert "vertices must be an array (k, 3)" in _one_line(lambda: shapes.mesh(tv[:, :2], tf))
     assert "vertices must be an array (k, 3) of numbers" in _one_line(lambda: shapes.mesh("cube", tf))

@@ -108,7 +108,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mudforce._plumbing.optional import require
-from mudforce.errors import InputError, is_real, number_within, real_array, shown
+from mudforce.errors import InputError, holds_boolean, is_real, number_within, real_array, shown
 from mudforce.model.foot import AREA_RANGE, SIZE_RANGE, Foot
 
 __all__ = ["DEFAULT_ELEMENTS", "MAX_ELEMENTS", "Shape", "box", "capsule", "cylinder", "disc", "ellipsoid",
@@ -751,6 +751,9 @@ def _mesh_arrays(vertices: Any, faces: Any) -> tuple[Float, NDArray[np.int64]]:
     if tris.dtype.kind not in "iu" or tris.ndim != 2 or tris.shape[1] != 3 or tris.shape[0] < 4:
         raise InputError(f"mesh faces must be an integer array (m, 3) of vertex indices with m >= 4, "
                          f"got {tris.dtype} array of shape {tris.shape}")
+    if not isinstance(faces, np.ndarray) and holds_boolean(faces):  # numpy reads [0, True, 2] as [0, 1, 2]
+        raise InputError("mesh faces must be an integer array (m, 3) of vertex indices, got a sequence holding "
+                         "booleans (True/False among the indices)")
     if tris.shape[0] > MAX_ELEMENTS:
         raise InputError(f"a mesh may have at most {MAX_ELEMENTS} faces, got {tris.shape[0]}")
     out_of_range = (tris < 0) | (tris >= verts.shape[0])
