@@ -289,6 +289,17 @@ def test_the_suggested_resolution_fits() -> None:
     assert shapes.sphere(1.0, resolution=0.00627).n <= MAX_ELEMENTS
 
 
+def test_the_suggested_resolution_fits_a_long_thin_shape() -> None:
+    """The suggestion assumed a count growing as 1/resolution^2; a needle's grows as 1/resolution, so a capsule 0.1 mm
+    by 10 m at 0.1 mm was told 0.266 mm (150,384 elements, refused again), and a 1e-9 m^2 sole 10 m wide (its default
+    resolution 0.0028 mm) 0.0187 mm, below the 0.1 mm a resolution may be."""
+    for call, suggested in ((lambda r: shapes.capsule(1e-4, 10.0, resolution=r), 1e-4),
+                            (lambda r: shapes.sole(Foot(1e-9, 10.0), resolution=r), None)):
+        text = _one_line(lambda: call(suggested))  # noqa: B023 - called at once
+        res = float(text.rpartition("e.g. ")[2].removesuffix(" mm")) * 1e-3
+        assert 1e-4 <= res and call(res).n <= MAX_ELEMENTS
+
+
 # --------------------------------------------------------------------------------------------------------- mesh
 
 def test_cube_mesh_is_the_box() -> None:

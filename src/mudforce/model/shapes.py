@@ -101,6 +101,7 @@ winding"), and a separate shell facing inward outside the other shells
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -131,6 +132,7 @@ _CHUNK = 500_000  # quadrature points evaluated at once [-] (memory)
 
 Float = NDArray[np.float64]
 Elements = tuple[Float, Float, Float]  # centroids (n, 3) [m], normals (n, 3) [-], areas (n,) [m^2]
+Counter = Callable[[float], int]  # a shape's number of elements at a resolution [m]
 
 
 def _numbers(value: Any, what: str) -> Float:
@@ -286,31 +288,45 @@ def _size(value: Any, name: str) -> float:
     return number_within(value, name, *SIZE_RANGE, "m")
 
 
-def _resolution(resolution: Any, total_area: float, extent: float, label: str) -> float:
+def _resolution(resolution: Any, total_area: float, extent: float, label: str, elements: Counter) -> float:
     """The resolution [m]: the caller's, checked, or the default for ``total_area`` [m^2].
 
     ``extent`` [m] is the shape's largest dimension: a grid with more than
-    MAX_ELEMENTS rows along it is refused before any array is made.
+    MAX_ELEMENTS rows along it is refused before any array is made;
+    ``elements`` counts the shape's elements at a resolution (for the one the message suggests).
     """
     if resolution is None:
         return math.sqrt(total_area / DEFAULT_ELEMENTS)
     res = number_within(resolution, f"{label} resolution", *SIZE_RANGE, "m")
     if extent / res > MAX_ELEMENTS:
-        _too_many(label, res, None, total_area)
+        _too_many(label, res, None, total_area, elements)
     return res
 
 
-def _too_many(label: str, res: float, count: int | None, total_area: float) -> None:
+def _too_many(label: str, res: float, count: int | None, total_area: float, elements: Counter) -> None:
     # n grows as 1/resolution^2: aim at 80% of the cap (or, count unknown, at the area's share of it)
-    suggest = res * math.sqrt(count / (0.8 * MAX_ELEMENTS)) if count else math.sqrt(total_area / MAX_ELEMENTS) * 1.5
+    guess = res * math.sqrt(count / (0.8 * MAX_ELEMENTS)) if count else math.sqrt(total_area / MAX_ELEMENTS) * 1.5
     got = f"{count} elements" if count is not None else "too many elements"
     raise InputError(f"{label} at resolution {res * 1e3:g} mm would have {got}, more than the {MAX_ELEMENTS} "
-                     f"allowed; use a coarser resolution, e.g. {suggest * 1e3:.3g} mm")
+                     f"allowed; use a coarser resolution, e.g. {_fitting(guess, elements) * 1e3:.3g} mm")
 
 
-def _check_count(count: int, label: str, res: float, total_area: float) -> None:
+def _fitting(guess: float, elements: Counter) -> float:
+    """The first resolution [m] from ``guess`` up (in steps of 10 %, as the message shows it: three digits in mm)
+    within SIZE_RANGE at which the shape has at most MAX_ELEMENTS ``elements``: the guess assumes a count that grows
+    as 1/resolution^2, and a long thin shape's grows as 1/resolution only."""
+    res = max(guess, SIZE_RANGE[0])
+    while res <= SIZE_RANGE[1]:
+        shown_res = float(f"{res * 1e3:.3g}") * 1e-3
+        if SIZE_RANGE[0] <= shown_res <= SIZE_RANGE[1] and elements(shown_res) <= MAX_ELEMENTS:
+            return shown_res
+        res *= 1.1
+    return SIZE_RANGE[1]
+
+
+def _check_count(count: int, label: str, res: float, total_area: float, elements: Counter) -> None:
     if count > MAX_ELEMENTS:
-        _too_many(label, res, count, total_area)
+        _too_many(label, res, count, total_area, elements)
 
 
 def _count(n: float) -> int:
@@ -552,12 +568,16 @@ def sole(foot: Foot, *, resolution: float | None = None) -> Shape:
     area, width = foot.area, foot.width
     is_disc = foot.shape.lower().startswith("disc") and math.isclose(area, math.pi * width**2 / 4.0, rel_tol=1e-9)
     length = area / width
-    res = _resolution(resolution, area, max(length, width), f"the sole of {foot.shape}")
+    label = f"the sole of {foot.shape}"
+
+    def elements(step: float) -> int:
+        return _polar_count(0.5 * width, step) if is_disc else _count(length / step) * _count(width / step)
+
+    res = _resolution(resolution, area, max(length, width), label, elements)
+    _check_count(elements(res), label, res, area, elements)
     if is_disc:
-        _check_count(_polar_count(0.5 * width, res), f"the sole of {foot.shape}", res, area)
         centroids, normals, areas = _polar(0.5 * width, 0.0, False, res)
     else:
-        _check_count(_count(length / res) * _count(width / res), f"the sole of {foot.shape}", res, area)
         centroids, normals, areas = _rectangle(length, width, res, (0, 1, 2), 0.0, -1.0)
     areas = areas * (area / math.fsum(areas.tolist()))
     return _shape((centroids, normals, areas), f"sole of {foot.shape}", closed=False, width=width)
@@ -577,9 +597,13 @@ def box(length: float, width: float, height: float, *, resolution: float | None 
     x, y, z = _size(length, "box length"), _size(width, "box width"), _size(height, "box height")
     label = f"box {_mm(x)}x{_mm(y)}x{_mm(z)} mm"
     total = 2.0 * (x * y + x * z + y * z)
-    res = _resolution(resolution, total, max(x, y, z), label)
-    nx, ny, nz = _count(x / res), _count(y / res), _count(z / res)
-    _check_count(2 * (nx * ny + nx * nz + ny * nz), label, res, total)
+
+    def elements(step: float) -> int:
+        nx, ny, nz = _count(x / step), _count(y / step), _count(z / step)
+        return 2 * (nx * ny + nx * nz + ny * nz)
+
+    res = _resolution(resolution, total, max(x, y, z), label, elements)
+    _check_count(elements(res), label, res, total, elements)
     faces: list[Elements] = []
     for u, v, axes, offset in ((y, z, (1, 2, 0), 0.5 * x), (x, z, (0, 2, 1), 0.5 * y), (x, y, (0, 1, 2), 0.5 * z)):
         faces.append(_rectangle(u, v, res, axes, offset, 1.0))
@@ -604,9 +628,13 @@ def sphere(diameter: float, *, resolution: float | None = None) -> Shape:
     label = f"sphere {_mm(d)} mm"
     r = 0.5 * d
     total = math.pi * d * d
-    res = _resolution(resolution, total, d, label)
+
+    def elements(step: float) -> int:
+        return 2 * int(_bands(r, r, step)[1].sum())
+
+    res = _resolution(resolution, total, d, label, elements)
     theta, sectors = _bands(r, r, res)
-    _check_count(2 * int(sectors.sum()), label, res, total)
+    _check_count(2 * int(sectors.sum()), label, res, total, elements)
     north, south = _mirror_z(_sphere_north(r, theta, sectors))
     return _shape(_join(north, south), label, closed=True, width=d)
 
@@ -635,13 +663,17 @@ def ellipsoid(length: float, width: float, height: float, *, resolution: float |
     label = f"ellipsoid {_mm(x)}x{_mm(y)}x{_mm(z)} mm"
     a, b, c = 0.5 * x, 0.5 * y, 0.5 * z
     total = _ellipsoid_area(a, b, c)
-    res = _resolution(resolution, total, max(x, y, z), label)
     # the grid's polar axis is the longest axis (z on a tie): the fewest elements for the resolution
     polar = 2 if c >= max(a, b) else (0 if a >= b else 1)
     order = [(polar + 1) % 3, (polar + 2) % 3, polar]  # a cyclic permutation: local (u, v, w) = axes[order]
     semi = [(a, b, c)[i] for i in order]
+
+    def elements(step: float) -> int:
+        return 2 * int(_bands(semi[2], max(semi[0], semi[1]), step)[1].sum())
+
+    res = _resolution(resolution, total, max(x, y, z), label, elements)
     theta, sectors = _bands(semi[2], max(semi[0], semi[1]), res)  # the meridian through the longer other axis
-    _check_count(2 * int(sectors.sum()), label, res, total)
+    _check_count(2 * int(sectors.sum()), label, res, total, elements)
     north, south = _mirror_z(_ellipsoid_north(semi[0], semi[1], semi[2], theta, sectors))
     centroids, normals, areas = _join(north, south)
     back = np.argsort(order)  # column j of the body frame is local column back[j]
@@ -677,10 +709,14 @@ def capsule(diameter: float, length: float, *, resolution: float | None = None) 
     label = f"capsule {_mm(d)} mm, length {_mm(span)} mm"
     r = 0.5 * d
     total = math.pi * d * (d + span)
-    res = _resolution(resolution, total, d + span, label)
+
+    def elements(step: float) -> int:
+        side = _count(span / step) * int(_sectors(r, step)) if span > 0.0 else 0
+        return 2 * int(_bands(r, r, step)[1].sum()) + side
+
+    res = _resolution(resolution, total, d + span, label, elements)
     theta, sectors = _bands(r, r, res)
-    side_count = _count(span / res) * int(_sectors(r, res)) if span > 0.0 else 0
-    _check_count(2 * int(sectors.sum()) + side_count, label, res, total)
+    _check_count(elements(res), label, res, total, elements)
     north, south = _mirror_z(_sphere_north(r, theta, sectors), 0.5 * span)
     parts = (north, _side(r, span, res), south) if span > 0.0 else (north, south)
     return _shape(_join(*parts), label, closed=True, width=d)
@@ -689,9 +725,12 @@ def capsule(diameter: float, length: float, *, resolution: float | None = None) 
 def _cylinder(d: float, height: float, res: float | None, label: str) -> Shape:
     r = 0.5 * d
     total = 0.5 * math.pi * d * d + math.pi * d * height
-    step = _resolution(res, total, max(d, height), label)
-    _check_count(2 * _polar_count(r, step) + _count(height / step) * int(_sectors(r, step)),
-                 label, step, total)
+
+    def elements(size: float) -> int:
+        return 2 * _polar_count(r, size) + _count(height / size) * int(_sectors(r, size))
+
+    step = _resolution(res, total, max(d, height), label, elements)
+    _check_count(elements(step), label, step, total, elements)
     top = _polar(r, 0.5 * height, True, step)
     bottom = _polar(r, -0.5 * height, False, step)
     return _shape(_join(top, _side(r, height, step), bottom), label, closed=True, width=d)
@@ -927,12 +966,17 @@ def mesh(vertices: Any, faces: Any, *, resolution: float | None = None) -> Shape
     label = f"mesh of {tris.shape[0]} triangles"
     total = 0.5 * math.fsum(doubled.tolist())
     # a triangle with edges up to r has at most 0.43 r^2: the default doubles the grids' r for about as many
-    res = 2.0 * _resolution(None, total, extent, label) if resolution is None else \
-        _resolution(resolution, total, extent, label)
     longest = np.max(np.stack([np.linalg.norm(v1 - v0, axis=1), np.linalg.norm(v2 - v1, axis=1),
                                np.linalg.norm(v0 - v2, axis=1)]), axis=0)
+
+    def elements(step: float) -> int:
+        cuts = np.maximum(1, np.ceil(longest / step))
+        return int((cuts * cuts).sum())
+
+    res = 2.0 * _resolution(None, total, extent, label, elements) if resolution is None else \
+        _resolution(resolution, total, extent, label, elements)
     k = np.maximum(1, np.ceil(longest / res)).astype(np.int64)
-    _check_count(int((k * k).sum()), label, res, total)
+    _check_count(int((k * k).sum()), label, res, total, elements)
     normals = cross / doubled[:, None]
     parts: list[Elements] = []
     order: list[NDArray[np.int64]] = []
