@@ -213,6 +213,19 @@ def test_disc_and_custom_soles() -> None:
     np.testing.assert_allclose(c.bounds[1, :2], [0.045, 0.005], rtol=1e-12)
 
 
+def test_a_sole_too_long_for_a_shape_is_refused_in_its_words() -> None:
+    """A foot's area in cm^2 given as m^2 (19.38 for 19.38e-4) makes a sole S/H = 510 m long: it was refused as
+    "shape centroids must be within 10 m of the body origin [m], got 254.805 m at element 0", and one of 1e6 m at
+    0.1 mm as too many elements, with a resolution (47.4 mm) that was refused again; no resolution fits either."""
+    for foot, resolution in ((Foot(19.38, 0.038), None), (Foot(100.0, 1e-4), 1e-4)):
+        assert "m long (its area" in _one_line(lambda: shapes.sole(foot, resolution=resolution))  # noqa: B023
+    assert _one_line(lambda: shapes.sole(Foot(19.38, 0.038))) == (
+        "the sole of custom is 510 m long (its area 19.38 m^2 over its width 0.038 m): its elements would lie 250 m "
+        "or more from its centre at any resolution, more than the 10 m a shape allows; expected a foot's area in m^2 "
+        "and width in m")
+    assert shapes.sole(Foot(3.0, 0.1), resolution=10.0).n == 3  # 30 m long: its 10 m elements reach 10 m, taken
+
+
 # ------------------------------------------------------------------------------------------- determinism, object
 
 @pytest.mark.parametrize("kind", sorted(CLOSED))

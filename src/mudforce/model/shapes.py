@@ -573,6 +573,12 @@ def sole(foot: Foot, *, resolution: float | None = None) -> Shape:
     def elements(step: float) -> int:
         return _polar_count(0.5 * width, step) if is_disc else _count(length / step) * _count(width / step)
 
+    # the corner elements' centroids lie at least L/2 (1 - 1/ceil(L/10 m)) from the centre (at a resolution of 10 m)
+    nearest = 0.5 * length * (1.0 - 1.0 / _count(length / SIZE_RANGE[1]))
+    if nearest > SIZE_RANGE[1] * (1.0 + 1e-9):  # (the margin: Shape's own check decides at the bound)
+        raise InputError(f"{label} is {length:.4g} m long (its area {area:g} m^2 over its width {width:g} m): its "
+                         f"elements would lie {nearest:.4g} m or more from its centre at any resolution, more than the "
+                         f"{SIZE_RANGE[1]:g} m a shape allows; expected a foot's area in m^2 and width in m")
     res = _resolution(resolution, area, max(length, width), label, elements)
     _check_count(elements(res), label, res, area, elements)
     if is_disc:
