@@ -81,6 +81,21 @@ def test_out_of_range_water_content_names_the_range(w: float) -> None:
         MudParameters.from_water_content(w)
 
 
+def test_a_refused_water_content_is_shown_in_full() -> None:
+    """The messages showed the water content with :g (6 digits; now 12, the range's tolerance being 1e-12): 0.3500001
+    was "water content 0.35 is outside Table I's range [0.15, 0.35]", and table_i(0.2000001) or a float32 0.3 "Table
+    I has no row for water content 0.2"."""
+    for call, w, message in (
+        (MudParameters.from_water_content, 0.3500001,
+         "water content 0.3500001 is outside Table I's range [0.15, 0.35] (a fraction: 0.25 means 25%)"),
+        (MudParameters.table_i, 0.2000001, "Table I has no row for water content 0.2000001; rows are "),
+        (MudParameters.table_i, np.float32(0.3), "Table I has no row for water content 0.300000011921;"),
+    ):
+        with pytest.raises(InputError) as error:
+            call(w)  # type: ignore[operator]
+        assert str(error.value).startswith(message)
+
+
 @pytest.mark.parametrize(
     ("change", "message"),
     [

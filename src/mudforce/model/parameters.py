@@ -225,7 +225,7 @@ class MudParameters:
                 values = [v * s for v, s in zip(row, _TABLE_I_SCALE, strict=True)]
                 return cls._from_nine(values, f"{CITATION}, Table I, W = {w:.0%}")
         raise InputError(
-            f"Table I has no row for water content {water_content:g}; rows are "
+            f"Table I has no row for water content {given:.12g}; rows are "  # not :g: 0.2000001 showed as 0.2
             + ", ".join(f"{w:g}" for w in TABLE_I_WATER_CONTENTS)
         )
 
@@ -259,7 +259,7 @@ class MudParameters:
         lo, hi = WATER_CONTENT_RANGE
         if not math.isfinite(w) or w < lo - 1e-12 or w > hi + 1e-12:
             raise InputError(
-                f"water content {w:g} is outside Table I's range [{lo:g}, {hi:g}] "
+                f"water content {w:.12g} is outside Table I's range [{lo:g}, {hi:g}] "  # not :g: 0.3500001 was 0.35
                 f"(a fraction: 0.25 means 25%)"
             )
         for tw in TABLE_I_WATER_CONTENTS:
