@@ -160,7 +160,9 @@ def test_a_name_the_file_system_cannot_take_is_refused_in_one_line(tmp_path: Pat
     from mudforce.io import atomic_write_text
 
     for write in (lambda path: write_csv(path, {"a": np.zeros(2)}), lambda path: atomic_write_text(path, "a\n")):
-        with pytest.raises(InputError, match=f"^cannot write '.{{1,80}}': {words}$"):
+        # (the folder's name, pytest's, is longer under xdist: a long name is shown shortened, the others whole)
+        shown = ".{1,80}" if len(name) > 100 else ".+"
+        with pytest.raises(InputError, match=f"^cannot write '{shown}': {words}$"):
             write(str(tmp_path / name))
     assert list(tmp_path.iterdir()) == []
 
