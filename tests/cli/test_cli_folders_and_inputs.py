@@ -123,6 +123,8 @@ CASES: dict[str, tuple[list[str], tuple[str, ...] | None]] = {
     "depth-noise-negative": (_synth("x", "--depth-noise", "-1mm"), ("--depth-noise", "must not be negative")),
     "bias-minus-inf": (_synth("x", "--bias", "-infN"), ("--bias", "'-infN'")),
     "jitter-negative": (_synth("x", "--motion", "gait", "--jitter", "-1e-3"), ("jitter", "-0.001")),
+    # the gait's own words, 'jitter must be within ... got inf', named no option
+    "jitter-huge": (_synth("x", "--motion", "gait", "--jitter", "1e400"), ("--jitter: inf must be within [0, 0.4]",)),
     "height-negative": (["drop", "--mass", "5kg", "--water-content", "25%", "--height", "-5mm", "--out", "d.csv"],
                         ("--height", "must not be negative")),
     "rise-negative": (["simulate", "--water-content", "25%", "--rise", "-5mm", "--out", "o.csv"],

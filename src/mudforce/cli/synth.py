@@ -309,6 +309,8 @@ def run(args: argparse.Namespace) -> int:
                                  "--depth, --hold and --velocities")
     args.duration = "25s" if args.duration is None else args.duration
     args.jitter = 0.0 if args.jitter is None else args.jitter
+    if not 0.0 <= args.jitter <= 0.4:  # (gait's bound, in the option's words: 1e400 was 'jitter ... got inf')
+        raise InputError(f"--jitter: {shown(args.jitter)} must be within [0, 0.4] (a fraction of a sample period)")
     args.start_below = "never" if args.start_below is None else args.start_below
     duration = parse_quantity(args.duration, "time", name="--duration") if gait else 0.0
     trials = len(waters) * (1 if gait else len(velocities)) * args.repeats
