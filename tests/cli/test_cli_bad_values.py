@@ -169,6 +169,16 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
     ("identify-zero-force", ["identify", "t.csv"], {"t.csv": "@zero-force"}, ("force",)),
     ("velocity-too-small", ["simulate", "--water-content", "25%", "--velocity", "1e-12m/s", "--out", "out.csv"], {},
      ("--velocity",)),
+    # an option given twice with different values: argparse kept the last without a word (drop ran a 6 kg foot,
+    # params printed W = 30%, fit-drag fitted with 20 cm2, an abbreviation too); now refused, naming both
+    ("repeated-mass", ["drop", "--mass", "5kg", "--ma", "6kg", "--water-content", "25%", "--out", "out.csv"], {},
+     ("mudforce drop: error: argument --mass: given twice ('5kg', then '6kg'); give it once",)),
+    ("repeated-water-content", ["params", "--water-content", "25%", "--water-content=30%"], {},
+     ("argument --water-content: given twice ('25%', then '30%')",)),
+    ("repeated-area", ["fit-drag", "s.csv", "--area", "19cm2", "--area", "20cm2"], {"s.csv": SLIDING},
+     ("argument --area: given twice",)),
+    ("repeated-params", ["simulate", "--params", "p.json", "--params", "q.json", "--out", "out.csv"],
+     {"p.json": GOOD_PARAMS, "q.json": GOOD_PARAMS}, ("argument --params: given twice ('p.json', then 'q.json')",)),
 ]
 
 
@@ -245,6 +255,7 @@ def test_accepted_meanings(tmp_path: Path) -> None:
         (["fit-drag", "neg.csv"], tmp_path),
         (["identify", "disc/w25_v20_r1.csv", "--json"], tmp_path),
         (["identify", "clean/w25_v20_r1.csv", "--foot", "paper", "--json"], tmp_path),
+        (["params", "--water-content", "25%", "--water-content", "25%", "--json", "--json"], tmp_path),  # one meaning
     ])
     for r in results:
         assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
@@ -254,6 +265,7 @@ def test_accepted_meanings(tmp_path: Path) -> None:
     clean = json.loads(results[3].stdout)
     assert abs(clean["water_content"] - 0.25) < 1e-3
     assert not any("well above" in w for w in clean["warnings"]), clean["warnings"]
+    assert json.loads(results[4].stdout)["beta"] == 0.54
 
 
 def test_fit_json_is_strict_json() -> None:

@@ -72,7 +72,7 @@ def test_synth_refuses_gait_options_for_the_protocol_and_protocol_options_for_a_
     gait = ["synth", "--quiet", "--repeats", "1", "--motion", "gait", "--duration", "2s", "--out", "g"]
     protocol = [["--hold", "100s"], ["--velocities", "1mm/s"], ["--depth", "50mm"], ["--approach", "30mm"]]
     runs = run_batch([([*base, *e], tmp_path) for e in extra] + [([*gait, *e], tmp_path) for e in protocol]
-                     + [([*gait, "--duration", "xyz"], tmp_path)])
+                     + [([*gait[:-4], "--duration", "xyz", "--out", "g"], tmp_path)])  # gait's --duration replaced
     for e, run in zip(extra + protocol, runs, strict=False):
         assert_refused(run, e[0], "--motion gait only" if e in extra else "--motion protocol only")
     assert_refused(runs[-1], "--duration: cannot read 'xyz'")  # with gait, checked as a duration

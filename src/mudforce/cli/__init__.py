@@ -94,14 +94,31 @@ def refuse_empty_inputs(*inputs: tuple[str, str | None, str]) -> None:
             raise InputError(f"{option}: empty name {name!r}; expected {what}")
 
 
+class _StoreOnce(argparse.Action):
+    """argparse's ``store``, but an option given twice with different values (``--mass 5kg --mass 6kg``) is refused
+    in one line naming both, where argparse kept the last without a word; the same value twice means one thing."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: Any,
+                 option_string: str | None = None) -> None:
+        given: dict[str, Any] = vars(namespace).setdefault("_given", {})
+        if self.dest in given and given[self.dest] != values:
+            first, then = (repr(v) if len(repr(v)) <= 40 else repr(v)[:37] + "..." for v in (given[self.dest], values))
+            raise argparse.ArgumentError(self, f"given twice ({first}, then {then}); give it once")
+        given[self.dest] = values
+        setattr(namespace, self.dest, values)
+
+
 class _Parser(argparse.ArgumentParser):
     """An argparse parser whose errors are one line and exit status 2, and which reads ``--bias -0.5N`` as
     an option and its value (argparse's own rule only takes plain numbers like ``-1`` for values, so it
-    reported "expected one argument"); a value that must not be negative is refused by its own check."""
+    reported "expected one argument"); a value that must not be negative is refused by its own check. An
+    option given twice with different values is refused (:class:`_StoreOnce`)."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_VALUE
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
