@@ -31,6 +31,8 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
         ([*BASE, "--shape", "box:50mmx40mmx0.01mm", "--out", "x.csv"], tmp_path),
         # float() took "1_0" as 10 degrees (and other scripts' digits); every other number read is plain ASCII
         ([*BASE, "--shape", "sphere:40mm", "--tilt", "1_0", "--out", "x.csv"], tmp_path),
+        # a tilt that underflows was read as 0 degrees without a word, where --vx 1e-400mm/s is refused
+        ([*BASE, "--shape", "sphere:40mm", "--tilt", "1e-400", "--out", "x.csv"], tmp_path),
     ])
     sphere, box = runs[0], runs[1]
     assert sphere.returncode == 0 and "mujoco 3-D sphere: depth" in sphere.stdout, sphere.stderr
@@ -45,7 +47,8 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
     for run, word in zip(runs[2:], ("KIND:SIZE", "2 size", "--tilt", "need --shape", "--engine mujoco", "mjx",
                                     "--shape: '0.05um' is smaller than 0.1 mm",
                                     "--shape: '50mmx40mmx0.01mm' is smaller than 0.1 mm",
-                                    "--tilt: '1_0' is not an angle in degrees"), strict=True):
+                                    "--tilt: '1_0' is not an angle in degrees",
+                                    "--tilt: '1e-400' is too small (at least 2.23e-308 degrees, or 0)"), strict=True):
         assert_refused(run, word)
     assert not (tmp_path / "x.csv").exists()
 

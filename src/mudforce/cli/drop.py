@@ -41,6 +41,8 @@ examples:
 from __future__ import annotations
 
 import argparse
+import re
+import sys
 
 from mudforce.cli import plain_float
 from mudforce.cli._outputs import check_suffix
@@ -178,6 +180,12 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
             raise InputError(f"--tilt: {args.tilt!r} is not an angle in degrees; expected e.g. 20 or 20deg") from None
         if not math.isfinite(tilt) or abs(tilt) > 180.0:
             raise InputError(f"--tilt: {args.tilt!r} is outside -180 to 180 degrees")
+        # as parse_quantity reads a quantity: a literal that is not zero is not read as zero ("1e-400"), nor as a
+        # denormal, whose digits are lost
+        if 0.0 < abs(tilt) < sys.float_info.min or (tilt == 0.0 and re.search(
+                r"[1-9]", str(args.tilt).lower().partition("e")[0]) is not None):
+            raise InputError(f"--tilt: {args.tilt!r} is too small (at least {sys.float_info.min:.3g} degrees, or 0); "
+                             "expected e.g. 20 or 20deg")
     vx = 0.0
     if args.vx is not None:
         vx = parse_quantity(args.vx, "velocity", name="--vx", allow_negative=True, allow_zero=True)
