@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import subprocess
+import sys
 from pathlib import Path
+
+import pytest
 
 from mudforce_cli_harness import assert_refused, run_batch, run_cli
 
@@ -55,3 +58,19 @@ def test_a_water_content_out_of_range_is_refused_as_simulate_refuses_it(tmp_path
         assert_refused(drop, f"--water-content: '{w}' is outside Table I's range 15% to 35%; expected e.g. 25%")
         assert drop.stderr.replace("mudforce drop:", "mudforce simulate:") == simulate.stderr
     assert (tmp_path / "drop.csv").read_bytes() == PREVIOUS
+
+
+def test_plot_with_a_shape_is_refused_before_matplotlib_is_required(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """Was, without matplotlib: "--plot needs matplotlib, which is not installed; install it with: pip install
+    'mudforce[plot]'", and once it was installed "--plot is not available with --shape"; now the latter at once. In
+    this process, matplotlib hidden: the refusal comes before any engine is imported or anything written."""
+    from mudforce.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # `import matplotlib` raises ImportError
+    status = main(["drop", "--engine", "mujoco", "--shape", "sphere:40mm", "--mass", "2kg", "--water-content", "25%",
+                   "--out", "a.csv", "--plot", "a.png"])
+    assert (status, capsys.readouterr().err) == (2, "mudforce drop: error: --plot is not available with --shape; "
+                                                    "plot the CSV\n")
+    assert list(tmp_path.iterdir()) == []

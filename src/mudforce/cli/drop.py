@@ -119,12 +119,14 @@ def run(args: argparse.Namespace) -> int:
     check_suffix(out, "--out", "CSV", ".csv", "--plot FILE.png writes a plot")
     if plot is not None and plot.resolve() == out.resolve():
         raise InputError("--plot and --out name the same file")
+    if plot is not None and shape3d is not None:  # before matplotlib is required, which would not help
+        raise InputError("--plot is not available with --shape; plot the CSV")
     if plot is not None:
         from mudforce._plumbing.optional import require
 
         require("matplotlib", "plot", "--plot")
     if shape3d is not None:
-        return _run_3d(args, mass, params, duration, height, shape3d, out, plot)
+        return _run_3d(args, mass, params, duration, height, shape3d, out)
     if args.engine == "mujoco":
         from mudforce._plumbing.optional import require
 
@@ -195,15 +197,13 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
 
 
 def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: float, height: float,
-            shape3d: tuple[str, list[float], float, float], out: object, plot: object) -> int:
+            shape3d: tuple[str, list[float], float, float], out: object) -> int:
     """``mudforce drop --shape``: the 3-D MuJoCo adapter or MJX; CSV of the foot's pose, velocity and force."""
     import math
 
     from mudforce._plumbing.optional import require
     from mudforce.io.results import write_text
 
-    if plot is not None:
-        raise InputError("--plot is not available with --shape; plot the CSV")
     kind, dims, tilt, vx = shape3d
     if args.engine == "mjx":
         require("jax", "mjx", "--engine mjx")
