@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 
 import pytest
@@ -151,6 +152,10 @@ REFUSED: list[tuple[str, list[str], dict[str, str], tuple[str, ...]]] = [
      ("--area", "expected an area with a unit")),
     # an empty name (an unset shell variable) was read as the folder '.': ".: is a directory; expected a CSV file"
     ("empty-trajectory", _sim("--trajectory", ""), {}, ("--trajectory: empty name ''; expected a CSV file",)),
+    # a pipe was read for its header (depths or poses?), then again from its start: '<(cat t.csv)' was reported as
+    # "/dev/fd/63: file is empty", and a named pipe without a writer made the command wait for ever
+    ("trajectory-pipe", _sim("--trajectory", "fifo.csv"), {"fifo.csv": "@fifo"},
+     ("--trajectory: 'fifo.csv' is a pipe, which can be read only once", "expected a CSV file")),
     ("empty-params", ["simulate", "--params", " ", "--out", "out.csv"], {},
      ("--params: empty name ' '; expected a parameter file (JSON)",)),
     ("empty-trial", ["identify", ""], {}, ("TRIAL.csv: empty name ''",)),
@@ -186,6 +191,9 @@ def _materialise(root: Path, files: dict[str, str], trial: str) -> None:
     for name, text in files.items():
         path = root / name
         path.parent.mkdir(parents=True, exist_ok=True)
+        if text == "@fifo":
+            os.mkfifo(path)
+            continue
         if text.startswith("@link:"):
             path.symlink_to(text[len("@link:"):])
             continue

@@ -208,10 +208,31 @@ def _summary(result: SimulationResult, mud: str, motion: str, out: Path, plot: P
 
 # ---------------------------------------------------------------------------- run
 
+def _refuse_a_pipe(trajectory: str | None) -> None:
+    """Refuse a --trajectory that is a pipe (``<(...)``, ``/dev/stdin`` fed by a pipe, a named pipe): its header is
+    read to tell depths from poses, then the file again from its start, which a pipe cannot give; it was reported
+    as an empty file (or, a named pipe without a writer, the command waited for ever)."""
+    import os
+    import stat
+
+    if trajectory is None:
+        return
+    try:
+        mode = os.stat(trajectory).st_mode
+    except (OSError, ValueError):  # not there, a NUL in the name, ...: the reader says what is wrong
+        return
+    if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
+        raise InputError(f"--trajectory: {str(trajectory)[:80]!r} is a pipe, which can be read only once, and "
+                         "--trajectory is read twice (its header, then its rows); expected a CSV file: save the "
+                         "stream to one first")
+
+
+
 def run(args: argparse.Namespace) -> int:
     """Check all inputs, simulate, then write the CSV (and PNG) atomically; print a summary."""
     refuse_empty_inputs(("--trajectory", args.trajectory, "a CSV file"),
                         ("--params", args.params, "a parameter file (JSON)"))
+    _refuse_a_pipe(args.trajectory)
     out = check_output_path(args.out, "--out")
     plot = check_output_path(args.plot, "--plot", suffix=".png") if args.plot is not None else None
     refuse_overwriting_inputs([("--out", out), ("--plot", plot)],
