@@ -40,6 +40,7 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
     rows = (tmp_path / "s.csv").read_text().splitlines()
     assert rows[0] == "time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"
     assert len(rows) == 152
+    assert rows[1].split(",")[4] == "0"  # the start's depth was written '-0'
     last = [float(v) for v in rows[-1].split(",")]
     assert 0.0 < last[1] < 0.01  # slid forward a little, then held by the mud
     assert last[4] > 0.0 and last[9] == pytest.approx(5.0 * 9.81, rel=0.02)

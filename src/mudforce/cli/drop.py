@@ -220,7 +220,8 @@ def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: flo
     for k in range(res.time.size):
         x, y, z = res.position[k]
         fx, fy, fz = res.force[k]
-        lines.append(f"{res.time[k]:.6g},{x:.9g},{y:.9g},{z:.9g},{res.depth[k]:.9g},{res.velocity[k, 0]:.9g},"
+        # + 0.0: the start's depth, the surface minus the lowest point, was -0 (written '-0'), as Protocol's was
+        lines.append(f"{res.time[k]:.6g},{x:.9g},{y:.9g},{z:.9g},{res.depth[k] + 0.0:.9g},{res.velocity[k, 0]:.9g},"
                      f"{res.velocity[k, 2]:.9g},{fx:.9g},{fy:.9g},{fz:.9g},{math.degrees(res.tilt[k]):.6g}")
     try:
         write_text(str(out), "\n".join(lines) + "\n")
