@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mudforce import InputError, MudTracker, MudTrackers, TrackEstimate
+from mudforce.estimation.calibration import Trial, identify_water_content
 from mudforce.estimation.tracker import DEFAULT_GRID, track
 from mudforce.motions.gait import walk
 
@@ -264,3 +265,22 @@ def test_a_recording_is_refused_naming_its_sample(time: list[float], depth: list
     "not strictly increasing"; each refusal now names the sample, as simulate()'s do."""
     with pytest.raises(InputError, match=message):
         track(np.array(time), np.array(depth), np.array(force))
+
+
+def test_a_force_of_one_value_in_the_mud_is_refused() -> None:
+    """A force column of one value while the foot is in the mud (a sensor unplugged, the wrong column): track() read
+    the protocol's all-zero force at 25 % as the wettest mud, 34.2 % (95 % interval 27.6-35.2 %), its misfit flag
+    quiet at the end; identify refused the same trial. Now refused as identify refuses it (one check, identify's words
+unchanged). One value with the foot
+    never in the mud (nothing to read), and a single sample, are tracked as before."""
+    time = np.arange(6) * 0.01
+    depth = np.array([-0.005, 0.0, 0.004, 0.008, 0.004, -0.001])
+    with pytest.raises(InputError, match=r"^the force is the same in every sample \(0 N\) while the foot is in the "
+                                         r"mud \(deepest 8 mm\): the recording carries no force to identify a water "
+                                         r"content from \(is the column right\?\)$"):
+        track(time, depth, np.zeros(6))
+    with pytest.raises(InputError, match=r"^w\.csv: the force is the same in every sample \(0 N\): the trial carries "
+                                         r"no force to identify a water content from \(is the column right\?\)$"):
+        identify_water_content(Trial("w.csv", 0.25, np.arange(40) * 0.01, np.linspace(-0.005, 0.02, 40), np.zeros(40)))
+    assert track(time, depth - 0.01, np.zeros(6)).water_content.size == 6
+    assert track(time[:1], depth[2:3], np.zeros(1)).water_content.size == 1

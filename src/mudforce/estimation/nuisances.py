@@ -6,6 +6,8 @@ A light module (no scipy): the tracker imports it without the calibration packag
 
 from __future__ import annotations
 
+import numpy as np
+
 from mudforce.errors import InputError, is_real, shown
 
 __all__ = ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"]
@@ -21,3 +23,13 @@ def check_force_gain_uncertainty(g: float) -> None:
     """Refuse a force gain uncertainty ``g`` [-] outside [0, 0.5) in one line (identify's and fit's check)."""
     if not is_real(g) or not 0.0 <= g < 0.5:  # a string or None raised TypeError, False read as 0
         raise InputError(f"force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got {shown(g)}")
+
+
+def check_force_varies(force: np.ndarray, where: str, what: str, context: str = "") -> None:
+    """Refuse a ``force`` [N] the same in every sample in one line (identify's and track's check): a force column that
+    reads one value throughout (a sensor unplugged, the wrong column) carries nothing to read a water content from.
+    ``where``: the message's prefix (a trial's ``"name: "``); ``what``: the recording's noun; ``context``: said after
+    the value."""
+    if force.size and not np.any(force != force[0]):
+        raise InputError(f"{where}the force is the same in every sample ({float(force[0]):.3g} N){context}: the {what} "
+                         "carries no force to identify a water content from (is the column right?)")

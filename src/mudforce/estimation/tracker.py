@@ -120,7 +120,7 @@ from mudforce.errors import (
     real_number,
     true_or_false,
 )
-from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED
+from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_varies
 from mudforce.model.bounds import check_finite, check_times
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
@@ -1876,6 +1876,12 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         The foot (the paper's by default).
     **options
         As for :class:`MudTrackers`.
+
+    Raises
+    ------
+    InputError
+        On bad input, and on a force the same in every sample while the depth reaches the mud (as
+        :func:`~mudforce.estimation.calibration.identify_water_content` refuses it).
     """
     t = real_array(time, "time", "s")
     z = real_array(depth, "depth", "m")
@@ -1889,6 +1895,11 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     check_finite(f, "force", "N")
     tracker = _one_foot(foot, options)
     _check_bounds(z, f, tracker._max_depth, t)
+    # a force of one value while the foot is in the mud (a sensor unplugged, the wrong column) is identify's refusal:
+    # the tracker read it as the wettest mud, 34 % (27.6-35.2 %) for a 25 % protocol, its misfit flag quiet at the end
+    if f.size > 1 and np.any(z > 0.0):
+        check_force_varies(f, "", "recording",
+                           f" while the foot is in the mud (deepest {float(np.max(z)) * 1e3:.3g} mm)")
     m = t.size
     cols = np.empty((m, _N_OUT), dtype=np.float64)
     previous = t[0]

@@ -99,7 +99,12 @@ from mudforce.estimation.calibration.preprocess import (
     prepare_trial,
     tare_correction,
 )
-from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_gain_uncertainty
+from mudforce.estimation.nuisances import (
+    DEFAULT_FORCE_GAIN_UNCERTAINTY,
+    REST_SPEED,
+    check_force_gain_uncertainty,
+    check_force_varies,
+)
 from mudforce.model.equations import rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import spring_stress
@@ -912,9 +917,7 @@ def identify_water_content(
     (trial.trial if isinstance(trial, PreparedTrial) else trial).check_bounds()
     tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial, depth_noise=depth_noise,
                                                                        depth_noise_from="quiet")
-    if not np.any(tr.trial.force != tr.trial.force[0]):
-        raise InputError(f"{tr.trial.name}: the force is the same in every sample ({float(tr.trial.force[0]):.3g} N): "
-                         "the trial carries no force to identify a water content from (is the column right?)")
+    check_force_varies(tr.trial.force, f"{tr.trial.name}: ", "trial")
     t = tr.time
     general = tr.motion is None
     raw = tr.trial.force
