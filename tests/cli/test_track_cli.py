@@ -50,6 +50,25 @@ def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
     np.testing.assert_allclose(data[:, 1:4], np.column_stack([r.water_content, r.low, r.high]), rtol=0, atol=1e-12)
     assert "branch rule: the tracker's own, online" in proc.stdout
     assert (folder / "track.png").read_bytes().startswith(b"\x89PNG")
+    # the misfit flag over the whole recording, which the final estimate alone hid (a force of noise alone read
+    # 34.1 % [27.5, 35.2] with the flag cleared by the end, without a word)
+    misfit = data[:, EXPECTED.index("misfit")].astype(bool)
+    assert ("model misses the data (misfit): never flagged" in proc.stdout) == (not misfit.any()), proc.stdout
+
+
+def test_the_summary_says_where_the_misfit_was_flagged_and_when_the_interval_reaches_the_family_s_end() -> None:
+    from mudforce.cli.track import _edge_line, _misfit_line
+
+    t = np.arange(5) * 0.5
+    assert _misfit_line(t, np.array([0, 1, 1, 0, 0], dtype=bool)) == (
+        "model misses the data (misfit): flagged on 40 % of the samples, last at 1 s: the mud may not be in the "
+        "model's family, or the recording not what it seems")
+    assert _misfit_line(t, np.ones(5, dtype=bool)).endswith("last at 2 s (flagged at the end): the mud may not be "
+                                                            "in the model's family, or the recording not what it seems")
+    assert _misfit_line(t, np.zeros(5, dtype=bool)) == "model misses the data (misfit): never flagged"
+    assert _edge_line(0.28, 0.352) == "the interval reaches the family's wet end (35 %): the mud may be wetter"
+    assert _edge_line(0.148, 0.2) == "the interval reaches the family's dry end (15 %): the mud may be drier"
+    assert _edge_line(0.23, 0.27) == ""
 
 
 BAD_INPUTS = [
