@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -161,6 +163,26 @@ def test_each_foot_takes_its_sole_from_its_geom_and_none_is_silently_the_paper_s
         MudAdapter(model, mujoco.MjData(model), ["toe", "two"], MudPatch(MudParameters.from_water_content(0.25)))
     mud = MudAdapter(model, mujoco.MjData(model), ["toe"], MudPatch(MudParameters.from_water_content(0.25)))
     assert mud.params[0, 0] > 0.0  # built with the toe's disc
+
+
+def test_a_turned_foot_s_contact_point_is_its_lowest_point() -> None:
+    """add_mud took a geom's bottom along its local z, from the spec, where a geom turned by euler or axisangle or
+    placed in a <frame> keeps its quat (and a frame's placement) unset: a box turned 90 degrees about y got its
+    contact point 15 mm above its lowest point; now the lowest point of the compiled geom with its body upright
+    (an upright geom's as before)."""
+    xml = ('<mujoco><worldbody><body pos="0 0 0.3"><freejoint/>'
+           '<geom name="b" type="box" size="0.02 0.01 0.005" euler="0 90 0" pos="0 0 -0.1" mass="0.2"/>'
+           '<frame euler="0 0 30" pos="0 0 -0.05"><geom name="f" type="capsule" size="0.01 0.02" '
+           'axisangle="1 0 0 90" pos="0.05 0 -0.1" mass="0.2"/></frame>'
+           '<geom name="u" type="box" size="0.02 0.01 0.005" pos="0.2 0 -0.1" mass="0.1"/>'
+           '</body></worldbody></mujoco>')
+    spec = mujoco.MjSpec.from_string(xml)
+    add_mud(spec, ["b", "f", "u"])
+    model = spec.compile()
+    np.testing.assert_allclose(model.site("mud_site_b").pos, [0.0, 0.0, -0.12], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(model.site("mud_site_f").pos, [0.05 * math.cos(math.pi / 6),
+                                                            0.05 * math.sin(math.pi / 6), -0.16], rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(model.site("mud_site_u").pos, [0.2, 0.0, -0.1 - 0.005])  # as before, bit for bit
 
 
 def test_a_fromto_foot_s_contact_point_is_its_bottom() -> None:

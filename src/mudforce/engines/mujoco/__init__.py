@@ -171,26 +171,36 @@ def _names(prefix: str, foot: str) -> tuple[str, str, str]:
     return f"{prefix}site_{foot}", f"{prefix}anchor_site_{foot}", f"{prefix}tendon_{foot}"
 
 
-def _bottom_offset(geom: Any) -> list[float]:
-    """The bottom of a geom in its body's frame, assuming the geom's local z is up [m] (a fromto geom's: from its
-    second point to its first, as MuJoCo compiles it; its pos and quat were unset, the bottom taken at its body's
-    origin)."""
+def _bottom_offset(geom: Any, spec: Any = None) -> list[float]:
+    """The lowest point of a geom with its body upright, in the body's frame [m]: its support point along the body's
+    -z (a box's lowest corner or edge's middle, a capsule's lower cap, a cylinder's rim; for a geom whose local z is
+    up, the middle of its bottom, as before). A geom turned by its quaternion, ``euler``, ``axisangle`` or a
+    ``<frame>`` (:func:`~mudforce.engines.mujoco._spec.geom_frame`): a box turned 90 degrees about y had its bottom
+    taken 15 mm too high (along its local z, now sideways), or, read from the spec, along the body's z unturned."""
     mj = _mujoco()
-    pos, quat, size = _geom_frame(geom)
+    pos, quat, size = _geom_frame(geom, spec)
     kind = geom.type
-    if kind == mj.mjtGeom.mjGEOM_BOX or kind == mj.mjtGeom.mjGEOM_ELLIPSOID:
-        depth = size[2]
+    flat = np.zeros(9)
+    mj.mju_quat2Mat(flat, quat / np.linalg.norm(quat))
+    rot = flat.reshape(3, 3)
+    down = -rot[2]  # the body's -z in the geom's frame
+    down[np.abs(down) < 1e-9] = 0.0  # a flat bottom's rounding (1e-17) must not pick a corner over its middle
+    if kind == mj.mjtGeom.mjGEOM_BOX:
+        local = np.sign(down) * size[:3]
+    elif kind == mj.mjtGeom.mjGEOM_ELLIPSOID:
+        scaled = size[:3] * down
+        local = size[:3] * scaled / np.linalg.norm(scaled)
     elif kind == mj.mjtGeom.mjGEOM_SPHERE:
-        depth = size[0]
+        local = size[0] * down
     elif kind == mj.mjtGeom.mjGEOM_CAPSULE:
-        depth = size[1] + size[0]
+        local = np.array([0.0, 0.0, np.sign(down[2]) * size[1]]) + size[0] * down
     elif kind == mj.mjtGeom.mjGEOM_CYLINDER:
-        depth = size[1]
+        across = math.hypot(down[0], down[1])
+        rim = size[0] * np.array([down[0], down[1], 0.0]) / across if across > 0.0 else np.zeros(3)
+        local = rim + np.array([0.0, 0.0, np.sign(down[2]) * size[1]])
     else:
-        depth = 0.0
-    down = np.zeros(3)
-    mj.mju_rotVecQuat(down, np.array([0.0, 0.0, -depth]), quat / np.linalg.norm(quat))
-    return [float(v) for v in pos + down]
+        local = np.zeros(3)
+    return [float(v) for v in pos + rot @ local]
 
 
 def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]] | None = None,
@@ -203,8 +213,8 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         The model being built.
     feet : sequence of str
         Names of foot geoms or bodies. For a geom the contact point is the
-        bottom of the geom (box, sphere, capsule, cylinder, ellipsoid, local
-        z up); for a body it is the body's origin unless ``points`` says otherwise.
+        lowest point of the geom with its body upright (box, sphere, capsule, cylinder, ellipsoid, turned
+        as the model turns it); for a body it is the body's origin unless ``points`` says otherwise.
     points : sequence of (x, y, z), optional
         Contact points in each foot body's frame [m], overriding the above; each coordinate within +-100 m.
     prefix : str
@@ -235,7 +245,7 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
         body = spec.body(name)
         if geom is not None:
             body = geom.parent
-            point = _bottom_offset(geom)
+            point = _bottom_offset(geom, spec)
         elif body is not None:
             point = [0.0, 0.0, 0.0]
         else:

@@ -27,16 +27,25 @@ def read_only(array: np.ndarray) -> np.ndarray:
     return view
 
 
-def geom_frame(geom: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def geom_frame(geom: Any, spec: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A spec geom's position [m], quaternion [-] and MuJoCo size [m] in its body's frame, as compiling gives them.
 
     For a geom given by ``fromto`` (a capsule, cylinder, box or ellipsoid between two points: MJCF's usual legs) the
     spec's ``pos`` and ``quat`` are unset until the model is compiled: its centre is then the two points' midpoint,
     its local z runs from the second to the first (``mju_quatZ2Vec``) and its half-length along it (``size[1]``;
-    ``size[2]`` for a box or ellipsoid, whose ``size[1]`` is then ``size[0]``) is half their distance. Otherwise
-    its ``pos``, ``quat`` and ``size`` as given (copies).
+    ``size[2]`` for a box or ellipsoid, whose ``size[1]`` is then ``size[0]``) is half their distance. A geom
+    turned by ``euler``, ``axisangle``, ``xyaxes`` or ``zaxis``, or placed in a ``<frame>``, keeps ``quat`` (and a
+    ``pos`` relative to its frame) unset too, and what compiling makes of them depends on the compiler's angle unit
+    and Euler sequence: its frame is read from a compiled copy of ``spec`` (a named primitive; given ``spec``;
+    a box turned 90 degrees by ``euler`` had its bottom taken 15 mm too high). Otherwise its ``pos``, ``quat`` and
+    ``size`` as given (copies).
     """
     mj = mujoco_module()
+    turned = geom.alt.type != mj.mjtOrientation.mjORIENTATION_QUAT or getattr(geom, "frame", None) is not None
+    if turned and spec is not None and geom.name and geom.type != mj.mjtGeom.mjGEOM_MESH:
+        compiled = spec.copy().compile()
+        g = compiled.geom(geom.name)
+        return (np.array(g.pos, dtype=float), np.array(g.quat, dtype=float), np.array(g.size, dtype=float))
     pos, quat, size = (np.array(v, dtype=float) for v in (geom.pos, geom.quat, geom.size))
     ends = np.array(geom.fromto, dtype=float)
     if np.isnan(ends[0]):  # (MuJoCo's mark of no fromto)

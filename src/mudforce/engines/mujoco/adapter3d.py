@@ -220,7 +220,7 @@ def add_mud_3d(spec: Any, feet: Sequence[str], *, prefix: str = "mud_") -> None:
         n = _names(prefix, name)
         # at the geom's centre: a fromto geom's pos is unset in the spec, and a site left at its body's origin is
         # kept there by MuJoCo (site_sameframe), where the holds then acted, away from the foot
-        centre, _, _ = geom_frame(geom)
+        centre, _, _ = geom_frame(geom, spec)
         geom.parent.add_site(name=n["site"], pos=[float(v) for v in centre], size=[0.002, 0.0, 0.0])
         for anchor, tendon in (("anchor_z", "tendon_z"), ("anchor_u", "tendon_u"), ("anchor_v", "tendon_v")):
             spec.worldbody.add_site(name=n[anchor], pos=[0.0, 0.0, ANCHOR_HEIGHT], size=[0.002, 0.0, 0.0])
