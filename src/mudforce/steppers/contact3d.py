@@ -32,6 +32,7 @@ docs/model.md, "Mud in 3-D".
 from __future__ import annotations
 
 import sys
+import warnings
 from collections.abc import Mapping, Sequence
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
@@ -71,6 +72,9 @@ __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D",
 #: Most element forces :func:`simulate_3d` keeps with ``elements=True``, samples x elements [-]: 3 numbers each,
 #: 2.4 GB (as many numbers as the engines' largest output, mudforce.model.bounds.MAX_OUTPUT_SAMPLES x 6 arrays / 3).
 MAX_ELEMENT_SAMPLES = 200_000_000
+#: :func:`simulate_3d` warns when every quaternion's w (its first component) is within this of 0 [-]: every pose
+#: a half turn (within 11.5 degrees), as an upright foot's quaternions read in ROS's and scipy's (x, y, z, w) order.
+HALF_TURN_W = 0.1
 
 
 class Wrench(NamedTuple):
@@ -492,6 +496,12 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
     Returns
     -------
     Result3D
+
+    Warns
+    -----
+    RuntimeWarning
+        When every quaternion's w is within :data:`HALF_TURN_W` of 0 (every pose a half turn): an upright
+        foot's quaternions in (x, y, z, w) order read so (the result is computed as given).
     """
     elements = true_or_false(elements, "elements")
     t = real_array(time, "time", "s")
@@ -522,6 +532,11 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
         torque[k] = wrench.torque
         if per_element is not None:
             per_element[k] = contact.element_forces
+    if np.all(np.abs(q[:, 0]) <= HALF_TURN_W):  # after the steps: a pose refused is not warned of
+        warnings.warn(f"simulate_3d: every quaternion has w = q[0] within +-{HALF_TURN_W:g} (the foot turned half a "
+                      f"turn at every sample, e.g. {q[0].tolist()!r}); if they are (x, y, z, w), as ROS and scipy "
+                      "write them, give (w, x, y, z), MuJoCo's order: np.roll(q, 1, axis=1)", RuntimeWarning,
+                      stacklevel=2)
     return Result3D(t.copy(), force, torque, per_element)
 
 
