@@ -67,6 +67,8 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Run]]:
     for name, text in bad.items():
         (d / name).write_text(text)
     (d / "empty.csv").write_text("")
+    # an upright sphere's quaternions in ROS's (x, y, z, w) order under the headers qw,qx,qy,qz
+    _write(d / "ros.csv", HEADER, np.column_stack([time, pos, np.tile([0.0, 0.0, 0.0, 1.0], (time.size, 1))]))
     (d / "latin1.csv").write_bytes(f"{HEADER}\n0,0,0,0,1,0,0,0\n0.1,0,0,-1e-3,1,0,0,0 # \xb5m\n".encode("latin-1"))
     poses = ["--trajectory", "poses.csv"]
     sphere = ["--shape", "sphere:40mm"]
@@ -100,6 +102,7 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Run]]:
         [*MUD, "--trajectory", "latin1.csv", *sphere, "--out", "x.csv"],
         [*MUD, "--trajectory", ".", "--surface-height", "5mm", "--out", "x.csv"],
         [*MUD, "--trajectory", "cm.csv", "--surface-height", "5mm", "--foot", "disc:50mm", "--out", "x.csv"],
+        [*MUD, "--trajectory", "ros.csv", *sphere, "--out", "ros_out.csv", "--quiet"],
     ]
     return d, run_batch([(argv, d) for argv in cases])
 
@@ -188,3 +191,17 @@ def test_a_file_that_is_no_trajectory_is_refused_for_what_it_is_not_as_a_depth_t
     assert_refused(out[case], *words)
     assert "not a depth trajectory" not in out[case].stderr
     assert not (d / "x.csv").exists() and not (d / "x.png").exists()
+
+
+def test_quaternions_in_ros_order_are_warned_of_in_one_line(runs: tuple[Path, list[Run]]) -> None:
+    """A file whose qw,qx,qy,qz columns hold an upright foot's (x, y, z, w), 0,0,0,1 (ROS's order), was simulated as
+    a foot turned half a turn without a word; now the wrench is written as before and one line on stderr says so
+    (simulate_3d's Python warning, two lines with a source path, is not shown). Valid poses: no warning."""
+    d, out = runs
+    assert out[0].stderr == "" and out[1].stderr == ""
+    run = out[27]
+    assert run.returncode == 0 and run.stdout == ""
+    assert run.stderr == ("mudforce simulate: warning: ros.csv: every row's qw is within +-0.1 (the foot turned half "
+                          "a turn at every sample; the first row's qw,qx,qy,qz = 0,0,0,1); if those columns hold x, y, "
+                          "z, w (ROS's order), name them qx,qy,qz,qw\n")
+    assert len((d / "ros_out.csv").read_text().splitlines()) == 202

@@ -42,6 +42,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -354,11 +356,13 @@ def _run_poses(args: argparse.Namespace, out: Path, plot: Path | None) -> int:
 
     from mudforce.io.tables import read_poses, write_csv
     from mudforce.model.law3d import QUATERNION_TOLERANCE
-    from mudforce.steppers.contact3d import simulate_3d
+    from mudforce.steppers.contact3d import HALF_TURN_W, simulate_3d
 
     time, positions, quaternions = read_poses(args.trajectory, quaternion_tolerance=QUATERNION_TOLERANCE)
     _check_poses(args.trajectory, time, positions, shape, surface)
-    result = simulate_3d(time, positions, quaternions, params, shape, surface_height=surface)
+    with warnings.catch_warnings():  # said below in the file's words, on one line
+        warnings.filterwarnings("ignore", "simulate_3d: every quaternion has w", RuntimeWarning)
+        result = simulate_3d(time, positions, quaternions, params, shape, surface_height=surface)
     if not (np.all(np.isfinite(result.force)) and np.all(np.isfinite(result.torque))):
         raise InputError(f"{args.trajectory}: the wrench is not finite along these poses; check their units")
     columns = dict(zip(_POSE_OUTPUT, [time, *positions.T, *quaternions.T, *result.force.T, *result.torque.T],
@@ -379,4 +383,9 @@ def _run_poses(args: argparse.Namespace, out: Path, plot: Path | None) -> int:
             f"peak sideways force: {sideways[k_s]:.4g} N at {time[k_s]:.4g} s",
             f"wrote {time.size} rows to {out}",
         ]))
+    if np.all(np.abs(quaternions[:, 0]) <= HALF_TURN_W):  # as simulate_3d warns: (x, y, z, w) under qw,qx,qy,qz?
+        first = ",".join(f"{v:.6g}" for v in quaternions[0].tolist())
+        print(f"mudforce simulate: warning: {args.trajectory}: every row's qw is within +-{HALF_TURN_W:g} (the foot "
+              f"turned half a turn at every sample; the first row's qw,qx,qy,qz = {first}); if those columns hold "
+              "x, y, z, w (ROS's order), name them qx,qy,qz,qw", file=sys.stderr)
     return 0
