@@ -206,6 +206,15 @@ def test_first_step_reset_and_bad_input() -> None:
     (lambda s, p: mj.reset(s, "x"), "^mask must be a bool"),  # was True for every foot
     (lambda s, p: mj.reset(s, [0.5, 0.0, 0.0]), "^mask must be a bool"),  # was True for every foot
     (lambda s, p: mj.reset(None, [True] * 3), "^state must be a mudforce.jax.State"),  # was AttributeError
+    # branch_forces, checked as step: "0.01" was parsed, a weight of 2 extrapolated the band, None and a dt of
+    # shape (4,) ended in AttributeError and JAX's TypeError
+    (lambda s, p: mj.branch_forces(s, p, "0.01"), r"^dt must be real numbers \[s\]"),
+    (lambda s, p: mj.branch_forces(s, p, np.full(4, DT)), r"^dt must be one value or one per foot, shape \(3,\)"),
+    (lambda s, p: mj.branch_forces(s, p, DT, 2.0), r"^weight must be within \[0, 1\] -, got 2.0"),
+    (lambda s, p: mj.branch_forces(s, p, DT, [0.0, np.nan, 1.0]), r"^weight must be within \[0, 1\] -, got nan"),
+    (lambda s, p: mj.branch_forces(s, p, DT, True), "^weight must be real numbers .* bool"),
+    (lambda s, p: mj.branch_forces(None, p, DT), "^state must be a mudforce.jax.State"),
+    (lambda s, p: mj.branch_forces(s, None, DT), "^params must be a mudforce.jax.Params"),
 ])
 def test_step_and_reset_refuse_inputs_of_wrong_type_or_shape(call: Any, words: str) -> None:
     """Checked when tracing (types, dtypes, shapes), before anything is computed or compiled."""

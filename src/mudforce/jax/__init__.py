@@ -100,7 +100,7 @@ from mudforce import _kernel
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import ContactMode
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
-from mudforce.errors import InputError, feet_count, holds_boolean
+from mudforce.errors import InputError, feet_count, holds_boolean, number_within
 from mudforce.model import equations as _eq
 from mudforce.model import law3d as _law3d
 from mudforce.model.foot import Foot
@@ -856,11 +856,23 @@ def branch_forces(state: State, params: Params, dt: Array, weight: Array = 1.0) 
     or unstarted foot gets ``(0, 0, 0)`` unless it touches down within the
     step (then the intrusion force at the predicted end, ``z_m = 0`` at the surface).
     """
-    s = state
+    # checked when tracing, as step's inputs: a dt of "0.01" was parsed, a weight of 2 extrapolated the band, a
+    # state of None ended in an AttributeError and a dt of shape (4,) for 3 feet in JAX's TypeError
+    s = _state(state)
+    if not isinstance(params, Params):
+        raise InputError(f"params must be a mudforce.jax.Params (make_params), got {type(params).__name__}")
     ftype = s.depth.dtype
-    p = Params(*(jnp.asarray(f, dtype=ftype) for f in params))
-    dt = jnp.asarray(dt, dtype=ftype)
+    p = Params(*(jnp.asarray(_real(f, f"params.{k}", "SI"), dtype=ftype) for k, f in zip(Params._fields, params,
+                                                                                             strict=True)))
+    dt = jnp.asarray(_real(dt, "dt", "s"), dtype=ftype)
+    weight = _real(weight, "weight", "-")
+    if not isinstance(weight, jax.core.Tracer):  # the MuJoCo adapter's and MJX's bound; a traced one is left to jit
+        for value in np.unique(np.asarray(weight)).tolist():
+            number_within(value, "weight", 0.0, 1.0, "-")
     weight = jnp.asarray(weight, dtype=ftype)
+    for name, value in (("dt", dt), ("weight", weight), *zip((f"params.{k}" for k in Params._fields), p,
+                                                             strict=True)):
+        _over_feet(value, name, s.depth.shape)
     z = s.depth
     v = s.velocity
     mode = s.mode
