@@ -348,6 +348,7 @@ def test_inputs_of_wrong_types_are_refused_when_tracing() -> None:
         (lambda: mj3.make_params3d(mud, SPHERE, lateral_stiffness=1e300), r"within \(0, 1e\+12\]"),
         (lambda: mj3.reset3d(state, "x"), "mask must be a bool"),
         (lambda: mj3.reset3d(mj3.init3d(SPHERE, batch=3), [True, False]), "mask must be a bool"),
+        (lambda: mj3.reset3d(mj3.init3d(SPHERE, batch=2), [True, [False]]), "mask .* got a ragged list"),  # numpy's
     ):
         with pytest.raises(InputError, match=match):
             call()

@@ -206,6 +206,7 @@ def test_first_step_reset_and_bad_input() -> None:
     (lambda s, p: mj.reset(s, "x"), "^mask must be a bool"),  # was True for every foot
     (lambda s, p: mj.reset(s, [0.5, 0.0, 0.0]), "^mask must be a bool"),  # was True for every foot
     (lambda s, p: mj.reset(None, [True] * 3), "^state must be a mudforce.jax.State"),  # was AttributeError
+    (lambda s, p: mj.reset(s, [True, [False], True]), r"^mask .* shape \(3,\), got a ragged list"),  # was ValueError
     # branch_forces, checked as step: "0.01" was parsed, a weight of 2 extrapolated the band, None and a dt of
     # shape (4,) ended in AttributeError and JAX's TypeError
     (lambda s, p: mj.branch_forces(s, p, "0.01"), r"^dt must be real numbers \[s\]"),

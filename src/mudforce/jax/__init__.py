@@ -346,13 +346,23 @@ def init(n: int, dtype: Any = None) -> State:
 def reset(state: State, mask: Array) -> State:
     """``state`` with the feet where ``mask`` (bool, shape ``(n,)``) is True set back to not started."""
     feet = _state(state).depth.shape
-    given = mask if isinstance(mask, jax.Array) else np.asarray(mask)
-    if given.dtype != bool or given.shape not in ((), feet):  # reset3d's rule: "x" and 0.5 were True
-        raise InputError(f"mask must be a bool or bools of the state's shape {feet}, got {given.dtype} of shape "
-                         f"{given.shape}")
+    _mask(mask, feet, "state's shape")  # reset3d's rule: "x" and 0.5 were True
     mask = jnp.asarray(mask, dtype=bool)
     fresh = init(state.depth.shape[0], state.depth.dtype)
     return State(*(jnp.where(mask, f, s) for f, s in zip(fresh, state, strict=True)))
+
+
+def _mask(mask: Any, shape: tuple[int, ...], of: str) -> None:
+    """Refuse a reset ``mask`` that is not a bool or bools of ``shape`` in one line (reset's and reset3d's rule,
+    checked when tracing): "x" and 0.5 reset every foot, a ragged list ended in numpy's ValueError."""
+    try:
+        given = mask if isinstance(mask, jax.Array) else np.asarray(mask)
+    except (TypeError, ValueError):  # ragged nesting
+        raise InputError(f"mask must be a bool or bools of the {of} {shape}, got a ragged "
+                         f"{type(mask).__name__}") from None
+    if given.dtype != bool or given.shape not in ((), shape):
+        raise InputError(f"mask must be a bool or bools of the {of} {shape}, got {given.dtype} of shape "
+                         f"{given.shape}")
 
 
 def mud_depth(state: State) -> Array:

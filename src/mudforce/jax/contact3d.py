@@ -195,10 +195,7 @@ def reset3d(state: State3D, mask: Array = True) -> State3D:
     """
     if not isinstance(state, State3D):
         raise InputError(f"state must be a State3D (init3d), got {type(state).__name__}")
-    given = mask if isinstance(mask, jax.Array) else np.asarray(mask)
-    if given.dtype != bool or given.shape not in ((), state.started.shape):
-        raise InputError(f"mask must be a bool or bools of the state's batch shape {state.started.shape}, got "
-                         f"{given.dtype} of shape {given.shape}")
+    mj._mask(mask, state.started.shape, "state's batch shape")
     mask = jnp.broadcast_to(jnp.asarray(mask), state.started.shape)
     batch = state.started.ndim
 
