@@ -5,6 +5,7 @@ refusal are checked in tests/cli/test_drop3d_cli.py, in the subprocesses it alre
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import numpy as np
@@ -85,6 +86,34 @@ def test_add_mud_and_init_refuse_what_is_no_patch(call: Any, words: str) -> None
 
     with pytest.raises(InputError, match=words):
         call(mud, mud.drop_model(5.0), MudParameters.from_water_content(0.25))
+
+
+def test_step_refuses_a_state_or_patch_of_another_model_before_tracing_mjx() -> None:
+    """Refused before mjx.forward is traced: each ended in an AttributeError or JAX's TypeError."""
+    from mujoco import mjx
+
+    import mudforce.engines.mjx as mud
+    import mudforce.jax as mj
+    from mudforce.errors import InputError
+
+    model = mud.drop_model(5.0)
+    other = copy.copy(model)
+    other.site_bodyid[0] = 0  # the same count of sites, the sole on another body
+    patch = mud.add_mud(model, ["sole"], MudParameters.from_water_content(0.25))
+    two = patch._replace(sites=np.zeros(2, np.int32), bodies=np.ones(2, np.int32))  # two feet on the one site
+    of_two = mud.MudState(mj.State(*[np.zeros(2)] * 9), np.zeros(2, bool), np.zeros(2))  # numpy: no new op compiled
+    m = mjx.put_model(model)
+    for args, words in (
+        ((m, None, of_two, patch), r"^the state has 2 feet and the patch 1: a state of another patch\?"),
+        ((m, None, mud.init(patch), two), r"^the state has 1 feet and the patch 2"),  # was 'depths must be one'
+        ((m, None, mj.init(1), patch), "^state must be a MudState"),  # was an AttributeError
+        ((m, None, mud.init(patch), None), "^patch must be a MudPatch"),
+        ((model, None, mud.init(patch), patch), r"^m must be MJX's \(mjx.put_model"),  # 'no attribute impl'
+        ((mjx.put_model(other), None, mud.init(patch), patch), r"^the patch's sites \[0\] \(on bodies \[1\]\) are "
+         r"not this model's \(1 sites\): a patch of another model\?"),  # was taken
+    ):
+        with pytest.raises(InputError, match=words):
+            mud.step(*args)
 
 
 @pytest.mark.parametrize(("duration", "words"), [

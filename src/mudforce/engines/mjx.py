@@ -329,6 +329,36 @@ def _weight(weight: Any) -> Any:
     return number_within(value, "weight", 0.0, 1.0, "-")
 
 
+def _step_inputs(m: Any, d: Any, state: Any, patch: Any) -> None:
+    """Refuse, when tracing, what :func:`step` cannot take, in one line: a state or patch of another type (a
+    mudforce.jax.State, None: AttributeError), a state of another patch's feet (1 foot for 2 sites: 'depths must
+    be one value or one per foot', 2 for 1: JAX's TypeError from dot_general), MuJoCo's model or data for MJX's
+    ('MjModel' object has no attribute 'impl')."""
+    if not isinstance(state, MudState):
+        raise InputError(f"state must be a MudState (init(patch)), got {type(state).__name__}")
+    if not isinstance(patch, MudPatch):
+        raise InputError(f"patch must be a MudPatch (add_mud), got {type(patch).__name__}")
+    feet, sites = state.state.depth.shape[-1:], patch.sites.shape[-1:]
+    if feet != sites:
+        raise InputError(f"the state has {feet[0] if feet else 0} feet and the patch {sites[0] if sites else 0}: "
+                         "a state of another patch? (make it with init(patch))")
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    for name, value, kind in (("m", m, mujoco.MjModel), ("d", d, mujoco.MjData)):
+        if isinstance(value, kind):
+            raise InputError(f"{name} must be MJX's (mjx.put_model(model), mjx.make_data(m)), got "
+                             f"mujoco.{kind.__name__}")
+    # a patch of another model, where its sites are known (not traced): a site beyond the model's ended in JAX's
+    # TypeError ('Slice size at index 0 in gather op is out of range'), another body's site was taken
+    nsite, site_body = getattr(m, "nsite", None), getattr(m, "site_bodyid", None)
+    if (isinstance(nsite, int) and isinstance(site_body, np.ndarray)
+            and not isinstance(patch.sites, jax.core.Tracer) and not isinstance(patch.bodies, jax.core.Tracer)):
+        ids, bodies = np.asarray(patch.sites), np.asarray(patch.bodies)
+        if ids.size and ((ids < 0).any() or (ids >= nsite).any() or (site_body[ids] != bodies).any()):
+            raise InputError(f"the patch's sites {ids.tolist()} (on bodies {bodies.tolist()}) are not this model's "
+                             f"({nsite} sites): a patch of another model? (add_mud(model, ...) with the model m was "
+                             "put from)")
+
+
 @renamed_keywords(contact="state")
 def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) -> tuple[Any, MudState, Array]:
     """One physics step of an MJX model with the mud force on every foot; replaces ``mjx.step(m, d)``.
@@ -359,6 +389,7 @@ def step(m: Any, d: Any, state: MudState, patch: MudPatch, weight: float = 0.0) 
         The vertical mud force applied on each sole during the step [N], positive up.
     """
     mjx = _mjx()
+    _step_inputs(m, d, state, patch)
     weight = _weight(weight)
     if m.opt.integrator == mjx.IntegratorType.RK4:
         raise InputError("mudforce.engines.mjx supports the Euler and implicitfast integrators, not RK4")
