@@ -79,6 +79,10 @@ def test_add_mud_refuses_a_surface_height_that_is_no_height(height: object, word
     (lambda mud, model, p: mud.add_mud(model, ["sole"], [p, p]), r"^got 2 per-foot entries .* for 1 sites"),
     (lambda mud, model, p: mud.add_mud(model, ["sole"], p, foot=[Foot.paper()] * 2), "^got 2 per-foot entries"),
     (lambda mud, model, p: mud.init(None), "^patch must be a MudPatch"),  # was an AttributeError
+    # MuJoCo's add_mud takes geoms and bodies; it said "no site named 'foot' in the model"
+    (lambda mud, model, p: mud.add_mud(model, ["foot"], p), "^'foot' is a body, not a site; MJX's add_mud takes sites"),
+    (lambda mud, model, p: mud.add_mud(model, ["box"], p), "^'box' is a geom, not a site"),
+    (lambda mud, model, p: mud.add_mud(model, ["heel"], p), "^no site named 'heel' in the model; MJX's add_mud"),
 ])
 def test_add_mud_and_init_refuse_what_is_no_patch(call: Any, words: str) -> None:
     import mudforce.engines.mjx as mud

@@ -177,7 +177,12 @@ def add_mud(model: Any, feet: Sequence[str], params: MudParameters | Sequence[Mu
     for name in names:
         sid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
         if sid < 0:
-            raise InputError(f"no site named {name!r} in the model; add a site at each sole")
+            # MuJoCo's add_mud takes foot geoms and bodies: say so where the name is one (it said only 'no site')
+            kind = next((k for k, obj in (("a body", mujoco.mjtObj.mjOBJ_BODY), ("a geom", mujoco.mjtObj.mjOBJ_GEOM))
+                         if mujoco.mj_name2id(model, obj, name) >= 0), None)
+            what = f"{name!r} is {kind}, not a site" if kind else f"no site named {name!r} in the model"
+            raise InputError(f"{what}; MJX's add_mud takes sites at the soles (the contact points): add a site at "
+                             "each sole")
         ids.append(sid)
     n = len(ids)
     # one height or one per foot, real numbers (np.asarray took True as 1 m and parsed "0.01"), each within the
