@@ -252,9 +252,14 @@ def test_make_params_shapes_and_errors() -> None:
         mj.make_params([mud, mud], n=4)
     with pytest.raises(InputError):
         mj.make_params("mud")  # type: ignore[arg-type]
-    for mud_given in (5, None):  # were list()'s TypeError
+    for mud_given in (5, None, {mud}, {mud: 1}):  # were list()'s TypeError; a set (merging equal muds) was taken
         with pytest.raises(InputError, match=r"^make_params needs MudParameters or a non-empty sequence"):
             mj.make_params(mud_given)  # type: ignore[arg-type]
+    for foot in ({Foot.paper()}, True):  # a set in its hashes' order; both were read as the count n, warned as 0.1's
+        with pytest.raises(InputError, match=r"^foot must be a Foot or a non-empty sequence of Foot, got (set|bool)"):
+            mj.make_params(mud, foot=foot)  # type: ignore[arg-type]
+        with pytest.raises(InputError, match=r"^foot must be a Foot"):
+            mj.params_from_water_content(0.25, foot=foot)  # type: ignore[arg-type]
 
 
 def test_rest_band_and_branch_forces_equal_dynamics(compared: dict[str, np.ndarray]) -> None:

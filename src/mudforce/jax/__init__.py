@@ -89,7 +89,8 @@ are the model; :func:`step` only wires them.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from collections.abc import Set as AbstractSet
 from typing import Any, NamedTuple
 
 import jax
@@ -100,7 +101,7 @@ from mudforce import _kernel
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MIN_DT
 from mudforce._kernel.layout import ContactMode
 from mudforce._plumbing.deprecation import renamed_keywords, warn_renamed
-from mudforce.errors import InputError, feet_count, holds_boolean, number_within
+from mudforce.errors import InputError, feet_count, holds_boolean, is_integer, number_within
 from mudforce.model import equations as _eq
 from mudforce.model import law3d as _law3d
 from mudforce.model.foot import Foot
@@ -272,7 +273,10 @@ def _feet(foot: Foot | Sequence[Foot] | None) -> list[Foot]:
 
 
 def _listed(value: Any) -> list[Any]:
-    """``list(value)``, or ``[]`` for a value that is not iterable (a number, None): refused by the caller."""
+    """``list(value)``, or ``[]`` for a value that is not iterable (a number, None) or has no order (a set, whose
+    order is its hashes' and which merges equal entries; a mapping's keys): refused by the caller."""
+    if isinstance(value, (AbstractSet, Mapping)):
+        return []
     try:
         return list(value)
     except TypeError:
@@ -304,8 +308,9 @@ def make_params(
     dtype : dtype, optional
         Float dtype; JAX's default float by default.
     """
-    if isinstance(n, (Foot, Sequence)) or (foot is not None and not isinstance(foot, (Foot, Sequence))):
-        # the order before 0.2 was (mud, foot, n): a foot second, or a count third, is that order
+    if isinstance(n, (Foot, Sequence)) or is_integer(foot):
+        # the order before 0.2 was (mud, foot, n): a foot second, or a count third, is that order (a set of feet
+        # third was read so too, and refused as a count n)
         warn_renamed("make_params(params, foot, n)", "make_params(params, n, foot), the order of MudContacts")
         n, foot = foot, n  # type: ignore[assignment]
     mud = params
