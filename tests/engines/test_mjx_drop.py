@@ -109,7 +109,7 @@ def test_step_refuses_a_state_or_patch_of_another_model_before_tracing_mjx() -> 
     m = mjx.put_model(model)
     for args, words in (
         ((m, None, of_two, patch), r"^the state has 2 feet and the patch 1: a state of another patch\?"),
-        ((m, None, mud.init(patch), two), r"^the state has 1 feet and the patch 2"),  # was 'depths must be one'
+        ((m, None, mud.init(patch), two), r"^the state has 1 foot and the patch 2"),  # was 'depths must be one'
         ((m, None, mj.init(1), patch), "^state must be a MudState"),  # was an AttributeError
         ((m, None, mud.init(patch), None), "^patch must be a MudPatch"),
         ((model, None, mud.init(patch), patch), r"^m must be MJX's \(mjx.put_model"),  # 'no attribute impl'

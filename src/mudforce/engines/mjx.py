@@ -345,8 +345,9 @@ def _step_inputs(m: Any, d: Any, state: Any, patch: Any) -> None:
         raise InputError(f"patch must be a MudPatch (add_mud), got {type(patch).__name__}")
     feet, sites = state.state.depth.shape[-1:], patch.sites.shape[-1:]
     if feet != sites:
-        raise InputError(f"the state has {feet[0] if feet else 0} feet and the patch {sites[0] if sites else 0}: "
-                         "a state of another patch? (make it with init(patch))")
+        count = feet[0] if feet else 0
+        raise InputError(f"the state has {count} {'foot' if count == 1 else 'feet'} and the patch "
+                         f"{sites[0] if sites else 0}: a state of another patch? (make it with init(patch))")
     mujoco = require("mujoco", "mjx", "mud in MJX")
     for name, value, kind in (("m", m, mujoco.MjModel), ("d", d, mujoco.MjData)):
         if isinstance(value, kind):
