@@ -201,6 +201,32 @@ def test_drop_and_step_refuse_bad_options_before_compiling(monkeypatch: pytest.M
             mud3d.simulate_drop(2.0, MUD, "sphere", (0.04,), compiler_options=options)  # type: ignore[arg-type]
 
 
+def test_step_refuses_a_state_or_mud_of_another_model_before_tracing_mjx() -> None:
+    """As MJX's 1-D step: None for the state or mud ended in an AttributeError, a state of another mud's feet in
+    JAX's broadcasting errors, MuJoCo's model in "'MjModel' object has no attribute 'opt'"-like errors, and a mud
+    of another model was read with this model's geoms; each refused in one line before anything is traced."""
+    from mujoco import mjx
+
+    import mudforce.engines.mjx3d as mud3d
+
+    model = mujoco.MjModel.from_xml_string(PLANE)
+    mud = mud3d.add_mud(model, ["toe"], MudPatch(MUD))
+    m, state = mjx.put_model(model), mud3d.init(mud)
+    d = mjx.make_data(m)
+    two = mud3d.add_mud(mujoco.MjModel.from_xml_string(XML), FEET[:2], MudPatch(MUD))
+    other = mud3d.add_mud(mujoco.MjModel.from_xml_string(XML), ["sphere"], MudPatch(MUD))
+    for args, words in (((m, d, None, mud), r"^state must be a MudState3D \(init\(mud\)\), got NoneType$"),
+                        ((m, d, state, None), r"^mud must be a Mud3D \(add_mud\), got NoneType$"),
+                        ((m, d, mud3d.init(two), mud),
+                         r"^the state has 2 feet and the mud 1: a state of another mud\?"),
+                        ((model, d, state, mud), r"^m must be MJX's \(mjx.put_model\(model\), mjx.make_data\(m\)\), "
+                                                 r"got mujoco.MjModel$"),
+                        ((m, d, state, other), r"^the mud's geoms \[\d+\] \(on bodies \[\d+\]\) are not this "
+                                               r"model's \(\d+ geoms\): a mud of another model\?")):
+        with pytest.raises(InputError, match=words):
+            mud3d.step(*args)  # type: ignore[arg-type]
+
+
 def test_set_mud_refuses_a_bool_patch_and_another_type_of_mud() -> None:
     """``set_mud(mud, params, True)`` set patch 1 (True is an int to isinstance); a mud that is not a Mud3D raised
     AttributeError. A numpy integer patch is an index like any other."""

@@ -396,6 +396,34 @@ def _prepare(state: mj3.State3D, params: mj3.Params3D, position: Array, quaterni
                  jnp.where(keep, jnp.max(depth), jnp.nan))
 
 
+def _step_inputs(m: Any, d: Any, state: Any, mud: Any) -> None:
+    """Refuse, when tracing, what :func:`step` cannot take, in one line, as :func:`mudforce.engines.mjx.step` does:
+    a state or mud of another type (None: AttributeError), a state of another mud's feet (JAX's broadcasting
+    errors), MuJoCo's model or data for MJX's, and a mud of another model where its geoms are known (not traced)."""
+    if not isinstance(state, MudState3D):
+        raise InputError(f"state must be a MudState3D (init(mud)), got {type(state).__name__}")
+    if not isinstance(mud, Mud3D):
+        raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
+    feet, geoms = state.position.shape[-2:-1], mud.geoms.shape[-1:]
+    if feet != geoms:
+        count = feet[0] if feet else 0
+        raise InputError(f"the state has {count} {'foot' if count == 1 else 'feet'} and the mud "
+                         f"{geoms[0] if geoms else 0}: a state of another mud? (make it with init(mud))")
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    for name, value, kind in (("m", m, mujoco.MjModel), ("d", d, mujoco.MjData)):
+        if isinstance(value, kind):
+            raise InputError(f"{name} must be MJX's (mjx.put_model(model), mjx.make_data(m)), got "
+                             f"mujoco.{kind.__name__}")
+    ngeom, geom_body = getattr(m, "ngeom", None), getattr(m, "geom_bodyid", None)
+    if (isinstance(ngeom, int) and isinstance(geom_body, np.ndarray)
+            and not isinstance(mud.geoms, jax.core.Tracer) and not isinstance(mud.bodies, jax.core.Tracer)):
+        ids, bodies = np.asarray(mud.geoms), np.asarray(mud.bodies)
+        if ids.size and ((ids < 0).any() or (ids >= ngeom).any() or (geom_body[ids] != bodies).any()):
+            raise InputError(f"the mud's geoms {ids.tolist()} (on bodies {bodies.tolist()}) are not this model's "
+                             f"({ngeom} geoms): a mud of another model? (add_mud(model, ...) with the model m was "
+                             "put from)")
+
+
 def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> tuple[Any, MudState3D, Array]:
     """One physics step of an MJX model with the 3-D mud on every foot; replaces ``mjx.step(m, d)``.
 
@@ -423,6 +451,7 @@ def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> 
     # a number in [0, 1] unless traced, as mudforce.engines.mjx.step's: 2.0 and -5.0 extrapolated the band, NaN gave
     # no force at all (the foot fell through the mud), True and "0.5" were taken
     weight = _weight(weight)
+    _step_inputs(m, d, state, mud)
     mjx = _mjx()
     if m.opt.integrator == mjx.IntegratorType.RK4:
         raise InputError("mudforce.engines.mjx3d supports the Euler and implicitfast integrators, not RK4")
