@@ -343,26 +343,34 @@ def _step_inputs(m: Any, d: Any, state: Any, patch: Any) -> None:
         raise InputError(f"state must be a MudState (init(patch)), got {type(state).__name__}")
     if not isinstance(patch, MudPatch):
         raise InputError(f"patch must be a MudPatch (add_mud), got {type(patch).__name__}")
-    feet, sites = state.state.depth.shape[-1:], patch.sites.shape[-1:]
-    if feet != sites:
-        count = feet[0] if feet else 0
-        raise InputError(f"the state has {count} {'foot' if count == 1 else 'feet'} and the patch "
-                         f"{sites[0] if sites else 0}: a state of another patch? (make it with init(patch))")
-    mujoco = require("mujoco", "mjx", "mud in MJX")
-    for name, value, kind in (("m", m, mujoco.MjModel), ("d", d, mujoco.MjData)):
-        if isinstance(value, kind):
-            raise InputError(f"{name} must be MJX's (mjx.put_model(model), mjx.make_data(m)), got "
-                             f"mujoco.{kind.__name__}")
     # a patch of another model, where its sites are known (not traced): a site beyond the model's ended in JAX's
     # TypeError ('Slice size at index 0 in gather op is out of range'), another body's site was taken
-    nsite, site_body = getattr(m, "nsite", None), getattr(m, "site_bodyid", None)
-    if (isinstance(nsite, int) and isinstance(site_body, np.ndarray)
-            and not isinstance(patch.sites, jax.core.Tracer) and not isinstance(patch.bodies, jax.core.Tracer)):
-        ids, bodies = np.asarray(patch.sites), np.asarray(patch.bodies)
-        if ids.size and ((ids < 0).any() or (ids >= nsite).any() or (site_body[ids] != bodies).any()):
-            raise InputError(f"the patch's sites {ids.tolist()} (on bodies {bodies.tolist()}) are not this model's "
-                             f"({nsite} sites): a patch of another model? (add_mud(model, ...) with the model m was "
-                             "put from)")
+    _check_step_model(m, d, state.state.depth.shape[-1:], patch.sites, patch.bodies, "patch", "site", "init(patch)")
+
+
+def _check_step_model(m: Any, d: Any, feet: tuple[int, ...], ids: Any, bodies: Any, what: str, kind: str,
+                     init: str) -> None:
+    """The checks MJX's steps (1-D and 3-D) share, each in one line: a state of ``feet`` (its shape's last axis)
+    for another mud's ``ids`` (sites or geoms, ``kind``, on ``bodies``), MuJoCo's model or data for MJX's, and ids
+    that are not this model's (beyond its count, or on other bodies) where they are known (not traced)."""
+    count = ids.shape[-1:]
+    if feet != count:
+        n = feet[0] if feet else 0
+        raise InputError(f"the state has {n} {'foot' if n == 1 else 'feet'} and the {what} "
+                         f"{count[0] if count else 0}: a state of another {what}? (make it with {init})")
+    mujoco = require("mujoco", "mjx", "mud in MJX")
+    for name, value, cls in (("m", m, mujoco.MjModel), ("d", d, mujoco.MjData)):
+        if isinstance(value, cls):
+            raise InputError(f"{name} must be MJX's (mjx.put_model(model), mjx.make_data(m)), got "
+                             f"mujoco.{cls.__name__}")
+    total, body_of = getattr(m, f"n{kind}", None), getattr(m, f"{kind}_bodyid", None)
+    if (isinstance(total, int) and isinstance(body_of, np.ndarray)
+            and not isinstance(ids, jax.core.Tracer) and not isinstance(bodies, jax.core.Tracer)):
+        own, on = np.asarray(ids), np.asarray(bodies)
+        if own.size and ((own < 0).any() or (own >= total).any() or (body_of[own] != on).any()):
+            raise InputError(f"the {what}'s {kind}s {own.tolist()} (on bodies {on.tolist()}) are not this model's "
+                             f"({total} {kind}s): a {what} of another model? (add_mud(model, ...) with the model m "
+                             "was put from)")
 
 
 @renamed_keywords(contact="state")

@@ -100,7 +100,7 @@ import mudforce.jax.contact3d as mj3
 from mudforce._plumbing.optional import require
 from mudforce.engines._checks import name_list
 from mudforce.engines.dynamics.result import REST_SPEED
-from mudforce.engines.mjx import _free_motion, _integrate, _joint_rows, _mjx, _weight
+from mudforce.engines.mjx import _check_step_model, _free_motion, _integrate, _joint_rows, _mjx, _weight
 from mudforce.engines.mujoco import MudPatch
 from mudforce.engines.mujoco.adapter3d import (
     Drop3D,
@@ -404,24 +404,7 @@ def _step_inputs(m: Any, d: Any, state: Any, mud: Any) -> None:
         raise InputError(f"state must be a MudState3D (init(mud)), got {type(state).__name__}")
     if not isinstance(mud, Mud3D):
         raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
-    feet, geoms = state.position.shape[-2:-1], mud.geoms.shape[-1:]
-    if feet != geoms:
-        count = feet[0] if feet else 0
-        raise InputError(f"the state has {count} {'foot' if count == 1 else 'feet'} and the mud "
-                         f"{geoms[0] if geoms else 0}: a state of another mud? (make it with init(mud))")
-    mujoco = require("mujoco", "mjx", "mud in MJX")
-    for name, value, kind in (("m", m, mujoco.MjModel), ("d", d, mujoco.MjData)):
-        if isinstance(value, kind):
-            raise InputError(f"{name} must be MJX's (mjx.put_model(model), mjx.make_data(m)), got "
-                             f"mujoco.{kind.__name__}")
-    ngeom, geom_body = getattr(m, "ngeom", None), getattr(m, "geom_bodyid", None)
-    if (isinstance(ngeom, int) and isinstance(geom_body, np.ndarray)
-            and not isinstance(mud.geoms, jax.core.Tracer) and not isinstance(mud.bodies, jax.core.Tracer)):
-        ids, bodies = np.asarray(mud.geoms), np.asarray(mud.bodies)
-        if ids.size and ((ids < 0).any() or (ids >= ngeom).any() or (geom_body[ids] != bodies).any()):
-            raise InputError(f"the mud's geoms {ids.tolist()} (on bodies {bodies.tolist()}) are not this model's "
-                             f"({ngeom} geoms): a mud of another model? (add_mud(model, ...) with the model m was "
-                             "put from)")
+    _check_step_model(m, d, state.position.shape[-2:-1], mud.geoms, mud.bodies, "mud", "geom", "init(mud)")
 
 
 def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> tuple[Any, MudState3D, Array]:
