@@ -172,9 +172,9 @@ PINNED: dict[str, list[str]] = {
         "rft_element_forces", "rft_wrench",
     ],
     "mudforce.io": [
-        "MAX_JSON_BYTES", "StagedOutputs", "atomic_open", "atomic_write_text", "check_output_dir", "check_output_path",
-        "check_replaceable_dir", "clean_stale", "dumps_json", "load_json", "refuse_overwriting_inputs", "write_outputs",
-        "write_target",
+        "MAX_JSON_BYTES", "StagedOutputs", "atomic_open", "atomic_write_text", "check_input_name", "check_output_dir",
+        "check_output_path", "check_replaceable_dir", "clean_stale", "dumps_json", "load_json",
+        "refuse_overwriting_inputs", "write_outputs", "write_target",
     ],
     "mudforce.jax": [
         "CONTACT", "FREE", "NECKED", "UNSTARTED", "Necking", "Params", "State", "StepConstants", "branch_forces",

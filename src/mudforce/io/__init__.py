@@ -59,6 +59,7 @@ __all__ = [
     "StagedOutputs",
     "atomic_open",
     "atomic_write_text",
+    "check_input_name",
     "check_output_dir",
     "check_output_path",
     "check_replaceable_dir",
@@ -163,6 +164,21 @@ def _name_max(directory: Path) -> int:
         return int(os.pathconf(directory, "PC_NAME_MAX"))
     except (OSError, ValueError, AttributeError):
         return 255
+
+
+def check_input_name(path: str | os.PathLike[str], expected: str) -> Path:
+    """``path`` (a str or path-like) as a :class:`~pathlib.Path`, after the checks of its name that every reader
+    makes, each in one line ending in ``expected`` (``"a CSV file"``): an empty name (``Path("")`` is ``"."``, a
+    directory) and a NUL character (``stat()`` raised ValueError; the name was printed raw). The readers:
+    :func:`load_json`, :func:`mudforce.io.tables.read_columns`,
+    :func:`mudforce.estimation.calibration.dataset.load_dataset`."""
+    name = os.fspath(path)
+    if not name.strip():
+        raise InputError(f"empty file name {name!r}; expected {expected}")
+    if "\x00" in name:
+        clipped = name if len(name) <= 60 else name[:57] + "..."
+        raise InputError(f"the file name {clipped!r} contains a NUL character; expected {expected}")
+    return Path(path)
 
 
 def check_output_path(text: str | os.PathLike[str] | None, option: str, *, suffix: str | None = None) -> Path:
@@ -741,11 +757,7 @@ def load_json(path: str | os.PathLike[str], what: str, example: str = "") -> Any
     """
     if not isinstance(path, (str, os.PathLike)):  # Path(3) raised a bare TypeError (load_fit(3), load_json(None))
         raise InputError(f"path must be a file name, got {type(path).__name__}; expected a {what}")
-    if not os.fspath(path).strip():  # Path("") is "." (a directory)
-        raise InputError(f"empty file name {os.fspath(path)!r}; expected a {what}")
-    if "\x00" in os.fspath(path):  # stat() raised ValueError (embedded null byte)
-        raise InputError(f"the file name {os.fspath(path)[:60]!r} contains a NUL character; expected a {what}")
-    p = Path(path)
+    p = check_input_name(path, f"a {what}")
     hint = f"; expected {example}" if example else ""
     try:
         size = p.stat().st_size

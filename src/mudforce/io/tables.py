@@ -138,11 +138,10 @@ def read_columns(
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InputError(f"path must be a file name, got {type(path).__name__}")
-    if not os.fspath(path).strip():  # Path("") is ".": "is a directory" said nothing of the empty name
-        raise InputError(f"empty file name {os.fspath(path)!r}; expected a CSV file")
-    if "\x00" in os.fspath(path):  # "file not found", the NUL printed raw into the message
-        raise InputError(f"the file name {_clip(os.fspath(path))!r} contains a NUL character; expected a CSV file")
-    p = Path(path)
+    from mudforce.io import check_input_name
+
+    p = check_input_name(path, "a CSV file")  # ("is a directory" said nothing of an empty name, "file not found"
+    # printed a NUL raw)
     try:
         found, folder = p.exists(), p.is_dir()
     except OSError as exc:  # a name too long for the file system: exists() raised it, and the command exited 1

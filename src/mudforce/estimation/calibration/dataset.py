@@ -22,7 +22,6 @@ volume fraction [-].
 
 from __future__ import annotations
 
-import errno
 import math
 import os
 from collections.abc import Mapping
@@ -33,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from mudforce.errors import InputError, is_integer, is_real, real_array, shown
-from mudforce.io import atomic_write_text, dumps_json, load_json
+from mudforce.io import atomic_write_text, check_input_name, dumps_json, load_json
 from mudforce.io.tables import COLUMN_LIMITS, COLUMN_UNITS, check_time, read_columns
 from mudforce.model.foot import Foot, parse_foot
 
@@ -449,19 +448,17 @@ def load_dataset(path: str | os.PathLike[str], *, foot: Foot | None = None) -> D
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InputError(f"path must be a dataset folder or file name, got {type(path).__name__}")
-    p = Path(path)
-    try:  # a name too long raised is_dir()'s OSError (mudforce fit exited 1), a NUL its ValueError
-        p.stat()
-    except (OSError, ValueError) as error:
-        if isinstance(error, ValueError) or error.errno not in (errno.ENOENT, errno.ENOTDIR):
-            reason = error.strerror if isinstance(error, OSError) else "the name holds a NUL character"
-            raise InputError(f"{shown(str(p))}: cannot read ({reason})") from None
-    if p.is_dir():
+    p = check_input_name(path, f"a dataset folder, its {MANIFEST_NAME}, or a tidy CSV")
+    try:
+        found, folder = p.exists(), p.is_dir()
+    except OSError as exc:  # a name too long for the file system: is_dir() raised it, and mudforce fit exited 1
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    if folder:
         manifest = p / MANIFEST_NAME
         if not manifest.is_file():
             raise InputError(f"{p}: no {MANIFEST_NAME} in this folder; expected a dataset folder or a tidy CSV")
         p = manifest
-    elif not p.exists():
+    elif not found:
         raise InputError(f"{p}: not found; expected a dataset folder, its {MANIFEST_NAME}, or a tidy CSV")
     if p.suffix.lower() == ".json":
         if foot is not None:
