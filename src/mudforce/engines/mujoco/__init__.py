@@ -60,7 +60,7 @@ lets a stuck foot creep (``impedance 0.9999``, time constant two steps).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -84,6 +84,7 @@ from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED, FootResult, Ph
 from mudforce.engines.mujoco import _fast as fast
 from mudforce.engines.mujoco._spec import check_model_data
 from mudforce.engines.mujoco._spec import check_prefix as _check_prefix
+from mudforce.engines.mujoco._spec import compiled_copy as _compiled_copy
 from mudforce.engines.mujoco._spec import geom_frame as _geom_frame
 from mudforce.engines.mujoco._spec import mujoco_module as _mujoco
 from mudforce.engines.mujoco._spec import read_only as _read_only
@@ -171,14 +172,14 @@ def _names(prefix: str, foot: str) -> tuple[str, str, str]:
     return f"{prefix}site_{foot}", f"{prefix}anchor_site_{foot}", f"{prefix}tendon_{foot}"
 
 
-def _bottom_offset(geom: Any, spec: Any = None) -> list[float]:
+def _bottom_offset(geom: Any, compiled: Callable[[], Any] | None = None) -> list[float]:
     """The lowest point of a geom with its body upright, in the body's frame [m]: its support point along the body's
     -z (a box's lowest corner or edge's middle, a capsule's lower cap, a cylinder's rim; for a geom whose local z is
     up, the middle of its bottom, as before). A geom turned by its quaternion, ``euler``, ``axisangle`` or a
     ``<frame>`` (:func:`~mudforce.engines.mujoco._spec.geom_frame`): a box turned 90 degrees about y had its bottom
     taken 15 mm too high (along its local z, now sideways), or, read from the spec, along the body's z unturned."""
     mj = _mujoco()
-    pos, quat, size = _geom_frame(geom, spec)
+    pos, quat, size = _geom_frame(geom, compiled)
     kind = geom.type
     flat = np.zeros(9)
     mj.mju_quat2Mat(flat, quat / np.linalg.norm(quat))
@@ -240,12 +241,13 @@ def add_mud(spec: Any, feet: Sequence[str], *, points: Sequence[Sequence[float]]
             raise InputError(f"points must be one (x, y, z) [m] per foot: got {len(chosen)} for {len(feet)} feet")
     # every foot is checked before the spec is changed: a refused call leaves it as it was
     found = []
+    compiled = _compiled_copy(spec)  # compiled once, if a turned foot asks for it
     for i, name in enumerate(feet):
         geom = spec.geom(name)
         body = spec.body(name)
         if geom is not None:
             body = geom.parent
-            point = _bottom_offset(geom, spec)
+            point = _bottom_offset(geom, compiled)
         elif body is not None:
             point = [0.0, 0.0, 0.0]
         else:

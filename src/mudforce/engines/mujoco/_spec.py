@@ -4,6 +4,8 @@ them, the feet's names and a drop's numbers, is in :mod:`mudforce.engines._check
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -11,7 +13,7 @@ import numpy as np
 from mudforce._plumbing.optional import require
 from mudforce.errors import InputError
 
-__all__ = ["check_model_data", "check_prefix", "geom_frame", "mujoco_module", "read_only"]
+__all__ = ["check_model_data", "check_prefix", "compiled_copy", "geom_frame", "mujoco_module", "read_only"]
 
 
 def mujoco_module() -> Any:
@@ -27,7 +29,13 @@ def read_only(array: np.ndarray) -> np.ndarray:
     return view
 
 
-def geom_frame(geom: Any, spec: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def compiled_copy(spec: Any) -> Callable[[], Any]:
+    """A compiled copy of ``spec`` (a ``mujoco.MjModel``), compiled on its first call and kept: what
+    :func:`geom_frame` reads a turned geom's frame from, once per call of an ``add_mud``, whatever its feet."""
+    return functools.cache(lambda: spec.copy().compile())
+
+
+def geom_frame(geom: Any, compiled: Callable[[], Any] | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A spec geom's position [m], quaternion [-] and MuJoCo size [m] in its body's frame, as compiling gives them.
 
     For a geom given by ``fromto`` (a capsule, cylinder, box or ellipsoid between two points: MJCF's usual legs) the
@@ -36,15 +44,14 @@ def geom_frame(geom: Any, spec: Any = None) -> tuple[np.ndarray, np.ndarray, np.
     ``size[2]`` for a box or ellipsoid, whose ``size[1]`` is then ``size[0]``) is half their distance. A geom
     turned by ``euler``, ``axisangle``, ``xyaxes`` or ``zaxis``, or placed in a ``<frame>``, keeps ``quat`` (and a
     ``pos`` relative to its frame) unset too, and what compiling makes of them depends on the compiler's angle unit
-    and Euler sequence: its frame is read from a compiled copy of ``spec`` (a named primitive; given ``spec``;
-    a box turned 90 degrees by ``euler`` had its bottom taken 15 mm too high). Otherwise its ``pos``, ``quat`` and
-    ``size`` as given (copies).
+    and Euler sequence: its frame is read from the model ``compiled()`` gives (:func:`compiled_copy`; a named
+    primitive; a box turned 90 degrees by ``euler`` had its bottom taken 15 mm too high). Otherwise its ``pos``,
+    ``quat`` and ``size`` as given (copies).
     """
     mj = mujoco_module()
     turned = geom.alt.type != mj.mjtOrientation.mjORIENTATION_QUAT or getattr(geom, "frame", None) is not None
-    if turned and spec is not None and geom.name and geom.type != mj.mjtGeom.mjGEOM_MESH:
-        compiled = spec.copy().compile()
-        g = compiled.geom(geom.name)
+    if turned and compiled is not None and geom.name and geom.type != mj.mjtGeom.mjGEOM_MESH:
+        g = compiled().geom(geom.name)
         return (np.array(g.pos, dtype=float), np.array(g.quat, dtype=float), np.array(g.size, dtype=float))
     pos, quat, size = (np.array(v, dtype=float) for v in (geom.pos, geom.quat, geom.size))
     ends = np.array(geom.fromto, dtype=float)

@@ -71,7 +71,7 @@ import numpy as np
 
 from mudforce.engines._checks import MAX_NSTEP, check_mass, drop_numbers, name_list, step_count
 from mudforce.engines.dynamics.result import GRAVITY, REST_SPEED
-from mudforce.engines.mujoco._spec import check_model_data, check_prefix, geom_frame, mujoco_module
+from mudforce.engines.mujoco._spec import check_model_data, check_prefix, compiled_copy, geom_frame, mujoco_module
 from mudforce.engines.mujoco._spec import read_only as _read_only
 from mudforce.engines.mujoco._step import ANCHOR_HEIGHT
 from mudforce.engines.mujoco._step3d import (
@@ -216,11 +216,12 @@ def add_mud_3d(spec: Any, feet: Sequence[str], *, prefix: str = "mud_") -> None:
     if taken:
         raise InputError(f"the model already has {taken[0]!r}: add_mud_3d was called twice for a foot (or use "
                          "another prefix=)")
+    compiled = compiled_copy(spec)  # compiled once, if a turned foot asks for it (before any site is added below)
     for name, geom in zip(feet, geoms, strict=True):
         n = _names(prefix, name)
         # at the geom's centre: a fromto geom's pos is unset in the spec, and a site left at its body's origin is
         # kept there by MuJoCo (site_sameframe), where the holds then acted, away from the foot
-        centre, _, _ = geom_frame(geom, spec)
+        centre, _, _ = geom_frame(geom, compiled)
         geom.parent.add_site(name=n["site"], pos=[float(v) for v in centre], size=[0.002, 0.0, 0.0])
         for anchor, tendon in (("anchor_z", "tendon_z"), ("anchor_u", "tendon_u"), ("anchor_v", "tendon_v")):
             spec.worldbody.add_site(name=n[anchor], pos=[0.0, 0.0, ANCHOR_HEIGHT], size=[0.002, 0.0, 0.0])
