@@ -617,26 +617,17 @@ def _check_saved_shapes(centroids: np.ndarray, body: np.ndarray, starts: np.ndar
     if not started.any():
         return
     tolerance = 1024.0 * np.finfo(np.float64).eps
-    if started.size == 1:  # one foot (MudContact3D): the same arithmetic without the feet's bookkeeping
-        world = centroids - centroids.mean(axis=0)
-        shape = body - body.mean(axis=0)
-        u, _, vt = np.linalg.svd(shape.T @ world)
-        if np.linalg.det(u @ vt) < 0.0:  # a rotation, not a reflection
-            u[:, 2] = -u[:, 2]
-        miss = float(np.abs(shape @ (u @ vt) - world).max())
-        bad = np.flatnonzero([miss > tolerance * (float(np.abs(centroids).max()) + float(np.abs(body).max()))])
-    else:
-        sizes = np.diff(starts)
-        foot_of = np.repeat(np.arange(sizes.size), sizes)
-        first = starts[:-1]
-        world = centroids - (np.add.reduceat(centroids, first, axis=0) / sizes[:, None])[foot_of]
-        shape = body - (np.add.reduceat(body, first, axis=0) / sizes[:, None])[foot_of]
-        u, _, vt = np.linalg.svd(np.add.reduceat(shape[:, :, None] * world[:, None, :], first, axis=0))
-        u[:, :, 2] *= np.where(np.linalg.det(u @ vt) < 0.0, -1.0, 1.0)[:, None]
-        fit = np.einsum("ei,eij->ej", shape, (u @ vt)[foot_of])
-        misses = np.maximum.reduceat(np.abs(fit - world).max(axis=1), first)
-        scale = np.maximum.reduceat(np.abs(centroids).max(axis=1) + np.abs(body).max(axis=1), first)
-        bad = np.flatnonzero(started & (misses > tolerance * scale))
+    sizes = np.diff(starts)
+    foot_of = np.repeat(np.arange(sizes.size), sizes)
+    first = starts[:-1]
+    world = centroids - (np.add.reduceat(centroids, first, axis=0) / sizes[:, None])[foot_of]
+    shape = body - (np.add.reduceat(body, first, axis=0) / sizes[:, None])[foot_of]
+    u, _, vt = np.linalg.svd(np.add.reduceat(shape[:, :, None] * world[:, None, :], first, axis=0))
+    u[:, :, 2] *= np.where(np.linalg.det(u @ vt) < 0.0, -1.0, 1.0)[:, None]  # a rotation, not a reflection
+    fit = np.einsum("ei,eij->ej", shape, (u @ vt)[foot_of])
+    misses = np.maximum.reduceat(np.abs(fit - world).max(axis=1), first)
+    scale = np.maximum.reduceat(np.abs(centroids).max(axis=1) + np.abs(body).max(axis=1), first)
+    bad = np.flatnonzero(started & (misses > tolerance * scale))
     if bad.size:
         which = f" (foot {bad[0]})" if started.size > 1 else ""
         raise InputError(f"a state's centroids{which} are not this foot's shape turned and moved: a state of another "
