@@ -255,3 +255,7 @@ def test_a_quantised_depth_is_noise_and_gets_a_filter_long_enough_for_its_quantu
     assert off.sum() == 34
     clean = analyse_depth_noise(t, z)
     assert clean.clean and clean.quantum == 0.0
+    # a depth held within an ulp (steps of 3.5e-18 m about 15.6 mm, found by the property test below): rounding, not
+    # an encoder's quantum: clean, as noise below the 1 nm floor is
+    held = 0.015625 + 5e-17 * np.sin(2.0 * np.pi * t / 3.0)
+    assert analyse_depth_noise(t, held).clean

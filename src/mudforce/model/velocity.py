@@ -293,7 +293,8 @@ def _quantum(z: np.ndarray) -> float:
     0.1 mm at 100 Hz: the intrusion branch's 52 N where the motion gives -0.3 N). A clean motion holds still only
     where it stops (a hold), and its steps between still samples are the few corners of the motion. So: at least
     :data:`_MIN_QUANTISED_STEPS` steps, and at least a tenth of the steps, each between two still samples; the
-    quantum is their median size.
+    quantum is their median size (:func:`analyse_depth_noise` takes it when its noise, ``quantum / sqrt(12)``, is
+    above :data:`NOISE_FLOOR_M`).
     """
     d = np.diff(z)
     still = d == 0.0
@@ -349,7 +350,8 @@ def analyse_depth_noise(time: np.ndarray, depth: np.ndarray) -> DepthNoise:
     if n < MIN_NOISE_SAMPLES:
         return DepthNoise(0.0, 2, False, int(n))
     quantum = _quantum(z)
-    if quantum > 0.0:
+    # a quantum of rounding (a depth held within an ulp: steps of 3.5e-18 m about 16 mm) is below the noise floor
+    if quantum / math.sqrt(12.0) > NOISE_FLOOR_M:
         return DepthNoise(quantum / math.sqrt(12.0), 1, True, int(n), quantum)
     if n > _MAX_NOISE_SAMPLES:
         # a deterministic, evenly spread subset of runs of consecutive samples is plenty
