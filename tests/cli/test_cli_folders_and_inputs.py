@@ -125,6 +125,11 @@ CASES: dict[str, tuple[list[str], tuple[str, ...] | None]] = {
     "jitter-negative": (_synth("x", "--motion", "gait", "--jitter", "-1e-3"), ("jitter", "-0.001")),
     # the gait's own words, 'jitter must be within ... got inf', named no option
     "jitter-huge": (_synth("x", "--motion", "gait", "--jitter", "1e400"), ("--jitter: inf must be within [0, 0.4]",)),
+    # a NaN is not a number, not one out of range: "--jitter: nan must be within [0, 0.4]", "'nan' is a gain of nan,
+    # outside [0.5, 2]" (and drop's "--tilt: 'nan' is outside -180 to 180 degrees")
+    "jitter-nan": (_synth("x", "--motion", "gait", "--jitter", "nan"), ("--jitter: nan is not a finite number",)),
+    "gain-nan": (_synth("x", "--force-gain", "nan"), ("--force-gain: 'nan' is not a finite number", "e.g. 1.05")),
+    "gain-inf-percent": (_synth("x", "--force-gain", "-inf%"), ("--force-gain: '-inf%' is not a finite number",)),
     "height-negative": (["drop", "--mass", "5kg", "--water-content", "25%", "--height", "-5mm", "--out", "d.csv"],
                         ("--height", "must not be negative")),
     "rise-negative": (["simulate", "--water-content", "25%", "--rise", "-5mm", "--out", "o.csv"],

@@ -33,6 +33,9 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
         ([*BASE, "--shape", "sphere:40mm", "--tilt", "1_0", "--out", "x.csv"], tmp_path),
         # a tilt that underflows was read as 0 degrees without a word, where --vx 1e-400mm/s is refused
         ([*BASE, "--shape", "sphere:40mm", "--tilt", "1e-400", "--out", "x.csv"], tmp_path),
+        # a NaN was "outside -180 to 180 degrees": it is no angle at all
+        ([*BASE, "--shape", "sphere:40mm", "--tilt", "nan", "--out", "x.csv"], tmp_path),
+        ([*BASE, "--shape", "sphere:40mm", "--tilt", "-inf", "--out", "x.csv"], tmp_path),
     ])
     sphere, box = runs[0], runs[1]
     assert sphere.returncode == 0 and "mujoco 3-D sphere: depth" in sphere.stdout, sphere.stderr
@@ -49,7 +52,9 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
                                     "--shape: '0.05um' is smaller than 0.1 mm",
                                     "--shape: '50mmx40mmx0.01mm' is smaller than 0.1 mm",
                                     "--tilt: '1_0' is not an angle in degrees",
-                                    "--tilt: '1e-400' is too small (at least 2.23e-308 degrees, or 0)"), strict=True):
+                                    "--tilt: '1e-400' is too small (at least 2.23e-308 degrees, or 0)",
+                                    "--tilt: 'nan' is not a finite number; expected an angle within -180 to 180",
+                                    "--tilt: '-inf' is not a finite number"), strict=True):
         assert_refused(run, word)
     assert not (tmp_path / "x.csv").exists()
 

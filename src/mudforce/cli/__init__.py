@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
 import re
 import sys
 from collections.abc import Sequence
@@ -83,6 +84,18 @@ def plain_float(text: str) -> float:
 
 
 plain_float.__name__ = "float"  # as plain_int's: "argument --jitter: invalid float value: '0_1'"
+
+
+def refuse_not_finite(value: float, text: object, option: str, expected: str, *, literal: str | None = None) -> None:
+    """Refuse ``value``, read by :func:`plain_float`, if it is a NaN or an infinity written as one (``nan``,
+    ``-inf``), in one line: ``{option}: {text!r} is not a finite number; expected {expected}``. A NaN is no value out
+    of range (``--tilt nan`` was "outside -180 to 180 degrees"). A literal past the float range (``1e400``) is read as
+    infinite too, but it is a number: it is left to the caller's range check. ``literal`` is the number's own text
+    (default ``text``: ``"inf"`` of ``"inf%"``); ``""`` where it is lost (an argparse type's float): then only a
+    NaN is refused."""
+    word = str(text if literal is None else literal).strip().lstrip("+-").lower()
+    if math.isnan(value) or (math.isinf(value) and word in ("inf", "infinity")):
+        raise InputError(f"{option}: {text!r} is not a finite number; expected {expected}")
 
 
 def refuse_empty_inputs(*inputs: tuple[str, str | None, str]) -> None:

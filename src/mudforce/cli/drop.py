@@ -44,7 +44,7 @@ import argparse
 import re
 import sys
 
-from mudforce.cli import plain_float
+from mudforce.cli import plain_float, refuse_not_finite
 from mudforce.cli._outputs import check_suffix
 from mudforce.cli._shape import SHAPE_EXAMPLES, parse_shape
 from mudforce.errors import InputError
@@ -180,7 +180,8 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
             tilt = plain_float(str(args.tilt).strip().removesuffix("deg"))
         except ValueError:
             raise InputError(f"--tilt: {args.tilt!r} is not an angle in degrees; expected e.g. 20 or 20deg") from None
-        if not math.isfinite(tilt) or abs(tilt) > 180.0:
+        refuse_not_finite(tilt, args.tilt, "--tilt", "an angle within -180 to 180 degrees, e.g. 20 or 20deg")
+        if abs(tilt) > 180.0:  # (1e400, read as infinite, too)
             raise InputError(f"--tilt: {args.tilt!r} is outside -180 to 180 degrees")
         # as parse_quantity reads a quantity: a literal that is not zero is not read as zero ("1e-400"), nor as a
         # denormal, whose digits are lost

@@ -33,7 +33,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from mudforce.cli import plain_float, plain_int
+from mudforce.cli import plain_float, plain_int, refuse_not_finite
 from mudforce.errors import InputError, seed_int, shown
 from mudforce.io.units import parse_list, parse_quantity
 from mudforce.model.foot import FOOT_EXAMPLES
@@ -181,6 +181,8 @@ def _parse_gain(text: str) -> float:
     except ValueError:
         raise InputError(f"--force-gain: cannot read {raw!r}; expected a factor or a change, e.g. 1.05, +5% "
                          "or -5%") from None
+    refuse_not_finite(number, raw, "--force-gain", "a factor or a change, e.g. 1.05, +5% or -5%",
+                      literal=raw.removesuffix("%"))
     gain = 1.0 + number / 100.0 if raw.endswith("%") else number
     if not (math.isfinite(gain) and 0.5 <= gain <= 2.0):
         raise InputError(f"--force-gain: {raw!r} is a gain of {gain:g}, outside [0.5, 2]; expected e.g. 1.05, +5% "
@@ -309,6 +311,8 @@ def run(args: argparse.Namespace) -> int:
                                  "--depth, --hold and --velocities")
     args.duration = "25s" if args.duration is None else args.duration
     args.jitter = 0.0 if args.jitter is None else args.jitter
+    refuse_not_finite(args.jitter, args.jitter, "--jitter", "a fraction of a sample period within [0, 0.4]",
+                      literal="")  # an infinity (1e400 too) is out of the range below
     if not 0.0 <= args.jitter <= 0.4:  # (gait's bound, in the option's words: 1e400 was 'jitter ... got inf')
         raise InputError(f"--jitter: {shown(args.jitter)} must be within [0, 0.4] (a fraction of a sample period)")
     args.start_below = "never" if args.start_below is None else args.start_below
