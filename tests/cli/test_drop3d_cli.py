@@ -20,6 +20,9 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
     runs = run_batch([
         ([*BASE, "--shape", "sphere:40mm", "--vx", "50mm/s", "--out", "s.csv"], tmp_path),
         ([*BASE, "--shape", "box:50mmx40mmx20mm", "--tilt", "10deg", "--out", "b.csv"], tmp_path),
+        # a disc was called "cylinder" in the summary: it is simulated as one, and named as asked
+        (["drop", "--engine", "mujoco", "--mass", "5kg", "--water-content", "20%", "--duration", "5ms", "--shape",
+          "disc:50mmx5mm", "--out", "d.csv"], tmp_path),
         ([*BASE, "--shape", "cone:40mm", "--out", "x.csv"], tmp_path),
         ([*BASE, "--shape", "capsule:30mm", "--out", "x.csv"], tmp_path),
         ([*BASE, "--shape", "sphere:40mm", "--tilt", "steep", "--out", "x.csv"], tmp_path),
@@ -37,9 +40,10 @@ def test_drop_with_a_shape_tilt_and_sideways_velocity_and_its_refusals(tmp_path:
         ([*BASE, "--shape", "sphere:40mm", "--tilt", "nan", "--out", "x.csv"], tmp_path),
         ([*BASE, "--shape", "sphere:40mm", "--tilt", "-inf", "--out", "x.csv"], tmp_path),
     ])
-    sphere, box = runs[0], runs[1]
+    sphere, box, disc = runs[0], runs[1], runs.pop(2)
     assert sphere.returncode == 0 and "mujoco 3-D sphere: depth" in sphere.stdout, sphere.stderr
     assert box.returncode == 0 and "mujoco 3-D box" in box.stdout, box.stderr
+    assert disc.returncode == 0 and disc.stdout.startswith("mujoco 3-D disc: depth"), (disc.stdout, disc.stderr)
     rows = (tmp_path / "s.csv").read_text().splitlines()
     assert rows[0] == "time_s,x_m,y_m,z_m,depth_m,vx_m_s,vz_m_s,force_x_N,force_y_N,force_z_N,tilt_deg"
     assert len(rows) == 152

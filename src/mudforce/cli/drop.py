@@ -171,9 +171,7 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
         return None
     if args.engine not in ("mujoco", "mjx"):
         raise InputError(f"--shape needs --engine mujoco or mjx (the 3-D engines), got --engine {args.engine}")
-    kind, dims = parse_shape(args.shape)
-    if kind == "disc":  # a disc is a cylinder as high as it is thick (mudforce.model.shapes.disc)
-        kind = "cylinder"
+    kind, dims = parse_shape(args.shape)  # a disc stays "disc" here, as the summary names it; _run_3d simulates it
     tilt = 0.0
     if args.tilt is not None:
         try:  # plain ASCII decimals only, as every other number the command line reads (float() took "1_0" as 10)
@@ -205,7 +203,9 @@ def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: flo
     from mudforce._plumbing.optional import require
     from mudforce.io.results import write_text
 
-    kind, dims, tilt, vx = shape3d
+    name, dims, tilt, vx = shape3d
+    # a disc is a cylinder as high as it is thick (mudforce.model.shapes.disc); the summary names what was asked for
+    kind = "cylinder" if name == "disc" else name
     if args.engine == "mjx":
         require("jax", "mjx", "--engine mjx")
         require("mujoco.mjx", "mjx", "--engine mjx")
@@ -230,6 +230,6 @@ def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: flo
         raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
     speed = res.speed(min(0.5, duration / 2))
     state = "at rest" if speed <= 1e-4 else f"moving at {speed * 1e3:.3f} mm/s"
-    print(f"{args.engine} 3-D {kind}: depth {res.depth[-1] * 1e3:.3f} mm after {duration:g} s, {state}; "
+    print(f"{args.engine} 3-D {name}: depth {res.depth[-1] * 1e3:.3f} mm after {duration:g} s, {state}; "
           f"drifted {res.position[-1, 0] * 1e3:.3f} mm in x; wrote {out}")
     return 0
