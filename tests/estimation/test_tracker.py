@@ -256,7 +256,8 @@ def test_gain_uncertainty_spans_each_gain_and_lag_allowance_is_checked() -> None
     ([0.0, 0.01, 0.01, 0.03], [0.0] * 4, [0.0] * 4,
      r"^time repeats at sample 2 \(0\.01 s then 0\.01 s\); expected strictly increasing time$"),
     ([0.0, 0.01, 0.01 + 1e-12, 0.03], [0.0] * 4, [0.0] * 4,
-     r"^the time step before sample 2 is 1\.\d+e-12 s; expected steps within \[1e-09, 1e\+09\] s$"),
+     r"^the time step before sample 2 \(t = 0\.010000000001 s\) is 1\.\d+e-12 s; expected steps within "
+     r"\[1e-09, 1e\+09\] s$"),
 ])
 def test_a_recording_is_refused_naming_its_sample(time: list[float], depth: list[float], force: list[float],
                                                   message: str) -> None:

@@ -174,9 +174,10 @@ def test_bad_records_are_refused(time: np.ndarray, depth: np.ndarray, match: str
 
 
 @pytest.mark.parametrize(("scale", "words"), [
-    (1e-200, "the time step before sample 1 is 1e-203 s; expected steps within [1e-09, 1000] s"),  # overflowed
+    # overflowed
+    (1e-200, "the time step before sample 1 (t = 1e-203 s) is 1e-203 s; expected steps within [1e-09, 1000] s"),
     (-1.0, "time goes backwards at sample 1"),
-    (1e7, "the time step before sample 1 is 10000.0 s; expected steps within"),
+    (1e7, "the time step before sample 1 (t = 10000.0 s) is 10000.0 s; expected steps within"),
 ])
 def test_times_are_refused_as_simulate_refuses_them(scale: float, words: str) -> None:
     """The noise analysis refuses sample times with simulate's words (model.bounds.check_times): a step of 1e-200 s

@@ -470,8 +470,8 @@ def test_simulate_3d_names_the_sample_a_bad_input_is_at() -> None:
         (lambda: simulate_3d(np.where(np.arange(m) == 3, t[2], t), pos, quat, params, SPHERE),
          "time repeats at sample 3 (0.02 s then 0.02 s); expected strictly increasing time"),
         (lambda: simulate_3d(t[::-1], pos, quat, params, SPHERE), "time goes backwards at sample 1 (0.11 s then 0.1"),
-        (lambda: simulate_3d(t * 1e-8, pos, quat, params, SPHERE), "the time step before sample 1 is 1e-10 s; "
-         "expected steps within [1e-09, 1000] s"),
+        (lambda: simulate_3d(t * 1e-8, pos, quat, params, SPHERE),
+         "the time step before sample 1 (t = 1e-10 s) is 1e-10 s; expected steps within [1e-09, 1000] s"),
         (lambda: simulate_3d(np.where(np.arange(m) == 5, math.nan, t), pos, quat, params, SPHERE),
          "time is not finite at sample 5 (nan); expected numbers [s]"),
         (lambda: simulate_3d(t + 1e12, pos, quat, params, SPHERE), "time at sample 0 (1000000000000.0 s) is beyond "

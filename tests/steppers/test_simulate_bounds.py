@@ -39,9 +39,11 @@ CASES: dict[str, tuple[tuple[np.ndarray, np.ndarray], str]] = {
     "backward time": (_set(5, "t", T[3]), "time goes backwards at sample 5"),
     # the step as it is (repr), not rounded: a step just outside a bound must not print as the bound
     "step below 1 ns": (_set(5, "t", T[4] + 1e-10),
-                        f"the time step before sample 5 is {float((T[4] + 1e-10) - T[4])!r} s"),
+                        f"the time step before sample 5 (t = {float(T[4] + 1e-10)!r} s) is "
+                        f"{float((T[4] + 1e-10) - T[4])!r} s"),
     "step above 1000 s": (_set(slice(5, None), "t", T[5:] + 2000.0),
-                          f"the time step before sample 5 is {float((T[5] + 2000.0) - T[4])!r} s"),
+                          f"the time step before sample 5 (t = {float(T[5] + 2000.0)!r} s) is "
+                          f"{float((T[5] + 2000.0) - T[4])!r} s"),
 }
 
 PATHS: dict[str, tuple[str, Callable[[np.ndarray], object]]] = {

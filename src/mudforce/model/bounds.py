@@ -122,8 +122,9 @@ def check_times(t: np.ndarray, max_dt: float = MAX_DT) -> None:
         raise InputError(f"time {what} at sample {i} ({float(t[i - 1])!r} s then {float(t[i])!r} s); "
                          "expected strictly increasing time")
     # repr: a step just outside a bound must not print as the bound
-    raise InputError(f"the time step before sample {i} is {float(steps[i - 1])!r} s; expected steps within "
-                     f"[{MIN_DT:g}, {max_dt:g}] s")
+    # the sample by its 0-based index and its time, which says where it is in any indexing
+    raise InputError(f"the time step before sample {i} (t = {float(t[i])!r} s) is {float(steps[i - 1])!r} s; "
+                     f"expected steps within [{MIN_DT:g}, {max_dt:g}] s")
 
 
 def check_depths(z: np.ndarray) -> None:
