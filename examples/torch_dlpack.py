@@ -26,20 +26,43 @@ os.environ.setdefault("XLA_PYTHON_CLIENT_PREALLOCATE", "false")
 import argparse
 import time
 
-import jax
-import jax.numpy as jnp
 import numpy as np
-import torch
 
-import mudforce.jax as mj
 from mudforce import MudParameters
+from mudforce.errors import MAX_FEET
+
+#: Most timed calls ``--calls`` takes
+MAX_CALLS = 10_000
+#: Most depths the timed calls' inputs hold, ``(calls + 8) * n`` (each call's depths are made up front): 2**28,
+#: 1 GiB of float32, above the default's 3.4 million and ``--n 1048576``'s 218 million
+MAX_DEPTHS = 2**28
+
+
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
+    """The options, each refused in one line (exit status 2) before torch and JAX are imported: ``--calls 0``
+    divided by zero after the warm-up (and ``--n 0`` or a count past memory failed inside torch or JAX)."""
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--n", type=int, default=16_384, help=f"number of feet, 1 to {MAX_FEET} (default 16384)")
+    ap.add_argument("--calls", type=int, default=200, help=f"timed calls, 1 to {MAX_CALLS} (default 200)")
+    args = ap.parse_args(argv)
+    if not 1 <= args.n <= MAX_FEET:
+        ap.error(f"--n must be from 1 to {MAX_FEET}, got {args.n}")
+    if not 1 <= args.calls <= MAX_CALLS:
+        ap.error(f"--calls must be from 1 to {MAX_CALLS}, got {args.calls}")
+    if (args.calls + 8) * args.n > MAX_DEPTHS:
+        ap.error(f"--n {args.n} with --calls {args.calls} would hold {(args.calls + 8) * args.n:,} depths, more than "
+                 f"{MAX_DEPTHS:,}; lower --n or --calls")
+    return args
 
 
 def main(argv: list[str] | None = None) -> dict[str, float]:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--n", type=int, default=16_384, help="number of feet (default 16384)")
-    ap.add_argument("--calls", type=int, default=200, help="timed calls (default 200)")
-    args = ap.parse_args(argv)
+    args = parse_args(argv)
+    import jax
+    import jax.numpy as jnp
+    import torch
+
+    import mudforce.jax as mj
+
     gpu = torch.cuda.is_available() and jax.default_backend() == "gpu"
     device = "cuda" if gpu else "cpu"
     dtype = torch.float32  # JAX's default float; enable jax_enable_x64 for float64
