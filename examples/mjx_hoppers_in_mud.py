@@ -18,7 +18,7 @@ on the mud.
 Run::
 
     python examples/mjx_hoppers_in_mud.py                 # 16 worlds, 4 s (a 2-core CPU: ~half a minute)
-    python examples/mjx_hoppers_in_mud.py --worlds 1024   # on a GPU
+    python examples/mjx_hoppers_in_mud.py --worlds 1024   # on a GPU (at most 16384 worlds)
 
 Writes a PNG (``--out``): sinkage over time for a few worlds, and the work
 the mud takes from the foot per step cycle [J] against water content.
@@ -64,6 +64,11 @@ LEG = """
 STEP_HZ = 1.5  # stepping frequency [Hz]
 LIFT = 0.02  # sole's target height at the top of a step [m]
 PUSH = 0.025  # sole's target depth at the bottom of a step [m]
+#: Most worlds ``--worlds`` takes: 16 times a GPU's 1024
+MAX_WORLDS = 16_384
+#: Most samples of depth and force a run records, worlds x 1 ms steps: 2**27 (about 4 GiB on the host), 32 times
+#: a GPU's 1024 worlds for the default 4 s (16384 worlds for 8 s, 1024 for 131 s)
+MAX_RECORDED = 2**27
 
 
 def build(worlds: int, water: np.ndarray) -> tuple[object, object, mud.MudPatch, object]:
@@ -112,19 +117,24 @@ def simulate(m: object, data: object, patch: mud.MudPatch, steps: int) -> dict[s
 
 def main(argv: list[str] | None = None) -> dict[str, np.ndarray]:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--worlds", type=int, default=16, help="number of worlds (default 16; 1024 on a GPU)")
+    ap.add_argument("--worlds", type=int, default=16,
+                    help=f"number of worlds, 1 to {MAX_WORLDS} (default 16; 1024 on a GPU)")
     ap.add_argument("--duration", type=float, default=4.0, help="simulated time [s] (default 4)")
     ap.add_argument("--water", type=float, nargs=2, default=(0.15, 0.25), metavar=("LOW", "HIGH"),
                     help="water contents of the first and last world, fractions (default 0.15 0.25)")
     ap.add_argument("--out", default="mjx_hoppers_in_mud.png", help="PNG to write ('' for none)")
     args = ap.parse_args(argv)
-    if args.worlds < 1:
-        ap.error(f"--worlds must be at least 1, got {args.worlds}")
+    if not 1 <= args.worlds <= MAX_WORLDS:  # 10**12 was numpy's MemoryError (7.28 TiB), a traceback
+        ap.error(f"--worlds must be from 1 to {MAX_WORLDS}, got {args.worlds}")
     cycle = 1.0 / STEP_HZ  # [s]
     if not 2.0 * cycle <= args.duration <= 600.0:  # the work is reported per cycle after the first
         ap.error(f"--duration must be from {2.0 * cycle:.3g} s (two step cycles) to 600 s, got {args.duration}")
     if not all(0.15 <= w <= 0.35 for w in args.water):
         ap.error(f"--water must be two fractions within Table I's range [0.15, 0.35], got {args.water}")
+    if args.worlds * round(args.duration / 1e-3) > MAX_RECORDED:  # (16384 worlds for 600 s: 315 GB)
+        ap.error(f"--worlds {args.worlds} for --duration {args.duration:g} s would record "
+                 f"{args.worlds * round(args.duration / 1e-3):,} samples (worlds x 1 ms steps), more than "
+                 f"{MAX_RECORDED:,}; lower --worlds or --duration")
     if args.out:
         try:  # before the compile and the run, not after them
             check_output_path(args.out, "--out", suffix=".png")

@@ -19,6 +19,7 @@ Run::
     python examples/quadruped_mjx_env.py --plot env.png       # with plots (matplotlib)
     python examples/quadruped_mjx_env.py --bench              # time a control step for 16 worlds
     python examples/quadruped_mjx_env.py --gpu                # 1,024 worlds (on a GPU)
+    python examples/quadruped_mjx_env.py --worlds 4096        # any number of worlds from 1 to 16,384
 """
 
 from __future__ import annotations
@@ -59,6 +60,10 @@ def _quadruped() -> Any:
 
 Q = _quadruped()
 FEET: list[str] = Q.FEET
+#: Most worlds ``--worlds`` takes: 16 times a GPU's 1024 (--gpu)
+MAX_WORLDS = 16_384
+#: Most control steps of all worlds a run records (worlds x steps): 2**27, 16384 worlds for 81 s, 1024 for 600 s
+MAX_RECORDED = 2**27
 
 
 class State(NamedTuple):
@@ -260,15 +265,16 @@ def plot(result: dict[str, np.ndarray], path: str) -> None:
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--worlds", type=int, default=None, help="number of worlds (16; 1024 with --gpu)")
+    ap.add_argument("--worlds", type=int, default=None,
+                    help=f"number of worlds, 1 to {MAX_WORLDS} (16; 1024 with --gpu)")
     ap.add_argument("--gpu", action="store_true", help="1,024 worlds (for a GPU)")
     ap.add_argument("--duration", type=float, default=1.0, help="simulated time [s]")
     ap.add_argument("--seed", type=int, default=0, help="seed of the worlds' water contents")
     ap.add_argument("--plot", default=None, help="save plots of sinkage, slip and energy as this PNG")
     ap.add_argument("--bench", action="store_true", help="time a control step of the worlds instead")
     args = ap.parse_args(argv)
-    if args.worlds is not None and args.worlds < 1:
-        ap.error(f"--worlds must be at least 1, got {args.worlds}")
+    if args.worlds is not None and not 1 <= args.worlds <= MAX_WORLDS:  # 10**12 aborted in XLA (a check failure)
+        ap.error(f"--worlds must be from 1 to {MAX_WORLDS}, got {args.worlds}")
     if not 0.0 < args.duration <= 600.0:
         ap.error(f"--duration must be within (0, 600] s, got {args.duration}")
     if not 0 <= args.seed < 2**32:
@@ -279,6 +285,11 @@ def main(argv: list[str] | None = None) -> None:
         except InputError as error:
             ap.error(str(error))
     worlds = args.worlds or (1024 if args.gpu else 16)
+    defaults = QuadrupedMudEnv.__init__.__kwdefaults__ or {}  # the env's control step, before it is built
+    steps = max(1, round(args.duration / (defaults["dt"] * defaults["substeps"])))  # as run() takes them
+    if not args.bench and worlds * steps > MAX_RECORDED:  # (16384 worlds for 600 s: 983 million)
+        ap.error(f"{worlds} worlds for --duration {args.duration:g} s would record {worlds * steps:,} control steps "
+                 f"(worlds x steps), more than {MAX_RECORDED:,}; lower --worlds or --duration")
     env = QuadrupedMudEnv()
     if args.bench:
         per = bench(worlds, env=env)

@@ -41,7 +41,12 @@ def test_the_leg_steps_in_mud_and_on_granular_ground(tmp_path: Path, capsys: pyt
 
 @pytest.mark.parametrize(("argv", "message"), [
     (["--duration", "0.5"], "--duration must be from 1.33 s (two step cycles) to 600 s, got 0.5"),
-    (["--worlds", "0"], "--worlds must be at least 1, got 0"),
+    (["--worlds", "0"], "--worlds must be from 1 to 16384, got 0"),
+    # no bound: 10**12 worlds was numpy's MemoryError (7.28 TiB), a traceback
+    (["--worlds", "16385"], "--worlds must be from 1 to 16384, got 16385"),
+    (["--worlds", "16384", "--duration", "600"], "--worlds 16384 for --duration 600 s would record 9,830,400,000 "
+                                                  "samples (worlds x 1 ms steps), more than 134,217,728; lower "
+                                                  "--worlds or --duration"),
     (["--water", "0.1", "0.2"], "--water must be two fractions within Table I's range [0.15, 0.35], got [0.1, 0.2]"),
 ])
 def test_the_hoppers_refuse_bad_options_before_compiling(argv: list[str], message: str,

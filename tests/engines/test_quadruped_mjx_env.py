@@ -37,7 +37,12 @@ def test_the_environment_is_finite_reproducible_and_each_world_has_its_own_mud(e
 
 
 @pytest.mark.parametrize(("argv", "message"), [
-    (["--worlds", "0"], "--worlds must be at least 1, got 0"),
+    (["--worlds", "0"], "--worlds must be from 1 to 16384, got 0"),
+    # no bound: 10**12 worlds aborted the process in XLA (a check failure), after the imports and the tracing
+    (["--worlds", "16385"], "--worlds must be from 1 to 16384, got 16385"),
+    (["--worlds", "16384", "--duration", "600"], "16384 worlds for --duration 600 s would record 983,040,000 control "
+                                                  "steps (worlds x steps), more than 134,217,728; lower --worlds or "
+                                                  "--duration"),
     (["--duration", "nan"], "--duration must be within (0, 600] s, got nan"),
     (["--seed", "-1"], "--seed must be an integer in [0, 4294967295], got -1"),
     # was matplotlib's ValueError after the compile and the run, a traceback
