@@ -153,6 +153,9 @@ def test_config_refuses_bad_values() -> None:
     with pytest.raises(InputError):
         ReproduceConfig(water_contents=(0.15, 0.35))
     assert ReproduceConfig(velocities=np.array([0.01, 0.03])).velocities.size == 2  # not numpy's ValueError
+    # the bound on all trials' samples lies far above the full report's 56,385 (and the quick one's 10,360)
+    ReproduceConfig(repeats=88)  # 1,653,960 samples
+    ReproduceConfig(rate=1000.0, repeats=8)  # 1,501,840
 
 
 @pytest.mark.parametrize(("fields", "message"), [
@@ -178,6 +181,10 @@ def test_config_refuses_bad_values() -> None:
     ({"force_noise": float("nan")}, r"force_noise must be finite \[N\], got nan$"),
     ({"depth_noise": -1e-5}, r"depth_noise must be >= 0 \[m\], got -1e-05$"),
     ({"bias": "0.5"}, r"bias must be a number \[N\], got str '0.5'$"),
+    # each trial was bounded, not their sum: 54.75 billion samples were accepted, to run for weeks
+    ({"rate": 1e5, "velocities": (0.001, 0.002), "repeats": 1000},
+     r"the report would simulate 54,750,010,000 samples \(5 water contents x 2 speeds x 1000 repeats at 100000 Hz\), "
+     r"more than 5,000,000; lower the rate, the repeats or the number of speeds, or raise the slowest speeds$"),
 ])
 def test_config_refuses_bad_fields_in_one_line(fields: dict[str, object], message: str) -> None:
     with pytest.raises(InputError, match=f"^{message}") as info:

@@ -14,6 +14,7 @@ cannot reach the noise floor.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -32,6 +33,12 @@ __all__ = ["SCATTERED", "ReproduceConfig", "make_experiments"]
 
 #: Parameters that scatter from repeat to repeat in the synthetic experiments.
 SCATTERED: tuple[str, ...] = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y")
+#: Most samples the report's trials hold, all together [-]: as many as one ``mudforce synth`` writes (its
+#: ``MAX_SAMPLES``), 89 times the full report's 56,385 (the quick one's 10,360); each is simulated, then fitted
+#: again and again.
+MAX_SAMPLES = 5_000_000
+#: The protocol's approach from above the surface [m], as synthesize makes it (and to_dict records it).
+_APPROACH = 0.005
 
 
 def _is_reference(w: float) -> bool:
@@ -67,7 +74,8 @@ class ReproduceConfig:
     repeats : int
         Trials per (water content, speed), in [1, :data:`mudforce.estimation.calibration.dataset.MAX_REPEATS`] (1000).
     rate : float
-        Sampling rate [Hz].
+        Sampling rate [Hz]. All the trials together (water contents x speeds x repeats at this rate) hold at most
+        :data:`MAX_SAMPLES` samples (5 million; the full report 56,385).
     repeat_scatter : float
         Relative standard deviation of the trial-to-trial scatter of
         :data:`SCATTERED` [-] (lognormal), in [0, 1].
@@ -124,12 +132,26 @@ class ReproduceConfig:
                     Protocol.paper(velocity=v, rate=self.rate)
                 except InputError as exc:
                     raise InputError(f"{name}: {exc}") from None
+        self._check_total()
         finite_number(self.force_noise, "force_noise", "N", nonnegative=True)
         finite_number(self.depth_noise, "depth_noise", "m", nonnegative=True)
         finite_number(self.bias, "bias", "N")
         for name in ("fit_options", "velocity_fit_options"):
             if not isinstance(getattr(self, name), FitOptions):
                 raise InputError(f"{name} must be a FitOptions, got {type(getattr(self, name)).__name__}")
+
+    def _check_total(self) -> None:
+        """Refuse, before any work, trials that hold more than :data:`MAX_SAMPLES` samples together: each trial was
+        bounded (the protocol's 10 million), but not their sum (a rate of 1e5 Hz at 1 and 2 mm/s with 1000 repeats:
+        54.75 billion samples, accepted)."""
+        per_speed = [math.ceil(Protocol.paper(velocity=v, rate=self.rate, approach=_APPROACH).duration * self.rate
+                               - 1e-9) + 1 for v in self.velocities]  # the protocol's samples, as sample() makes them
+        total = self.repeats * len(self.water_contents) * sum(per_speed)
+        if total > MAX_SAMPLES:
+            raise InputError(f"the report would simulate {total:,} samples ({len(self.water_contents)} water "
+                             f"contents x {len(self.velocities)} speeds x {self.repeats} repeats at {self.rate:g} Hz), "
+                             f"more than {MAX_SAMPLES:,}; lower the rate, the repeats or the number of speeds, or "
+                             "raise the slowest speeds")
 
     @classmethod
     def full(cls, seed: int = 0) -> ReproduceConfig:
@@ -159,7 +181,8 @@ class ReproduceConfig:
             "velocities_m_s": list(self.velocities), "repeats": self.repeats,
             "repeat_scatter": self.repeat_scatter, "force_noise_N": self.force_noise,
             "depth_noise_m": self.depth_noise, "bias_N": self.bias,
-            "protocol": {"depth_m": 0.02, "hold_s": 6.0, "approach_m": 0.005, "rise_m": 0.02, "rate_Hz": self.rate},
+            "protocol": {"depth_m": 0.02, "hold_s": 6.0, "approach_m": _APPROACH, "rise_m": 0.02,
+                         "rate_Hz": self.rate},
             "fit_options": opts(self.fit_options), "velocity_fit_options": opts(self.velocity_fit_options),
         }
 
