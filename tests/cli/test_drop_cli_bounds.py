@@ -74,3 +74,36 @@ def test_plot_with_a_shape_is_refused_before_matplotlib_is_required(tmp_path: Pa
     assert (status, capsys.readouterr().err) == (2, "mudforce drop: error: --plot is not available with --shape; "
                                                     "plot the CSV\n")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_shape_s_csv_that_cannot_be_written_is_named_as_every_command_names_it(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--shape``'s CSV was written its own way: a full disk said "cannot write output (OSError: No space left on
+    device)", naming no file, where the 1-D drop and every other command say "cannot write FILE: ...". Now through
+    the same writer: the file named, exit 2 as theirs, the old file as it was. (In process, the engine replaced by a
+    canned result: the write is what is tested.)"""
+    import os
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    pytest.importorskip("mujoco")
+    import mudforce.engines.mujoco as engine
+    from mudforce.cli import main
+
+    n = 3
+    canned = SimpleNamespace(time=np.arange(n) * 1e-3, position=np.zeros((n, 3)), force=np.zeros((n, 3)),
+                             depth=np.zeros(n), velocity=np.zeros((n, 3)), tilt=np.zeros(n), speed=lambda span: 0.0)
+    monkeypatch.setattr(engine, "simulate_drop_3d", lambda *args, **kwargs: canned)
+    (tmp_path / "s.csv").write_bytes(PREVIOUS)
+    monkeypatch.chdir(tmp_path)
+
+    def full(fd: int) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full)
+    status = main(["drop", "--engine", "mujoco", "--shape", "disc:50mmx5mm", "--mass", "2kg", "--water-content",
+                   "25%", "--duration", "3ms", "--out", "s.csv"])
+    assert (status, capsys.readouterr().err) == (2, "mudforce drop: error: cannot write s.csv: No space left on "
+                                                    "device\n")
+    assert [p.name for p in tmp_path.iterdir()] == ["s.csv"] and (tmp_path / "s.csv").read_bytes() == PREVIOUS

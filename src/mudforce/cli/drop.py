@@ -43,6 +43,7 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+from pathlib import Path
 
 from mudforce.cli import plain_float, refuse_not_finite
 from mudforce.cli._outputs import check_suffix
@@ -196,11 +197,12 @@ def _shape_options(args: argparse.Namespace) -> tuple[str, list[float], float, f
 
 
 def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: float, height: float,
-            shape3d: tuple[str, list[float], float, float], out: object) -> int:
+            shape3d: tuple[str, list[float], float, float], out: Path) -> int:
     """``mudforce drop --shape``: the 3-D MuJoCo adapter or MJX; CSV of the foot's pose, velocity and force."""
     import math
 
     from mudforce._plumbing.optional import require
+    from mudforce.io import write_outputs
     from mudforce.io.results import write_text
 
     name, dims, tilt, vx = shape3d
@@ -224,10 +226,8 @@ def _run_3d(args: argparse.Namespace, mass: float, params: object, duration: flo
         # + 0.0: the start's depth, the surface minus the lowest point, was -0 (written '-0'), as Protocol's was
         lines.append(f"{res.time[k]:.6g},{x:.9g},{y:.9g},{z:.9g},{res.depth[k] + 0.0:.9g},{res.velocity[k, 0]:.9g},"
                      f"{res.velocity[k, 2]:.9g},{fx:.9g},{fy:.9g},{fz:.9g},{math.degrees(res.tilt[k]):.6g}")
-    try:
-        write_text(str(out), "\n".join(lines) + "\n")
-    except OSError as exc:
-        raise InputError(f"cannot write output ({exc.__class__.__name__}: {exc.strerror or exc})") from None
+    # through write_outputs, as the 1-D drop and every other command write: a failed write names the file
+    write_outputs("mudforce-drop", {out: lambda path: write_text(path, "\n".join(lines) + "\n")})
     speed = res.speed(min(0.5, duration / 2))
     state = "at rest" if speed <= 1e-4 else f"moving at {speed * 1e3:.3f} mm/s"
     print(f"{args.engine} 3-D {name}: depth {res.depth[-1] * 1e3:.3f} mm after {duration:g} s, {state}; "
