@@ -57,18 +57,40 @@ def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
 
 
 def test_the_summary_says_where_the_misfit_was_flagged_and_when_the_interval_reaches_the_family_s_end() -> None:
+    """The summary's two lines read TrackResult's model_misses_data and family_edge, which a Python user of track()
+    had no way to see (the flag and the edge were worked out in the CLI alone: a force of noise alone tracked to
+    34.0 % [27.1, 35.2] with its misfit flag raised on 70 % of the samples, and the result said neither)."""
     from mudforce.cli.track import _edge_line, _misfit_line
+    from mudforce.estimation.tracker import TrackResult
 
     t = np.arange(5) * 0.5
-    assert _misfit_line(t, np.array([0, 1, 1, 0, 0], dtype=bool)) == (
+
+    def result(misfit: list[int], low: float = 0.23, high: float = 0.27, **kw: tuple[float, float]) -> TrackResult:
+        x = np.zeros(5)
+        return TrackResult(t, x, x, x, np.full(5, low), np.full(5, high), x, np.zeros(5, dtype=bool), x, x,
+                           np.array(misfit, dtype=bool), **kw)  # type: ignore[arg-type]
+
+    r = result([0, 1, 1, 0, 0])
+    assert r.model_misses_data and r.family_edge == ""
+    assert _misfit_line(r) == (
         "model misses the data (misfit): flagged on 40 % of the samples, last at 1 s: the mud may not be in the "
         "model's family, or the recording not what it seems")
-    assert _misfit_line(t, np.ones(5, dtype=bool)).endswith("last at 2 s (flagged at the end): the mud may not be "
-                                                            "in the model's family, or the recording not what it seems")
-    assert _misfit_line(t, np.zeros(5, dtype=bool)) == "model misses the data (misfit): never flagged"
-    assert _edge_line(0.28, 0.352) == "the interval reaches the family's wet end (35 %): the mud may be wetter"
-    assert _edge_line(0.148, 0.2) == "the interval reaches the family's dry end (15 %): the mud may be drier"
-    assert _edge_line(0.23, 0.27) == ""
+    assert _misfit_line(result([1] * 5)).endswith("last at 2 s (flagged at the end): the mud may not be "
+                                                  "in the model's family, or the recording not what it seems")
+    quiet = result([0] * 5)
+    assert not quiet.model_misses_data and _misfit_line(quiet) == "model misses the data (misfit): never flagged"
+    wet, dry = result([0] * 5, 0.28, 0.352), result([0] * 5, 0.148, 0.2)
+    assert (wet.family_edge, dry.family_edge, quiet.family_edge) == ("wet", "dry", "")
+    assert _edge_line(wet) == "the interval reaches the family's wet end (35 %): the mud may be wetter"
+    assert _edge_line(dry) == "the interval reaches the family's dry end (15 %): the mud may be drier"
+    assert _edge_line(quiet) == ""
+    # an interval over the whole family (a recording that told little) reaches both ends: the summary said wet alone
+    both = result([0] * 5, 0.148, 0.352)
+    assert both.family_edge == "both" and _edge_line(both) == _edge_line(wet) + "\n" + _edge_line(dry)
+    # the ends of the grid the tracker ran on (track() records them), not the default grid's
+    narrow = result([0] * 5, 0.22, 0.3, water_content_range=(0.2, 0.3))
+    assert narrow.family_edge == "wet"
+    assert _edge_line(narrow).startswith("the interval reaches the family's wet end (30 %)")
 
 
 BAD_INPUTS = [

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -36,6 +37,9 @@ from mudforce.cli._outputs import check_suffix
 from mudforce.errors import InputError
 from mudforce.io import check_output_path, refuse_overwriting_inputs
 from mudforce.model.foot import FOOT_EXAMPLES, parse_foot
+
+if TYPE_CHECKING:
+    from mudforce.estimation.tracker import TrackResult
 
 __all__ = ["COLUMNS", "HELP", "NAME", "add_arguments", "run"]
 
@@ -122,8 +126,7 @@ def run(args: argparse.Namespace) -> int:
             "change of mud flagged at: " + (", ".join(f"{x:.4g} s" for x in flags[:10]) or "none")
             + (f" and {flags.size - 10} more" if flags.size > 10 else ""),
         ]
-        lines += [line for line in (_misfit_line(time, result.misfit),
-                                    _edge_line(float(result.low[k]), float(result.high[k]))) if line]
+        lines += [line for line in (_misfit_line(result), _edge_line(result)) if line]
         lines.append(f"wrote {time.size} rows to {out}")
         if plot is not None:
             lines.append(f"wrote plot to {plot}")
@@ -131,27 +134,28 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _misfit_line(time: np.ndarray, misfit: np.ndarray | None) -> str:
-    """The summary's line on the misfit flag over the whole recording: the final estimate alone hid a flag raised on
-    much of the recording and cleared by its end (a force of noise alone read 34.1 % [27.5, 35.2] without a word)."""
-    if misfit is None:
+def _misfit_line(result: TrackResult) -> str:
+    """The summary's line on the misfit flag over the whole recording (:attr:`TrackResult.model_misses_data`): the
+    final estimate alone hid a flag raised on much of the recording and cleared by its end (a force of noise alone
+    read 34.1 % [27.5, 35.2] without a word)."""
+    if result.misfit is None:
         return ""
-    flagged = np.asarray(misfit, dtype=bool)
-    if not flagged.any():
+    if not result.model_misses_data:
         return "model misses the data (misfit): never flagged"
+    flagged, time = result.misfit, result.time
     last = float(time[np.flatnonzero(flagged)[-1]])
     now = " (flagged at the end)" if flagged[-1] else ""
     return (f"model misses the data (misfit): flagged on {100 * flagged.mean():.3g} % of the samples, last at "
             f"{last:.4g} s{now}: the mud may not be in the model's family, or the recording not what it seems")
 
 
-def _edge_line(low: float, high: float) -> str:
-    """A line when the final interval reaches the tracker's grid's end (15 % or 35 %): the mud may lie beyond the
-    family, and the estimate then means only 'at least as dry/wet as the family holds'."""
-    from mudforce.estimation.tracker import DEFAULT_GRID
-
-    if high >= DEFAULT_GRID[-1]:
-        return f"the interval reaches the family's wet end ({100 * DEFAULT_GRID[-1]:.3g} %): the mud may be wetter"
-    if low <= DEFAULT_GRID[0]:
-        return f"the interval reaches the family's dry end ({100 * DEFAULT_GRID[0]:.3g} %): the mud may be drier"
-    return ""
+def _edge_line(result: TrackResult) -> str:
+    """A line when the final interval reaches the tracker's grid's end (15 % or 35 %; :attr:`TrackResult.family_edge`):
+    the mud may lie beyond the family, and the estimate then means only 'at least as dry/wet as the family holds'."""
+    edge, (dry, wet) = result.family_edge, result.water_content_range
+    lines = []
+    if edge in ("wet", "both"):
+        lines.append(f"the interval reaches the family's wet end ({100 * wet:.3g} %): the mud may be wetter")
+    if edge in ("dry", "both"):
+        lines.append(f"the interval reaches the family's dry end ({100 * dry:.3g} %): the mud may be drier")
+    return "\n".join(lines)

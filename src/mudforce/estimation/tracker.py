@@ -1789,6 +1789,19 @@ class TrackResult:
         Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
     force_lag, force_lag_stderr : numpy.ndarray
         Posterior mean and standard deviation of the force lag [s] (see :class:`TrackEstimate`).
+    water_content_range : tuple of float
+        The tracker's grid's first and last water content [-] (:data:`DEFAULT_GRID`'s, 0.15 and 0.35, unless
+        ``water_contents`` was given): the family's ends that :attr:`family_edge` reads.
+    model_misses_data : bool
+        (Property.) True when the misfit flag was raised on any sample of the recording (``misfit.any()``; the name
+        of :attr:`~mudforce.estimation.calibration.Identification.model_misses_data`): the mud may not be in the
+        Table I family, or the sensor chain is off (a force of noise alone, a depth in mm read as m). A final
+        estimate with its flag down can follow a recording flagged nearly throughout.
+    family_edge : str
+        (Property.) ``"wet"`` when the final interval reaches the family's wet end (``high[-1] >=
+        water_content_range[1]``: the mud may be wetter than the family holds), ``"dry"`` when it reaches its dry
+        end (``low[-1] <= water_content_range[0]``: it may be drier), ``"both"`` when it spans the whole family (the
+        recording told little), ``""`` otherwise.
     """
 
     time: np.ndarray
@@ -1806,6 +1819,7 @@ class TrackResult:
     depth_offset_stderr: np.ndarray | None = None
     force_lag: np.ndarray | None = None
     force_lag_stderr: np.ndarray | None = None
+    water_content_range: tuple[float, float] = (DEFAULT_GRID[0], DEFAULT_GRID[-1])
 
     #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
@@ -1813,6 +1827,19 @@ class TrackResult:
 
     def _misfit(self) -> np.ndarray:
         return np.zeros(self.time.shape, dtype=bool) if self.misfit is None else self.misfit
+
+    @property
+    def model_misses_data(self) -> bool:
+        """True when the misfit flag was raised on any sample (see the class's attributes)."""
+        return bool(np.any(self._misfit()))
+
+    @property
+    def family_edge(self) -> str:
+        """``"wet"``, ``"dry"`` or ``"both"`` when the final interval reaches that end of the family (or both), else
+        ``""`` (see the class's attributes)."""
+        wet = bool(self.high.size and self.high[-1] >= self.water_content_range[1])
+        dry = bool(self.low.size and self.low[-1] <= self.water_content_range[0])
+        return "both" if wet and dry else "wet" if wet else "dry" if dry else ""
 
     def columns(self) -> dict[str, np.ndarray]:
         """The per-sample data under the names of :attr:`COLUMNS` (``changed``, ``misfit`` as bool)."""
@@ -1912,4 +1939,5 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     # copies: a float64 input came back as the result's own array, which changed with the caller's buffer
     return TrackResult(t.copy(), z.copy(), f.copy(), cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
                        cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0,
-                       cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD], cols[:, _O_LAG], cols[:, _O_LAG_SD])
+                       cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD], cols[:, _O_LAG], cols[:, _O_LAG_SD],
+                       (float(tracker.grid[0]), float(tracker.grid[-1])))
