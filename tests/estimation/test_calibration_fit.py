@@ -7,6 +7,7 @@ runs the full acceptance check (3 speeds x 3 repeats, several seeds).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -140,3 +141,10 @@ def test_another_model_plugs_in() -> None:
     se = fit.stderr["k"]
     assert se is not None and abs(fit.parameters["k"] - 2e6) < 4 * se
     assert fit.rmse < 0.22 and fit.model == "test-spring"
+    assert not any("sign-flipped" in w for w in fit.warnings)
+    # the force of the wrong sign (compression negative) is named per trial, before the general misfit message
+    flipped = [dataclasses.replace(t, force=-t.force) for t in trials]
+    warned = fit_condition(flipped, ds.foot, model=model, options=FitOptions(starts=1, popsize=4, maxiter=3,
+                                                                            max_nfev=40)).warnings
+    assert [w.split(":")[0] for w in warned[:2]] == [t.name for t in trials]
+    assert all("looks sign-flipped; mudforce expects the force + up" in w for w in warned[:2])

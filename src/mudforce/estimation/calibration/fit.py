@@ -65,7 +65,13 @@ from mudforce.errors import (
 )
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
-from mudforce.estimation.calibration.preprocess import PreparedTrial, noise_floor_parts, prepare_trial, tare_correction
+from mudforce.estimation.calibration.preprocess import (
+    PreparedTrial,
+    _force_sign_warning,
+    noise_floor_parts,
+    prepare_trial,
+    tare_correction,
+)
 from mudforce.estimation.calibration.results import (
     MISFIT_WARNING_RATIO,
     POOR_RELATIVE_STDERR,
@@ -512,7 +518,8 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     names = model.parameter_names
     params = {n: float(v) for n, v in zip(names, values, strict=True)}
     stderr: dict[str, float | None] = {n: None for n in names}
-    warnings: list[str] = []
+    # a trial's force sign-flipped (compression negative) first: the misfit it causes is said below in general words
+    warnings: list[str] = [w for w in map(_force_sign_warning, prepared) if w]
     residuals = [model.force(tr.time, tr.depth, values, foot) - tr.force for tr in prepared]
     inflation = correlation_inflation(residuals)
     sub = cov[np.ix_(list(free_cols), list(free_cols))] * inflation

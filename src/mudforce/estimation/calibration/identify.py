@@ -95,6 +95,7 @@ from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.estimation.calibration.preprocess import (
     MIN_PRECONTACT_SAMPLES,
     PreparedTrial,
+    _force_sign_warning,
     noise_floor,
     prepare_trial,
     tare_correction,
@@ -1057,7 +1058,8 @@ def identify_water_content(
     # then the gain's shift, which no amount of data reduces
     low = max(min(low, w_best - MIN_HALF_WIDTH) - shift_down - rate_shift, lo)
     high = min(max(high, w_best + MIN_HALF_WIDTH) + shift_up + rate_shift, hi)
-    warnings: list[str] = []
+    # a force sign-flipped (compression negative) first: the misfit it causes is said below in general words
+    warnings: list[str] = [w for w in (_force_sign_warning(tr),) if w]
     rmse = math.sqrt(c_best / n)
     scale = max(float(np.max(np.abs(meas))), 1.0)
     best_values = family(w_best).as_array()

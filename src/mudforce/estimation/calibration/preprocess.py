@@ -612,3 +612,44 @@ def noise_floor_parts(prepared: PreparedTrial, force: np.ndarray,
         depth_part = (sens * prepared.depth_noise) ** 2
         variance = variance + depth_part
     return variance, depth_part
+
+
+#: The share of the samples of clear intrusion whose force lies below its tare from which a trial's force reads as
+#: sign-flipped [-] (ours): in the family the mud pushes back on a foot going in (none of those samples lies below on
+#: the test suite's and synthesize's trials); a force of noise alone puts about half there.
+_FLIPPED_SHARE = 0.9
+#: Fewest samples of clear intrusion the sign check reads [-].
+_FLIPPED_MIN_SAMPLES = 5
+
+
+def _force_sign_share(prepared: PreparedTrial) -> tuple[float, int]:
+    """The share [-] of the samples of clear intrusion (the foot going down, deeper than half the trial's deepest)
+    whose force lies below its tare, and their count [-]; (NaN, 0) where it cannot be read (no tare: the trial never
+    leaves the mud)."""
+    z, f = prepared.depth, prepared.force
+    deepest = float(np.max(z)) if z.size else 0.0
+    if not deepest > 0.0:
+        return math.nan, 0
+    if prepared.precontact:
+        level = 0.0  # the force is tared from the samples before contact
+    else:  # the foot above the surface later on, if ever
+        free = z < -3.0 * prepared.depth_noise if prepared.depth_noise > 0.0 else z < 0.0
+        if np.count_nonzero(free) < MIN_PRECONTACT_SAMPLES:
+            return math.nan, 0
+        level = float(np.median(f[free]))
+    step = np.diff(z)
+    clear = np.flatnonzero((step > 3.0 * prepared.depth_noise) & (step > 0.0) & (z[1:] > 0.5 * deepest)) + 1
+    if clear.size == 0:
+        return math.nan, 0
+    return float(np.mean(f[clear] < level)), int(clear.size)
+
+
+def _force_sign_warning(prepared: PreparedTrial) -> str:
+    """One line where the trial's force looks sign-flipped (most samples of clear intrusion below the tare), else
+    ``""``: identify's and fit's check, read before their fits' general misfit message."""
+    share, count = _force_sign_share(prepared)
+    if count < _FLIPPED_MIN_SAMPLES or not share >= _FLIPPED_SHARE:
+        return ""
+    return (f"{prepared.trial.name}: the force lies below its tare on {share:.0%} of the {count} samples where the "
+            "foot goes down well below the surface: it looks sign-flipped; mudforce expects the force + up (the mud "
+            "pushing back on a foot going in reads positive): negate the force column if compression reads negative")
