@@ -79,6 +79,9 @@ def test_fit_3d_refuses_bad_input_in_one_line(data: tuple[np.ndarray, np.ndarray
         # free's repr in the message: ValueError (4300 digits) for 10**5000, over lines for a 2-D array
         ({"free": ("sigma_y", 10**5000)}, "got an integer of 16610 bits among them$"),
         ({"free": np.full((2, 2), "sigma_y")}, "got ndarray$"),
+        # its bytes iterated as ints: "got 115 among them"
+        ({"free": b"sigma_y"}, "free must name one or more of .* as a str or a sequence of str, got bytes$"),
+        ({"free": bytearray(b"sigma_y")}, "got bytearray$"),
         ({"params0": "mud"}, "MudParameters"),
         ({"noise": -1.0}, "noise"),
         ({"lateral_stiffness": 0.0}, "lateral_stiffness"),

@@ -108,6 +108,9 @@ def _array(value: Any, name: str, shape: tuple[int, ...], unit: str) -> np.ndarr
 
 
 def _free(free: Any) -> tuple[str, ...]:
+    if isinstance(free, (bytes, bytearray, memoryview)):  # a sequence of ints: "got 115 among them"
+        raise InputError(f"free must name one or more of {', '.join(FIT3D_PARAMETERS)} as a str or a sequence of "
+                         f"str, got {type(free).__name__}")
     names = (free,) if isinstance(free, str) else tuple(free) if isinstance(free, Sequence) else None
     if not names or not all(isinstance(n, str) for n in names):
         # words of one line, not free's repr (over lines for a 2-D array, ValueError for an int of 10**5000)
