@@ -258,6 +258,7 @@ def test_shape_copies_and_checks_its_arrays() -> None:
     bad = [
         (dict(normals=[[0, 0, 2.0], [0, 0, -1.0]]), "unit vectors, got length 2 at element 0"),
         (dict(areas=[1.0, 0.0]), "areas must be > 0"),
+        (dict(areas=[1.0, -0.0]), "areas must be > 0 [m^2], got -0.0 at element 1"),  # was np.float64(-0.0)
         (dict(areas=[1.0, 2.0]), "Σ areas·normals = 0"),
         (dict(areas=[[1.0, 1.0]]), "1-d array"),
         (dict(centroids=np.zeros((2, 2))), "centroids must have shape (n, 3)"),
@@ -385,8 +386,9 @@ def test_bad_meshes_get_one_line_errors_naming_the_problem() -> None:
     repeat = tf.copy()
     repeat[2] = [0, 3, 3]
     assert "mesh face 2 [0, 3, 3] repeats a vertex: it has zero area" in _one_line(lambda: shapes.mesh(tv, repeat))
-    assert "mesh vertex 2 is not finite" in _one_line(lambda: shapes.mesh(np.where(np.arange(4)[:, None] == 2,
-                                                                                   math.nan, tv), tf))
+    # the vertex as a list, as the other messages show one (was numpy's "[nan nan nan]", "[20.  20.  20.01]")
+    assert "mesh vertex 2 is not finite: [nan, nan, nan]" in _one_line(
+        lambda: shapes.mesh(np.where(np.arange(4)[:, None] == 2, math.nan, tv), tf))
     assert "mesh face 1 has vertex index 9, expected 0 to 3" in _one_line(
         lambda: shapes.mesh(tv, np.where(tf == 3, 9, tf)))
     assert "integer array (m, 3)" in _one_line(lambda: shapes.mesh(tv, tf.astype(float)))
@@ -397,7 +399,7 @@ def test_bad_meshes_get_one_line_errors_naming_the_problem() -> None:
     assert "integer array (m, 3)" in _one_line(lambda: shapes.mesh(tv, tf[:, :2]))
     assert "vertices must be an array (k, 3)" in _one_line(lambda: shapes.mesh(tv[:, :2], tf))
     assert "vertices must be an array (k, 3) of numbers" in _one_line(lambda: shapes.mesh("cube", tf))
-    assert "within ±10 m" in _one_line(lambda: shapes.mesh(tv + 20.0, tf))
+    assert "is [20.0, 20.0, 20.0] m, expected coordinates within ±10 m" in _one_line(lambda: shapes.mesh(tv + 20.0, tf))
     # two tetrahedra on the same vertices, one of them inward: every edge twice each way, no volume
     both = np.vstack([tf, tf[:, ::-1]])
     assert "is shared by 4 faces" in _one_line(lambda: shapes.mesh(tv, both))

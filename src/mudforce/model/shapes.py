@@ -198,7 +198,7 @@ class Shape:
         if not isinstance(self.name, str):
             raise InputError(f"shape name must be a str, got {type(self.name).__name__}")
         if not isinstance(self.closed, (bool, np.bool_)):
-            raise InputError(f"shape closed must be True or False, got {self.closed!r}")
+            raise InputError(f"shape closed must be True or False, got {shown(self.closed)}")
         try:
             n = len(self.areas) if np.ndim(self.areas) == 1 else -1
         except (TypeError, ValueError):
@@ -211,7 +211,7 @@ class Shape:
         centroids = _readonly(self.centroids, "centroids", (n, 3))
         normals = _readonly(self.normals, "normals", (n, 3))
         if not np.all(areas > 0.0):
-            raise InputError(f"shape areas must be > 0 [m^2], got {areas[np.argmin(areas)]!r} "
+            raise InputError(f"shape areas must be > 0 [m^2], got {float(areas[np.argmin(areas)])!r} "
                              f"at element {int(np.argmin(areas))}")
         if not np.all(areas <= AREA_RANGE[1]):  # a foot's largest area (Foot), so each element's force stays finite
             raise InputError(f"shape areas must be at most {AREA_RANGE[1]:g} m^2 each, got "
@@ -809,11 +809,12 @@ def _mesh_arrays(vertices: Any, faces: Any) -> tuple[Float, NDArray[np.int64]]:
     used = np.unique(tris)
     bad = ~np.all(np.isfinite(verts[used]), axis=1)
     if np.any(bad):
-        raise InputError(f"mesh vertex {int(used[np.argmax(bad)])} is not finite: {verts[used[np.argmax(bad)]]}")
+        i = int(used[np.argmax(bad)])
+        raise InputError(f"mesh vertex {i} is not finite: {verts[i].tolist()}")
     limit = SIZE_RANGE[1]
     far = np.max(np.abs(verts[used]), axis=1) > limit
     if np.any(far):
-        raise InputError(f"mesh vertex {int(used[np.argmax(far)])} is {verts[used[np.argmax(far)]]} m, "
+        raise InputError(f"mesh vertex {int(used[np.argmax(far)])} is {verts[used[np.argmax(far)]].tolist()} m, "
                          f"expected coordinates within ±{limit:g} m of the body frame's origin")
     extent = float(np.max(np.ptp(verts[used], axis=0)))
     if not SIZE_RANGE[0] <= extent:
