@@ -30,11 +30,14 @@ class InputError(ValueError):
 def shown(value: Any) -> str:
     """``value`` as a message shows it: its ``repr``, but an integer past 15 digits as ``1e+20`` and one past 300
     digits as its size in bits (Python refuses to print an integer of over 4,300 digits: ValueError), a value
-    holding such an integer (a list's item) by its type, and a repr that spans lines (a 2-D array's) on one line."""
+    holding such an integer (a list's item) by its type, a repr that spans lines (a 2-D array's) on one line, and a
+    numpy scalar as the Python number it holds (``-0.0``, not ``np.float64(-0.0)``)."""
+    if isinstance(value, (np.floating, np.bool_)):
+        value = value.item()
     if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
         count = int(value)
         if abs(count) < 10**15:
-            return repr(value)
+            return repr(count)
         if abs(count) < 10**300:
             return f"{count:.3g}"
         return f"{'a negative' if count < 0 else 'an'} integer of {count.bit_length()} bits"

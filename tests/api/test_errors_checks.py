@@ -154,8 +154,12 @@ def test_an_integer_of_over_4300_digits_is_shown_by_its_size_in_every_refusal_of
     from mudforce.estimation.calibration.synth import synthesize_gait
     from mudforce.model import shapes
 
-    assert [shown(v) for v in (3, np.int64(-7), 10**20, -(10**5000), 2.5, True)] == [
-        "3", "np.int64(-7)", "1e+20", "a negative integer of 16610 bits", "2.5", "True"]
+    # a numpy scalar as the number it holds: a sphere of np.float64(-0.02) m was refused as "got np.float64(-0.02)"
+    assert [shown(v) for v in (3, np.int64(-7), 10**20, -(10**5000), 2.5, True, np.float64(-0.0), np.float32(0.5),
+                               np.bool_(True))] == [
+        "3", "-7", "1e+20", "a negative integer of 16610 bits", "2.5", "True", "-0.0", "0.5", "True"]
+    with pytest.raises(InputError, match=r"^sphere diameter must be within \[0.0001, 10\] m, got -0.02$"):
+        shapes.sphere(np.float64(-0.02))
     feet = mf.MudContacts3D(mf.MudParameters.from_water_content(0.25), shapes.sphere(0.04), 2)
     t = np.arange(3) * 0.01
     for call, words in ((lambda: positive_int(-(10**5000), "n"), "n must be an integer >= 1, got a negative"),
