@@ -58,9 +58,11 @@ def test_a_model_that_misses_the_data_widens_and_warns(
         data: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> None:
     t, pos, quat, forces = data
     wrong = MUD.replace(k_m_i=3.0 * MUD.k_m_i)  # held fixed, wrong: the vertical force misses in shape
-    with pytest.warns(RuntimeWarning, match="misses the data"):
+    with pytest.warns(RuntimeWarning, match="misses the data") as record:
         fit = fit_3d(t, pos, quat, forces, SHAPE, wrong, free="lateral_stiffness", noise=NOISE)
     assert fit.residual_rms > 2.0 * NOISE and fit.autocorrelation > 0.5
+    # at the caller's line (was _plumbing/blas.py's, the BLAS-thread wrapper's, one frame short)
+    assert {w.filename for w in record} == {__file__}
     good = fit_3d(t, pos, quat, forces, SHAPE, MUD.replace(sigma_y=1.3 * MUD.sigma_y), free="lateral_stiffness")
     assert fit.standard_errors["lateral_stiffness"] > 5.0 * good.standard_errors["lateral_stiffness"]
 

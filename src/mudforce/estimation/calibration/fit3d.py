@@ -279,16 +279,16 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
         covariance = np.full((p, p), math.inf)
     if not np.all(np.isfinite(covariance)) or np.linalg.cond(jtj) > 1e14:
         warnings.warn(f"fit_3d: the data do not determine {', '.join(names)} (the motion does not exercise them): "
-                      "their standard errors are infinite", RuntimeWarning, stacklevel=2)
+                      "their standard errors are infinite", RuntimeWarning, stacklevel=3)
         covariance = np.full((p, p), math.inf)
     if rho > 0.5:
         warnings.warn(f"fit_3d: the residuals are correlated in time (lag-1 {rho:.2f}): the model misses the data "
                       f"in shape, not only by noise; the standard errors are widened {widen:.1f}x", RuntimeWarning,
-                      stacklevel=2)
+                      stacklevel=3)
     rms = math.sqrt(float(residual @ residual) / residual.size)
     if noise is not None and rms > 2.0 * noise:
         warnings.warn(f"fit_3d: the residual RMS {rms:.3g} N is more than twice the sensor noise {noise:.3g} N: the "
-                      "model misses the data", RuntimeWarning, stacklevel=2)
+                      "model misses the data", RuntimeWarning, stacklevel=3)
     fitted = np.exp(solution.x)
     values = dict(zip(names, fitted.tolist(), strict=True))
     errors = {n: float(values[n] * math.sqrt(covariance[i, i])) for i, n in enumerate(names)}
