@@ -33,14 +33,18 @@ def trial() -> Trial:
     ({"bounds": "x"}, "bounds must be (low, high)"),  # was ValueError: too many values to unpack
     ({"bounds": ("0.2", "0.3")}, "bounds must be (low, high)"),  # was TypeError
     ({"depth_noise": "1"}, "w.csv: depth noise must be between 0 and 10 mm"),  # was TypeError
+    ({"depth_noise": "1mm"}, "w.csv: depth noise must be between 0 and 10 mm (e.g. 0.03 mm, given in metres: 3e-05), "
+                             "got str"),  # was "got '1mm' m"
+    ({"depth_noise": 0.03}, "w.csv: depth noise must be between 0 and 10 mm (e.g. 0.03 mm, given in metres: 3e-05), "
+                            "got 0.03 m"),  # 0.03 m for 0.03 mm: what the example now says
     ({"family": lambda w: None}, "family(0.15) must return MudParameters, got NoneType"),  # was AttributeError
     ({"family": 3}, "family must be a function of the water content [-] returning MudParameters, got int"),
     # past 4,300 digits the message's repr raised ValueError (Exceeds the limit ...), math.isfinite OverflowError
     ({"level": 10**5000}, "confidence level must be in (0, 1), got an integer of 16610 bits"),
     ({"force_gain_uncertainty": 10**5000}, "force gain uncertainty must be in [0, 0.5) (e.g. 0.05 for 5 %), got an "
                                            "integer of 16610 bits"),
-    ({"depth_noise": 10**5000}, "w.csv: depth noise must be between 0 and 10 mm (e.g. 0.03 mm), got an integer of "
-                                "16610 bits m"),
+    ({"depth_noise": 10**5000}, "w.csv: depth noise must be between 0 and 10 mm (e.g. 0.03 mm, given in metres: "
+                                "3e-05), got an integer of 16610 bits"),
     ({"bounds": (0.2, 10**400)}, "bounds must be (low, high) with low < high, both finite [-], got (0.2, an integer "
                                  "of 1329 bits)"),
     ({"bounds": np.zeros((2, 2))}, "bounds must be (low, high) with low < high, both finite [-], got ndarray"),

@@ -563,8 +563,11 @@ def prepare_trial(trial: Trial, *, protocol: bool | None = None, depth_noise: fl
     if depth_noise_from not in ("all", "quiet"):
         raise InputError(f'{trial.name}: depth_noise_from must be "all" or "quiet", got {depth_noise_from!r}')
     if depth_noise is not None and not (is_real(depth_noise) and 0.0 <= depth_noise <= MAX_DEPTH_NOISE_M):
+        # the value in metres where it is one ('1' was "got '1' m", 10**5000 "got an integer of 16610 bits m")
+        got = (f"{shown(depth_noise)} m" if is_real(depth_noise) and abs(depth_noise) < 1e300
+               else shown(depth_noise) if is_real(depth_noise) else type(depth_noise).__name__)
         raise InputError(f"{trial.name}: depth noise must be between 0 and {MAX_DEPTH_NOISE_M * 1e3:g} mm "
-                         f"(e.g. 0.03 mm), got {shown(depth_noise)} m")
+                         f"(e.g. 0.03 mm, given in metres: 3e-05), got {got}")
     if protocol is not None and not isinstance(protocol, (bool, np.bool_)):
         raise InputError(f"{trial.name}: protocol must be True, False or None, got {protocol!r}")
     quiet = depth_noise_from == "quiet"
