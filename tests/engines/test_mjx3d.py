@@ -245,12 +245,14 @@ def test_set_mud_refuses_a_bool_patch_and_another_type_of_mud() -> None:
     assert float(changed.lateral_stiffness[1, 0]) == pytest.approx(wet.k_m_w)
     assert float(changed.lateral_stiffness[0, 0]) == pytest.approx(MUD.k_m_w)
     # a mudforce.jax.Params of three worlds' muds for one foot (set_mud not vmapped) raised JAX's broadcasting
-    # ValueError; its area and width, which set_mud ignores, did too
+    # ValueError; its area and width, which set_mud ignores, did too. One of as many worlds as feet (here one) was
+    # taken as a mud per foot without a word, against the docstring's scalars
     import mudforce.jax as mj
 
-    with pytest.raises(InputError, match=r"^a mud's fields must be scalars \(one mud for every foot\) or one per "
-                                         r"foot \(1\), got k_i of shape \(3,\); vmap over worlds for a mud per world$"):
-        mud3d.set_mud(mud, mj.Params(*[np.ones(3)] * len(mj.Params._fields)))
+    for count in (3, 1):
+        with pytest.raises(InputError, match=rf"^a mud's fields must be scalars \(one mud for every foot\), got k_i of "
+                                             rf"shape \({count},\); vmap set_mud over worlds for a mud per world$"):
+            mud3d.set_mud(mud, mj.Params(*[np.ones(count)] * len(mj.Params._fields)))
     ignored = mud3d.set_mud(mud, mj.make_params(wet)._replace(area=np.ones(3), width=np.ones(2)), 1)
     assert all(np.array_equal(a, b) for a, b in zip(ignored.elements, changed.elements, strict=True))
 

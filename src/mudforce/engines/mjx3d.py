@@ -180,16 +180,22 @@ class MudState3D(NamedTuple):
 
 
 def _element_params(params: Any, widths: np.ndarray, dtype: Any) -> mj.Params:
-    """A mud's :class:`mudforce.jax.Params` on each foot's elements (unit area, the foot's width): fields (F,)."""
+    """A mud's :class:`mudforce.jax.Params` on each foot's elements (unit area, the foot's width): fields (F,).
+
+    One mud for every foot: its fields scalars (the area and width aside, which are ignored). A field of one value
+    per foot was taken too, so that a batch of as many worlds' muds as there are feet, given to :func:`set_mud`
+    outside ``vmap``, became one world's feet's muds without a word (three worlds' water contents on three feet);
+    per-world mud is :func:`set_mud` under ``vmap``, as the 1-D :func:`mudforce.engines.mjx.add_mud`'s.
+    """
     if isinstance(params, MudParameters):
         params = mj.make_params(params, dtype=dtype)
     if not isinstance(params, mj.Params):
         raise InputError(f"the mud must be MudParameters or a mudforce.jax.Params, got {type(params).__name__}")
     n = len(widths)
     for name, f in zip(params._fields, params, strict=True):  # (static shapes: checked under jit and vmap alike)
-        if name not in ("area", "width") and jnp.shape(f) not in ((), (n,)):  # was JAX's broadcasting ValueError
-            raise InputError(f"a mud's fields must be scalars (one mud for every foot) or one per foot ({n}), got "
-                             f"{name} of shape {jnp.shape(f)}; vmap over worlds for a mud per world")
+        if name not in ("area", "width") and jnp.shape(f) != ():  # was JAX's broadcasting ValueError
+            raise InputError(f"a mud's fields must be scalars (one mud for every foot), got {name} of shape "
+                             f"{jnp.shape(f)}; vmap set_mud over worlds for a mud per world")
     ignored = jnp.ones((n,), dtype=dtype)  # the area and width given are the elements' (an area per world was
     # broadcast first, and raised JAX's ValueError)
     fields = [ignored if name in ("area", "width") else jnp.broadcast_to(jnp.asarray(f, dtype=dtype), (n,))
@@ -306,7 +312,8 @@ def set_mud(mud: Mud3D, params: Any, patch: int = 0) -> Mud3D:
 
     ``params``: :class:`mudforce.MudParameters`, or a :class:`mudforce.jax.Params` with scalar fields
     (traced allowed), such as ``mudforce.jax.params_from_water_content(w)`` (its ``area`` and ``width``
-    are ignored: the elements' are the feet's). The lateral stiffness becomes the mud's ``k_m_w``.
+    are ignored: the elements' are the feet's). The lateral stiffness becomes the mud's ``k_m_w``. A field that is
+    not a scalar (a batch of worlds' muds outside ``vmap``, a mud per foot) is refused in one line.
     """
     if not isinstance(mud, Mud3D):
         raise InputError(f"mud must be a Mud3D (add_mud), got {type(mud).__name__}")
