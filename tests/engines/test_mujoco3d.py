@@ -290,7 +290,9 @@ def test_a_drop_of_bad_sizes_durations_or_speeds_is_refused_in_one_line() -> Non
                           ({"tilt": 1e308}, r"tilt must be within \[-3.14159, 3.14159\] rad, got 1e\+308"),
                           ({"height": 1e12}, r"height must be within \+-100 m of the mud surface"),
                           ({"dt": 1e-300}, r"dt must be within \[1e-09, 1000\] s, got 1e-300"),
-                          ({"vx": 1e300}, r"vx must be within \+-1000 m/s")):
+                          ({"vx": 1e300}, r"vx must be within \+-10 m/s \(a foot's sideways speed\), got 1e\+300$"),
+                          # a 40 mm sphere at 100 m/s came to rest 7 mm above the surface, the mud carrying its weight
+                          ({"vx": -100.0}, r"vx must be within \+-10 m/s \(a foot's sideways speed\), got -100.0$")):
         args = {"mass": 2.0, "params": MUD, "shape": "sphere", "size": [0.04], "duration": 0.005, **kwargs}
         with pytest.raises(InputError, match=match) as err:
             simulate_drop_3d(**args)  # type: ignore[arg-type]

@@ -537,7 +537,8 @@ def simulate_drop(mass: float, params: Any, shape: str, size: Sequence[float], *
     tilt : float
         Rotation about the world x axis [rad].
     vx : float
-        Initial horizontal velocity along x [m/s].
+        Initial horizontal velocity along x [m/s], within +-10
+        (:data:`mudforce.engines.mujoco.adapter3d.MAX_DROP_VX`).
     dt : float
         Time step [s], > 0 (1 ms by default, as the CPU adapter's drop; docs/engines3d.md, "The time step").
     resolution : float, optional

@@ -724,20 +724,29 @@ def compile_drop(spec: Any) -> Any:
                          "e.g. 2 kg and 40 mm") from None
 
 
+#: Fastest sideways release of a drop, ``|vx|`` [m/s]: 10 m/s, as ``mudforce drop --vx``. Faster, the mud tumbles the
+#: foot so fast that a step turns it by a large angle, and the bands the engines take from each element's depth
+#: and velocity at the step's start, extrapolated along a straight line, are wrong: at 1 ms in W = 25 % a 40 mm
+#: sphere of 2 kg at 100 m/s spun 2 rad a step and came to rest 7 mm above the surface with the mud carrying its
+#: weight (the law's own force there 0; a cylinder and a capsule alike), a 5 kg box at 50 m/s made MuJoCo's state
+#: unstable (1e300 m/s too, which MuJoCo reset with a warning, the drop returned as if the foot had not moved
+#: sideways); at 10 m/s the turn is at most 0.12 rad a step and no foot is held above the surface (in the drops
+#: tried: sphere, box, capsule, cylinder; 1 and 5 ms; W = 15 and 25 %). The bound was a recording's velocity
+#: bound, 1000 m/s.
+MAX_DROP_VX = 10.0
+
+
 def check_drop_motion(duration: Any, vx: Any, dt: Any) -> tuple[float, float, int]:
     """A drop's ``duration`` [s], ``vx`` [m/s] and number of steps (``floor(duration / dt)``, the 1-D drops' samples
     less one: the last step within the duration), else InputError: ``duration / dt`` at most
     :data:`~mudforce.model.bounds.MAX_OUTPUT_SAMPLES` steps (1e300 s asked numpy for an array too large to make), and
-    ``|vx|`` within a recording's velocity bound (1e3 m/s: 1e300 m/s made MuJoCo's state unstable, which it reset
-    with a warning, and the drop was returned as if the foot had not moved sideways)."""
-    from mudforce.io.tables import COLUMN_LIMITS
+    ``|vx|`` within :data:`MAX_DROP_VX`."""
     from mudforce.model.bounds import check_step, max_samples
 
     duration = finite_number(duration, "duration", "s", positive=True)
     vx = finite_number(vx, "vx", "m/s")
-    most = COLUMN_LIMITS["velocity"]
-    if abs(vx) > most:
-        raise InputError(f"vx must be within +-{most:g} m/s, got {vx!r}")
+    if abs(vx) > MAX_DROP_VX:
+        raise InputError(f"vx must be within +-{MAX_DROP_VX:g} m/s (a foot's sideways speed), got {vx!r}")
     dt = finite_number(dt, "dt", "s", positive=True)
     check_step(dt)  # before the count: a step of 1e-300 s is named as such, not as too many samples
     steps = max_samples(duration, dt) - 1
@@ -824,7 +833,7 @@ def simulate_drop_3d(mass: float, params: Any, shape: str, size: Sequence[float]
     duration : float
         Simulated time [s], at least ``dt`` (at most 1e8 steps).
     vx : float
-        Initial horizontal velocity along x [m/s].
+        Initial horizontal velocity along x [m/s], within +-10 (:data:`MAX_DROP_VX`).
     resolution : float, optional
         Element size of the foot's surface [m].
     """
