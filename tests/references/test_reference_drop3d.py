@@ -59,7 +59,16 @@ def test_bad_input_is_refused_in_one_line() -> None:
                         # the sphere's lower half below the surface at release: it fell 1.23 m in 0.5 s, no force
                         (lambda: exact_drop_3d(2.0, params, sphere, bottom=0.0), "0.0192388 m below the surface"),
                         (lambda: exact_drop_3d(2.0, params, sphere, bottom=0.1, height=0.05), "below the surface"),
-                        (lambda: exact_drop_3d(2.0, params, sphere, bottom=1e300), "bottom must be within")):
+                        (lambda: exact_drop_3d(2.0, params, sphere, bottom=1e300), "bottom must be within"),
+                        # tilted 0.3 rad, a box was dropped straight as if symmetric (rest 7.09 mm), its torque left
+                        # out; so was a capsule tilted 0.5 rad (11.97 mm)
+                        (lambda: exact_drop_3d(2.0, params, shapes.box(0.03, 0.03, 0.03, resolution=0.01),
+                                               orientation=(np.cos(0.15), np.sin(0.15), 0.0, 0.0)),
+                         r"^exact_drop_3d drops a foot with no torque from the mud: at this orientation the loaded "
+                         r"elements at z = 0\.00512056 m \(from the body origin, world axes\) bear 0\.0173 m off the "
+                         r"vertical through it; expected a shape symmetric about that vertical"),
+                        (lambda: exact_drop_3d(2.0, params, shapes.capsule(0.03, 0.06, resolution=0.01),
+                                               orientation=(np.cos(0.25), np.sin(0.25), 0.0, 0.0)), "no torque")):
         with pytest.raises(InputError, match=match) as err:
             call()
         assert "\n" not in str(err.value)

@@ -168,7 +168,9 @@ def exact_drop_3d(
     strain, suction, necking, the post-necking decay, sticking), on its own depth ``z + o_i``, and its stress
     acts on its downward projection ``A_i max(-n_z, 0)`` (docs/model.md, "Mud in 3-D"; placed by
     :func:`mudforce.references.contact3d.place` and :func:`~mudforce.references.contact3d.vertical_weights`);
-    a symmetric foot has no sideways force and no torque. Elements at one depth share one state. The
+    a symmetric foot has no sideways force and no torque (a shape and orientation whose elements at some depth
+    are not balanced about the vertical through the body origin are refused). Elements at one depth share one
+    state. The
     phases and their events are those of :func:`exact_drop` (one solver for both: the 1-D drop is this
     with one element of area ``S``), with every element's touchdown, surface crossing and necking an event
     of its own, and the foot stuck while the load lies between the sums of the elements' bands.
@@ -210,11 +212,12 @@ def exact_drop_3d(
     quat = real_array(orientation, "orientation", "-")
     if quat.shape != (4,) or not np.all(np.isfinite(quat)) or abs(float(np.sqrt(np.sum(quat * quat))) - 1.0) > 1e-6:
         raise InputError(f"orientation must be a unit quaternion (w, x, y, z), got {shown(orientation)}")
-    _, _, normals, depth = place(shape, np.zeros((1, 3)), quat[None, :], 0.0)  # each centroid's depth: -c_z
+    offsets, _, normals, depth = place(shape, np.zeros((1, 3)), quat[None, :], 0.0)  # each centroid's depth: -c_z
     weights = vertical_weights(np.asarray(shape.areas, dtype=np.float64), normals[0])
     loaded = weights > 0.0
     if not np.any(loaded):
         raise InputError("the shape has no downward-facing element: nothing carries it")
+    _check_symmetric(depth[0, loaded], offsets[0, loaded, :2], weights[loaded])
     ref = float(-depth[0].max()) if bottom is None else bounded_depth(bottom, "bottom", of=" of the body origin")
     # element depth = reference point's depth + offset, offset = ref - c_z <= 0 for elements above it
     offset = np.round(depth[0, loaded] + ref, 12)  # one level for elements within 1e-12 m (a rotation's rounding)
@@ -227,6 +230,34 @@ def exact_drop_3d(
     order = np.argsort(-levels, kind="stable")  # the deepest level first
     return _solve_drop(mass, params, levels[order], summed[order], float(shape.width), duration=duration,
                        height=height, dt=dt, gravity=gravity, rtol=rtol)
+
+
+def _check_symmetric(depth: np.ndarray, horizontal: np.ndarray, weights: np.ndarray) -> None:
+    """Refuse, in one line, loaded elements (their depths below the body origin [m], horizontal offsets (n, 2) [m]
+    and vertical weights [m^2]) whose mud force would have a torque about the vertical through the body origin.
+
+    The elements at one depth share one state, so one stress: the torque vanishes at every instant only if each
+    depth's weighted horizontal offset ``sum w_i (x_i, y_i)`` does (a foot symmetric about that vertical); the law's
+    horizontal force is zero on a straight vertical motion anyway (no horizontal slip or drag). Depths within 1e-9 m
+    count as one (mirror twins of a rotation differ by its rounding), and a sum within 1e-9 of ``sum w_i`` times the
+    foot's horizontal reach as zero (rounding: 1.4e-15 for a lying capsule). Without it an asymmetric or tilted foot
+    was dropped straight as if it were symmetric, its torque left out.
+    """
+    order = np.argsort(depth, kind="stable")
+    group = np.concatenate([[0], np.cumsum(np.diff(depth[order]) > 1e-9)])
+    reach = float(np.max(np.hypot(horizontal[:, 0], horizontal[:, 1])))
+    moment = np.zeros((int(group[-1]) + 1, 2))
+    np.add.at(moment, group, weights[order, None] * horizontal[order])
+    total = np.bincount(group, weights=weights[order])
+    off = np.hypot(moment[:, 0], moment[:, 1]) / total  # each depth's centre of load off the vertical [m]
+    bad = np.flatnonzero(off > 1e-9 * reach)
+    if bad.size:
+        g = int(bad[np.argmax(off[bad])])
+        level, far = -float(depth[order][np.argmax(group == g)]), float(off[g])
+        raise InputError(f"exact_drop_3d drops a foot with no torque from the mud: at this orientation the loaded "
+                         f"elements at z = {level:.6g} m (from the body origin, world axes) bear {far:.3g} m "
+                         "off the vertical through it; expected a shape symmetric about that vertical (upright, or "
+                         "turned about an axis of its symmetry)")
 
 
 _FREE, _CONTACT, _NECKED = 0, 1, 2  # each element level's contact state (docs/model.md's state machine)
