@@ -407,3 +407,20 @@ def test_the_reference_refuses_a_mud_or_shape_of_another_type() -> None:
         reference_simulate_3d(t, pos, quat, PARAMS, None)  # type: ignore[arg-type]
     with pytest.raises(mf.InputError, match="the motion is empty"):  # it said they "must agree" (they did)
         reference_simulate_3d([], np.zeros((0, 3)), np.zeros((0, 4)), PARAMS, sphere)
+
+
+@pytest.mark.parametrize(("time", "z", "x", "match"), [
+    # each was solved (an element 100.48 m deep: 3.2e6 N), where simulate_3d refuses it: its bounds, in its words
+    ([0.0, 0.01, 0.02], -100.5, 0.0, r"^element 0: depth at sample 2 \(100.48\d* m\) is beyond \+-100 m"),
+    ([0.0, 0.01, 0.02], -0.01, 2e4, r"^sample 0 \(t = 0.0 s\): position x and y must be within \+-10000 m of the "
+                                    r"world origin, got \[20000.0, 0.0, 0.02\]$"),
+    ([2e9, 2e9 + 0.01, 2e9 + 0.02], -0.01, 0.0, r"^time at sample 0 \(2000000000.0 s\) is beyond \+-1e\+09 s$"),
+    ([0.0, 1e-12, 0.01], -0.01, 0.0, r"^the time step before sample 1 is 1e-12 s; expected steps within"),
+])
+def test_the_reference_refuses_a_motion_beyond_the_model_s_bounds(time: list[float], z: float, x: float,
+                                                                  match: str) -> None:
+    sphere = shapes.sphere(0.04, resolution=0.03)
+    pos = np.array([[x, 0.0, 0.02], [x, 0.0, 0.0], [x, 0.0, z]])
+    with pytest.raises(mf.InputError, match=match) as err:
+        reference_simulate_3d(time, pos, np.tile(UPRIGHT, (3, 1)), PARAMS, sphere)
+    assert "\n" not in str(err.value)

@@ -81,7 +81,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 from mudforce.errors import InputError, real_array
-from mudforce.model.bounds import bounded_depth
+from mudforce.model.bounds import MAX_DEPTH, MAX_HORIZONTAL, bounded_depth, check_depths, check_times
 from mudforce.model.foot import Foot
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, RFT3D_C3, rft3d_alpha, rft3d_alpha_unchecked
 from mudforce.model.law3d import check_lateral_stiffness
@@ -452,8 +452,11 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
                          f"{x.shape} and {q.shape}")
     if not (np.all(np.isfinite(t)) and np.all(np.isfinite(x)) and np.all(np.isfinite(q))):
         raise InputError("time, positions and quaternions must be finite")
-    if m > 1 and not np.all(np.diff(t) > 0.0):
-        raise InputError("time must be strictly increasing [s]")
+    check_times(t)  # simulate_3d's bounds and words (a step of 1e-12 s and a time of 2e9 s were solved)
+    far = np.flatnonzero(~np.all(np.abs(x[:, :2]) <= MAX_HORIZONTAL, axis=1))
+    if far.size:  # MudContact3D's bound, in its words (2e4 m was solved)
+        raise InputError(f"sample {far[0]} (t = {float(t[far[0]])!r} s): position x and y must be within "
+                         f"+-{MAX_HORIZONTAL:g} m of the world origin, got {x[far[0]].tolist()!r}")
     if not np.all(np.abs(np.sqrt(np.sum(q * q, axis=1)) - 1.0) <= 1e-6):
         raise InputError("quaternions must have norm 1 (within 1e-6)")
     h = bounded_depth(surface_height, "surface_height")  # MudContact3D's checks, in its words
@@ -468,6 +471,12 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
     areas = np.asarray(shape.areas, dtype=np.float64)
 
     offsets, centroids, normals, depth = place(shape, x, q, h)
+    deep = np.flatnonzero(~np.all(np.abs(depth) <= MAX_DEPTH, axis=0))
+    if deep.size:  # simulate_3d's bound on every element's depth (an element 100.48 m deep was solved)
+        try:
+            check_depths(depth[:, deep[0]])
+        except InputError as error:
+            raise InputError(f"element {deep[0]}: {error}") from None
 
     # --- vertical: the 1-D oracle on each element's depth history (identical histories solved once)
     stress = np.zeros((m, n))

@@ -40,6 +40,7 @@ from scipy.integrate import solve_ivp
 
 from mudforce._kernel.layout import ContactMode
 from mudforce.errors import InputError, real_array
+from mudforce.model.bounds import check_depths, check_times
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
@@ -191,11 +192,12 @@ def reference_simulate(
     t = real_array(time, "time", "s")
     z = real_array(depth, "depth", "m")
     if t.ndim != 1 or t.shape != z.shape or t.size == 0:
-        raise ValueError("time and depth must be non-empty 1-D arrays of the same length")
-    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(z))):
-        raise ValueError("time and depth must be finite")
-    if t.size > 1 and not np.all(np.diff(t) > 0.0):
-        raise ValueError("time must be strictly increasing")
+        raise InputError(f"time and depth must be non-empty 1-D arrays of the same length, got shapes {t.shape} and "
+                         f"{z.shape}")
+    # simulate's bounds and words (model.bounds): a depth of 100.5 m, a step of 1e-12 s or 2000 s and a time of
+    # 2e9 s were solved, where the model refuses them
+    check_depths(z)
+    check_times(t)
     foot = Foot.paper() if foot is None else foot
     p = params
     area = foot.area
