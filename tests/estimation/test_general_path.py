@@ -6,12 +6,13 @@ import numpy as np
 import pytest
 
 from mudforce.estimation.calibration import fit_condition, identify_water_content, prepare_trial
-from mudforce.estimation.calibration.branches import estimate_force_noise
+from mudforce.estimation.calibration.branches import creep_withdrawals, estimate_force_noise, label_branches
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.motions.gait import walk
+from mudforce.steppers.simulation import simulate
 
 
 def _trial(w: float, seed: int, **kw: object) -> tuple[Trial, object]:
@@ -41,6 +42,50 @@ def test_denoised_depth_drives_the_model_to_the_true_force(w: float, seed: int, 
     assert prepared.bias_estimated == start_below
     if not start_below:
         assert abs(prepared.bias - 0.5) < 0.2
+
+
+def _stance(rise: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A foot at 1 kHz: touchdown, a bounce, 0.2 s of stance rising by ``rise`` [m], withdrawal; the true model force,
+    and the force a stuck foot measures (constant in the rest band through the stance, as MuJoCo's carries it)."""
+    t = np.arange(500) * 1e-3
+    z = np.interp(t, [0.0, 0.062, 0.074, 0.110, 0.286, 0.33, 0.5],
+                  [-0.005, 0.0031, 0.00297, 0.00299, 0.00299 - rise, -0.010, -0.010])
+    true = np.asarray(simulate(t, z, MudParameters.from_water_content(0.16), Foot.paper(),
+                               velocity_filter="exact").force)
+    measured = true.copy()
+    measured[(t > 0.074) & (t < 0.286)] = true[75]
+    return t, z, true, measured
+
+
+def test_a_stance_that_creeps_up_is_read_as_a_withdrawal() -> None:
+    """A standing foot that rises by 80 um over 0.2 s (0.4 um a step under 30 um of depth noise): the step-by-step
+    labels read rest until the foot lifts clearly, and the model then withdrew from the wrong depth (its force 2.8-2.9 N
+    off during the withdrawal, seeds 0-7); the hinge through the stance finds the creep (docs/estimation.md)."""
+    t, z, true, measured = _stance(8e-5)
+    params = MudParameters.from_water_content(0.16).as_array()
+    lifting = (t > 0.29) & (t < 0.33)
+    for seed in range(3):
+        rng = np.random.default_rng(seed)
+        zn, fn = z + 3e-5 * rng.standard_normal(t.size), measured + 0.2 * rng.standard_normal(t.size)
+        labels = label_branches(t, zn, fn, depth_noise=3e-5, force_noise=0.2)
+        assert np.all(labels[120:280] == 1)  # read step by step: rest, on the intrusion branch
+        creep = creep_withdrawals(t, zn, labels, 3e-5)
+        first = int(np.argmax(creep[80:286] == -1)) + 80
+        assert 0.105 <= t[first] <= 0.16 and np.all(creep[first:286] == -1)
+        prepared = prepare_trial(Trial("creep", 0.16, t, zn, fn), depth_noise=3e-5, protocol=False)
+        force = CHEN2024.force(t, prepared.depth, params, Foot.paper())
+        assert np.max(np.abs(force - true)[lifting]) < 0.8
+
+
+def test_a_still_stance_stays_at_rest() -> None:
+    """The same stance without the rise: no creep read, in 30 noise draws (the hinge's best slope through noise
+    stays under CREEP_SIGMAS standard errors)."""
+    t, z, _, measured = _stance(0.0)
+    for seed in range(30):
+        rng = np.random.default_rng(seed)
+        zn, fn = z + 3e-5 * rng.standard_normal(t.size), measured + 0.2 * rng.standard_normal(t.size)
+        labels = label_branches(t, zn, fn, depth_noise=3e-5, force_noise=0.2)
+        assert np.array_equal(creep_withdrawals(t, zn, labels, 3e-5), labels)
 
 
 def test_noiseless_gait_is_followed_exactly() -> None:

@@ -49,6 +49,8 @@ from mudforce._plumbing.jit import njit
 from mudforce.model.velocity import NOISE_FLOOR_M
 
 __all__ = [
+    "CREEP_SAMPLES",
+    "CREEP_SIGMAS",
     "CUT",
     "JUMP_REWARD_CAP",
     "QUIET_MIN_WINDOWS",
@@ -59,6 +61,7 @@ __all__ = [
     "QUIET_WINDOW",
     "SWITCH_COST",
     "corner_preserving_smooth",
+    "creep_withdrawals",
     "denoise_depth",
     "estimate_force_noise",
     "estimate_quiet_noise",
@@ -85,6 +88,12 @@ _CUT_HOLD = 3
 _NOISE_WINDOWS = 20
 #: Log-likelihood a suction cut off out of the mud gives its upward switch [-]: more than any depth step can take away.
 _CUT_REWARD = 1000.0
+#: How steeply a standing foot's depth must fall (it rises) before a withdrawal, in standard errors of the slope
+#: of :func:`creep_withdrawals`' hinge, for it to read a slow withdrawal there [-] (ours: the best hinge through
+#: a still stance's white noise read at most 3.5 of them in 587 draws of 16-1000 samples).
+CREEP_SIGMAS = 5.0
+#: Fewest samples of such a stretch :func:`creep_withdrawals` reads [-] (ours).
+CREEP_SAMPLES = 16
 #: Order of the divided differences :func:`estimate_quiet_noise` reads the noise from [-] (ours).
 QUIET_ORDER = 5
 #: Differences per window whose median is one noise level in :func:`estimate_quiet_noise` [-] (ours).
@@ -460,6 +469,53 @@ def label_branches(time: np.ndarray, depth: np.ndarray, force: np.ndarray, *,
             labels[a:b] = -labels[a]
     labels[cut & (labels > 0)] = CUT
     return labels
+
+
+def creep_withdrawals(time: np.ndarray, depth: np.ndarray, labels: np.ndarray, depth_noise: float) -> np.ndarray:
+    """``labels`` with the slow withdrawals in the mud that the depth noise hides step by step set to -1 [-].
+
+    The model's branch is the sign of each step (the paper's exact rule): a foot that rises by a micrometre a
+    step is on the withdrawal branch, and the force drops there from the intrusion branch's to the withdrawal
+    branch's. A standing foot often creeps up so: a robot's weight shifts, and its foot rises by a fraction of a
+    millimetre a second, steps far below the depth noise at a high rate (0.4 um a step at 1 kHz under 30 um of
+    noise), which :func:`label_branches` reads step by step as rest on the intrusion branch, until the foot
+    lifts clearly. The model then withdraws from the wrong depth at the wrong time, and its suction after that
+    is off by newtons (issue 23; a MuJoCo robot's stances at 1 kHz). Read together, the samples show the creep:
+    for each run of intrusion steps in the mud that ends in a withdrawal step, a least-squares hinge through the
+    run's depth (flat, then a straight line up from a corner at one of its samples: :func:`rest_steps`' hinge
+    upside down); if the line rises by more than :data:`CREEP_SIGMAS` standard errors of its slope (white noise
+    of ``depth_noise``) over at least :data:`CREEP_SAMPLES` samples, the foot was withdrawing from the corner on,
+    and those steps are withdrawal steps (ours).
+
+    Parameters
+    ----------
+    time : ndarray
+        Sample times [s] (``n``), strictly increasing.
+    depth : ndarray
+        Measured depth [m], positive down.
+    labels : ndarray
+        Each step's branch (``n - 1`` values) from :func:`label_branches`.
+    depth_noise : float
+        Standard deviation of the depth noise [m]; at or below 1 nm the labels are returned as they are (the
+        steps' own signs are then the branch).
+    """
+    lab: np.ndarray = np.asarray(labels, dtype=np.int8).copy()
+    if depth_noise <= NOISE_FLOOR_M or lab.size == 0:
+        return lab
+    t = np.asarray(time, dtype=np.float64)
+    z = np.asarray(depth, dtype=np.float64)
+    intrusion = np.concatenate([[0], (lab == 1).astype(np.int8), [0]])
+    edges = np.flatnonzero(np.diff(intrusion))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):  # steps a .. b-1, samples a .. b
+        if b >= lab.size or lab[b] != -1 or b - a + 1 < CREEP_SAMPLES or not np.all(z[a:b + 1] > 0.0):
+            continue
+        a = max(a, b - _HINGE_SAMPLES)  # a long stance: the creep, if any, is near its end
+        # the depth flat, then falling along a line from a corner at some sample (the hinge of rest_steps, upside down)
+        ssr, slope, srr = _hinge_fit(t[a:b + 1], -z[a:b + 1], t[a:b])
+        k = int(np.argmin(ssr))
+        if b - (a + k) + 1 >= CREEP_SAMPLES and slope[k] > CREEP_SIGMAS * depth_noise / math.sqrt(srr[k]):
+            lab[a + k:b] = -1
+    return lab
 
 
 @njit(cache=True)

@@ -31,6 +31,7 @@ from scipy.optimize import least_squares
 
 from mudforce.errors import InputError, is_real, real_array, shown
 from mudforce.estimation.calibration.branches import (
+    creep_withdrawals,
     denoise_depth,
     estimate_force_noise,
     estimate_quiet_noise,
@@ -473,6 +474,7 @@ def _prepare_general(trial: Trial, known_depth_noise: float | None = None, quiet
     # between the rest band's edges between the samples, which the differences would take for noise)
     force_noise = estimate_force_noise(t, f, where=z < -3.0 * depth_noise if depth_noise > 0.0 else z < 0.0)
     labels = label_branches(t, z, f, depth_noise=depth_noise, force_noise=force_noise)
+    labels = creep_withdrawals(t, z, labels, depth_noise)
     labels = rest_steps(t, z, labels, depth_noise, f, force_noise)
     depth = denoise_depth(z, labels, t if depth_noise > 0.0 else None, noise=depth_noise)
     inside = depth > 0.0
