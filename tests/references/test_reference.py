@@ -290,8 +290,9 @@ def test_reference_refuses_a_mud_or_foot_of_another_type_in_one_line() -> None:
     # each was solved (a depth of 100.5 m: 4.8e6 N), where simulate refuses it: the model's bounds, in its words
     ([0.0, 0.01, 0.02], [0.0, 0.01, 100.5], r"^depth at sample 2 \(100.5 m\) is beyond \+-100 m; expected depths"),
     ([2e9, 2e9 + 0.01], [0.0, 0.01], r"^time at sample 0 \(2000000000.0 s\) is beyond \+-1e\+09 s$"),
-    ([0.0, 1e-12], [0.0, 0.001], r"^the time step before sample 1 is 1e-12 s; expected steps within \[1e-09, 1000\]"),
-    ([0.0, 2000.0], [0.0, 0.01], r"^the time step before sample 1 is 2000.0 s; expected steps within"),
+    ([0.0, 1e-12], [0.0, 0.001],
+     r"^the time step before sample 1 \(t = 1e-12 s\) is 1e-12 s; expected steps within \[1e-09, 1000\]"),
+    ([0.0, 2000.0], [0.0, 0.01], r"^the time step before sample 1 \(t = 2000.0 s\) is 2000.0 s; expected steps within"),
     ([0.0, 0.01], [0.0, math.nan], r"^depth is not finite at sample 1 \(nan\); expected numbers \[m\]$"),
     ([0.0, 0.0], [0.0, 0.01], r"^time repeats at sample 1"),
     ([0.0, 0.01], [0.0], r"^time and depth must be non-empty 1-D arrays of the same length, got shapes \(2,\) and "

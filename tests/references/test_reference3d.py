@@ -415,7 +415,8 @@ def test_the_reference_refuses_a_mud_or_shape_of_another_type() -> None:
     ([0.0, 0.01, 0.02], -0.01, 2e4, r"^sample 0 \(t = 0.0 s\): position x and y must be within \+-10000 m of the "
                                     r"world origin, got \[20000.0, 0.0, 0.02\]$"),
     ([2e9, 2e9 + 0.01, 2e9 + 0.02], -0.01, 0.0, r"^time at sample 0 \(2000000000.0 s\) is beyond \+-1e\+09 s$"),
-    ([0.0, 1e-12, 0.01], -0.01, 0.0, r"^the time step before sample 1 is 1e-12 s; expected steps within"),
+    ([0.0, 1e-12, 0.01], -0.01, 0.0,
+     r"^the time step before sample 1 \(t = 1e-12 s\) is 1e-12 s; expected steps within"),
 ])
 def test_the_reference_refuses_a_motion_beyond_the_model_s_bounds(time: list[float], z: float, x: float,
                                                                   match: str) -> None:
