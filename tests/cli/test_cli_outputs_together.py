@@ -6,7 +6,8 @@
   temporary file);
 - ``synth`` without ``--motion gait``: ``--duration``, ``--jitter`` and ``--start-below`` are refused, not ignored
   (``--duration xyz`` wrote a dataset); with it, ``--velocities``, ``--depth``, ``--hold`` and ``--approach`` are;
-- ``mudforce`` with no command, and a subcommand's unknown option: one line each, naming the parser they belong to.
+- ``mudforce`` with no command, and a subcommand's unknown option: one line each, naming the parser they belong to;
+- a full disk while ``synth`` or ``fit --report`` writes: exit 1, one line naming the file (found 2026-12-01).
 
 The write failures need a folder that passes the up-front check (``os.access``) yet refuses to create files: Linux's
 ``/sys`` for root, who passes every ``os.access`` check, as in CI; elsewhere those cases are skipped.
@@ -84,3 +85,47 @@ def test_no_command_and_a_subcommand_s_unknown_option_are_one_line_naming_the_ri
     assert_refused(runs[0], "a command is required", "simulate", "reproduce")  # was the whole help, 28 lines
     assert_refused(runs[1], "mudforce params: error: unrecognized arguments: --bogus", "mudforce params --help")
     assert_refused(runs[2], "mudforce: error: unrecognized arguments: --bogus")
+
+
+def test_a_full_disk_in_a_staged_folder_is_exit_1_naming_the_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    """``synth``, ``fit --report`` (and ``reproduce``: the same staged folder) let a full disk's OSError escape as
+    ``mudforce synth: error: No space left on device``, naming no file, where ``fit`` alone, ``track`` or ``drop``
+    said ``cannot write FILE: ...``. Now every command: a write refused for its path is exit 2, the system's failure
+    exit 1, either one line naming the output (a folder's file by its path), every output as it was. (In process;
+    the fit replaced by a canned result, the report by one file: the writes are what is tested.)"""
+    from types import SimpleNamespace
+
+    import mudforce.estimation.calibration.fit as fitting
+    import mudforce.estimation.calibration.report as report
+    from mudforce.cli import main
+    from mudforce.io import atomic_write_text
+
+    monkeypatch.chdir(tmp_path)
+    synth = ["synth", "--quiet", "--repeats", "1", "--velocities", "40mm/s", "--hold", "0.2s", "--out", "ds"]
+    assert main(synth) == 0
+    trial = next(p.name for p in sorted((tmp_path / "ds").iterdir()) if p.suffix == ".csv")
+    (tmp_path / "fit.json").write_bytes(PREVIOUS)
+    (tmp_path / "rep").mkdir()
+    (tmp_path / "rep" / "report.md").write_bytes(PREVIOUS)
+    before = snapshot(tmp_path)
+    capsys.readouterr()
+    monkeypatch.setattr(fitting, "fit_dataset", lambda *a, **k: SimpleNamespace(
+        conditions=[], save=lambda path: atomic_write_text(path, "{}\n")))
+    monkeypatch.setattr(report, "write_report", lambda result, folder, **k: atomic_write_text(folder / "report.md",
+                                                                                             "new\n"))
+    calls: list[int] = []
+
+    def full(fd: int) -> None:  # the disk fills after fit.json's first write: report.md fails
+        calls.append(fd)
+        if len(calls) > 1:
+            raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full)
+    assert main(["fit", "ds", "--out", "fit.json", "--report", "rep", "--quiet"]) == 1
+    assert capsys.readouterr().err == (f"mudforce fit: error: cannot write {tmp_path.resolve() / 'rep' / 'report.md'}"
+                                       ": No space left on device\n")
+    assert main([*synth, "--force", "--seed", "2"]) == 1
+    assert capsys.readouterr().err == (f"mudforce synth: error: cannot write {tmp_path.resolve() / 'ds' / trial}: "
+                                       "No space left on device\n")
+    assert snapshot(tmp_path) == before  # the old fit, report and dataset, nothing staged left beside them

@@ -80,8 +80,8 @@ def test_a_shape_s_csv_that_cannot_be_written_is_named_as_every_command_names_it
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
     """``--shape``'s CSV was written its own way: a full disk said "cannot write output (OSError: No space left on
     device)", naming no file, where the 1-D drop and every other command say "cannot write FILE: ...". Now through
-    the same writer: the file named, exit 2 as theirs, the old file as it was. (In process, the engine replaced by a
-    canned result: the write is what is tested.)"""
+    the same writer: the file named, exit 1 as theirs (a full disk is the system's failure, not bad input), the old
+    file as it was. (In process, the engine replaced by a canned result: the write is what is tested.)"""
     import os
     from types import SimpleNamespace
 
@@ -104,6 +104,6 @@ def test_a_shape_s_csv_that_cannot_be_written_is_named_as_every_command_names_it
     monkeypatch.setattr(os, "fsync", full)
     status = main(["drop", "--engine", "mujoco", "--shape", "disc:50mmx5mm", "--mass", "2kg", "--water-content",
                    "25%", "--duration", "3ms", "--out", "s.csv"])
-    assert (status, capsys.readouterr().err) == (2, "mudforce drop: error: cannot write s.csv: No space left on "
+    assert (status, capsys.readouterr().err) == (1, "mudforce drop: error: cannot write s.csv: No space left on "
                                                     "device\n")
     assert [p.name for p in tmp_path.iterdir()] == ["s.csv"] and (tmp_path / "s.csv").read_bytes() == PREVIOUS

@@ -126,8 +126,9 @@ def test_an_out_that_cannot_be_written_whole_is_left_as_it_was(tmp_path: Path, m
                                                                capsys: pytest.CaptureFixture[str]) -> None:
     """--out alone was written in place (Path.write_text): a write that failed (a full disk, a file size limit: 20 kB
     of a 30 kB CSV) left the old file replaced by the part written. Now through atomic_open, as every output: a
-    failure leaves it as it was, and no temporary file. (In process, the tracker replaced by a canned result: the
-    write is what is tested.)"""
+    failure leaves it as it was, and no temporary file. A full disk is the system's failure, not bad input: exit 1
+    (it was 2, as a refused path), one line naming the file. (In process, the tracker replaced by a canned result:
+    the write is what is tested.)"""
     import os
 
     from mudforce.cli import main
@@ -145,7 +146,7 @@ def test_an_out_that_cannot_be_written_whole_is_left_as_it_was(tmp_path: Path, m
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(os, "fsync", full)
-    assert main(["track", "in.csv", "--out", "o.csv", "--quiet"]) == 2
+    assert main(["track", "in.csv", "--out", "o.csv", "--quiet"]) == 1
     assert capsys.readouterr().err.strip() == "mudforce track: error: cannot write o.csv: No space left on device"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in.csv", "o.csv"]
     assert (tmp_path / "o.csv").read_bytes() == b"previous output\n"

@@ -70,7 +70,8 @@ def test_a_failed_commit_puts_the_old_pair_back(tmp_path: Path, monkeypatch: pyt
     def full_disk(src: object, dst: object) -> None:
         raise OSError(28, "No space left on device", str(dst))
 
-    with pytest.raises(OSError, match="No space"), StagedOutputs(TAG, folders=[report], files=[fit]) as staged:
+    with pytest.raises(OSError, match=f"^cannot write {fit}: No space left on device$"), \
+            StagedOutputs(TAG, folders=[report], files=[fit]) as staged:
         staged.staged_path(fit).write_text("new fit\n")
         (staged.staged_path(report) / "report.md").write_text("new report\n")
         monkeypatch.setattr(mudforce.io.os, "replace", full_disk)  # the file's rename fails after the folder's swap
@@ -172,3 +173,54 @@ def test_an_output_folder_name_too_long_is_refused_in_one_line(tmp_path: Path) -
         with pytest.raises(InputError, match=r"^--out:? '.{1,80}': File name too long$"):
             check()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failed_write_is_named_by_its_output_and_sorted_by_one_rule(tmp_path: Path,
+                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """A full disk while an output was written raised a bare OSError ("No space left on device", no file named; or
+    the hidden staged copy's name), where write_outputs raised InputError for any OSError. Now one rule: the path's
+    fault (permission denied, ...) is InputError, the system's (no space, I/O error) an OSError; either says
+    ``cannot write OUTPUT: WHY``, the output as given, and every output is left as it was."""
+    from mudforce.errors import InputError
+    from mudforce.io import atomic_write_text, check_output_dir, check_replaceable_dir, write_outputs
+
+    fit, report = _old_pair(tmp_path)
+    before = snapshot(tmp_path)
+    real_fsync, real_mkdtemp = os.fsync, mudforce.io.tempfile.mkdtemp
+
+    def fail(code: int, *args: object) -> None:
+        raise OSError(code, os.strerror(code))
+
+    monkeypatch.setattr(os, "fsync", lambda fd: fail(28))
+    with pytest.raises(OSError, match=f"^cannot write {fit}: No space left on device$") as failure:
+        atomic_write_text(fit, "new\n")
+    assert failure.value.errno == 28 and failure.value.filename == str(fit) and not isinstance(failure.value,
+                                                                                               InputError)
+    with pytest.raises(OSError, match=f"^cannot write {report / 'report.md'}: No space left on device$"), \
+            StagedOutputs(TAG, folders=[report]) as staged:  # a staged folder's file: by its output's path
+        atomic_write_text(staged.staged_path(report) / "report.md", "new\n")
+    png = tmp_path / "a.png"
+    with pytest.raises(OSError, match=f"^cannot write {png}: Input/output error$"):  # the plot, not the CSV
+        write_outputs(TAG, {fit: lambda path: path.write_text("new\n"), png: lambda path: fail(5)})
+    monkeypatch.setattr(os, "fsync", lambda fd: fail(13))  # (a path's fault, as the system reports it)
+    with pytest.raises(InputError, match=f"^cannot write {fit}: Permission denied$"):
+        write_outputs(TAG, {fit: lambda path: atomic_write_text(path, "new\n")})
+    monkeypatch.setattr(os, "fsync", real_fsync)
+
+    def mkdtemp(*args: object, **kwargs: object) -> str:  # no room for a new folder
+        if "-probe-" in str(kwargs.get("prefix")) or "-new-" in str(kwargs.get("prefix")):
+            fail(122)  # EDQUOT
+        return real_mkdtemp(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(mudforce.io.tempfile, "mkdtemp", mkdtemp)
+    with pytest.raises(OSError, match=f"^cannot write {report}: Disk quota exceeded$"):
+        StagedOutputs(TAG, folders=[report], files=[fit])
+    with pytest.raises(OSError, match=f"^cannot write {report}: Disk quota exceeded$"):
+        check_replaceable_dir(report, "--report", {"report.md"}, TAG)
+    monkeypatch.setattr(mudforce.io.tempfile, "NamedTemporaryFile", lambda **kwargs: fail(28))
+    with pytest.raises(OSError, match=f"^cannot write {report}: No space left on device$"):
+        check_output_dir(report)
+    monkeypatch.setattr(mudforce.io.tempfile, "NamedTemporaryFile", lambda **kwargs: fail(13))
+    with pytest.raises(InputError, match=f"^--out {report}: cannot write there \\(Permission denied\\)$"):
+        check_output_dir(report)
+    assert snapshot(tmp_path) == before

@@ -12,6 +12,16 @@ its root (units, bounds, strict readers: :mod:`mudforce.io.units`,
 :mod:`mudforce.io.tables`, :mod:`mudforce.io`); an ``OverflowError``,
 ``RecursionError`` or ``ValueError`` that still escapes a command is
 reported the same way (one line, status 2), as a last line of defence.
+
+Writing follows one rule in every command (:mod:`mudforce.io`'s writers): a
+write refused because of the path given (a folder that does not exist or is
+not writable, a name too long, a path that is a directory, permission
+denied) is bad input, status 2; a failure of the system while writing (no
+space left, an I/O error, a quota exceeded) is status 1. Either is one line
+naming the output (``mudforce simulate: error: cannot write out.csv: No
+space left on device``) and leaves every output as it was (nothing
+half-written); a folder written whole (``synth``, ``reproduce``, ``fit
+--report``) names the file in it that failed, by its full path.
 """
 
 from __future__ import annotations
@@ -25,6 +35,7 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from mudforce._plumbing import interrupt as _interrupt
+from mudforce._plumbing.writes import WriteFailure
 from mudforce.errors import InputError
 
 __all__ = ["COMMANDS", "main"]
@@ -193,9 +204,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     except OSError as exc:
         # the system failed us mid-way (a full disk, a vanished folder): one line, not a traceback;
-        # status 1, since the input itself was fine (paths are checked before any work)
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"mudforce {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        # status 1, since the input itself was fine (paths are checked before any work). A write's failure
+        # names its output ("cannot write g5.csv: No space left on device")
+        if isinstance(exc, WriteFailure):
+            text = str(exc)
+        else:
+            text = (f"{exc.filename}: " if exc.filename else "") + str(exc.strerror or exc)
+        print(f"mudforce {args.command}: error: {text}", file=sys.stderr)
         return 1
 
 

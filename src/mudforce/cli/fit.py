@@ -143,17 +143,14 @@ def run(args: argparse.Namespace) -> int:
     if report is None:
         result = fit_dataset(dataset, model=model, free=free, fixed=fixed, shared=_names(args.shared, "--shared"),
                              seed=seed, quiet=args.quiet, force_gain_uncertainty=gain)
-        write_outputs(_TAG, {out: result.save})  # an OSError as a one-line error naming --out's file
+        write_outputs(_TAG, {out: result.save})  # a failure as a one-line error naming --out's file
     else:
         from mudforce.estimation.calibration.report import write_report
 
         # the fit and its report are built aside and swapped in together at the end: an interrupted run
         # leaves the old pair (or, once swapped, the new one), and the next run removes what a killed one left
-        try:
-            staging = StagedOutputs(_TAG, folders=[report], files=[out])  # before the fit: nothing is lost to it
-        except OSError as exc:
-            raise InputError(f"cannot write {out} and {report}: {exc.strerror or exc}") from None
-        with staging as staged:
+        # before the fit, so that nothing is lost to it: a failure names the output (InputError, or an OSError)
+        with StagedOutputs(_TAG, folders=[report], files=[out]) as staged:
             result = fit_dataset(dataset, model=model, free=free, fixed=fixed,
                                  shared=_names(args.shared, "--shared"), seed=seed, quiet=args.quiet,
                                  force_gain_uncertainty=gain)

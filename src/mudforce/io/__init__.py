@@ -52,6 +52,7 @@ from types import TracebackType
 from typing import IO, Any, TypeVar
 
 from mudforce._plumbing import interrupt as _interrupt
+from mudforce._plumbing.writes import WriteFailure, is_path_error, write_error
 from mudforce.errors import InputError
 
 __all__ = [
@@ -122,6 +123,14 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     any name the file system accepts for ``path`` works. If the block
     raises, the temporary file is removed and an existing file is left
     untouched. A FIFO, socket or device is refused (:class:`InputError`).
+
+    An :class:`OSError` met on the way (the block's own included) names
+    ``path`` as given, by one rule (:mod:`mudforce._plumbing.writes`): a
+    write refused because of the path (a folder that does not exist or is
+    not writable, a name too long, permission denied) is bad input,
+    :class:`InputError` ``cannot write PATH: WHY``; a failure of the
+    system (no space left, an I/O error, a quota exceeded) an
+    :class:`OSError` whose message is ``cannot write PATH: WHY``.
     """
     if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
         raise InputError(f"output must be a file path (str or os.PathLike), got {type(path).__name__} {path!r}")
@@ -138,6 +147,8 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     except (FileNotFoundError, NotADirectoryError, PermissionError) as exc:  # named by the path, not the temporary
         problem = "does not exist" if not directory.is_dir() else f"cannot hold a new file ({exc.strerror})"
         raise InputError(f"cannot write {str(path)!r}: directory {str(directory)!r} {problem}") from None
+    except OSError as exc:  # a full disk, a quota, a read-only file system: named by the path, not the temporary
+        raise write_error(exc, path) from None
     try:
         # mkstemp makes the file private (0600); keep an existing target's permissions, else 0666 & ~umask
         os.chmod(tmp, _permissions(target, 0o666))
@@ -147,9 +158,11 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(tmp, target)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
+        if isinstance(exc, OSError) and not isinstance(exc, WriteFailure):  # (one already named stays so)
+            raise write_error(exc, path) from None
         raise
 
 
@@ -250,6 +263,9 @@ def check_output_dir(out: str | os.PathLike[str] | None, option: str = "--out") 
     ------
     InputError
         If ``out`` is empty, an existing file, cannot be created, or is not writable.
+    OSError
+        If the system fails while the folder is made or tried (no space left, an I/O error), naming it
+        (:func:`atomic_open`'s rule).
     """
     if out is None or not str(out).strip():
         raise InputError(f"{option}: empty folder name; expected a folder name")
@@ -264,11 +280,15 @@ def check_output_dir(out: str | os.PathLike[str] | None, option: str = "--out") 
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
+        if not is_path_error(exc):  # a full disk, an I/O error: the system's failure, not the name's
+            raise write_error(exc, path) from None
         raise InputError(f"{option} {path}: cannot create the directory ({exc.strerror or exc})") from None
     try:
         with tempfile.NamedTemporaryFile(dir=path, prefix=_TMP_PREFIX):
             pass
     except OSError as exc:
+        if not is_path_error(exc):
+            raise write_error(exc, path) from None
         raise InputError(f"{option} {path}: cannot write there ({exc.strerror or exc})") from None
     return path
 
@@ -401,6 +421,9 @@ def check_replaceable_dir(out: str | os.PathLike[str], option: str, files: Colle
         output (``files``, PNGs, an atomic writer's ``.*.tmp`` leftover),
         overlaps the mudforce package, or its parent folder cannot be
         created or written.
+    OSError
+        If the system fails while the parent folder is made or tried (no space left, an I/O error), naming
+        ``out`` (:func:`atomic_open`'s rule).
     """
     if not isinstance(out, (str, os.PathLike)):  # reproduce(out=5) raised a bare TypeError from Path()
         raise InputError(f"{option}: a folder is a path (str or os.PathLike), got {type(out).__name__}")
@@ -442,12 +465,16 @@ def check_replaceable_dir(out: str | os.PathLike[str], option: str, files: Colle
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
+        if not is_path_error(exc):  # a full disk, an I/O error: the system's failure, not the name's
+            raise write_error(exc, given) from None
         raise InputError(f"{option} {given}: cannot create its parent folder ({exc.strerror or exc})") from None
     try:
         probe = tempfile.mkdtemp(prefix=_sibling_prefix(path, tag, "probe"), dir=path.parent)
         with contextlib.suppress(FileNotFoundError):  # a concurrent clean_stale may have taken it
             os.rmdir(probe)
     except OSError as exc:
+        if not is_path_error(exc):
+            raise write_error(exc, given) from None
         raise InputError(f"{option} {given}: cannot write beside it in {path.parent} "
                          f"({exc.strerror or exc})") from None
     return path
@@ -550,6 +577,12 @@ class StagedOutputs:
     process, so that :func:`clean_stale`, which every new run calls first
     for each of its targets, removes it only once its run is gone.
 
+    A failure met while staging, swapping in, or writing into a staged copy
+    (an :class:`OSError` naming a file in it: :func:`atomic_open`'s) names
+    the output as given, not its hidden copy, by :func:`atomic_open`'s rule:
+    :class:`InputError` for a path refused, an :class:`OSError`
+    ``cannot write OUTPUT: WHY`` for a failure of the system.
+
     Parameters
     ----------
     tag : str
@@ -571,17 +604,21 @@ class StagedOutputs:
         # KeyboardInterrupt of a Ctrl-C that came meanwhile is raised there, past the staging: the ``try`` holds
         # the ``with``, so that it too removes what was staged (no ``__exit__`` runs for an object whose
         # constructor raised)
+        doing: Path | None = None  # the output being staged, named by a failure
         try:
             with _interrupt.held():
                 for folder in folders:
-                    target = Path(folder)
+                    target = doing = Path(folder)
                     self._folders[target] = self._stage(target, folder=True)
                 for file in files:
+                    doing = Path(file)
                     target = write_target(file)
                     self._files[Path(file)] = (target, self._stage(target, folder=False))
-        except BaseException:
+        except BaseException as exc:
             with _interrupt.held():  # a second Ctrl-C does not leave the staged folders half-removed
                 self._discard()
+            if isinstance(exc, OSError) and not isinstance(exc, WriteFailure) and doing is not None:
+                raise write_error(exc, doing) from None
             raise
 
     def _stage(self, target: Path, *, folder: bool) -> Path:
@@ -617,6 +654,23 @@ class StagedOutputs:
         if not self.committed:
             with _interrupt.held():  # a second Ctrl-C does not leave the staged folders half-removed
                 self._discard()
+        if isinstance(exc, OSError):
+            output = self._output_of(exc)
+            if output is not None:  # a write into a staged copy failed: named by the output it stands for
+                raise write_error(exc, output) from None
+
+    def _output_of(self, exc: OSError) -> Path | None:
+        """The output (as given) whose staged copy holds ``exc``'s file; None if it names none."""
+        if not exc.filename or not isinstance(exc.filename, (str, os.PathLike)):
+            return None
+        name = Path(os.fsdecode(exc.filename))
+        for target, staged in self._folders.items():
+            if name == staged or staged in name.parents:
+                return target / name.relative_to(staged)
+        for given, (target, staged) in self._files.items():
+            if name == staged / target.name:
+                return given
+        return None
 
     def _discard(self) -> None:
         for staged in [*self._folders.values(), *(s for _, s in self._files.values())]:
@@ -646,20 +700,25 @@ class StagedOutputs:
             _interrupt.check()
             undo: list[Callable[[], None]] = []
             old: list[tuple[Path, int | None]] = []  # old folders to drop, each with the lock marking it in use
+            doing: Path | None = None  # the output being swapped in, named by a failure
             try:
                 for target, staged in self._folders.items():
+                    doing = target
                     self._swap(staged, target, undo, old)
-                for target, staged in self._files.values():
+                for given, (target, staged) in self._files.items():
+                    doing = given
                     new = staged / target.name
                     os.chmod(new, _permissions(target, 0o666))  # an existing file's permissions kept
                     os.replace(new, target)
-            except BaseException:
+            except BaseException as exc:
                 for step in reversed(undo):
                     with contextlib.suppress(OSError):
                         step()
                 for _, fd in old:
                     if fd is not None:
                         os.close(fd)
+                if isinstance(exc, OSError) and not isinstance(exc, WriteFailure) and doing is not None:
+                    raise write_error(exc, doing) from None
                 raise
             self.committed = True
             self._release()
@@ -808,23 +867,33 @@ def write_outputs(tag: str, writers: dict[Path | None, Callable[[Path], Any] | N
     Raises
     ------
     InputError
-        An output that cannot be written (naming it), with every output as it was: a CSV is not replaced when
-        its plot beside it cannot be written.
+        An output refused because of its path (a folder that does not exist or is not writable, a name too long,
+        permission denied), naming it, with every output as it was: a CSV is not replaced when its plot beside it
+        cannot be written.
+    OSError
+        A failure of the system while writing (no space left, an I/O error, a quota exceeded), in one line naming
+        the output, ``cannot write OUTPUT: WHY``, with every output as it was (:func:`atomic_open`'s rule).
     """
     jobs = [(Path(path), write) for path, write in writers.items() if path is not None and write is not None]
     if not jobs:
         return
+    if len(jobs) == 1:
+        path, write = jobs[0]
+        _write_one(write, path, path)  # an atomic write of its own (atomic_open)
+        return
+    with StagedOutputs(tag, files=[path for path, _ in jobs]) as staged:
+        for path, write in jobs:
+            _write_one(write, staged.staged_path(path), path)
+        staged.commit()
+
+
+def _write_one(write: Callable[[Path], Any], where: Path, path: Path) -> None:
+    """``write(where)``, an :class:`OSError` it raises named by the output ``path`` (atomic_open's rule)."""
     try:
-        if len(jobs) == 1:
-            path, write = jobs[0]
-            write(path)  # an atomic write of its own (atomic_open)
-            return
-        with StagedOutputs(tag, files=[path for path, _ in jobs]) as staged:
-            for path, write in jobs:
-                write(staged.staged_path(path))
-            staged.commit()
+        write(where)
+    except WriteFailure as exc:
+        if where == path:
+            raise
+        raise write_error(exc, path) from None  # written staged: named by the output, not its hidden copy
     except OSError as exc:
-        where = Path(exc.filename).parent if exc.filename else None
-        named = next((path for path, _ in jobs if where is not None and write_target(path).parent == where),
-                     jobs[0][0])
-        raise InputError(f"cannot write {named}: {exc.strerror or exc}") from None
+        raise write_error(exc, path) from None
