@@ -63,6 +63,9 @@ def test_yaw_and_the_world_frame_change_nothing() -> None:
     for other in (yawed, moved):
         np.testing.assert_allclose(other.force, base.force, rtol=0, atol=1e-9 * peak)
         np.testing.assert_allclose(other.torque, base.torque, rtol=0, atol=1e-9 * peak * 0.05)
+    # the result's arrays are the caller's own, writable, as its docstring says (SimulationResult's stresses are not)
+    assert all(a.flags.writeable for a in (moved.time, moved.force, moved.torque))
+    assert not np.shares_memory(moved.time, t) and not np.shares_memory(moved.force, pos)
 
 
 def _settled(contact: MudContact3D, depth: float, steps: int = 200, dt: float = 0.01) -> None:

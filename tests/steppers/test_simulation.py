@@ -384,3 +384,21 @@ def test_result_owns_its_trajectory() -> None:
     np.testing.assert_array_equal(res.depth, fresh.depth)
     np.testing.assert_array_equal(res.f_e1, fresh.f_e1)  # computed on access, from the result's own copy
     np.testing.assert_array_equal(res.velocity, fresh.velocity)
+
+
+def test_the_outputs_computed_on_access_are_read_only() -> None:
+    """The docstring said they were read-only, but they were writable and cached: ``r.f_e1[-1] = 123`` changed what
+    ``r.f_e1`` (and the CSV) gave afterwards (the rows were made read-only one by one, as temporary views). Now they
+    are; the arrays the batch loop wrote stay the caller's own, writable, as the docstring now says."""
+    t = np.linspace(0.0, 0.2, 21)
+    res = simulate(t, 0.01 * np.sin(np.pi * t / 0.2), W25)
+    for name in ("velocity", "mud_velocity", "f_e1", "f_e2", "f_s"):
+        array = getattr(res, name)
+        assert not array.flags.writeable, name
+        with pytest.raises(ValueError, match="read-only"):
+            array[-1] = 123.0
+        with pytest.raises(ValueError):
+            array.setflags(write=True)
+        assert getattr(res, name) is array  # cached
+    for name in ("force", "state", "mud_displacement", "necking_times"):
+        assert getattr(res, name).flags.writeable, name

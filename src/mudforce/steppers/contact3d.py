@@ -441,6 +441,11 @@ class MudContact3D:
 class Result3D:
     """A 3-D simulation: the wrench at each pose (:func:`simulate_3d`).
 
+    Its arrays are the caller's own: new arrays (``time`` a copy of the
+    motion's), writable, shared with nothing; writing into one changes no
+    other (nothing is computed from them on access, unlike
+    :class:`~mudforce.SimulationResult`'s read-only stresses).
+
     Attributes
     ----------
     time : ndarray, shape (m,)

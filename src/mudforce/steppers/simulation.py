@@ -59,10 +59,15 @@ class SimulationResult:
     computed on first access, all together, by running the trajectory
     again through the stepper's full-output loop, so they are the
     stepper's values bit for bit and cost nothing until asked for (three to
-    four times the batch's own time when they are). They are read-only.
-    ``time`` and ``depth`` are the result's own read-only arrays (copies of
-    the caller's when they were the caller's), so the outputs computed on
-    access always belong to them.
+    four times the batch's own time when they are). Those computed on
+    access (``velocity``, ``mud_velocity``, ``f_e1``, ``f_e2``, ``f_s``) are
+    read-only, cached once for all. ``time`` and ``depth`` are the result's
+    own read-only arrays (copies of the caller's when they were the
+    caller's), so the outputs computed on access always belong to them. The
+    arrays the batch loop wrote (``force``, ``state``, ``mud_displacement``,
+    ``necking_times``) are the caller's own, writable (a library that
+    refuses a read-only buffer takes them as they are); writing into them
+    changes no other output.
 
     Attributes
     ----------
@@ -132,8 +137,7 @@ class SimulationResult:
             block = K.new_out(self.time.size)
             K.run_batch(self.time, self.depth, K.new_states(1), K.new_ring(1, self.velocity_filter.window),
                         self._params_row, block)
-            for row in block:
-                row.setflags(write=False)
+            block.setflags(write=False)  # (its rows, the outputs, are views of it: read-only too, for good)
             out = K.outputs(block)
             self._cache.update(f_e1=out.f_e1, f_e2=out.f_e2, f_s=out.f_s, mud_velocity=out.mud_velocity,
                                velocity=out.velocity)
