@@ -425,3 +425,14 @@ def test_the_reference_refuses_a_motion_beyond_the_model_s_bounds(time: list[flo
     with pytest.raises(mf.InputError, match=match) as err:
         reference_simulate_3d(time, pos, np.tile(UPRIGHT, (3, 1)), PARAMS, sphere)
     assert "\n" not in str(err.value)
+
+
+def test_the_reference_names_the_first_quaternion_off_unit_length_as_simulate_3d_does() -> None:
+    """'quaternions must have norm 1 (within 1e-6)' named no sample; now simulate_3d's words, sample and norm."""
+    sphere = shapes.sphere(0.04, resolution=0.03)
+    quat = np.tile(UPRIGHT, (4, 1))
+    quat[2] = [1.001, 0.0, 0.0, 0.0]
+    quat[3] = [2.0, 0.0, 0.0, 0.0]
+    with pytest.raises(mf.InputError, match=r"^sample 2 \(t = 0\.02 s\): a quaternion must have norm 1 \(within "
+                                            r"1e-06\), got norm 1\.001$"):
+        reference_simulate_3d([0.0, 0.01, 0.02, 0.03], np.zeros((4, 3)), quat, PARAMS, sphere)

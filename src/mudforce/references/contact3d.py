@@ -84,7 +84,7 @@ from mudforce.errors import InputError, real_array
 from mudforce.model.bounds import MAX_DEPTH, MAX_HORIZONTAL, bounded_depth, check_depths, check_times
 from mudforce.model.foot import Foot
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, RFT3D_C3, rft3d_alpha, rft3d_alpha_unchecked
-from mudforce.model.law3d import check_lateral_stiffness
+from mudforce.model.law3d import QUATERNION_TOLERANCE, check_lateral_stiffness, rotation_matrix
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.references.trajectory import reference_simulate
@@ -457,8 +457,13 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
     if far.size:  # MudContact3D's bound, in its words (2e4 m was solved)
         raise InputError(f"sample {far[0]} (t = {float(t[far[0]])!r} s): position x and y must be within "
                          f"+-{MAX_HORIZONTAL:g} m of the world origin, got {x[far[0]].tolist()!r}")
-    if not np.all(np.abs(np.sqrt(np.sum(q * q, axis=1)) - 1.0) <= 1e-6):
-        raise InputError("quaternions must have norm 1 (within 1e-6)")
+    with np.errstate(over="ignore"):  # a component beyond 1e154: norm inf, refused below without numpy's warning
+        off = np.flatnonzero(~(np.abs(np.sqrt(np.sum(q * q, axis=1)) - 1.0) <= QUATERNION_TOLERANCE))
+    for k in off.tolist():  # simulate_3d's check and words, with the sample (it named none: "quaternions must ...")
+        try:
+            rotation_matrix(q[k])
+        except InputError as error:
+            raise InputError(f"sample {k} (t = {float(t[k])!r} s): {error}") from None
     h = bounded_depth(surface_height, "surface_height")  # MudContact3D's checks, in its words
     given = shape.width if width is None else width
     if given is None:
