@@ -2,11 +2,12 @@
 
 One rule for every output (:mod:`mudforce.io`'s writers, and so every command of :mod:`mudforce.cli`):
 
-* a write refused because of the path the user gave (a folder that does not exist or is not writable, a name too
-  long, a path that is a directory, permission denied, a read-only file system: :data:`PATH_ERRNOS`) is bad input,
-  :class:`~mudforce.errors.InputError` (the command line's exit status 2);
-* any other failure while writing (no space left, an I/O error, a quota exceeded) is the system's,
-  :class:`WriteFailure`, an :class:`OSError` whose message names the file (exit status 1).
+* a failure of the system while writing (no space left, an I/O error, a quota exceeded, a file too large, no
+  memory: :data:`SYSTEM_ERRNOS`) is the system's, :class:`WriteFailure`, an :class:`OSError` whose message names
+  the file (exit status 1);
+* any other refusal is because of the path the user gave (a folder that does not exist or is not writable, a name
+  too long, a path that is a directory or runs through a file, permission denied, a read-only file system): bad
+  input, :class:`~mudforce.errors.InputError` (the command line's exit status 2).
 
 Plumbing; no physics, no units.
 """
@@ -18,12 +19,12 @@ import os
 
 from mudforce.errors import InputError
 
-__all__ = ["PATH_ERRNOS", "WriteFailure", "is_path_error", "write_error"]
+__all__ = ["SYSTEM_ERRNOS", "WriteFailure", "is_path_error", "write_error"]
 
-#: The ``errno`` values of a write refused because of the path given: bad input, not the system's failure.
-PATH_ERRNOS = frozenset({
-    errno.ENOENT, errno.ENOTDIR, errno.EISDIR, errno.ENAMETOOLONG, errno.ELOOP, errno.EACCES, errno.EPERM,
-    errno.EROFS, errno.ENXIO, errno.ETXTBSY,
+#: The ``errno`` values of a write that the system failed (exit status 1); every other refusal is the path's (a
+#: folder through a file, ``EEXIST``, as much as a missing one, ``ENOENT``: bad input, exit status 2).
+SYSTEM_ERRNOS = frozenset({
+    errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.EFBIG, errno.ENOMEM, errno.ENOBUFS, errno.ESTALE, errno.EAGAIN,
 })
 
 
@@ -39,8 +40,8 @@ class WriteFailure(OSError):
 
 
 def is_path_error(exc: OSError) -> bool:
-    """Whether ``exc`` refused a write because of the path given (:data:`PATH_ERRNOS`), not by a system failure."""
-    return exc.errno in PATH_ERRNOS
+    """Whether ``exc`` refused a write for the path given, not as a failure of the system (:data:`SYSTEM_ERRNOS`)."""
+    return exc.errno not in SYSTEM_ERRNOS
 
 
 def write_error(exc: OSError, path: str | os.PathLike[str]) -> InputError | WriteFailure:
