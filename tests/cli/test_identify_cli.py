@@ -48,15 +48,16 @@ def test_synth_gait_and_identify_cli(tmp_path: Path) -> None:
 
 
 def test_identify_cli_names_the_least_squares_fit_where_the_estimate_moved() -> None:
-    """The bench's robot 4 of seed 1 (16.12 %) under a 30-ms low-pass: least squares (20.64 %) fails the misfit
-    statistic, so the estimate is the member read with the force lag refitted (15.00 %); the RMSE is least squares'."""
+    """The bench's robot 4 of seed 1 (16.12 %) under a 30-ms low-pass: least squares (20.57 %; 20.64 % before the
+    rest band after necking took the post-necking force) fails the misfit statistic, so the estimate is the member
+    read with the force lag refitted (15.00 %); the RMSE is least squares'."""
     data = Path(__file__).parents[1] / "estimation" / "data" / "robot_model_lowpass_30ms_seed1.csv"
     proc = run_cli(["identify", str(data), "--foot", "disc:50mm"], timeout=120)
     assert proc.returncode == 0, proc.stderr
     first = proc.stdout.splitlines()[0]
     assert first.startswith("water content 15.00% (95% interval 15.00% to ")
-    assert first.endswith("N (the least-squares fit, at 20.64%)")
+    assert first.endswith("N (the least-squares fit, at 20.57%)")
     proc = run_cli(["identify", str(data), "--foot", "disc:50mm", "--json"], timeout=120)
     out = json.loads(proc.stdout)
     assert out["water_content"] == out["misfit_water_content"] == 0.15
-    assert out["least_squares_water_content"] == pytest.approx(0.2064, abs=5e-5)
+    assert out["least_squares_water_content"] == pytest.approx(0.2057, abs=5e-5)

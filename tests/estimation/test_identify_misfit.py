@@ -79,26 +79,36 @@ def test_a_local_discretisation_error_does_not_mask_an_off_family_mud() -> None:
     assert res.model_misses_data and res.misfit_ratio > 2.5
 
 
-def test_a_law_missing_many_samples_by_a_little_is_flagged_by_the_tail_not_the_ratio() -> None:
+def test_a_law_missing_many_samples_by_a_little_is_flagged_by_the_tail_too(monkeypatch: pytest.MonkeyPatch) -> None:
     """A linear law F = k z along a MuJoCo trot's foot path at 50 Hz (the sensor-chain bench's flag table, seed 8,
-    robot 8; ``tests/estimation/data``): least squares absorbs it with a -7.5 mm depth offset, and the clipped
-    statistic reads 1.24, under the 1.25 of the ratio; 5.4 % of the samples lie beyond three floors at the least
-    statistic found, over the 4.5 % of the tail's reading, so the flag fires (docs/estimation.md, "What is not met").
-    An in-family recording near the limit stays quiet (tests/estimation/test_identify_member.py: 4.1 %)."""
+    robot 8; ``tests/estimation/data``): least squares absorbs it with a -7.5 mm depth offset. The clipped statistic
+    read 1.24, under the ratio's 1.25, until the rest band after necking became the post-necking force (its low
+    edge had been the Maxwell element's, hundreds of newtons of suction, and the misfit floor with it: 1.31 since, so
+    the ratio fires too); 5.4 % of the samples lie beyond three floors at the least statistic found, over the tail's
+    4.5 %, so with the ratio's limit raised past it the tail alone still flags it, with its own warning
+    (docs/estimation.md, "What is not met"). An in-family recording near the limit stays quiet
+    (tests/estimation/test_identify_member.py: 4.1 %)."""
     from pathlib import Path
 
+    from mudforce.estimation.calibration import identify as identify_module
     from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO
     from mudforce.estimation.calibration.identify import TAIL_SHARE_WARNING
     from mudforce.motions.quadruped import ROBOT_FOOT
 
     data = Path(__file__).parent / "data" / "robot_trot_fast_linear_law_50hz_seed8.csv"
     t, z, f = np.loadtxt(data, delimiter=",", skiprows=1, unpack=True)
-    res = identify_water_content(Trial("linear.csv", 0.306, t, z, f), ROBOT_FOOT)
-    assert res.misfit_ratio == pytest.approx(1.242, abs=0.002) and res.misfit_ratio <= MISFIT_WARNING_RATIO
+    trial = Trial("linear.csv", 0.306, t, z, f)
+    res = identify_water_content(trial, ROBOT_FOOT)
+    assert res.misfit_ratio == pytest.approx(1.311, abs=0.002) and res.misfit_ratio > MISFIT_WARNING_RATIO
     assert res.tail_share == pytest.approx(0.0539, abs=0.0005) and res.tail_share > TAIL_SHARE_WARNING
     assert res.model_misses_data and res.to_dict()["model_misses_data"] is True
     assert res.to_dict()["tail_share"] == res.tail_share
-    assert sum("beyond three noise floors" in w for w in res.warnings) == 1
+    # as if the ratio read under its limit (the members that pass, and so the figures, move with it)
+    monkeypatch.setattr(identify_module, "MISFIT_WARNING_RATIO", 1.35)
+    quiet_ratio = identify_water_content(trial, ROBOT_FOOT)
+    assert quiet_ratio.misfit_ratio <= 1.35 and quiet_ratio.tail_share > TAIL_SHARE_WARNING
+    assert quiet_ratio.model_misses_data
+    assert sum("beyond three noise floors" in w for w in quiet_ratio.warnings) == 1
 
 
 def test_a_mud_read_at_the_family_s_edge_is_flagged_by_what_another_mud_explains() -> None:
@@ -120,7 +130,7 @@ def test_a_mud_read_at_the_family_s_edge_is_flagged_by_what_another_mud_explains
     assert res.water_content == pytest.approx(0.15, abs=1e-3)
     assert res.misfit_ratio == pytest.approx(1.200, abs=0.002) and res.misfit_ratio <= MISFIT_WARNING_RATIO
     assert res.tail_share == pytest.approx(0.0419, abs=0.0005) and res.tail_share <= TAIL_SHARE_WARNING
-    assert res.other_mud == pytest.approx(1.013, abs=0.005) and res.other_mud > OTHER_MUD_WARNING
+    assert res.other_mud == pytest.approx(1.035, abs=0.005) and res.other_mud > OTHER_MUD_WARNING
     assert res.model_misses_data and res.to_dict()["other_mud"] == res.other_mud
     assert sum(w.startswith("another mud explains 1 of the residual's mean square") for w in res.warnings) == 1
 

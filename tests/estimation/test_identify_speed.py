@@ -72,6 +72,7 @@ def _band_numpy(time: np.ndarray, depth: np.ndarray, force: np.ndarray, state: n
 
     up, down = array_form(rest_band_forces)(depth - mud, spring, k_m_i, k_m_w, area)
     down = np.where(depth > 0.0, down, 0.0)
+    up = np.where(state == int(K.ContactMode.NECKED), force, up)  # after necking: the post-necking force
     contact = state > 0
     low = np.where(contact, np.minimum(np.minimum(up, down), force), force)
     high = np.where(contact, np.maximum(np.maximum(up, down), force), force)
@@ -115,3 +116,22 @@ def test_the_band_through_a_lag_is_the_numpy_rules_bits_on_a_model_run(lag: floa
     assert all(_same_bits(g, w) for g, w in zip(got, want, strict=True))
     assert np.any(state > 0) and np.any(got[2] > got[1])  # the band is not the force alone somewhere
     assert all(_same_bits(g, w) for g, w in zip(_force_and_band(t, depth, q, foot, lag), got, strict=True))
+
+
+def test_after_necking_the_band_s_withdrawal_edge_is_the_post_necking_force() -> None:
+    """As the engines' rest_band has it (NECKED: (neck force, intrusion edge)): a foot pulled out until its neck
+    broke, then held 40 mm above the surface, carries the post-necking force there (Eq. (7): -11 N, swinging to
+    +3.5 N as it decays), and the band is that force and the intrusion edge, 0 above the surface. Its low edge was
+    the Maxwell element's withdrawal force at the strain (down to -106 N here), suction the mud cannot give; on a
+    robot's swing its refined difference made the misfit floor hundreds of newtons (docs/estimation.md)."""
+    t = np.arange(0.0, 2.0, 0.01)
+    depth = np.interp(t, [0.0, 0.3, 0.5, 0.8, 2.0], [-0.005, 0.02, 0.02, -0.04, -0.04])
+    foot = Foot.paper()
+    q = MudParameters.from_water_content(0.25)
+    force, low, high = _force_and_band(t, depth, q, foot, 0.0)
+    row = K.make_params(q.as_array(), foot.area, foot.width, 1, 0.0)[None, :]
+    state = run_compact(t, depth, row, 1)[2]
+    necked = (state == int(K.ContactMode.NECKED)) & (depth < 0.0)
+    assert np.count_nonzero(necked) > 100 and force[necked].min() < -9.0  # the suction, then its decay's swing
+    assert np.array_equal(low[necked], np.minimum(force[necked], 0.0))
+    assert np.array_equal(high[necked], np.maximum(force[necked], 0.0))

@@ -145,6 +145,8 @@ _REST_NOISE_SIGMAS = 0.5
 #: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
 #: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
 _TURN_SIGMAS = 3.0
+#: The contact state after necking, as the stepper's ``state`` output holds it (:class:`mudforce._kernel.ContactMode`).
+_NECKED = int(K.ContactMode.NECKED)
 #: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
 #: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
@@ -469,7 +471,9 @@ def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, st
 
     At a sample in contact (``state`` > 0) the band is :func:`~mudforce.model.equations.rest_band_forces` at the
     Maxwell strain ``depth - mud`` [m] and the spring stress ``spring`` [Pa] (its intrusion edge 0 at or above the
-    surface), widened to hold the force; elsewhere it is the force itself. With ``lag`` > 0 the three pass through
+    surface; after necking its withdrawal edge the post-necking force, the model's force there, as the engines'
+    :func:`~mudforce.engines.dynamics.rest_band.rest_band` has it), widened to hold the force; elsewhere it is the
+    force itself. With ``lag`` > 0 the three pass through
     the first-order low-pass ``tau y' + y = x``, exact for ``x`` linear between samples (ours).
 
     Speed plumbing: one compiled pass for what numpy did in a dozen (and one ``exp`` a sample for the three, not
@@ -484,6 +488,8 @@ def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, st
             up, down = rest_band_forces(depth[k] - mud[k], spring[k], k_m_i, k_m_w, area)
             if not depth[k] > 0.0:
                 down = 0.0
+            if state[k] == _NECKED:  # after necking the withdrawal edge is the post-necking force (Eq. (7))
+                up = f
             low[k] = _np_min(_np_min(up, down), f)
             high[k] = _np_max(_np_max(up, down), f)
         else:
