@@ -46,6 +46,25 @@ def test_converges_on_stationary_mud_and_covers_the_truth(seed: int, w: float) -
     assert r.noise[-1] == pytest.approx(0.3, rel=0.25)
 
 
+def test_a_run_the_bank_cannot_explain_is_not_tared() -> None:
+    # a foot 20 mm above the surface (every model free: every sample is tared), offset 0.5 N, noise 0.2 N; 0.5 s of
+    # +8 N on it (the mud's push after a lift-off, read as free), then free again; then the offset moves by +3 N
+    rng = np.random.default_rng(0)
+    t = np.arange(450) * 0.01
+    f = 0.5 + 0.2 * rng.standard_normal(t.size)
+    f[100:150] += 8.0
+    f[250:] += 3.0
+    r = track(t, np.full(t.size, -0.02), f)
+    assert abs(r.bias[99] - 0.5) <= 0.05 and abs(r.noise[99] - 0.2) <= 0.03  # measured 0.516 / 0.199
+    # the burst left out after its first sample (before: its clipped samples fed the spread and the clip, and the
+    # offset and noise ran to 2.01 / 2.62 N at its end, 1.40 / 2.17 N 1 s later)
+    for k in (149, 249):
+        assert abs(r.bias[k] - 0.5) <= 0.05 and abs(r.noise[k] - 0.2) <= 0.03  # measured 0.524 / 0.213, 0.501 / 0.217
+    # a real shift (a run that lasts) is left out for 1 s of tare samples, then followed as before
+    assert abs(r.bias[348] - 0.5) <= 0.05 and abs(r.noise[348] - 0.2) <= 0.05  # measured 0.506 / 0.225
+    assert r.bias[-1] > 1.2 and r.noise[-1] > 1.0  # measured 1.37 / 1.30 (following, its spread grown as it does)
+
+
 def test_reconverges_after_a_change_of_mud_without_being_told() -> None:
     wk = walk([0.20, 0.30], change_times=[10.0], seed=5, duration=30.0, force_noise=0.2, bias=0.5)
     r = track(wk.time, wk.depth, wk.force)

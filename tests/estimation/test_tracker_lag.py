@@ -5,9 +5,12 @@ independent set (seed 1): the front-left foot of the MuJoCo quadruped (``mudforc
 ``walk-fast``, 25 mm spherical foot: a 50 mm disc) in mud of W = 28.85 %, with the vertical force MuJoCo applied,
 through ``SensorChain(force_noise=0.2, depth_noise=3e-5, force_bias=...)`` at 100 Hz: 10 s.
 
-* Clean, the tracker reads no lag (0.00 +- 0.01 ms) and never flags a misfit.
+* Clean, the tracker reads no lag (0.00 +- 0.01 ms) and never flags a misfit, and its force noise 0.24 N (the
+  chain's 0.2 N; 1.63 N, its offset 0.8 N off, while the tare took a run of samples it could not explain:
+  ``tracker._TARE_RUN``).
 * Its force low-passed by 30 ms (here on the 100-Hz samples), the lag reads 30.0 +- 0.3 ms and the interval covers
-  the truth throughout, but the estimate reads 3.0 points high (median after 3 s, at most 3.95; 0.6 at the end): this
+  the truth throughout, but the estimate reads 3.4 points high (median after 3 s, at most 3.97; 3.5 at the end; 3.0,
+  3.95 and 0.6 with the noise read as 1.7 N, before ``tracker._TARE_RUN``): this
   foot sinks deeper stance by stance (24 mm in its first second, 67 mm by 7 s), and while its sinkage is within
   10-40 mm the bank takes the quick branch rule where it moves, which reads deep fast feet high
   (``tracker._QUICK_SINK``).
@@ -56,6 +59,9 @@ def test_clean_robot_foot_reads_no_lag_and_no_misfit(recording: tuple[np.ndarray
     assert covered.all()
     late = r.time - r.time[0] >= 3.0
     assert np.all(np.abs(r.water_content[late] - TRUTH) <= 0.015)  # measured at most 0.2 points
+    # the offset and noise tared on the swings (measured 0.836 N at 3 s, 0.788 N and 0.244 N at the end; the noise
+    # ran to 1.63 N and the offset to 0.03 N before a run of samples the bank cannot explain was left out)
+    assert abs(r.bias[-1] - r.bias[late][0]) <= 0.1 and r.noise[-1] <= 0.3
 
 
 def test_low_passed_force_lag_is_estimated_and_the_truth_covered(recording: tuple[np.ndarray, ...]) -> None:
@@ -68,9 +74,10 @@ def test_low_passed_force_lag_is_estimated_and_the_truth_covered(recording: tupl
     covered, wrong = _judged(r)
     assert covered.all() and not wrong.any()
     late = r.time - r.time[0] >= 3.0
-    # measured at most 3.95 points, 3.0 median, 0.6 at the end (the quick branch rule's price here: tracking.md)
+    # measured at most 3.97 points, 3.4 median, 3.5 at the end (the quick branch rule's price here: tracking.md; 3.95,
+    # 3.0 and 0.6 with the force noise read as 1.7 N, before a run the bank cannot explain was left out of the tare)
     assert np.all(np.abs(r.water_content[late] - TRUTH) <= 0.04)
-    assert abs(r.water_content[-1] - TRUTH) <= 0.01
+    assert np.median(r.water_content[late] - TRUTH) == pytest.approx(0.034, abs=0.005)
 
 
 def test_at_20_hz_the_bank_is_stepped_in_substeps(recording: tuple[np.ndarray, ...]) -> None:

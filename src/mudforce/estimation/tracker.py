@@ -36,7 +36,9 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   above the surface, the mud let go), the model force is exactly zero, so
   the measured force is offset plus noise: the offset is their running
   mean, the noise its running spread (clipped at 4 sigma, so the rare
-  sample with force on it does not inflate it). Both are independent of the
+  sample with force on it does not inflate it; a run of samples beyond the
+  clip, a force the bank missed, is left out until it has held a second of
+  free samples, a real shift of the offset). Both are independent of the
   model fit.
 * **Likelihood.** A Student-t (``dof`` degrees of freedom) of the measured
   force minus the offset around each model's force, with a scale of the
@@ -185,7 +187,8 @@ _A_ANCHOR_LOW = _A_QUICK + 1  # the reported interval's low end where the anchor
 _A_ANCHOR_HIGH = _A_QUICK + 2  # and its high end [-]
 _A_HULL_LOW = _A_QUICK + 3  # the reported interval's low end at the last sample [-] (the hull, _HULL_MEMORY); NaN: none
 _A_HULL_HIGH = _A_QUICK + 4  # and its high end [-]
-_N_AUX = _A_QUICK + 5
+_A_RUN = _A_QUICK + 5  # seconds of tare samples in the current run of them beyond the clip, 0 if none [s] (_TARE_RUN)
+_N_AUX = _A_QUICK + 6
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -321,6 +324,29 @@ _OFFSET_TEMPER = 4.0
 #: the posterior say zero force [-] (ours): with the models of an unlikely offset of +6 mm in contact whenever the
 #: foot is within 6 mm of the surface, a swing would otherwise leave few samples to tare on.
 _TARE_MASS = 0.01
+#: A run of tare samples beyond the clip is rejected until it holds this many seconds of them [s] (ours). The
+#: offset and the noise are the running mean and spread of the tare samples (over the last cfg[_C_FREE_MEMORY], 500),
+#: each residual clipped at 4 standard deviations (4 floors at least). A run begins at a tare sample beyond the clip
+#: and ends at the next one within 2 (:data:`_TARE_RUN_END`), whatever lies between (tare samples 2-4 standard
+#: deviations off, either side, and contact); its first sample is taken clipped, as any, and its later samples beyond
+#: the clip change neither the offset, the noise nor the count until the run holds this much tare time (then it is
+#: taken as a real shift of the offset: clipped, and followed as before, the spread and so the clip growing with it).
+#: A force the bank cannot explain on a foot that every probable model says is free (the mud's pull and push after
+#: a lift-off, the necking decay of Eq. (7) that the models ended early; a touchdown seen late) comes as such a run:
+#: taken clipped, each of its samples fed the spread the clip, the clip grew with the run, and the offset ran away
+#: (`mudforce synth --motion gait --seed 1 --water-content 22%`'s walk r1, offset 0.5 N and noise 0.2 N: a run of
+#: -4.5 to +8 N at 17.8-18.4 s, 0.6 s, moved them from 0.50 / 0.23 N to 1.05 / 1.44 N, 0.95 / 1.37 N at the end;
+#: now 0.52 / 0.25 N, 0.50 / 0.23 N at the end; the sensor-chain bench's robots 3, 4 and 9 of seed 0, clean, ended
+#: 0.4-0.8 N off with a noise of 1.1-1.5 N for 0.2 N, now within 0.06 N and 0.25-0.32 N). Longer than such a run,
+#: shorter than one of a sensor whose offset has jumped (it holds every later tare sample): a jump of 15 sigma is
+#: followed from its first second of tare samples on (before: from its first sample), a long swing or as many
+#: strides as that takes (docs/tracking.md, "Limits").
+_TARE_RUN = 1.0
+#: ... and a tare sample within this share of the clip in squared residual (2 of its 4 standard deviations) ends a run.
+_TARE_RUN_END = 0.25
+#: ... and a run begins only once this many free samples have been taken [-] (before, the spread is still mostly
+#: the prior ``noise``: a sensor ten times noisier than it would have had its first samples rejected).
+_TARE_RUN_AFTER = 5.0
 
 #: A model of a surface offset other than the most probable one that holds less than this share of the posterior
 #: [-] (ours) is spared: scored on one sample in ``_SPARE_TURN * correlation_time / dt`` only, in turn, its score
@@ -702,18 +728,30 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
-            aux[j, _A_NFREE] = nfree
             e = f - aux[j, _A_BIAS]
             var = aux[j, _A_VAR]
-            if nfree <= 1.0:
-                aux[j, _A_BIAS] = f
-            else:
-                clip = 16.0 * max(var, floor2)  # 4 sigma, never below 4 floors (clean data: var -> 0)
-                e2 = min(e * e, clip)
-                e_c = math.copysign(math.sqrt(e2), e)
-                aux[j, _A_BIAS] += e_c / nfree
-                # the running variance, from the residual against the offset before this sample
-                aux[j, _A_VAR] = var + (e2 * (nfree - 1.0) / nfree - var) / nfree
+            clip = 16.0 * max(var, floor2)  # 4 sigma, never below 4 floors (clean data: var -> 0)
+            # a run of samples beyond the clip is rejected until it has held _TARE_RUN of tare samples (a force the
+            # bank missed; taken clipped, it fed the spread, the clip grew with it, and the offset ran away)
+            reject = False
+            if aux[j, _A_RUN] > 0.0:  # in a run
+                if e * e <= _TARE_RUN_END * clip:  # within 2 sigma: the run is over
+                    aux[j, _A_RUN] = 0.0
+                else:
+                    aux[j, _A_RUN] += dt
+                    reject = e * e > clip and aux[j, _A_RUN] < _TARE_RUN
+            elif e * e > clip and aux[j, _A_NFREE] >= _TARE_RUN_AFTER:  # a run's first sample: taken clipped
+                aux[j, _A_RUN] = dt
+            if not reject:
+                aux[j, _A_NFREE] = nfree
+                if nfree <= 1.0:
+                    aux[j, _A_BIAS] = f
+                else:
+                    e2 = min(e * e, clip)
+                    e_c = math.copysign(math.sqrt(e2), e)
+                    aux[j, _A_BIAS] += e_c / nfree
+                    # the running variance, from the residual against the offset before this sample
+                    aux[j, _A_VAR] = var + (e2 * (nfree - 1.0) / nfree - var) / nfree
         if not free and not first:
             bias = aux[j, _A_BIAS]
             nfree = aux[j, _A_NFREE]
@@ -1194,7 +1232,7 @@ def _impossible_state(posterior: np.ndarray, aux: np.ndarray) -> str:
     sums = posterior.sum(axis=1)
     if not (np.all(posterior >= 0.0) and np.all(np.abs(sums - 1.0) <= 1e-9)):
         return "posterior is not probabilities summing to 1 for each foot"
-    for column, name in ((_A_NFREE, "free-sample count"), (_A_VAR, "force noise variance"),
+    for column, name in ((_A_NFREE, "free-sample count"), (_A_VAR, "force noise variance"), (_A_RUN, "tare run time"),
                          (_A_CONTACT, "contact time"), (_A_HOLD, "change-flag hold"), (_A_MISFIT, "misfit average"),
                          (_A_MISFIT_T, "misfit time"), (_A_DVAR, "depth noise variance"),
                          (_A_LAG_SD, "force lag spread")):
