@@ -67,3 +67,11 @@ def test_a_foot_at_rest_is_a_band_not_a_branch() -> None:
     assert res.rest_fraction > 0.2
     assert abs(res.water_content - 0.25) < 0.01
     assert res.low <= 0.25 <= res.high or res.warnings
+
+
+def test_the_bias_stderr_holds_the_refinements_move(fine: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
+    """Under 1 mm of depth noise the refinement moves the 0.4 N tare by the model's mean error: the standard error
+    holds the move (-0.082 +- 0.041 N before, the truth 12 standard errors off; now +- 0.50 N)."""
+    res = identify_water_content(_trial(fine, depth_noise=0.001))
+    assert res.bias_method == "tared" and abs(res.bias - 0.4) > 0.2
+    assert abs(res.bias - 0.4) < 1.5 * res.bias_stderr and res.bias_stderr < 0.6

@@ -232,7 +232,9 @@ class Identification:
         ``"tared"`` (pre-contact samples, refined) or ``"estimated"`` (a free parameter).
     bias_stderr : float
         Standard error of ``bias`` [N]: the residual scatter over the samples
-        (and the pre-contact ones), widened for the residuals' correlation.
+        (and the pre-contact ones), widened for the residuals' correlation; on a tared trial of a general
+        motion, in quadrature with the refinement's move off the tare (the model's own mean error, which
+        the refinement cannot tell from the bias's).
     depth_offset, depth_offset_stderr : float
         The surface offset fitted [m]: the model follows ``depth + depth_offset``
         (a depth that reads 2 mm too deep gives -0.002); NaN on the protocol path.
@@ -1220,6 +1222,13 @@ def identify_water_content(
         warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
                         f"{MAX_FORCE_LAG * 1e3:g} ms): the depth or the force is not what the model can explain")
+    bias_stderr = max(rmse, tr.force_noise) * math.sqrt((1.0 + rho) / (1.0 - rho) / (n + pre))
+    if general and pre:
+        # the refinement moves the tare (the mean of the pre-contact samples: the bias and the force noise alone) by
+        # the moving samples' mean residual, which holds the model's own mean error there too (the depth noise carried
+        # through a force convex in the depth, the force lag held at its bound): the move is not told from an error
+        # of the bias, and counts in its standard error (a 1 mm depth noise refined a 0.4 N bias to 0.0 N +- 0.03)
+        bias_stderr = math.hypot(bias_stderr, bias - float(np.mean(raw[:pre])))
     return Identification(
         water_content=estimate,
         interval=(low, high),
@@ -1234,7 +1243,7 @@ def identify_water_content(
         off_family=off,
         bias=bias,
         bias_method="estimated" if tr.bias_estimated else "tared",
-        bias_stderr=max(rmse, tr.force_noise) * math.sqrt((1.0 + rho) / (1.0 - rho) / (n + pre)),
+        bias_stderr=bias_stderr,
         depth_offset=offset if general else math.nan,
         depth_offset_stderr=float(stderr[1]) if general else math.nan,
         force_lag=lag if general else math.nan,
