@@ -240,7 +240,11 @@ class Identification:
         (a depth that reads 2 mm too deep gives -0.002); NaN on the protocol path.
     force_lag, force_lag_stderr : float
         The force lag fitted [s]: the time constant of a first-order low-pass
-        on the model's force (a pure delay of ``d`` reads about ``d``); NaN on the protocol path.
+        on the model's force (a pure delay of ``d`` reads about ``d``, often less: the offset takes part of it);
+        NaN on the protocol path. The two standard errors are least squares' or, where larger, the spread of the
+        evidence over the contact episodes (a sandwich, as ``episode_half_width``); under a misfit of the form a
+        drift or a pure delay gives they still read small against the error (a 10-ms delay: the lag within two of
+        them on 2 of 10 walks), and a lag at its bound of 0 reads 0.
     force_gain_uncertainty : float
         The force gain's relative uncertainty assumed [-] (an input).
     gain_shift : float
@@ -419,17 +423,17 @@ def _edge(ssr: Callable[[float], float], level: float, inside: float, outward: n
     return float(limit)
 
 
-def _sandwich_half_width(jac: np.ndarray, r: np.ndarray, contact: np.ndarray, level: float) -> float:
-    """Half-width [-] of the water content's interval from the spread of the evidence over the contact episodes (ours).
+def _sandwich_covariance(jac: np.ndarray, r: np.ndarray, contact: np.ndarray) -> tuple[np.ndarray, int]:
+    """The fit's covariance from the spread of the evidence over the contact episodes, and their count (ours).
 
     A sandwich (cluster-robust) estimate: the fit's score ``J_k r_k`` summed
     over each contact episode (the samples from one touchdown to the next;
     eight equal blocks when there are fewer than four), ``cov = A^-1 (sum_b
-    g_b g_b^T) A^-1 B / (B - 1)`` with ``A = J^T J``, and Student's t at
-    ``B - 1`` degrees of freedom. Unlike ``s^2 (J^T J)^-1`` it does not assume
-    the residuals are independent of where the water content is read: a
-    misfit concentrated in the strides that carry the evidence (reversals or
-    touchdowns between two samples) widens it.
+    g_b g_b^T) A^-1 B / (B - 1)`` with ``A = J^T J``. Unlike ``s^2 (J^T J)^-1``
+    it does not assume the residuals are independent of where a parameter is
+    read: a misfit concentrated in the strides that carry the evidence
+    (reversals or touchdowns between two samples, a delay read as a lag and
+    an offset) widens it.
     """
     n = r.size
     starts = contact & ~np.concatenate([[False], contact[:-1]])
@@ -441,8 +445,7 @@ def _sandwich_half_width(jac: np.ndarray, r: np.ndarray, contact: np.ndarray, le
     scores = np.zeros((count, jac.shape[1]))
     np.add.at(scores, block, jac * r[:, None])
     inv = np.linalg.pinv(jac.T @ jac)
-    cov = inv @ (scores.T @ scores) @ inv * count / (count - 1)
-    return float(student_t.ppf(0.5 + 0.5 * level, count - 1) * math.sqrt(max(float(cov[0, 0]), 0.0)))
+    return inv @ (scores.T @ scores) @ inv * count / (count - 1), count
 
 
 @njit(cache=True, nogil=True)
@@ -1042,7 +1045,12 @@ def identify_water_content(
     rate_shift = sandwich = 0.0
     if general:
         # the evidence's spread over the contact episodes, in case the misfit sits where the water content is read
-        sandwich = _sandwich_half_width(jac, r, f_best != 0.0, level)
+        spread, episodes = _sandwich_covariance(jac, r, f_best != 0.0)
+        sandwich = float(student_t.ppf(0.5 + 0.5 * level, episodes - 1) * math.sqrt(max(float(spread[0, 0]), 0.0)))
+        # the nuisances' standard errors hold the same spread over the episodes: least squares' own, s^2 (J^T J)^-1,
+        # read a 10-ms delay's lag at 0.7-8.6 ms (seeds 0-9) each +- 0.1-0.5 ms and the surface offset to 1-10 um
+        # where it erred by 10-500 um (the misfit of a delay, of a drift, of the depth noise is not white)
+        stderr = np.maximum(stderr, np.sqrt(np.maximum(np.diag(spread), 0.0)))
         low, high = min(low, w_best - sandwich), max(high, w_best + sandwich)
         # the rate check: the same fit with the model run on every other sample (the even ones, the odd ones).
         # At the data's rate the model is not the model of the true path (a touchdown or a reversal between two
