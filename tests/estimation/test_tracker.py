@@ -65,6 +65,23 @@ def test_a_run_the_bank_cannot_explain_is_not_tared() -> None:
     assert r.bias[-1] > 1.2 and r.noise[-1] > 1.0  # measured 1.37 / 1.30 (following, its spread grown as it does)
 
 
+def test_a_run_that_varies_is_not_taken_as_a_shift() -> None:
+    # a free foot, offset 0.5 N, noise 0.2 N; the mud's pull then push rising through zero (-3 to +3.5 N over 0.6 s,
+    # as after a lift-off under 1 mm of depth noise), then 1.5 s of a push rising to 4 N and back (a run beyond the
+    # clip for over 1 s of tare samples)
+    rng = np.random.default_rng(1)
+    t = np.arange(600) * 0.01
+    f = 0.5 + 0.2 * rng.standard_normal(t.size)
+    f[100:160] += np.linspace(-3.0, 3.5, 60)
+    f[300:450] += 4.0 * np.sin(np.linspace(0.0, np.pi, 150))
+    r = track(t, np.full(t.size, -0.02), f)
+    # before: the push crept in within the clip after the run ended at the zero crossing (0.53 / 0.32 N at its end),
+    # and the second run was taken as a shift after 1 s (0.69 / 0.53 N at its end, 0.63 / 0.46 N at 6 s)
+    for k in (159, 449, 599):
+        assert abs(r.bias[k] - 0.5) <= 0.05 and abs(r.noise[k] - 0.2) <= 0.03  # measured 0.477 / 0.196, 0.486 /
+        # 0.199, 0.492 / 0.203
+
+
 def test_reconverges_after_a_change_of_mud_without_being_told() -> None:
     wk = walk([0.20, 0.30], change_times=[10.0], seed=5, duration=30.0, force_noise=0.2, bias=0.5)
     r = track(wk.time, wk.depth, wk.force)

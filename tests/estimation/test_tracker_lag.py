@@ -88,7 +88,9 @@ def test_at_20_hz_the_bank_is_stepped_in_substeps(recording: tuple[np.ndarray, .
     # blurs' piled twins; confidently wrong on 0.39 of them before (0.71 before the twin bank)
     assert covered.all() and not wrong.any()
     late = coarse.time - coarse.time[0] >= 3.0
-    assert np.all(np.abs(coarse.water_content[late] - TRUTH) > 0.03)  # measured 3.6-5.7 points off: the estimate
+    # measured up to 5.7 points off (0.47 median, 0.26 at the end: its offset and noise read 0.66 / 0.49 N; 3.6-5.7
+    # points off throughout, with 1.95 N of noise, before a tare run's samples beyond 2 sigma were left out too)
+    assert np.max(np.abs(coarse.water_content[late] - TRUTH)) > 0.05
     fine = track(t, z, f, FOOT)
     covered, wrong = _judged(fine)
     assert covered.all() and not wrong.any()

@@ -188,7 +188,10 @@ _A_ANCHOR_HIGH = _A_QUICK + 2  # and its high end [-]
 _A_HULL_LOW = _A_QUICK + 3  # the reported interval's low end at the last sample [-] (the hull, _HULL_MEMORY); NaN: none
 _A_HULL_HIGH = _A_QUICK + 4  # and its high end [-]
 _A_RUN = _A_QUICK + 5  # seconds of tare samples in the current run of them beyond the clip, 0 if none [s] (_TARE_RUN)
-_N_AUX = _A_QUICK + 6
+_A_RUN_QUIET = _A_QUICK + 6  # seconds of tare samples within 3 sigma in a row at the run's end [s] (_TARE_RUN_QUIET)
+_A_RUN_MEAN = _A_QUICK + 7  # the run's tare samples' mean since it began or was last judged [N] (_TARE_RUN_SPREAD)
+_A_RUN_SQ = _A_QUICK + 8  # and their mean square [N^2]
+_N_AUX = _A_QUICK + 9
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -324,13 +327,15 @@ _OFFSET_TEMPER = 4.0
 #: the posterior say zero force [-] (ours): with the models of an unlikely offset of +6 mm in contact whenever the
 #: foot is within 6 mm of the surface, a swing would otherwise leave few samples to tare on.
 _TARE_MASS = 0.01
-#: A run of tare samples beyond the clip is rejected until it holds this many seconds of them [s] (ours). The
+#: A run of tare samples beyond the clip is judged once it holds this many seconds of them [s] (ours). The
 #: offset and the noise are the running mean and spread of the tare samples (over the last cfg[_C_FREE_MEMORY], 500),
 #: each residual clipped at 4 standard deviations (4 floors at least). A run begins at a tare sample beyond the clip
-#: and ends at the next one within 2 (:data:`_TARE_RUN_END`), whatever lies between (tare samples 2-4 standard
-#: deviations off, either side, and contact); its first sample is taken clipped, as any, and its later samples beyond
-#: the clip change neither the offset, the noise nor the count until the run holds this much tare time (then it is
-#: taken as a real shift of the offset: clipped, and followed as before, the spread and so the clip growing with it).
+#: and ends once :data:`_TARE_RUN_QUIET` of tare samples in a row lie within 3 standard deviations, whatever lies
+#: between (contact included); its first sample is taken clipped, as any, and its later samples beyond 2 standard
+#: deviations (:data:`_TARE_RUN_END`) change neither the offset, the noise nor the count. Once it holds this much
+#: tare time it is judged by its own spread (:data:`_TARE_RUN_SPREAD`): a step of the offset scatters about its own
+#: mean by about the noise, and is then taken as a real shift (clipped, and followed as before, the spread and so
+#: the clip growing with it); a force that varies more is left out, and judged again after as long again.
 #: A force the bank cannot explain on a foot that every probable model says is free (the mud's pull and push after
 #: a lift-off, the necking decay of Eq. (7) that the models ended early; a touchdown seen late) comes as such a run:
 #: taken clipped, each of its samples fed the spread the clip, the clip grew with the run, and the offset ran away
@@ -342,11 +347,23 @@ _TARE_MASS = 0.01
 #: followed from its first second of tare samples on (before: from its first sample), a long swing or as many
 #: strides as that takes (docs/tracking.md, "Limits").
 _TARE_RUN = 1.0
-#: ... and a tare sample within this share of the clip in squared residual (2 of its 4 standard deviations) ends a run.
+#: ... a later sample of a run beyond this share of the clip in squared residual (2 of its 4 standard deviations) is
+#: left out [-]: samples between 2 and 4 of a slowly rising push, taken, grew the clip until the push was followed
+#: (1 mm of depth noise, W 25 %, 100 Hz: the foot 13 mm up from 4.5 to 5.5 s under a pull then a push of -3.6 to
+#: +2.9 N, the offset 0.43 -> 1.42 N, 1.8 N at the end, for 0.4 N).
 _TARE_RUN_END = 0.25
 #: ... and a run begins only once this many free samples have been taken [-] (before, the spread is still mostly
 #: the prior ``noise``: a sensor ten times noisier than it would have had its first samples rejected).
 _TARE_RUN_AFTER = 5.0
+#: ... a run ends once this many seconds of tare samples in a row lie within :data:`_TARE_RUN_QUIET_BAND` of the clip
+#: [s] (ours): a pull and a push cross zero on their way, and one quiet sample there ended the run (0.12 s into it), the
+#: push then crept in within the clip.
+_TARE_RUN_QUIET = 0.2
+#: ... that band, in squared residual over the clip [-] (3 of its 4 standard deviations).
+_TARE_RUN_QUIET_BAND = 9.0 / 16.0
+#: A judged run is a shift of the offset when its samples' standard deviation is at most this many times the noise
+#: [-] (ours; a step reads 1 plus its sampling error, the pull and push of a lift-off 5-15).
+_TARE_RUN_SPREAD = 3.0
 
 #: A model of a surface offset other than the most probable one that holds less than this share of the posterior
 #: [-] (ours) is spared: scored on one sample in ``_SPARE_TURN * correlation_time / dt`` only, in turn, its score
@@ -734,14 +751,36 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             # a run of samples beyond the clip is rejected until it has held _TARE_RUN of tare samples (a force the
             # bank missed; taken clipped, it fed the spread, the clip grew with it, and the offset ran away)
             reject = False
-            if aux[j, _A_RUN] > 0.0:  # in a run
-                if e * e <= _TARE_RUN_END * clip:  # within 2 sigma: the run is over
-                    aux[j, _A_RUN] = 0.0
+            run = aux[j, _A_RUN]
+            if run > 0.0:  # in a run
+                if e * e <= _TARE_RUN_QUIET_BAND * clip:  # within 3 sigma
+                    aux[j, _A_RUN_QUIET] += dt
                 else:
-                    aux[j, _A_RUN] += dt
-                    reject = e * e > clip and aux[j, _A_RUN] < _TARE_RUN
+                    aux[j, _A_RUN_QUIET] = 0.0
+                if aux[j, _A_RUN_QUIET] >= _TARE_RUN_QUIET:  # quiet long enough: the run is over
+                    aux[j, _A_RUN] = 0.0
+                    aux[j, _A_RUN_QUIET] = 0.0
+                else:
+                    run += dt
+                    aux[j, _A_RUN] = run
+                    w_run = dt / run
+                    aux[j, _A_RUN_MEAN] += (f - aux[j, _A_RUN_MEAN]) * w_run
+                    aux[j, _A_RUN_SQ] += (f * f - aux[j, _A_RUN_SQ]) * w_run
+                    if run - dt < _TARE_RUN:  # not yet taken as a shift
+                        if run >= _TARE_RUN:  # judged: a step scatters about its own mean by about the noise
+                            sd2 = aux[j, _A_RUN_SQ] - aux[j, _A_RUN_MEAN] ** 2
+                            if sd2 > _TARE_RUN_SPREAD * _TARE_RUN_SPREAD * max(var, floor2):
+                                aux[j, _A_RUN] = dt  # a force that varies: left out, judged again a second on
+                                aux[j, _A_RUN_MEAN] = f
+                                aux[j, _A_RUN_SQ] = f * f
+                                reject = True
+                        else:
+                            reject = e * e > _TARE_RUN_END * clip  # beyond 2 sigma
             elif e * e > clip and aux[j, _A_NFREE] >= _TARE_RUN_AFTER:  # a run's first sample: taken clipped
                 aux[j, _A_RUN] = dt
+                aux[j, _A_RUN_QUIET] = 0.0
+                aux[j, _A_RUN_MEAN] = f
+                aux[j, _A_RUN_SQ] = f * f
             if not reject:
                 aux[j, _A_NFREE] = nfree
                 if nfree <= 1.0:
@@ -1233,6 +1272,7 @@ def _impossible_state(posterior: np.ndarray, aux: np.ndarray) -> str:
     if not (np.all(posterior >= 0.0) and np.all(np.abs(sums - 1.0) <= 1e-9)):
         return "posterior is not probabilities summing to 1 for each foot"
     for column, name in ((_A_NFREE, "free-sample count"), (_A_VAR, "force noise variance"), (_A_RUN, "tare run time"),
+                         (_A_RUN_QUIET, "tare run's quiet time"), (_A_RUN_SQ, "tare run's mean square"),
                          (_A_CONTACT, "contact time"), (_A_HOLD, "change-flag hold"), (_A_MISFIT, "misfit average"),
                          (_A_MISFIT_T, "misfit time"), (_A_DVAR, "depth noise variance"),
                          (_A_LAG_SD, "force lag spread")):
