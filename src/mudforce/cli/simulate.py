@@ -229,7 +229,6 @@ def _refuse_a_pipe(trajectory: str | None) -> None:
                          "stream to one first")
 
 
-
 def run(args: argparse.Namespace) -> int:
     """Check all inputs, simulate, then write the CSV (and PNG) atomically; print a summary."""
     refuse_empty_inputs(("--trajectory", args.trajectory, "a CSV file"),

@@ -37,9 +37,9 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   the measured force is offset plus noise: the offset is their running
   mean, the noise its running spread (clipped at 4 sigma, so the rare
   sample with force on it does not inflate it; a run of samples beyond the
-  clip, a force the bank missed, is left out until it has held a second of
-  free samples, a real shift of the offset). Both are independent of the
-  model fit.
+  clip, a force the bank missed, is left out; after a second of free
+  samples it is taken as a real shift of the offset if it scatters about
+  its own mean by about the noise). Both are independent of the model fit.
 * **Likelihood.** A Student-t (``dof`` degrees of freedom) of the measured
   force minus the offset around each model's force, with a scale of the
   noise, the offset's uncertainty, a ``floor`` and a relative misfit
@@ -332,7 +332,7 @@ _TARE_MASS = 0.01
 #: each residual clipped at 4 standard deviations (4 floors at least). A run begins at a tare sample beyond the clip
 #: and ends once :data:`_TARE_RUN_QUIET` of tare samples in a row lie within 3 standard deviations, whatever lies
 #: between (contact included); its first sample is taken clipped, as any, and its later samples beyond 2 standard
-#: deviations (:data:`_TARE_RUN_END`) change neither the offset, the noise nor the count. Once it holds this much
+#: deviations (:data:`_TARE_RUN_OUT`) change neither the offset, the noise nor the count. Once it holds this much
 #: tare time it is judged by its own spread (:data:`_TARE_RUN_SPREAD`): a step of the offset scatters about its own
 #: mean by about the noise, and is then taken as a real shift (clipped, and followed as before, the spread and so
 #: the clip growing with it); a force that varies more is left out, and judged again after as long again.
@@ -351,7 +351,7 @@ _TARE_RUN = 1.0
 #: left out [-]: samples between 2 and 4 of a slowly rising push, taken, grew the clip until the push was followed
 #: (1 mm of depth noise, W 25 %, 100 Hz: the foot 13 mm up from 4.5 to 5.5 s under a pull then a push of -3.6 to
 #: +2.9 N, the offset 0.43 -> 1.42 N, 1.8 N at the end, for 0.4 N).
-_TARE_RUN_END = 0.25
+_TARE_RUN_OUT = 0.25
 #: ... and a run begins only once this many free samples have been taken [-] (before, the spread is still mostly
 #: the prior ``noise``: a sensor ten times noisier than it would have had its first samples rejected).
 _TARE_RUN_AFTER = 5.0
@@ -748,7 +748,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             e = f - aux[j, _A_BIAS]
             var = aux[j, _A_VAR]
             clip = 16.0 * max(var, floor2)  # 4 sigma, never below 4 floors (clean data: var -> 0)
-            # a run of samples beyond the clip is rejected until it has held _TARE_RUN of tare samples (a force the
+            # a run of samples beyond the clip is left out (its samples beyond _TARE_RUN_OUT of the clip) until it has
+            # held _TARE_RUN of tare samples, then taken as a shift only if it scatters as the noise does (a force the
             # bank missed; taken clipped, it fed the spread, the clip grew with it, and the offset ran away)
             reject = False
             run = aux[j, _A_RUN]
@@ -775,7 +776,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                                 aux[j, _A_RUN_SQ] = f * f
                                 reject = True
                         else:
-                            reject = e * e > _TARE_RUN_END * clip  # beyond 2 sigma
+                            reject = e * e > _TARE_RUN_OUT * clip  # beyond 2 sigma
             elif e * e > clip and aux[j, _A_NFREE] >= _TARE_RUN_AFTER:  # a run's first sample: taken clipped
                 aux[j, _A_RUN] = dt
                 aux[j, _A_RUN_QUIET] = 0.0
