@@ -42,6 +42,7 @@ def test_foot_band_is_branch_forces_summed() -> None:
     modes = set()
     for k in range(steps):
         feet.step(np.array([[0.0, 0.0, z[k]], [0.1, 0.0, z[k] + 0.003]]), quats, DT if k else 0.0)
+        feet._export_rows()  # the rows as the step left them (as MudAdapter3D asks for them)
         branch_forces(states, rows, DT, 1.0, up, down, drag)
         for f in range(2):
             lo, hi = f * SPHERE.n, (f + 1) * SPHERE.n

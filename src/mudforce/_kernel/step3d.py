@@ -3,51 +3,47 @@
 Nothing here is physics. One call places every foot's elements by its pose
 (:func:`mudforce.model.law3d.rotation`, :func:`~mudforce.model.law3d.rotate`,
 :func:`~mudforce.model.law3d.element_depth`), steps every element's paper state
-with the 1-D stepper (:func:`~mudforce._kernel.loops.run_feet`, the same
-compiled function :class:`mudforce.MudContacts` runs, so the state machine
-exists once), and applies the 3-D law through
-:func:`mudforce.model.law3d.element_force` and
+with the 1-D stepper's functions (:func:`~mudforce._kernel.transitions.quiet_step`'s
+equations, and the state machine itself, :func:`~mudforce._kernel.loops.advance_row`,
+for the steps in which something happens, so the state machine exists once), and
+applies the 3-D law through :func:`mudforce.model.law3d.element_force` and
 :func:`~mudforce.model.law3d.moment`: the very functions
-:class:`~mudforce.steppers.contact3d.MudContact3D` and :mod:`mudforce.jax.contact3d`
+:class:`~mudforce.steppers.contact3d.MudContact3D`'s numpy step and :mod:`mudforce.jax.contact3d`
 call on arrays, compiled in here (law3d registers them with numba). Only the
-control flow is this module's: an element that carries no horizontal force
-(above the surface, or at a foot's first step) takes
-:func:`~mudforce.model.law3d.vertical_force` alone, which is what
-``element_force`` gives it, without the horizontal law's arithmetic. It
-follows :meth:`mudforce.steppers.contact3d.MudContact3D.step` foot by foot, and
-differs only in where things are kept:
+control flow and the storage are this module's.
 
-* the elements of all feet, concatenated foot after foot, are the rows
-  of one float64 block (``E_*`` columns: constants and the lateral state),
-  an element's values side by side; the world geometry of a step is
-  recomputed where it is used from the foot's pose (``F_*`` scratch
-  columns), not stored per element (a step of thousands of feet is bound
-  by memory traffic, not arithmetic), the depths included (a foot's
-  elements are checked against ``MAX_DEPTH`` at once by its reach,
-  ``F_REACH``, not one by one). (Not one contiguous row per quantity: rows
-  of a few thousand doubles lie a multiple of 4 KiB apart, and the
-  processor then stalls loads behind stores to other rows with the same
-  low address bits ("4K aliasing"): placing the elements took 80 ns
-  each, not 5.)
-* each foot's constants and its ``started`` flag are a row of a second
-  block (``F_*`` columns), and ``starts[f]:starts[f + 1]`` are its
-  elements;
-* the 1-D states, params and rings are :mod:`~mudforce._kernel.layout`'s
-  rows, one per element.
+Where things are kept (:func:`new_block`, one float64 array):
+
+* **the lanes**: every element's constants (body-frame centroid, normal, area), its 1-D state (the ``S_*``
+  columns of :mod:`~mudforce._kernel.layout`'s state row, step-length cache included) and its lateral state
+  (slip, last world centroid), field by field in blocks of :data:`LANES` elements: each foot's elements fill
+  ``ceil(n / LANES)`` blocks of its own, the last padded. Field ``W_x`` of a block's lane ``l`` lies ``W_x
+  FIELD`` entries after its first field, a constant the compiler sees, so a loop over a block's lanes reads
+  and writes without aliasing to check and is vectorised (4 doubles an instruction): the element-steps in
+  which nothing happens (99 % of a walk's) run without branches, every contact state's quiet step computed
+  and the element's own selected (:func:`_paper_lanes`), and the 3-D law likewise, by groups of
+  :data:`GROUP` lanes, a group wholly above the surface taking the vertical force alone
+  (:func:`_law_lanes`). The rest go through the state machine one by one (:func:`_rare_lanes`).
+* each foot's constants, this step's pose and its ``started`` flag are a row of the foot block (``F_*``
+  columns), and ``starts[f]:starts[f + 1]`` are its elements;
+* the element block (``E_*`` columns, one row per element) holds the constants as the Python side wrote them
+  and, with the 1-D rows (``states``, ``ring``, ``params``: the layout's, one per element, arrays of their
+  own), the **export** of the lanes: a step leaves the rows and the slips and centroids behind (``H_STALE``
+  set), :func:`rows_from_lanes` brings them up to date before anything reads them, and
+  :func:`lanes_from_rows` takes them back after anything writes them (a state restored, a reset, a step of
+  the numpy reference). The state machine steps an element on its own row (written from the lanes, read
+  back).
 
 :func:`step_feet` checks every foot's pose, every element's depth and the
 step length before anything moves (so a refused step changes nothing),
-then steps. It sums each foot's wrench in another order than
-:class:`~mudforce.steppers.contact3d.MudContact3D` (numpy's ``sum(axis=0)``), so the
-two agree to rounding, about 1e-15 of the peak force
-(``tests/steppers/test_many3d.py``); the same foot gives the same bits
-here whatever the other feet are.
+then steps. It sums each foot's wrench over its elements in element order,
+as :class:`~mudforce.steppers.contact3d.MudContact3D`'s numpy step does (numpy's
+``sum(axis=0)``), so the two give the same bits; the same foot gives the same
+bits here whatever the other feet are.
 
 :class:`~mudforce.steppers.contact3d.MudContact3D`'s step is this one, for one
 foot, with an ``each`` array (:func:`step_feet`): every element's force is
-written out and the wrench summed in element order, as its numpy step sums
-it, so that the two give the same bits; one compiled step for both classes
-(and one compile).
+written out as well; one compiled step for both classes (and one compile).
 """
 
 from __future__ import annotations
@@ -60,23 +56,52 @@ from numba import prange, typeof
 
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
 from mudforce._kernel.layout import (
+    CONTACT,
     FREE,
+    N_STATE,
+    NECKED,
+    S_CACHE_DECAY_I,
+    S_CACHE_DECAY_W,
+    S_CACHE_DT,
+    S_CACHE_PHI,
     S_DEPTH,
     S_DIRECTION,
     S_MODE,
     S_MUD,
+    S_NECK_AGE,
+    S_NECK_G,
+    S_NECK_GI,
+    S_NECK_V,
+    S_NECK_Z,
     S_STARTED,
+    S_STRAIN,
     S_TIME,
     S_VELOCITY,
+    Cache,
+    Params,
+    State,
     _compiled,
-    load_cache,
     load_params,
-    load_state,
-    store_state,
 )
 from mudforce._kernel.loops import advance_row
-from mudforce._kernel.transitions import exact_rule, quiet_step, stress_parts, total_force
-from mudforce.model.equations import nonlinear_spring_stress
+from mudforce._kernel.transitions import (
+    exact_rule,
+    neck_filter_step,
+    piece_drag,
+    sign,
+    stress_parts,
+    total_force,
+)
+from mudforce.model.equations import (
+    intrusion_stress,
+    maxwell_strain_step,
+    neck_breaks,
+    necked_mud_motion,
+    necked_stress,
+    nonlinear_spring_stress,
+    submerged_drag_stress,
+    withdrawal_stress,
+)
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
     element_depth,
@@ -84,6 +109,7 @@ from mudforce.model.law3d import (
     moment,
     rotate,
     rotation,
+    select,
     settle_depth,
     vertical_force,
 )
@@ -97,8 +123,10 @@ __all__ = [
     "block_views",
     "element_forces",
     "fixed_types",
-    "lateral_scratch",
+    "lane_entries",
+    "lanes_from_rows",
     "new_block",
+    "rows_from_lanes",
     "step_feet",
     "step_feet_threads",
 ]
@@ -181,90 +209,20 @@ def _place(positions: np.ndarray, quaternions: np.ndarray, el: np.ndarray, ft: n
     return OK
 
 
-@_compiled(inline="always")
-def _foot_rotation(ft: np.ndarray, f: int) -> tuple[float, float, float, float, float, float, float, float, float]:
-    """Foot ``f``'s rotation of this step (:func:`_place` put it in ``ft``), row by row: loaded once per foot."""
-    return (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5],
-            ft[f, F_R + 6], ft[f, F_R + 7], ft[f, F_R + 8])
-
-
-@_compiled(inline="always")
-def _vertical_into(each: np.ndarray, i: int, fz: float) -> None:
-    """Element ``i``'s force [N] when it carries its vertical force ``fz`` alone, into ``each[i]`` (MudContact3D's
-    element forces)."""
-    each[i, 0] = 0.0
-    each[i, 1] = 0.0
-    each[i, 2] = fz
-
-
-@_compiled()
-def _in_element_order(el: np.ndarray, each: np.ndarray, r: tuple[float, float, float, float, float, float, float,
-                                                                  float, float], lo: int, hi: int
-                      ) -> tuple[float, float, float, float, float, float]:
-    """A foot's wrench, force [N] and torque [N m], summed over its elements ``lo:hi`` as
-    :class:`~mudforce.steppers.contact3d.MudContact3D` sums it (numpy's ``sum(axis=0)``: from the first element,
-    element after element), from their forces ``each`` and their moments
-    (:func:`~mudforce.model.law3d.moment` about the body origin, recomputed from the foot's rotation ``r``: the
-    same arguments, the same bits)."""
-    if hi <= lo:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    fx, fy, fz = each[lo, 0], each[lo, 1], each[lo, 2]
-    ox, oy, oz = rotate(r, el[lo, E_CBX], el[lo, E_CBY], el[lo, E_CBZ])
-    tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
-    for i in range(lo + 1, hi):
-        ex, ey, ez = each[i, 0], each[i, 1], each[i, 2]
-        ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-        mx, my, mz = moment(ox, oy, oz, ex, ey, ez)
-        fx += ex
-        fy += ey
-        fz += ez
-        tx += mx
-        ty += my
-        tz += mz
-    return fx, fy, fz, tx, ty, tz
-
-
-# rows of the lateral scratch block (one per slice of feet, :func:`lateral_scratch`): a foot's submerged elements
-# side by side, so that the spring and the 3-D law run over them in loops without branches, which the compiler
-# vectorises
-L_INDEX = 0  # the element's row in the element block (an integer, exact in a double)
-L_NX, L_NY, L_NZ = 1, 2, 3  # world normal [-]
-L_OX, L_OY, L_OZ = 4, 5, 6  # world offset from the body origin [m]
-L_AREA = 7  # [m^2]
-L_DEPTH = 8  # [m]
-L_STRESS = 9  # the paper's stress [Pa]
-L_SPRING = 10  # Eq. (4) at the depth [Pa]
-L_SX, L_SY = 11, 12  # the last slip [m]; then the slip kept
-L_MX, L_MY = 13, 14  # the horizontal displacement since the last step [m]
-L_FX, L_FY, L_FZ = 15, 16, 17  # the element's force [N]
-L_FE1, L_FS = 18, 19  # the paper's stresses but the spring's, f_e1 and f_s [Pa] (stress_parts)
-L_HAS_SPRING = 20  # 1.0 where the paper's stress has the spring of Eq. (4) (CONTACT, intrusion), else 0.0
-N_LATERAL = 21
-
-
-def lateral_scratch(widest: int, slices: int) -> np.ndarray:
-    """The lateral scratch of :func:`step_feet` (``slices`` = 1) or :func:`step_feet_threads`: (slices, N_LATERAL, w).
-
-    ``widest`` the most elements of one foot; the rows are padded so that
-    they do not lie a multiple of 4 KiB apart (see the module).
-    """
-    width = -(-max(widest, 1) // 8) * 8
-    if width % 512 == 0:
-        width += 8
-    return np.zeros((slices, N_LATERAL, width))
-
-
-# the header of the block (:func:`new_block`): the sizes and where each array starts in it (float64 entries)
-H_ELEMENTS, H_FEET, H_SLICES, H_WIDTH = 0, 1, 2, 3
-H_EL, H_FT, H_STRESS, H_LAT, H_STARTS = 4, 5, 6, 7, 8
+# the header of the block (:func:`new_block`): the sizes, where each array starts in it (float64 entries), and
+# whether the 1-D rows are behind the lanes (set by a step, cleared by rows_from_lanes and lanes_from_rows)
+H_ELEMENTS, H_FEET, H_BLOCKS = 0, 1, 2
+H_EL, H_FT, H_LANES, H_FIRST, H_STARTS = 3, 4, 5, 6, 7
+H_STALE = 8
 N_HEADER = 16
 
 
-def new_block(starts: np.ndarray, slices: int) -> np.ndarray:
+def new_block(starts: np.ndarray) -> np.ndarray:
     """One float64 array holding the compiled step's own arrays for feet whose elements are ``starts[f]:starts[f
-    + 1]``: the element block (``E_*`` columns), the foot block (``F_*``), the elements' stresses [Pa], the
-    lateral scratch (:func:`lateral_scratch`, ``slices`` slices) and the starts, after a header of their sizes and
-    offsets; all zero but the starts. :func:`block_views` gives them as arrays.
+    + 1]``: the element block (``E_*`` columns), the foot block (``F_*``), the lanes (``W_*`` fields, each foot's
+    elements in ``ceil(n / LANES)`` blocks of its own), each foot's first lane block and the starts, after a
+    header of their sizes and offsets; all zero but the starts and first blocks. :func:`block_views` gives them
+    as arrays.
 
     Speed plumbing: :func:`step_feet` takes them as one argument, not five (numba's dispatcher costs ~0.05-0.1
     us an array argument); the 1-D rows stay arrays of their own (``MudContacts``' in ``MudContact3D``).
@@ -272,237 +230,393 @@ def new_block(starts: np.ndarray, slices: int) -> np.ndarray:
     starts = np.asarray(starts, dtype=np.int64)
     m = starts.shape[0] - 1
     n = int(starts[-1])
-    widest = int(np.diff(starts).max(initial=0))
-    width = lateral_scratch(widest, 1).shape[2]
-    sizes = (n * N_ELEMENT_COLUMNS, m * N_FOOT_COLUMNS, n, slices * N_LATERAL * width, m + 1)
+    first = np.zeros(m + 1, dtype=np.int64)
+    np.cumsum(-(-np.diff(starts) // LANES), out=first[1:])
+    nb = int(first[-1])
+    sizes = (n * N_ELEMENT_COLUMNS, m * N_FOOT_COLUMNS, nb * BLOCK, m + 1, m + 1)
     offsets = np.cumsum((N_HEADER, *sizes))
     block = np.zeros(int(offsets[-1]))
-    block[:9] = (n, m, slices, width, *offsets[:5])
-    block_views(block)[2][:] = starts
+    block[:8] = (n, m, nb, *offsets[:5])
+    views = block_views(block)
+    views[2][:] = starts
+    views[4][:] = first
     return block
+
+
+def lane_entries(block: np.ndarray) -> np.ndarray:
+    """Each element's entry in the lanes of a :func:`new_block` (its first field's), foot after foot, int64: field
+    ``W_x`` of element ``i`` is ``lanes[entries[i] + W_x * FIELD]``."""
+    _, _, starts, _, first = block_views(block)
+    entries = np.empty(int(starts[-1]), dtype=np.int64)
+    for f in range(starts.shape[0] - 1):
+        j = np.arange(int(starts[f + 1] - starts[f]))
+        entries[starts[f]:starts[f + 1]] = first[f] * BLOCK + (j // LANES) * BLOCK + j % LANES
+    return entries
 
 
 def block_views(block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The arrays of a :func:`new_block` as views of it: elements (n, ``N_ELEMENT_COLUMNS``), feet (m,
-    ``N_FOOT_COLUMNS``), starts (m + 1,) int64, stresses (n,) [Pa], lateral scratch (slices, ``N_LATERAL``,
-    width). (:func:`_unpack` in compiled code: the same header, the same views.)"""
-    n, m, slices, width = (int(v) for v in block[:4])
-    o_el, o_ft, o_stress, o_lat, o_starts = (int(v) for v in block[4:9])
+    ``N_FOOT_COLUMNS``), starts (m + 1,) int64, the lanes (flat: lane block ``b`` is ``b BLOCK .. (b + 1)
+    BLOCK``), each foot's first lane block (m + 1,) int64. (:func:`_unpack` in compiled code: the same header,
+    the same views.)"""
+    n, m, nb = (int(v) for v in block[:3])
+    o_el, o_ft, o_lanes, o_first, o_starts = (int(v) for v in block[3:8])
     return (block[o_el:o_el + n * N_ELEMENT_COLUMNS].reshape(n, N_ELEMENT_COLUMNS),
             block[o_ft:o_ft + m * N_FOOT_COLUMNS].reshape(m, N_FOOT_COLUMNS),
             block[o_starts:o_starts + m + 1].view(np.int64),
-            block[o_stress:o_stress + n],
-            block[o_lat:o_lat + slices * N_LATERAL * width].reshape(slices, N_LATERAL, width))
+            block[o_lanes:o_lanes + nb * BLOCK],
+            block[o_first:o_first + m + 1].view(np.int64))
 
 
 @_compiled(inline="always")
 def _unpack(block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`block_views` in compiled code."""
-    n, m, slices, width = int(block[H_ELEMENTS]), int(block[H_FEET]), int(block[H_SLICES]), int(block[H_WIDTH])
-    o_el, o_ft, o_stress = int(block[H_EL]), int(block[H_FT]), int(block[H_STRESS])
-    o_lat, o_starts = int(block[H_LAT]), int(block[H_STARTS])
+    n, m, nb = int(block[H_ELEMENTS]), int(block[H_FEET]), int(block[H_BLOCKS])
+    o_el, o_ft, o_lanes = int(block[H_EL]), int(block[H_FT]), int(block[H_LANES])
+    o_first, o_starts = int(block[H_FIRST]), int(block[H_STARTS])
     return (block[o_el:o_el + n * N_ELEMENT_COLUMNS].reshape((n, N_ELEMENT_COLUMNS)),
             block[o_ft:o_ft + m * N_FOOT_COLUMNS].reshape((m, N_FOOT_COLUMNS)),
             block[o_starts:o_starts + m + 1].view(np.int64),
-            block[o_stress:o_stress + n],
-            block[o_lat:o_lat + slices * N_LATERAL * width].reshape((slices, N_LATERAL, width)))
+            block[o_lanes:o_lanes + nb * BLOCK],
+            block[o_first:o_first + m + 1].view(np.int64))
+
+
+# ---------------------------------------------------------------- the elements' working layout: lanes
+# Every element's paper state, its constants and its lateral state are kept field by field in blocks of LANES
+# elements (a foot's elements fill ceil(n / LANES) blocks of its own, the last one padded): field F of lane l of
+# a block starting at entry b is entry b + F LANES + l. The distances between fields are constants the compiler
+# sees, so a loop over a block's lanes has no aliasing to check and is vectorised (docs/speed.md, "Mud in 3-D").
+# The 1-D rows (layout's, one per element) are the export of the lanes: written from them on demand
+# (:func:`rows_from_lanes`), read into them after they change (:func:`lanes_from_rows`).
+LANES = 64
+#: entries from one field of a block to the next: LANES and a little more, so that two fields are not a multiple
+#: of 4 KiB apart (a load then waits on an unrelated store to the other field: "4K aliasing"), and at least
+#: LANES, so that a loop over a block's lanes never reads a field another lane writes
+FIELD = LANES + 8
+W_CBX, W_CBY, W_CBZ = 0, 1, 2  # centroid in the body frame [m]
+W_NBX, W_NBY, W_NBZ = 3, 4, 5  # outward unit normal in the body frame [-]
+W_AREA = 6  # area [m^2]
+W_STATE = 7  # the 1-D state row's N_STATE columns, in layout's S_* order (W_STATE + S_*)
+W_SLIPX, W_SLIPY = W_STATE + N_STATE, W_STATE + N_STATE + 1  # horizontal elastic slip [m]
+W_CX, W_CY, W_CZ = W_SLIPY + 1, W_SLIPY + 2, W_SLIPY + 3  # world centroid at the last step [m]
+W_OK = W_CZ + 1  # this step: 1.0 where the quiet step held, else 0.0 (the state machine steps the element)
+W_Z = W_OK + 1  # this step: the depth [m]
+W_FE1, W_FS = W_Z + 1, W_Z + 2  # this step: the paper's stresses but the spring's, f_e1 and f_s [Pa]
+W_HAS_SPRING = W_FS + 1  # this step: 1.0 where the paper's stress has Eq. (4)'s spring (CONTACT, intrusion)
+W_FX, W_FY, W_FZ = W_HAS_SPRING + 1, W_HAS_SPRING + 2, W_HAS_SPRING + 3  # this step: the element's force [N]
+W_TX, W_TY, W_TZ = W_FZ + 1, W_FZ + 2, W_FZ + 3  # this step: its moment about the body origin [N m]
+W_STRESS = W_TZ + 1  # this step: the element's paper stress [Pa] (the 1-D stepper's force on a unit area)
+N_FIELDS = W_STRESS + 1
+BLOCK = N_FIELDS * FIELD
+#: lanes are stepped by the 3-D law in groups of this many: a group wholly above the surface takes the vertical
+#: force alone (the paper's stress on the downward projection), without the horizontal law's arithmetic
+GROUP = 8
+
+
+@_compiled(inline="always")
+def _at(q: np.uint64, field: int) -> np.uint64:
+    """Entry of ``field`` of the lane at entry ``q`` (its first field's): unsigned, so that numba adds no
+    wraparound of negative indices (which keeps a loop from vectorising)."""
+    return q + np.uint64(field * FIELD)  # type: ignore[no-any-return]
+
+
+@_compiled(inline="always")
+def _quiet_lanes_step(s: State, c: Cache, p: Params, depth: float, dt: float
+                      ) -> tuple[float, float, float, float, float, float, float, bool]:
+    """:func:`~mudforce._kernel.transitions.quiet_step` without branches, for a loop over lanes: every contact
+    state's quiet step computed and the element's own selected, the same calls, the same bits.
+
+    Returns the state's changed columns ``(mud, neck_age, direction, velocity, neck_g, neck_gi, strain)`` and
+    whether nothing happened in the step (else they are meaningless and the state machine steps the element).
+    The necking test of a withdrawal step is :func:`~mudforce.model.equations.necking_time`'s "does not break"
+    (:func:`~mudforce.model.equations.neck_breaks` at the step's start and end: the suction is monotone within
+    it), without its instant, which only a step that necks needs. ``s.mode`` is a float here.
+    """
+    z0 = s.depth
+    v = (depth - z0) / dt
+    d = sign(v)
+    ok = (abs(dt - c.dt) <= 0.5e-9 * c.dt) & (abs(depth) < math.inf) & (s.started != 0.0)
+    free = s.mode == float(FREE)
+    necked = s.mode == float(NECKED)
+    down = d >= 0.0
+    age = s.neck_age + dt  # NECKED (up or at rest): Eq. (7)'s filter one step on
+    gi, g = neck_filter_step(c, p, age, s.neck_gi, s.neck_g)
+    _, mud_necked = necked_mud_motion(s.neck_v, s.neck_z, g, gi)
+    strain_i = maxwell_strain_step(s.strain, v, p.tau_i, c.decay_i)  # CONTACT, intrusion
+    fs = piece_drag(p, z0, v, dt)  # CONTACT, withdrawal in one piece in which the neck holds
+    strain_w = maxwell_strain_step(s.strain, v, p.tau_w, c.decay_w)
+    holds = (not neck_breaks(p.k_w, s.strain, fs, p.sigma_y)) & (not neck_breaks(p.k_w, strain_w, fs, p.sigma_y))
+    ok_contact = select(down, depth > 0.0, ((z0 > 0.0) == (depth > 0.0)) & holds)
+    ok = ok & select(free, depth <= 0.0, select(necked, d <= 0.0, ok_contact))
+    strain = select(free | necked, s.strain, select(down, strain_i, strain_w))
+    mud = select(free, depth, select(necked, mud_necked, depth - strain))
+    return (mud, select(necked, age, s.neck_age), d, v, select(necked, g, s.neck_g), select(necked, gi, s.neck_gi),
+            strain, ok)
+
+
+@_compiled(inline="always")
+def _stress_lanes(p: Params, mode: float, depth: float, direction: float, velocity: float, strain: float,
+                  neck_v: float, neck_z: float, g: float, gi: float) -> tuple[float, float, bool]:
+    """:func:`~mudforce._kernel.transitions.stress_parts` without branches (the state after a quiet step, its mode a
+    float): ``(f_e1, f_s [Pa], spring)``, the same calls, the same bits."""
+    free = mode == float(FREE)
+    contact = mode == float(CONTACT)
+    fs = submerged_drag_stress(p.lam, p.rho_m, velocity, depth)
+    fe1_i, _ = intrusion_stress(p.k_i, p.tau_i, strain)
+    fe1_w, _ = withdrawal_stress(p.k_w, p.tau_w, strain)
+    fe1_n, _ = necked_stress(p.b_w, necked_mud_motion(neck_v, neck_z, g, gi)[0])
+    fe1 = select(contact, select(direction >= 0.0, fe1_i, fe1_w), fe1_n)
+    return select(free, 0.0, fe1), select(free, 0.0, fs), contact & (direction >= 0.0)
 
 
 @_compiled()
-def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.ndarray,
-               lat: np.ndarray, states: np.ndarray, ring: np.ndarray, params: np.ndarray, f: int, dt: float,
-               forces: np.ndarray, torques: np.ndarray, each: np.ndarray) -> int:
-    """Foot ``f``'s step once placed: its elements' paper step, then the 3-D law; the element refused, or -1.
+def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float, float, float, float, float, float,
+                 float, float, float], h: float, pz: float, dt: float) -> None:
+    """The paper's quiet step of a block's first ``width`` lanes (a multiple of :data:`GROUP`), in one loop
+    without branches (vectorised): each element's depth settled (:func:`~mudforce.model.law3d.settle_depth`), its
+    quiet step, its stresses but the spring's. A lane whose quiet step does not hold keeps its state
+    (``W_OK`` 0.0: :func:`_rare_lanes` steps it)."""
+    b = np.uint64(max(block, 0))
+    for lane in range(width):
+        q = b + np.uint64(lane)
+        _, _, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
+        started = a[_at(q, W_STATE + S_STARTED)]
+        depth0 = a[_at(q, W_STATE + S_DEPTH)]
+        z = element_depth(h, pz, oz)  # (checked by _place)
+        z = select(started != 0.0, settle_depth(z, depth0), z)  # a change of depth by rounding is none
+        mode = a[_at(q, W_STATE + S_MODE)]
+        time = a[_at(q, W_STATE + S_TIME)]
+        mud0 = a[_at(q, W_STATE + S_MUD)]
+        age0 = a[_at(q, W_STATE + S_NECK_AGE)]
+        neck_v = a[_at(q, W_STATE + S_NECK_V)]
+        neck_z = a[_at(q, W_STATE + S_NECK_Z)]
+        direction0 = a[_at(q, W_STATE + S_DIRECTION)]
+        velocity0 = a[_at(q, W_STATE + S_VELOCITY)]
+        g0 = a[_at(q, W_STATE + S_NECK_G)]
+        gi0 = a[_at(q, W_STATE + S_NECK_GI)]
+        strain0 = a[_at(q, W_STATE + S_STRAIN)]
+        s = State(started, mode, time, depth0, mud0, age0, neck_v, neck_z, direction0, velocity0, g0, gi0, strain0)
+        c = Cache(a[_at(q, W_STATE + S_CACHE_DT)], a[_at(q, W_STATE + S_CACHE_DECAY_I)],
+                  a[_at(q, W_STATE + S_CACHE_DECAY_W)], a[_at(q, W_STATE + S_CACHE_PHI)],
+                  a[_at(q, W_STATE + S_CACHE_PHI + 1)], a[_at(q, W_STATE + S_CACHE_PHI + 2)],
+                  a[_at(q, W_STATE + S_CACHE_PHI + 3)])
+        mud, age, d, v, g, gi, strain, ok = _quiet_lanes_step(s, c, p, z, dt)
+        fe1, fs, spring = _stress_lanes(p, mode, z, d, v, strain, neck_v, neck_z, g, gi)
+        a[_at(q, W_OK)] = select(ok, 1.0, 0.0)
+        a[_at(q, W_Z)] = z
+        a[_at(q, W_FE1)] = fe1
+        a[_at(q, W_FS)] = fs
+        a[_at(q, W_HAS_SPRING)] = select(spring, 1.0, 0.0)
+        a[_at(q, W_STATE + S_STARTED)] = select(ok, 1.0, started)
+        a[_at(q, W_STATE + S_TIME)] = select(ok, time + dt, time)
+        a[_at(q, W_STATE + S_DEPTH)] = select(ok, z, depth0)
+        a[_at(q, W_STATE + S_MUD)] = select(ok, mud, mud0)
+        a[_at(q, W_STATE + S_NECK_AGE)] = select(ok, age, age0)
+        a[_at(q, W_STATE + S_DIRECTION)] = select(ok, d, direction0)
+        a[_at(q, W_STATE + S_VELOCITY)] = select(ok, v, velocity0)
+        a[_at(q, W_STATE + S_NECK_G)] = select(ok, g, g0)
+        a[_at(q, W_STATE + S_NECK_GI)] = select(ok, gi, gi0)
+        a[_at(q, W_STATE + S_STRAIN)] = select(ok, strain, strain0)
 
-    :meth:`mudforce.steppers.contact3d.MudContact3D.step` for one foot, in passes over its elements:
 
-    1. each element's paper step: its depth settled
-       (:func:`mudforce.model.law3d.settle_depth`), then the 1-D stepper's
-       calls (:func:`mudforce._kernel.loops.run_feet`'s: :func:`~mudforce._kernel.transitions.quiet_step`,
-       else ``advance`` through :func:`~mudforce._kernel.loops.advance_row`, called out of line;
-       ``stress_parts``), with the
-       foot's params row loaded once (every element of a foot has the same
-       mud and width: :class:`~mudforce.steppers.contact3d.MudContacts3D` builds them
-       so). A FREE element that stays FREE (most elements above the
-       surface) stores only the state columns its quiet step changes. An
-       element at or above the surface has its stress at once (no spring
-       there: Eq. (4) is 0), and, once the foot has started, carries
-       :func:`~mudforce.model.law3d.vertical_force` alone, which is what
-       ``element_force`` gives it, without the horizontal law's arithmetic;
-       a submerged one is gathered into ``lat`` with its world geometry;
-    2. over the gathered elements, in loops without branches (vectorised):
-       Eq. (4) once per element (:func:`~mudforce.model.equations.nonlinear_spring_stress`,
-       the 1-D stepper's spring, which :func:`~mudforce.model.law3d.spring_stress` is
-       in compiled code: called here itself, inlined, so that the loop
-       vectorises, where ``spring_stress``'s compiled form is a call per
-       element; ``loops.spring_pass`` would compute the same number again),
-       the paper's stress (``total_force``, the spring where the branch has
-       it), then :func:`~mudforce.model.law3d.element_force`;
-    3. their slips scattered and the wrench summed: the elements at or above
-       the surface in element order (during pass 1), then the gathered ones
-       in element order, as :class:`~mudforce.steppers.contact3d.MudContact3D`'s
-       loop does. At a foot's first step no element is loaded sideways: one
-       more pass sums them all in element order.
+@_compiled()
+def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float, float, float, float, float, float,
+               float, float, float], px: float, py: float, pz: float, dt: float, started: bool, k: float,
+               sigma_y: float, lambda_: float, rho: float) -> None:
+    """The 3-D law on a block's first ``width`` lanes (a multiple of :data:`GROUP`), in groups of :data:`GROUP`
+    without branches (vectorised): Eq. (4) at the depth, the paper's stress (``total_force``), then
+    :func:`~mudforce.model.law3d.element_force` and :func:`~mudforce.model.law3d.moment`. A group wholly at or
+    above the surface carries :func:`~mudforce.model.law3d.vertical_force` alone, which is what
+    ``element_force`` gives it (no spring there: Eq. (4) is 0), without the horizontal law's arithmetic. A lane
+    whose quiet step did not hold keeps its slip and centroid (:func:`_rare_lanes` steps it)."""
+    b = np.uint64(max(block, 0))
+    alpha, beta, h_width, area_1d = p.alpha, p.beta, p.width, p.area
+    per_dt = 1.0 / dt
+    for group in range(width // GROUP):
+        g0 = b + np.uint64(group * GROUP)
+        submerged = False
+        for lane in range(GROUP):
+            submerged |= a[_at(g0 + np.uint64(lane), W_Z)] > 0.0
+        if submerged:
+            for lane in range(GROUP):
+                q = g0 + np.uint64(lane)
+                ok = a[_at(q, W_OK)] != 0.0
+                z = a[_at(q, W_Z)]
+                ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
+                nx, ny, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
+                # Eq. (4), inlined (law3d.spring_stress's compiled form is a call, which does not vectorise)
+                spring = nonlinear_spring_stress(alpha, beta, z, h_width)
+                sigma = total_force(a[_at(q, W_FE1)], select(a[_at(q, W_HAS_SPRING)] != 0.0, spring, 0.0),
+                                    a[_at(q, W_FS)], area_1d)
+                wx, wy, wz = px + ox, py + oy, pz + oz
+                sx0, sy0 = a[_at(q, W_SLIPX)], a[_at(q, W_SLIPY)]
+                cx0, cy0, cz0 = a[_at(q, W_CX)], a[_at(q, W_CY)], a[_at(q, W_CZ)]
+                sx, sy, fx, fy, fz = element_force(sigma, spring, a[_at(q, W_AREA)], nx, ny, nz, z, sx0, sy0,
+                                                   wx - cx0, wy - cy0, per_dt, started, k, sigma_y, lambda_, rho)
+                tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
+                a[_at(q, W_SLIPX)] = select(ok, sx, sx0)
+                a[_at(q, W_SLIPY)] = select(ok, sy, sy0)
+                a[_at(q, W_CX)] = select(ok, wx, cx0)
+                a[_at(q, W_CY)] = select(ok, wy, cy0)
+                a[_at(q, W_CZ)] = select(ok, wz, cz0)
+                a[_at(q, W_FX)] = fx
+                a[_at(q, W_FY)] = fy
+                a[_at(q, W_FZ)] = fz
+                a[_at(q, W_TX)] = tx
+                a[_at(q, W_TY)] = ty
+                a[_at(q, W_TZ)] = tz
+                a[_at(q, W_STRESS)] = sigma
+        else:
+            for lane in range(GROUP):
+                q = g0 + np.uint64(lane)
+                ok = a[_at(q, W_OK)] != 0.0
+                ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
+                _, _, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
+                sigma = total_force(a[_at(q, W_FE1)], 0.0, a[_at(q, W_FS)], area_1d)
+                fz = vertical_force(sigma, a[_at(q, W_AREA)], nz)
+                tx, ty, tz = moment(ox, oy, oz, 0.0, 0.0, fz)
+                a[_at(q, W_SLIPX)] = select(ok, 0.0, a[_at(q, W_SLIPX)])
+                a[_at(q, W_SLIPY)] = select(ok, 0.0, a[_at(q, W_SLIPY)])
+                a[_at(q, W_CX)] = select(ok, px + ox, a[_at(q, W_CX)])
+                a[_at(q, W_CY)] = select(ok, py + oy, a[_at(q, W_CY)])
+                a[_at(q, W_CZ)] = select(ok, pz + oz, a[_at(q, W_CZ)])
+                a[_at(q, W_FX)] = 0.0
+                a[_at(q, W_FY)] = 0.0
+                a[_at(q, W_FZ)] = fz
+                a[_at(q, W_TX)] = tx
+                a[_at(q, W_TY)] = ty
+                a[_at(q, W_TZ)] = tz
+                a[_at(q, W_STRESS)] = sigma
 
-    The foot's rotation is read once (:func:`_foot_rotation`) and each
-    element's world geometry is recomputed from it where it is used (memory,
-    not arithmetic, bounds a step of thousands of feet). ``ft``'s width,
-    alpha and beta are the params row's (the same numbers).
 
-    With ``each`` one row per element (:func:`step_feet`), every element's force [N] goes into its row, the
-    elements that carry their vertical force alone included (zero or not), and the wrench is summed over them
-    in element order at the end (:func:`_in_element_order`) instead.
+@_compiled()
+def _rare_lanes(a: np.ndarray, block: int, count: int, first: int, states: np.ndarray, ring: np.ndarray,
+                params: np.ndarray, r: tuple[float, float, float, float, float, float, float, float, float],
+                px: float, py: float, pz: float, dt: float, started: bool, k: float, sigma_y: float, lambda_: float,
+                rho: float) -> int:
+    """The lanes of a block (its first ``count``, elements ``first``, ``first + 1``, ...) whose quiet step did not
+    hold: each through the state machine (:func:`~mudforce._kernel.loops.advance_row` on its 1-D row, written
+    from the lanes and read back), then its stresses and the 3-D law, as :func:`_paper_lanes` and
+    :func:`_law_lanes` do for the others (the same functions, one element at a time). ~1 % of a walk's
+    element-steps. Returns the element refused, or -1."""
+    p = load_params(params, first)
+    area_1d = p.area
+    for lane in range(count):
+        q = block + lane
+        if a[q + W_OK * FIELD] != 0.0:
+            continue
+        i = first + lane
+        row = states[i]
+        for j in range(N_STATE):
+            row[j] = a[q + (W_STATE + j) * FIELD]
+        z = a[q + W_Z * FIELD]
+        st = advance_row(states, ring, i, params, z, dt)
+        if not st.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
+            return i
+        for j in range(N_STATE):
+            a[q + (W_STATE + j) * FIELD] = row[j]
+        fe1, fs, _, has_spring = stress_parts(p, st.state, st.velocity)
+        spring = nonlinear_spring_stress(p.alpha, p.beta, z, p.width)
+        sigma = total_force(fe1, spring if has_spring else 0.0, fs, area_1d)
+        ox, oy, oz = rotate(r, a[q + W_CBX * FIELD], a[q + W_CBY * FIELD], a[q + W_CBZ * FIELD])
+        nx, ny, nz = rotate(r, a[q + W_NBX * FIELD], a[q + W_NBY * FIELD], a[q + W_NBZ * FIELD])
+        wx, wy, wz = px + ox, py + oy, pz + oz
+        sx, sy, fx, fy, fz = element_force(sigma, spring, a[q + W_AREA * FIELD], nx, ny, nz, z,
+                                           a[q + W_SLIPX * FIELD], a[q + W_SLIPY * FIELD], wx - a[q + W_CX * FIELD],
+                                           wy - a[q + W_CY * FIELD], 1.0 / dt, started, k, sigma_y, lambda_, rho)
+        tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
+        a[q + W_SLIPX * FIELD] = sx
+        a[q + W_SLIPY * FIELD] = sy
+        a[q + W_CX * FIELD] = wx
+        a[q + W_CY * FIELD] = wy
+        a[q + W_CZ * FIELD] = wz
+        a[q + W_FX * FIELD] = fx
+        a[q + W_FY * FIELD] = fy
+        a[q + W_FZ * FIELD] = fz
+        a[q + W_TX * FIELD] = tx
+        a[q + W_TY * FIELD] = ty
+        a[q + W_TZ * FIELD] = tz
+        a[q + W_STRESS * FIELD] = sigma
+    return -1
+
+
+@_compiled()
+def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np.ndarray, states: np.ndarray,
+               ring: np.ndarray, params: np.ndarray, f: int, dt: float, forces: np.ndarray, torques: np.ndarray,
+               each: np.ndarray) -> int:
+    """Foot ``f``'s step once placed (:func:`_place`): its elements' paper step, then the 3-D law; the element
+    refused, or -1.
+
+    :meth:`mudforce.steppers.contact3d.MudContact3D.step` for one foot, block by block of its elements' lanes:
+
+    1. :func:`_paper_lanes`: every element's depth and quiet paper step (the 1-D stepper's ``quiet_step``, as
+       :func:`mudforce._kernel.loops.run_feet` takes it, in a form without branches), its stresses but the spring's;
+    2. :func:`_law_lanes`: Eq. (4), the paper's stress and the 3-D law (:func:`~mudforce.model.law3d.element_force`,
+       :func:`~mudforce.model.law3d.moment`);
+    3. :func:`_rare_lanes`: the elements in which something happens (a touchdown, a necking, a change of branch
+       or of step length, a first step) through the state machine, one by one;
+
+    then the wrench, summed over the foot's elements in element order, as
+    :class:`~mudforce.steppers.contact3d.MudContact3D`'s numpy step sums it (numpy's ``sum(axis=0)``), and, with
+    ``each`` one row per element (:func:`step_feet`), every element's force [N] into its row. Every element of a
+    foot has the same mud and width (:class:`~mudforce.steppers.contact3d.MudContacts3D` builds them so): the
+    foot's params row is its first element's; ``ft``'s width, alpha and beta are that row's (the same numbers).
     """
-    # (never negative; said to the compiler, which then drops some of numba's wraparound of negative indices:
-    # ~1 % fewer instructions an element-step, docs/speed.md)
+    # (never negative; said to the compiler, which then drops some of numba's wraparound of negative indices)
     lo, hi = max(starts[f], 0), max(starts[f + 1], 0)
+    if hi <= lo:
+        for j in range(3):
+            forces[f, j] = 0.0
+            torques[f, j] = 0.0
+        ft[f, F_STARTED] = 1.0
+        return -1
     p = load_params(params, lo)
-    quiet = exact_rule(p)
-    r = _foot_rotation(ft, f)
+    r = (ft[f, F_R], ft[f, F_R + 1], ft[f, F_R + 2], ft[f, F_R + 3], ft[f, F_R + 4], ft[f, F_R + 5],
+         ft[f, F_R + 6], ft[f, F_R + 7], ft[f, F_R + 8])
     px, py, pz = ft[f, F_PX], ft[f, F_PX + 1], ft[f, F_PX + 2]
     h = ft[f, F_SURFACE]
     started = ft[f, F_STARTED] != 0.0
-    each_ = each.shape[0] != 0  # every element's force wanted (MudContact3D), the wrench summed in element order
-    sfx = sfy = sfz = 0.0
-    stx = sty = stz = 0.0
-    m = 0
-    for i in range(lo, hi):
-        row = states[i]
-        _, _, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-        z = element_depth(h, pz, oz)  # (checked by _place)
-        if row[S_STARTED] != 0.0:  # law3d.settle_depth: a change of depth by rounding is none
-            z = settle_depth(z, row[S_DEPTH])
-        # ---- the paper's step of the element (what _kernel.loops.run_feet does for a foot)
-        if quiet and row[S_MODE] == FREE:
-            q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
-            ok = q.ok
-            if ok:  # FREE stays FREE: only these columns change (the others are the state's own)
-                s1 = q.state
-                row[S_STARTED] = s1.started
-                row[S_TIME] = s1.time
-                row[S_DEPTH] = s1.depth
-                row[S_MUD] = s1.mud
-                row[S_DIRECTION] = s1.direction
-                row[S_VELOCITY] = s1.velocity
-        else:
-            ok = False
-            if quiet:
-                q = quiet_step(load_state(states, i), load_cache(states, i), p, z, dt)
-                ok = q.ok
-                if ok:
-                    store_state(states, i, q.state)
-        if not ok:
-            q = advance_row(states, ring, i, params, z, dt)
-            if not q.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
-                return i
-        fe1, fs, _, spring = stress_parts(p, q.state, q.velocity)
-        # ---- the element's world geometry and the 3-D law's first pass
-        ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-        wx, wy, wz = px + ox, py + oy, pz + oz
-        if z > 0.0:  # submerged: gathered for the spring and the lateral law
-            lat[L_INDEX, m] = i
-            lat[L_DEPTH, m] = z
-            lat[L_FE1, m] = fe1
-            lat[L_FS, m] = fs
-            lat[L_HAS_SPRING, m] = 1.0 if spring else 0.0
-            if started:
-                nx, ny, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
-                lat[L_NX, m] = nx
-                lat[L_NY, m] = ny
-                lat[L_NZ, m] = nz
-                lat[L_OX, m] = ox
-                lat[L_OY, m] = oy
-                lat[L_OZ, m] = oz
-                lat[L_AREA, m] = el[i, E_AREA]
-                lat[L_SX, m] = el[i, E_SLIPX]
-                lat[L_SY, m] = el[i, E_SLIPY]
-                lat[L_MX, m] = wx - el[i, E_CX]
-                lat[L_MY, m] = wy - el[i, E_CY]
-            m += 1
-        else:  # no spring at or above the surface (Eq. (4) is 0 there): the stress at once
-            sigma = total_force(fe1, 0.0, fs, p.area)
-            stress[i] = sigma
-            if started:  # what element_force gives an element that carries no horizontal force
-                el[i, E_SLIPX] = 0.0
-                el[i, E_SLIPY] = 0.0
-                if sigma != 0.0 or each_:  # (most elements above the surface carry none: no force, no moment)
-                    _, _, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
-                    fz = vertical_force(sigma, el[i, E_AREA], nz)
-                    if each_:
-                        _vertical_into(each, i, fz)
-                    mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
-                    sfz += fz
-                    stx += mx
-                    sty += my
-                    stz += mz
-        if started:
-            el[i, E_CX] = wx
-            el[i, E_CY] = wy
-            el[i, E_CZ] = wz
-    # ---- the gathered elements: Eq. (4) once each, their paper stress (rows as arrays: the loops vectorise)
-    depth, spring_, area = lat[L_DEPTH], lat[L_SPRING], lat[L_AREA]
-    fe1s, fss, has, stresses = lat[L_FE1], lat[L_FS], lat[L_HAS_SPRING], lat[L_STRESS]
-    alpha, beta, width, area_1d = p.alpha, p.beta, p.width, p.area
-    for j in range(m):  # Eq. (4), inlined (law3d.spring_stress's compiled form is a call, which does not vectorise)
-        spring_[j] = nonlinear_spring_stress(alpha, beta, depth[j], width)
-    for j in range(m):
-        stresses[j] = total_force(fe1s[j], spring_[j] if has[j] != 0.0 else 0.0, fss[j], area_1d)
-    for j in range(m):
-        stress[int(lat[L_INDEX, j])] = stresses[j]
-    if not started:  # a first step: no element is loaded sideways; each carries its vertical force, in order
-        for i in range(lo, hi):
-            ox, oy, oz = rotate(r, el[i, E_CBX], el[i, E_CBY], el[i, E_CBZ])
-            el[i, E_SLIPX] = 0.0
-            el[i, E_SLIPY] = 0.0
-            if stress[i] != 0.0 or each_:
-                _, _, nz = rotate(r, el[i, E_NBX], el[i, E_NBY], el[i, E_NBZ])
-                fz = vertical_force(stress[i], el[i, E_AREA], nz)
-                if each_:
-                    _vertical_into(each, i, fz)
-                mx, my, mz = moment(ox, oy, oz, 0.0, 0.0, fz)
-                sfz += fz
-                stx += mx
-                sty += my
-                stz += mz
-            el[i, E_CX] = px + ox
-            el[i, E_CY] = py + oy
-            el[i, E_CZ] = pz + oz
-    elif m > 0:  # the 3-D law on the submerged elements
-        k = ft[f, F_STIFFNESS]
-        sigma_y = ft[f, F_SIGMA_Y]
-        lambda_ = ft[f, F_LAMBDA]
-        rho = ft[f, F_RHO]
-        per_dt = 1.0 / dt
-        nxs, nys, nzs = lat[L_NX], lat[L_NY], lat[L_NZ]
-        sxs, sys_, mxs, mys = lat[L_SX], lat[L_SY], lat[L_MX], lat[L_MY]
-        fxs, fys, fzs = lat[L_FX], lat[L_FY], lat[L_FZ]
-        for j in range(m):  # the 3-D law
-            slip_x, slip_y, fx, fy, fz = element_force(
-                stresses[j], spring_[j], area[j], nxs[j], nys[j], nzs[j], depth[j], sxs[j], sys_[j], mxs[j], mys[j],
-                per_dt, True, k, sigma_y, lambda_, rho)
-            sxs[j] = slip_x
-            sys_[j] = slip_y
-            fxs[j] = fx
-            fys[j] = fy
-            fzs[j] = fz
-        for j in range(m):
-            i = int(lat[L_INDEX, j])
-            el[i, E_SLIPX] = sxs[j]
-            el[i, E_SLIPY] = sys_[j]
-            fx, fy, fz = fxs[j], fys[j], fzs[j]
-            if each_:
-                each[i, 0] = fx
-                each[i, 1] = fy
-                each[i, 2] = fz
-            mx, my, mz = moment(lat[L_OX, j], lat[L_OY, j], lat[L_OZ, j], fx, fy, fz)
-            sfx += fx
-            sfy += fy
-            sfz += fz
-            stx += mx
-            sty += my
-            stz += mz
-    if each_:  # MudContact3D's order: every element's force and moment, from the first element, in element order
-        sfx, sfy, sfz, stx, sty, stz = _in_element_order(el, each, r, lo, hi)
+    k, sigma_y, lambda_, rho = ft[f, F_STIFFNESS], ft[f, F_SIGMA_Y], ft[f, F_LAMBDA], ft[f, F_RHO]
+    quiet = exact_rule(p)
+    for b in range(blocks[f], blocks[f + 1]):
+        first = lo + (b - blocks[f]) * LANES
+        count = min(hi - first, LANES)
+        width = -(-count // GROUP) * GROUP
+        block = b * BLOCK
+        _paper_lanes(lanes, block, width, p, r, h, pz, dt)
+        if not quiet:  # pragma: no cover - the 3-D feet take the exact rule (MudContacts3D builds them so)
+            for lane in range(count):
+                lanes[block + W_OK * FIELD + lane] = 0.0
+        _law_lanes(lanes, block, width, p, r, px, py, pz, dt, started, k, sigma_y, lambda_, rho)
+        refused = _rare_lanes(lanes, block, count, first, states, ring, params, r, px, py, pz, dt, started, k,
+                              sigma_y, lambda_, rho)
+        if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused before
+            return refused
+    # the wrench in element order, from the first element (numpy's sum(axis=0)), and each element's force
+    b0 = blocks[f]
+    q0 = np.uint64(max(b0 * BLOCK, 0))
+    sfx, sfy, sfz = lanes[_at(q0, W_FX)], lanes[_at(q0, W_FY)], lanes[_at(q0, W_FZ)]
+    stx, sty, stz = lanes[_at(q0, W_TX)], lanes[_at(q0, W_TY)], lanes[_at(q0, W_TZ)]
+    for b in range(b0, blocks[f + 1]):
+        base = np.uint64(max(b * BLOCK, 0))
+        count = min(hi - (lo + (b - b0) * LANES), LANES)
+        for lane in range(1 if b == b0 else 0, count):
+            q = base + np.uint64(lane)
+            sfx += lanes[_at(q, W_FX)]
+            sfy += lanes[_at(q, W_FY)]
+            sfz += lanes[_at(q, W_FZ)]
+            stx += lanes[_at(q, W_TX)]
+            sty += lanes[_at(q, W_TY)]
+            stz += lanes[_at(q, W_TZ)]
+    if each.shape[0] != 0:
+        for b in range(b0, blocks[f + 1]):
+            base = np.uint64(max(b * BLOCK, 0))
+            first = lo + (b - b0) * LANES
+            for lane in range(min(hi - first, LANES)):
+                q = base + np.uint64(lane)
+                each[first + lane, 0] = lanes[_at(q, W_FX)]
+                each[first + lane, 1] = lanes[_at(q, W_FY)]
+                each[first + lane, 2] = lanes[_at(q, W_FZ)]
     forces[f, 0] = sfx
     forces[f, 1] = sfy
     forces[f, 2] = sfz
@@ -511,6 +625,44 @@ def _step_foot(el: np.ndarray, ft: np.ndarray, starts: np.ndarray, stress: np.nd
     torques[f, 2] = stz
     ft[f, F_STARTED] = 1.0
     return -1
+
+
+@_compiled()
+def rows_from_lanes(block: np.ndarray, states: np.ndarray) -> None:
+    """The lanes' states into the 1-D rows (``states``, one per element) and the element block's slips and
+    centroids (``E_SLIPX``, ``E_CX``, ...): the rows as the lanes have them (after a step: the export)."""
+    el, _, starts, lanes, blocks = _unpack(block)
+    for f in range(starts.shape[0] - 1):
+        for i in range(starts[f], starts[f + 1]):
+            q = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK + (i - starts[f]) % LANES
+            for j in range(N_STATE):
+                states[i, j] = lanes[q + (W_STATE + j) * FIELD]
+            el[i, E_SLIPX] = lanes[q + W_SLIPX * FIELD]
+            el[i, E_SLIPY] = lanes[q + W_SLIPY * FIELD]
+            el[i, E_CX] = lanes[q + W_CX * FIELD]
+            el[i, E_CY] = lanes[q + W_CY * FIELD]
+            el[i, E_CZ] = lanes[q + W_CZ * FIELD]
+    block[H_STALE] = 0.0
+
+
+@_compiled()
+def lanes_from_rows(block: np.ndarray, states: np.ndarray) -> None:
+    """The 1-D rows (``states``) and the element block (constants, slips, centroids) into the lanes: after
+    either changed (a state restored, a reset, a step of the numpy reference)."""
+    el, _, starts, lanes, blocks = _unpack(block)
+    for f in range(starts.shape[0] - 1):
+        for i in range(starts[f], starts[f + 1]):
+            q = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK + (i - starts[f]) % LANES
+            for j in range(N_STATE):
+                lanes[q + (W_STATE + j) * FIELD] = states[i, j]
+            for j in range(W_AREA + 1):  # the constants: E_CBX .. E_AREA are W_CBX .. W_AREA
+                lanes[q + j * FIELD] = el[i, j]
+            lanes[q + W_SLIPX * FIELD] = el[i, E_SLIPX]
+            lanes[q + W_SLIPY * FIELD] = el[i, E_SLIPY]
+            lanes[q + W_CX * FIELD] = el[i, E_CX]
+            lanes[q + W_CY * FIELD] = el[i, E_CY]
+            lanes[q + W_CZ * FIELD] = el[i, E_CZ]
+    block[H_STALE] = 0.0
 
 
 @_compiled()
@@ -547,21 +699,21 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, block: 
 
     ``positions`` (m, 3) [m] and ``quaternions`` (m, 4) ``(w, x, y, z)``
     are the feet's poses, ``dt`` [s] the time since the last step (ignored
-    if no foot has started). ``block`` holds the step's own arrays (:func:`new_block`, one slice: the elements,
-    the feet, the starts, the 1-D stepper's forces (on a unit area: the elements' paper stresses [Pa]) and the
-    lateral scratch); ``states``, ``ring`` and ``params`` are the 1-D stepper's rows, one per element. Returns
-    :data:`OK`; or, having changed nothing, the first foot whose pose or depth is refused (see :func:`_place`),
-    :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
+    if no foot has started). ``block`` holds the step's own arrays (:func:`new_block`: the elements, the feet,
+    the lanes, the starts); ``states``, ``ring`` and ``params`` are the 1-D stepper's rows, one per element
+    (``states`` the lanes' export, :func:`rows_from_lanes`; the state machine's scratch for the elements it steps).
+    Returns :data:`OK`; or, having changed nothing, the first foot whose pose or depth is refused (see
+    :func:`_place`), :data:`BAD_DT` for a ``dt`` outside [``MIN_DT``, ``MAX_DT``] once a
     foot has started, or :data:`BAD_SHAPE` if the poses or the outputs are
     not one row per foot (``ft``'s rows): (m, 3), (m, 4), (m, 3), (m, 3),
     or ``each`` neither (0, 3) nor one row per element.
 
-    ``each`` (0, 3): :class:`~mudforce.steppers.contact3d.MudContacts3D`'s step, each foot's wrench summed
-    as it goes (see :func:`_step_foot`). One row per element (:class:`~mudforce.steppers.contact3d.MudContact3D`,
-    one foot): each element's force [N] into its row as well, and each foot's wrench summed over its elements
-    in element order, as ``MudContact3D``'s numpy step sums it (:func:`_in_element_order`), its bits.
+    ``each`` (0, 3): :class:`~mudforce.steppers.contact3d.MudContacts3D`'s step. One row per element
+    (:class:`~mudforce.steppers.contact3d.MudContact3D`, one foot): each element's force [N] into its row as
+    well. Either way each foot's wrench is summed over its elements in element order, as ``MudContact3D``'s numpy
+    step sums it, its bits.
     """
-    el, ft, starts, stress, lat = _unpack(block)
+    el, ft, starts, lanes, blocks = _unpack(block)
     m = ft.shape[0]
     if not (positions.shape[0] == m and positions.shape[1] == 3 and quaternions.shape[0] == m
             and quaternions.shape[1] == 4 and forces.shape[0] == m and forces.shape[1] == 3
@@ -574,9 +726,9 @@ def step_feet(positions: np.ndarray, quaternions: np.ndarray, dt: float, block: 
     bad = _place(positions, quaternions, el, ft, starts)
     if bad != OK:
         return bad
+    block[H_STALE] = 1.0
     for f in range(m):
-        refused = _step_foot(el, ft, starts, stress, lat[0], states, ring, params, f, dt, forces, torques,
-                             each)
+        refused = _step_foot(ft, starts, lanes, blocks, states, ring, params, f, dt, forces, torques, each)
         if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return refused
     return OK
@@ -600,11 +752,10 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     """:func:`step_feet` with the feet in ``chunks.shape[0]`` contiguous slices on numba's threads.
 
     The checks run first, on the calling thread, over every foot; then
-    each slice's elements take their 1-D step and its feet their lateral
-    law. The feet are independent, so the results are :func:`step_feet`'s
-    bit for bit. ``block``'s lateral scratch holds one lateral block per slice.
+    each slice's feet take their step. The feet are independent (each has lanes of its own), so the results
+    are :func:`step_feet`'s bit for bit.
     """
-    el, ft, starts, stress, lat = _unpack(block)
+    el, ft, starts, lanes, blocks = _unpack(block)
     m = positions.shape[0]
     dt = _checked_dt(ft, m, dt)
     if dt != dt:
@@ -612,14 +763,14 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
     bad = _place(positions, quaternions, el, ft, starts)
     if bad != OK:
         return bad
+    block[H_STALE] = 1.0
     n = chunks.shape[0]
     for c in prange(n):
         lo = m * c // n
         hi = m * (c + 1) // n
         chunks[c] = -1
         for f in range(lo, hi):
-            refused = _step_foot(el, ft, starts, stress, lat[c], states, ring, params, f, dt, forces,
-                                 torques, each)
+            refused = _step_foot(ft, starts, lanes, blocks, states, ring, params, f, dt, forces, torques, each)
             if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
                 chunks[c] = refused
     for c in range(n):

@@ -179,14 +179,16 @@ class MudContact3D:
         n = shape.n
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
         # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
-        block = S3.new_block(np.array([0, n]), 1)  # the step's own arrays in one (one argument, not five)
+        block = S3.new_block(np.array([0, n]))  # the step's own arrays in one (one argument, not five)
         el, self._foot, _, _, _ = S3.block_views(block)
         _fill_elements(el, shape)
         _fill_foot(self._foot[0], params, self._surface_height, self._width, self._lateral_stiffness, shape)
         self._slip = el[:, S3.E_SLIPX:S3.E_SLIPY + 1]  # views: the slips [m] and the world centroids at the last
-        self._centroids = el[:, S3.E_CX:S3.E_CZ + 1]  # step [m]
+        self._centroids = el[:, S3.E_CX:S3.E_CZ + 1]  # step [m] (the lanes' export, as the 1-D rows are: _rows)
         self._areas = np.array(shape.areas, dtype=np.float64)  # the areas [m^2] as the numpy step's compiled loop
         e = self._elements  # has them (writable, C-contiguous, as numba types them)
+        self._block = block
+        S3.lanes_from_rows(block, e._states)  # the elements' constants and fresh states into the compiled step's lanes
         # step_feet's arguments after the pose and dt, before the outputs
         self._kernel_args = (block, e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
@@ -235,10 +237,21 @@ class MudContact3D:
         self._foot[0, S3.F_STARTED] = 1.0 if started else 0.0
 
     # ------------------------------------------------------------------ state
+    def _rows(self) -> None:
+        """The compiled step's lanes into the elements' 1-D rows, slips and centroids, if a step has left them
+        behind (:func:`mudforce._kernel.step3d.rows_from_lanes`): before anything reads them."""
+        if self._block[S3.H_STALE] != 0.0:
+            S3.rows_from_lanes(self._block, self._elements._states)
+
+    def _lanes(self) -> None:
+        """The elements' 1-D rows, slips and centroids into the compiled step's lanes: after anything wrote them."""
+        S3.lanes_from_rows(self._block, self._elements._states)
+
     @property
     def state(self) -> ContactState3D:
         """A copy of everything the contact remembers; assign one back to restore it (a state of another shape, whose
         centroids are not this one's turned and moved, is refused and nothing is changed)."""
+        self._rows()
         return ContactState3D(self._elements.state, self._slip.copy(), self._centroids.copy(), self._started)
 
     @state.setter
@@ -261,14 +274,17 @@ class MudContact3D:
                              f"{elements.shape}")
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")
         # written as MudContacts' setter writes them (checked above once, in elements' words)
+        self._rows()  # (the rows are all written below; the flag cleared)
         _restore_rows(self._elements._states, self._elements.ring, self._elements.params_array, elements)
         self._slip[:] = slip
         self._centroids[:] = centroids
         self._started = started
+        self._lanes()
 
     @property
     def modes(self) -> list[str]:
         """Each element's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        self._rows()
         return self._elements.modes
 
     # ------------------------------------------------------------------ step
@@ -378,6 +394,7 @@ class MudContact3D:
             dt = 1.0  # ignored by the elements' first step
         shape = self.shape
         q = self.params
+        self._rows()  # the elements' rows as the compiled step left them
         # the law of mudforce.model.law3d on the elements' columns (the functions the compiled step and JAX call)
         r = tuple(rotation.ravel().tolist())
         ox, oy, oz = law3d.rotate(r, *shape.centroids.T)
@@ -413,6 +430,7 @@ class MudContact3D:
         self._centroids[:, 1] = wy
         self._centroids[:, 2] = wz
         self._started = True
+        self._lanes()  # the rows as this step left them, for the compiled step
         self.element_forces = forces
         if self._fixed is None:  # the 1-D stepper has compiled: the compiled step can be taken from now on
             self._fixed = self._fixed_types()
@@ -428,9 +446,11 @@ class MudContact3D:
 
     def reset(self) -> None:
         """Forget the history: the next step is a first step, and :attr:`element_forces` is as before any step."""
+        self._rows()  # (the centroids are kept)
         self._elements.reset()
         self._slip[:] = 0.0
         self._started = False
+        self._lanes()
         self.element_forces = np.zeros(self._n3)  # (a new array: a kept one keeps its values)
 
     def __repr__(self) -> str:
@@ -847,10 +867,12 @@ class MudContacts3D:
         # the step's own arrays in one (one argument, not five): the elements, the feet, this step's element paper
         # stresses [Pa] and the lateral scratch (a foot's submerged elements side by side, for the spring's and the
         # 3-D law's vectorised loops; one block per slice)
-        block = S3.new_block(self._starts, self.threads)
-        self._el, self._ft, _, self._stress, self._lateral = S3.block_views(block)
+        block = S3.new_block(self._starts)
+        self._el, self._ft, _, _, _ = S3.block_views(block)
         self._el[:] = el
         self._ft[:] = ft
+        self._block = block
+        S3.lanes_from_rows(block, self._states)  # the elements' constants and fresh states into the lanes
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (block, self._states, self._ring, self._params_rows)
         # what step() reads on every call, in one attribute: the shape of the outputs, the compiled step's arguments
@@ -885,6 +907,7 @@ class MudContacts3D:
         own solver (:class:`mudforce.engines.mujoco.MudAdapter3D`); the views
         follow the feet as they are stepped.
         """
+        self._export_rows()
         states, rows = (a.view() for a in self._live_rows())
         states.flags.writeable = False
         rows.flags.writeable = False
@@ -893,8 +916,27 @@ class MudContacts3D:
     def _live_rows(self) -> tuple[np.ndarray, np.ndarray]:
         """The elements' own state and constant rows, writable (what :meth:`kernel_rows` views): for the engines
         in this package that pass them to compiled code, which compiles once for writable arrays (the MuJoCo
-        3-D adapter's rest band); they follow the feet as they are stepped."""
+        3-D adapter's rest band). They are the arrays the steps write their export to: call :meth:`_export_rows`
+        after a step, before reading them."""
         return self._states, self._params_rows
+
+    @property
+    def _stress(self) -> np.ndarray:
+        """The elements' paper stresses of the last step [Pa] (the 1-D stepper's force on a unit area), foot after
+        foot: a copy, for the tests that hold them to the 1-D stepper's."""
+        lanes = S3.block_views(self._block)[3]
+        stress: np.ndarray = lanes[S3.lane_entries(self._block) + S3.W_STRESS * S3.FIELD]
+        return stress
+
+    def _export_rows(self) -> None:
+        """The compiled step's lanes into the elements' 1-D rows and the element block's slips and centroids, if a
+        step has left them behind (:func:`mudforce._kernel.step3d.rows_from_lanes`): before anything reads them."""
+        if self._block[S3.H_STALE] != 0.0:
+            S3.rows_from_lanes(self._block, self._states)
+
+    def _import_rows(self) -> None:
+        """The elements' 1-D rows, slips and centroids into the compiled step's lanes: after anything wrote them."""
+        S3.lanes_from_rows(self._block, self._states)
 
     @property
     def surface_heights(self) -> np.ndarray:
@@ -907,6 +949,7 @@ class MudContacts3D:
     def state(self) -> ContactStates3D:
         """A copy of everything the feet remember; assign one back to restore it (a state of other shapes, whose
         centroids are not these ones' turned and moved, is refused and nothing is changed)."""
+        self._export_rows()
         el = self._el
         return ContactStates3D(np.hstack((self._states, self._ring)),
                                el[:, S3.E_SLIPX:S3.E_SLIPY + 1].copy(), el[:, S3.E_CX:S3.E_CZ + 1].copy(),
@@ -934,14 +977,17 @@ class MudContacts3D:
         _check_saved_places(slip, centroids, float(self._ft[:, S3.F_REACH].max()))
         _check_saved_shapes(centroids, self._el[:, S3.E_CBX:S3.E_CBZ + 1], self._starts, started)
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")  # row: element
+        self._export_rows()  # (the rows are all written below; the flag cleared)
         _restore_rows(self._states, self._ring, self._params_rows, elements)  # a replay is the same bits
         self._el[:, S3.E_SLIPX:S3.E_SLIPY + 1] = slip
         self._el[:, S3.E_CX:S3.E_CZ + 1] = centroids
         self._ft[:, S3.F_STARTED] = started
+        self._import_rows()
 
     @property
     def modes(self) -> list[str]:
         """Each element's contact state (all feet, foot after foot): ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
+        self._export_rows()
         return [STATE_NAMES[int(v)] for v in K.state_column(self._states, "mode")]
 
     # ------------------------------------------------------------------ step
@@ -1070,11 +1116,13 @@ class MudContacts3D:
         """
         fresh = K.new_states(1)[0]
         chosen = _chosen_feet(feet, self.n)  # (a nested [[0]] refused there, as for MudContacts)
+        self._export_rows()  # the other feet's rows as they are
         for f in chosen.tolist():
             lo, hi = int(self._starts[f]), int(self._starts[f + 1])
             self._states[lo:hi] = fresh
             self._el[lo:hi, S3.E_SLIPX:S3.E_SLIPY + 1] = 0.0
             self._ft[f, S3.F_STARTED] = 0.0
+        self._import_rows()
 
     def __len__(self) -> int:
         return self.n

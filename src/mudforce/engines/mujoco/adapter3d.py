@@ -483,9 +483,11 @@ class MudAdapter3D:
                     if k_band < 0:
                         k_band = k
                     else:
+                        self._contacts[k]._export_rows()  # the rows as the last step left them
                         states, rows = self._rows[k]
                         feet_bands(states, rows, dt, self._patch, k, self._starts, mats, self._nb, self._area,
                                    self._bands)
+        self._contacts[max(k_band, 0)]._export_rows()  # the rows as the last step left them
         states, rows = self._rows[max(k_band, 0)]
         const = self._const
         if self._patch_changed:
