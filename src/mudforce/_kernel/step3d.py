@@ -58,12 +58,9 @@ from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
 from mudforce._kernel.layout import (
     CONTACT,
     FREE,
-    N_STATE,
+    N_CORE,
     NECKED,
-    S_CACHE_DECAY_I,
-    S_CACHE_DECAY_W,
     S_CACHE_DT,
-    S_CACHE_PHI,
     S_DEPTH,
     S_DIRECTION,
     S_MODE,
@@ -296,8 +293,9 @@ FIELD = LANES + 8
 W_CBX, W_CBY, W_CBZ = 0, 1, 2  # centroid in the body frame [m]
 W_NBX, W_NBY, W_NBZ = 3, 4, 5  # outward unit normal in the body frame [-]
 W_AREA = 6  # area [m^2]
-W_STATE = 7  # the 1-D state row's N_STATE columns, in layout's S_* order (W_STATE + S_*)
-W_SLIPX, W_SLIPY = W_STATE + N_STATE, W_STATE + N_STATE + 1  # horizontal elastic slip [m]
+W_STATE = 7  # the 1-D state proper, the state row's first N_CORE columns in layout's S_* order (W_STATE + S_*)
+W_CACHE_DT = W_STATE + N_CORE  # the step length of the element's step-length cache (the cache itself is its row's)
+W_SLIPX, W_SLIPY = W_CACHE_DT + 1, W_CACHE_DT + 2  # horizontal elastic slip [m]
 W_CX, W_CY, W_CZ = W_SLIPY + 1, W_SLIPY + 2, W_SLIPY + 3  # world centroid at the last step [m]
 W_OK = W_CZ + 1  # this step: 1.0 where the quiet step held, else 0.0 (the state machine steps the element)
 W_Z = W_OK + 1  # this step: the depth [m]
@@ -308,6 +306,12 @@ W_TX, W_TY, W_TZ = W_FZ + 1, W_FZ + 2, W_FZ + 3  # this step: its moment about t
 W_STRESS = W_TZ + 1  # this step: the element's paper stress [Pa] (the 1-D stepper's force on a unit area)
 N_FIELDS = W_STRESS + 1
 BLOCK = N_FIELDS * FIELD
+#: where a block keeps its step-length cache (layout's ``Cache``, 7 entries: in the padding of its W_CACHE_DT
+#: field): the decays and Eq. (7)'s transition matrix of every element of a foot are the same numbers for the
+#: same step length (they are computed from it and the mud's constants), so one copy serves the lanes whose own
+#: cache is for that step length (``W_CACHE_DT``); the others take the state machine, on their rows, which keep
+#: every element's own cache
+B_CACHE = W_CACHE_DT * FIELD + LANES
 #: lanes are stepped by the 3-D law in groups of this many: a group wholly above the surface takes the vertical
 #: force alone (the paper's stress on the downward projection), without the horizontal law's arithmetic
 GROUP = 8
@@ -370,13 +374,15 @@ def _stress_lanes(p: Params, mode: float, depth: float, direction: float, veloci
 
 
 @_compiled()
-def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float, float, float, float, float, float,
-                 float, float, float], h: float, pz: float, dt: float) -> None:
+def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float, float, float, float, float,
+                 float, float, float, float], h: float, pz: float, dt: float) -> None:
     """The paper's quiet step of a block's first ``width`` lanes (a multiple of :data:`GROUP`), in one loop
     without branches (vectorised): each element's depth settled (:func:`~mudforce.model.law3d.settle_depth`), its
     quiet step, its stresses but the spring's. A lane whose quiet step does not hold keeps its state
     (``W_OK`` 0.0: :func:`_rare_lanes` steps it)."""
     b = np.uint64(max(block, 0))
+    k = max(block + B_CACHE, 0)
+    c = Cache(a[k], a[k + 1], a[k + 2], a[k + 3], a[k + 4], a[k + 5], a[k + 6])  # the block's (see B_CACHE)
     for lane in range(width):
         q = b + np.uint64(lane)
         _, _, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
@@ -396,11 +402,8 @@ def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[floa
         gi0 = a[_at(q, W_STATE + S_NECK_GI)]
         strain0 = a[_at(q, W_STATE + S_STRAIN)]
         s = State(started, mode, time, depth0, mud0, age0, neck_v, neck_z, direction0, velocity0, g0, gi0, strain0)
-        c = Cache(a[_at(q, W_STATE + S_CACHE_DT)], a[_at(q, W_STATE + S_CACHE_DECAY_I)],
-                  a[_at(q, W_STATE + S_CACHE_DECAY_W)], a[_at(q, W_STATE + S_CACHE_PHI)],
-                  a[_at(q, W_STATE + S_CACHE_PHI + 1)], a[_at(q, W_STATE + S_CACHE_PHI + 2)],
-                  a[_at(q, W_STATE + S_CACHE_PHI + 3)])
         mud, age, d, v, g, gi, strain, ok = _quiet_lanes_step(s, c, p, z, dt)
+        ok = ok & (a[_at(q, W_CACHE_DT)] == c.dt)  # the element's own cache is the block's
         fe1, fs, spring = _stress_lanes(p, mode, z, d, v, strain, neck_v, neck_z, g, gi)
         a[_at(q, W_OK)] = select(ok, 1.0, 0.0)
         a[_at(q, W_Z)] = z
@@ -506,15 +509,19 @@ def _rare_lanes(a: np.ndarray, block: int, count: int, first: int, states: np.nd
         if a[q + W_OK * FIELD] != 0.0:
             continue
         i = first + lane
-        row = states[i]
-        for j in range(N_STATE):
+        row = states[i]  # (its cache columns are the element's own: the lanes keep only their step length)
+        for j in range(N_CORE):
             row[j] = a[q + (W_STATE + j) * FIELD]
         z = a[q + W_Z * FIELD]
         st = advance_row(states, ring, i, params, z, dt)
         if not st.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
             return i
-        for j in range(N_STATE):
+        for j in range(N_CORE):
             a[q + (W_STATE + j) * FIELD] = row[j]
+        a[q + W_CACHE_DT * FIELD] = row[S_CACHE_DT]
+        if row[S_CACHE_DT] != a[block + B_CACHE]:  # a new step length: the block's cache is this element's
+            for j in range(7):
+                a[block + B_CACHE + j] = row[S_CACHE_DT + j]
         fe1, fs, _, has_spring = stress_parts(p, st.state, st.velocity)
         spring = nonlinear_spring_stress(p.alpha, p.beta, z, p.width)
         sigma = total_force(fe1, spring if has_spring else 0.0, fs, area_1d)
@@ -635,7 +642,7 @@ def rows_from_lanes(block: np.ndarray, states: np.ndarray) -> None:
     for f in range(starts.shape[0] - 1):
         for i in range(starts[f], starts[f + 1]):
             q = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK + (i - starts[f]) % LANES
-            for j in range(N_STATE):
+            for j in range(N_CORE):  # (the cache columns are the rows' own: see B_CACHE)
                 states[i, j] = lanes[q + (W_STATE + j) * FIELD]
             el[i, E_SLIPX] = lanes[q + W_SLIPX * FIELD]
             el[i, E_SLIPY] = lanes[q + W_SLIPY * FIELD]
@@ -653,8 +660,13 @@ def lanes_from_rows(block: np.ndarray, states: np.ndarray) -> None:
     for f in range(starts.shape[0] - 1):
         for i in range(starts[f], starts[f + 1]):
             q = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK + (i - starts[f]) % LANES
-            for j in range(N_STATE):
+            for j in range(N_CORE):
                 lanes[q + (W_STATE + j) * FIELD] = states[i, j]
+            lanes[q + W_CACHE_DT * FIELD] = states[i, S_CACHE_DT]
+            if i == starts[f] or (i - starts[f]) % LANES == 0:  # a block's cache: its first element's
+                b = q - (i - starts[f]) % LANES
+                for j in range(7):
+                    lanes[b + B_CACHE + j] = states[i, S_CACHE_DT + j]
             for j in range(W_AREA + 1):  # the constants: E_CBX .. E_AREA are W_CBX .. W_AREA
                 lanes[q + j * FIELD] = el[i, j]
             lanes[q + W_SLIPX * FIELD] = el[i, E_SLIPX]
