@@ -53,7 +53,9 @@ from typing import Any
 
 import numpy as np
 from numba import prange, typeof
+from numba.np.numpy_support import carray  # numba.carray
 
+from mudforce._kernel.addresses import voidptr
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
 from mudforce._kernel.layout import (
     CONTACT,
@@ -126,6 +128,7 @@ __all__ = [
     "rows_from_lanes",
     "step_feet",
     "step_feet_threads",
+    "step_one",
 ]
 
 # columns of the element block: one row per element (all feet's, foot after foot)
@@ -789,6 +792,42 @@ def step_feet_threads(positions: np.ndarray, quaternions: np.ndarray, dt: float,
         if chunks[c] >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused above
             return int(chunks[c])
     return OK
+
+
+# slots of :func:`step_one`'s address table (:func:`mudforce._kernel.addresses.address_table`)
+T_BLOCK, T_STATES, T_RING, T_PARAMS, T_POSITION, T_QUATERNION, T_FORCES, T_TORQUES, T_EACH = range(9)
+N_TABLE = 9
+
+
+@_compiled(inline="always", _nrt=True)
+def _rows_at(table: np.ndarray, k: int) -> np.ndarray:
+    """The (rows, columns) float64 array in slot ``k`` of an address table, as a view (``numba.carray``)."""
+    return carray(voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
+
+
+@_compiled(nogil=False, _nrt=True)
+def step_one(position: np.ndarray, quaternion: np.ndarray, dt: float, table: np.ndarray) -> int:
+    """:func:`step_feet` for one foot (:class:`~mudforce.steppers.contact3d.MudContact3D`), its arrays in one
+    address table (slots ``T_*``: the block, the 1-D rows, the pose's (1, 3) and (1, 4) buffers, the outputs):
+    the pose (``position`` (3,) [m], ``quaternion`` (4,), any strides) copied into the buffers, then the step.
+    :data:`BAD_SHAPE` if the pose is not (3,) and (4,).
+
+    Speed plumbing: called through its entry point (:func:`mudforce._kernel.addresses.entry_point`) with four
+    arguments, where :func:`step_feet` takes ten through numba's dispatcher (~0.5 us less a call); the step
+    itself is :func:`step_feet`, the same compiled code (its buffers have its types).
+    """
+    if position.shape[0] != 3 or quaternion.shape[0] != 4:
+        return BAD_SHAPE
+    positions = _rows_at(table, T_POSITION)
+    quaternions = _rows_at(table, T_QUATERNION)
+    for j in range(3):
+        positions[0, j] = position[j]
+    for j in range(4):
+        quaternions[0, j] = quaternion[j]
+    block = carray(voidptr(table[3 * T_BLOCK]), table[3 * T_BLOCK + 1], np.float64)
+    return step_feet(positions, quaternions, dt, block, _rows_at(table, T_STATES), _rows_at(table, T_RING),
+                     _rows_at(table, T_PARAMS), _rows_at(table, T_FORCES), _rows_at(table, T_TORQUES),
+                     _rows_at(table, T_EACH))
 
 
 def fixed_types(dispatcher: Any, *examples: Any) -> Any:

@@ -40,9 +40,11 @@ from typing import Any, NamedTuple
 
 import numpy as np
 from numba import typeof
+from numba import types as numba_types
 
 from mudforce import _kernel as K
 from mudforce._kernel import step3d as S3
+from mudforce._kernel.addresses import address_table, entry_point
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT, check_times
 from mudforce._kernel.layout import STATE_NAMES
 from mudforce.errors import (
@@ -193,10 +195,13 @@ class MudContact3D:
         self._kernel_args = (block, e._states, e.ring, e.params_array)
         self._n3 = (n, 3)
         self._fixed: Any = None  # the compiled step (MudContact3D._fixed_types), made on the first step
+        self._entry: Any = None  # its one-foot form's entry point (S3.step_one), made with it
+        self._pose_buffers = (np.zeros((1, 3)), np.zeros((1, 4)))  # where step_one copies the pose
         # the hot path's outputs, two sets taken in turn and reused only while no one else holds any part of one
         # (_output_set, _free): so a loop that keeps each step's Wrench until the next is stepped without making new
         # arrays, and a result that is kept is never written over
-        self._spare, self._other = _output_set(n, self._kernel_args), _output_set(n, self._kernel_args)
+        self._spare, self._other = (_output_set(n, self._kernel_args, self._pose_buffers),
+                                    _output_set(n, self._kernel_args, self._pose_buffers))
         self._misses = 0  # the hot path's steps since one last reused a set
         #: the last step's force on every element [N], world frame, shape (n, 3)
         self.element_forces = np.zeros((n, 3))
@@ -325,7 +330,7 @@ class MudContact3D:
                 self._misses = 0
             elif self._misses < 2 or self._misses % 32 == 31:  # held: left to its holder, a new set in its place
                 self._misses += 1
-                outputs = self._spare = _output_set(self._n3[0], self._kernel_args)
+                outputs = self._spare = _output_set(self._n3[0], self._kernel_args, self._pose_buffers)
             else:  # results kept step after step: new outputs alone, cheaper than a set (a set now and then, so
                 self._misses += 1  # that the two sets are free again soon after they no longer are kept)
                 forces, torques, each = _empty(_ONE3), _empty(_ONE3), _empty(self._n3)
@@ -338,10 +343,14 @@ class MudContact3D:
                     return _new_tuple(Wrench, (forces[0], torques[0]))  # type: ignore[no-any-return]
                 outputs = ()
             if outputs:
-                try:
-                    code = fixed(position[None], quaternion[None], dt, *outputs[7])  # the arguments after dt
-                except TypeError:  # numba's "no matching definition": another type of argument
-                    code = S3.BAD_SHAPE
+                if (position.dtype is _FLOAT64 and quaternion.dtype is _FLOAT64 and position.ndim == 1
+                        and quaternion.ndim == 1):  # the types step_one's entry point takes (any strides)
+                    code = self._entry(position, quaternion, dt, outputs[8])
+                else:
+                    try:
+                        code = fixed(position[None], quaternion[None], dt, *outputs[7])  # the arguments after dt
+                    except TypeError:  # numba's "no matching definition": another type of argument
+                        code = S3.BAD_SHAPE
                 if code == _OK:
                     self.element_forces = outputs[1]
                     self._spare, self._other = self._other, outputs
@@ -442,6 +451,7 @@ class MudContact3D:
         pose = (np.zeros((1, 3)), np.zeros((1, 4)), 1.0)
         outputs = (np.zeros(_ONE3), np.zeros(_ONE3), np.zeros(self._n3))
         _dispatcher.compile(tuple(typeof(a) for a in (*pose, *self._kernel_args, *outputs)))
+        self._entry = entry_point(S3.step_one, _ONE_POSE)
         return _fixed_step()
 
     def reset(self) -> None:
@@ -705,22 +715,28 @@ _OK = S3.OK
 _empty = np.empty
 _step_feet = S3.step_feet
 _dispatcher: Any = S3.step_feet  # (numba's dispatcher: its compiled versions)
+# step_one's types: a pose of float64 vectors of any strides, a float dt, the address table
+_ONE_POSE = (numba_types.Array(numba_types.float64, 1, "A"), numba_types.Array(numba_types.float64, 1, "A"),
+             numba_types.float64, numba_types.Array(numba_types.int64, 1, "C"))
 _fixed: list[Any] = [0, None]  # how many compiled versions _step_feet had, and S3.fixed_types of it then
 _NO_EACH = np.zeros((0, 3))  # step_feet's ``each`` for MudContacts3D: no element's force, each foot's own order
 _ONE3 = (1, 3)
 _new_tuple = tuple.__new__
 
 
-def _output_set(n: int, kernel_args: tuple[np.ndarray, ...]) -> tuple[Any, ...]:
+def _output_set(n: int, kernel_args: tuple[np.ndarray, ...], pose: tuple[np.ndarray, np.ndarray] | None = None
+                ) -> tuple[Any, ...]:
     """Outputs of :meth:`MudContact3D.step`'s compiled step for ``n`` elements, in one (n + 2, 3) block: the
     block, every element's force [N] (n, 3), the foot's force and torque rows as the step writes them ((1, 3) each)
-    and as the Wrench holds them ((3,) each), the Wrench [N], [N m], and the compiled step's arguments after ``dt``
-    (``kernel_args``, then the outputs)."""
+    and as the Wrench holds them ((3,) each), the Wrench [N], [N m], the compiled step's arguments after ``dt``
+    (``kernel_args``, then the outputs) and, with the contact's ``pose`` buffers, the address table of its one-foot
+    form (:func:`mudforce._kernel.step3d.step_one`: ``kernel_args``, ``pose``, the outputs)."""
     block = np.zeros((n + 2, 3))
     each, forces, torques = block[:n], block[n:n + 1], block[n + 1:]
     force, torque = block[n], block[n + 1]
+    table = address_table((*kernel_args, *pose, forces, torques, each)) if pose is not None else None
     return (block, each, forces, torques, force, torque, _new_tuple(Wrench, (force, torque)),
-            (*kernel_args, forces, torques, each))
+            (*kernel_args, forces, torques, each), table)
 
 
 _refs = sys.getrefcount

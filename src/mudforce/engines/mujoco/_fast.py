@@ -22,11 +22,11 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numba import typeof, types
-from numba.extending import intrinsic
+from numba import typeof
 from numba.np.numpy_support import carray  # numba.carray
 
 from mudforce import _kernel as K
+from mudforce._kernel.addresses import voidptr
 from mudforce.engines.mujoco._step import apply_mud, commit_and_prepare
 
 __all__ = [
@@ -63,19 +63,8 @@ SLOT_SITE_XPOS, SLOT_XIPOS, SLOT_XFRC, SLOT_SITE_POS, SLOT_FRICTIONLOSS = 6, 7, 
 N_TABLE = 11
 
 
-def _voidptr_typing(typingctx: Any, address: Any) -> Any:
-    """Typing and code of :data:`_voidptr`."""
-    if not isinstance(address, types.Integer):
-        return None
-
-    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
-
-    return types.voidptr(address), codegen
-
-
-#: In compiled code, the raw pointer at an integer address (numba has no public cast from an integer to a pointer).
-_voidptr: Any = intrinsic(_voidptr_typing)
+#: In compiled code, the raw pointer at an integer address (:func:`mudforce._kernel.addresses.voidptr`).
+_voidptr: Any = voidptr
 
 
 # views of the arrays in slot k of a table (no copies; carray builds an array on the memory as is)
