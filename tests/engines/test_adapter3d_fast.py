@@ -52,7 +52,7 @@ def test_foot_band_is_branch_forces_summed() -> None:
                 nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
                 w = area[i] * float(law3d.vertical_weight(nz))
                 expected = [expected[0] + w * up[i], expected[1] + w * down[i], expected[2] + w * drag[i]]
-            got = foot_band(states, rows, DT, lo, hi, r, nb, area)
+            got = foot_band(states, rows, DT, lo, hi, r, nb, area, *feet._live_lanes())
             np.testing.assert_array_equal(np.array(got), np.array(expected))
         modes |= set(feet.modes)
     assert modes == {"FREE", "CONTACT", "NECKED"}

@@ -125,6 +125,7 @@ __all__ = [
     "lane_entries",
     "lanes_from_rows",
     "new_block",
+    "row_from_lanes",
     "rows_from_lanes",
     "step_feet",
     "step_feet_threads",
@@ -635,6 +636,15 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
     torques[f, 2] = stz
     ft[f, F_STARTED] = 1.0
     return -1
+
+
+@_compiled(inline="always")
+def row_from_lanes(lanes: np.ndarray, entry: int, states: np.ndarray, i: int) -> None:
+    """Element ``i``'s state proper (the first ``N_CORE`` columns of its 1-D row) from the lanes, where it is at
+    ``entry`` (:func:`lane_entries`): an engine that reads a few rows after a step exports only those (the
+    cache columns are the row's own)."""
+    for j in range(N_CORE):
+        states[i, j] = lanes[entry + (W_STATE + j) * FIELD]
 
 
 @_compiled()

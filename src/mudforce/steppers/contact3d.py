@@ -888,6 +888,7 @@ class MudContacts3D:
         self._el[:] = el
         self._ft[:] = ft
         self._block = block
+        self._entries = S3.lane_entries(block)  # each element's place in the lanes
         S3.lanes_from_rows(block, self._states)  # the elements' constants and fresh states into the lanes
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (block, self._states, self._ring, self._params_rows)
@@ -941,8 +942,15 @@ class MudContacts3D:
         """The elements' paper stresses of the last step [Pa] (the 1-D stepper's force on a unit area), foot after
         foot: a copy, for the tests that hold them to the 1-D stepper's."""
         lanes = S3.block_views(self._block)[3]
-        stress: np.ndarray = lanes[S3.lane_entries(self._block) + S3.W_STRESS * S3.FIELD]
+        stress: np.ndarray = lanes[self._entries + S3.W_STRESS * S3.FIELD]
         return stress
+
+    def _live_lanes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Where the compiled step keeps the elements' states (:mod:`mudforce._kernel.step3d`'s lanes, one flat
+        array) and each element's place in them (:func:`mudforce._kernel.step3d.lane_entries`): for an engine
+        that reads a few rows after a step and exports only those (:func:`mudforce._kernel.step3d.row_from_lanes`,
+        the MuJoCo 3-D adapter's rest band)."""
+        return S3.block_views(self._block)[3], self._entries
 
     def _export_rows(self) -> None:
         """The compiled step's lanes into the elements' 1-D rows and the element block's slips and centroids, if a

@@ -27,6 +27,7 @@ from numba import types
 from numba.extending import intrinsic
 
 from mudforce._kernel.layout import _compiled
+from mudforce._kernel.step3d import row_from_lanes
 from mudforce.engines.dynamics.rest_band import branch_forces_row
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
@@ -151,7 +152,7 @@ def gather_poses(geom_xpos: np.ndarray, geom_xmat: np.ndarray, gids: np.ndarray,
 
 @_compiled(nogil=False)
 def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: int, r: np.ndarray, nb: np.ndarray,
-              area: np.ndarray) -> tuple[float, float, float]:
+              area: np.ndarray, lanes: np.ndarray, entries: np.ndarray) -> tuple[float, float, float]:
     """A foot's vertical band and drag for the coming step [N]: ``(F_up, F_down, F_drag)``.
 
     The sums over elements ``lo:hi`` of each element's band and drag
@@ -163,12 +164,17 @@ def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: in
     changes no sum, so its band is not computed; nor is the band at the
     step's start, which weight 1 multiplies by 0 (see ``branch_forces_row``).
     The sums are those of ``branch_forces`` over every element, bit for bit.
+
+    The 3-D step keeps the elements' states in its lanes and leaves the rows behind
+    (:mod:`mudforce._kernel.step3d`): each row read here is written from ``lanes`` first (element ``i`` at
+    ``entries[i]``, :func:`mudforce._kernel.step3d.row_from_lanes`), and only those.
     """
     f_up = f_down = f_drag = 0.0
     for i in range(lo, hi):
         nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
         w = area[i] * vertical_weight(nz)
         if w != 0.0:
+            row_from_lanes(lanes, entries[i], states, i)
             up, down, drag = branch_forces_row(states, params, i, dt, 1.0, False)
             f_up += w * up
             f_down += w * down
@@ -178,17 +184,18 @@ def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: in
 
 @_compiled(nogil=False)
 def feet_bands(states: np.ndarray, params: np.ndarray, dt: float, patch: np.ndarray, k: int, starts: np.ndarray,
-               mats: np.ndarray, nb: np.ndarray, area: np.ndarray, bands: np.ndarray) -> None:
+               mats: np.ndarray, nb: np.ndarray, area: np.ndarray, bands: np.ndarray, lanes: np.ndarray,
+               entries: np.ndarray) -> None:
     """:func:`foot_band` of every foot in patch ``k`` (``patch[f] == k``) into ``bands[f]`` (n, 3) [N].
 
     ``states``, ``params``: patch ``k``'s 1-D rows (one per element of every
     foot); ``mats`` (n, 9) the feet's rotations; ``starts`` each foot's
-    element rows; ``dt`` [s].
+    element rows; ``dt`` [s]; ``lanes``, ``entries`` where the 3-D step keeps their states (see :func:`foot_band`).
     """
     for f in range(patch.shape[0]):
         if patch[f] == k:
             bands[f, 0], bands[f, 1], bands[f, 2] = foot_band(states, params, dt, starts[f], starts[f + 1], mats[f],
-                                                                nb, area)
+                                                                nb, area, lanes, entries)
 
 
 @_compiled(nogil=False)
@@ -197,7 +204,8 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
             states: np.ndarray, params: np.ndarray, k_band: int, bands: np.ndarray, velocity_z: np.ndarray,
             u: np.ndarray, xipos: np.ndarray, xpos: np.ndarray, xmat: np.ndarray, bodies: np.ndarray, sites: np.ndarray,
             tendons: np.ndarray, site_pos: np.ndarray, frictionloss: np.ndarray, rest_speed: float, band: np.ndarray,
-            holds: np.ndarray, applied: np.ndarray, dirs: np.ndarray, scratch: np.ndarray) -> None:
+            holds: np.ndarray, applied: np.ndarray, dirs: np.ndarray, scratch: np.ndarray, lanes: np.ndarray,
+            entries: np.ndarray) -> None:
     """The next step's bands, holds, contact points, tendon directions and explicit wrench, foot by foot.
 
     ``pos`` (n, 3) [m] and ``mats`` (n, 9) the foot geoms' poses; ``last_pos``
@@ -216,7 +224,8 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
     (the anchors are placed along them by :func:`place_anchors`, from where
     MuJoCo puts the contact site);
     ``scratch`` (:data:`N_SCRATCH`, at least the most elements of a foot):
-    a foot's submerged elements side by side, for loops without branches.
+    a foot's submerged elements side by side, for loops without branches; ``lanes``, ``entries`` where the 3-D
+    step keeps patch ``k_band``'s states (see :func:`foot_band`).
     """
     n = pos.shape[0]
     # the scratch's rows as arrays of their own (so that the compiler sees them apart and vectorises)
@@ -241,7 +250,7 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
         f_up = f_down = f_drag = 0.0
         if k >= 0:
             if k == k_band:
-                f_up, f_down, f_drag = foot_band(states, params, dt, lo, hi, r, nb, area)
+                f_up, f_down, f_drag = foot_band(states, params, dt, lo, hi, r, nb, area, lanes, entries)
             else:
                 f_up, f_down, f_drag = bands[f, 0], bands[f, 1], bands[f, 2]
         total = qx = qy = qz = 0.0

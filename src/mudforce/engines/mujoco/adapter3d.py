@@ -337,6 +337,8 @@ class MudAdapter3D:
         # the feet's own state and constant rows (they follow the feet as they are stepped), not kernel_rows()'s
         # read-only views: one compiled signature of prepare's rest band, the writable rows the 1-D adapter passes
         self._rows = [c._live_rows() for c in self._contacts]
+        # where the 3-D step keeps their states: the band exports the rows it reads (_step3d.foot_band)
+        self._lanes = [c._live_lanes() for c in self._contacts]
         # one patch with no extent holds every foot at every step: no feet enter or leave it (a fast path)
         self._everywhere = len(plist) == 1 and plist[0].extent is None
         sizes = [s.n for s in slist]
@@ -483,11 +485,9 @@ class MudAdapter3D:
                     if k_band < 0:
                         k_band = k
                     else:
-                        self._contacts[k]._export_rows()  # the rows as the last step left them
                         states, rows = self._rows[k]
                         feet_bands(states, rows, dt, self._patch, k, self._starts, mats, self._nb, self._area,
-                                   self._bands)
-        self._contacts[max(k_band, 0)]._export_rows()  # the rows as the last step left them
+                                   self._bands, *self._lanes[k])
         states, rows = self._rows[max(k_band, 0)]
         const = self._const
         if self._patch_changed:
@@ -498,7 +498,7 @@ class MudAdapter3D:
         prepare(pos, mats, self._last_pos, dt, self._starts, self._cb, self._nb, self._area, self._patch, const,
                 states, rows, k_band, self._bands, self._velocity_z, self._u, self._xipos, self._xpos, self._xmat,
                 self._bodies, self._sites, self._tendons, self._site_pos, self._frictionloss, REST_SPEED, self._band,
-                self._capacity, self._applied, self._dirs, self._scratch)
+                self._capacity, self._applied, self._dirs, self._scratch, *self._lanes[max(k_band, 0)])
         # the anchors, 1 m from the contact site along the tendons' directions, where the next step's constraints
         # will see the site: at the current qpos, with the local position prepare gave it. After mj_step the
         # positions in data are those of the state the step started from (the feet's poses are committed from
