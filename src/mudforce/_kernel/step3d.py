@@ -434,8 +434,8 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
     without branches (vectorised): Eq. (4) at the depth, the paper's stress (``total_force``), then
     :func:`~mudforce.model.law3d.element_force` and :func:`~mudforce.model.law3d.moment`. A group wholly at or
     above the surface carries :func:`~mudforce.model.law3d.vertical_force` alone, which is what
-    ``element_force`` gives it (no spring there: Eq. (4) is 0), without the horizontal law's arithmetic. A lane
-    whose quiet step did not hold keeps its slip and centroid (:func:`_rare_lanes` steps it)."""
+    ``element_force`` gives it (no spring there: Eq. (4) is 0), without the horizontal law's arithmetic. Every
+    lane's paper step is done (:func:`_paper_lanes`, :func:`_rare_lanes`)."""
     b = np.uint64(max(block, 0))
     alpha, beta, h_width, area_1d = p.alpha, p.beta, p.width, p.area
     per_dt = 1.0 / dt
@@ -447,7 +447,6 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
         if submerged:
             for lane in range(GROUP):
                 q = g0 + np.uint64(lane)
-                ok = a[_at(q, W_OK)] != 0.0
                 z = a[_at(q, W_Z)]
                 ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
                 nx, ny, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
@@ -457,15 +456,15 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
                                     a[_at(q, W_FS)], area_1d)
                 wx, wy, wz = px + ox, py + oy, pz + oz
                 sx0, sy0 = a[_at(q, W_SLIPX)], a[_at(q, W_SLIPY)]
-                cx0, cy0, cz0 = a[_at(q, W_CX)], a[_at(q, W_CY)], a[_at(q, W_CZ)]
                 sx, sy, fx, fy, fz = element_force(sigma, spring, a[_at(q, W_AREA)], nx, ny, nz, z, sx0, sy0,
-                                                   wx - cx0, wy - cy0, per_dt, started, k, sigma_y, lambda_, rho)
+                                                   wx - a[_at(q, W_CX)], wy - a[_at(q, W_CY)], per_dt, started, k,
+                                                   sigma_y, lambda_, rho)
                 tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
-                a[_at(q, W_SLIPX)] = select(ok, sx, sx0)
-                a[_at(q, W_SLIPY)] = select(ok, sy, sy0)
-                a[_at(q, W_CX)] = select(ok, wx, cx0)
-                a[_at(q, W_CY)] = select(ok, wy, cy0)
-                a[_at(q, W_CZ)] = select(ok, wz, cz0)
+                a[_at(q, W_SLIPX)] = sx
+                a[_at(q, W_SLIPY)] = sy
+                a[_at(q, W_CX)] = wx
+                a[_at(q, W_CY)] = wy
+                a[_at(q, W_CZ)] = wz
                 a[_at(q, W_FX)] = fx
                 a[_at(q, W_FY)] = fy
                 a[_at(q, W_FZ)] = fz
@@ -476,17 +475,16 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
         else:
             for lane in range(GROUP):
                 q = g0 + np.uint64(lane)
-                ok = a[_at(q, W_OK)] != 0.0
                 ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
                 _, _, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
                 sigma = total_force(a[_at(q, W_FE1)], 0.0, a[_at(q, W_FS)], area_1d)
                 fz = vertical_force(sigma, a[_at(q, W_AREA)], nz)
                 tx, ty, tz = moment(ox, oy, oz, 0.0, 0.0, fz)
-                a[_at(q, W_SLIPX)] = select(ok, 0.0, a[_at(q, W_SLIPX)])
-                a[_at(q, W_SLIPY)] = select(ok, 0.0, a[_at(q, W_SLIPY)])
-                a[_at(q, W_CX)] = select(ok, px + ox, a[_at(q, W_CX)])
-                a[_at(q, W_CY)] = select(ok, py + oy, a[_at(q, W_CY)])
-                a[_at(q, W_CZ)] = select(ok, pz + oz, a[_at(q, W_CZ)])
+                a[_at(q, W_SLIPX)] = 0.0
+                a[_at(q, W_SLIPY)] = 0.0
+                a[_at(q, W_CX)] = px + ox
+                a[_at(q, W_CY)] = py + oy
+                a[_at(q, W_CZ)] = pz + oz
                 a[_at(q, W_FX)] = 0.0
                 a[_at(q, W_FY)] = 0.0
                 a[_at(q, W_FZ)] = fz
@@ -498,16 +496,14 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
 
 @_compiled()
 def _rare_lanes(a: np.ndarray, block: int, count: int, first: int, states: np.ndarray, ring: np.ndarray,
-                params: np.ndarray, r: tuple[float, float, float, float, float, float, float, float, float],
-                px: float, py: float, pz: float, dt: float, started: bool, k: float, sigma_y: float, lambda_: float,
-                rho: float) -> int:
+                params: np.ndarray, dt: float) -> int:
     """The lanes of a block (its first ``count``, elements ``first``, ``first + 1``, ...) whose quiet step did not
-    hold: each through the state machine (:func:`~mudforce._kernel.loops.advance_row` on its 1-D row, written
-    from the lanes and read back), then its stresses and the 3-D law, as :func:`_paper_lanes` and
-    :func:`_law_lanes` do for the others (the same functions, one element at a time). ~1 % of a walk's
-    element-steps. Returns the element refused, or -1."""
+    hold (:func:`_paper_lanes`): each through the state machine (:func:`~mudforce._kernel.loops.advance_row` on its
+    1-D row, written from the lanes and read back), then its stresses but the spring's
+    (:func:`~mudforce._kernel.transitions.stress_parts`) into the block's working values, as :func:`_paper_lanes`
+    puts the others'; :func:`_law_lanes` then takes them all. ~1 % of a walk's element-steps. Returns the element
+    refused, or -1."""
     p = load_params(params, first)
-    area_1d = p.area
     for lane in range(count):
         q = block + lane
         if a[q + W_OK * FIELD] != 0.0:
@@ -516,8 +512,7 @@ def _rare_lanes(a: np.ndarray, block: int, count: int, first: int, states: np.nd
         row = states[i]  # (its cache columns are the element's own: the lanes keep only their step length)
         for j in range(N_CORE):
             row[j] = a[q + (W_STATE + j) * FIELD]
-        z = a[q + W_Z * FIELD]
-        st = advance_row(states, ring, i, params, z, dt)
+        st = advance_row(states, ring, i, params, a[q + W_Z * FIELD], dt)
         if not st.ok:  # pragma: no cover - every input the 1-D stepper refuses was refused before
             return i
         for j in range(N_CORE):
@@ -527,27 +522,10 @@ def _rare_lanes(a: np.ndarray, block: int, count: int, first: int, states: np.nd
             for j in range(7):
                 a[block + B_CACHE + j] = row[S_CACHE_DT + j]
         fe1, fs, _, has_spring = stress_parts(p, st.state, st.velocity)
-        spring = nonlinear_spring_stress(p.alpha, p.beta, z, p.width)
-        sigma = total_force(fe1, spring if has_spring else 0.0, fs, area_1d)
-        ox, oy, oz = rotate(r, a[q + W_CBX * FIELD], a[q + W_CBY * FIELD], a[q + W_CBZ * FIELD])
-        nx, ny, nz = rotate(r, a[q + W_NBX * FIELD], a[q + W_NBY * FIELD], a[q + W_NBZ * FIELD])
-        wx, wy, wz = px + ox, py + oy, pz + oz
-        sx, sy, fx, fy, fz = element_force(sigma, spring, a[q + W_AREA * FIELD], nx, ny, nz, z,
-                                           a[q + W_SLIPX * FIELD], a[q + W_SLIPY * FIELD], wx - a[q + W_CX * FIELD],
-                                           wy - a[q + W_CY * FIELD], 1.0 / dt, started, k, sigma_y, lambda_, rho)
-        tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
-        a[q + W_SLIPX * FIELD] = sx
-        a[q + W_SLIPY * FIELD] = sy
-        a[q + W_CX * FIELD] = wx
-        a[q + W_CY * FIELD] = wy
-        a[q + W_CZ * FIELD] = wz
-        a[q + W_FX * FIELD] = fx
-        a[q + W_FY * FIELD] = fy
-        a[q + W_FZ * FIELD] = fz
-        a[q + W_TX * FIELD] = tx
-        a[q + W_TY * FIELD] = ty
-        a[q + W_TZ * FIELD] = tz
-        a[q + W_STRESS * FIELD] = sigma
+        a[q + W_FE1 * FIELD] = fe1
+        a[q + W_FS * FIELD] = fs
+        a[q + W_HAS_SPRING * FIELD] = 1.0 if has_spring else 0.0
+        a[q + W_OK * FIELD] = 1.0
     return -1
 
 
@@ -562,10 +540,10 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
 
     1. :func:`_paper_lanes`: every element's depth and quiet paper step (the 1-D stepper's ``quiet_step``, as
        :func:`mudforce._kernel.loops.run_feet` takes it, in a form without branches), its stresses but the spring's;
-    2. :func:`_law_lanes`: Eq. (4), the paper's stress and the 3-D law (:func:`~mudforce.model.law3d.element_force`,
-       :func:`~mudforce.model.law3d.moment`);
-    3. :func:`_rare_lanes`: the elements in which something happens (a touchdown, a necking, a change of branch
+    2. :func:`_rare_lanes`: the elements in which something happens (a touchdown, a necking, a change of branch
        or of step length, a first step) through the state machine, one by one;
+    3. :func:`_law_lanes`: Eq. (4), the paper's stress and the 3-D law (:func:`~mudforce.model.law3d.element_force`,
+       :func:`~mudforce.model.law3d.moment`), every element;
 
     then the wrench, summed over the foot's elements in element order, as
     :class:`~mudforce.steppers.contact3d.MudContact3D`'s numpy step sums it (numpy's ``sum(axis=0)``), and, with
@@ -598,11 +576,10 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
         if not quiet:  # pragma: no cover - the 3-D feet take the exact rule (MudContacts3D builds them so)
             for lane in range(count):
                 lanes[block + W_OK * FIELD + lane] = 0.0
-        _law_lanes(lanes, block, width, p, r, px, py, pz, dt, started, k, sigma_y, lambda_, rho)
-        refused = _rare_lanes(lanes, block, count, first, states, ring, params, r, px, py, pz, dt, started, k,
-                              sigma_y, lambda_, rho)
+        refused = _rare_lanes(lanes, block, count, first, states, ring, params, dt)
         if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused before
             return refused
+        _law_lanes(lanes, block, width, p, r, px, py, pz, dt, started, k, sigma_y, lambda_, rho)
     # the wrench in element order, from the first element (numpy's sum(axis=0)), and each element's force
     b0 = blocks[f]
     q0 = np.uint64(max(b0 * BLOCK, 0))
