@@ -344,6 +344,85 @@ def test_the_compiled_step_is_the_numpy_step_bit_for_bit_and_refuses_as_it_does(
         assert fast.element_forces is forces
 
 
+def test_poses_of_any_layout_and_type_step_as_the_numpy_step() -> None:
+    """MudContact3D.step's hot path (step3d.step_one through its entry point, which takes float64 vectors of any
+    strides) and its conversions: a pose given as a strided view, a read-only array, a column of a Fortran array,
+    float32, int or big-endian arrays, an offset view or lists steps as the numpy step does, bit for bit, step after
+    step; a pose of the wrong length or dimensions (a (1, 3) position too) is refused with its error and changes
+    nothing."""
+    params = mf.MudParameters.from_water_content(0.25)
+    fast, slow = MudContact3D(params, SPHERE), MudContact3D(params, SPHERE)
+    table = np.asfortranarray(np.zeros((3, 4)))
+
+    def forms(position: np.ndarray, quaternion: np.ndarray, k: int) -> tuple[object, object]:
+        wide = np.zeros((3, 2))
+        wide[:, 0] = position
+        frozen = quaternion.copy()
+        frozen.flags.writeable = False
+        table[:, 1] = position
+        kind = k % 7
+        if kind == 0:
+            return wide[:, 0], frozen  # strided, read-only
+        if kind == 1:
+            return table[:, 1], quaternion.astype(">f8")  # a Fortran column (contiguous), big-endian
+        if kind == 2:
+            return position.astype(np.float32).astype(np.float64)[::1], quaternion.tolist()
+        if kind == 3:
+            return np.concatenate(([7.0], position))[1:], quaternion  # an offset view
+        if kind == 4:
+            return position.tolist(), quaternion[::-1][::-1]  # a reversed view reversed again: strides -8 then 8
+        if kind == 5:
+            return position, np.array([1, 0, 0, 0])  # int
+        return position, quaternion
+
+    for k in range(60):
+        tilt = 0.2 * math.sin(k / 9)
+        position = np.array([0.001 * k, 0.0005 * k, 0.012 - 0.0006 * k])
+        quaternion = np.array([math.cos(tilt / 2), 0.0, math.sin(tilt / 2), 0.0])
+        p, q = forms(position, quaternion, k)
+        a = fast.step(p, q, 1e-3)
+        b = slow._step_numpy(p, q, 1e-3)
+        assert np.array_equal(a.force, b.force) and np.array_equal(a.torque, b.torque)
+        assert np.array_equal(fast.element_forces, slow.element_forces)
+    assert fast._entry is not None and a.force[2] > 0.0  # the entry point was taken, in the mud
+    saved = fast.state
+    for p, q, match in ((np.zeros(4), UPRIGHT, "position"), (np.zeros((3, 1)), UPRIGHT, "position"),
+                        (np.zeros((1, 3)), UPRIGHT, "position"),
+                        (np.zeros(3), np.zeros((4, 1)), "quaternion"), (np.zeros(3)[::2], UPRIGHT, "position")):
+        with pytest.raises(InputError, match=match):
+            fast.step(p, q, 1e-3)
+        for x, y in zip(fast.state, saved, strict=True):
+            assert np.array_equal(x, y)
+
+
+def test_elements_with_caches_of_other_step_lengths_step_as_the_numpy_step() -> None:
+    """The compiled step keeps one step-length cache per lane block and sends an element whose own cache is for
+    another step length through the state machine: a state whose elements were stepped with two step lengths
+    (half of them from another history) steps as the numpy step does, bit for bit, at either length, then a
+    third."""
+    params = mf.MudParameters.from_water_content(0.25)
+    a, b = MudContact3D(params, SPHERE), MudContact3D(params, SPHERE)
+    for k in range(30):
+        position = np.array([0.0005 * k, 0.0, 0.01 - 0.0007 * k])
+        a.step(position, UPRIGHT, 1e-3 if k else 0.0)
+        b.step(position, UPRIGHT, 1.5e-3 if k else 0.0)
+    mixed = a.state
+    elements = mixed.elements.copy()
+    elements[::2] = b.state.elements[::2]  # every other element's state and cache from the other history
+    mixed = mixed._replace(elements=elements)
+    fast, slow = MudContact3D(params, SPHERE), MudContact3D(params, SPHERE)
+    fast.state = mixed
+    slow.state = mixed
+    for k in range(30, 60):
+        position = np.array([0.0005 * k, 0.0002 * (k - 30), 0.01 - 0.0007 * k])
+        dt = 1e-3 if k < 45 else 1.5e-3 if k < 55 else 2e-3  # the first step of each length: caches differ
+        w, v = fast.step(position, UPRIGHT, dt), slow._step_numpy(position, UPRIGHT, dt)
+        assert np.array_equal(w.force, v.force) and np.array_equal(w.torque, v.torque)
+        for x, y in zip(fast.state, slow.state, strict=True):
+            assert np.array_equal(x, y)
+    assert w.force[2] > 1.0
+
+
 def test_the_outputs_are_reused_only_when_no_one_holds_them() -> None:
     """MudContact3D.step's hot path reuses its output arrays (two sets in turn) only while no one holds any part
     of a set: a loop that keeps each Wrench until the next step makes no new arrays, and every result kept (the
