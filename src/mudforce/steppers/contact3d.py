@@ -773,10 +773,9 @@ class MudContacts3D:
     Foot ``f`` is a :class:`MudContact3D` in all but speed: each step runs
     :mod:`mudforce.model.law3d`'s law through one compiled call for all feet
     (:mod:`mudforce._kernel.step3d`, which steps every element's paper
-    state with the 1-D stepper of :class:`mudforce.MudContacts`). The
-    wrench of a foot equals :class:`MudContact3D`'s to rounding (about
-    1e-15 of the peak: the two sum in other orders) and does not depend on
-    the other feet, bit for bit.
+    state with the 1-D stepper's functions). The wrench of a foot equals
+    :class:`MudContact3D`'s bit for bit (the same compiled step, summing
+    the elements in element order) and does not depend on the other feet.
 
     Parameters
     ----------
