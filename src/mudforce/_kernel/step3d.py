@@ -15,11 +15,12 @@ control flow and the storage are this module's.
 Where things are kept (:func:`new_block`, one float64 array):
 
 * **the lanes**: every element's constants (body-frame centroid, normal, area), its 1-D state (the ``S_*``
-  columns of :mod:`~mudforce._kernel.layout`'s state row, step-length cache included) and its lateral state
-  (slip, last world centroid), field by field in blocks of :data:`LANES` elements: each foot's elements fill
-  ``ceil(n / LANES)`` blocks of its own, the last padded. Field ``W_x`` of a block's lane ``l`` lies ``W_x
-  FIELD`` entries after its first field, a constant the compiler sees, so a loop over a block's lanes reads
-  and writes without aliasing to check and is vectorised (4 doubles an instruction): the element-steps in
+  columns of :mod:`~mudforce._kernel.layout`'s state row; of its step-length cache only the step length, a block
+  keeping one cache for its lanes, ``B_CACHE``) and its lateral state
+  (slip, last world centroid), field by field, four elements side by side (a chunk), in blocks of
+  :data:`LANES` elements: each foot's elements fill ``ceil(n / LANES)`` blocks of its own, the last padded.
+  Field ``W_x`` of a lane lies ``W_x FIELD`` entries after its first field, a constant the compiler sees, so
+  a chunk's four lanes are computed as one (4 doubles an instruction): the element-steps in
   which nothing happens (99 % of a walk's) run without branches, every contact state's quiet step computed
   and the element's own selected (:func:`_paper_lanes`), and the 3-D law likewise, by groups of
   :data:`GROUP` lanes, a group wholly above the surface taking the vertical force alone
@@ -251,7 +252,8 @@ def lane_entries(block: np.ndarray) -> np.ndarray:
     entries = np.empty(int(starts[-1]), dtype=np.int64)
     for f in range(starts.shape[0] - 1):
         j = np.arange(int(starts[f + 1] - starts[f]))
-        entries[starts[f]:starts[f + 1]] = first[f] * BLOCK + (j // LANES) * BLOCK + j % LANES
+        lane = j % LANES
+        entries[starts[f]:starts[f + 1]] = (first[f] + j // LANES) * BLOCK + (lane >> 2) * CHUNK + (lane & 3)
     return entries
 
 
@@ -283,17 +285,18 @@ def _unpack(block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
 
 
 # ---------------------------------------------------------------- the elements' working layout: lanes
-# Every element's paper state, its constants and its lateral state are kept field by field in blocks of LANES
-# elements (a foot's elements fill ceil(n / LANES) blocks of its own, the last one padded): field F of lane l of
-# a block starting at entry b is entry b + F LANES + l. The distances between fields are constants the compiler
-# sees, so a loop over a block's lanes has no aliasing to check and is vectorised (docs/speed.md, "Mud in 3-D").
+# Every element's paper state, its constants and its lateral state are kept field by field, four elements side by
+# side: a chunk of CHUNK_LANES elements holds field F of its lane l at entry F FIELD + l (FIELD = CHUNK_LANES), and
+# a block of LANES elements is LANES / CHUNK_LANES chunks one after another, then the block's step-length cache
+# (B_CACHE); a foot's elements fill ceil(n / LANES) blocks of its own, the last padded. The distances between a
+# chunk's fields are constants the compiler sees, so the four lanes of a chunk are computed as one (4 doubles an
+# instruction), and a chunk's fields are contiguous in memory, a block's chunks too, so that a step of thousands of
+# feet streams through them (field after field of 64 elements apart was 15-40 % slower there, docs/speed.md).
 # The 1-D rows (layout's, one per element) are the export of the lanes: written from them on demand
 # (:func:`rows_from_lanes`), read into them after they change (:func:`lanes_from_rows`).
 LANES = 64
-#: entries from one field of a block to the next: LANES and a little more, so that two fields are not a multiple
-#: of 4 KiB apart (a load then waits on an unrelated store to the other field: "4K aliasing"), and at least
-#: LANES, so that a loop over a block's lanes never reads a field another lane writes
-FIELD = LANES + 8
+CHUNK_LANES = 4
+FIELD = CHUNK_LANES
 W_CBX, W_CBY, W_CBZ = 0, 1, 2  # centroid in the body frame [m]
 W_NBX, W_NBY, W_NBZ = 3, 4, 5  # outward unit normal in the body frame [-]
 W_AREA = 6  # area [m^2]
@@ -309,16 +312,22 @@ W_FX, W_FY, W_FZ = W_HAS_SPRING + 1, W_HAS_SPRING + 2, W_HAS_SPRING + 3  # this 
 W_TX, W_TY, W_TZ = W_FZ + 1, W_FZ + 2, W_FZ + 3  # this step: its moment about the body origin [N m]
 W_STRESS = W_TZ + 1  # this step: the element's paper stress [Pa] (the 1-D stepper's force on a unit area)
 N_FIELDS = W_STRESS + 1
-BLOCK = N_FIELDS * FIELD
-#: where a block keeps its step-length cache (layout's ``Cache``, 7 entries: in the padding of its W_CACHE_DT
-#: field): the decays and Eq. (7)'s transition matrix of every element of a foot are the same numbers for the
-#: same step length (they are computed from it and the mud's constants), so one copy serves the lanes whose own
-#: cache is for that step length (``W_CACHE_DT``); the others take the state machine, on their rows, which keep
-#: every element's own cache
-B_CACHE = W_CACHE_DT * FIELD + LANES
+CHUNK = N_FIELDS * FIELD  # entries of a chunk of CHUNK_LANES elements
+#: where a block keeps its step-length cache (layout's ``Cache``, 7 entries, after its chunks): the decays and
+#: Eq. (7)'s transition matrix of every element of a foot are the same numbers for the same step length (they are
+#: computed from it and the mud's constants), so one copy serves the lanes whose own cache is for that step length
+#: (``W_CACHE_DT``); the others take the state machine, on their rows, which keep every element's own cache
+B_CACHE = (LANES // CHUNK_LANES) * CHUNK
+BLOCK = B_CACHE + 8  # entries of a block of LANES elements
 #: lanes are stepped by the 3-D law in groups of this many: a group wholly above the surface takes the vertical
 #: force alone (the paper's stress on the downward projection), without the horizontal law's arithmetic
 GROUP = 8
+
+
+@_compiled(inline="always")
+def _lane(block: int, j: int) -> int:
+    """Entry of lane ``j``'s first field in the block at ``block``."""
+    return block + (j >> 2) * CHUNK + (j & 3)
 
 
 @_compiled(inline="always")
@@ -387,43 +396,44 @@ def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[floa
     b = np.uint64(max(block, 0))
     k = max(block + B_CACHE, 0)
     c = Cache(a[k], a[k + 1], a[k + 2], a[k + 3], a[k + 4], a[k + 5], a[k + 6])  # the block's (see B_CACHE)
-    for lane in range(width):
-        q = b + np.uint64(lane)
-        _, _, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
-        started = a[_at(q, W_STATE + S_STARTED)]
-        depth0 = a[_at(q, W_STATE + S_DEPTH)]
-        z = element_depth(h, pz, oz)  # (checked by _place)
-        z = select(started != 0.0, settle_depth(z, depth0), z)  # a change of depth by rounding is none
-        mode = a[_at(q, W_STATE + S_MODE)]
-        time = a[_at(q, W_STATE + S_TIME)]
-        mud0 = a[_at(q, W_STATE + S_MUD)]
-        age0 = a[_at(q, W_STATE + S_NECK_AGE)]
-        neck_v = a[_at(q, W_STATE + S_NECK_V)]
-        neck_z = a[_at(q, W_STATE + S_NECK_Z)]
-        direction0 = a[_at(q, W_STATE + S_DIRECTION)]
-        velocity0 = a[_at(q, W_STATE + S_VELOCITY)]
-        g0 = a[_at(q, W_STATE + S_NECK_G)]
-        gi0 = a[_at(q, W_STATE + S_NECK_GI)]
-        strain0 = a[_at(q, W_STATE + S_STRAIN)]
-        s = State(started, mode, time, depth0, mud0, age0, neck_v, neck_z, direction0, velocity0, g0, gi0, strain0)
-        mud, age, d, v, g, gi, strain, ok = _quiet_lanes_step(s, c, p, z, dt)
-        ok = ok & (a[_at(q, W_CACHE_DT)] == c.dt)  # the element's own cache is the block's
-        fe1, fs, spring = _stress_lanes(p, mode, z, d, v, strain, neck_v, neck_z, g, gi)
-        a[_at(q, W_OK)] = select(ok, 1.0, 0.0)
-        a[_at(q, W_Z)] = z
-        a[_at(q, W_FE1)] = fe1
-        a[_at(q, W_FS)] = fs
-        a[_at(q, W_HAS_SPRING)] = select(spring, 1.0, 0.0)
-        a[_at(q, W_STATE + S_STARTED)] = select(ok, 1.0, started)
-        a[_at(q, W_STATE + S_TIME)] = select(ok, time + dt, time)
-        a[_at(q, W_STATE + S_DEPTH)] = select(ok, z, depth0)
-        a[_at(q, W_STATE + S_MUD)] = select(ok, mud, mud0)
-        a[_at(q, W_STATE + S_NECK_AGE)] = select(ok, age, age0)
-        a[_at(q, W_STATE + S_DIRECTION)] = select(ok, d, direction0)
-        a[_at(q, W_STATE + S_VELOCITY)] = select(ok, v, velocity0)
-        a[_at(q, W_STATE + S_NECK_G)] = select(ok, g, g0)
-        a[_at(q, W_STATE + S_NECK_GI)] = select(ok, gi, gi0)
-        a[_at(q, W_STATE + S_STRAIN)] = select(ok, strain, strain0)
+    for chunk in range(width >> 2):
+        for sub in range(CHUNK_LANES):
+            q = b + np.uint64(chunk * CHUNK + sub)
+            _, _, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
+            started = a[_at(q, W_STATE + S_STARTED)]
+            depth0 = a[_at(q, W_STATE + S_DEPTH)]
+            z = element_depth(h, pz, oz)  # (checked by _place)
+            z = select(started != 0.0, settle_depth(z, depth0), z)  # a change of depth by rounding is none
+            mode = a[_at(q, W_STATE + S_MODE)]
+            time = a[_at(q, W_STATE + S_TIME)]
+            mud0 = a[_at(q, W_STATE + S_MUD)]
+            age0 = a[_at(q, W_STATE + S_NECK_AGE)]
+            neck_v = a[_at(q, W_STATE + S_NECK_V)]
+            neck_z = a[_at(q, W_STATE + S_NECK_Z)]
+            direction0 = a[_at(q, W_STATE + S_DIRECTION)]
+            velocity0 = a[_at(q, W_STATE + S_VELOCITY)]
+            g0 = a[_at(q, W_STATE + S_NECK_G)]
+            gi0 = a[_at(q, W_STATE + S_NECK_GI)]
+            strain0 = a[_at(q, W_STATE + S_STRAIN)]
+            s = State(started, mode, time, depth0, mud0, age0, neck_v, neck_z, direction0, velocity0, g0, gi0, strain0)
+            mud, age, d, v, g, gi, strain, ok = _quiet_lanes_step(s, c, p, z, dt)
+            ok = ok & (a[_at(q, W_CACHE_DT)] == c.dt)  # the element's own cache is the block's
+            fe1, fs, spring = _stress_lanes(p, mode, z, d, v, strain, neck_v, neck_z, g, gi)
+            a[_at(q, W_OK)] = select(ok, 1.0, 0.0)
+            a[_at(q, W_Z)] = z
+            a[_at(q, W_FE1)] = fe1
+            a[_at(q, W_FS)] = fs
+            a[_at(q, W_HAS_SPRING)] = select(spring, 1.0, 0.0)
+            a[_at(q, W_STATE + S_STARTED)] = select(ok, 1.0, started)
+            a[_at(q, W_STATE + S_TIME)] = select(ok, time + dt, time)
+            a[_at(q, W_STATE + S_DEPTH)] = select(ok, z, depth0)
+            a[_at(q, W_STATE + S_MUD)] = select(ok, mud, mud0)
+            a[_at(q, W_STATE + S_NECK_AGE)] = select(ok, age, age0)
+            a[_at(q, W_STATE + S_DIRECTION)] = select(ok, d, direction0)
+            a[_at(q, W_STATE + S_VELOCITY)] = select(ok, v, velocity0)
+            a[_at(q, W_STATE + S_NECK_G)] = select(ok, g, g0)
+            a[_at(q, W_STATE + S_NECK_GI)] = select(ok, gi, gi0)
+            a[_at(q, W_STATE + S_STRAIN)] = select(ok, strain, strain0)
 
 
 @_compiled()
@@ -440,58 +450,61 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
     alpha, beta, h_width, area_1d = p.alpha, p.beta, p.width, p.area
     per_dt = 1.0 / dt
     for group in range(width // GROUP):
-        g0 = b + np.uint64(group * GROUP)
+        g0 = b + np.uint64(group * 2 * CHUNK)
         submerged = False
-        for lane in range(GROUP):
-            submerged |= a[_at(g0 + np.uint64(lane), W_Z)] > 0.0
+        for c2 in range(2):
+            for sub in range(CHUNK_LANES):
+                submerged |= a[_at(g0 + np.uint64(c2 * CHUNK + sub), W_Z)] > 0.0
         if submerged:
-            for lane in range(GROUP):
-                q = g0 + np.uint64(lane)
-                z = a[_at(q, W_Z)]
-                ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
-                nx, ny, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
-                # Eq. (4), inlined (law3d.spring_stress's compiled form is a call, which does not vectorise)
-                spring = nonlinear_spring_stress(alpha, beta, z, h_width)
-                sigma = total_force(a[_at(q, W_FE1)], select(a[_at(q, W_HAS_SPRING)] != 0.0, spring, 0.0),
-                                    a[_at(q, W_FS)], area_1d)
-                wx, wy, wz = px + ox, py + oy, pz + oz
-                sx0, sy0 = a[_at(q, W_SLIPX)], a[_at(q, W_SLIPY)]
-                sx, sy, fx, fy, fz = element_force(sigma, spring, a[_at(q, W_AREA)], nx, ny, nz, z, sx0, sy0,
-                                                   wx - a[_at(q, W_CX)], wy - a[_at(q, W_CY)], per_dt, started, k,
-                                                   sigma_y, lambda_, rho)
-                tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
-                a[_at(q, W_SLIPX)] = sx
-                a[_at(q, W_SLIPY)] = sy
-                a[_at(q, W_CX)] = wx
-                a[_at(q, W_CY)] = wy
-                a[_at(q, W_CZ)] = wz
-                a[_at(q, W_FX)] = fx
-                a[_at(q, W_FY)] = fy
-                a[_at(q, W_FZ)] = fz
-                a[_at(q, W_TX)] = tx
-                a[_at(q, W_TY)] = ty
-                a[_at(q, W_TZ)] = tz
-                a[_at(q, W_STRESS)] = sigma
+            for c2 in range(2):  # the group's two chunks
+                for sub in range(CHUNK_LANES):
+                    q = g0 + np.uint64(c2 * CHUNK + sub)
+                    z = a[_at(q, W_Z)]
+                    ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
+                    nx, ny, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
+                    # Eq. (4), inlined (law3d.spring_stress's compiled form is a call, which does not vectorise)
+                    spring = nonlinear_spring_stress(alpha, beta, z, h_width)
+                    sigma = total_force(a[_at(q, W_FE1)], select(a[_at(q, W_HAS_SPRING)] != 0.0, spring, 0.0),
+                                        a[_at(q, W_FS)], area_1d)
+                    wx, wy, wz = px + ox, py + oy, pz + oz
+                    sx0, sy0 = a[_at(q, W_SLIPX)], a[_at(q, W_SLIPY)]
+                    sx, sy, fx, fy, fz = element_force(sigma, spring, a[_at(q, W_AREA)], nx, ny, nz, z, sx0, sy0,
+                                                       wx - a[_at(q, W_CX)], wy - a[_at(q, W_CY)], per_dt, started, k,
+                                                       sigma_y, lambda_, rho)
+                    tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
+                    a[_at(q, W_SLIPX)] = sx
+                    a[_at(q, W_SLIPY)] = sy
+                    a[_at(q, W_CX)] = wx
+                    a[_at(q, W_CY)] = wy
+                    a[_at(q, W_CZ)] = wz
+                    a[_at(q, W_FX)] = fx
+                    a[_at(q, W_FY)] = fy
+                    a[_at(q, W_FZ)] = fz
+                    a[_at(q, W_TX)] = tx
+                    a[_at(q, W_TY)] = ty
+                    a[_at(q, W_TZ)] = tz
+                    a[_at(q, W_STRESS)] = sigma
         else:
-            for lane in range(GROUP):
-                q = g0 + np.uint64(lane)
-                ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
-                _, _, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
-                sigma = total_force(a[_at(q, W_FE1)], 0.0, a[_at(q, W_FS)], area_1d)
-                fz = vertical_force(sigma, a[_at(q, W_AREA)], nz)
-                tx, ty, tz = moment(ox, oy, oz, 0.0, 0.0, fz)
-                a[_at(q, W_SLIPX)] = 0.0
-                a[_at(q, W_SLIPY)] = 0.0
-                a[_at(q, W_CX)] = px + ox
-                a[_at(q, W_CY)] = py + oy
-                a[_at(q, W_CZ)] = pz + oz
-                a[_at(q, W_FX)] = 0.0
-                a[_at(q, W_FY)] = 0.0
-                a[_at(q, W_FZ)] = fz
-                a[_at(q, W_TX)] = tx
-                a[_at(q, W_TY)] = ty
-                a[_at(q, W_TZ)] = tz
-                a[_at(q, W_STRESS)] = sigma
+            for c2 in range(2):  # the group's two chunks
+                for sub in range(CHUNK_LANES):
+                    q = g0 + np.uint64(c2 * CHUNK + sub)
+                    ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
+                    _, _, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
+                    sigma = total_force(a[_at(q, W_FE1)], 0.0, a[_at(q, W_FS)], area_1d)
+                    fz = vertical_force(sigma, a[_at(q, W_AREA)], nz)
+                    tx, ty, tz = moment(ox, oy, oz, 0.0, 0.0, fz)
+                    a[_at(q, W_SLIPX)] = 0.0
+                    a[_at(q, W_SLIPY)] = 0.0
+                    a[_at(q, W_CX)] = px + ox
+                    a[_at(q, W_CY)] = py + oy
+                    a[_at(q, W_CZ)] = pz + oz
+                    a[_at(q, W_FX)] = 0.0
+                    a[_at(q, W_FY)] = 0.0
+                    a[_at(q, W_FZ)] = fz
+                    a[_at(q, W_TX)] = tx
+                    a[_at(q, W_TY)] = ty
+                    a[_at(q, W_TZ)] = tz
+                    a[_at(q, W_STRESS)] = sigma
 
 
 @_compiled()
@@ -505,7 +518,7 @@ def _rare_lanes(a: np.ndarray, block: int, count: int, first: int, states: np.nd
     refused, or -1."""
     p = load_params(params, first)
     for lane in range(count):
-        q = block + lane
+        q = _lane(block, lane)
         if a[q + W_OK * FIELD] != 0.0:
             continue
         i = first + lane
@@ -575,7 +588,7 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
         _paper_lanes(lanes, block, width, p, r, h, pz, dt)
         if not quiet:  # pragma: no cover - the 3-D feet take the exact rule (MudContacts3D builds them so)
             for lane in range(count):
-                lanes[block + W_OK * FIELD + lane] = 0.0
+                lanes[_lane(block, lane) + W_OK * FIELD] = 0.0
         refused = _rare_lanes(lanes, block, count, first, states, ring, params, dt)
         if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused before
             return refused
@@ -589,7 +602,7 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
         base = np.uint64(max(b * BLOCK, 0))
         count = min(hi - (lo + (b - b0) * LANES), LANES)
         for lane in range(1 if b == b0 else 0, count):
-            q = base + np.uint64(lane)
+            q = base + np.uint64((lane >> 2) * CHUNK + (lane & 3))
             sfx += lanes[_at(q, W_FX)]
             sfy += lanes[_at(q, W_FY)]
             sfz += lanes[_at(q, W_FZ)]
@@ -601,7 +614,7 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
             base = np.uint64(max(b * BLOCK, 0))
             first = lo + (b - b0) * LANES
             for lane in range(min(hi - first, LANES)):
-                q = base + np.uint64(lane)
+                q = base + np.uint64((lane >> 2) * CHUNK + (lane & 3))
                 each[first + lane, 0] = lanes[_at(q, W_FX)]
                 each[first + lane, 1] = lanes[_at(q, W_FY)]
                 each[first + lane, 2] = lanes[_at(q, W_FZ)]
@@ -631,7 +644,7 @@ def rows_from_lanes(block: np.ndarray, states: np.ndarray) -> None:
     el, _, starts, lanes, blocks = _unpack(block)
     for f in range(starts.shape[0] - 1):
         for i in range(starts[f], starts[f + 1]):
-            q = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK + (i - starts[f]) % LANES
+            q = _lane(blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK, (i - starts[f]) % LANES)
             for j in range(N_CORE):  # (the cache columns are the rows' own: see B_CACHE)
                 states[i, j] = lanes[q + (W_STATE + j) * FIELD]
             el[i, E_SLIPX] = lanes[q + W_SLIPX * FIELD]
@@ -649,12 +662,12 @@ def lanes_from_rows(block: np.ndarray, states: np.ndarray) -> None:
     el, _, starts, lanes, blocks = _unpack(block)
     for f in range(starts.shape[0] - 1):
         for i in range(starts[f], starts[f + 1]):
-            q = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK + (i - starts[f]) % LANES
+            q = _lane(blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK, (i - starts[f]) % LANES)
             for j in range(N_CORE):
                 lanes[q + (W_STATE + j) * FIELD] = states[i, j]
             lanes[q + W_CACHE_DT * FIELD] = states[i, S_CACHE_DT]
             if i == starts[f] or (i - starts[f]) % LANES == 0:  # a block's cache: its first element's
-                b = q - (i - starts[f]) % LANES
+                b = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK
                 for j in range(7):
                     lanes[b + B_CACHE + j] = states[i, S_CACHE_DT + j]
             for j in range(W_AREA + 1):  # the constants: E_CBX .. E_AREA are W_CBX .. W_AREA
