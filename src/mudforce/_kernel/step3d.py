@@ -388,14 +388,15 @@ def _stress_lanes(p: Params, mode: float, depth: float, direction: float, veloci
 
 @_compiled()
 def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float, float, float, float, float,
-                 float, float, float, float], h: float, pz: float, dt: float) -> None:
+                 float, float, float, float], h: float, pz: float, dt: float) -> bool:
     """The paper's quiet step of a block's first ``width`` lanes (a multiple of :data:`GROUP`), in one loop
     without branches (vectorised): each element's depth settled (:func:`~mudforce.model.law3d.settle_depth`), its
     quiet step, its stresses but the spring's. A lane whose quiet step does not hold keeps its state
-    (``W_OK`` 0.0: :func:`_rare_lanes` steps it)."""
+    (``W_OK`` 0.0: :func:`_rare_lanes` steps it). Returns whether every lane's quiet step held."""
     b = np.uint64(max(block, 0))
     k = max(block + B_CACHE, 0)
     c = Cache(a[k], a[k + 1], a[k + 2], a[k + 3], a[k + 4], a[k + 5], a[k + 6])  # the block's (see B_CACHE)
+    held = True
     for chunk in range(width >> 2):
         for sub in range(CHUNK_LANES):
             q = b + np.uint64(chunk * CHUNK + sub)
@@ -420,6 +421,7 @@ def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[floa
             ok = ok & (a[_at(q, W_CACHE_DT)] == c.dt)  # the element's own cache is the block's
             fe1, fs, spring = _stress_lanes(p, mode, z, d, v, strain, neck_v, neck_z, g, gi)
             a[_at(q, W_OK)] = select(ok, 1.0, 0.0)
+            held &= ok
             a[_at(q, W_Z)] = z
             a[_at(q, W_FE1)] = fe1
             a[_at(q, W_FS)] = fs
@@ -434,6 +436,7 @@ def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[floa
             a[_at(q, W_STATE + S_NECK_G)] = select(ok, g, g0)
             a[_at(q, W_STATE + S_NECK_GI)] = select(ok, gi, gi0)
             a[_at(q, W_STATE + S_STRAIN)] = select(ok, strain, strain0)
+    return held
 
 
 @_compiled()
@@ -585,13 +588,15 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
         count = min(hi - first, LANES)
         width = -(-count // GROUP) * GROUP
         block = b * BLOCK
-        _paper_lanes(lanes, block, width, p, r, h, pz, dt)
+        held = _paper_lanes(lanes, block, width, p, r, h, pz, dt)
         if not quiet:  # pragma: no cover - the 3-D feet take the exact rule (MudContacts3D builds them so)
+            held = False
             for lane in range(count):
                 lanes[_lane(block, lane) + W_OK * FIELD] = 0.0
-        refused = _rare_lanes(lanes, block, count, first, states, ring, params, dt)
-        if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused before
-            return refused
+        if not held:  # (padding lanes past count are never stepped, whatever they hold)
+            refused = _rare_lanes(lanes, block, count, first, states, ring, params, dt)
+            if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused before
+                return refused
         _law_lanes(lanes, block, width, p, r, px, py, pz, dt, started, k, sigma_y, lambda_, rho)
     # the wrench in element order, from the first element (numpy's sum(axis=0)), and each element's force
     b0 = blocks[f]
