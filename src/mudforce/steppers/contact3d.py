@@ -321,9 +321,22 @@ class MudContact3D:
         # below, its bits. The hot path takes float64 arrays and a float dt; _step_converted takes the first step
         # and other inputs; a step either refuses (having changed nothing) goes through the numpy step, which words
         # the error
+        outputs = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
+        entry = self._entry
+        # the hot path: float64 vectors (any strides) through step_one's entry point, into a free output set
+        if (entry is not None and type(dt) is float and type(position) is _NDARRAY and type(quaternion) is _NDARRAY
+                and position.dtype is _FLOAT64 and quaternion.dtype is _FLOAT64 and position.ndim == 1
+                and quaternion.ndim == 1 and _refs(outputs[6]) == _FREE_WRENCH and _refs(outputs[4]) == _FREE_VIEW
+                and _refs(outputs[5]) == _FREE_VIEW and _refs(outputs[1]) == _FREE_EACH
+                and _refs(outputs[0]) == _FREE_BLOCK):
+            if entry(position, quaternion, dt, outputs[8]) == _OK:
+                self._misses = 0
+                self.element_forces = outputs[1]
+                self._spare, self._other = self._other, outputs
+                return outputs[6]  # type: ignore[no-any-return]
+            return self._step_numpy(position, quaternion, dt)  # refused for its values: the numpy step words it
         fixed = self._fixed
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
-            outputs = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
             if (_refs(outputs[6]) == _FREE_WRENCH and _refs(outputs[4]) == _FREE_VIEW
                     and _refs(outputs[5]) == _FREE_VIEW and _refs(outputs[1]) == _FREE_EACH
                     and _refs(outputs[0]) == _FREE_BLOCK):
