@@ -321,8 +321,10 @@ def census(feet: int, steps: int) -> None:
     counts: dict[str, int] = {}
     names = layout.STATE_NAMES
     for k in range(1, steps + 1):
+        contacts._export_rows()  # the rows as the lanes hold them (the compiled step keeps its state there)
         before = states[:, layout.S_MODE].astype(int)
         contacts.step(pos[k], quat[k], 1.0 / RATE, out=out)
+        contacts._export_rows()
         after = states[:, layout.S_MODE].astype(int)
         below = states[:, layout.S_DEPTH] > 0.0
         direction = states[:, layout.S_DIRECTION]
