@@ -374,6 +374,26 @@ def test_the_yield_dominated_sideways_factors() -> None:
         assert n_factor == pytest.approx(factor, rel=0.01)
 
 
+def test_the_sideways_factors_at_one_to_two_diameters() -> None:
+    """docs/model.md, "How it compares": a 20 x 60 mm cylinder across the motion and a 40 mm sphere, their centres
+    one and two diameters deep in Table I's 25 % mud, slid 30 mm at 10 mm/s from rest: N = F / (sigma_y x
+    projected area), the cylinder's ends' shear taken off, as written there (4.45, 5.47; 6.17, 7.46)."""
+    params = mf.MudParameters.from_water_content(0.25)
+    d_cyl, d_sph = 0.02, 0.04
+    cylinder = (shapes.cylinder(d_cyl, 0.06, resolution=0.003), _q([1.0, 0.0, 0.0], math.pi / 2),
+                2 * math.pi * d_cyl * d_cyl / 4, d_cyl * 0.06, d_cyl)
+    sphere = (shapes.sphere(d_sph, resolution=0.003), np.array(UPRIGHT), 0.0, math.pi * d_sph * d_sph / 4, d_sph)
+    t = np.arange(321) * 0.01
+    x = np.where(t > 0.2, (t - 0.2) * 0.01, 0.0)
+    got = []
+    for shape, quat, ends, ref_area, d in (cylinder, sphere):
+        for depth in (1, 2):
+            pos = np.stack([x, 0 * t, np.full(t.size, -depth * d)], axis=1)
+            res = simulate_3d(t, pos, np.tile(quat, (t.size, 1)), params, shape)
+            got.append((-res.force[-1, 0] - params.sigma_y * ends) / (params.sigma_y * ref_area))
+    np.testing.assert_allclose(got, [4.45, 5.47, 6.17, 7.46], rtol=0.01)
+
+
 # ------------------------------------------------------------------ inputs
 
 @pytest.mark.parametrize(("kwargs", "match"), [
