@@ -439,6 +439,25 @@ def _paper_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[floa
     return held
 
 
+@_compiled(inline="always")
+def _store_law(a: np.ndarray, q: np.uint64, sx: float, sy: float, wx: float, wy: float, wz: float, fx: float,
+               fy: float, fz: float, tx: float, ty: float, tz: float, sigma: float) -> None:
+    """A lane's results of the 3-D law (at entry ``q``): its slip [m] and world centroid [m], kept; its force [N],
+    moment [N m] and paper stress [Pa] of this step."""
+    a[_at(q, W_SLIPX)] = sx
+    a[_at(q, W_SLIPY)] = sy
+    a[_at(q, W_CX)] = wx
+    a[_at(q, W_CY)] = wy
+    a[_at(q, W_CZ)] = wz
+    a[_at(q, W_FX)] = fx
+    a[_at(q, W_FY)] = fy
+    a[_at(q, W_FZ)] = fz
+    a[_at(q, W_TX)] = tx
+    a[_at(q, W_TY)] = ty
+    a[_at(q, W_TZ)] = tz
+    a[_at(q, W_STRESS)] = sigma
+
+
 @_compiled()
 def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float, float, float, float, float, float,
                float, float, float], px: float, py: float, pz: float, dt: float, started: bool, k: float,
@@ -475,18 +494,7 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
                                                        wx - a[_at(q, W_CX)], wy - a[_at(q, W_CY)], per_dt, started, k,
                                                        sigma_y, lambda_, rho)
                     tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
-                    a[_at(q, W_SLIPX)] = sx
-                    a[_at(q, W_SLIPY)] = sy
-                    a[_at(q, W_CX)] = wx
-                    a[_at(q, W_CY)] = wy
-                    a[_at(q, W_CZ)] = wz
-                    a[_at(q, W_FX)] = fx
-                    a[_at(q, W_FY)] = fy
-                    a[_at(q, W_FZ)] = fz
-                    a[_at(q, W_TX)] = tx
-                    a[_at(q, W_TY)] = ty
-                    a[_at(q, W_TZ)] = tz
-                    a[_at(q, W_STRESS)] = sigma
+                    _store_law(a, q, sx, sy, wx, wy, wz, fx, fy, fz, tx, ty, tz, sigma)
         else:
             for c2 in range(2):  # the group's two chunks
                 for sub in range(CHUNK_LANES):
@@ -496,18 +504,7 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
                     sigma = total_force(a[_at(q, W_FE1)], 0.0, a[_at(q, W_FS)], area_1d)
                     fz = vertical_force(sigma, a[_at(q, W_AREA)], nz)
                     tx, ty, tz = moment(ox, oy, oz, 0.0, 0.0, fz)
-                    a[_at(q, W_SLIPX)] = 0.0
-                    a[_at(q, W_SLIPY)] = 0.0
-                    a[_at(q, W_CX)] = px + ox
-                    a[_at(q, W_CY)] = py + oy
-                    a[_at(q, W_CZ)] = pz + oz
-                    a[_at(q, W_FX)] = 0.0
-                    a[_at(q, W_FY)] = 0.0
-                    a[_at(q, W_FZ)] = fz
-                    a[_at(q, W_TX)] = tx
-                    a[_at(q, W_TY)] = ty
-                    a[_at(q, W_TZ)] = tz
-                    a[_at(q, W_STRESS)] = sigma
+                    _store_law(a, q, 0.0, 0.0, px + ox, py + oy, pz + oz, 0.0, 0.0, fz, tx, ty, tz, sigma)
 
 
 @_compiled()
