@@ -160,6 +160,23 @@ def test_many_feet_are_independent_mudcontact3d_feet_with_their_own_muds() -> No
     assert not np.array_equal(force[:, 0], force[:, 3])
 
 
+def test_kernel_rows_follow_the_feet_as_they_are_stepped() -> None:
+    """kernel_rows' read-only views show the elements' 1-D rows as the feet are stepped (the compiled step keeps
+    the states in its lanes and, once the views are asked for, writes the rows after every step): they equal
+    the state's rows step after step, and hold FREE, CONTACT and NECKED elements along the walk."""
+    rng = np.random.default_rng(1)
+    pos, quat = _walk(rng, 250)
+    feet = MudContacts3D(MUD, SPHERE, 1)
+    states, rows = feet.kernel_rows()
+    assert not states.flags.writeable and not rows.flags.writeable
+    seen = set()
+    for k in range(250):
+        feet.step(pos[k][None], quat[k][None], DT if k else 0.0)
+        assert np.array_equal(states, feet.state.elements[:, :states.shape[1]])
+        seen |= set(states[:, 1].tolist())
+    assert seen == {0.0, 1.0, 2.0}
+
+
 def test_threads_give_the_same_bits_with_feet_of_unequal_sizes() -> None:
     rng = np.random.default_rng(5)
     feet = [SPHERE] * 2 + [SOLE] * 9  # the slices of feet hold unequal numbers of elements

@@ -901,6 +901,7 @@ class MudContacts3D:
         self._ft[:] = ft
         self._block = block
         self._entries = S3.lane_entries(block)  # each element's place in the lanes
+        self._follow_rows = False  # kernel_rows' views asked for: every step exports the rows
         S3.lanes_from_rows(block, self._states)  # the elements' constants and fresh states into the lanes
         # the compiled step's arguments after the poses and dt, before the outputs
         self._kernel_args = (block, self._states, self._ring, self._params_rows)
@@ -934,8 +935,11 @@ class MudContacts3D:
         rows (a rest band, :func:`mudforce.engines.dynamics.rest_band.branch_forces`)
         is the element's stress [Pa]. For engines that hold the feet in their
         own solver (:class:`mudforce.engines.mujoco.MudAdapter3D`); the views
-        follow the feet as they are stepped.
+        follow the feet as they are stepped (from the first call on, each step
+        then writes the rows from the compiled step's lanes, where it keeps the
+        states: a few ns an element).
         """
+        self._follow_rows = True
         self._export_rows()
         states, rows = (a.view() for a in self._live_rows())
         states.flags.writeable = False
@@ -1083,6 +1087,8 @@ class MudContacts3D:
             if code == _OK:
                 if spare is not None:
                     self._spare, self._other = self._other, spare
+                if self._follow_rows:  # kernel_rows' views follow the feet
+                    self._export_rows()
                 return forces, torques
         return self._step_checked(positions, quaternions, dt, out)
 
@@ -1126,6 +1132,8 @@ class MudContacts3D:
             out[0][...] = forces
             out[1][...] = torques
             forces, torques = out
+        if self._follow_rows:  # kernel_rows' views follow the feet
+            self._export_rows()
         return forces, torques
 
     def _refuse(self, code: int, p: np.ndarray, q: np.ndarray, dt: float) -> None:
