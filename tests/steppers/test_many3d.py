@@ -177,6 +177,36 @@ def test_kernel_rows_follow_the_feet_as_they_are_stepped() -> None:
     assert seen == {0.0, 1.0, 2.0}
 
 
+@pytest.mark.parametrize("sizes", [(1, 3), (5, 8), (9, 63), (64, 65), (130, 7)])
+def test_feet_of_any_number_of_elements_step_as_the_numpy_step(sizes: tuple[int, int]) -> None:
+    """The compiled step keeps a foot's elements in lanes of four, blocks of 64 (the last ones padded): feet of 1
+    to 130 elements, two of different sizes stepped together, give each foot's numpy step (MudContact3D's
+    reference) bit for bit, wrench and state, through touchdown, sliding, tilting and lift-off."""
+    rng = np.random.default_rng(sum(sizes))
+    feet = []
+    for n in sizes:  # n elements on a sphere of 40 mm, random places, areas summing to its area
+        normals = _unit(rng, n)
+        feet.append(shapes.Shape(normals * 0.02, normals, np.full(n, math.pi * 0.04 ** 2 / n), name=f"{n} elements",
+                                 width=0.04))
+    many = MudContacts3D(MUD, feet)
+    ref = [MudContact3D(MUD, shape) for shape in feet]
+    pos, quat = _walk(rng, 60)
+    peak = np.zeros(3)
+    for k in range(60):
+        dt = DT if k else 0.0
+        forces, torques = many.step(np.stack([pos[k], pos[k] + 0.003]), np.stack([quat[k], quat[k]]), dt)
+        peak = np.maximum(peak, np.abs(forces).max(axis=0))
+        for f in range(2):
+            w = ref[f]._step_numpy(pos[k] + 0.003 * f, quat[k], dt)
+            assert np.array_equal(forces[f], w.force) and np.array_equal(torques[f], w.torque)
+    state = many.state
+    for f in range(2):
+        rows = many.element_slice(f)
+        assert np.array_equal(state.elements[rows], ref[f].state.elements)
+        assert np.array_equal(state.slip[rows], ref[f].state.slip)
+    assert peak[2] > 0.1 and max(peak[0], peak[1]) > 0.0  # in the mud, loaded sideways
+
+
 def test_threads_give_the_same_bits_with_feet_of_unequal_sizes() -> None:
     rng = np.random.default_rng(5)
     feet = [SPHERE] * 2 + [SOLE] * 9  # the slices of feet hold unequal numbers of elements
