@@ -160,8 +160,8 @@ PINNED: dict[str, list[str]] = {
         "MAX_DEPTH", "MAX_DT", "MAX_GRAVITY", "MAX_HORIZONTAL", "MAX_OUTPUT_SAMPLES", "MAX_TIME", "MIN_DT",
         "bounded_depth", "check_depths", "check_finite", "check_gravity", "check_step", "check_times", "max_samples"],
     "mudforce.model.law3d": [
-        "FLAT_PLATE_ALPHA", "MAX_LATERAL_STIFFNESS", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH", "bearing_factor",
-        "check_lateral_stiffness", "element_depth",
+        "FLAT_PLATE_ALPHA", "MAX_BEARING_SCALE", "MAX_LATERAL_STIFFNESS", "QUATERNION_TOLERANCE", "ROUNDING_DEPTH",
+        "bearing_factor", "bearing_stress", "check_bearing_scale", "check_lateral_stiffness", "element_depth",
         "element_force", "horizontal_drag", "lateral_capacity", "lateral_return_map", "moment",
         "root", "rotate", "rotation", "rotation_matrix", "select", "settle_depth", "shear_fraction", "spring_stress",
         "vertical_force", "vertical_weight",

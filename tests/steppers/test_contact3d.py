@@ -423,6 +423,35 @@ def test_elements_with_caches_of_other_step_lengths_step_as_the_numpy_step() -> 
     assert w.force[2] > 1.0
 
 
+def test_the_bearing_scale_scales_the_bearing_on_every_path() -> None:
+    """bearing_scale multiplies the sideways bearing (law3d.bearing_stress): the compiled step equals the numpy step
+    bit for bit at 0.3, MudContacts3D with a scale per foot equals MudContact3D, a sphere slid sideways meets less
+    resistance at 0.3 than at 1 and more than the shear alone (0), the vertical force is the same at all three, and a
+    scale out of [0, 1e3] or not a number is refused in one line."""
+    params = mf.MudParameters.from_water_content(0.25)
+    scales = (0.0, 0.3, 1.0)
+    fast = [MudContact3D(params, SPHERE, bearing_scale=b) for b in scales]
+    slow = MudContact3D(params, SPHERE, bearing_scale=0.3)
+    many = mf.MudContacts3D(params, SPHERE, 3, bearing_scale=list(scales))
+    sideways = np.zeros(3)
+    for k in range(80):
+        position = np.array([0.0004 * max(k - 20, 0), 0.0, 0.01 - 0.0008 * min(k, 25)])
+        got = [c.step(position, UPRIGHT, 1e-3 if k else 0.0) for c in fast]
+        b = slow._step_numpy(position, UPRIGHT, 1e-3 if k else 0.0)
+        assert np.array_equal(got[1].force, b.force) and np.array_equal(got[1].torque, b.torque)
+        forces, torques = many.step(np.tile(position, (3, 1)), np.tile(UPRIGHT, (3, 1)), 1e-3 if k else 0.0)
+        for f in range(3):
+            assert np.array_equal(forces[f], got[f].force) and np.array_equal(torques[f], got[f].torque)
+        assert got[0].force[2] == got[1].force[2] == got[2].force[2]
+        sideways = np.maximum(sideways, [-w.force[0] for w in got])
+    assert 0.0 < sideways[0] < sideways[1] < sideways[2]
+    assert fast[1].bearing_scale == 0.3
+    for bad in (-0.1, 2e3, math.nan, "1"):
+        with pytest.raises(InputError, match=r"^bearing_scale must be within \[0, 1000\]") as err:
+            MudContact3D(params, SPHERE, bearing_scale=bad)  # type: ignore[arg-type]
+        assert "\n" not in str(err.value)
+
+
 def test_the_outputs_are_reused_only_when_no_one_holds_them() -> None:
     """MudContact3D.step's hot path reuses its output arrays (two sets in turn) only while no one holds any part
     of a set: a loop that keeps each Wrench until the next step makes no new arrays, and every result kept (the

@@ -104,6 +104,7 @@ from mudforce.model.equations import (
 )
 from mudforce.model.law3d import (
     QUATERNION_TOLERANCE,
+    bearing_stress,
     element_depth,
     element_force,
     moment,
@@ -154,7 +155,8 @@ F_STARTED = 8  # 1 once the foot has taken its first step
 F_PX = 9  # this step: the body origin [m], 3 columns
 F_R = 12  # this step: the rotation matrix [-], 9 columns, row by row
 F_REACH = 21  # the farthest element centroid from the body origin [m] (a bound for the depth check)
-N_FOOT_COLUMNS = 22
+F_BEARING = 22  # the bearing scale [-] (law3d.bearing_stress)
+N_FOOT_COLUMNS = 23
 
 #: :func:`step_feet`'s return values other than a foot's index
 OK = -1
@@ -461,7 +463,7 @@ def _store_law(a: np.ndarray, q: np.uint64, sx: float, sy: float, wx: float, wy:
 @_compiled()
 def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float, float, float, float, float, float,
                float, float, float], px: float, py: float, pz: float, dt: float, started: bool, k: float,
-               sigma_y: float, lambda_: float, rho: float) -> None:
+               sigma_y: float, lambda_: float, rho: float, bearing: float) -> None:
     """The 3-D law on a block's first ``width`` lanes (a multiple of :data:`GROUP`), in groups of :data:`GROUP`
     without branches (vectorised): Eq. (4) at the depth, the paper's stress (``total_force``), then
     :func:`~mudforce.model.law3d.element_force` and :func:`~mudforce.model.law3d.moment`. A group wholly at or
@@ -490,7 +492,8 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
                                         a[_at(q, W_FS)], area_1d)
                     wx, wy, wz = px + ox, py + oy, pz + oz
                     sx0, sy0 = a[_at(q, W_SLIPX)], a[_at(q, W_SLIPY)]
-                    sx, sy, fx, fy, fz = element_force(sigma, spring, a[_at(q, W_AREA)], nx, ny, nz, z, sx0, sy0,
+                    sx, sy, fx, fy, fz = element_force(sigma, bearing_stress(spring, bearing), a[_at(q, W_AREA)], nx,
+                                                       ny, nz, z, sx0, sy0,
                                                        wx - a[_at(q, W_CX)], wy - a[_at(q, W_CY)], per_dt, started, k,
                                                        sigma_y, lambda_, rho)
                     tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
@@ -579,6 +582,7 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
     h = ft[f, F_SURFACE]
     started = ft[f, F_STARTED] != 0.0
     k, sigma_y, lambda_, rho = ft[f, F_STIFFNESS], ft[f, F_SIGMA_Y], ft[f, F_LAMBDA], ft[f, F_RHO]
+    bearing = ft[f, F_BEARING]
     quiet = exact_rule(p)
     for b in range(blocks[f], blocks[f + 1]):
         first = lo + (b - blocks[f]) * LANES
@@ -594,7 +598,7 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
             refused = _rare_lanes(lanes, block, count, first, states, ring, params, dt)
             if refused >= 0:  # pragma: no cover - every input the 1-D stepper refuses was refused before
                 return refused
-        _law_lanes(lanes, block, width, p, r, px, py, pz, dt, started, k, sigma_y, lambda_, rho)
+        _law_lanes(lanes, block, width, p, r, px, py, pz, dt, started, k, sigma_y, lambda_, rho, bearing)
     # the wrench in element order, from the first element (numpy's sum(axis=0)), and each element's force
     b0 = blocks[f]
     q0 = np.uint64(max(b0 * BLOCK, 0))

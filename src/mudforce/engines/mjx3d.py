@@ -461,8 +461,9 @@ def step(m: Any, d: Any, state: MudState3D, mud: Mud3D, weight: float = 0.0) -> 
     inside = patch >= 0
     same = patch == state.patch
     k = jnp.maximum(patch, 0)
+    stiffness = mud.lateral_stiffness[k, feet_axis]
     params = mj3.Params3D(mj.Params(*(f[k, feet_axis] for f in mud.elements)), mud.centroids, mud.normals,
-                          mud.areas, mud.surface_height[k], mud.lateral_stiffness[k, feet_axis])
+                          mud.areas, mud.surface_height[k], stiffness, jnp.ones_like(stiffness))  # (bearing: 1)
     # commit the poses: a foot entering a patch (or leaving it) starts afresh; a stuck foot keeps its depths
     feet = mj3.reset3d(state.feet, ~same)
     hold = jnp.where(same & state.stuck[:, 0], _HOLD, 0.0).astype(dtype)

@@ -67,7 +67,7 @@ from mudforce.errors import InputError, feet_count
 from mudforce.model import law3d
 from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import Foot
-from mudforce.model.law3d import check_lateral_stiffness
+from mudforce.model.law3d import check_bearing_scale, check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 
@@ -83,7 +83,8 @@ class Params3D(NamedTuple):
     unit area, width ``H`` of Eq. (4) [m]); ``centroids`` (n, 3) [m] and
     ``normals`` (n, 3) [-] of the elements in the body frame; ``areas`` (n,)
     [m^2]; ``surface_height`` [m], the undisturbed mud surface in the world
-    frame (z up); ``lateral_stiffness`` [Pa/m], the horizontal slip's ``k``.
+    frame (z up); ``lateral_stiffness`` [Pa/m], the horizontal slip's ``k``; ``bearing_scale`` [-], the sideways
+    bearing's scale (:func:`mudforce.model.law3d.bearing_stress`).
     With one mud per foot (:func:`make_params3d` given a sequence) every
     field has a leading axis over the feet, for :func:`jax.vmap`.
     """
@@ -94,6 +95,7 @@ class Params3D(NamedTuple):
     areas: Array
     surface_height: Array
     lateral_stiffness: Array
+    bearing_scale: Array
 
 
 class State3D(NamedTuple):
@@ -119,7 +121,7 @@ def _shape(shape: Any) -> Shape:
 
 def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, surface_height: float = 0.0, *,
                   width: float | None = None, lateral_stiffness: float | None = None,
-                  dtype: Any = None) -> Params3D:
+                  bearing_scale: float | None = None, dtype: Any = None) -> Params3D:
     """The :class:`Params3D` of a foot of ``shape`` in ``mud`` (checked as
     :class:`~mudforce.steppers.contact3d.MudContact3D`).
 
@@ -137,6 +139,8 @@ def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, su
     lateral_stiffness : float, optional
         Stiffness of the horizontal elastic slip [Pa/m]; by default each
         mud's withdrawal stiffness ``k_m_w`` (:mod:`mudforce.model.law3d`).
+    bearing_scale : float, optional
+        The sideways bearing's scale [-], within [0, 1e3]; by default 1 (3D-RFT's granular bearing).
     dtype : dtype, optional
         Float dtype; JAX's default float by default.
     """
@@ -155,6 +159,7 @@ def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, su
         stiffness = np.array([m.k_m_w for m in muds])
     else:
         stiffness = np.full(len(muds), check_lateral_stiffness(lateral_stiffness))  # MudContact3D's check and bound
+    bearing = np.full(len(muds), check_bearing_scale(1.0 if bearing_scale is None else bearing_scale))
     ftype = mj._float_dtype(dtype)
     elements = mj.make_params(muds if per_foot else muds[0], foot=foot, dtype=ftype)
     batch: tuple[int, ...] = (len(muds),) if per_foot else ()
@@ -167,7 +172,8 @@ def make_params3d(mud: MudParameters | Sequence[MudParameters], shape: Shape, su
         elements=mj.Params(*(jnp.broadcast_to(f, batch) for f in elements)),
         centroids=leaf(shape.centroids), normals=leaf(shape.normals), areas=leaf(shape.areas),
         surface_height=leaf(height),
-        lateral_stiffness=jnp.asarray(stiffness if per_foot else stiffness[0], dtype=ftype))
+        lateral_stiffness=jnp.asarray(stiffness if per_foot else stiffness[0], dtype=ftype),
+        bearing_scale=jnp.asarray(bearing if per_foot else bearing[0], dtype=ftype))
 
 
 def init3d(shape: Shape, batch: int | None = None, dtype: Any = None) -> State3D:
@@ -306,7 +312,8 @@ def step3d(state: State3D, params: Params3D, position: Array, quaternion: Array,
     elements, stress = mj.step(state.elements, e, depth, dts)
     sx, sy = state.slip[:, 0], state.slip[:, 1]
     mx, my = centroids[:, 0] - state.centroids[:, 0], centroids[:, 1] - state.centroids[:, 1]
-    spring = law3d.spring_stress(depth, e.alpha, e.beta, e.width)
+    spring = law3d.bearing_stress(law3d.spring_stress(depth, e.alpha, e.beta, e.width),
+                                  jnp.asarray(params.bearing_scale, dtype=ftype))
     slip_x, slip_y, fx, fy, fz = law3d.element_force(stress, spring, areas, nx, ny, nz, depth, sx, sy, mx, my,
                                                      1.0 / dts, started, k, e.sigma_y, e.lam, e.rho_m)
     slip = jnp.stack([slip_x, slip_y], axis=1)

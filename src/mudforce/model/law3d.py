@@ -85,8 +85,9 @@ The law, element by element
 No 3-D mud measurements exist: the horizontal law and every *ours* above
 are assumptions, stated so that they can be tested and fitted when data
 come. The parameters beyond the paper are the lateral stiffness (default
-``k_m_w``, from Table I) and the 3D-RFT coefficients (published); nothing
-else is new.
+``k_m_w``, from Table I), the bearing scale (default 1, 3D-RFT's granular
+bearing as it is: :func:`bearing_stress`) and the 3D-RFT coefficients
+(published); nothing else is new.
 """
 
 from __future__ import annotations
@@ -106,10 +107,13 @@ from mudforce.model.granular import RFT3D_C1, RFT3D_C2, rft3d_alpha
 
 __all__ = [
     "FLAT_PLATE_ALPHA",
+    "MAX_BEARING_SCALE",
     "MAX_LATERAL_STIFFNESS",
     "QUATERNION_TOLERANCE",
     "ROUNDING_DEPTH",
     "bearing_factor",
+    "bearing_stress",
+    "check_bearing_scale",
     "check_lateral_stiffness",
     "element_depth",
     "element_force",
@@ -140,6 +144,19 @@ def check_lateral_stiffness(k: object) -> float:
         # shown, not repr: a Python int of over 4300 digits has no repr (ValueError)
         raise InputError(f"lateral_stiffness must be within (0, {MAX_LATERAL_STIFFNESS:g}] [Pa/m], got {shown(k)}")
     return float(k)  # type: ignore[arg-type]
+
+#: The largest ``bearing_scale`` accepted [-]: a thousand times 3D-RFT's granular bearing.
+MAX_BEARING_SCALE = 1e3
+
+
+def check_bearing_scale(b: object) -> float:
+    """``bearing_scale`` [-] as a float within [0, :data:`MAX_BEARING_SCALE`], else a one-line InputError (the one
+    check of it, for the CPU step, the JAX step, the reference and the 3-D fit)."""
+    if not is_real(b) or not 0.0 <= b <= MAX_BEARING_SCALE:  # type: ignore[operator]
+        raise InputError(f"bearing_scale must be within [0, {MAX_BEARING_SCALE:g}] [-] (1: 3D-RFT's granular "
+                         f"bearing), got {shown(b)}")
+    return float(b)  # type: ignore[arg-type]
+
 
 #: 3D-RFT's generic vertical stress on a flat plate facing down and pushed down [-] (the bearing's unit).
 FLAT_PLATE_ALPHA: float = float(rft3d_alpha(np.array([[0.0, 0.0, -1.0]]), np.array([[0.0, 0.0, -1.0]]))[0, 2])
@@ -421,6 +438,18 @@ def bearing_factor(nx: Array, ny: Array, nz: Array, dx: Array, dy: Array) -> Arr
 
 
 @_law
+def bearing_stress(spring: Array, bearing_scale: Array) -> Array:
+    """The depth stress the bearing multiplies [Pa]: Eq. (4)'s spring times ``bearing_scale`` [-].
+
+    ``bearing_scale`` 1 (the default everywhere) is 3D-RFT's granular ratio of a face's sideways bearing to a
+    flat plate's vertical stress, carried over to mud as it is (*ours*); it is the bearing's one parameter a
+    user can fit from 3-D force data (:func:`mudforce.estimation.calibration.fit3d.fit_3d`), 0 leaves the shear
+    alone. ``spring`` [Pa], :func:`spring_stress` at the element's depth.
+    """
+    return spring * bearing_scale
+
+
+@_law
 def lateral_capacity(sigma_y: Array, shear: Array, spring: Array, bearing: Array) -> Array:
     """The horizontal stress an element can carry before it flows [Pa]: ``sigma_y shear + spring bearing``.
 
@@ -501,7 +530,8 @@ def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Arra
     stress : float or array
         The element's paper stress ``sigma_i`` [Pa], Eq. (8).
     spring : float or array
-        :func:`spring_stress` at its depth [Pa] (not read where it carries no horizontal force).
+        The depth stress the bearing multiplies [Pa]: :func:`bearing_stress`, Eq. (4) at its depth times the
+        bearing scale (not read where it carries no horizontal force).
     area : float or array
         [m^2].
     nx, ny, nz : float or array

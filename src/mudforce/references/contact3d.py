@@ -84,7 +84,7 @@ from mudforce.errors import InputError, real_array
 from mudforce.model.bounds import MAX_DEPTH, MAX_HORIZONTAL, bounded_depth, check_depths, check_times
 from mudforce.model.foot import Foot
 from mudforce.model.granular import RFT3D_C1, RFT3D_C2, RFT3D_C3, rft3d_alpha, rft3d_alpha_unchecked
-from mudforce.model.law3d import QUATERNION_TOLERANCE, check_lateral_stiffness, rotation_matrix
+from mudforce.model.law3d import QUATERNION_TOLERANCE, check_bearing_scale, check_lateral_stiffness, rotation_matrix
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.references.trajectory import reference_simulate
@@ -163,10 +163,11 @@ class _Event:
 class _Law:
     """The horizontal law's pieces, from their definitions (numpy on index arrays)."""
 
-    def __init__(self, params: MudParameters, width: float, stiffness: float) -> None:
+    def __init__(self, params: MudParameters, width: float, stiffness: float, bearing_scale: float = 1.0) -> None:
         self.p = params
         self.width = width
         self.k = stiffness
+        self.bearing_scale = bearing_scale
         down = np.array([[0.0, 0.0, -1.0]])
         self.flat = float(rft3d_alpha(down, down)[0, 2])
         self.coefficients = (np.asarray(RFT3D_C1, dtype=np.float64), np.asarray(RFT3D_C2, dtype=np.float64),
@@ -174,7 +175,8 @@ class _Law:
         self.floor = 1e-9 * params.sigma_y / stiffness  # the smallest slip radius the direction ODE divides by [m]
 
     def capacity(self, direction: Float, normals: Float, depth: Float) -> Float:
-        """``sigma_y |e - (e.n)n| + alpha (d/H)^beta b(n, e)`` [Pa] for unit horizontal directions (rows, 2)."""
+        """``sigma_y |e - (e.n)n| + c alpha (d/H)^beta b(n, e)`` [Pa] for unit horizontal directions (rows, 2), ``c``
+        the bearing scale."""
         e = np.zeros((direction.shape[0], 3))
         e[:, :2] = direction
         en = np.sum(e * normals, axis=1)
@@ -184,7 +186,7 @@ class _Law:
         spring = np.where(depth > 0.0, p.alpha * (np.maximum(depth, 0.0) / self.width) ** p.beta, 0.0)
         rft = rft3d_alpha_unchecked(normals, e, *self.coefficients)  # no input checks on every call
         bearing = np.where(en > 0.0, np.maximum(-np.sum(rft * e, axis=1), 0.0) / self.flat, 0.0)
-        out: Float = p.sigma_y * shear + spring * bearing
+        out: Float = p.sigma_y * shear + self.bearing_scale * spring * bearing
         return out
 
     def drag(self, normals: Float, velocity: Float) -> Float:
@@ -410,7 +412,8 @@ def vertical_weights(areas: Float, normals: Float) -> Float:
 
 def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParameters, shape: Shape, *,
                           surface_height: float = 0.0, width: float | None = None,
-                          lateral_stiffness: float | None = None) -> Reference3DResult:
+                          lateral_stiffness: float | None = None,
+                          bearing_scale: float | None = None) -> Reference3DResult:
     """Reference solution of the 3-D law for a sampled motion (module docstring: what is solved, and how).
 
     Parameters
@@ -431,6 +434,8 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
         The intruder width ``H`` of Eq. (4) [m]; by default ``shape.width``.
     lateral_stiffness : float, optional
         Stiffness of the horizontal slip [Pa/m]; by default ``k_m_w``.
+    bearing_scale : float, optional
+        The sideways bearing's scale [-]; by default 1 (as :class:`~mudforce.steppers.contact3d.MudContact3D`).
 
     Returns
     -------
@@ -471,7 +476,7 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
     element = Foot(area=1.0, width=given, shape="element")  # checks H
     h_width = element.width
     k = check_lateral_stiffness(params.k_m_w if lateral_stiffness is None else lateral_stiffness)
-    law = _Law(params, h_width, k)
+    law = _Law(params, h_width, k, check_bearing_scale(1.0 if bearing_scale is None else bearing_scale))
     n = shape.n
     areas = np.asarray(shape.areas, dtype=np.float64)
 

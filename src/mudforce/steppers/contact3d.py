@@ -61,7 +61,7 @@ from mudforce.errors import (
 from mudforce.model import law3d
 from mudforce.model.bounds import bounded_depth
 from mudforce.model.foot import SIZE_RANGE, Foot
-from mudforce.model.law3d import check_lateral_stiffness
+from mudforce.model.law3d import check_bearing_scale, check_lateral_stiffness
 from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.model.velocity import resolve_velocity_filter
@@ -147,6 +147,11 @@ class MudContact3D:
     lateral_stiffness : float, optional
         Stiffness of the horizontal elastic slip [Pa/m]; by default the
         paper's withdrawal stiffness ``k_m_w`` (:mod:`mudforce.model.law3d`).
+    bearing_scale : float, optional
+        The sideways bearing's scale [-], within [0, 1e3]: 1 (the default) is
+        3D-RFT's granular bearing as it is, 0 leaves the shear alone
+        (:func:`mudforce.model.law3d.bearing_stress`; fitted by
+        :func:`mudforce.estimation.calibration.fit3d.fit_3d`).
 
     Examples
     --------
@@ -160,7 +165,8 @@ class MudContact3D:
     """
 
     def __init__(self, params: MudParameters, shape: Shape, surface_height: float = 0.0, *,
-                 width: float | None = None, lateral_stiffness: float | None = None) -> None:
+                 width: float | None = None, lateral_stiffness: float | None = None,
+                 bearing_scale: float | None = None) -> None:
         if not isinstance(params, MudParameters):
             raise InputError(f"params must be a MudParameters, got {type(params).__name__}")
         if not isinstance(shape, Shape):
@@ -178,13 +184,15 @@ class MudContact3D:
         self._width = element.width
         self._lateral_stiffness = check_lateral_stiffness(params.k_m_w if lateral_stiffness is None
                                                           else lateral_stiffness)
+        self._bearing_scale = check_bearing_scale(1.0 if bearing_scale is None else bearing_scale)
         n = shape.n
         # the compiled step's arrays: MudContacts3D's layout for one foot (mudforce._kernel.step3d.step_feet), the
         # 1-D rows those of the elements' MudContacts, which the numpy step steps (one state, two steps)
         block = S3.new_block(np.array([0, n]))  # the step's own arrays in one (one argument, not five)
         el, self._foot, _, _, _ = S3.block_views(block)
         _fill_elements(el, shape)
-        _fill_foot(self._foot[0], params, self._surface_height, self._width, self._lateral_stiffness, shape)
+        _fill_foot(self._foot[0], params, self._surface_height, self._width, self._lateral_stiffness,
+                   self._bearing_scale, shape)
         self._slip = el[:, S3.E_SLIPX:S3.E_SLIPY + 1]  # views: the slips [m] and the world centroids at the last
         self._centroids = el[:, S3.E_CX:S3.E_CZ + 1]  # step [m] (the lanes' export, as the 1-D rows are: _rows)
         self._areas = np.array(shape.areas, dtype=np.float64)  # the areas [m^2] as the numpy step's compiled loop
@@ -231,6 +239,11 @@ class MudContact3D:
     def lateral_stiffness(self) -> float:
         """Stiffness of the horizontal elastic slip [Pa/m]."""
         return self._lateral_stiffness
+
+    @property
+    def bearing_scale(self) -> float:
+        """The sideways bearing's scale [-] (1: 3D-RFT's granular bearing)."""
+        return self._bearing_scale
 
     @property
     def _started(self) -> bool:
@@ -433,7 +446,7 @@ class MudContact3D:
         stress = self._elements.step(depth, dt)
         mx, my = wx - self._centroids[:, 0], wy - self._centroids[:, 1]
         if self._started:  # law3d.element_force and law3d.moment on every element, compiled (S3.element_forces)
-            spring = law3d.spring_stress(depth, q.alpha, q.beta, self.width)
+            spring = law3d.bearing_stress(law3d.spring_stress(depth, q.alpha, q.beta, self.width), self.bearing_scale)
             out = np.empty((shape.n, 8))
             S3.element_forces(stress, spring, self._areas, nx, ny, nz, ox, oy, oz, depth, self._slip.copy(), mx, my,
                               1.0 / dt, self.lateral_stiffness, q.sigma_y, q.lambda_, q.rho_m, out)
@@ -521,6 +534,7 @@ class Result3D:
 
 def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParameters, shape: Shape, *,
                 surface_height: float = 0.0, width: float | None = None, lateral_stiffness: float | None = None,
+                bearing_scale: float | None = None,
                 elements: bool = False) -> Result3D:
     """The mud's wrench on a foot following a prescribed motion (poses sampled in time).
 
@@ -536,8 +550,8 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
         The mud.
     shape : Shape
         The foot's surface (:mod:`mudforce.model.shapes`).
-    surface_height, width, lateral_stiffness
-        As for :class:`MudContact3D` ([m], [m], [Pa/m]).
+    surface_height, width, lateral_stiffness, bearing_scale
+        As for :class:`MudContact3D` ([m], [m], [Pa/m], [-]).
     elements : bool
         Also keep every element's force at every sample (``m n 3`` numbers).
 
@@ -563,7 +577,8 @@ def simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParamete
         raise InputError(f"time (m,), positions (m, 3) and quaternions (m, 4) must agree, got {t.shape}, "
                          f"{x.shape} and {q.shape}")
     check_times(t)
-    contact = MudContact3D(params, shape, surface_height, width=width, lateral_stiffness=lateral_stiffness)
+    contact = MudContact3D(params, shape, surface_height, width=width, lateral_stiffness=lateral_stiffness,
+                           bearing_scale=bearing_scale)
     if elements and m * shape.n > MAX_ELEMENT_SAMPLES:  # before numpy is asked for them (a MemoryError, or swap)
         raise InputError(f"elements=True would keep {m} samples x {shape.n} elements = {m * shape.n:.3g} element "
                          f"forces ({m * shape.n * 24 / 1e9:.3g} GB), more than {MAX_ELEMENT_SAMPLES:.0e}; use fewer "
@@ -688,9 +703,10 @@ def _reach(shape: Shape) -> float:
 
 
 def _fill_foot(row: np.ndarray, params: MudParameters, surface_height: float, width: float, stiffness: float,
-               shape: Shape) -> None:
+               bearing: float, shape: Shape) -> None:
     """One foot's row of the compiled step's foot table (step3d's ``F_*`` columns): the surface height [m], the
-    width ``H`` of Eq. (4) [m], the lateral stiffness [Pa/m], the mud's constants and the shape's reach [m]."""
+    width ``H`` of Eq. (4) [m], the lateral stiffness [Pa/m], the bearing scale [-], the mud's constants and the
+    shape's reach [m]."""
     row[S3.F_SURFACE] = surface_height
     row[S3.F_WIDTH] = width
     row[S3.F_STIFFNESS] = stiffness
@@ -700,6 +716,7 @@ def _fill_foot(row: np.ndarray, params: MudParameters, surface_height: float, wi
     row[S3.F_LAMBDA] = params.lambda_
     row[S3.F_RHO] = params.rho_m
     row[S3.F_REACH] = _reach(shape)
+    row[S3.F_BEARING] = bearing
 
 
 def _fill_elements(rows: np.ndarray, shape: Shape) -> None:
@@ -807,6 +824,8 @@ class MudContacts3D:
     lateral_stiffness : float or sequence of float, optional
         Stiffness of the horizontal elastic slip [Pa/m]; by default each
         mud's ``k_m_w``.
+    bearing_scale : float or sequence of float, optional
+        The sideways bearing's scale [-]; by default 1 (as for :class:`MudContact3D`).
     threads : int or None
         Step the feet in this many slices on numba's threads (at most one
         per foot); 1 (the default) steps them on the calling thread.
@@ -833,7 +852,8 @@ class MudContacts3D:
     def __init__(self, params: MudParameters | Sequence[MudParameters], shapes: Shape | Sequence[Shape],
                  n: int | None = None, *, surface_heights: float | Sequence[float] = 0.0,
                  widths: float | Sequence[float] | None = None,
-                 lateral_stiffness: float | Sequence[float] | None = None, threads: int | None = 1) -> None:
+                 lateral_stiffness: float | Sequence[float] | None = None,
+                 bearing_scale: float | Sequence[float] | None = None, threads: int | None = 1) -> None:
         m = None if n is None else feet_count(n)
         muds = _per_foot(params, m, "params", MudParameters, "a MudParameters")
         m = len(muds) if muds is not None and m is None else m
@@ -849,6 +869,7 @@ class MudContacts3D:
         given_widths = _per_foot(widths, m, "widths", (), "a number [m]") or [widths] * m
         stiffness = (_per_foot(lateral_stiffness, m, "lateral_stiffness", (), "a number [Pa/m]")
                      or [lateral_stiffness] * m)
+        scales = _per_foot(bearing_scale, m, "bearing_scale", (), "a number [-]") or [bearing_scale] * m
         for f in range(m):
             if not isinstance(muds[f], MudParameters):
                 raise InputError(f"params must be MudParameters (one, or one per foot), got {type(muds[f]).__name__}")
@@ -876,11 +897,12 @@ class MudContacts3D:
                                  "a mudforce.model.shapes constructor, which sets it)")
             foot = Foot(area=1.0, width=w, shape="element")
             k = check_lateral_stiffness(q.k_m_w if stiffness[f] is None else stiffness[f])
+            bearing = check_bearing_scale(1.0 if scales[f] is None else scales[f])
             key = (id(q), float(foot.width))
             if key not in made:
                 made[key] = _param_rows(q, 1, foot, exact)[0]
             rows[self._starts[f]:self._starts[f + 1]] = made[key]
-            _fill_foot(ft[f], q, h, foot.width, k, shape)
+            _fill_foot(ft[f], q, h, foot.width, k, bearing, shape)
         el = np.zeros((total, S3.N_ELEMENT_COLUMNS))
         for f, shape in enumerate(feet):
             _fill_elements(el[self._starts[f]:self._starts[f + 1]], shape)

@@ -39,19 +39,27 @@ from mudforce._plumbing.blas import one_blas_thread
 from mudforce.errors import InputError, finite_number, is_real, positive_int, real_array, shown
 from mudforce.io.tables import COLUMN_LIMITS
 from mudforce.model import law3d
-from mudforce.model.law3d import MAX_LATERAL_STIFFNESS, check_lateral_stiffness
+from mudforce.model.law3d import (
+    MAX_BEARING_SCALE,
+    MAX_LATERAL_STIFFNESS,
+    check_bearing_scale,
+    check_lateral_stiffness,
+)
 from mudforce.model.parameters import PARAMETER_RANGES, MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.steppers.contact3d import MudContacts3D, simulate_3d
 
 __all__ = ["FIT3D_PARAMETERS", "Fit3D", "fit_3d"]
 
-#: The names :func:`fit_3d` can fit: the 3-D law's own ``lateral_stiffness`` [Pa/m], and mud parameters
-#: (:class:`~mudforce.model.parameters.MudParameters` fields) that the 3-D law uses beyond the paper's case.
-FIT3D_PARAMETERS = ("lateral_stiffness", "sigma_y", "lambda_", "k_m_w", "b_m_w", "k_m_i", "b_m_i", "alpha")
+#: The names :func:`fit_3d` can fit: the 3-D law's own ``lateral_stiffness`` [Pa/m] and ``bearing_scale`` [-], and
+#: mud parameters (:class:`~mudforce.model.parameters.MudParameters` fields) that the 3-D law uses beyond the paper's
+#: case.
+FIT3D_PARAMETERS = ("lateral_stiffness", "bearing_scale", "sigma_y", "lambda_", "k_m_w", "b_m_w", "k_m_i", "b_m_i",
+                    "alpha")
+_LAW = ("lateral_stiffness", "bearing_scale")  # the 3-D law's own (not MudParameters fields)
 
-_UNITS = {"lateral_stiffness": "Pa/m", "sigma_y": "Pa", "lambda_": "-", "k_m_w": "Pa/m", "b_m_w": "Pa s/m",
-          "k_m_i": "Pa/m", "b_m_i": "Pa s/m", "alpha": "Pa"}
+_UNITS = {"lateral_stiffness": "Pa/m", "bearing_scale": "-", "sigma_y": "Pa", "lambda_": "-", "k_m_w": "Pa/m",
+          "b_m_w": "Pa s/m", "k_m_i": "Pa/m", "b_m_i": "Pa s/m", "alpha": "Pa"}
 _RANGE = math.log(1e3)  # each value is searched within a factor 1000 of its start
 _STEP = 1e-4  # the central differences' step in log(value)
 
@@ -70,6 +78,8 @@ class Fit3D:
         ``params0`` with the fitted mud parameters.
     lateral_stiffness : float
         The lateral stiffness to use with them [Pa/m] (fitted, or as given).
+    bearing_scale : float
+        The bearing scale to use with them [-] (fitted, or as given).
     residual_rms : float
         RMS of the force residuals over all samples and axes [N].
     autocorrelation : float
@@ -88,6 +98,7 @@ class Fit3D:
     standard_errors: dict[str, float]
     params: MudParameters
     lateral_stiffness: float
+    bearing_scale: float
     residual_rms: float
     autocorrelation: float
     n_samples: int
@@ -131,8 +142,8 @@ def _free(free: Any) -> tuple[str, ...]:
 @one_blas_thread
 def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shape, params0: MudParameters, *,
            free: Sequence[str] | str = ("lateral_stiffness",), lateral_stiffness: float | None = None,
-           surface_height: float = 0.0, width: float | None = None, noise: float | None = None,
-           max_iterations: int = 50) -> Fit3D:
+           bearing_scale: float | None = None, surface_height: float = 0.0, width: float | None = None,
+           noise: float | None = None, max_iterations: int = 50) -> Fit3D:
     """Fit the 3-D law's parameters to measured force vectors along measured poses.
 
     Parameters
@@ -154,6 +165,9 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
         ``lateral_stiffness``.
     lateral_stiffness : float, optional
         Its start, or its value if not free [Pa/m]; by default ``params0.k_m_w``.
+    bearing_scale : float, optional
+        Its start, or its value if not free [-]; by default 1 (3D-RFT's granular bearing). Fitted, it must start
+        above 0 (a log scale).
     surface_height, width : float
         As for :class:`~mudforce.steppers.contact3d.MudContact3D` [m].
     noise : float, optional
@@ -204,11 +218,14 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
         width = finite_number(width, "width", "m", positive=True)
     # MudContact3D's check
     k0 = check_lateral_stiffness(params0.k_m_w if lateral_stiffness is None else lateral_stiffness)
+    b0 = check_bearing_scale(1.0 if bearing_scale is None else bearing_scale)
+    law0 = {"lateral_stiffness": k0, "bearing_scale": b0}
     # the poses through simulate_3d once: a pose the model refuses (beyond its depths or horizontal bounds, at any
     # value of the parameters) in its words, with the sample, not from inside the search as a point of the
     # Jacobian ("foot 0: ...")
-    simulate_3d(t, x, q, params0, shape, surface_height=surface_height, width=width, lateral_stiffness=k0)
-    start = {n: float(k0) if n == "lateral_stiffness" else float(getattr(params0, n)) for n in names}
+    simulate_3d(t, x, q, params0, shape, surface_height=surface_height, width=width, lateral_stiffness=k0,
+                bearing_scale=b0)
+    start = {n: float(law0[n]) if n in _LAW else float(getattr(params0, n)) for n in names}
     if any(v <= 0.0 for v in start.values()):
         bad = next(n for n, v in start.items() if v <= 0.0)
         raise InputError(f"the start of {bad} must be > 0 [{_UNITS[bad]}] (it is fitted on a log scale), got "
@@ -217,29 +234,29 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
     p = len(names)
     # searched within a factor 1000 of the start, and within the values the model takes (with room for the
     # central differences' step): beyond, a step of the search was refused by MudContacts3D or MudParameters
-    ranges = {"lateral_stiffness": (0.0, MAX_LATERAL_STIFFNESS), "lambda_": PARAMETER_RANGES["lambda"],
-              **PARAMETER_RANGES}
+    ranges = {"lateral_stiffness": (0.0, MAX_LATERAL_STIFFNESS), "bearing_scale": (0.0, MAX_BEARING_SCALE),
+              "lambda_": PARAMETER_RANGES["lambda"], **PARAMETER_RANGES}
     floor = np.array([math.log(ranges[n][0]) + 2 * _STEP if ranges[n][0] > 0.0 else -math.inf for n in names])
     ceiling = np.array([math.log(ranges[n][1]) - 2 * _STEP for n in names])
     lower, upper = np.maximum(x0 - _RANGE, floor), np.minimum(x0 + _RANGE, ceiling)
     x0 = np.clip(x0, lower, upper)
     dts = np.diff(t)
 
-    def feet(points: np.ndarray) -> tuple[list[MudParameters], list[float]]:
-        muds, stiffness = [], []
+    def feet(points: np.ndarray) -> tuple[list[MudParameters], list[float], list[float]]:
+        muds, stiffness, bearing = [], [], []
         for row in points:
             values = dict(zip(names, np.exp(row).tolist(), strict=True))
-            k = values.pop("lateral_stiffness", float(k0))
+            stiffness.append(values.pop("lateral_stiffness", float(k0)))
+            bearing.append(values.pop("bearing_scale", float(b0)))
             muds.append(params0.replace(**values) if values else params0)
-            stiffness.append(k)
-        return muds, stiffness
+        return muds, stiffness, bearing
 
     def simulate(points: np.ndarray) -> np.ndarray:
         """The forces [N] of one foot per row of ``points`` (log values): (rows, m, 3)."""
         n = points.shape[0]
-        muds, stiffness = feet(points)
+        muds, stiffness, bearing = feet(points)
         contacts = MudContacts3D(muds, shape, n, surface_heights=surface_height, widths=width,
-                                 lateral_stiffness=stiffness)
+                                 lateral_stiffness=stiffness, bearing_scale=bearing)
         out = np.empty((m, n, 3))
         torques = np.empty((n, 3))
         pos = np.broadcast_to(x[:, None, :], (m, n, 3))
@@ -292,7 +309,8 @@ def fit_3d(time: Any, positions: Any, quaternions: Any, forces: Any, shape: Shap
     fitted = np.exp(solution.x)
     values = dict(zip(names, fitted.tolist(), strict=True))
     errors = {n: float(values[n] * math.sqrt(covariance[i, i])) for i, n in enumerate(names)}
-    mud = {n: v for n, v in values.items() if n != "lateral_stiffness"}
+    mud = {n: v for n, v in values.items() if n not in _LAW}
     return Fit3D(values=values, standard_errors=errors, params=params0.replace(**mud) if mud else params0,
-                 lateral_stiffness=float(values.get("lateral_stiffness", k0)), residual_rms=rms, autocorrelation=rho,
+                 lateral_stiffness=float(values.get("lateral_stiffness", k0)),
+                 bearing_scale=float(values.get("bearing_scale", b0)), residual_rms=rms, autocorrelation=rho,
                  n_samples=m, success=bool(solution.success), message=str(solution.message), covariance=covariance)
