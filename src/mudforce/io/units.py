@@ -8,23 +8,27 @@ from __future__ import annotations
 
 import math
 import re
+from fractions import Fraction
 
 from mudforce.errors import InputError
 
 __all__ = ["KINDS", "LIMITS", "format_quantity", "parse_list", "parse_quantity"]
 
-_LENGTH = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
-_TIME = {"s": 1.0, "ms": 1e-3, "min": 60.0}
-_UNITS: dict[str, dict[str, float]] = {
+# the factors to SI, exact: a value is the float nearest to number x factor ("20um" is 2e-05, where
+# 20 * 1e-6 is 1.9999999999999998e-05; "35%" is 0.35, where 35 * 1e-2 is 0.35000000000000003)
+_F = Fraction
+_LENGTH = {"m": _F(1), "cm": _F(1, 10**2), "mm": _F(1, 10**3), "um": _F(1, 10**6), "µm": _F(1, 10**6)}
+_TIME = {"s": _F(1), "ms": _F(1, 10**3), "min": _F(60)}
+_UNITS: dict[str, dict[str, Fraction]] = {
     "length": _LENGTH,
     "velocity": {f"{lu}/{tu}": lf / tf for lu, lf in _LENGTH.items() for tu, tf in _TIME.items()},
     "time": _TIME,
-    "frequency": {"hz": 1.0, "khz": 1e3},
-    "fraction": {"%": 1e-2},
-    "force": {"N": 1.0, "kN": 1e3, "mN": 1e-3},
-    "mass": {"kg": 1.0, "g": 1e-3},
-    "pressure": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6},
-    "area": {"m2": 1.0, "cm2": 1e-4, "mm2": 1e-6},
+    "frequency": {"hz": _F(1), "khz": _F(10**3)},
+    "fraction": {"%": _F(1, 10**2)},
+    "force": {"N": _F(1), "kN": _F(10**3), "mN": _F(1, 10**3)},
+    "mass": {"kg": _F(1), "g": _F(1, 10**3)},
+    "pressure": {"Pa": _F(1), "kPa": _F(10**3), "MPa": _F(10**6)},
+    "area": {"m2": _F(1), "cm2": _F(1, 10**4), "mm2": _F(1, 10**6)},
 }
 _EXAMPLES = {
     "length": "20mm or 0.02m",
@@ -112,8 +116,12 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
     if factor is None:
         known = ", ".join(_UNITS[kind])
         raise InputError(f"{name}: unknown {kind} unit {unit!r} in {text!r}; use one of {known}, e.g. {example}")
-    value = float(number) * factor
     tiny, huge = LIMITS[kind]
+    value = float(number) * float(factor)
+    if 0.0 < abs(value) <= huge:
+        # the exact product, rounded once; only within the limits, where the literal's exponent is no larger than
+        # its text ("1e999999999mm" is refused as too large above without 10**999999999 being built)
+        value = float(Fraction(number) * factor)
     if not math.isfinite(value) or abs(value) > huge:
         raise InputError(f"{name}: {text!r} is too large (at most {huge:g} in SI); expected e.g. {example}")
     # a literal that is not zero is not read as zero when it underflows ("1e-400mm")
