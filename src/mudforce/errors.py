@@ -144,7 +144,7 @@ def _as_float(value: Any, name: str) -> float:
                          f"{shown(int(value))}") from None
 
 
-def real_array(value: Any, name: str, unit: str) -> np.ndarray:
+def real_array(value: Any, name: str, unit: str, *, must: str | None = None) -> np.ndarray:
     """``value`` as a float64 array if it holds real numbers, else :class:`InputError`; no check of shape or range.
 
     The one conversion of the API's array inputs (time, depths, forces, ...):
@@ -165,6 +165,10 @@ def real_array(value: Any, name: str, unit: str) -> np.ndarray:
         What it is, for the message (``"time"``).
     unit : str
         Its unit, for the message (``"s"``).
+    must : str, optional
+        The message's words before ``", got <what value holds>"``, for a caller that says what it expects in its own
+        words (``"position must be 3 real numbers [m]"``); by default
+        ``"<name> must be an array of real numbers [<unit>]"``.
 
     Returns
     -------
@@ -174,23 +178,28 @@ def real_array(value: Any, name: str, unit: str) -> np.ndarray:
     if isinstance(value, np.ma.MaskedArray):  # its masked values were read as numbers (float64: kept, mask and all)
         masked = int(np.ma.count_masked(value))
         if masked:
-            raise InputError(f"{name} must be an array of real numbers [{unit}], got a masked array with {masked} "
-                             "masked value(s); fill or drop them first")
+            raise InputError(f"{_must(name, unit, must)}, got a masked array with {masked} masked value(s); fill or "
+                             "drop them first")
         value = value.data
     if isinstance(value, np.ndarray) and value.dtype == np.float64:
         return value
     try:
         arr = np.asarray(value)
     except (TypeError, ValueError):  # ragged nesting, objects numpy cannot hold
-        raise InputError(f"{name} must be an array of real numbers [{unit}], got {type(value).__name__}") from None
+        raise InputError(f"{_must(name, unit, must)}, got {type(value).__name__}") from None
     if arr.dtype.kind not in "iuf":
         kind = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes", "O": "object"}.get(arr.dtype.kind, "")
         what = f"{kind} values (dtype {arr.dtype})" if kind else f"dtype {arr.dtype}"
-        raise InputError(f"{name} must be an array of real numbers [{unit}], got {what}")
+        raise InputError(f"{_must(name, unit, must)}, got {what}")
     if not isinstance(value, np.ndarray) and holds_boolean(value):  # numpy reads [0.1, True] as [0.1, 1.0]
-        raise InputError(f"{name} must be an array of real numbers [{unit}], got a sequence holding booleans "
-                         "(True/False among the numbers)")
+        raise InputError(f"{_must(name, unit, must)}, got a sequence holding booleans (True/False among the "
+                         "numbers)")
     return np.asarray(arr, dtype=np.float64)
+
+
+def _must(name: str, unit: str, must: str | None) -> str:
+    """real_array's words before ", got ...": ``must``, or by default those of an array of real numbers."""
+    return f"{name} must be an array of real numbers [{unit}]" if must is None else must
 
 
 def holds_boolean(value: Any) -> bool:

@@ -16,6 +16,7 @@ from mudforce.errors import (
     is_integer,
     number_within,
     positive_number,
+    real_array,
     real_number,
     true_or_false,
 )
@@ -306,3 +307,19 @@ def test_a_refused_value_is_shown_in_one_short_line(value: Any) -> None:
         with pytest.raises(InputError) as error:
             call(value)
         assert "\n" not in str(error.value) and len(str(error.value)) < 200, str(error.value)
+
+
+@pytest.mark.parametrize(("value", "got"), [
+    ([1.0, 2j], "complex values (dtype complex128)"),
+    ([1.0, True], "a sequence holding booleans (True/False among the numbers)"),
+    (np.ma.masked_array([1.0, 2.0], mask=[True, False]),
+     "a masked array with 1 masked value(s); fill or drop them first"),
+    ([[1.0], [1.0, 2.0]], "list"),
+])
+def test_real_array_words_its_refusal_in_the_callers_words(value: Any, got: str) -> None:
+    """A caller that expects something narrower (3 numbers) passes its words; they replace "<name> must be an array
+    of real numbers [<unit>]" before ", got ...", which callers cut off the message and replaced before."""
+    with pytest.raises(InputError, match=f"^{re.escape(f'time must be an array of real numbers [s], got {got}')}$"):
+        real_array(value, "time", "s")
+    with pytest.raises(InputError, match=f"^{re.escape(f'position must be 3 real numbers [m], got {got}')}$"):
+        real_array(value, "position", "m", must="position must be 3 real numbers [m]")

@@ -675,3 +675,19 @@ def test_a_bad_width_is_refused_by_its_name(width: object, words: str) -> None:
     with pytest.raises(InputError) as info:
         MudContact3D(mf.MudParameters.from_water_content(0.25), SPHERE, width=width)  # type: ignore[arg-type]
     assert str(info.value) == words
+
+
+@pytest.mark.parametrize(("position", "got"), [
+    (np.array([0.0, 0.0, 1e-3j]), "complex values (dtype complex128)"),
+    ([0.0, True, 0.0], "a sequence holding booleans (True/False among the numbers)"),
+    (np.ma.masked_array([0.0, 0.0, -0.01], mask=[False, True, False]),
+     "a masked array with 1 masked value(s); fill or drop them first"),
+    ([[0.0], [0.0, -0.01]], "list"),
+    (["0", "0", "0"], "string values (dtype <U1)"),
+])
+def test_a_position_that_is_not_real_numbers_is_refused_in_the_contacts_words(position: object, got: str) -> None:
+    """The message was real_array's with its words before ", got " cut off and replaced (str(error).rpartition):
+    real_array now takes the words, and the message is the same."""
+    contact = MudContact3D(mf.MudParameters.from_water_content(0.25), SOLE)
+    with pytest.raises(InputError, match=f"^{re.escape(f'position must be 3 real numbers [m], got {got}')}$"):
+        contact.step(position, UPRIGHT, 0.01)

@@ -138,10 +138,7 @@ Counter = Callable[[float], int]  # a shape's number of elements at a resolution
 def _numbers(value: Any, what: str) -> Float:
     """``value`` as a new float64 array if it holds real numbers (real_array: not complex, booleans, strings or
     objects, which numpy would cut, read as 0 and 1, or parse), else InputError "``what`` ..., got <what it holds>"."""
-    try:
-        array: Float = np.array(real_array(value, what, "-"), dtype=np.float64, copy=True)
-    except InputError as error:
-        raise InputError(f"{what}, got {str(error).rpartition(', got ')[2]}") from None
+    array: Float = np.array(real_array(value, what, "-", must=what), dtype=np.float64, copy=True)
     return array
 
 

@@ -118,10 +118,8 @@ class ContactState3D(NamedTuple):
 def _pose(position: Any, quaternion: Any) -> tuple[np.ndarray, np.ndarray]:
     """The position [m] as a (3,) float64 array and the rotation matrix, refused if not 3 finite real numbers
     (x and y within +-:data:`~mudforce._kernel.bounds.MAX_HORIZONTAL`), or the quaternion not unit."""
-    try:  # (the messages show no repr of the input: over lines for a 2-D array, ValueError for 10**5000)
-        p = real_array(position, "position", "m")
-    except InputError as error:
-        raise InputError(f"position must be 3 real numbers [m], got {str(error).rpartition(', got ')[2]}") from None
+    # (real_array's messages show no repr of the input: over lines for a 2-D array, ValueError for 10**5000)
+    p = real_array(position, "position", "m", must="position must be 3 real numbers [m]")
     if p.shape != (3,) or not np.all(np.isfinite(p)):
         got = f"shape {p.shape}" if p.shape != (3,) else repr(p.tolist())
         raise InputError(f"position must be 3 finite numbers [m], got {got}")
