@@ -309,3 +309,28 @@ def test_a_reset_forgets_the_filter_history_so_the_state_is_a_fresh_ones() -> No
         fresh_many.step(np.full(1, z), 0.01)
     assert one.state == fresh.state
     assert many.state[0].tobytes() == fresh_many.state[0].tobytes()
+
+
+def test_strided_read_only_and_unaligned_depths_step_as_the_contiguous_ones_without_a_compile() -> None:
+    """A strided or a read-only float64 array made numba compile another version of the step and of the depth check
+    (1.75 and 1.9 s, once each); such arrays, and unaligned ones (which numba types as aligned), are now copied to
+    the one compiled layout, as MudContacts3D's inputs are: the same forces, bit for bit, and no new version."""
+    from mudforce.steppers import many
+
+    params = MudParameters.from_water_content(0.25)
+    path = np.linspace(0.0, 0.02, 8)[:, None] + np.linspace(0.0, 0.004, 6)  # 8 steps of 6 feet
+    wide = np.repeat(path, 2, axis=1)  # each row strided: [:, ::2] is the path
+    raw = np.zeros(path.size * 8 + 1, dtype=np.uint8)
+    unaligned = raw[1:].view(np.float64).reshape(path.shape)
+    unaligned[...] = path
+    assert not unaligned.flags.aligned
+    reference = MudContacts(params, 6, threads=1)
+    expected = [reference.step(np.ascontiguousarray(row), 0.01) for row in path]
+    read_only = path.copy()
+    read_only.flags.writeable = False
+    compiled = len(K.run_feet.overloads), len(many._depths_ok.overloads)
+    for rows in (wide[:, ::2], read_only, unaligned):
+        contacts = MudContacts(params, 6, threads=1)
+        for row, forces in zip(rows, expected, strict=True):
+            assert contacts.step(row, 0.01).tobytes() == forces.tobytes()
+    assert (len(K.run_feet.overloads), len(many._depths_ok.overloads)) == compiled

@@ -67,7 +67,7 @@ from mudforce.model.shapes import Shape
 from mudforce.model.velocity import resolve_velocity_filter
 from mudforce.steppers import many as vectorized
 from mudforce.steppers.contact import _restore_rows, check_states
-from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows
+from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows, _plain
 
 __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
 
@@ -723,12 +723,6 @@ def _fill_elements(rows: np.ndarray, shape: Shape) -> None:
     rows[:, S3.E_CBX:S3.E_CBZ + 1] = shape.centroids
     rows[:, S3.E_NBX:S3.E_NBZ + 1] = shape.normals
     rows[:, S3.E_AREA] = shape.areas
-
-
-def _plain(a: np.ndarray) -> np.ndarray:
-    """``a`` if it is C-contiguous, aligned and writable, else such a copy of it."""
-    flags = a.flags
-    return a if flags.c_contiguous and flags.aligned and flags.writeable else np.array(a, order="C")
 
 
 def _writable_rows(a: Any, m: int) -> bool:

@@ -167,6 +167,17 @@ def _depths_ok(z: np.ndarray) -> bool:
     return not bad
 
 
+_FLOAT64 = np.dtype(np.float64)  # numpy's own instance: a float64 array's dtype is this very object
+
+
+def _plain(a: np.ndarray) -> np.ndarray:
+    """``a`` if it is C-contiguous, aligned and writable, else such a copy of it: the one layout the compiled steps
+    are compiled for (numba compiles another version of a step for a strided, read-only or unaligned array, for
+    seconds, once)."""
+    flags = a.flags
+    return a if flags.c_contiguous and flags.aligned and flags.writeable else np.array(a, order="C")
+
+
 def _chosen_feet(feet: Any, n: int) -> np.ndarray:
     """The feet a ``reset(feet)`` names, as indices in ``0 .. n - 1`` (every foot for None); else one-line InputError.
 
@@ -290,10 +301,12 @@ class MudContacts:
             Vertical mud force on each foot [N], positive up: a new array,
             or ``out``.
         """
-        # refuses complex, boolean, string and object arrays (a float64 array passes as it is; a masked one, a
-        # subclass, goes to real_array, which refuses masked values: numba raised its own TypeError on it)
-        z = depths if type(depths) is np.ndarray and depths.dtype == np.float64 else real_array(
-            depths, "depths", "m")
+        # refuses complex, boolean, string and object arrays (a C-contiguous, aligned, writable float64 array passes
+        # as it is; a masked one, a subclass, goes to real_array, which refuses masked values: numba raised its own
+        # TypeError on it); a strided, read-only or unaligned one is copied to that layout (_plain), the same values
+        # (dtype "is": numpy's own float64 instance, a float64 array's dtype; an equal other one takes the long way)
+        z = depths if type(depths) is np.ndarray and depths.dtype is _FLOAT64 and depths.flags.carray else _plain(
+            real_array(depths, "depths", "m"))
         if z.shape != (self.n,):
             raise InputError(f"depths must have shape ({self.n},), got {z.shape}")
         if type(dt) is not float:
