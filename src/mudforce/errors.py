@@ -30,7 +30,8 @@ class InputError(ValueError):
 def shown(value: Any) -> str:
     """``value`` as a message shows it: its ``repr``, but an integer past 15 digits as ``1e+20`` and one past 300
     digits as its size in bits (Python refuses to print an integer of over 4,300 digits: ValueError), a value
-    holding such an integer (a list's item) by its type, a repr that spans lines (a 2-D array's) on one line, and a
+    holding such an integer (a list's item) by its type, a repr that spans lines (a 2-D array's) on one line, a
+    repr of over 160 characters by its first 80 and what it is (``[Foot(area=...... (a list of 64 items)``), and a
     numpy scalar as the Python number it holds (``-0.0``, not ``np.float64(-0.0)``)."""
     if isinstance(value, (np.floating, np.bool_)):
         value = value.item()
@@ -45,7 +46,18 @@ def shown(value: Any) -> str:
         text = repr(value)
     except ValueError:  # an integer of over 4,300 digits inside it (a list's item): repr raised
         return f"a {type(value).__name__} holding an integer too long to show"
-    return " ".join(text.split()) if "\n" in text else text
+    text = " ".join(text.split()) if "\n" in text else text
+    if len(text) > _SHOWN_MOST:  # a long list's repr (64 Foot objects: 4,600 characters) on one line: its start
+        try:
+            size = f" of {len(value)} items" if not isinstance(value, (str, bytes)) else f" of {len(value)} characters"
+        except TypeError:  # (no len)
+            size = ""
+        text = f"{text[:_SHOWN_HEAD]}... (a {type(value).__name__}{size})"
+    return text
+
+
+_SHOWN_MOST = 160  # characters of a repr shown whole; a longer one is cut to its first _SHOWN_HEAD
+_SHOWN_HEAD = 80
 
 
 def positive_int(value: Any, name: str, alternative: str = "") -> int:

@@ -299,14 +299,33 @@ def _calls_of_a_value() -> list[Any]:
             lambda v: baselines.maxwell_only_force(t, t, v, 1.0, 1.0, 1.0), lambda v: bounded_depth(v, "h")]
 
 
-@pytest.mark.parametrize("value", [np.zeros((3, 3)), -(10**300)], ids=["2-D array", "-10**300"])
+@pytest.mark.parametrize("value", [np.zeros((3, 3)), -(10**300), "64 feet"], ids=["2-D array", "-10**300", "64 feet"])
 def test_a_refused_value_is_shown_in_one_short_line(value: Any) -> None:
-    """The messages printed the value's repr: a 2-D array's spans lines, and -10**300 ran to 301 digits (shown()
-    gives the one line and the size)."""
+    """The messages printed the value's repr: a 2-D array's spans lines, -10**300 ran to 301 digits, and a list of
+    64 Foot objects (given where MudContacts takes n) to 4,658 characters (shown() gives the one line, the size,
+    and a long repr's start with what it is)."""
+    if isinstance(value, str):
+        import mudforce as mf
+
+        value = [mf.Foot.paper()] * 64
     for call in _calls_of_a_value():
         with pytest.raises(InputError) as error:
             call(value)
         assert "\n" not in str(error.value) and len(str(error.value)) < 200, str(error.value)
+
+
+def test_a_long_repr_is_shown_by_its_start_and_what_it_is() -> None:
+    """shown() keeps a repr of up to 160 characters whole and cuts a longer one to its first 80 and its type and
+    size; MudContacts given a list of 64 feet where it takes n names what it got in one short line."""
+    import mudforce as mf
+    from mudforce.errors import shown
+
+    assert shown(list(range(40))) == repr(list(range(40)))
+    assert shown(list(range(1000))) == repr(list(range(1000)))[:80] + "... (a list of 1000 items)"
+    assert shown("x" * 500) == repr("x" * 500)[:80] + "... (a str of 500 characters)"
+    with pytest.raises(InputError) as error:
+        mf.MudContacts(mf.MudParameters.from_water_content(0.25), [mf.Foot.paper()] * 64)  # type: ignore[arg-type]
+    assert str(error.value).endswith("... (a list of 64 items)") and len(str(error.value)) < 200
 
 
 @pytest.mark.parametrize(("value", "got"), [
