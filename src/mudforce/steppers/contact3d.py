@@ -906,9 +906,8 @@ class MudContacts3D:
         #: slices the feet are stepped in, one per thread (1: the calling thread only)
         self.threads = min(vectorized._resolve_threads(threads, total), m)
         self._chunks = np.empty(self.threads, dtype=np.int64)
-        # the step's own arrays in one (one argument, not five): the elements, the feet, this step's element paper
-        # stresses [Pa] and the lateral scratch (a foot's submerged elements side by side, for the spring's and the
-        # 3-D law's vectorised loops; one block per slice)
+        # the step's own arrays in one (one argument, not five): the elements, the feet, the lanes (every element's
+        # state, field by field, four elements side by side: the compiled step's vectorised loops), the starts
         block = S3.new_block(self._starts)
         self._el, self._ft, _, _, _ = S3.block_views(block)
         self._el[:] = el

@@ -52,8 +52,8 @@ N_SCRATCH = 14
 def scratch(widest: int) -> np.ndarray:
     """:func:`prepare`'s scratch for feet of at most ``widest`` elements: (``N_SCRATCH``, w).
 
-    The rows are padded so that they do not lie a multiple of 4 KiB apart
-    (as :func:`mudforce._kernel.step3d.lateral_scratch`'s, for the same reason).
+    The rows are padded so that they do not lie a multiple of 4 KiB apart (a load would wait on an unrelated store
+    to another row with the same low address bits: "4K aliasing").
     """
     width = -(-max(widest, 1) // 8) * 8
     if width % 512 == 0:
