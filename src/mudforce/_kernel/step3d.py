@@ -138,8 +138,8 @@ __all__ = [
 E_CBX, E_CBY, E_CBZ = 0, 1, 2  # centroid in the body frame [m]
 E_NBX, E_NBY, E_NBZ = 3, 4, 5  # outward unit normal in the body frame [-]
 E_AREA = 6  # area [m^2]
-E_SLIPX, E_SLIPY = 7, 8  # horizontal elastic slip [m] (state)
-E_CX, E_CY, E_CZ = 9, 10, 11  # world centroid at the last step [m] (state)
+E_SLIPX, E_SLIPY = 7, 8  # horizontal elastic slip [m] (state: the lanes' export, rows_from_lanes)
+E_CX, E_CY, E_CZ = 9, 10, 11  # world centroid at the last step [m] (state: the lanes' export)
 N_ELEMENT_COLUMNS = 12
 
 # columns of the foot block: one row per foot
