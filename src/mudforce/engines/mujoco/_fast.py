@@ -26,6 +26,7 @@ from numba import typeof
 from numba.np.numpy_support import carray  # numba.carray
 
 from mudforce import _kernel as K
+from mudforce._kernel import addresses
 from mudforce._kernel.addresses import voidptr
 from mudforce.engines.mujoco._step import apply_mud, commit_and_prepare
 
@@ -99,26 +100,25 @@ def after_step(table: np.ndarray) -> None:
 
 
 def address_table(arrays: Sequence[np.ndarray]) -> np.ndarray:
-    """The table of :func:`before_step`/:func:`after_step` for ``arrays`` in slot order."""
-    table = np.zeros(3 * N_TABLE, dtype=np.int64)
+    """The table of :func:`before_step`/:func:`after_step` for ``arrays`` in slot order
+    (:func:`mudforce._kernel.addresses.address_table`, each slot's dtype checked first: ``ints`` int64, the others
+    float64)."""
     for k, a in enumerate(arrays):
         # the compiled side trusts these (a wrong one would be read as garbage, or written over)
         expected = np.int64 if k == SLOT_INTS else np.float64
-        if a.dtype != expected or not a.flags.c_contiguous or not a.flags.writeable or a.ndim not in (1, 2):
+        if a.dtype != expected:
             raise RuntimeError(f"array {k} of the MuJoCo adapter is not a writeable C-contiguous "
                                f"{np.dtype(expected)} array of 1 or 2 dimensions")
-        table[3 * k] = a.ctypes.data
-        table[3 * k + 1] = a.shape[0]
-        table[3 * k + 2] = a.shape[1] if a.ndim == 2 else 1
+    table = np.zeros(3 * N_TABLE, dtype=np.int64)
+    table[:3 * len(arrays)] = addresses.address_table(arrays)
     return table
 
 
 def direct(fn: Any, table: np.ndarray) -> Any:
-    """``fn``'s compiled code for a table, callable without numba's dispatcher (or ``fn`` itself).
+    """``fn``'s compiled code for a table, callable without numba's dispatcher (or ``fn`` itself):
+    :func:`mudforce._kernel.addresses.entry_point` for the table's type.
 
-    ``Dispatcher.compile`` (which also loads from numba's cache) returns
-    the compiled entry point; calling it skips the dispatcher's type
-    resolution, ~0.2 us per call, most of the adapter's overhead per step.
+    Calling it skips the dispatcher's type resolution, ~0.2 us per call,
+    most of the adapter's overhead per step.
     """
-    entry = fn.compile((typeof(table),))
-    return entry if callable(entry) else fn
+    return addresses.entry_point(fn, (typeof(table),))
