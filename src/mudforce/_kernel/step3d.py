@@ -123,6 +123,7 @@ __all__ = [
     "OK",
     "block_views",
     "element_forces",
+    "export_rows",
     "fixed_types",
     "lane_entries",
     "lanes_from_rows",
@@ -541,7 +542,6 @@ def _rare_lanes(a: np.ndarray, block: int, count: int, first: int, states: np.nd
         a[q + W_FE1 * FIELD] = fe1
         a[q + W_FS * FIELD] = fs
         a[q + W_HAS_SPRING * FIELD] = 1.0 if has_spring else 0.0
-        a[q + W_OK * FIELD] = 1.0
     return -1
 
 
@@ -608,7 +608,7 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
         base = np.uint64(max(b * BLOCK, 0))
         count = min(hi - (lo + (b - b0) * LANES), LANES)
         for lane in range(1 if b == b0 else 0, count):
-            q = base + np.uint64((lane >> 2) * CHUNK + (lane & 3))
+            q = base + np.uint64(_lane(0, lane))
             sfx += lanes[_at(q, W_FX)]
             sfy += lanes[_at(q, W_FY)]
             sfz += lanes[_at(q, W_FZ)]
@@ -620,7 +620,7 @@ def _step_foot(ft: np.ndarray, starts: np.ndarray, lanes: np.ndarray, blocks: np
             base = np.uint64(max(b * BLOCK, 0))
             first = lo + (b - b0) * LANES
             for lane in range(min(hi - first, LANES)):
-                q = base + np.uint64((lane >> 2) * CHUNK + (lane & 3))
+                q = base + np.uint64(_lane(0, lane))
                 each[first + lane, 0] = lanes[_at(q, W_FX)]
                 each[first + lane, 1] = lanes[_at(q, W_FY)]
                 each[first + lane, 2] = lanes[_at(q, W_FZ)]
@@ -643,6 +643,13 @@ def row_from_lanes(lanes: np.ndarray, entry: int, states: np.ndarray, i: int) ->
         states[i, j] = lanes[entry + (W_STATE + j) * FIELD]
 
 
+def export_rows(block: np.ndarray, states: np.ndarray) -> None:
+    """:func:`rows_from_lanes`, if a step has left the rows behind (``H_STALE``): what a contact calls before
+    anything reads its rows, slips or centroids."""
+    if block[H_STALE] != 0.0:
+        rows_from_lanes(block, states)
+
+
 @_compiled()
 def rows_from_lanes(block: np.ndarray, states: np.ndarray) -> None:
     """The lanes' states into the 1-D rows (``states``, one per element) and the element block's slips and
@@ -650,7 +657,8 @@ def rows_from_lanes(block: np.ndarray, states: np.ndarray) -> None:
     el, _, starts, lanes, blocks = _unpack(block)
     for f in range(starts.shape[0] - 1):
         for i in range(starts[f], starts[f + 1]):
-            q = _lane(blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK, (i - starts[f]) % LANES)
+            k = i - starts[f]  # the element's place in its foot
+            q = _lane((blocks[f] + k // LANES) * BLOCK, k % LANES)
             for j in range(N_CORE):  # (the cache columns are the rows' own: see B_CACHE)
                 states[i, j] = lanes[q + (W_STATE + j) * FIELD]
             el[i, E_SLIPX] = lanes[q + W_SLIPX * FIELD]
@@ -668,12 +676,13 @@ def lanes_from_rows(block: np.ndarray, states: np.ndarray) -> None:
     el, _, starts, lanes, blocks = _unpack(block)
     for f in range(starts.shape[0] - 1):
         for i in range(starts[f], starts[f + 1]):
-            q = _lane(blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK, (i - starts[f]) % LANES)
+            k = i - starts[f]  # the element's place in its foot
+            b = (blocks[f] + k // LANES) * BLOCK  # its lane block
+            q = _lane(b, k % LANES)
             for j in range(N_CORE):
                 lanes[q + (W_STATE + j) * FIELD] = states[i, j]
             lanes[q + W_CACHE_DT * FIELD] = states[i, S_CACHE_DT]
-            if i == starts[f] or (i - starts[f]) % LANES == 0:  # a block's cache: its first element's
-                b = blocks[f] * BLOCK + ((i - starts[f]) // LANES) * BLOCK
+            if k % LANES == 0:  # a block's cache: its first element's
                 for j in range(7):
                     lanes[b + B_CACHE + j] = states[i, S_CACHE_DT + j]
             for j in range(W_AREA + 1):  # the constants: E_CBX .. E_AREA are W_CBX .. W_AREA

@@ -253,13 +253,12 @@ class MudContact3D:
         self._foot[0, S3.F_STARTED] = 1.0 if started else 0.0
 
     # ------------------------------------------------------------------ state
-    def _rows(self) -> None:
+    def _export_rows(self) -> None:
         """The compiled step's lanes into the elements' 1-D rows, slips and centroids, if a step has left them
-        behind (:func:`mudforce._kernel.step3d.rows_from_lanes`): before anything reads them."""
-        if self._block[S3.H_STALE] != 0.0:
-            S3.rows_from_lanes(self._block, self._elements._states)
+        behind (:func:`mudforce._kernel.step3d.export_rows`): before anything reads them."""
+        S3.export_rows(self._block, self._elements._states)
 
-    def _lanes(self) -> None:
+    def _import_rows(self) -> None:
         """The elements' 1-D rows, slips and centroids into the compiled step's lanes: after anything wrote them."""
         S3.lanes_from_rows(self._block, self._elements._states)
 
@@ -267,7 +266,7 @@ class MudContact3D:
     def state(self) -> ContactState3D:
         """A copy of everything the contact remembers; assign one back to restore it (a state of another shape, whose
         centroids are not this one's turned and moved, is refused and nothing is changed)."""
-        self._rows()
+        self._export_rows()
         return ContactState3D(self._elements.state, self._slip.copy(), self._centroids.copy(), self._started)
 
     @state.setter
@@ -290,17 +289,17 @@ class MudContact3D:
                              f"{elements.shape}")
         check_states(elements[:, :K.N_STATE], elements[:, K.N_STATE:], "a state", unit="element")
         # written as MudContacts' setter writes them (checked above once, in elements' words)
-        self._rows()  # (the rows are all written below; the flag cleared)
+        self._export_rows()  # (the rows are all written below; the flag cleared)
         _restore_rows(self._elements._states, self._elements.ring, self._elements.params_array, elements)
         self._slip[:] = slip
         self._centroids[:] = centroids
         self._started = started
-        self._lanes()
+        self._import_rows()
 
     @property
     def modes(self) -> list[str]:
         """Each element's contact state: ``"FREE"``, ``"CONTACT"`` or ``"NECKED"``."""
-        self._rows()
+        self._export_rows()
         return self._elements.modes
 
     # ------------------------------------------------------------------ step
@@ -427,7 +426,7 @@ class MudContact3D:
             dt = 1.0  # ignored by the elements' first step
         shape = self.shape
         q = self.params
-        self._rows()  # the elements' rows as the compiled step left them
+        self._export_rows()  # the elements' rows as the compiled step left them
         # the law of mudforce.model.law3d on the elements' columns (the functions the compiled step and JAX call)
         r = tuple(rotation.ravel().tolist())
         ox, oy, oz = law3d.rotate(r, *shape.centroids.T)
@@ -463,7 +462,7 @@ class MudContact3D:
         self._centroids[:, 1] = wy
         self._centroids[:, 2] = wz
         self._started = True
-        self._lanes()  # the rows as this step left them, for the compiled step
+        self._import_rows()  # the rows as this step left them, for the compiled step
         self.element_forces = forces
         if self._fixed is None:  # the 1-D stepper has compiled: the compiled step can be taken from now on
             self._fixed = self._fixed_types()
@@ -480,11 +479,11 @@ class MudContact3D:
 
     def reset(self) -> None:
         """Forget the history: the next step is a first step, and :attr:`element_forces` is as before any step."""
-        self._rows()  # (the centroids are kept)
+        self._export_rows()  # (the centroids are kept)
         self._elements.reset()
         self._slip[:] = 0.0
         self._started = False
-        self._lanes()
+        self._import_rows()
         self.element_forces = np.zeros(self._n3)  # (a new array: a kept one keeps its values)
 
     def __repr__(self) -> str:
@@ -983,9 +982,8 @@ class MudContacts3D:
 
     def _export_rows(self) -> None:
         """The compiled step's lanes into the elements' 1-D rows and the element block's slips and centroids, if a
-        step has left them behind (:func:`mudforce._kernel.step3d.rows_from_lanes`): before anything reads them."""
-        if self._block[S3.H_STALE] != 0.0:
-            S3.rows_from_lanes(self._block, self._states)
+        step has left them behind (:func:`mudforce._kernel.step3d.export_rows`): before anything reads them."""
+        S3.export_rows(self._block, self._states)
 
     def _import_rows(self) -> None:
         """The elements' 1-D rows, slips and centroids into the compiled step's lanes: after anything wrote them."""
