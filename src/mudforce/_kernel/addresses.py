@@ -19,8 +19,11 @@ from typing import Any
 import numpy as np
 from numba import types
 from numba.extending import intrinsic
+from numba.np.numpy_support import carray  # numba.carray
 
-__all__ = ["address_table", "entry_point", "voidptr"]
+from mudforce._kernel.layout import _compiled
+
+__all__ = ["address_table", "entry_point", "f64_1d", "f64_2d", "i64_2d", "voidptr"]
 
 
 def _voidptr_typing(typingctx: Any, address: Any) -> Any:
@@ -36,6 +39,26 @@ def _voidptr_typing(typingctx: Any, address: Any) -> Any:
 
 #: In compiled code, the raw pointer at an integer address (numba has no public cast from an integer to a pointer).
 voidptr: Any = intrinsic(_voidptr_typing)
+
+
+# views of the arrays in slot k of a table (no copies; carray builds an array on the memory as is), inlined into
+# their callers; with numba's reference counting (``_nrt=True``), which the carray views need
+@_compiled(inline="always", _nrt=True)
+def f64_1d(table: np.ndarray, k: int) -> np.ndarray:
+    """The 1-D float64 array in slot ``k`` of an address table (:func:`address_table`), as a view."""
+    return carray(voidptr(table[3 * k]), table[3 * k + 1], np.float64)
+
+
+@_compiled(inline="always", _nrt=True)
+def f64_2d(table: np.ndarray, k: int) -> np.ndarray:
+    """The (rows, columns) float64 array in slot ``k`` of an address table, as a view."""
+    return carray(voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
+
+
+@_compiled(inline="always", _nrt=True)
+def i64_2d(table: np.ndarray, k: int) -> np.ndarray:
+    """The (rows, columns) int64 array in slot ``k`` of an address table, as a view."""
+    return carray(voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.int64)
 
 
 def address_table(arrays: Sequence[np.ndarray]) -> np.ndarray:

@@ -54,9 +54,8 @@ from typing import Any
 
 import numpy as np
 from numba import prange, typeof
-from numba.np.numpy_support import carray  # numba.carray
 
-from mudforce._kernel.addresses import voidptr
+from mudforce._kernel.addresses import f64_1d, f64_2d
 from mudforce._kernel.bounds import MAX_DEPTH, MAX_DT, MAX_HORIZONTAL, MIN_DT
 from mudforce._kernel.layout import (
     CONTACT,
@@ -814,12 +813,6 @@ T_BLOCK, T_STATES, T_RING, T_PARAMS, T_POSITION, T_QUATERNION, T_FORCES, T_TORQU
 N_TABLE = 9
 
 
-@_compiled(inline="always", _nrt=True)
-def _rows_at(table: np.ndarray, k: int) -> np.ndarray:
-    """The (rows, columns) float64 array in slot ``k`` of an address table, as a view (``numba.carray``)."""
-    return carray(voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
-
-
 @_compiled(nogil=False, _nrt=True)
 def step_one(position: np.ndarray, quaternion: np.ndarray, dt: float, table: np.ndarray) -> int:
     """:func:`step_feet` for one foot (:class:`~mudforce.steppers.contact3d.MudContact3D`), its arrays in one
@@ -833,16 +826,15 @@ def step_one(position: np.ndarray, quaternion: np.ndarray, dt: float, table: np.
     """
     if position.shape[0] != 3 or quaternion.shape[0] != 4:
         return BAD_SHAPE
-    positions = _rows_at(table, T_POSITION)
-    quaternions = _rows_at(table, T_QUATERNION)
+    positions = f64_2d(table, T_POSITION)
+    quaternions = f64_2d(table, T_QUATERNION)
     for j in range(3):
         positions[0, j] = position[j]
     for j in range(4):
         quaternions[0, j] = quaternion[j]
-    block = carray(voidptr(table[3 * T_BLOCK]), table[3 * T_BLOCK + 1], np.float64)
-    return step_feet(positions, quaternions, dt, block, _rows_at(table, T_STATES), _rows_at(table, T_RING),
-                     _rows_at(table, T_PARAMS), _rows_at(table, T_FORCES), _rows_at(table, T_TORQUES),
-                     _rows_at(table, T_EACH))
+    return step_feet(positions, quaternions, dt, f64_1d(table, T_BLOCK), f64_2d(table, T_STATES),
+                     f64_2d(table, T_RING), f64_2d(table, T_PARAMS), f64_2d(table, T_FORCES),
+                     f64_2d(table, T_TORQUES), f64_2d(table, T_EACH))
 
 
 def fixed_types(dispatcher: Any, *examples: Any) -> Any:

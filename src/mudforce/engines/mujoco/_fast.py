@@ -7,7 +7,7 @@ call overhead is a visible part of a small robot's step. The tricks:
 
 * one argument per call: an int64 table of the raw addresses and shapes of
   the arrays the step works on (:func:`address_table`), turned back into
-  array views inside compiled code (:data:`_voidptr`, ``numba.carray``);
+  array views inside compiled code (:func:`mudforce._kernel.addresses.f64_2d` and its kin);
 * the compiled entry point called directly, without numba's dispatcher
   (:func:`direct`).
 
@@ -23,11 +23,10 @@ from typing import Any
 
 import numpy as np
 from numba import typeof
-from numba.np.numpy_support import carray  # numba.carray
 
 from mudforce import _kernel as K
 from mudforce._kernel import addresses
-from mudforce._kernel.addresses import voidptr
+from mudforce._kernel.addresses import f64_1d, f64_2d, i64_2d
 from mudforce.engines.mujoco._step import apply_mud, commit_and_prepare
 
 __all__ = [
@@ -64,39 +63,19 @@ SLOT_SITE_XPOS, SLOT_XIPOS, SLOT_XFRC, SLOT_SITE_POS, SLOT_FRICTIONLOSS = 6, 7, 
 N_TABLE = 11
 
 
-#: In compiled code, the raw pointer at an integer address (:func:`mudforce._kernel.addresses.voidptr`).
-_voidptr: Any = voidptr
-
-
-# views of the arrays in slot k of a table (no copies; carray builds an array on the memory as is)
-@K._compiled(inline="always", nogil=False, _nrt=True)
-def _f64_1d(table: np.ndarray, k: int) -> np.ndarray:
-    return carray(_voidptr(table[3 * k]), table[3 * k + 1], np.float64)
-
-
-@K._compiled(inline="always", nogil=False, _nrt=True)
-def _f64_2d(table: np.ndarray, k: int) -> np.ndarray:
-    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.float64)
-
-
-@K._compiled(inline="always", nogil=False, _nrt=True)
-def _i64_2d(table: np.ndarray, k: int) -> np.ndarray:
-    return carray(_voidptr(table[3 * k]), (table[3 * k + 1], table[3 * k + 2]), np.int64)
-
-
 @K._compiled(nogil=False, _nrt=True)
 def before_step(table: np.ndarray) -> None:
     """:func:`apply_mud` on the arrays in ``table`` (slots ``SLOT_*``)."""
-    apply_mud(_f64_2d(table, SLOT_XFRC), _i64_2d(table, SLOT_INTS), _f64_2d(table, SLOT_WORK))
+    apply_mud(f64_2d(table, SLOT_XFRC), i64_2d(table, SLOT_INTS), f64_2d(table, SLOT_WORK))
 
 
 @K._compiled(nogil=False, _nrt=True)
 def after_step(table: np.ndarray) -> None:
     """:func:`commit_and_prepare` on the arrays in ``table`` (slots ``SLOT_*``)."""
-    commit_and_prepare(_f64_2d(table, SLOT_STATES), _f64_2d(table, SLOT_PARAMS), _f64_2d(table, SLOT_OUT),
-                       _i64_2d(table, SLOT_INTS), _f64_1d(table, SLOT_CONF), _f64_2d(table, SLOT_WORK),
-                       _f64_2d(table, SLOT_SITE_XPOS), _f64_2d(table, SLOT_XIPOS), _f64_2d(table, SLOT_XFRC),
-                       _f64_2d(table, SLOT_SITE_POS), _f64_1d(table, SLOT_FRICTIONLOSS))
+    commit_and_prepare(f64_2d(table, SLOT_STATES), f64_2d(table, SLOT_PARAMS), f64_2d(table, SLOT_OUT),
+                       i64_2d(table, SLOT_INTS), f64_1d(table, SLOT_CONF), f64_2d(table, SLOT_WORK),
+                       f64_2d(table, SLOT_SITE_XPOS), f64_2d(table, SLOT_XIPOS), f64_2d(table, SLOT_XFRC),
+                       f64_2d(table, SLOT_SITE_POS), f64_1d(table, SLOT_FRICTIONLOSS))
 
 
 def address_table(arrays: Sequence[np.ndarray]) -> np.ndarray:
