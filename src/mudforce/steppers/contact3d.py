@@ -67,7 +67,7 @@ from mudforce.model.shapes import Shape
 from mudforce.model.velocity import resolve_velocity_filter
 from mudforce.steppers import many as vectorized
 from mudforce.steppers.contact import _restore_rows, check_states
-from mudforce.steppers.many import MudContacts, _chosen_feet, _param_rows, _plain
+from mudforce.steppers.many import _FLOAT64, MudContacts, _chosen_feet, _param_rows, _plain
 
 __all__ = ["ContactState3D", "ContactStates3D", "MudContact3D", "MudContacts3D", "Result3D", "Wrench", "simulate_3d"]
 
@@ -731,7 +731,6 @@ def _writable_rows(a: Any, m: int) -> bool:
 
 # :meth:`MudContacts3D.step`'s hot path, as module globals (one look-up each)
 _NDARRAY = np.ndarray
-_FLOAT64 = np.dtype(np.float64)  # numpy's own instance: a float64 array's dtype is this very object
 _OK = S3.OK
 _empty = np.empty
 _step_feet = S3.step_feet
