@@ -164,7 +164,7 @@ PINNED: dict[str, list[str]] = {
         "bearing_factor", "bearing_stress", "check_bearing_scale", "check_lateral_stiffness", "element_depth",
         "element_force", "horizontal_drag", "lateral_capacity", "lateral_return_map", "moment",
         "root", "rotate", "rotation", "rotation_matrix", "select", "settle_depth", "shear_fraction", "spring_stress",
-        "vertical_force", "vertical_weight",
+        "vertical_element_force", "vertical_force", "vertical_lean", "vertical_weight",
     ],
     "mudforce.model.granular": [
         "LAWS", "LEADING_TOLERANCE", "LI2013_GENERIC", "RFT3D_C1", "RFT3D_C2", "RFT3D_C3", "LiCoefficients",
@@ -210,7 +210,8 @@ PINNED: dict[str, list[str]] = {
     "mudforce.motions.quadruped": [
         "FEET", "GAITS", "QUADRUPED_XML", "ROBOT_FOOT", "QuadrupedGait", "RobotWalk", "robot_walk",
     ],
-    "mudforce.references.contact3d": ["Reference3DResult", "place", "reference_simulate_3d", "vertical_weights"],
+    "mudforce.references.contact3d": ["Reference3DResult", "place", "reference_simulate_3d", "vertical_leans",
+                                     "vertical_weights"],
     "mudforce.references.trajectory": ["CONTACT", "FREE", "NECKED", "ReferenceResult", "reference_simulate"],
     "mudforce.references.drop": ["GRAVITY", "ExactDrop", "exact_drop", "exact_drop_3d"],
     "mudforce.reproduce": [

@@ -48,12 +48,20 @@ def test_foot_band_is_branch_forces_summed() -> None:
             lo, hi = f * SPHERE.n, (f + 1) * SPHERE.n
             r = mats[f]
             expected = [0.0, 0.0, 0.0]
+            sideways = np.zeros(6)
             for i in range(lo, hi):  # the adapter's sums before (every element, in order)
                 nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
                 w = area[i] * float(law3d.vertical_weight(nz))
                 expected = [expected[0] + w * up[i], expected[1] + w * down[i], expected[2] + w * drag[i]]
-            got = foot_band(states, rows, DT, lo, hi, r, nb, area, *feet._live_lanes())
+                if w:  # the ends' sideways parts: law3d.vertical_element_force's lean on each element's share
+                    lean = w * float(law3d.vertical_lean(nz))
+                    lx = lean * (r[0] * nb[i, 0] + r[1] * nb[i, 1] + r[2] * nb[i, 2])
+                    ly = lean * (r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2])
+                    sideways += [lx * up[i], ly * up[i], lx * down[i], ly * down[i], lx * drag[i], ly * drag[i]]
+            side = np.full(6, np.nan)
+            got = foot_band(states, rows, DT, lo, hi, r, nb, area, *feet._live_lanes(), side)
             np.testing.assert_array_equal(np.array(got), np.array(expected))
+            np.testing.assert_array_equal(side, sideways)
         modes |= set(feet.modes)
     assert modes == {"FREE", "CONTACT", "NECKED"}
 

@@ -148,6 +148,40 @@ def test_a_tilted_sole_peels_element_by_element() -> None:
     assert len(counts) > 3  # not all at once
 
 
+@pytest.mark.parametrize("degrees", [10.0, 30.0, 60.0])
+def test_a_tilted_sole_moved_vertically_leans_as_rft3d_does(degrees: float) -> None:
+    """Tilted and moved straight down, held, pulled out: its force is the paper's vertical force turned by 3D-RFT.
+
+    Every element has the same normal and no horizontal motion (no slip), so the sideways force is the
+    vertical one times 3D-RFT's ``alpha_x / alpha_z`` for that plate pushed down (the 20-term fits:
+    ``rft3d_alpha``), under suction too (the sign follows the vertical force's); and the independent reference
+    (which takes ``rft3d_alpha`` itself) agrees to 1e-9 of the peak in every component.
+    """
+    from mudforce.model.granular import rft3d_alpha
+    from mudforce.references.contact3d import reference_simulate_3d
+
+    params = mf.MudParameters.from_water_content(0.25)
+    tilt = math.radians(degrees)
+    t, z = _push_pull_repush()
+    t, z = t[::10], z[::10]
+    pos, _ = _vertical(z)
+    quat = np.tile([math.cos(tilt / 2), 0.0, math.sin(tilt / 2), 0.0], (t.size, 1))
+    res = simulate_3d(t, pos, quat, params, SOLE)
+    normal = law3d.rotation_matrix(quat[0]) @ [0.0, 0.0, -1.0]
+    alpha = rft3d_alpha(normal[None], np.array([[0.0, 0.0, -1.0]]))[0]
+    peak = float(np.max(np.abs(res.force)))
+    assert np.max(np.abs(res.force[:, 0] - alpha[0] / alpha[2] * res.force[:, 2])) <= 1e-12 * peak
+    assert np.all(res.force[:, 1] == 0.0)
+    assert np.min(res.force[:, 2]) < 0.0 < np.max(res.force[:, 2])  # pushed and sucked: both signs lean
+    # 3D-RFT's plate pushed down is pushed away from the side its normal leans to: 0.30 to 0.38 of the vertical
+    # force per unit of the normal's horizontal part (law3d.vertical_lean)
+    ratio = float(res.force[:, 0] @ res.force[:, 2]) / float(res.force[:, 2] @ res.force[:, 2])
+    assert -0.38 < ratio / normal[0] < -0.30
+    ref = reference_simulate_3d(t, pos, quat, params, SOLE)
+    assert np.max(np.abs(res.force - ref.force)) <= 1e-9 * peak
+    assert np.max(np.abs(res.torque - ref.torque)) <= 1e-9 * peak * 0.2
+
+
 def test_bad_input_is_refused_and_changes_nothing() -> None:
     params = mf.MudParameters.from_water_content(0.25)
     contact = MudContact3D(params, SOLE)

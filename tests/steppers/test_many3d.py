@@ -78,8 +78,12 @@ def test_the_law_is_one_source_compiled_and_on_arrays_bit_for_bit() -> None:
                                500.0, True, k, sigma_y, MUD.lambda_, MUD.rho_m)[2] == out[50, 2]
     assert np.array_equal(law3d.spring_stress(depth, 2e4, 0.5, 0.04),
                           [nonlinear_spring_stress(2e4, 0.5, z, 0.04) for z in depth])
-    # the law did something on these elements: yielding and elastic ones, sideways forces, none above the surface
-    assert np.all(out[depth <= 0.0, :4] == 0.0) and np.count_nonzero(out[:, 2]) > n // 2
+    # the law did something on these elements: yielding and elastic ones, sideways forces; above the surface no
+    # slip, and sideways only the vertical stress's own part (3D-RFT's direction: law3d.vertical_element_force)
+    above = depth <= 0.0
+    lean = law3d.vertical_lean(normals[:, 2]) * out[:, 4]
+    assert np.all(out[above, :2] == 0.0) and np.count_nonzero(out[:, 2]) > n // 2
+    assert np.array_equal(out[above, 2:4], (lean[:, None] * normals[:, :2])[above])
 
 
 def test_the_bearing_is_granulars_rft3d_alpha_for_a_horizontal_slip() -> None:

@@ -111,7 +111,7 @@ from mudforce.model.law3d import (
     rotation,
     select,
     settle_depth,
-    vertical_force,
+    vertical_element_force,
 )
 
 __all__ = [
@@ -467,7 +467,7 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
     """The 3-D law on a block's first ``width`` lanes (a multiple of :data:`GROUP`), in groups of :data:`GROUP`
     without branches (vectorised): Eq. (4) at the depth, the paper's stress (``total_force``), then
     :func:`~mudforce.model.law3d.element_force` and :func:`~mudforce.model.law3d.moment`. A group wholly at or
-    above the surface carries :func:`~mudforce.model.law3d.vertical_force` alone, which is what
+    above the surface carries :func:`~mudforce.model.law3d.vertical_element_force` alone, which is what
     ``element_force`` gives it (no spring there: Eq. (4) is 0), without the horizontal law's arithmetic. Every
     lane's paper step is done (:func:`_paper_lanes`, :func:`_rare_lanes`)."""
     b = np.uint64(max(block, 0))
@@ -503,11 +503,13 @@ def _law_lanes(a: np.ndarray, block: int, width: int, p: Params, r: tuple[float,
                 for sub in range(CHUNK_LANES):
                     q = g0 + np.uint64(c2 * CHUNK + sub)
                     ox, oy, oz = rotate(r, a[_at(q, W_CBX)], a[_at(q, W_CBY)], a[_at(q, W_CBZ)])
-                    _, _, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
+                    nx, ny, nz = rotate(r, a[_at(q, W_NBX)], a[_at(q, W_NBY)], a[_at(q, W_NBZ)])
                     sigma = total_force(a[_at(q, W_FE1)], 0.0, a[_at(q, W_FS)], area_1d)
-                    fz = vertical_force(sigma, a[_at(q, W_AREA)], nz)
-                    tx, ty, tz = moment(ox, oy, oz, 0.0, 0.0, fz)
-                    _store_law(a, q, 0.0, 0.0, px + ox, py + oy, pz + oz, 0.0, 0.0, fz, tx, ty, tz, sigma)
+                    fx, fy, fz = vertical_element_force(sigma, a[_at(q, W_AREA)], nx, ny, nz)
+                    # element_force adds its horizontal 0 to these: 0.0 + fx (the same bits, but -0.0's sign)
+                    fx, fy = 0.0 + fx, 0.0 + fy
+                    tx, ty, tz = moment(ox, oy, oz, fx, fy, fz)
+                    _store_law(a, q, 0.0, 0.0, px + ox, py + oy, pz + oz, fx, fy, fz, tx, ty, tz, sigma)
 
 
 @_compiled()

@@ -353,7 +353,8 @@ def _quat_mul(a: Array, b: Array) -> Array:
 
 
 class _Foot(NamedTuple):
-    """One foot's share of a step (:func:`_prepare`): its band [N], holds [N], drags [N] and depth [m]."""
+    """One foot's share of a step (:func:`_prepare`): its band [N], holds [N], drags [N] (``drag_h``: the horizontal
+    drag and the mid-band force's sideways part, applied explicitly) and depth [m]."""
 
     f_up: Array
     f_down: Array
@@ -397,9 +398,18 @@ def _prepare(state: mj3.State3D, params: mj3.Params3D, position: Array, quaterni
     def only(x: Array) -> Array:
         return jnp.where(keep, x, zero)
 
-    return _Foot(only(jnp.sum(w * up)), only(jnp.sum(w * down)), only(jnp.sum(w * drag)), only(hold(ux, uy)),
-                 only(hold(-uy, ux)), jnp.stack([only(jnp.sum(jnp.where(wet, area * gx, 0.0))),
-                                                 only(jnp.sum(jnp.where(wet, area * gy, 0.0))), zero]),
+    f_up, f_down = jnp.sum(w * up), jnp.sum(w * down)
+    # the mid-band force's sideways part (law3d.vertical_element_force), as the CPU adapter's: the elements' ends
+    # turned by 3D-RFT's lean and summed, combined as the band's mid (an inverted band: the branch of the motion)
+    lean = w * law3d.vertical_lean(nz)
+    lx, ly = lean * nx, lean * ny
+    inverted = f_down < f_up
+    falling = velocity[2] <= 0.0
+    ends = jnp.where(inverted, jnp.where(falling, down, up), 0.5 * up + 0.5 * down) + drag
+    side_x, side_y = jnp.sum(lx * ends), jnp.sum(ly * ends)
+    return _Foot(only(f_up), only(f_down), only(jnp.sum(w * drag)), only(hold(ux, uy)),
+                 only(hold(-uy, ux)), jnp.stack([only(jnp.sum(jnp.where(wet, area * gx, 0.0)) + side_x),
+                                                 only(jnp.sum(jnp.where(wet, area * gy, 0.0)) + side_y), zero]),
                  jnp.where(keep, jnp.max(depth), jnp.nan))
 
 

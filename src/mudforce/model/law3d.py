@@ -41,16 +41,20 @@ shares); JAX, which cannot run that power, computes ``x ** beta`` itself
 
 The law, element by element
 ---------------------------
-* **Vertical: the paper, on the downward-facing projection.** Each element
-  carries the paper's whole state (Maxwell strain, suction, necking, the
-  post-necking decay), stepped by the 1-D stepper on the element's own
-  depth below the surface, so a tilted foot pulled out peels element by
-  element. Its stress ``sigma_i`` (Eq. (8), positive up) acts on its
-  horizontal projection facing down: vertical force
-  ``sigma_i A_i max(-n_z, 0)`` (:func:`vertical_weight`). A flat sole moved
-  vertically is exactly the paper. *Ours:* the projection (an element
-  facing up, or a vertical wall, carries no vertical paper stress), and the
-  per-element state (the paper has one state for the whole foot).
+* **Vertical: the paper, on the downward-facing projection, in 3D-RFT's
+  direction.** Each element carries the paper's whole state (Maxwell
+  strain, suction, necking, the post-necking decay), stepped by the 1-D
+  stepper on the element's own depth below the surface, so a tilted foot
+  pulled out peels element by element. Its stress ``sigma_i`` (Eq. (8),
+  positive up) acts on its horizontal projection facing down: vertical
+  force ``f_z = sigma_i A_i max(-n_z, 0)`` (:func:`vertical_weight`), with
+  the sideways part ``f_z L(n_z) (n_x, n_y)`` that 3D-RFT gives a plate of
+  that tilt moved straight down (:func:`vertical_lean`,
+  :func:`vertical_element_force`). A flat sole moved vertically is exactly
+  the paper. *Ours:* the projection (an element facing up, or a vertical
+  wall, carries no vertical paper stress), the per-element state (the
+  paper has one state for the whole foot), and 3D-RFT's direction on the
+  paper's size (suction included, which granular media do not have).
 * **Horizontal: elastic, then yielding.** Each submerged element carries a
   horizontal elastic slip ``s_i`` [m]; its traction is ``-k s_i``, with
   ``k`` the paper's withdrawal stiffness ``k_m_w`` by default
@@ -103,7 +107,7 @@ import numpy as np
 from mudforce._plumbing.jit import njit, overload
 from mudforce.errors import InputError, is_real, real_array, shown
 from mudforce.model.equations import nonlinear_spring_stress
-from mudforce.model.granular import RFT3D_C1, RFT3D_C2, rft3d_alpha
+from mudforce.model.granular import RFT3D_C1, RFT3D_C2, RFT3D_C3, rft3d_alpha
 
 __all__ = [
     "FLAT_PLATE_ALPHA",
@@ -129,7 +133,9 @@ __all__ = [
     "settle_depth",
     "shear_fraction",
     "spring_stress",
+    "vertical_element_force",
     "vertical_force",
+    "vertical_lean",
     "vertical_weight",
 ]
 
@@ -171,6 +177,24 @@ ROUNDING_DEPTH = 1e-13
 _C1 = tuple(float(c) for c in RFT3D_C1)
 _C2 = tuple(float(c) for c in RFT3D_C2)
 _PER_FLAT = 1.0 / FLAT_PLATE_ALPHA
+
+
+def _pushed_down(c: Any) -> tuple[float, float, float, float]:
+    """A 3D-RFT cubic fit (``rft3d_basis``'s order) for a downward motion, as a cubic in ``x2 = x3 = c`` [-].
+
+    A plate moved straight down has ``x1 = sin(gamma) = 1`` and ``x2 = x3 = cos(beta) = c``; each of the 20
+    terms is then ``c`` to its degree in ``x2`` and ``x3``. Returns the coefficients of ``1, c, c^2, c^3``.
+    """
+    degrees = (0, 0, 1, 1, 0, 2, 2, 1, 2, 1, 0, 3, 3, 2, 1, 3, 3, 1, 2, 2)
+    out = [0.0, 0.0, 0.0, 0.0]
+    for k, term in zip(degrees, c, strict=True):
+        out[k] += float(term)
+    return out[0], out[1], out[2], out[3]
+
+
+_D1, _D2, _D3 = _pushed_down(RFT3D_C1), _pushed_down(RFT3D_C2), _pushed_down(RFT3D_C3)
+# vertical_lean = -f1(c) / q(c) with q = c f1 + f2 + f3 = -alpha_z (from -0.93 to -0.24 on [0, 1]), a quartic
+_MINUS_ALPHA_Z = (_D2[0] + _D3[0], _D1[0] + _D2[1] + _D3[1], _D1[1] + _D2[2] + _D3[2], _D1[2] + _D2[3] + _D3[3], _D1[3])
 
 Array = Any  # a float, a numpy array, or a jax array
 _F = TypeVar("_F", bound=Callable[..., Any])
@@ -329,6 +353,50 @@ def vertical_weight(nz: Array) -> Array:
     upward-facing element. ``nz`` the world normal's vertical component [-].
     """
     return _positive(-nz)
+
+
+@_law
+def vertical_lean(nz: Array) -> Array:
+    """3D-RFT's sideways stress per vertical stress on an element pushed down, per unit of its normal's tilt [-].
+
+    A downward-facing plate tilted by ``beta`` (outward normal ``n``, ``n_z = -cos(beta)``) and moved straight
+    down meets, in 3D-RFT (Agarwal, Goldman & Kamrin 2023), ``alpha = f1 n + f2 u - f3 z`` with ``u = -z``:
+    vertically ``alpha_z = -(c f1 + f2 + f3)`` and sideways ``f1 (n_x, n_y)``, with the cubic fits ``f_i`` at
+    ``x1 = 1``, ``x2 = x3 = c = cos(beta)``. This is ``f1 / alpha_z``: the element's sideways force is its
+    vertical force times ``lean (n_x, n_y)`` (:func:`vertical_element_force`). About -0.31 for a nearly flat
+    plate (a 30 deg plate: 15 % of its vertical force, away from the side its normal leans to), -0.37 at
+    60 deg; 0 for a flat plate's normal. Evaluated at ``c = max(-n_z, 0)``: an element facing up or sideways
+    carries no vertical stress (:func:`vertical_weight`), and ``alpha_z`` stays within [0.24, 0.93] on [0, 1].
+    """
+    c = vertical_weight(nz)
+    f1 = ((_D1[3] * c + _D1[2]) * c + _D1[1]) * c + _D1[0]
+    a = _MINUS_ALPHA_Z
+    q = (((a[4] * c + a[3]) * c + a[2]) * c + a[1]) * c + a[0]
+    return -f1 / q
+
+
+@_law
+def vertical_element_force(stress: Array, area: Array, nx: Array, ny: Array,
+                           nz: Array) -> tuple[Array, Array, Array]:
+    """The paper's vertical stress on an element, in 3D-RFT's direction: ``(f_z lean n_x, f_z lean n_y, f_z)`` [N].
+
+    ``f_z`` is :func:`vertical_force` (the paper's stress on the downward projection, its size), and
+    :func:`vertical_lean` turns it as 3D-RFT turns a tilted plate's resistance to a vertical motion (its
+    direction). The sideways part follows ``f_z``'s sign: suction pulls a tilted element into the mud along
+    the same line. A flat sole (``n_x = n_y = 0``) gets no sideways force: the paper's own case.
+
+    Parameters
+    ----------
+    stress : float or array
+        The element's paper stress ``sigma_i`` [Pa], Eq. (8), positive up.
+    area : float or array
+        [m^2].
+    nx, ny, nz : float or array
+        Its outward unit normal, world frame [-].
+    """
+    fz = vertical_force(stress, area, nz)
+    side = fz * vertical_lean(nz)
+    return side * nx, side * ny, fz
 
 
 @_law
@@ -554,7 +622,7 @@ def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Arra
     slip_x, slip_y, fx, fy, fz
         The slip kept [m] and the force [N], world frame.
     """
-    fz = vertical_force(stress, area, nz)
+    vx, vy, fz = vertical_element_force(stress, area, nx, ny, nz)
     tx = sx + mx
     ty = sy + my
     square = tx * tx + ty * ty
@@ -568,8 +636,8 @@ def element_force(stress: Array, spring: Array, area: Array, nx: Array, ny: Arra
     kx, ky, ax, ay = lateral_return_map(tx, ty, size, stiffness, capacity)
     gx, gy = horizontal_drag(lambda_, rho_m, nx, ny, mx * per_dt, my * per_dt)
     loaded = started & (depth > 0.0)
-    return (select(loaded, kx, 0.0), select(loaded, ky, 0.0), select(loaded, (ax + gx) * area, 0.0),
-            select(loaded, (ay + gy) * area, 0.0), fz)
+    return (select(loaded, kx, 0.0), select(loaded, ky, 0.0), select(loaded, (ax + gx) * area, 0.0) + vx,
+            select(loaded, (ay + gy) * area, 0.0) + vy, fz)
 
 
 @_law

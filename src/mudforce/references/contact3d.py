@@ -25,7 +25,9 @@ The law, element by element
   necking ``k_m_w e + f_s = -sigma_y``, the drag's surface crossing):
   :func:`mudforce.references.trajectory.reference_simulate` with a unit area, whose
   force is then the stress ``sigma_i`` [Pa]. Vertical force
-  ``sigma_i A_i max(-n_z, 0)``.
+  ``sigma_i A_i max(-n_z, 0)``, with the sideways force that 3D-RFT gives a plate of the element's tilt moved
+  straight down, per unit of its vertical one (``alpha_h / alpha_z`` of :func:`rft3d_alpha` at ``v = -z``):
+  the 20-term fits themselves, not law3d's cubic in ``cos(beta)``.
 * **Horizontal: the rate form of the elastic-perfectly-plastic slip.** An
   element below the surface (depth ``> 0``) carries a slip ``s`` [m], traction
   ``-k s``. While ``k |s| < C(s/|s|, t)``: ``ds/dt = u`` (the centroid's
@@ -89,7 +91,7 @@ from mudforce.model.parameters import MudParameters
 from mudforce.model.shapes import Shape
 from mudforce.references.trajectory import reference_simulate
 
-__all__ = ["Reference3DResult", "place", "reference_simulate_3d", "vertical_weights"]
+__all__ = ["Reference3DResult", "place", "reference_simulate_3d", "vertical_leans", "vertical_weights"]
 
 Float = NDArray[np.float64]
 
@@ -410,6 +412,16 @@ def vertical_weights(areas: Float, normals: Float) -> Float:
     return out
 
 
+def vertical_leans(normals: Float) -> Float:
+    """Each element's sideways force per unit of its vertical force [-], shape (..., 2): 3D-RFT's ``alpha_x / alpha_z``
+    and ``alpha_y / alpha_z`` for the element moved straight down (:func:`mudforce.model.granular.rft3d_alpha`, its
+    20-term fits; an element facing up or sideways carries no vertical force, and what it gets here is not used)."""
+    flat = normals.reshape(-1, 3)
+    alpha = rft3d_alpha(flat, np.tile([0.0, 0.0, -1.0], (flat.shape[0], 1)))
+    out: Float = (alpha[:, :2] / alpha[:, 2:3]).reshape(*normals.shape[:-1], 2)
+    return out
+
+
 def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: MudParameters, shape: Shape, *,
                           surface_height: float = 0.0, width: float | None = None,
                           lateral_stiffness: float | None = None,
@@ -500,6 +512,7 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
         stress[:, i] = solved[key]
     forces = np.zeros((m, n, 3))
     forces[:, :, 2] = stress * vertical_weights(areas, normals)
+    sideways = forces[:, :, 2:3] * vertical_leans(normals)  # 3D-RFT's direction of a vertical resistance
 
     # --- horizontal: the rate form, step by step, with events
     slip = np.zeros((m, n, 2))
@@ -539,6 +552,7 @@ def reference_simulate_3d(time: Any, positions: Any, quaternions: Any, params: M
         forces[kk, idx, :2] = (-k * s + drag) * areas[idx, None]
         lateral_work[kk] = lateral_work[kk - 1] + y[2 * n]
         drag_work[kk] = drag_work[kk - 1] + y[2 * n + 1]
+    forces[:, :, :2] += sideways
     elastic_energy = 0.5 * k * np.sum(areas[None, :] * np.sum(slip * slip, axis=2), axis=1)
     torque = np.cross(offsets, forces).sum(axis=1)
     return Reference3DResult(t.copy(), forces.sum(axis=1), torque, forces, stress, slip, plastic,

@@ -453,9 +453,10 @@ class MudContact3D:
         else:  # the first step: element_force's values without a last pose, without its arithmetic
             zero = np.zeros(shape.n)
             slip_x = slip_y = zero
-            fz = law3d.vertical_force(stress, shape.areas, nz)
-            forces = np.stack([zero, zero, fz], axis=1)
-            torques = np.stack(law3d.moment(ox, oy, oz, zero, zero, fz), axis=1)
+            fx, fy, fz = law3d.vertical_element_force(stress, shape.areas, nx, ny, nz)
+            fx, fy = zero + fx, zero + fy  # element_force's 0 + the vertical's sideways part (-0.0 becomes 0.0)
+            forces = np.stack([fx, fy, fz], axis=1)
+            torques = np.stack(law3d.moment(ox, oy, oz, fx, fy, fz), axis=1)
         self._slip[:, 0] = slip_x
         self._slip[:, 1] = slip_y
         self._centroids[:, 0] = wx

@@ -35,6 +35,7 @@ from mudforce.model.law3d import (
     horizontal_drag,
     lateral_capacity,
     shear_fraction,
+    vertical_lean,
     vertical_weight,
 )
 
@@ -152,8 +153,9 @@ def gather_poses(geom_xpos: np.ndarray, geom_xmat: np.ndarray, gids: np.ndarray,
 
 @_compiled(nogil=False)
 def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: int, r: np.ndarray, nb: np.ndarray,
-              area: np.ndarray, lanes: np.ndarray, entries: np.ndarray) -> tuple[float, float, float]:
-    """A foot's vertical band and drag for the coming step [N]: ``(F_up, F_down, F_drag)``.
+              area: np.ndarray, lanes: np.ndarray, entries: np.ndarray, side: np.ndarray) -> tuple[float, float, float]:
+    """A foot's vertical band and drag for the coming step [N]: ``(F_up, F_down, F_drag)``; their sideways parts
+    into ``side`` (6,) [N]: ``(x, y)`` of the up end, of the down end and of the drag.
 
     The sums over elements ``lo:hi`` of each element's band and drag
     (:func:`mudforce.engines.dynamics.rest_band.branch_forces_row` on its 1-D state
@@ -164,12 +166,16 @@ def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: in
     changes no sum, so its band is not computed; nor is the band at the
     step's start, which weight 1 multiplies by 0 (see ``branch_forces_row``).
     The sums are those of ``branch_forces`` over every element, bit for bit.
+    The sideways parts: each element's share times ``vertical_lean(n_z) (n_x, n_y)``
+    (:func:`mudforce.model.law3d.vertical_element_force`: the vertical stress in 3D-RFT's direction).
 
     The 3-D step keeps the elements' states in its lanes and leaves the rows behind
     (:mod:`mudforce._kernel.step3d`): each row read here is written from ``lanes`` first (element ``i`` at
     ``entries[i]``, :func:`mudforce._kernel.step3d.row_from_lanes`), and only those.
     """
     f_up = f_down = f_drag = 0.0
+    for j in range(6):
+        side[j] = 0.0
     for i in range(lo, hi):
         nz = r[6] * nb[i, 0] + r[7] * nb[i, 1] + r[8] * nb[i, 2]
         w = area[i] * vertical_weight(nz)
@@ -179,6 +185,15 @@ def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: in
             f_up += w * up
             f_down += w * down
             f_drag += w * drag
+            lean = w * vertical_lean(nz)
+            lx = lean * (r[0] * nb[i, 0] + r[1] * nb[i, 1] + r[2] * nb[i, 2])
+            ly = lean * (r[3] * nb[i, 0] + r[4] * nb[i, 1] + r[5] * nb[i, 2])
+            side[0] += lx * up
+            side[1] += ly * up
+            side[2] += lx * down
+            side[3] += ly * down
+            side[4] += lx * drag
+            side[5] += ly * drag
     return f_up, f_down, f_drag
 
 
@@ -186,7 +201,8 @@ def foot_band(states: np.ndarray, params: np.ndarray, dt: float, lo: int, hi: in
 def feet_bands(states: np.ndarray, params: np.ndarray, dt: float, patch: np.ndarray, k: int, starts: np.ndarray,
                mats: np.ndarray, nb: np.ndarray, area: np.ndarray, bands: np.ndarray, lanes: np.ndarray,
                entries: np.ndarray) -> None:
-    """:func:`foot_band` of every foot in patch ``k`` (``patch[f] == k``) into ``bands[f]`` (n, 3) [N].
+    """:func:`foot_band` of every foot in patch ``k`` (``patch[f] == k``) into ``bands[f]`` (n, 9) [N]: the band
+    and drag, then their sideways parts.
 
     ``states``, ``params``: patch ``k``'s 1-D rows (one per element of every
     foot); ``mats`` (n, 9) the feet's rotations; ``starts`` each foot's
@@ -195,7 +211,7 @@ def feet_bands(states: np.ndarray, params: np.ndarray, dt: float, patch: np.ndar
     for f in range(patch.shape[0]):
         if patch[f] == k:
             bands[f, 0], bands[f, 1], bands[f, 2] = foot_band(states, params, dt, starts[f], starts[f + 1], mats[f],
-                                                                nb, area, lanes, entries)
+                                                                nb, area, lanes, entries, bands[f, 3:])
 
 
 @_compiled(nogil=False)
@@ -215,7 +231,8 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
     ``const`` (n, ``N_FOOT_CONSTANTS``) its patch's constants (``C_*``);
     ``states``, ``params`` patch ``k_band``'s 1-D rows: the band of a foot in
     that patch is :func:`foot_band` on them, here; that of a foot in another
-    patch was put in ``bands`` (n, 3) [N] by :func:`feet_bands`;
+    patch was put in ``bands`` (n, 9) [N] by :func:`feet_bands` (the band's sideways parts, :func:`foot_band`:
+    every foot's row is written);
     ``velocity_z`` (n,) written [m/s];
     ``u`` (n, 2) each foot's last horizontal direction (updated). MuJoCo's
     arrays: ``xipos``, ``xpos``, ``xmat`` (data), ``site_pos``,
@@ -250,7 +267,8 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
         f_up = f_down = f_drag = 0.0
         if k >= 0:
             if k == k_band:
-                f_up, f_down, f_drag = foot_band(states, params, dt, lo, hi, r, nb, area, lanes, entries)
+                f_up, f_down, f_drag = foot_band(states, params, dt, lo, hi, r, nb, area, lanes, entries,
+                                                 bands[f, 3:])
             else:
                 f_up, f_down, f_drag = bands[f, 0], bands[f, 1], bands[f, 2]
         total = qx = qy = qz = 0.0
@@ -309,12 +327,20 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
             qx, qy, qz = qx / total, qy / total, qz / total
         else:
             qx, qy, qz = lx, ly, lz
+        # the mid-band force's sideways part (law3d.vertical_element_force): the same sums of the elements' ends
+        sx_up, sy_up, sx_down, sy_down = bands[f, 3], bands[f, 4], bands[f, 5], bands[f, 6]
         if f_down < f_up:  # an inverted band (k_m_w e > k_m_i e + spring): no sticking; the branch of the motion
             mid = (f_down if vz <= 0.0 else f_up) + f_drag
             half = 0.0
+            lean_x = (sx_down if vz <= 0.0 else sx_up) + bands[f, 7]
+            lean_y = (sy_down if vz <= 0.0 else sy_up) + bands[f, 8]
         else:
             mid = 0.5 * (f_up + f_down) + f_drag
             half = 0.5 * (f_down - f_up)
+            lean_x = 0.5 * (sx_up + sx_down) + bands[f, 7]
+            lean_y = 0.5 * (sy_up + sy_down) + bands[f, 8]
+        fx += lean_x
+        fy += lean_y
         if k < 0:
             mid = half = hold_u = hold_v = fx = fy = 0.0
         band[0, f] = f_up

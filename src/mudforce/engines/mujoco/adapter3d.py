@@ -29,7 +29,13 @@ explicitly through ``xfrc_applied`` (added for the step, taken back after).
   stress) times its downward-facing projection ``A_i max(-n_z, 0)``
   (:func:`mudforce.model.law3d.vertical_weight`): the mid-band force plus the
   drag is applied, and half the band's width is the friction of a vertical
-  tendon. The world's down direction decides, not the geom's local z.
+  tendon. The world's down direction decides, not the geom's local z. The
+  mid-band force's sideways part (each element's share turned by
+  :func:`mudforce.model.law3d.vertical_lean`, as the law turns its vertical
+  force) is applied explicitly with it. *An approximation:* a foot held
+  within its band gets the sideways part of the band's middle, not of the
+  force it is held at (at most the lean, about a third, times half the
+  band apart; 0 for a symmetric foot).
 * **Sideways**, the foot is held rigidly up to the law's lateral capacity
   (:func:`mudforce.model.law3d.lateral_capacity` summed over the submerged
   elements) and slides against it beyond: the friction of two horizontal
@@ -349,7 +355,8 @@ class MudAdapter3D:
         self._width = np.array([float(s.width) if s.width is not None else np.nan for s in slist])
         self._starts = np.concatenate(([0], np.cumsum(sizes)))
         self._scratch = scratch(max(sizes))  # prepare's: a foot's submerged elements side by side
-        self._bands = np.zeros((n, 3))  # the band (F_up, F_down) and drag [N] of feet in all patches but one
+        # the band (F_up, F_down) and drag [N] of feet in all patches but one, then their sideways parts (x, y)
+        self._bands = np.zeros((n, 9))
         self._patch_const = np.zeros((len(plist), N_FOOT_CONSTANTS))
         for k, p in enumerate(plist):
             q = p.params
