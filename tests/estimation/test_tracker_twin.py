@@ -54,7 +54,8 @@ def test_the_interval_is_the_union_of_the_two_banks_and_holds_the_truth(monkeypa
     flagged = r.changed[late] | r.misfit[late]
     before = (cols[late, 1] <= TRUTH) & (TRUTH <= cols[late, 2])
     covered = (r.low[late] <= TRUTH) & (TRUTH <= r.high[late])
-    assert np.sum(~before & ~flagged) == 538  # the first bank alone: confidently wrong on 538 of 701 samples (521
+    assert np.sum(~before & ~flagged) == 541  # the first bank alone: confidently wrong on 541 of 701 samples (538
+    # before the lag bank's two-stage hypotheses; 521
     # before the widened blurs' piled twins, 520 after them and before a run the bank cannot explain was left out of
     # the tare: the first bank then read the force noise as 0.76 N and the offset as 0.27 N, where the twin reads
     # 0.21 N and 0.50 N, and then the first bank 0.21 N and 0.48 N: a narrower interval, about as low; 541 before a
