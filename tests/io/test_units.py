@@ -41,3 +41,12 @@ def test_a_huge_exponent_is_refused_without_being_expanded() -> None:
         with pytest.raises(InputError, match=r"too large|too small"):
             parse_quantity(text, "length")
     assert time.perf_counter() - start < 0.05
+
+
+@pytest.mark.parametrize("text", ["abc", "5", "5parsec", "1e999ms", "1e-400ms", "-5ms", "0ms"])
+def test_a_refusal_keeps_its_reason_apart_for_a_caller_that_words_its_own_line(text: str) -> None:
+    # (synth's --force-lag words "is no delay time (<reason>)" from it; it cut the message apart before)
+    with pytest.raises(InputError) as caught:
+        parse_quantity(text, "time", name="--x")
+    why = getattr(caught.value, "why", None)
+    assert why and str(caught.value).startswith(f"--x: {why}; ") and "\n" not in str(caught.value)

@@ -163,7 +163,7 @@ def _parse_lag(text: str) -> tuple[float, float]:
         try:
             seconds = parse_quantity(value.strip(), "time", name=name, allow_zero=True)
         except InputError as exc:  # why, in the parser's words ("'-5ms' must not be negative"): not "cannot read"
-            why = str(exc).removeprefix(f"{name}: ").partition("; expected")[0]
+            why = getattr(exc, "why", str(exc))
             raise InputError(f"--force-lag: {item.strip()!r} in {text!r} is no {kind} time ({why}); expected e.g. "
                              "10ms (a low-pass), delay:5ms, or lowpass:10ms,delay:10ms") from None
         if kind == "delay":

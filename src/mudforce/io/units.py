@@ -104,18 +104,19 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
     example = _EXAMPLES[kind]
     match = _NUMBER.match(str(text))
     if match is None:
-        raise InputError(f"{name}: cannot read {text!r} as {_a(kind)}; expected a number with a unit, e.g. {example}")
+        raise _refused(name, f"cannot read {text!r} as {_a(kind)}", f"a number with a unit, e.g. {example}")
     number, unit = match.group(1), (match.group(2) or "").strip()
     if not unit:
         # a bare number is refused for every kind, percentages included:
         # "--water-content 25" (25 % or 2500 %?) must never be guessed
-        raise InputError(f"{name}: {text!r} has no unit; expected {_a(kind)} with a unit, e.g. {example}")
+        raise _refused(name, f"{text!r} has no unit", f"{_a(kind)} with a unit, e.g. {example}")
     table = {_case_key(kind, u): f for u, f in _UNITS[kind].items()}
     # spaces around "/" only ("10 mm / s"): "20m m" is no "20mm"; the Greek mu (U+03BC) is the micro sign (U+00B5)
     factor = table.get(_case_key(kind, re.sub(r"\s*/\s*", "/", unit).replace("\u03bc", "\u00b5")))
     if factor is None:
         known = ", ".join(_UNITS[kind])
-        raise InputError(f"{name}: unknown {kind} unit {unit!r} in {text!r}; use one of {known}, e.g. {example}")
+        raise _refused(name, f"unknown {kind} unit {unit!r} in {text!r}", f"one of {known}, e.g. {example}",
+                       lead="use")
     tiny, huge = LIMITS[kind]
     value = float(number) * float(factor)
     if 0.0 < abs(value) <= huge:
@@ -123,16 +124,29 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         # its text ("1e999999999mm" is refused as too large above without 10**999999999 being built)
         value = float(Fraction(number) * factor)
     if not math.isfinite(value) or abs(value) > huge:
-        raise InputError(f"{name}: {text!r} is too large (at most {huge:g} in SI); expected e.g. {example}")
+        raise _refused(name, f"{text!r} is too large (at most {huge:g} in SI)", f"e.g. {example}")
     # a literal that is not zero is not read as zero when it underflows ("1e-400mm")
     if abs(value) < tiny and any(c in "123456789" for c in number.lower().partition("e")[0]):
-        raise InputError(f"{name}: {text!r} is too small (at least {tiny:g} in SI, or 0 where allowed); "
-                         f"expected e.g. {example}")
+        raise _refused(name, f"{text!r} is too small (at least {tiny:g} in SI, or 0 where allowed)", f"e.g. {example}")
     if value < 0.0 and not allow_negative:
-        raise InputError(f"{name}: {text!r} must not be negative; expected e.g. {example}")
+        raise _refused(name, f"{text!r} must not be negative", f"e.g. {example}")
     if value == 0.0 and not allow_zero:
-        raise InputError(f"{name}: {text!r} must be greater than zero; expected e.g. {example}")
+        raise _refused(name, f"{text!r} must be greater than zero", f"e.g. {example}")
     return value + 0.0  # "-0N" is 0 N: no negative zero reaches an output ("bias_N": -0.0)
+
+
+class _QuantityError(InputError):
+    """:func:`parse_quantity`'s refusal: its one line, and the reason alone (``why``) for a caller that words its
+    own line around it (``--force-lag``'s parts)."""
+
+    def __init__(self, message: str, why: str) -> None:
+        super().__init__(message)
+        self.why = why
+
+
+def _refused(name: str, why: str, expected: str, lead: str = "expected") -> _QuantityError:
+    """The refusal ``"{name}: {why}; {lead} {expected}"`` (one line) with its reason kept apart."""
+    return _QuantityError(f"{name}: {why}; {lead} {expected}", why)
 
 
 def parse_list(text: str, kind: str, *, name: str = "value", **kwargs: bool) -> list[float]:
