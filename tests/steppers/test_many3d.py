@@ -405,3 +405,21 @@ def test_the_outputs_without_out_are_reused_only_when_no_one_holds_them() -> Non
     for array, values in kept:
         assert np.array_equal(array, values)
     assert forces[:, 2].min() > 0.0  # in the mud
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1), st.floats(-1e7, 1e7), st.floats(1e-8, 1.0))
+def test_the_vertical_stress_leans_boundedly_and_away_from_the_normals_lean(x: float, y: float, z: float,
+                                                                           stress: float, area: float) -> None:
+    """law3d.vertical_element_force on any unit normal and finite stress: finite; the sideways part is the vertical
+    one times 0.015-0.44 of the normal's horizontal part, against it for a push (f_z > 0), with it under suction."""
+    norm = math.sqrt(x * x + y * y + z * z)
+    if norm < 1e-6:
+        return
+    nx, ny, nz = x / norm, y / norm, z / norm
+    fx, fy, fz = law3d.vertical_element_force(stress, area, nx, ny, nz)
+    assert all(math.isfinite(v) for v in (fx, fy, fz))
+    lean = float(law3d.vertical_lean(nz))
+    assert -0.44 <= lean <= -0.015
+    assert fx * nx + fy * ny == pytest.approx(lean * fz * (nx * nx + ny * ny), rel=1e-12, abs=1e-300)
+    assert (fx * nx + fy * ny) * fz <= 0.0  # away from the normal's lean when pushed, towards it when sucked
