@@ -192,3 +192,16 @@ def test_the_reported_interval_holds_a_posterior_that_jumps_between_two_modes(mo
     assert np.flatnonzero(missed).tolist() == [109, 110, 111, 112]  # 5.45-5.6 s, the estimate at 34.6 %
     assert np.array_equal(r.water_content, read.water_content) and np.array_equal(r.changed, read.changed)
     assert np.all(r.low <= read.low) and np.all(r.high >= read.high)  # the hull: never narrower
+
+
+def test_a_state_of_other_lag_hypotheses_is_refused_in_one_line() -> None:
+    # (a mudforce of other force lag hypotheses: the state's lag columns would mean other things)
+    a = MudTrackers(1, twin=False)
+    state = a.state
+    b = MudTrackers(1, twin=False)
+    b._state_key = state.key + b"x"  # as a tracker whose hypotheses differ: its key does
+    before = b._aux.copy()
+    with pytest.raises(InputError, match=r"other feet, grid or options \(or of another mudforce version\)"):
+        b.state = state
+    assert np.array_equal(b._aux, before, equal_nan=True)
+    assert tracker_module._LAGS_A.tobytes() in a._state_key and tracker_module._LAGS_B.tobytes() in a._state_key

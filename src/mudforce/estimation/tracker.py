@@ -1648,10 +1648,12 @@ class MudTrackers:
         self.reset()
 
     def _own_key(self) -> bytes:
-        """This bank's part of a snapshot's key: the grid, the options, the blurs, the offsets and their prior, and the
-        bank's rows as made (the branch rule's columns change later, as it follows the noise)."""
+        """This bank's part of a snapshot's key: the grid, the options, the blurs, the offsets and their prior, the
+        bank's rows as made (the branch rule's columns change later, as it follows the noise), and the force lag's
+        hypotheses (what the state's lag columns mean: a state of a mudforce with other hypotheses is refused)."""
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(), self.depth_offsets.tobytes(),
-                         self._log_prior.tobytes(), self._bank.params_array.tobytes()))
+                         self._log_prior.tobytes(), self._bank.params_array.tobytes(), _LAGS_A.tobytes(),
+                         _LAGS_B.tobytes()))
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample, the posterior uniform."""
@@ -1740,8 +1742,8 @@ class MudTrackers:
             raise InputError(f"state must be a TrackerState (from a tracker's .state), got {type(value).__name__}")
         if value.key != self._state_key or value.log_posterior.shape != self._L.shape or \
                 value.aux.shape != self._aux.shape or value.posterior.shape != self._P.shape:
-            raise InputError("this TrackerState was taken from a tracker of other feet, grid or options; "
-                             "expected one from a tracker made with the same arguments")
+            raise InputError("this TrackerState was taken from a tracker of other feet, grid or options (or of "
+                             "another mudforce version); expected one from a tracker made with the same arguments")
         if not (np.isfinite(value.posterior).all() and np.isfinite(value.log_posterior).all()
                 and np.isfinite(np.delete(value.aux, [_A_ANCHOR, _A_HULL_LOW, _A_HULL_HIGH], axis=1)).all()
                 and not np.isinf(value.aux[:, [_A_ANCHOR, _A_HULL_LOW, _A_HULL_HIGH]]).any()):
@@ -1751,8 +1753,8 @@ class MudTrackers:
             raise InputError(f"a TrackerState's {problem}; expected one taken from a tracker")
         twin, saved = self._twin, value.twin
         if (twin is None) != (saved is None):
-            raise InputError("this TrackerState was taken from a tracker of other feet, grid or options; "
-                             "expected one from a tracker made with the same arguments")
+            raise InputError("this TrackerState was taken from a tracker of other feet, grid or options (or of "
+                             "another mudforce version); expected one from a tracker made with the same arguments")
         if twin is not None and saved is not None:
             before = twin.state
             twin.state = saved  # validated there before anything changes (else it raises here)
