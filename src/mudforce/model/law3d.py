@@ -107,7 +107,7 @@ import numpy as np
 from mudforce._plumbing.jit import njit, overload
 from mudforce.errors import InputError, is_real, real_array, shown
 from mudforce.model.equations import nonlinear_spring_stress
-from mudforce.model.granular import RFT3D_C1, RFT3D_C2, RFT3D_C3, rft3d_alpha
+from mudforce.model.granular import RFT3D_C1, RFT3D_C2, RFT3D_C3, rft3d_alpha, rft3d_basis
 
 __all__ = [
     "FLAT_PLATE_ALPHA",
@@ -183,9 +183,10 @@ def _pushed_down(c: Any) -> tuple[float, float, float, float]:
     """A 3D-RFT cubic fit (``rft3d_basis``'s order) for a downward motion, as a cubic in ``x2 = x3 = c`` [-].
 
     A plate moved straight down has ``x1 = sin(gamma) = 1`` and ``x2 = x3 = cos(beta) = c``; each of the 20
-    terms is then ``c`` to its degree in ``x2`` and ``x3``. Returns the coefficients of ``1, c, c^2, c^3``.
+    terms is then ``c`` to its degree in ``x2`` and ``x3``, read from :func:`rft3d_basis` itself (its monomials
+    at ``x1 = 1``, ``x2 = x3 = 2`` are 2 to those degrees, exactly). Returns the coefficients of ``1, c, c^2, c^3``.
     """
-    degrees = (0, 0, 1, 1, 0, 2, 2, 1, 2, 1, 0, 3, 3, 2, 1, 3, 3, 1, 2, 2)
+    degrees = [int(d) for d in np.log2(rft3d_basis(1.0, 2.0, 2.0))]
     out = [0.0, 0.0, 0.0, 0.0]
     for k, term in zip(degrees, c, strict=True):
         out[k] += float(term)
