@@ -195,9 +195,8 @@ _A_RUN = _A_QUICK + 5  # seconds of tare samples in the current run of them beyo
 _A_RUN_QUIET = _A_QUICK + 6  # seconds of tare samples within 3 sigma in a row at the run's end [s] (_TARE_RUN_QUIET)
 _A_RUN_MEAN = _A_QUICK + 7  # the run's tare samples' mean since it began or was last judged [N] (_TARE_RUN_SPREAD)
 _A_RUN_SQ = _A_QUICK + 8  # and their mean square [N^2]
-_A_LAG_A = _A_QUICK + 9  # posterior mean of the force lag's first stage [s] (the models' forces are low-passed by it)
-_A_LAG_B = _A_QUICK + 10  # and of its second stage [s] (then by it)
-_N_AUX = _A_QUICK + 11
+_A_LAG_A = _A_QUICK + 9  # posterior mean of the force lag's first stage [s] (the second's: _A_LAG less it, _lag_stages)
+_N_AUX = _A_QUICK + 10
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -590,6 +589,12 @@ def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool 
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _lag_stages(aux: np.ndarray, j: int) -> tuple[float, float]:
+    """Foot ``j``'s posterior mean force lag's two stages [s]: the first's, and the rest of the mean lag (ours)."""
+    return aux[j, _A_LAG_A], max(aux[j, _A_LAG] - aux[j, _A_LAG_A], 0.0)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _lagged_force(aux: np.ndarray, j: int, M: int, m: int, fg: float, e: float, c: float, e2: float,
                   c2: float) -> float:
     """Model ``m``'s force ``fg`` [N] of foot ``j`` through the force lag's two stages, its states in ``aux`` (ours):
@@ -620,7 +625,7 @@ def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.nd
     at the sample."""
     M = NO * G
     base = j * M
-    lag_a, lag_b = aux[j, _A_LAG_A], aux[j, _A_LAG_B]
+    lag_a, lag_b = _lag_stages(aux, j)
     e, c = (0.0, 0.0) if lag_a <= 0.0 else _lowpass_coefficients(h, lag_a)
     e2, c2 = (0.0, 0.0) if lag_b <= 0.0 else _lowpass_coefficients(h, lag_b)
     mean = 0.0
@@ -759,7 +764,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         # one-step-ahead prediction: the models' forces under the posterior before this sample
         pred = 0.0
         predl = 0.0  # the same of the models' forces low-passed by the force lag
-        lag_a, lag_b = aux[j, _A_LAG_A], aux[j, _A_LAG_B]
+        lag_a, lag_b = _lag_stages(aux, j)
         lagged = _N_AUX + M  # the first column of the models' low-passed forces
         h_sub = dt / nsub  # the last substep [s] (the sample's interval at 100 Hz)
         e_lag, c_lag = (0.0, 0.0) if (first or lag_a <= 0.0) else _lowpass_coefficients(h_sub, lag_a)
@@ -877,7 +882,6 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 la += pk * _LAGS_A[k]
             aux[j, _A_LAG] = l1 / zk
             aux[j, _A_LAG_A] = la / zk
-            aux[j, _A_LAG_B] = max(l1 / zk - la / zk, 0.0)
             aux[j, _A_LAG_SD] = math.sqrt(max(l2 / zk - (l1 / zk) ** 2, 0.0))
             # the lag's uncertainty, and an allowance cfg[_C_LAG]: the force's change over that time, in quadrature
             lag2 = (cfg[_C_LAG] ** 2 + aux[j, _A_LAG_SD] ** 2) * ((pred - aux[j, _A_PPREV]) / dt) ** 2
@@ -1333,8 +1337,7 @@ def _impossible_state(posterior: np.ndarray, aux: np.ndarray) -> str:
                          (_A_RUN_QUIET, "tare run's quiet time"), (_A_RUN_SQ, "tare run's mean square"),
                          (_A_CONTACT, "contact time"), (_A_HOLD, "change-flag hold"), (_A_MISFIT, "misfit average"),
                          (_A_MISFIT_T, "misfit time"), (_A_DVAR, "depth noise variance"),
-                         (_A_LAG_SD, "force lag spread"), (_A_LAG_A, "force lag's first stage"),
-                         (_A_LAG_B, "force lag's second stage")):
+                         (_A_LAG_SD, "force lag spread"), (_A_LAG_A, "force lag's first stage")):
         if np.any(aux[:, column] < 0.0):
             return f"{name} is negative"
     for column, name in ((_A_STARTED, "started"), (_A_QUICK, "branch rule")):
