@@ -214,6 +214,16 @@ def feet_bands(states: np.ndarray, params: np.ndarray, dt: float, patch: np.ndar
                                                                 nb, area, lanes, entries, bands[f, 3:])
 
 
+@_compiled(nogil=False, inline="always")
+def _band_middle(up: float, down: float, drag: float, inverted: bool, falling: bool) -> float:
+    """The force a foot's band applies explicitly [N]: its middle plus the drag, or on an inverted band (no
+    sticking) the end of the motion's branch (``falling``: the down end) plus the drag. ``up``, ``down``, ``drag``
+    [N] are the band's ends and drag, or their sideways parts (:func:`foot_band`)."""
+    if inverted:
+        return (down if falling else up) + drag
+    return 0.5 * (up + down) + drag
+
+
 @_compiled(nogil=False)
 def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, starts: np.ndarray,
             cb: np.ndarray, nb: np.ndarray, area: np.ndarray, patch: np.ndarray, const: np.ndarray,
@@ -327,20 +337,14 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
             qx, qy, qz = qx / total, qy / total, qz / total
         else:
             qx, qy, qz = lx, ly, lz
-        # the mid-band force's sideways part (law3d.vertical_element_force): the same sums of the elements' ends
-        sx_up, sy_up, sx_down, sy_down = bands[f, 3], bands[f, 4], bands[f, 5], bands[f, 6]
-        if f_down < f_up:  # an inverted band (k_m_w e > k_m_i e + spring): no sticking; the branch of the motion
-            mid = (f_down if vz <= 0.0 else f_up) + f_drag
-            half = 0.0
-            lean_x = (sx_down if vz <= 0.0 else sx_up) + bands[f, 7]
-            lean_y = (sy_down if vz <= 0.0 else sy_up) + bands[f, 8]
-        else:
-            mid = 0.5 * (f_up + f_down) + f_drag
-            half = 0.5 * (f_down - f_up)
-            lean_x = 0.5 * (sx_up + sx_down) + bands[f, 7]
-            lean_y = 0.5 * (sy_up + sy_down) + bands[f, 8]
-        fx += lean_x
-        fy += lean_y
+        # an inverted band (k_m_w e > k_m_i e + spring): no sticking, the branch of the motion (_band_middle)
+        inverted = f_down < f_up
+        falling = vz <= 0.0
+        mid = _band_middle(f_up, f_down, f_drag, inverted, falling)
+        half = 0.0 if inverted else 0.5 * (f_down - f_up)
+        # the mid-band force's sideways part (law3d.vertical_element_force): the same rule on its ends' sums
+        fx += _band_middle(bands[f, 3], bands[f, 5], bands[f, 7], inverted, falling)
+        fy += _band_middle(bands[f, 4], bands[f, 6], bands[f, 8], inverted, falling)
         if k < 0:
             mid = half = hold_u = hold_v = fx = fy = 0.0
         band[0, f] = f_up
