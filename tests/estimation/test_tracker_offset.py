@@ -88,14 +88,34 @@ def test_change_from_18_to_28_percent_is_flagged_and_followed() -> None:
     """Issue 23 point 5 online: a change 18 -> 28 % is flagged once and the estimate is within 1.5 points 3 s later.
 
     The flag waits for the reported interval, which holds the twin bank's, to lie clear of the anchor's narrowed
-    interval: 3.3 s after the change (the first bank's own interval left 18 % at 2.6 s, where the flag came before
-    2026-11-29; the reported one at 3.1 s), within the stance that first reads the new mud."""
+    interval: 1.0 s after the change since no model trails the best by more than _MAX_LEAD (3.3 s before, when the
+    old mud's whole evidence of tau seconds had first to be forgotten), within the stance that first reads the new
+    mud."""
     wk = walk([0.18, 0.28], change_times=[10.0], seed=1, duration=16.0, force_noise=0.2, bias=0.5)
     r = track(wk.time, wk.depth, wk.force)
     change = wk.changes[0]
     flags = wk.time[r.changed]
-    assert flags.size == 1 and change < flags[0] < change + 3.5  # measured 3.3 s after
+    assert flags.size == 1 and change < flags[0] < change + 1.5  # measured 1.0 s after
     assert not (r.low[r.changed] <= 0.18) & (0.18 <= r.high[r.changed])  # the flag's interval has left the old mud
+    after = wk.time >= change + 1.0  # measured: the last sample beyond 1.5 points 0.91 s after the change
+    assert np.all(np.abs(r.water_content[after] - 0.28) <= 0.015)
+    assert np.all((r.low[after] <= 0.28) & (0.28 <= r.high[after]))
+
+
+@pytest.mark.parametrize("seed", [3, 8, 13, 17])
+def test_a_change_is_followed_within_3_s_on_any_walk(seed: int) -> None:
+    """The change 18 -> 28 % on the acceptance walks (bench_tracker.py's draws of noise and bias): flagged once and
+    within 1.5 points, covered, from 3 s after the change on, for every one of 40 seeds (the four here the slowest
+    to flag: 1.5-2.9 s). Before the lead was capped (_MAX_LEAD) the estimate was there 3 s after the change on 17 of
+    the 40 (forgetting alone: a median 3.1 s)."""
+    rng = np.random.default_rng([seed, 13])
+    sigma, bias = float(rng.uniform(0.1, 0.5)), float(rng.uniform(-2.0, 2.0))
+    wk = walk((0.18, 0.28), change_times=[20.0], seed=seed, duration=30.0 if seed != 3 else 50.0, force_noise=sigma,
+              depth_noise=3e-5, bias=bias)
+    r = track(wk.time, wk.depth, wk.force)
+    change = wk.changes[0]
+    flags = wk.time[r.changed]
+    assert flags.size == 1 and change < flags[0] < change + 3.0
     after = wk.time >= change + 3.0
     assert np.all(np.abs(r.water_content[after] - 0.28) <= 0.015)
     assert np.all((r.low[after] <= 0.28) & (0.28 <= r.high[after]))
