@@ -145,6 +145,14 @@ _REST_NOISE_SIGMAS = 0.5
 #: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
 #: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
 _TURN_SIGMAS = 3.0
+#: The joint fit also starts from the scan's second valley where one is this far [-] from the best (0.5 points) and
+#: reads at most this many times its sum of squares [-] (ours, 2026-11-30): below the family's row at 30 % the force
+#: falls steeply with the water content and above it barely (its RMS on a gait 10.9 -> 10.5 N from 30 to 35 %), so
+#: the cost over the water content has a narrow valley below the row and a broad one above it, and the surface
+#: offset decides which is deeper. A deep robot at 29.5 % sampled at 50 Hz read 31.3 % from the broad valley at the
+#: scan's offset where the narrow one, its offset refitted, fits better (RMSE 0.60 against 0.76 N)
+_SECOND_VALLEY_GAP = 0.005
+_SECOND_VALLEY_RATIO = 4.0
 #: The contact state after necking, as the stepper's ``state`` output holds it (:class:`mudforce._kernel.ContactMode`).
 _NECKED = int(K.ContactMode.NECKED)
 #: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
@@ -668,6 +676,22 @@ def _scan_minimum(cost: Callable[[float], float], points: np.ndarray, *, ties_to
     return float(found.x) if better else float(points[j])
 
 
+def _second_valley(grid: np.ndarray, costs: np.ndarray, best: int) -> float | None:
+    """The water content [-] of the scan's second valley (ours): the lowest local minimum of ``costs`` over ``grid``
+    [-] at least :data:`_SECOND_VALLEY_GAP` from the best point ``best`` (an index) and within
+    :data:`_SECOND_VALLEY_RATIO` times its cost; None where there is none."""
+    inner = np.zeros(costs.size, dtype=bool)
+    inner[1:-1] = (costs[1:-1] < costs[:-2]) & (costs[1:-1] < costs[2:])
+    ends = costs.size > 1 and costs[0] < costs[1], costs.size > 1 and costs[-1] < costs[-2]
+    inner[0], inner[-1] = ends
+    inner &= np.abs(grid - grid[best]) >= _SECOND_VALLEY_GAP - 1e-12
+    inner &= costs <= _SECOND_VALLEY_RATIO * costs[best]
+    if not inner.any():
+        return None
+    candidates = np.flatnonzero(inner)
+    return float(grid[candidates[int(np.argmin(costs[candidates]))]])
+
+
 def _standardised(time: np.ndarray, depth: np.ndarray, foot: Foot, measured: np.ndarray, rest: np.ndarray,
                   floor: np.ndarray, q: MudParameters, offset: float, lag: float, bias: float = 0.0) -> np.ndarray:
     """Each sample's residual over its ``floor`` [N] (:func:`_band_residual` of ``measured + bias`` [N]), the model of
@@ -1005,15 +1029,23 @@ def identify_water_content(
     w_best, c_best = (float(sol.x), float(sol.fun)) if sol.fun < costs[k] else (float(grid[k]), float(costs[k]))
     cov = None
     jac = None
-    if general:  # the nuisances, jointly with the water content
-        joint = least_squares(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]))[0],
-                              np.array([w_best, offset, 0.0]),
-                              bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
-                              x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=60)
-        if 2.0 * float(joint.cost) < c_best:
-            w_best, offset, lag = (float(x) for x in joint.x)
-            c_best = 2.0 * float(joint.cost)
-        jac = np.asarray(joint.jac, dtype=np.float64)
+    if general:  # the nuisances, jointly with the water content, from the best of the scan and its second valley
+        starts = [w_best]
+        second = _second_valley(grid, costs, k)
+        if second is not None:
+            starts.append(second)
+        scan_offset = offset
+        for n_start, w0 in enumerate(starts):
+            joint = least_squares(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]))[0],
+                                  np.array([w0, scan_offset, 0.0]),
+                                  bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
+                                  x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=60)
+            if 2.0 * float(joint.cost) < c_best:
+                w_best, offset, lag = (float(x) for x in joint.x)
+                c_best = 2.0 * float(joint.cost)
+                jac = np.asarray(joint.jac, dtype=np.float64)
+            elif n_start == 0:  # the first start's Jacobian, unless the second valley fits better
+                jac = np.asarray(joint.jac, dtype=np.float64)
     r, f_best, meas, bias, pre = evaluate(w_best, offset, lag)
     n = r.size
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 2 and np.std(r) > 0 else 0.0
