@@ -88,6 +88,23 @@ def test_the_joint_fit_starts_from_the_scans_second_valley_too(monkeypatch: pyte
     assert one.water_content > 0.31 and one.rmse > res.rmse + 0.05
 
 
+def test_the_gains_shift_reaches_the_narrow_valley() -> None:
+    """The same trot at 100 Hz, its force 5 % low: read at 31.23 %, and at 29.48 % with the gain undone, so the gain's
+    shift is 1.75 points. Scanning the coarse points alone (1-point steps) it read 0.62; with the fine scan's valleys
+    1.77."""
+    pytest.importorskip("mujoco")
+    from mudforce.motions.quadruped import ROBOT_FOOT, robot_walk
+
+    run = robot_walk("trot", 0.2947, seed=1022036340, duration=10.0)
+    t, z, f = apply(run.time, run.depth, run.force, SensorChain(force_noise=0.2, depth_noise=3e-5), 3)
+    low = identify_water_content(Trial("trot.csv", 0.2947, t, z, 0.95 * f), ROBOT_FOOT)
+    undone = identify_water_content(Trial("trot.csv", 0.2947, t, z, f), ROBOT_FOOT)
+    moved = low.water_content - undone.water_content
+    assert moved > 0.015
+    assert low.gain_shift == pytest.approx(moved, abs=0.001)
+    assert low.low <= undone.water_content
+
+
 def test_the_second_valley_is_a_separate_local_minimum_near_the_best() -> None:
     """The scan at 50 Hz of that robot's 30 s (RMSE per point of the fine grid, 29-32 %): the valley at 29.5 % is the
     second, 31.25 % the best; a slope down to the best has none, a dip 0.5 points off is one, a valley at over 4 times
