@@ -508,9 +508,9 @@ _HULL_MEMORY = 1.0
 #: the whole evidence of ``tau`` seconds (about 400 nats on a walk at 18 % against 28 %), which a change must first
 #: forget: the estimate reached 1.5 points of a change 18 -> 28 % a median 3.1 s after it. Kept at most 100 nats
 #: behind (a chance of e^-100, far below any quantile reported or the spared models' _SPARE_MASS), a new mud is
-#: within 1.5 points a median 1.2 s after the change (40 walks, 40 of 40 by 3 s; 17 of 40 without) and flagged a
-#: median 1.9 s after it (4.5 s without), intervals the same width; at 60 nats a standard row lost 7 points of
-#: accuracy (seed 21's offset -5 mm), at 30 the intervals widened by a point.
+#: within 1.5 points a median 1.2 s after the change (40 walks, 40 of 40 by 3 s; 17 of 40 without), a change
+#: 20 -> 30 % is flagged a median 1.9 s after it (4.4 s without), intervals the same width; at 60 nats a standard
+#: row lost 7 points of accuracy (seed 21's offset -5 mm), at 30 the intervals widened by a point.
 _MAX_LEAD = 100.0
 #: The twin bank holds the surface offsets of the first within this of zero [m] (ours; all of them where none is):
 #: -3, 0, +3 mm of the default five, three fifths of the first bank's cost. With the default offsets' middle three
