@@ -69,17 +69,27 @@ def test_a_foot_at_rest_is_a_band_not_a_branch() -> None:
     assert res.low <= 0.25 <= res.high or res.warnings
 
 
-def test_the_joint_fit_starts_from_the_scans_second_valley_too(monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.fixture(scope="module")
+def trot() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """10 s of a MuJoCo trot in 29.47 % mud, 40-90 mm deep (seed 22's robot 2 of the sensor-chain bench): time [s],
+    depth [m], the model's force [N] along the robot's path."""
+    pytest.importorskip("mujoco")
+    from mudforce.motions.quadruped import robot_walk
+
+    run = robot_walk("trot", 0.2947, seed=1022036340, duration=10.0)
+    return run.time, run.depth, run.force
+
+
+def test_the_joint_fit_starts_from_the_scans_second_valley_too(trot: tuple[np.ndarray, np.ndarray, np.ndarray],
+                                                               monkeypatch: pytest.MonkeyPatch) -> None:
     """A MuJoCo trot 40-90 mm deep in 29.47 % mud sampled at 50 Hz (seed 22's robot 2 of the sensor-chain bench, 10 s
     of it): the cost over the water content has a narrow valley below the family's 30 % row and a broad one above it.
     At the scan's offset the broad one is deeper and least squares settled there, at 31.2 % (RMSE 0.88 N); from the
     second valley too, the surface offset refitted, the narrow one fits better (0.79 N) and reads the truth."""
-    pytest.importorskip("mujoco")
     from mudforce.estimation.calibration import identify as module
-    from mudforce.motions.quadruped import ROBOT_FOOT, robot_walk
+    from mudforce.motions.quadruped import ROBOT_FOOT
 
-    run = robot_walk("trot", 0.2947, seed=1022036340, duration=10.0)
-    t, z, f = apply(run.time, run.depth, run.force, SensorChain(force_noise=0.2, depth_noise=3e-5, rate=50.0), 3)
+    t, z, f = apply(*trot, SensorChain(force_noise=0.2, depth_noise=3e-5, rate=50.0), 3)
     trial = Trial("trot.csv", 0.2947, t, z, f)
     res = identify_water_content(trial, ROBOT_FOOT)
     assert abs(res.water_content - 0.2947) < 0.002 and res.low <= 0.2947 <= res.high
@@ -88,15 +98,13 @@ def test_the_joint_fit_starts_from_the_scans_second_valley_too(monkeypatch: pyte
     assert one.water_content > 0.31 and one.rmse > res.rmse + 0.05
 
 
-def test_the_gains_shift_reaches_the_narrow_valley() -> None:
+def test_the_gains_shift_reaches_the_narrow_valley(trot: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
     """The same trot at 100 Hz, its force 5 % low: read at 31.23 %, and at 29.48 % with the gain undone, so the gain's
     shift is 1.75 points. Scanning the coarse points alone (1-point steps) it read 0.62; with the fine scan's valleys
     1.77."""
-    pytest.importorskip("mujoco")
-    from mudforce.motions.quadruped import ROBOT_FOOT, robot_walk
+    from mudforce.motions.quadruped import ROBOT_FOOT
 
-    run = robot_walk("trot", 0.2947, seed=1022036340, duration=10.0)
-    t, z, f = apply(run.time, run.depth, run.force, SensorChain(force_noise=0.2, depth_noise=3e-5), 3)
+    t, z, f = apply(*trot, SensorChain(force_noise=0.2, depth_noise=3e-5), 3)
     low = identify_water_content(Trial("trot.csv", 0.2947, t, z, 0.95 * f), ROBOT_FOOT)
     undone = identify_water_content(Trial("trot.csv", 0.2947, t, z, f), ROBOT_FOOT)
     moved = low.water_content - undone.water_content
