@@ -136,7 +136,8 @@ PINNED: dict[str, list[str]] = {
     ],
     "mudforce.engines.dynamics.engine": ["simulate_foot"],
     "mudforce.engines.dynamics.naive": ["NaiveDrop", "naive_drop"],
-    "mudforce.engines.dynamics.rest_band": ["branch_forces", "branch_forces_row", "necked_force", "rest_band"],
+    "mudforce.engines.dynamics.rest_band": ["band_middle", "branch_forces", "branch_forces_row", "necked_force",
+                                          "rest_band"],
     "mudforce.engines.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
     "mudforce.model.equations": [
         "NECK_FILTER_SERIES_BELOW", "NECK_FILTER_SLOW_MODE_FROM",

@@ -37,7 +37,7 @@ from mudforce.model.equations import (
     submerged_drag_stress,
 )
 
-__all__ = ["branch_forces", "branch_forces_row", "necked_force", "rest_band"]
+__all__ = ["band_middle", "branch_forces", "branch_forces_row", "necked_force", "rest_band"]
 
 
 @njit(cache=True, nogil=True)
@@ -135,6 +135,17 @@ def branch_forces(states: np.ndarray, params: np.ndarray, dt: float, weight: flo
                          "as many rows (the layout of mudforce._kernel)")
     for j in range(n):
         f_up[j], f_down[j], drag[j] = branch_forces_row(states, params, j, dt, weight, True)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def band_middle(up: float, down: float, drag: float, inverted: bool, falling: bool) -> float:
+    """The force an engine applies explicitly for a band [N] (the MuJoCo adapters, 1-D and 3-D): its middle plus the
+    drag, or on an inverted band (``down < up``: no sticking is possible in between) the end of the motion's branch
+    (``falling``: the down end, read only where ``inverted``) plus the drag. ``up``, ``down``, ``drag`` [N]: the
+    band's ends and drag (:func:`branch_forces_row`), or sums of their parts (the 3-D adapter's sideways ones)."""
+    if inverted:
+        return (down if falling else up) + drag
+    return 0.5 * (up + down) + drag
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -18,7 +18,7 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce._kernel import forget_row_cache, load_state
-from mudforce.engines.dynamics.rest_band import branch_forces
+from mudforce.engines.dynamics.rest_band import band_middle, branch_forces
 
 __all__ = [
     "ANCHOR_HEIGHT",
@@ -95,14 +95,11 @@ def commit_and_prepare(states: np.ndarray, params: np.ndarray, out: np.ndarray, 
     for j in range(n):
         lo = work[W_UP, j]
         hi = work[W_DOWN, j]
-        if hi >= lo:
-            mid = 0.5 * (lo + hi) + work[W_DRAG, j]
-            half = 0.5 * (hi - lo)
-        else:
-            # an inverted band (large compressive strain, k_m_w > k_m_i): no sticking
-            # is possible in between; use the branch of the current motion
-            mid = (hi if load_state(states, j).velocity >= 0.0 else lo) + work[W_DRAG, j]
-            half = 0.0
+        # an inverted band (large compressive strain, k_m_w > k_m_i): no sticking is possible in between; the
+        # branch of the current motion (band_middle; the state read only for an inverted band)
+        inverted = not hi >= lo  # (as it always read: a NaN band counts as inverted)
+        mid = band_middle(lo, hi, work[W_DRAG, j], inverted, inverted and load_state(states, j).velocity >= 0.0)
+        half = 0.0 if inverted else 0.5 * (hi - lo)
         frictionloss[ints[I_TENDON, j]] = half
         body = ints[I_BODY, j]
         site = ints[I_SITE, j]

@@ -28,7 +28,7 @@ from numba.extending import intrinsic
 
 from mudforce._kernel.layout import _compiled
 from mudforce._kernel.step3d import row_from_lanes
-from mudforce.engines.dynamics.rest_band import branch_forces_row
+from mudforce.engines.dynamics.rest_band import band_middle, branch_forces_row
 from mudforce.model.equations import nonlinear_spring_stress
 from mudforce.model.law3d import (
     bearing_factor,
@@ -214,16 +214,6 @@ def feet_bands(states: np.ndarray, params: np.ndarray, dt: float, patch: np.ndar
                                                                 nb, area, lanes, entries, bands[f, 3:])
 
 
-@_compiled(nogil=False, inline="always")
-def _band_middle(up: float, down: float, drag: float, inverted: bool, falling: bool) -> float:
-    """The force a foot's band applies explicitly [N]: its middle plus the drag, or on an inverted band (no
-    sticking) the end of the motion's branch (``falling``: the down end) plus the drag. ``up``, ``down``, ``drag``
-    [N] are the band's ends and drag, or their sideways parts (:func:`foot_band`)."""
-    if inverted:
-        return (down if falling else up) + drag
-    return 0.5 * (up + down) + drag
-
-
 @_compiled(nogil=False)
 def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, starts: np.ndarray,
             cb: np.ndarray, nb: np.ndarray, area: np.ndarray, patch: np.ndarray, const: np.ndarray,
@@ -337,14 +327,14 @@ def prepare(pos: np.ndarray, mats: np.ndarray, last_pos: np.ndarray, dt: float, 
             qx, qy, qz = qx / total, qy / total, qz / total
         else:
             qx, qy, qz = lx, ly, lz
-        # an inverted band (k_m_w e > k_m_i e + spring): no sticking, the branch of the motion (_band_middle)
+        # an inverted band (k_m_w e > k_m_i e + spring): no sticking, the branch of the motion (band_middle)
         inverted = f_down < f_up
         falling = vz <= 0.0
-        mid = _band_middle(f_up, f_down, f_drag, inverted, falling)
+        mid = band_middle(f_up, f_down, f_drag, inverted, falling)
         half = 0.0 if inverted else 0.5 * (f_down - f_up)
         # the mid-band force's sideways part (law3d.vertical_element_force): the same rule on its ends' sums
-        fx += _band_middle(bands[f, 3], bands[f, 5], bands[f, 7], inverted, falling)
-        fy += _band_middle(bands[f, 4], bands[f, 6], bands[f, 8], inverted, falling)
+        fx += band_middle(bands[f, 3], bands[f, 5], bands[f, 7], inverted, falling)
+        fy += band_middle(bands[f, 4], bands[f, 6], bands[f, 8], inverted, falling)
         if k < 0:
             mid = half = hold_u = hold_v = fx = fy = 0.0
         band[0, f] = f_up
