@@ -332,13 +332,14 @@ class MudContact3D:
         # and other inputs; a step either refuses (having changed nothing) goes through the numpy step, which words
         # the error
         outputs = self._spare  # the outputs not returned last: reused if no one holds any part of them (_free)
+        free = (_refs(outputs[6]) == _FREE_WRENCH and _refs(outputs[4]) == _FREE_VIEW
+                and _refs(outputs[5]) == _FREE_VIEW and _refs(outputs[1]) == _FREE_EACH
+                and _refs(outputs[0]) == _FREE_BLOCK)
         entry = self._entry
         # the hot path: float64 vectors (any strides) through step_one's entry point, into a free output set
-        if (entry is not None and type(dt) is float and type(position) is _NDARRAY and type(quaternion) is _NDARRAY
-                and position.dtype is _FLOAT64 and quaternion.dtype is _FLOAT64 and position.ndim == 1
-                and quaternion.ndim == 1 and _refs(outputs[6]) == _FREE_WRENCH and _refs(outputs[4]) == _FREE_VIEW
-                and _refs(outputs[5]) == _FREE_VIEW and _refs(outputs[1]) == _FREE_EACH
-                and _refs(outputs[0]) == _FREE_BLOCK):
+        if (free and entry is not None and type(dt) is float and type(position) is _NDARRAY
+                and type(quaternion) is _NDARRAY and position.dtype is _FLOAT64 and quaternion.dtype is _FLOAT64
+                and position.ndim == 1 and quaternion.ndim == 1):
             if entry(position, quaternion, dt, outputs[8]) == _OK:
                 self._misses = 0
                 self.element_forces = outputs[1]
@@ -347,9 +348,7 @@ class MudContact3D:
             return self._step_numpy(position, quaternion, dt)  # refused for its values: the numpy step words it
         fixed = self._fixed
         if type(dt) is float and fixed is not None and type(position) is _NDARRAY and type(quaternion) is _NDARRAY:
-            if (_refs(outputs[6]) == _FREE_WRENCH and _refs(outputs[4]) == _FREE_VIEW
-                    and _refs(outputs[5]) == _FREE_VIEW and _refs(outputs[1]) == _FREE_EACH
-                    and _refs(outputs[0]) == _FREE_BLOCK):
+            if free:
                 self._misses = 0
             elif self._misses < 2 or self._misses % 32 == 31:  # held: left to its holder, a new set in its place
                 self._misses += 1
