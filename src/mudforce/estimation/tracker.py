@@ -575,6 +575,22 @@ def _lowpass_step(e: float, c: float, y0: float, f0: float, f1: float) -> float:
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _two_stages(e: float, c: float, e2: float, c2: float, s_old: float, y_old: float, f0: float,
+                f1: float) -> tuple[float, float]:
+    """A force through the force lag's two stages over one step, from ``f0`` to ``f1`` [N] (ours): the first stage's
+    low-pass ``(e, c)`` (:func:`_lowpass_coefficients`; ``e = 0``: none) from its last output ``s_old`` [N], then the
+    second's ``(e2, c2)`` from its last output ``y_old`` [N], its input going from ``s_old`` to the first's new
+    output. Returns the two outputs ``(s1, y)`` [N]."""
+    s1 = f1
+    if e > 0.0:
+        s1 = _lowpass_step(e, c, s_old, f0, f1)
+    y = s1
+    if e2 > 0.0:
+        y = _lowpass_step(e2, c2, y_old, s_old, s1)
+    return s1, y
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool | np.bool_, cache: np.ndarray) -> None:
     """Foot ``j``'s mean model force ``mean`` [N] after a (sub)step of ``h`` [s] through each lag hypothesis's first
     stage (:data:`_LAGS_A`) into ``aux[j, _A_LAG_Y + k]``, from the last (sub)step's ``aux[j, _A_PSUB]``, then its
@@ -591,15 +607,11 @@ def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool 
                 cache[3 + 4 * k], cache[4 + 4 * k] = _lowpass_coefficients(h, _LAGS_B[k])
         cache[0] = h
     for k in range(_LAGS.shape[0]):
-        y1_old = aux[j, _A_LAG_Y + k]
-        y1 = mean
-        if not first and _LAGS_A[k] > 0.0:
-            y1 = _lowpass_step(cache[1 + 4 * k], cache[2 + 4 * k], y1_old, aux[j, _A_PSUB], mean)
-        aux[j, _A_LAG_Y + k] = y1
-        y2 = y1
-        if not first and _LAGS_B[k] > 0.0:
-            y2 = _lowpass_step(cache[3 + 4 * k], cache[4 + 4 * k], aux[j, _A_LAG_Y2 + k], y1_old, y1)
-        aux[j, _A_LAG_Y2 + k] = y2
+        e = cache[1 + 4 * k] if not first and _LAGS_A[k] > 0.0 else 0.0  # (0: no stage, or the first sample)
+        e2 = cache[3 + 4 * k] if not first and _LAGS_B[k] > 0.0 else 0.0
+        aux[j, _A_LAG_Y + k], aux[j, _A_LAG_Y2 + k] = _two_stages(e, cache[2 + 4 * k], e2, cache[4 + 4 * k],
+                                                                  aux[j, _A_LAG_Y + k], aux[j, _A_LAG_Y2 + k],
+                                                                  aux[j, _A_PSUB], mean)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -617,16 +629,11 @@ def _lagged_force(aux: np.ndarray, j: int, M: int, m: int, fg: float, e: float, 
     from ``aux[j, _N_AUX + M + m]`` (the lagged force, returned and kept) and the first stage's last output."""
     stage = _N_AUX + 3 * M + m
     lagged = _N_AUX + M + m
-    s_old = aux[j, stage]
-    s1 = fg
-    if e > 0.0:
-        s1 = _lowpass_step(e, c, s_old, aux[j, _N_AUX + 2 * M + m], fg)
-    y = s1
-    if e2 > 0.0:
-        y = _lowpass_step(e2, c2, aux[j, lagged], s_old, s1)
+    previous = _N_AUX + 2 * M + m
+    s1, y = _two_stages(e, c, e2, c2, aux[j, stage], aux[j, lagged], aux[j, previous], fg)
     aux[j, stage] = s1
     aux[j, lagged] = y
-    aux[j, _N_AUX + 2 * M + m] = fg
+    aux[j, previous] = fg
     return y
 
 
