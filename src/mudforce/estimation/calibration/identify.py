@@ -81,7 +81,7 @@ from functools import partial
 
 import numpy as np
 from scipy.interpolate import CubicSpline
-from scipy.optimize import brentq, least_squares, minimize_scalar
+from scipy.optimize import OptimizeResult, brentq, least_squares, minimize_scalar
 from scipy.stats import chi2
 from scipy.stats import t as student_t
 
@@ -1016,6 +1016,12 @@ def identify_water_content(
         r = evaluate(w, offset, lag, gain, sel)[0]
         return float(r @ r)
 
+    def joint_fit(residual: Callable[[np.ndarray], np.ndarray], start: np.ndarray, evaluations: int) -> OptimizeResult:
+        """Least squares over (water content, surface offset, force lag) from ``start``, within their bounds."""
+        return least_squares(residual, start,
+                             bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
+                             x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=evaluations)
+
     def best_w(cost: Callable[[float], float]) -> float:
         """The water content [-] minimising ``cost``: a coarse scan and the fine scan's valleys, then a bounded search
         about its best (the coarse scan alone, in 1-point steps, steps over the narrow valley below the family's 30 %
@@ -1045,10 +1051,8 @@ def identify_water_content(
             starts.append(second)
         scan_offset = offset
         for n_start, w0 in enumerate(starts):
-            joint = least_squares(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]))[0],
-                                  np.array([w0, scan_offset, 0.0]),
-                                  bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
-                                  x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=60)
+            joint = joint_fit(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]))[0],
+                              np.array([w0, scan_offset, 0.0]), 60)
             if 2.0 * float(joint.cost) < c_best:
                 w_best, offset, lag = (float(x) for x in joint.x)
                 c_best = 2.0 * float(joint.cost)
@@ -1104,10 +1108,7 @@ def identify_water_content(
                 def half_residual(th: np.ndarray, sel: slice = sel) -> np.ndarray:
                     return evaluate(float(th[0]), float(th[1]), float(th[2]), 1.0, sel)[0]
 
-                refit = least_squares(half_residual,
-                                      np.array([w_half, offset, lag]),
-                                      bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
-                                      x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=20)
+                refit = joint_fit(half_residual, np.array([w_half, offset, lag]), 20)
                 halves.append(float(refit.x[0]))
             rate_shift = abs(0.5 * (halves[0] + halves[1]) - w_best) + 0.5 * abs(halves[0] - halves[1])
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
