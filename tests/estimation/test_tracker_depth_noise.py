@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 import mudforce.estimation.tracker as tracker_module
+from mudforce import MudParameters, simulate
 from mudforce.estimation.tracker import track
 from mudforce.model.foot import Foot
 from mudforce.motions.gait import walk
@@ -61,15 +62,40 @@ def test_a_dry_walk_under_1mm_depth_noise_is_read_on_the_depths_mean(monkeypatch
     assert np.median(raw.water_content[late]) < 0.1825
 
 
-def test_a_clean_depth_and_a_50_hz_depth_are_stepped_as_they_come(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The mean runs only where the depth noise measured online exceeds 0.8 mm and at 80 Hz or faster: a clean walk
-    (30 um of noise) at 100 Hz, and a walk under 1 mm of noise at 50 Hz, give the same outputs to the bit as the raw
+def test_a_clean_depth_and_a_20_hz_depth_are_stepped_as_they_come(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The mean runs only where the depth noise measured online exceeds 0.8 mm and at 40 Hz or faster: a clean walk
+    (30 um of noise) at 100 Hz, and a walk under 1 mm of noise at 20 Hz, give the same outputs to the bit as the raw
     depth."""
-    for rate, noise in ((100.0, 3e-5), (50.0, 1e-3)):
+    for rate, noise in ((100.0, 3e-5), (20.0, 1e-3)):
         w = walk(0.25, seed=2, duration=8.0, rate=rate, force_noise=0.2, depth_noise=noise, bias=0.5)
-        monkeypatch.setattr(tracker_module, "_SMOOTH_NOISE", 8e-4)
-        a = track(w.time, w.depth, w.force)
-        monkeypatch.setattr(tracker_module, "_SMOOTH_NOISE", math.inf)
-        b = track(w.time, w.depth, w.force)
-        for name in ("water_content", "low", "high", "force_predicted", "depth_offset", "force_lag"):
-            assert np.array_equal(getattr(a, name), getattr(b, name)), (rate, name)
+        _same_as_the_raw_depth(monkeypatch, w.time, w.depth, w.force, True)
+
+
+def _same_as_the_raw_depth(monkeypatch: pytest.MonkeyPatch, t: np.ndarray, z: np.ndarray, f: np.ndarray,
+                           same: bool) -> None:
+    monkeypatch.setattr(tracker_module, "_SMOOTH_NOISE", 8e-4)
+    a = track(t, z, f)
+    monkeypatch.setattr(tracker_module, "_SMOOTH_NOISE", math.inf)
+    b = track(t, z, f)
+    names = ("water_content", "low", "high", "force_predicted", "depth_offset", "force_lag")
+    assert all(np.array_equal(getattr(a, name), getattr(b, name)) for name in names) == same
+
+
+@pytest.mark.parametrize(("frequency", "smoothed"), [(0.5, True), (4.0, False)])
+def test_at_50_hz_the_mean_runs_only_where_the_motion_bends_less_than_the_noise(monkeypatch: pytest.MonkeyPatch,
+                                                                                 frequency: float,
+                                                                                 smoothed: bool) -> None:
+    """At 50 Hz the three-sample mean sits a third of the second difference off the middle sample: it is taken only
+    where the second differences' mean square (over 6) is below twice the noise read from the third differences
+    (``_SMOOTH_BEND``). A foot bobbing +-20 mm about 30 mm deep under 1 mm of noise at 50 Hz: at 0.5 Hz its bend
+    (0.08 mm of second difference at most) is far below the noise and the mean runs (on 189 of the 400 samples, once
+    the noise read passes 0.8 mm); at 4 Hz (5 mm at most) the second differences read 2.3-3.2 times the noise and it
+    does not."""
+    rng = np.random.default_rng(7)
+    t = np.arange(0.0, 8.0, 0.02)
+    clean = 0.03 + 0.02 * np.sin(2.0 * np.pi * frequency * t)
+    z = clean + rng.normal(0.0, 1e-3, t.size)
+    params = MudParameters.from_water_content(0.25)
+    f = np.asarray(simulate(t, clean, params, Foot.paper(), velocity_filter="exact").force) + rng.normal(0.0, 0.2,
+                                                                                                          t.size)
+    _same_as_the_raw_depth(monkeypatch, t, z, f, not smoothed)
