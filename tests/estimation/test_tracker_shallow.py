@@ -4,13 +4,16 @@ point 5 online).
 Every recording the tracker was confidently wrong on, on the sensor-chain bench's seeds 1 and 2, is a robot foot that
 sinks 2-3.5 mm, read through a surface offset known to about 1.5 mm (half the step between two offset hypotheses):
 the depth the force is read at is uncertain by half itself. The reported interval's blur is then widened by
-``k sqrt(s^2 - 1)``, ``s = 4 sqrt(sd^2 + (step / 2)^2) / sinkage`` (``tracker._SHALLOW_WIDENING``), ``k = 2.5``
+``k sqrt(s^2 - 1)``, ``s = 4 sqrt(sd^2 + (step / 2)^2 + noise^2) / sinkage`` (``tracker._SHALLOW_WIDENING``; the
+depth noise measured online in it since 2026-11-30), ``k = 2.5``
 (``tracker._SHALLOW_GAIN``; was ``s`` at 5 and ``k`` 1, which left seed 3's robot on 16.7 % mud, sinking 3.1 mm,
 confidently wrong under a lagged force); the estimate stays the fit's median, and the interval is the hull of the
 plain and the widened one. Gait walks, 1-3 cm deep, have ``s`` below 1 and are not widened.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -99,3 +102,21 @@ def test_blurred_quantiles_sum_in_row_order_skipping_empty_cells() -> None:
         expected.append(acc)
     assert q.tolist() == expected  # bit for bit
     assert low < mid < high
+
+
+def test_a_shallow_foot_under_1mm_depth_noise_is_widened_by_the_noise_too() -> None:
+    """The sensor-chain bench's seed 33, ``robot`` 5: the MuJoCo quadruped's front-left foot (a 50 mm disc) sinking
+    about 4 mm into W = 15.70 % mud, MuJoCo's force, through the row "standard, all (-)" (offset -2 mm, drift -2 mm
+    over 30 s, low-pass 10 ms, gain -5 %, depth noise 1 mm, 50 Hz; ``SensorChain(force_noise=0.2, ...)``), 30 s.
+
+    Its surface offset sits on the +3 mm hypothesis (spread 0), so ``s`` read 1.5-2 from the offset alone, while the
+    depth carries 1 mm of noise on a 4-mm sinkage: read 22-24 % in its first seconds with an interval that ended at
+    15.7-16.0 %, it missed the truth unflagged on 77 of the 1351 samples after 3 s. With the depth noise in ``s`` it
+    misses none (median width 14.6 -> 16.3 points); the estimate is the same."""
+    truth = 0.15697687763664256
+    t, z, f = np.loadtxt(Path(__file__).parent / "data" / "robot_shallow_dry_standard_all_minus_seed33.csv",
+                         delimiter=",", skiprows=1, unpack=True)
+    r = track(t, z, f, Foot.disc(0.05))
+    late = t >= 3.0
+    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 1351
+    assert np.median(r.water_content[late]) == pytest.approx(0.1725, abs=0.002)  # measured 17.25 %
