@@ -99,3 +99,27 @@ def test_at_50_hz_the_mean_runs_only_where_the_motion_bends_less_than_the_noise(
     f = np.asarray(simulate(t, clean, params, Foot.paper(), velocity_filter="exact").force) + rng.normal(0.0, 0.2,
                                                                                                           t.size)
     _same_as_the_raw_depth(monkeypatch, t, z, f, not smoothed)
+
+
+def test_a_neck_the_models_ended_early_is_not_taken_for_the_sensor_offset() -> None:
+    """The sensor-chain bench's seed 36, gait walk 3, row "depth noise 1 mm" (W = 27.60 %, the paper's foot, 30 s at
+    100 Hz, offset -0.42 N, force noise 0.2 N). Under 1 mm of depth noise the bank's models end the neck before the
+    data's does: at 6.35 s every model says zero force while the data's neck pulls and pushes from -0.4 to +2.05 N
+    until 6.86 s. Taken as tare, sample after sample inside a clip that grew with them, they moved the offset to
+    +0.21 N and the noise to 0.81 N in half a second (ending 0.51 N and 0.98 N). The clip is now read against the
+    noise where the stretch of tare samples began, and a stretch whose short mean leaves the offset starts a run
+    (``_TARE_SHORT``): measured -0.35 N and 0.30 N at the end."""
+    from mudforce import MudParameters, simulate
+    from mudforce.motions.gait import gait
+    from mudforce.motions.sensor_chain import SensorChain, apply
+
+    truth = 0.27596348038804797
+    offset = -0.41552551308597363
+    path = gait(928662171, duration=30.0, rate=2000.0)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(truth), Foot.paper(),
+                     velocity_filter="exact").force
+    chain = SensorChain(force_noise=0.2, depth_noise=1e-3, force_bias=offset, rate=100.0)
+    t, z, f = apply(path.time, path.depth, np.asarray(force), chain, 3532012670)
+    r = track(t, z, f, Foot.paper())
+    assert abs(r.bias[-1] - offset) < 0.15  # measured 0.06 N off (0.93 before)
+    assert r.noise[-1] < 0.4  # measured 0.30 N (0.98 before)

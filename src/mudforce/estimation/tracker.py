@@ -202,7 +202,10 @@ _A_RUN_SQ = _A_QUICK + 8  # and their mean square [N^2]
 _A_LAG_A = _A_QUICK + 9  # posterior mean of the force lag's first stage [s] (the second's: _A_LAG less it, _lag_stages)
 _A_FPREV = _A_QUICK + 10  # the previous sample's measured force [N] (scored where the depth is smoothed)
 _A_D2VAR = _A_QUICK + 11  # the depth's second differences' mean square over 6 [m^2]: its noise plus the motion's bend
-_N_AUX = _A_QUICK + 12
+_A_TARE_EW = _A_QUICK + 12  # the tare residuals' short mean over the current stretch of tare samples [N] (_TARE_SHORT)
+_A_TARE_VAR0 = _A_QUICK + 13  # the force noise variance where that stretch began [N^2] (its clip's)
+_A_TARE_PREV = _A_QUICK + 14  # 1 where the sample before was a tare sample, else 0
+_N_AUX = _A_QUICK + 15
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -392,6 +395,19 @@ _TARE_RUN_QUIET_BAND = 9.0 / 16.0
 #: A judged run is a shift of the offset when its samples' standard deviation is at most this many times the noise
 #: [-] (ours; a step reads 1 plus its sampling error, the pull and push of a lift-off 5-15).
 _TARE_RUN_SPREAD = 3.0
+#: Within a stretch of tare samples (ours, 2026-11-30): the clip is read against the smaller of the noise variance
+#: and that where the stretch began, and a run also begins where the tare residuals' mean over about this many seconds
+#: [s] (an exponential one, from zero at the stretch's start) leaves the offset by :data:`_TARE_SHORT_SIGMAS` of the
+#: noise where the stretch began. Each tare sample taken within the clip fed the spread, so a force that rises slowly
+#: (a neck the bank's models ended early: under 1 mm of depth noise their necks break before the data's) kept inside
+#: a clip that grew faster than it and never started a run: on the sensor-chain bench's seed 36, "depth noise 1 mm",
+#: a gait walk's offset went -0.42 -> +0.21 N and its noise 0.21 -> 0.81 N in half a second (5 of the 10 walks ended
+#: 0.2-0.9 N off, the noise read 0.4-1.0 N for 0.2); now at most 0.21 N off, the noise at most 0.38 N.
+_TARE_SHORT = 0.1
+#: ... that many noise standard deviations [-] (ours): the short mean of white noise has a standard deviation of a
+#: quarter of the noise at 100 Hz (at 20 Hz 0.6 of it; a low-passed noise's more), so 2 is no false run on a clean
+#: sensor and a third of a second of a force the size of the noise.
+_TARE_SHORT_SIGMAS = 2.0
 
 #: A model of a surface offset other than the most probable one that holds less than this share of the posterior
 #: [-] (ours) is spared: scored on one sample in ``_SPARE_TURN * correlation_time / dt`` only, in turn, its score
@@ -869,7 +885,14 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
             e = f - aux[j, _A_BIAS]
             var = aux[j, _A_VAR]
-            clip = 16.0 * max(var, floor2)  # 4 sigma, never below 4 floors (clean data: var -> 0)
+            if aux[j, _A_TARE_PREV] == 0.0:  # a new stretch of tare samples (_TARE_SHORT)
+                aux[j, _A_TARE_EW] = 0.0
+                aux[j, _A_TARE_VAR0] = var
+            var0 = aux[j, _A_TARE_VAR0]
+            clip = 16.0 * max(min(var, var0), floor2)  # 4 sigma, never below 4 floors (clean data: var -> 0)
+            ew = aux[j, _A_TARE_EW] + (e - aux[j, _A_TARE_EW]) * min(1.0, dt / _TARE_SHORT)
+            aux[j, _A_TARE_EW] = ew
+            shifted = ew * ew > _TARE_SHORT_SIGMAS * _TARE_SHORT_SIGMAS * max(var0, floor2)
             # a run of samples beyond the clip is left out (its samples beyond _TARE_RUN_OUT of the clip) until it has
             # held _TARE_RUN of tare samples, then taken as a shift only if it scatters as the noise does (a force the
             # bank missed; taken clipped, it fed the spread, the clip grew with it, and the offset ran away)
@@ -899,7 +922,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                                 reject = True
                         else:
                             reject = e * e > _TARE_RUN_OUT * clip  # beyond 2 sigma
-            elif e * e > clip and aux[j, _A_NFREE] >= _TARE_RUN_AFTER:  # a run's first sample: taken clipped
+            elif (e * e > clip or shifted) and aux[j, _A_NFREE] >= _TARE_RUN_AFTER:  # a run's first sample: clipped
                 aux[j, _A_RUN] = dt
                 aux[j, _A_RUN_QUIET] = 0.0
                 aux[j, _A_RUN_MEAN] = f
@@ -914,6 +937,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                     aux[j, _A_BIAS] += e_c / nfree
                     # the running variance, from the residual against the offset before this sample
                     aux[j, _A_VAR] = var + (e2 * (nfree - 1.0) / nfree - var) / nfree
+        aux[j, _A_TARE_PREV] = 1.0 if tare else 0.0
         if not free and not first:
             bias = aux[j, _A_BIAS]
             nfree = aux[j, _A_NFREE]
@@ -1420,10 +1444,11 @@ def _impossible_state(posterior: np.ndarray, aux: np.ndarray) -> str:
                          (_A_CONTACT, "contact time"), (_A_HOLD, "change-flag hold"), (_A_MISFIT, "misfit average"),
                          (_A_MISFIT_T, "misfit time"), (_A_DVAR, "depth noise variance"),
                          (_A_D2VAR, "depth's second differences' mean square"),
+                         (_A_TARE_VAR0, "tare stretch's noise variance"),
                          (_A_LAG_SD, "force lag spread"), (_A_LAG_A, "force lag's first stage")):
         if np.any(aux[:, column] < 0.0):
             return f"{name} is negative"
-    for column, name in ((_A_STARTED, "started"), (_A_QUICK, "branch rule")):
+    for column, name in ((_A_STARTED, "started"), (_A_QUICK, "branch rule"), (_A_TARE_PREV, "tare")):
         if not np.all(np.isin(aux[:, column], (0.0, 1.0))):
             return f"{name} flag is not 0 or 1"
     if not np.all((aux[:, _A_ZN] >= 0.0) & (aux[:, _A_ZN] <= 3.0)):
