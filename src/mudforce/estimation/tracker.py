@@ -408,6 +408,11 @@ _TARE_SHORT = 0.1
 #: quarter of the noise at 100 Hz (at 20 Hz 0.6 of it; a low-passed noise's more), so 2 is no false run on a clean
 #: sensor and a third of a second of a force the size of the noise.
 _TARE_SHORT_SIGMAS = 2.0
+#: A sample is tare only where the models' forces through the force lag are within this many noise standard deviations
+#: of zero too [-] (ours, 2026-11-30): the models' own forces end at a lift-off, a low-passed sensor's force runs on as
+#: the low-pass's tail, and the tare took that tail for the offset (the sensor-chain bench's "low-pass 30 ms", seed
+#: 36: 10 of 20 robot recordings ended 0.3-2.8 N off; with this bound 4, 0.5-1.3 N off).
+_TARE_TAIL = 1.0
 
 #: A model of a surface offset other than the most probable one that holds less than this share of the posterior
 #: [-] (ours) is spared: scored on one sample in ``_SPARE_TURN * correlation_time / dt`` only, in turn, its score
@@ -852,6 +857,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         h_sub = dt / nsub  # the last substep [s] (the sample's interval at 100 Hz)
         e_lag, c_lag = (0.0, 0.0) if (first or lag_a <= 0.0) else _lowpass_coefficients(h_sub, lag_a)
         e_lag2, c_lag2 = (0.0, 0.0) if (first or lag_b <= 0.0) else _lowpass_coefficients(h_sub, lag_b)
+        tail = _TARE_TAIL * math.sqrt(max(aux[j, _A_VAR], floor2))  # [N]
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
         o_map = 0  # the most probable surface offset (before this sample)
@@ -859,6 +865,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         for o in range(NO):
             po = 0.0
             zero = True
+            settled = True  # ... and their forces through the force lag within the tail's bound (_TARE_TAIL)
             for g in range(G):
                 fg = forces[base + o * G + g]
                 yl = _lagged_force(aux, j, M, o * G + g, fg, e_lag, c_lag, e_lag2, c_lag2)
@@ -867,10 +874,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 po += P[j, o * G + g]
                 if fg != 0.0:
                     zero = False
+                if abs(yl) > tail:
+                    settled = False
             if not zero:
                 free = False
-                if po >= _TARE_MASS:
-                    tare = False
+            if (not zero or not settled) and po >= _TARE_MASS:
+                tare = False
             if po > p_map:
                 p_map = po
                 o_map = o
