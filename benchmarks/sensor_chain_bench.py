@@ -251,7 +251,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         if rate > 1.0:  # issue 23: at most one false change flag per 10 minutes
             verdict = "FAIL"
         lines.append(f"| {row} | {kind} | {len(rs)} | {within / max(n, 1):.0%} | {cov / max(n, 1):.0%} | "
-                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} | {med:.2f} | {changes} | {rate:.2f} | {verdict} |")
+                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} ({wrong}) | {med:.2f} | {changes} | {rate:.2f} | "
+                     f"{verdict} |")
     return lines
 
 

@@ -137,7 +137,7 @@ PINNED: dict[str, list[str]] = {
     "mudforce.engines.dynamics.engine": ["simulate_foot"],
     "mudforce.engines.dynamics.naive": ["NaiveDrop", "naive_drop"],
     "mudforce.engines.dynamics.rest_band": ["band_middle", "branch_forces", "branch_forces_row", "necked_force",
-                                          "rest_band"],
+                                          "rest_band", "rest_band_spread"],
     "mudforce.engines.dynamics.result": ["GRAVITY", "PHASE_NAMES", "REST_SPEED", "FootResult", "Phase", "check_path"],
     "mudforce.model.equations": [
         "NECK_FILTER_SERIES_BELOW", "NECK_FILTER_SLOW_MODE_FROM",
@@ -147,7 +147,8 @@ PINNED: dict[str, list[str]] = {
         "neck_filter_sinh_series", "neck_filter_slow_mode", "neck_filter_transition",
         "neck_filter_transition_increment", "neck_filter_update", "neck_filter_update_increment", "necked_mud_motion",
         "necked_stress", "necking_fraction", "necking_time", "necking_velocity", "nonlinear_spring_stress",
-        "piece_midpoint_depth", "post_necking_force", "relaxation_time", "rest_band_blend", "rest_band_forces",
+        "piece_midpoint_depth", "post_necking_force", "relaxation_time", "rest_band_blend", "rest_band_depth_spread",
+        "rest_band_forces",
         "submerged_drag_stress", "total_stress", "viscoelastic_stress", "withdrawal_stress", "yield_strain"
     ],
     "mudforce.errors": [

@@ -56,6 +56,29 @@ def test_rest_band_applies_the_state_machine() -> None:
     assert lo == -3.5 and hi == both[1]
 
 
+def test_rest_band_spread_is_the_band_moved_by_the_depth_error() -> None:
+    """A depth ``sd`` off moves the strain by ``sd`` (the mud's z_m holds) and the spring with the depth: each end
+    of the band moves by the difference of rest_band at the two depths (F_up exactly, F_down as a central secant)."""
+    from mudforce.engines.dynamics.rest_band import rest_band_spread
+
+    e, z, sd = 1e-4, 0.02, 1e-3
+    d_up, d_down = rest_band_spread(ROW, ContactMode.CONTACT, z, sd)
+    lo_a, hi_a = rest_band(ROW, ContactMode.CONTACT, z + sd, e + sd, 0.0)
+    lo_b, hi_b = rest_band(ROW, ContactMode.CONTACT, z - sd, e - sd, 0.0)
+    assert d_up == pytest.approx(0.5 * (lo_a - lo_b), rel=1e-12) and d_up == pytest.approx(
+        FOOT.area * W20.k_m_w * sd, rel=1e-15)
+    assert d_down == pytest.approx(0.5 * (hi_a - hi_b), rel=1e-12)
+    # the spring's part is a secant: finite at the surface, where Eq. (4)'s slope is not (beta < 1)
+    _, at_surface = rest_band_spread(ROW, ContactMode.CONTACT, 0.0, sd)
+    spring = nonlinear_spring_stress(W20.alpha, W20.beta, sd, FOOT.width)
+    assert at_surface == pytest.approx(FOOT.area * (W20.k_m_i * sd + 0.5 * spring), rel=1e-14)
+    # the state machine: nothing when FREE or for no error; F_down's none above the surface, F_up's none after necking
+    assert rest_band_spread(ROW, ContactMode.FREE, z, sd) == (0.0, 0.0)
+    assert rest_band_spread(ROW, ContactMode.CONTACT, z, 0.0) == (0.0, 0.0)
+    assert rest_band_spread(ROW, ContactMode.CONTACT, -2e-3, sd) == (d_up, 0.0)
+    assert rest_band_spread(ROW, ContactMode.NECKED, z, sd) == (0.0, d_down)
+
+
 def _moving_state(velocity: float) -> tuple[np.ndarray, np.ndarray]:
     """A foot stepped down to 20 mm and then at ``velocity`` [m/s] for a few 1 ms steps (CONTACT)."""
     prow = ROW[None, :]

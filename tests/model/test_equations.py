@@ -260,6 +260,7 @@ def test_shared_pieces_run_on_arrays_as_compiled() -> None:
         (eq.neck_filter_slow_mode, (a, b, c + 2.0)),
         (eq.necking_fraction, (-a * 1e-3, -b, c, -d * 2e-3)),
         (eq.rest_band_blend, (a / 2.0, b, c)),
+        (eq.rest_band_depth_spread, (a * 1e-3, b * 1e4, c * 1e4, d * 1e5, e * 1e6, f * 1e-3)),
         (eq.piece_midpoint_depth, (a - 1.0, -b, c * 1e-3)),
         (eq.post_necking_force, (a, b, c, d, e, f)),  # calls necked_mud_motion and necked_stress
     ]

@@ -52,7 +52,10 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   switched on the wrong branch for a few samples, errors of up to the whole
   spring force), and those errors are correlated from sample to sample. The
   heavy tails make such a sample weak evidence; the weight counts
-  correlated samples as fewer.
+  correlated samples as fewer. A foot at rest is read through its rest
+  band (a load anywhere in it fits); beyond the band, under a noisy depth,
+  the scale also holds how far that noise moves the band's end
+  (:func:`~mudforce.engines.dynamics.rest_band.rest_band_spread`).
 * **Forgetting.** The log-posterior decays by ``exp(-dt / tau)`` per sample
   in contact (samples where every model predicts zero force carry no
   information and forget nothing). No model trails the best by more than
@@ -95,7 +98,10 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   current one with a time constant of 1 s where that is narrower, and
   starts afresh at a change flag (which reads the current interval, not
   the hull). A posterior that jumps between two modes for a fraction of a
-  second has not told them apart, and the interval keeps both.
+  second has not told them apart, and the interval keeps both. An end
+  that leaves out only a sliver at the grid's end, where the posterior is
+  about as dense as within, reaches that end: a foot that says almost
+  nothing reports the whole grid, not all of it but the prior's bound.
 
 Speed plumbing: the whole update (bank step and posterior) is one compiled
 call, :func:`_track_step`, over arrays held by the object.
@@ -119,7 +125,7 @@ from mudforce._kernel.layout import N_RING, P_DEADBAND, P_WINDOW, R_HEAD, R_T, R
 from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce._plumbing.jit import njit
-from mudforce.engines.dynamics.rest_band import rest_band
+from mudforce.engines.dynamics.rest_band import rest_band, rest_band_spread
 from mudforce.errors import (
     InputError,
     feet_count,
@@ -258,7 +264,8 @@ _C_MAX_DEPTH = 31  # the largest |depth| taken [m] (MAX_DEPTH less the largest s
 _C_HULL = 32  # the reported interval's hull memory [s] (_HULL_MEMORY; 0 in the twin bank, whose interval is a guard)
 _C_LEAD = 33  # the most log-evidence any scored model may trail the best by [-] (_MAX_LEAD)
 _C_SMOOTH = 34  # the depth noise [m] above which the bank steps on the depth's three-sample mean (_SMOOTH_NOISE)
-_N_CFG = 35
+_C_REST_SPREAD = 35  # the rest band's ends' spread under the depth noise is this many times its own [-] (_REST_SPREAD)
+_N_CFG = 36
 
 #: The misfit flag's threshold [-] (ours): the contact-time average of the squared standardised residual
 #: (each clipped at 25) above which the model is taken to miss the data. In-family gait() walks average
@@ -284,6 +291,16 @@ _MISFIT_BLUR_REF = 3.0
 #: rate's, in quadrature) asks for 8-11 on the sensor-chain bench's seed-13 robot that sinks 2-4 mm in 19.1 % mud,
 #: which read anywhere from 18 to 34 % with the 6-fold blur's 15-19-point interval and missed the truth unflagged on
 #: up to 17 % of its samples.
+#: An end of the reported interval moves to the grid's end where the posterior's tail beyond it is at least this
+#: many times as dense as the interval is on average [-] (ours): the posterior is then not falling toward the end,
+#: and an equal-tailed interval leaves out a sliver at the grid's end (the prior's bound) that nothing excludes. A
+#: foot that says almost nothing (a flat posterior over the grid) was reported as [15.3, 35.2] % and a truth of 15.1 %
+#: as missed, unflagged (the sensor-chain bench's seed 34, a MuJoCo foot 2 mm deep under "standard, all (-)", 23
+#: samples), and a 4-mm-deep dry foot's [15.9, 33.2] % missed 15.7 % (seed 33, 8 samples). A posterior peaked inside
+#: (its tail density a few percent of its mean) keeps its interval. Read on the interval before the hull (which the
+#: change flag reads) and on the hull reported (an end the hull relaxed to a sliver from the grid's: seed 34's foot
+#: at [15.16, 34.89] %, 8 samples), not on the hull kept (a reached end would be held at the grid's for good).
+_END_REACH = 0.25
 _BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 9.0, 13.5])
 #: The shallow-sinkage widening [-] (ours): with ``s`` this times the depth's uncertainty over the foot's sinkage,
 #: ``s = 4 sqrt(sd^2 + (step / 2)^2 + noise^2) / sinkage`` (``sd`` the surface offset's posterior spread, ``step`` the
@@ -450,6 +467,18 @@ _DEPTH_NOISE_MEMORY = 2.0
 #: excess of the branch rule's) of the rest speed counts as rest (ours): its branch the depth cannot tell, so it is
 #: read through the rest band.
 _REST_NOISE_SIGMAS = 2.0
+#: At rest, beyond the band, the residual's scale holds the band's end's spread under the depth noise (ours; this many
+#: times it): a depth ``sd`` off moves the Maxwell strain by as much, ``F_up`` by ``S k_m_w sd`` and ``F_down`` by about
+#: ``S (k_m_i + df_e2/dz) sd`` (:func:`~mudforce.engines.dynamics.rest_band.rest_band_spread`), ``sd`` the noise in
+#: excess of the branch rule's (as the rest test's), over sqrt(3) on the three-sample mean. Under 1 mm of depth noise
+#: that is 1.4 N on ``F_up`` for a force noise of 0.2 N: a standing foot's load that rides the band's end (a foot
+#: sinking or rising too slowly for the noisy depth to show) fell outside the right mud's band on half its samples, and
+#: wetter muds, whose bands reach further, took the stance (the sensor-chain bench's seed 36, a gait walk on 31.4 % mud:
+#: 31.9 -> 34.0 % through a 4-s stance, its interval missing the truth unflagged). The normalisation keeps the force's
+#: scale alone, so the likelihood stays continuous at the band's end. Clean depths (no excess) are read as before, to
+#: the bit. Seed 36's walk: highest estimate 33.4 %, none missed; on ten seeds' tracker tables 113 samples confidently
+#: wrong -> 0 (with _END_REACH).
+_REST_SPREAD = 1.0
 #: Only the depth noise beyond this many times :data:`_DEPTH_NOISE0` widens the rest test (ours): the bank's branch
 #: rule is built for that noise, and on clean recordings a wider test reads real slow motion as rest. Was 3: a MuJoCo
 #: foot at rest whose depth reads 40-60 um of noise and vibration was then read as moving on a third of its samples,
@@ -586,6 +615,17 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
             return float(edges[g] + (q - c) / p[g] * (edges[g + 1] - edges[g]))
         c += p[g]
     return float(edges[G])
+
+
+@njit(cache=True, nogil=True)
+def _reach_ends(low: float, high: float, first: float, last: float, half: float) -> tuple[float, float]:
+    """The interval ``[low, high]`` [-] with an end moved to the grid's (``first``, ``last``) where the tail it leaves
+    out there is at least :data:`_END_REACH` times as dense as the interval (ours): each tail holds ``half`` of the
+    posterior, the interval ``1 - 2 half``."""
+    inside = (1.0 - 2.0 * half) / max(high - low, 1e-12)
+    reach_low = half >= _END_REACH * inside * (low - first)
+    reach_high = half >= _END_REACH * inside * (last - high)
+    return (first if reach_low else low), (last if reach_high else high)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -848,7 +888,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         first = aux[j, _A_STARTED] == 0.0
         aux[j, _A_STARTED] = 1.0
         # the force of the sample the bank stands at: the one before where it steps on the depth's mean
-        f = aux[j, _A_FPREV] if _smoothed(aux, j, dt, cfg) else measured[j]
+        smooth = _smoothed(aux, j, dt, cfg)
+        f = aux[j, _A_FPREV] if smooth else measured[j]
         # one-step-ahead prediction: the models' forces under the posterior before this sample
         pred = 0.0
         predl = 0.0  # the same of the models' forces low-passed by the force lag
@@ -999,13 +1040,15 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 aux[j, _A_D2VAR] = d2var + (min(d2 * d2 / 6.0, 9.0 * d2var) - d2var) * w_noise
             excess = max(dvar - (_REST_NOISE_EXCESS * _DEPTH_NOISE0) ** 2, 0.0)
             rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
+            # ... and its band's ends move with that noise on the depth the bank steps on (_REST_SPREAD)
+            zsd = cfg[_C_REST_SPREAD] * math.sqrt(excess / 3.0 if smooth else excess) if rest else 0.0
             # the misfit statistic: the squared standardised residual of the posterior's mean model
             mis_r = 0.0
             mis_s2 = 0.0
             best = -1e300
             last_spared = -1.0  # the decay and weight of the last spared model scored, for the next of the same time
             keep_spared = weight_spared = 0.0
-            r_last = s2_last = ll = math.nan  # the last log-likelihood and its residual and scale
+            r_last = s2_last = scale_last = ll = math.nan  # the last log-likelihood and its residual and scales
             due = turn % spare  # (turn + m) % spare, kept without a division per model
             for m in range(M):
                 # a model of another offset than the most probable one, holding less than _SPARE_MASS, is scored on
@@ -1029,12 +1072,15 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 aux[j, _N_AUX + m] = c_now
                 row = base + m
                 lo = hi = aux[j, lagged + m]
+                d_lo = d_hi = 0.0  # how far the depth's noise moves the band's ends [N]
                 if rest:
                     st = K.load_state(states, row)
                     if st.mode != 0:  # not FREE (K.ContactMode.FREE)
                         up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
                         lo = min(lo, up, down)
                         hi = max(hi, up, down)
+                        if zsd > 0.0:
+                            d_lo, d_hi = rest_band_spread(params[row], st.mode, st.depth, zsd)
                 for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
                     gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
                     fg = gain * aux[j, lagged + m]
@@ -1042,13 +1088,19 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                         fg = min(max(f - bias, gain * lo), gain * hi)
                     r = f - bias - fg
                     s2 = var + bias_var + floor2 + misfit2 * fg * fg + lag2
+                    # beyond the band, the residual's scale takes its end's spread under the depth's noise
+                    # (_REST_DEPTH_SPREAD; the normalisation not: the likelihood stays continuous at the band's end)
+                    scale = s2
+                    if r != 0.0 and zsd > 0.0:
+                        scale = s2 + (gain * (d_hi if r > 0.0 else d_lo)) ** 2
                     if h == (H - 1) // 2:
                         mis_r += P[j, m] * r
-                        mis_s2 += P[j, m] * s2
-                    if r != r_last or s2 != s2_last:  # else the same as the last (at rest within the band, FREE)
-                        r_last = r
+                        mis_s2 += P[j, m] * scale
+                    if r != r_last or s2 != s2_last or scale != scale_last:  # else the same as the last (at rest
+                        r_last = r  # within the band, FREE)
                         s2_last = s2
-                        ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s2)) - 0.5 * math.log(s2)
+                        scale_last = scale
+                        ll = -0.5 * (dof + 1.0) * math.log1p(r * r / (dof * scale)) - 0.5 * math.log(s2)
                     v = km * L[j, h * M + m] + ll * wm
                     L[j, h * M + m] = v
                     if v > best:
@@ -1156,6 +1208,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         if excess > _BLUR_FACTORS[nb - 1]:
             w_low = edges[0]
             w_high = edges[edges.shape[0] - 1]
+        # an end of the interval that leaves out only the grid's end, where the posterior is about as dense as
+        # within, reaches that end (ours, _END_REACH)
+        w_low, w_high = _reach_ends(w_low, w_high, edges[0], edges[edges.shape[0] - 1], half)
         # the reported interval also holds the twin bank's, where one runs (``guard``; NaN where none does)
         if not math.isnan(guard[j, 0]):
             w_low = min(w_low, guard[j, 0])
@@ -1197,6 +1252,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                     w_high = w_high + (h_high - w_high) * keep_hull
             aux[j, _A_HULL_LOW] = w_low
             aux[j, _A_HULL_HIGH] = w_high
+            # an end the hull relaxed to a sliver from the grid's reaches it too (_END_REACH on what is reported; the
+            # hull keeps its own ends, else a reached end would be held there by the hull for good)
+            w_low, w_high = _reach_ends(w_low, w_high, edges[0], edges[edges.shape[0] - 1], half)
         out[j, _O_W] = w_mid
         out[j, _O_LOW] = w_low
         out[j, _O_HIGH] = w_high
@@ -1689,6 +1747,7 @@ class MudTrackers:
         cfg[_C_HULL] = _HULL_MEMORY
         cfg[_C_LEAD] = _MAX_LEAD
         cfg[_C_SMOOTH] = _SMOOTH_NOISE
+        cfg[_C_REST_SPREAD] = _REST_SPREAD
         self._cfg = cfg
         self.depth_offsets = _offsets(depth_offsets)
         # the largest |depth| taken [m]: the bank's models follow the depth plus each offset, within MAX_DEPTH

@@ -102,6 +102,7 @@ __all__ = [
     "post_necking_force",
     "relaxation_time",
     "rest_band_blend",
+    "rest_band_depth_spread",
     "rest_band_forces",
     "submerged_drag_stress",
     "total_stress",
@@ -795,6 +796,35 @@ def rest_band_forces(strain: float, spring_stress: float, k_m_i: float, k_m_w: f
         ``F_up`` and ``F_down`` [N], positive up (resisting).
     """
     return area * k_m_w * strain, area * (k_m_i * strain + spring_stress)
+
+
+@_arithmetic
+def rest_band_depth_spread(depth_sd: float, spring_below: float, spring_above: float, k_m_i: float, k_m_w: float,
+                           area: float) -> tuple[float, float]:
+    """How far a depth error moves the rest band's ends: ``(dF_up, dF_down)`` [N] (ours, from Eqs. (2) and (4)).
+
+    A depth read ``depth_sd`` off moves the Maxwell strain ``e = z_i - z_m`` by as much (the mud's ``z_m``
+    follows the foot through the dashpot, not at once) and the spring with the depth: ``F_up = S k_m_w e``
+    (:func:`rest_band_forces`) by ``S k_m_w depth_sd``, and ``F_down = S (k_m_i e + f_e2)`` by
+    ``S (k_m_i depth_sd + (f_e2(z_i + depth_sd) - f_e2(z_i - depth_sd)) / 2)``: the spring's change as a
+    central secant, as its slope is unbounded at the surface (Eq. (4) with ``beta < 1``). The MudTracker
+    widens a foot's rest band by these where its depth is noisy. Plain arithmetic (see the module).
+
+    Parameters
+    ----------
+    depth_sd : float
+        The depth's error (a standard deviation) [m], at least 0.
+    spring_below, spring_above : float
+        Nonlinear spring stress ``f_e2`` [Pa], Eq. (4), at ``z_i - depth_sd`` and ``z_i + depth_sd``
+        (:func:`nonlinear_spring_stress`).
+    k_m_i : float
+        Intrusion-branch Maxwell stiffness [Pa/m].
+    k_m_w : float
+        Withdrawal-branch Maxwell stiffness [Pa/m].
+    area : float
+        Foot contact area ``S`` [m^2].
+    """
+    return area * k_m_w * depth_sd, area * (k_m_i * depth_sd + 0.5 * (spring_above - spring_below))
 
 
 @_arithmetic

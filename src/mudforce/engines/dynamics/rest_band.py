@@ -33,11 +33,12 @@ from mudforce.model.equations import (
     nonlinear_spring_stress,
     post_necking_force,
     rest_band_blend,
+    rest_band_depth_spread,
     rest_band_forces,
     submerged_drag_stress,
 )
 
-__all__ = ["band_middle", "branch_forces", "branch_forces_row", "necked_force", "rest_band"]
+__all__ = ["band_middle", "branch_forces", "branch_forces_row", "necked_force", "rest_band", "rest_band_spread"]
 
 
 @njit(cache=True, nogil=True)
@@ -98,6 +99,39 @@ def rest_band(p: np.ndarray, mode: int, depth: float, strain: float, neck_force:
     if mode == ContactMode.NECKED:
         return neck_force, f_down
     return f_up, f_down
+
+
+@njit(cache=True, nogil=True)
+def rest_band_spread(p: np.ndarray, mode: int, depth: float, depth_sd: float) -> tuple[float, float]:
+    """How far a depth error moves :func:`rest_band`'s ends: ``(dF_up, dF_down)`` [N] (ours).
+
+    :func:`mudforce.model.equations.rest_band_depth_spread` under the contact state machine: nothing when FREE
+    or for an error of 0; ``dF_down`` 0 where the depth and its error keep the foot above the surface (the
+    intrusion branch FREE); ``dF_up`` 0 after necking (the post-necking force of Eq. (7) does not depend on
+    the foot's depth).
+
+    Parameters
+    ----------
+    p : ndarray
+        One params row of :mod:`mudforce._kernel`.
+    mode : int
+        Kernel contact state: 0 FREE, 1 CONTACT, 2 NECKED.
+    depth : float
+        Foot depth ``z_i`` [m], positive down.
+    depth_sd : float
+        The depth's error (a standard deviation) [m].
+    """
+    if mode == ContactMode.FREE or not depth_sd > 0.0:
+        return 0.0, 0.0
+    q = params_from_row(p)
+    below = nonlinear_spring_stress(q.alpha, q.beta, depth - depth_sd, q.width)  # 0 above the surface
+    above = nonlinear_spring_stress(q.alpha, q.beta, depth + depth_sd, q.width)
+    d_up, d_down = rest_band_depth_spread(depth_sd, below, above, q.k_i, q.k_w, q.area)
+    if depth + depth_sd <= 0.0:
+        d_down = 0.0
+    if mode == ContactMode.NECKED:
+        d_up = 0.0
+    return d_up, d_down
 
 
 @njit(cache=True, nogil=True)
