@@ -35,7 +35,8 @@ Counts per corruption:
 * tracker, over the samples 3 s or more after the start, pooled: share
   within 1.5 points, share covered by the 95 % interval; a sample whose
   interval misses the truth is confidently wrong unless a change of mud or
-  the tracker's misfit flag is raised at it; and the change flags raised
+  the tracker's misfit flag is raised at it (as a share, and a count); the
+  recordings' median interval width; and the change flags raised
   (every one false: no recording changes mud). Standard rows pass when
   >= 80 % of the samples are covered and >= 80 % within 1.5 points; hard
   rows when no sample is confidently wrong; every row only with at most one
@@ -171,6 +172,7 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
                 "t_wrong": int(np.sum(~tcov & ~tflag)), "t_final": (tr.water_content[-1] - w) * 100.0,
                 "t_changes": int(np.sum(tr.changed)),  # every one false: no recording changes mud
                 "t_minutes": float(tt[-1] - tt[0]) / 60.0,
+                "t_width": float(np.median(tr.high[late] - tr.low[late])) * 100.0 if late.any() else math.nan,
             }
             if fit_it and index < fit_recordings and not tracker_only:
                 start = time.perf_counter()
@@ -232,8 +234,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
     lines += ["", f"### MudTracker (samples {TRACK_AFTER:g} s or more after the start, pooled)", "",
               "| corruption | set | recordings | samples within 1.5 pt | samples covered | "
               "recordings covered >= 80 % | samples confidently wrong | median abs final error [pt] | "
-              "change flags (all false) | per 10 min | acceptance |",
-              "|---|---|---|---|---|---|---|---|---|---|---|"]
+              "median interval width [pt] | change flags (all false) | per 10 min | acceptance |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r, (row, kind, _, _) in enumerate(ROWS):
         rs = [x for x in results if x["row"] == r]
         n = sum(x["t_n"] for x in rs)
@@ -242,6 +244,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         wrong = sum(x["t_wrong"] for x in rs)
         good = sum(x["t_cov"] >= 0.8 * x["t_n"] for x in rs if x["t_n"])
         med = float(np.median([abs(x["t_final"]) for x in rs])) if rs else math.nan
+        # (each recording's median width after TRACK_AFTER, their median: how much the intervals say)
+        width = float(np.median([x.get("t_width", math.nan) for x in rs])) if rs else math.nan
         if kind == "hard":
             verdict = "pass" if wrong == 0 else "FAIL"
         else:
@@ -251,8 +255,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         if rate > 1.0:  # issue 23: at most one false change flag per 10 minutes
             verdict = "FAIL"
         lines.append(f"| {row} | {kind} | {len(rs)} | {within / max(n, 1):.0%} | {cov / max(n, 1):.0%} | "
-                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} ({wrong}) | {med:.2f} | {changes} | {rate:.2f} | "
-                     f"{verdict} |")
+                     f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} ({wrong}) | {med:.2f} | {width:.1f} | {changes} | "
+                     f"{rate:.2f} | {verdict} |")
     return lines
 
 

@@ -1072,15 +1072,20 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 aux[j, _N_AUX + m] = c_now
                 row = base + m
                 lo = hi = aux[j, lagged + m]
-                d_lo = d_hi = 0.0  # how far the depth's noise moves the band's ends [N]
+                # how far the depth's noise moves the band's ends [N]: read where a residual lies beyond the band
+                spread = False
+                d_lo = d_hi = -1.0  # (not read yet)
+                band_mode = 0
+                band_depth = 0.0
                 if rest:
                     st = K.load_state(states, row)
                     if st.mode != 0:  # not FREE (K.ContactMode.FREE)
                         up, down = rest_band(params[row], st.mode, st.depth, st.strain, forces[row])
                         lo = min(lo, up, down)
                         hi = max(hi, up, down)
-                        if zsd > 0.0:
-                            d_lo, d_hi = rest_band_spread(params[row], st.mode, st.depth, zsd)
+                        spread = zsd > 0.0
+                        band_mode = st.mode
+                        band_depth = st.depth
                 for h in range(H):  # gain hypotheses 1 - g, 1, 1 + g (just 1 when g = 0)
                     gain = 1.0 + (h - (H - 1) // 2) * cfg[_C_GAIN]
                     fg = gain * aux[j, lagged + m]
@@ -1089,9 +1094,11 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                     r = f - bias - fg
                     s2 = var + bias_var + floor2 + misfit2 * fg * fg + lag2
                     # beyond the band, the residual's scale takes its end's spread under the depth's noise
-                    # (_REST_DEPTH_SPREAD; the normalisation not: the likelihood stays continuous at the band's end)
+                    # (_REST_SPREAD; the normalisation not: the likelihood stays continuous at the band's end)
                     scale = s2
-                    if r != 0.0 and zsd > 0.0:
+                    if r != 0.0 and spread:
+                        if d_lo < 0.0:
+                            d_lo, d_hi = rest_band_spread(params[row], band_mode, band_depth, zsd)
                         scale = s2 + (gain * (d_hi if r > 0.0 else d_lo)) ** 2
                     if h == (H - 1) // 2:
                         mis_r += P[j, m] * r
