@@ -40,3 +40,22 @@ def test_blocks_that_disagree_widen_what_one_trial_gives() -> None:
     s2 = float(residual @ residual) / (residual.size - 2)
     noise_var = np.diag(np.linalg.inv(jac.T @ jac) * s2)
     assert spread[1] > 2.0 * noise_var[1]  # the slope: what the blocks disagree on
+
+
+def test_the_jackknife_variance_is_read_on_a_student_t_of_its_groups() -> None:
+    """``_jackknife_spread``: the jackknife's variance times ``(t_{g-1}(0.975) / 1.96)^2``, so that +-1.96 standard
+    errors is its 95 % interval: 1.33 for one recording's 10 blocks, 4.8 for three trials; none under three groups."""
+    from scipy.stats import norm, t
+
+    rng = np.random.default_rng(4)
+    jac = rng.standard_normal((60, 2))
+    residual = rng.standard_normal(60)
+    for g, factor in ((10, 1.33214), (3, 4.81922)):
+        groups = np.array_split(np.arange(60), g)
+        plain = jackknife_variance(jac, residual, groups)
+        scaled = fit_module._jackknife_spread(jac, residual, groups)
+        assert plain is not None and scaled is not None
+        expected = (t.ppf(0.975, g - 1) / norm.ppf(0.975)) ** 2
+        np.testing.assert_allclose(scaled, plain * expected, rtol=1e-15)
+        assert abs(expected - factor) < 1e-5
+    assert fit_module._jackknife_spread(jac, residual, np.array_split(np.arange(60), 2)) is None
