@@ -496,9 +496,10 @@ def _jackknife_spread(jac: np.ndarray, residual: np.ndarray, groups: Sequence[np
     over that standard error is a Student t of ``g - 1`` degrees, not a normal; the factor is ``(t_{g-1}(0.975) /
     1.96)^2``: 1.33 for one recording's :data:`_JACKKNIFE_BLOCKS` (its standard errors 15 % wider), 4.8 for three
     trials. It applies where the jackknife's variance is the larger. On 80 clean gait walks of the sensor-chain
-    bench (30 s, 100 Hz, one recording a fit) the standard errors had been too small in the tail: ``beta``'s errors over their standard errors spread 1.12 (1.03
-    after), and 4 of 67 unwarned fits had a parameter beyond 3 standard errors (``beta``, ``zeta`` twice,
-    ``omega_0``), where 1.6 is what nine parameters of exact standard errors give; 2 after."""
+    bench (30 s, 100 Hz, one recording a fit) the standard errors had been too small in the tail: ``beta``'s errors
+    over their standard errors spread 1.12 (1.03 after), and 4 of 67 unwarned fits had a parameter beyond 3 standard
+    errors (``beta``, ``zeta`` twice, ``omega_0``), where 1.6 is what nine parameters of exact standard errors give;
+    2 after."""
     spread = jackknife_variance(jac, residual, groups)
     if spread is None:
         return None
