@@ -101,7 +101,7 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   second has not told them apart, and the interval keeps both. An end
   that leaves out only a sliver at the grid's end, where the posterior is
   about as dense as within, reaches that end: a foot that says almost
-  nothing reports the whole grid, not all of it but the prior's bound.
+  nothing reports the whole grid, not the grid less a sliver at each end.
 
 Speed plumbing: the whole update (bank step and posterior) is one compiled
 call, :func:`_track_step`, over arrays held by the object.
@@ -285,12 +285,6 @@ _MISFIT_DISCRETISATION = 3.0
 _MISFIT_TEMPER_REF = 2.0
 #: The misfit average [-] above which the reported posterior's blur widens (ours), by the square root of the excess.
 _MISFIT_BLUR_REF = 3.0
-#: The spreads of the reported posterior's blurs, in units of ``discrepancy`` (ours): the blur is widened by the
-#: square root of the misfit's excess over its reference, rounded up to one of these (precomputed, so the update's
-#: cost does not depend on it). 9 and 13.5 added (was at most 6): the widening (with the shallow sinkage's and the low
-#: rate's, in quadrature) asks for 8-11 on the sensor-chain bench's seed-13 robot that sinks 2-4 mm in 19.1 % mud,
-#: which read anywhere from 18 to 34 % with the 6-fold blur's 15-19-point interval and missed the truth unflagged on
-#: up to 17 % of its samples.
 #: An end of the reported interval moves to the grid's end where the posterior's tail beyond it is at least this
 #: many times as dense as the interval is on average [-] (ours): the posterior is then not falling toward the end,
 #: and an equal-tailed interval leaves out a sliver at the grid's end (the prior's bound) that nothing excludes. A
@@ -301,6 +295,12 @@ _MISFIT_BLUR_REF = 3.0
 #: change flag reads) and on the hull reported (an end the hull relaxed to a sliver from the grid's: seed 34's foot
 #: at [15.16, 34.89] %, 8 samples), not on the hull kept (a reached end would be held at the grid's for good).
 _END_REACH = 0.25
+#: The spreads of the reported posterior's blurs, in units of ``discrepancy`` (ours): the blur is widened by the
+#: square root of the misfit's excess over its reference, rounded up to one of these (precomputed, so the update's
+#: cost does not depend on it). 9 and 13.5 added (was at most 6): the widening (with the shallow sinkage's and the low
+#: rate's, in quadrature) asks for 8-11 on the sensor-chain bench's seed-13 robot that sinks 2-4 mm in 19.1 % mud,
+#: which read anywhere from 18 to 34 % with the 6-fold blur's 15-19-point interval and missed the truth unflagged on
+#: up to 17 % of its samples.
 _BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 9.0, 13.5])
 #: The shallow-sinkage widening [-] (ours): with ``s`` this times the depth's uncertainty over the foot's sinkage,
 #: ``s = 4 sqrt(sd^2 + (step / 2)^2 + noise^2) / sinkage`` (``sd`` the surface offset's posterior spread, ``step`` the
