@@ -808,7 +808,7 @@ def rest_band_depth_spread(depth_sd: float, spring_below: float, spring_above: f
     (:func:`rest_band_forces`) by ``S k_m_w depth_sd``, and ``F_down = S (k_m_i e + f_e2)`` by
     ``S (k_m_i depth_sd + (f_e2(z_i + depth_sd) - f_e2(z_i - depth_sd)) / 2)``: the spring's change as a
     central secant, as its slope is unbounded at the surface (Eq. (4) with ``beta < 1``). The MudTracker
-    widens a foot's rest band by these where its depth is noisy. Plain arithmetic (see the module).
+    adds these to a residual's scale beyond the band where its depth is noisy. Plain arithmetic (see the module).
 
     Parameters
     ----------
@@ -817,12 +817,9 @@ def rest_band_depth_spread(depth_sd: float, spring_below: float, spring_above: f
     spring_below, spring_above : float
         Nonlinear spring stress ``f_e2`` [Pa], Eq. (4), at ``z_i - depth_sd`` and ``z_i + depth_sd``
         (:func:`nonlinear_spring_stress`).
-    k_m_i : float
-        Intrusion-branch Maxwell stiffness [Pa/m].
-    k_m_w : float
-        Withdrawal-branch Maxwell stiffness [Pa/m].
-    area : float
-        Foot contact area ``S`` [m^2].
+    k_m_i, k_m_w, area : float
+        The intrusion- and withdrawal-branch Maxwell stiffnesses [Pa/m] and the foot's contact area ``S`` [m^2],
+        as :func:`rest_band_forces` takes them.
     """
     return area * k_m_w * depth_sd, area * (k_m_i * depth_sd + 0.5 * (spring_above - spring_below))
 
