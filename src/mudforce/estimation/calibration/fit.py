@@ -50,7 +50,6 @@ from typing import Any
 
 import numpy as np
 from scipy.optimize import differential_evolution, least_squares
-from scipy.stats import norm as student_norm
 from scipy.stats import t as student_t
 
 from mudforce._plumbing.blas import one_blas_thread
@@ -478,6 +477,9 @@ def _run_stage(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial],
     return out
 
 
+#: The normal law's 97.5 % point [-]: +-this many standard errors is a 95 % interval.
+_Z95 = 1.959963984540054
+
 #: Contiguous blocks each trial is cut into for the jackknife when a condition has fewer than three trials (ours).
 _JACKKNIFE_BLOCKS = 10
 
@@ -503,7 +505,7 @@ def _jackknife_spread(jac: np.ndarray, residual: np.ndarray, groups: Sequence[np
     spread = jackknife_variance(jac, residual, groups)
     if spread is None:
         return None
-    factor = (float(student_t.ppf(0.975, len(groups) - 1)) / float(student_norm.ppf(0.975))) ** 2
+    factor = (float(student_t.ppf(0.975, len(groups) - 1)) / _Z95) ** 2
     return spread * factor
 
 
@@ -549,7 +551,7 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
         sub = sub * np.outer(wider, wider)
     # a force gain off by 1 + g reads as every force-scale parameter off by 1 + g, together: g is taken as the
     # bound at 95 % (as identify's interval takes it), a standard error of log(1 + g) / 1.96 on their logarithms
-    gain_se = math.log1p(force_gain_uncertainty) / 1.959963984540054
+    gain_se = math.log1p(force_gain_uncertainty) / _Z95
     scaled = np.array([n in model.force_scale for n in free], dtype=np.float64)
     sub = sub + gain_se**2 * np.outer(scaled, scaled)
     for k, (n, col) in enumerate(zip(free, free_cols, strict=True)):
