@@ -135,7 +135,9 @@ MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
 MAX_FORCE_LAG = 0.05
 #: The rate check's shift [-] above which identify warns that the sample rate is too low for the model to follow
-#: the motion (0.5 points; ours: on the sensor-chain bench only 20-Hz recordings and a few at 50 Hz reach it unflagged).
+#: the motion (0.5 points; ours). On the sensor-chain bench the gait walks reach it only at 20 Hz, but most MuJoCo
+#: robot recordings reach it at every rate, 100 Hz included (docs/estimation.md, "identify's rate check on the MuJoCo
+#: robots": the check reads turns on their branches, so it also holds an error of the robots' that is not the rate's).
 _RATE_SHIFT_WARNING = 0.005
 #: A step in the mud within this many depth noises (beyond the rest speed) of no motion counts as rest [-] (ours):
 #: on a robot foot at rest the depth the model follows still moves by a fraction of a depth noise from sample to
