@@ -134,8 +134,8 @@ _FLOAT_MAX = float(np.finfo(np.float64).max)  # the largest finite float64: a bo
 MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
 MAX_FORCE_LAG = 0.05
-#: The rate check's shift [-] above which identify warns that the sample rate is too low for the model to follow
-#: the motion (0.5 points; ours). On the sensor-chain bench the gait walks reach it only at 20 Hz, but most MuJoCo
+#: The rate check's shift [-] above which identify warns that the model at the data's rate does not follow the
+#: motion closely (0.5 points; ours). On the sensor-chain bench the gait walks reach it only at 20 Hz, but most MuJoCo
 #: robot recordings reach it at every rate, 100 Hz included (docs/estimation.md, "identify's rate check on the MuJoCo
 #: robots": the check reads turns on their branches, so it also holds an error of the robots' that is not the rate's).
 _RATE_SHIFT_WARNING = 0.005
@@ -1267,9 +1267,10 @@ def identify_water_content(
                         "misfit ratio and the tail read little; the estimate is the nearest water content")
     if rate_shift > _RATE_SHIFT_WARNING:
         warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
-                        "sample: the sample rate is too low for the model to follow this motion (touchdowns and "
-                        "reversals between the samples); the interval is widened by that, but a faster rate is "
-                        "what makes the estimate trustworthy")
+                        "sample (its turns read on their branches): at this rate the model does not follow this "
+                        "motion closely (touchdowns, reversals and stops between the samples, or the model's own "
+                        "error at them); the interval is widened by that, and a faster rate narrows it only where "
+                        "the rate is the cause")
     if general and (abs(offset) > 0.95 * MAX_DEPTH_OFFSET or lag > 0.95 * MAX_FORCE_LAG):
         warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
