@@ -1278,10 +1278,10 @@ def identify_water_content(
                         "misfit ratio and the tail read little; the estimate is the nearest water content")
     if rate_shift > _RATE_SHIFT_WARNING:
         warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
-                        "sample (its turns read on their branches): at this rate the model does not follow this "
-                        "motion closely (touchdowns, reversals and stops between the samples, or the model's own "
-                        "error at them); the interval is widened by that, and a faster rate narrows it only where "
-                        "the rate is the cause")
+                        "sample or reads the turns on their branches (the two moves added): at this rate the model "
+                        "does not follow this motion closely (touchdowns, reversals and stops between the samples, "
+                        "or the model's own error at them); the interval is widened by that, and a faster rate "
+                        "narrows it only where the rate is the cause")
     if general and (abs(offset) > 0.95 * MAX_DEPTH_OFFSET or lag > 0.95 * MAX_FORCE_LAG):
         warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
