@@ -12,10 +12,12 @@ family misfits the trial. With --json: {"water_content": 0.23,
 "level": 0.95, "force_noise_N": ..., "noise_floor_N": ..., "misfit_ratio":
 ..., "model_misses_data": false, "off_family_N": ..., "bias_N": ...,
 "bias_method": "tared", "bias_stderr_N": ..., "depth_offset_m": ...,
-"force_lag_s": ..., "gain_shift": ..., "discretisation_N": ..., "warnings": [...]}.
+"force_lag_s": ..., "gain_shift": ..., "force_gain": ..., "discretisation_N": ..., "warnings": [...]}.
 On a trial of any motion the surface offset of the depth and a force lag
-are fitted with the water content; a force-gain error cannot be told from
-stiffer mud, so --force-gain-uncertainty (default 5%) widens the interval.
+are fitted with the water content, and the force's gain is read where the
+recording determines it ("force_gain": a sensor's gain, or a mud uniformly
+stiffer than Table I's at that water content); --force-gain-uncertainty
+(default 5%) widens the interval by the shift a further gain error causes.
 A robot that knows its depth noise (the surface estimate's) gives it with
 --depth-noise (e.g. 0.03mm); by default it is estimated from the depth.
 """
@@ -44,7 +46,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--level", default="95%", help="confidence level of the interval (default 95%%)")
     parser.add_argument("--force-gain-uncertainty", default="5%",
                         help="relative uncertainty of the force sensor's gain (default 5%%): a gain error reads "
-                             "as stiffer or softer mud, so the interval is widened by the shift it causes")
+                             "as stiffer or softer mud, so the interval is widened by the shift it causes (about "
+                             "the gain read from the recording where it determines one; 0%% reads none)")
     parser.add_argument("--depth-noise", default=None, metavar="LENGTH",
                         help="the depth's noise when the robot knows it, e.g. 0.03mm (default: estimated from the "
                              "depth, which at 50-100 Hz reads a foot's ringing between the samples as noise)")
@@ -104,6 +107,9 @@ def run(args: argparse.Namespace) -> int:
         fit = f" (the least-squares fit, at {ls:.2%})" if math.isfinite(ls) and ls != result.water_content else ""
         print(f"water content {result.water_content:.2%} ({100 * level:.10g}% interval {lo:.2%} to {hi:.2%}), "
               f"RMSE {result.rmse:.3g} N{fit}")
+        if result.force_gain != 1.0:
+            print(f"force gain read from the recording: {result.force_gain:.4g} (the measured force over the mud's: "
+                  "a sensor's gain, or a mud uniformly stiffer than Table I's at this water content)")
         for w in result.warnings:
             print(f"warning: {w}")
     return 0

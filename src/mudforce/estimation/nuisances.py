@@ -12,8 +12,8 @@ from mudforce.errors import InputError, is_real, shown
 
 __all__ = ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"]
 
-#: Default uncertainty of the force sensor's gain [-] (5 %): a gain error cannot be told from stiffer mud, so its
-#: water-content shift widens the interval.
+#: Default uncertainty of the force sensor's gain [-] (5 %): a gain error reads as stiffer or softer mud, so its
+#: water-content shift widens the interval (identify's about the gain it reads where the recording determines one).
 DEFAULT_FORCE_GAIN_UNCERTAINTY = 0.05
 #: A step in the mud slower than this counts as the foot at rest [m/s] (5 mm/s): its force is a band, not a branch.
 REST_SPEED = 0.005

@@ -27,10 +27,14 @@ of time constant ``force_lag``, which also stands for a pure delay of about
 that size) and the force bias (tared or free, as before). Their
 correlation with the water content widens the interval (the likelihood
 interval scaled by ``sqrt(C_ww / C_ww|nuisances fixed)``). A force-gain
-error cannot be told from stiffer mud; its uncertainty is an input
-(``force_gain_uncertainty``, default :data:`DEFAULT_FORCE_GAIN_UNCERTAINTY`)
-and the interval is widened on each side by the water-content shift that a
-gain change of that size causes (the same fit on the force divided by ``1 +- g``). A sample where
+error cannot be told from a mud whose force-scale parameters are all off by
+as much, but along Table I they do not move together: the force's gain is
+read where the recording determines it (``force_gain``: a sharp least of the
+cost over a grid of gains within two uncertainties of 1, ours), else it is 1.
+Its uncertainty is an input (``force_gain_uncertainty``, default
+:data:`DEFAULT_FORCE_GAIN_UNCERTAINTY`) and the interval is widened on each
+side by the water-content shift that a further gain change of that size
+causes (the same fit on the force divided by ``gain * (1 +- g)``). A sample where
 the foot is at rest in the mud (it moved less than :data:`REST_SPEED` times
 the step, plus half a depth noise) constrains the mud only through the rest band it must lie in
 (:func:`mudforce.model.equations.rest_band_forces`): its residual is the
@@ -147,6 +151,14 @@ _REST_NOISE_SIGMAS = 0.5
 #: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
 #: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
 _TURN_SIGMAS = 3.0
+#: The force gain is read on a grid of this many uncertainties about 1 (ours) ...
+_GAIN_STEPS = np.linspace(-2.0, 2.0, 9)
+#: ... where the least squares' cost at both neighbours of the grid's least (inside the grid, off 1) is at least this
+#: many times its own (ours; a looser reading, the parabola's rise, read gains where a kinked cost misled it)
+_GAIN_SHARPNESS = 1.25
+#: A gain read further off 1 than this many force gain uncertainties is warned of (ours): on the bench's 5 % gain rows
+#: it reads 0.944-0.960 and 1.039-1.057, so a gain read just beyond the uncertainty is the uncertainty itself
+_GAIN_WARNING = 1.5
 #: The joint fit also starts from the scan's second valley where one is this far [-] from the best (0.5 points) and
 #: reads at most this many times its sum of squares [-] (ours, 2026-11-30): below the family's row at 30 % the force
 #: falls steeply with the water content and above it barely (its RMS on a gait 10.9 -> 10.5 N from 30 to 35 %), so
@@ -260,6 +272,14 @@ class Identification:
     gain_shift : float
         The largest water-content shift [-] a gain change of ``force_gain_uncertainty`` (up or down)
         causes; the interval is widened on each side by the shift towards it.
+    force_gain : float
+        The force sensor's gain read from the recording [-] (the measured force over the mud's): the estimate, the
+        interval and the floors are read with the force divided by it. 1 where the recording does not determine it
+        (the least-squares cost over a grid of gains within two ``force_gain_uncertainty`` of 1 has no sharp least
+        inside it: a shallow recording, or a misfit the gain does not explain), on a protocol trial and with
+        ``force_gain_uncertainty`` 0 (ours; docs/estimation.md, "The force gain, read where the recording
+        determines it"). Where it was read, ``gain_shift`` is the shift of a further change of
+        ``force_gain_uncertainty`` about it.
     discretisation : float
         The model's own discretisation error at the data's rate [N] (RMS over the samples); it
         enters the misfit statistic sample by sample, excusing only the samples where it is large.
@@ -339,6 +359,7 @@ class Identification:
     force_lag_stderr: float = math.nan
     force_gain_uncertainty: float = 0.0
     gain_shift: float = 0.0
+    force_gain: float = 1.0
     discretisation: float = 0.0
     rest_fraction: float = 0.0
     rate_shift: float = 0.0
@@ -379,7 +400,7 @@ class Identification:
         ``force_noise_N``, ``noise_floor_N``, ``misfit_ratio``, ``model_misses_data``,
         ``off_family_N``, ``bias_N``, ``bias_method``, ``bias_stderr_N``,
         ``depth_offset_m``, ``depth_offset_stderr_m``, ``force_lag_s``,
-        ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``,
+        ``force_lag_stderr_s``, ``force_gain_uncertainty``, ``gain_shift``, ``force_gain``,
         ``discretisation_N``, ``rest_fraction``, ``rate_shift``, ``episode_half_width``, ``misfit_shift``,
         ``depth_noise_m``, ``unresolved_depth_m``, ``member_water_content``, ``misfit_water_content``,
         ``least_squares_water_content``, ``tail_share``, ``other_mud``, ``warnings``.
@@ -408,6 +429,7 @@ class Identification:
             "force_lag_stderr_s": finite(self.force_lag_stderr),
             "force_gain_uncertainty": self.force_gain_uncertainty,
             "gain_shift": self.gain_shift,
+            "force_gain": self.force_gain,
             "discretisation_N": self.discretisation,
             "rest_fraction": self.rest_fraction,
             "rate_shift": self.rate_shift,
@@ -1012,7 +1034,7 @@ def identify_water_content(
         c = -float(np.sum((f - meas)[~still])) / (int(np.count_nonzero(~still)) + pre)
         meas = meas - c
         r = _band_residual(f, low, high, meas, still)
-        return r, f, meas, bias + c, pre
+        return r, f, meas, bias + c * gain, pre
 
     def ssr_at(w: float, offset: float, lag: float, gain: float = 1.0, sel: slice = slice(None),
                turns: bool = True) -> float:
@@ -1062,7 +1084,41 @@ def identify_water_content(
                 jac = np.asarray(joint.jac, dtype=np.float64)
             elif n_start == 0:  # the first start's Jacobian, unless the second valley fits better
                 jac = np.asarray(joint.jac, dtype=np.float64)
-    r, f_best, meas, bias, pre = evaluate(w_best, offset, lag)
+    # the force gain, where the recording determines it (ours; docs/estimation.md, "The force gain, read where the
+    # recording determines it"): the water content's own fit with the force divided by each gain of a grid over
+    # +-2 uncertainties. A gain error scales every force alike, a change of water content does not (the relaxation,
+    # the neck, the suction change their share), so on a deep or long recording the cost over the gain has a sharp
+    # least; on a shallow one, or where the model misses the data by more than the gain explains, it is flat or
+    # runs to an end, and the gain is left at 1 (the interval's gain shift still holds it)
+    gain = 1.0
+    profile: dict[float, float] = {}
+    if general and force_gain_uncertainty:
+        gains = 1.0 + force_gain_uncertainty * _GAIN_STEPS
+        fits = np.full(gains.size, c_best)
+        for i, g in enumerate(gains.tolist()):
+            if g != 1.0:  # the offset and the lag refitted at each gain: held at 1's, they had taken part of it
+                profile[g] = best_w(partial(ssr_at, offset=offset, lag=lag, gain=g))
+
+                def gain_residual(th: np.ndarray, g: float = g) -> np.ndarray:
+                    return evaluate(float(th[0]), float(th[1]), float(th[2]), g)[0]
+
+                at_g = joint_fit(gain_residual, np.array([profile[g], offset, lag]), 20)
+                fits[i] = min(2.0 * float(at_g.cost), ssr_at(profile[g], offset, lag, g))
+        j = int(np.argmin(fits))
+        if 0 < j < gains.size - 1 and gains[j] != 1.0 and min(fits[j - 1], fits[j + 1]) >= _GAIN_SHARPNESS * fits[j]:
+            # the parabola's least through the grid's least and its two neighbours (both above it: a least between
+            # them)
+            step = float(gains[1] - gains[0])
+            curve = float(fits[j - 1] - 2.0 * fits[j] + fits[j + 1])
+            gain = float(gains[j]) + 0.5 * step * float(fits[j - 1] - fits[j + 1]) / curve
+        if gain != 1.0:  # the joint fit redone at the gain read
+            w_gain = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain))
+            joint = joint_fit(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]), gain)[0],
+                              np.array([w_gain, offset, lag]), 20)
+            w_best, offset, lag = (float(x) for x in joint.x)
+            c_best = 2.0 * float(joint.cost)
+            jac = np.asarray(joint.jac, dtype=np.float64)
+    r, f_best, meas, bias, pre = evaluate(w_best, offset, lag, gain)
     n = r.size
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 2 and np.std(r) > 0 else 0.0
     rho = min(max(rho, 0.0), 0.99)
@@ -1075,15 +1131,18 @@ def identify_water_content(
     cov = np.linalg.pinv(jtj)
     inflate = math.sqrt(max(float(cov[0, 0] * jtj[0, 0]), 1.0)) if jtj[0, 0] > 0 else 1.0
     stderr = np.sqrt(np.maximum(np.diag(cov), 0.0) * s2)
-    # a gain off by +-g: the water content the same fit finds on the force divided by (1 +- g)
+    # a gain off by +-g: the water content the same fit finds on the force divided by gain * (1 +- g)
     shifts = [0.0]
-    for gain in ((1.0 + force_gain_uncertainty, 1.0 - force_gain_uncertainty) if force_gain_uncertainty else ()):
-        shifts.append(best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain)) - w_best)
+    for g in ((1.0 + force_gain_uncertainty, 1.0 - force_gain_uncertainty) if force_gain_uncertainty else ()):
+        g_off = gain * g  # about the gain read, where it was (1 otherwise: the profile's own points)
+        w_off = profile[g_off] if gain == 1.0 and g_off in profile else \
+            best_w(partial(ssr_at, offset=offset, lag=lag, gain=g_off))
+        shifts.append(w_off - w_best)
     shift_down, shift_up = max(-min(shifts), 0.0), max(max(shifts), 0.0)
     gain_shift = max(shift_down, shift_up)
 
     def ssr(w: float) -> float:
-        return ssr_at(w, offset, lag)
+        return ssr_at(w, offset, lag, gain)
 
     threshold = float(chi2.ppf(level, 1)) * c_best / max(n - 1, 1) * n / max(n_eff, 1.0)
     low = _edge(ssr, c_best + threshold, w_best, grid[grid < w_best][::-1], lo)
@@ -1110,19 +1169,19 @@ def identify_water_content(
         if n >= 16:
             halves = []
             for sel in (slice(0, None, 2), slice(1, None, 2)):
-                w_half = best_w(partial(ssr_at, offset=offset, lag=lag, sel=sel))
+                w_half = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain, sel=sel))
 
                 def half_residual(th: np.ndarray, sel: slice = sel) -> np.ndarray:
-                    return evaluate(float(th[0]), float(th[1]), float(th[2]), 1.0, sel)[0]
+                    return evaluate(float(th[0]), float(th[1]), float(th[2]), gain, sel)[0]
 
                 refit = joint_fit(half_residual, np.array([w_half, offset, lag]), 20)
                 halves.append(float(refit.x[0]))
             rate_shift = abs(0.5 * (halves[0] + halves[1]) - w_best) + 0.5 * abs(halves[0] - halves[1])
 
             def turn_residual(th: np.ndarray) -> np.ndarray:
-                return evaluate(float(th[0]), float(th[1]), float(th[2]), 1.0, slice(None), False)[0]
+                return evaluate(float(th[0]), float(th[1]), float(th[2]), gain, slice(None), False)[0]
 
-            w_turn = best_w(partial(ssr_at, offset=offset, lag=lag, turns=False))
+            w_turn = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain, turns=False))
             rate_shift += abs(float(joint_fit(turn_residual, np.array([w_turn, offset, lag]), 20).x[0]) - w_best)
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
     # labels of a general motion leave small systematic errors that the likelihood does not see;
@@ -1282,6 +1341,11 @@ def identify_water_content(
                         "does not follow this motion closely (touchdowns, reversals and stops between the samples, "
                         "or the model's own error at them); the interval is widened by that, and a faster rate "
                         "narrows it only where the rate is the cause")
+    if abs(gain - 1.0) > _GAIN_WARNING * force_gain_uncertainty:
+        warnings.append(f"the force reads {gain:.4g} times the mud's at the estimate (the gain read from the "
+                        f"recording), well beyond the force gain uncertainty given ({force_gain_uncertainty:.3g}): a "
+                        "sensor gain that far off, or a mud uniformly stiffer or softer than Table I's at this water "
+                        "content; the estimate is read with the force divided by it")
     if general and (abs(offset) > 0.95 * MAX_DEPTH_OFFSET or lag > 0.95 * MAX_FORCE_LAG):
         warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
@@ -1314,6 +1378,7 @@ def identify_water_content(
         force_lag_stderr=float(stderr[2]) if general else math.nan,
         force_gain_uncertainty=force_gain_uncertainty,
         gain_shift=gain_shift,
+        force_gain=gain,
         discretisation=discretisation,
         rest_fraction=float(np.mean(rest)),
         rate_shift=rate_shift,
