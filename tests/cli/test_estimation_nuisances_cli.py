@@ -47,3 +47,21 @@ def test_force_gain_uncertainty_widens_identify(tmp_path: Path) -> None:
     assert not (tmp_path / "bad.json").exists()
     assert runs[8].returncode == 0, runs[8].stderr
     assert json.loads(runs[8].stdout) == none
+
+
+def test_identify_reads_and_prints_a_gain_the_walk_determines(tmp_path: Path) -> None:
+    """A gait walk whose force reads 5 % low (``synth --force-gain 0.95``): identify reads the gain (0.942) and the
+    water content (21.96 % for 22 %), and says so in a line of its own; ``--force-gain-uncertainty 0%`` reads none."""
+    runs = run_batch([
+        (["synth", "--motion", "gait", "--out", "low", "--water-content", "22%", "--repeats", "1", "--seed", "1",
+          "--duration", "8s", "--force-gain", "0.95"], tmp_path),
+        (["identify", "low/w22_gait_r1.csv"], tmp_path),
+        (["identify", "low/w22_gait_r1.csv", "--json"], tmp_path),
+        (["identify", "low/w22_gait_r1.csv", "--force-gain-uncertainty", "0%"], tmp_path),
+    ])
+    assert all(r.returncode == 0 for r in runs), [r.stderr for r in runs]
+    lines = runs[1].stdout.splitlines()
+    assert lines[1].startswith("force gain read from the recording: 0.94") and len(lines) == 2
+    read = json.loads(runs[2].stdout)
+    assert read["force_gain"] == pytest.approx(0.95, abs=0.01) and abs(read["water_content"] - 0.22) < 0.002
+    assert "force gain read" not in runs[3].stdout
