@@ -19,6 +19,7 @@ import pytest
 import mudforce.estimation.tracker as tracker_module
 from mudforce import MudTrackers
 from mudforce._kernel.layout import P_DEADBAND, P_WINDOW
+from mudforce.estimation import _tracker_layout as tracker_layout
 from mudforce.estimation.tracker import TrackResult, default_velocity_filter, track
 from mudforce.model.foot import Foot
 from mudforce.motions.gait import walk
@@ -78,7 +79,7 @@ def _rules(depth_noise: float, seed: int = 4) -> tuple[np.ndarray, ...]:
         quick.append(tracker._aux[0, tracker_module._A_QUICK] != 0.0)
         windows.append(params[0, P_WINDOW])
         deadbands.append(params[0, P_DEADBAND])
-        sink.append(tracker._aux[0, tracker_module._A_SINK])
+        sink.append(tracker._aux[0, tracker_layout._A_SINK])
     speed = np.abs(np.gradient(wk.depth_true, wk.time))
     return (np.array(inside), np.array(quick), np.array(windows), np.array(deadbands), np.array(sink), speed)
 

@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 import mudforce.estimation.tracker as tracker_module
-from mudforce.estimation.tracker import _blur_matrix, _blurred_quantiles, track
+from mudforce.estimation._tracker_step import _blurred_quantiles
+from mudforce.estimation.tracker import _blur_matrix, track
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.motions.gait import gait, walk
@@ -131,7 +132,8 @@ def test_an_interval_reaches_the_grids_end_where_its_tail_there_is_as_dense_as_i
     ``_END_REACH`` times as dense as the interval (``1 - 2 half`` over its width). The sensor-chain bench's seed 34
     robot 0 (a MuJoCo foot 2 mm deep, 15.08 % mud, "standard, all (-)") read [15.31, 35.16] %: a flat posterior, whose
     equal tails left out 15.08 %; it now reads the whole grid. A posterior peaked inside keeps its interval."""
-    from mudforce.estimation.tracker import _END_REACH, _reach_ends
+    from mudforce.estimation._tracker_layout import _END_REACH
+    from mudforce.estimation._tracker_step import _reach_ends
 
     first, last, half = 0.1475, 0.3525, 0.025
     assert _reach_ends(0.1531, 0.3516, first, last, half) == (first, last)
