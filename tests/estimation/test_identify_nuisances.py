@@ -170,3 +170,19 @@ def test_the_nuisances_standard_errors_hold_the_spread_over_the_episodes(
     assert abs(res.depth_offset) < 2.5 * res.depth_offset_stderr
     clean = identify_water_content(_trial(fine))
     assert clean.depth_offset_stderr == pytest.approx(3.04e-6, rel=0.02)
+
+
+def test_the_issues_gain_case_on_the_lab_protocol_reads_the_gain() -> None:
+    """Issue 23's case: ``mudforce synth --water-content 31% --repeats 1 --seed 2``, the force times 1.05. It read
+    29.81 % [29.56, 30.06] when the issue was filed; the gain reads 1.05 and the water content 31.0 % at each speed.
+    Without the gain error nothing is read and the estimate is the same as at ``force_gain_uncertainty`` 0."""
+    from mudforce.estimation.calibration.synth import synthesize
+
+    ds = synthesize(water_contents=[0.31], repeats=1, seed=2)
+    for t in ds.trials:
+        res = identify_water_content(Trial(t.name, t.water_content, t.time, t.depth, 1.05 * t.force), ds.foot)
+        assert res.force_gain == pytest.approx(1.05, abs=0.003) and abs(res.water_content - 0.31) < 0.001
+        assert res.low <= 0.31 <= res.high
+        clean = identify_water_content(t, ds.foot)
+        bare = identify_water_content(t, ds.foot, force_gain_uncertainty=0.0)
+        assert clean.force_gain == 1.0 and clean.water_content == bare.water_content

@@ -16,7 +16,7 @@ family misfits the trial. With --json: {"water_content": 0.23,
 On a trial of any motion the surface offset of the depth and a force lag
 are fitted with the water content, and the force's gain is read where the
 recording determines it ("force_gain": a sensor's gain, or a mud uniformly
-stiffer than Table I's at that water content); --force-gain-uncertainty
+stiffer or softer than Table I's); --force-gain-uncertainty
 (default 5%) widens the interval by the shift a further gain error causes.
 A robot that knows its depth noise (the surface estimate's) gives it with
 --depth-noise (e.g. 0.03mm); by default it is estimated from the depth.
@@ -109,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
               f"RMSE {result.rmse:.3g} N{fit}")
         if result.force_gain != 1.0:
             print(f"force gain read from the recording: {result.force_gain:.4g} (the measured force over the mud's: "
-                  "a sensor's gain, or a mud uniformly stiffer than Table I's at this water content)")
+                  "a sensor's gain, or a mud uniformly stiffer or softer than Table I's at this water content)")
         for w in result.warnings:
             print(f"warning: {w}")
     return 0

@@ -276,10 +276,9 @@ class Identification:
         The force sensor's gain read from the recording [-] (the measured force over the mud's): the estimate, the
         interval and the floors are read with the force divided by it. 1 where the recording does not determine it
         (the least-squares cost over a grid of gains within two ``force_gain_uncertainty`` of 1 has no sharp least
-        inside it: a shallow recording, or a misfit the gain does not explain), on a protocol trial and with
-        ``force_gain_uncertainty`` 0 (ours; docs/estimation.md, "The force gain, read where the recording
-        determines it"). Where it was read, ``gain_shift`` is the shift of a further change of
-        ``force_gain_uncertainty`` about it.
+        inside it: a shallow recording, or a misfit the gain does not explain) and with ``force_gain_uncertainty``
+        0 (ours; docs/estimation.md, "The force gain, read where the recording determines it"). Where it was
+        read, ``gain_shift`` is the shift of a further change of ``force_gain_uncertainty`` about it.
     discretisation : float
         The model's own discretisation error at the data's rate [N] (RMS over the samples); it
         enters the misfit statistic sample by sample, excusing only the samples where it is large.
@@ -1092,18 +1091,21 @@ def identify_water_content(
     # runs to an end, and the gain is left at 1 (the interval's gain shift still holds it)
     gain = 1.0
     profile: dict[float, float] = {}
-    if general and force_gain_uncertainty:
+    if force_gain_uncertainty:
         gains = 1.0 + force_gain_uncertainty * _GAIN_STEPS
         fits = np.full(gains.size, c_best)
         for i, g in enumerate(gains.tolist()):
-            if g != 1.0:  # the offset and the lag refitted at each gain: held at 1's, they had taken part of it
-                profile[g] = best_w(partial(ssr_at, offset=offset, lag=lag, gain=g))
+            if g == 1.0:
+                continue
+            profile[g] = best_w(partial(ssr_at, offset=offset, lag=lag, gain=g))
+            fits[i] = ssr_at(profile[g], offset, lag, g)
+            if general:  # the offset and the lag refitted at each gain: held at 1's, they had taken part of it
 
                 def gain_residual(th: np.ndarray, g: float = g) -> np.ndarray:
                     return evaluate(float(th[0]), float(th[1]), float(th[2]), g)[0]
 
                 at_g = joint_fit(gain_residual, np.array([profile[g], offset, lag]), 20)
-                fits[i] = min(2.0 * float(at_g.cost), ssr_at(profile[g], offset, lag, g))
+                fits[i] = min(2.0 * float(at_g.cost), fits[i])
         j = int(np.argmin(fits))
         if 0 < j < gains.size - 1 and gains[j] != 1.0 and min(fits[j - 1], fits[j + 1]) >= _GAIN_SHARPNESS * fits[j]:
             # the parabola's least through the grid's least and its two neighbours (both above it: a least between
@@ -1111,13 +1113,16 @@ def identify_water_content(
             step = float(gains[1] - gains[0])
             curve = float(fits[j - 1] - 2.0 * fits[j] + fits[j + 1])
             gain = float(gains[j]) + 0.5 * step * float(fits[j - 1] - fits[j + 1]) / curve
-        if gain != 1.0:  # the joint fit redone at the gain read
+        if gain != 1.0 and general:  # the joint fit redone at the gain read
             w_gain = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain))
             joint = joint_fit(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]), gain)[0],
                               np.array([w_gain, offset, lag]), 20)
             w_best, offset, lag = (float(x) for x in joint.x)
             c_best = 2.0 * float(joint.cost)
             jac = np.asarray(joint.jac, dtype=np.float64)
+        elif gain != 1.0:  # a protocol trial: the water content alone
+            w_best = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain))
+            c_best = ssr_at(w_best, offset, lag, gain)
     r, f_best, meas, bias, pre = evaluate(w_best, offset, lag, gain)
     n = r.size
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 2 and np.std(r) > 0 else 0.0
@@ -1126,7 +1131,7 @@ def identify_water_content(
     s2 = c_best / max(n - 1, 1) * n / max(n_eff, 1.0)
     if jac is None:  # the water content alone: its derivative by central differences
         wa, wb = max(w_best - 1e-4, lo), min(w_best + 1e-4, hi)
-        jac = ((evaluate(wb, 0.0, 0.0)[0] - evaluate(wa, 0.0, 0.0)[0]) / (wb - wa))[:, None]
+        jac = ((evaluate(wb, 0.0, 0.0, gain)[0] - evaluate(wa, 0.0, 0.0, gain)[0]) / (wb - wa))[:, None]
     jtj = jac.T @ jac
     cov = np.linalg.pinv(jtj)
     inflate = math.sqrt(max(float(cov[0, 0] * jtj[0, 0]), 1.0)) if jtj[0, 0] > 0 else 1.0
