@@ -173,11 +173,11 @@ def test_a_tracker_state_no_update_makes_is_refused_and_changes_nothing() -> Non
     quantiles were taken as they were: a silently wrong estimate), a negative variance or time, a lag off the
     hypotheses' range, an anchor outside its interval, or the reported interval's hull with its ends crossed (or,
     in the twin, which keeps none, one end set) is refused, for the first bank and the twin alike."""
-    from mudforce.estimation import tracker as T
+    from mudforce.estimation import _tracker_layout as tracker_layout
 
     _, _, tracker = _walked_tracker(150)
     before = tracker.state
-    assert not np.isnan(before.aux[0, T._A_ANCHOR])  # an anchor is set, so its interval is checked
+    assert not np.isnan(before.aux[0, tracker_layout._A_ANCHOR])  # an anchor is set, so its interval is checked
 
     def edited(state: TrackerState, name: str, column: int | None, value: float) -> TrackerState:
         arrays = {key: np.array(getattr(state, key)) for key in ("posterior", "aux")}
@@ -189,12 +189,14 @@ def test_a_tracker_state_no_update_makes_is_refused_and_changes_nothing() -> Non
                             state.key, state.twin)
 
     cases = [("posterior", None, -0.25, "posterior is not probabilities"),
-             ("aux", T._A_VAR, -1.0, "force noise variance is negative"),
-             ("aux", T._A_CONTACT, -1.0, "contact time is negative"),
-             ("aux", T._A_LAG, 0.5, "force lag is not within"),
-             ("aux", T._A_QUICK, 0.5, "branch rule flag is not 0 or 1"),
-             ("aux", T._A_ANCHOR_HIGH, before.aux[0, T._A_ANCHOR] - 0.01, "anchor lies outside its interval"),
-             ("aux", T._A_HULL_LOW, before.aux[0, T._A_HULL_HIGH] + 0.01, "hull has its ends crossed")]
+             ("aux", tracker_layout._A_VAR, -1.0, "force noise variance is negative"),
+             ("aux", tracker_layout._A_CONTACT, -1.0, "contact time is negative"),
+             ("aux", tracker_layout._A_LAG, 0.5, "force lag is not within"),
+             ("aux", tracker_layout._A_QUICK, 0.5, "branch rule flag is not 0 or 1"),
+             ("aux", tracker_layout._A_ANCHOR_HIGH, before.aux[0, tracker_layout._A_ANCHOR] - 0.01,
+              "anchor lies outside its interval"),
+             ("aux", tracker_layout._A_HULL_LOW, before.aux[0, tracker_layout._A_HULL_HIGH] + 0.01,
+              "hull has its ends crossed")]
     for name, column, value, message in cases:
         with pytest.raises(InputError, match=message):
             tracker.state = edited(before, name, column, value)

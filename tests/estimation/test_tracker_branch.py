@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import mudforce.estimation.tracker as tracker_module
 from mudforce import MudTrackers
 from mudforce._kernel.layout import P_DEADBAND, P_WINDOW
 from mudforce.estimation import _tracker_layout as tracker_layout
@@ -51,7 +50,7 @@ def _wrong(r: TrackResult) -> np.ndarray:
 
 def test_a_wet_walking_robot_is_read_within_1_5_points(recording: tuple[np.ndarray, ...],
                                                        monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
+    monkeypatch.setattr(tracker_layout, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
     robust = track(*recording, FOOT, velocity_filter=default_velocity_filter())  # the rule as given: never quick
     late = _late(robust)
     error = robust.water_content[late] - TRUTH
@@ -76,7 +75,7 @@ def _rules(depth_noise: float, seed: int = 4) -> tuple[np.ndarray, ...]:
         assert np.all(params[:, P_WINDOW] == params[0, P_WINDOW])  # one rule for every row of the foot
         assert np.all(params[:, P_DEADBAND] == params[0, P_DEADBAND])
         inside.append(wk.depth[k] > -0.006)
-        quick.append(tracker._aux[0, tracker_module._A_QUICK] != 0.0)
+        quick.append(tracker._aux[0, tracker_layout._A_QUICK] != 0.0)
         windows.append(params[0, P_WINDOW])
         deadbands.append(params[0, P_DEADBAND])
         sink.append(tracker._aux[0, tracker_layout._A_SINK])
@@ -107,8 +106,8 @@ def test_the_rule_follows_the_noise_the_surface_the_sinkage_and_the_motion() -> 
 @pytest.mark.parametrize(("low", "high"), [(0.5, 1.0), (0.0, 1e-3)])
 def test_outside_the_sinkage_band_the_rule_is_robust(monkeypatch: pytest.MonkeyPatch, low: float,
                                                      high: float) -> None:
-    monkeypatch.setattr(tracker_module, "_QUICK_SINK", low)
-    monkeypatch.setattr(tracker_module, "_QUICK_SINK_MAX", high)
+    monkeypatch.setattr(tracker_layout, "_QUICK_SINK", low)
+    monkeypatch.setattr(tracker_layout, "_QUICK_SINK_MAX", high)
     assert not _rules(3e-5)[1].any()
 
 
@@ -135,12 +134,12 @@ def test_a_snapshot_taken_on_the_quick_rule_replays_bit_for_bit() -> None:
     quick = []
     for k in range(wk.time.size):
         a.update(wk.depth[k:k + 1], wk.force[k:k + 1], 0.01)
-        quick.append(a._aux[0, tracker_module._A_QUICK] != 0.0)
+        quick.append(a._aux[0, tracker_layout._A_QUICK] != 0.0)
     half = int(np.flatnonzero(quick)[len(np.flatnonzero(quick)) // 2])  # a sample on the quick rule
     a = MudTrackers(1)
     for k in range(half + 1):
         a.update(wk.depth[k:k + 1], wk.force[k:k + 1], 0.01)
-    assert a._aux[0, tracker_module._A_QUICK] != 0.0 and a._bank.params_array[0, P_WINDOW] == 2.0
+    assert a._aux[0, tracker_layout._A_QUICK] != 0.0 and a._bank.params_array[0, P_WINDOW] == 2.0
     state = a.state
     b = MudTrackers(1)  # made on the noise-robust rule
     b.state = state

@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import mudforce.estimation.tracker as tracker_module
 from mudforce import InputError, MudParameters, MudTracker, MudTrackers, TrackEstimate, simulate
+from mudforce.estimation import _tracker_layout as tracker_layout
 from mudforce.estimation.tracker import track
 from mudforce.model.foot import Foot
 from mudforce.motions.gait import walk
@@ -57,7 +57,7 @@ def test_a_dry_walk_under_1mm_depth_noise_is_read_on_the_depths_mean(monkeypatch
     assert np.all((r.low[late] <= 0.20) & (0.20 <= r.high[late]))
     assert np.mean(np.abs(r.water_content[late] - 0.20) <= 0.015) >= 0.55
     assert np.median(r.water_content[late]) > 0.185
-    monkeypatch.setattr(tracker_module, "_SMOOTH_NOISE", math.inf)  # the raw depth, as before
+    monkeypatch.setattr(tracker_layout, "_SMOOTH_NOISE", math.inf)  # the raw depth, as before
     raw = track(w.time, w.depth, w.force)
     assert np.mean(np.abs(raw.water_content[late] - 0.20) <= 0.015) <= 0.40
     assert np.median(raw.water_content[late]) < 0.1825
@@ -74,9 +74,9 @@ def test_a_clean_depth_and_a_20_hz_depth_are_stepped_as_they_come(monkeypatch: p
 
 def _same_as_the_raw_depth(monkeypatch: pytest.MonkeyPatch, t: np.ndarray, z: np.ndarray, f: np.ndarray,
                            same: bool) -> None:
-    monkeypatch.setattr(tracker_module, "_SMOOTH_NOISE", 8e-4)
+    monkeypatch.setattr(tracker_layout, "_SMOOTH_NOISE", 8e-4)
     a = track(t, z, f)
-    monkeypatch.setattr(tracker_module, "_SMOOTH_NOISE", math.inf)
+    monkeypatch.setattr(tracker_layout, "_SMOOTH_NOISE", math.inf)
     b = track(t, z, f)
     names = ("water_content", "low", "high", "force_predicted", "depth_offset", "force_lag")
     assert all(np.array_equal(getattr(a, name), getattr(b, name)) for name in names) == same
@@ -159,15 +159,15 @@ def test_a_standing_foot_under_depth_noise_does_not_drift_out_of_its_interval(mo
     assert not missed.any()
     assert np.max(r.water_content[stance]) < 0.336  # measured 33.39 %
     assert np.mean(np.abs(r.water_content[late] - truth) <= 0.015) >= 0.9  # measured 94 %
-    monkeypatch.setattr(tracker_module, "_REST_SPREAD", 0.0)  # the band's ends as read (read when a tracker is made)
+    monkeypatch.setattr(tracker_layout, "_REST_SPREAD", 0.0)  # the band's ends as read (read when a tracker is made)
     before = track(t, z, f)
     missed = late & ~((before.low <= truth) & (truth <= before.high)) & ~(before.changed | before.misfit)
     assert np.sum(missed) == 59 and np.max(before.water_content[stance]) > 0.34  # measured 34.01 %
     # a clean depth has no noise beyond the branch rule's: read as before, to the bit
     w = walk(0.25, seed=2, duration=8.0, force_noise=0.2, depth_noise=3e-5)
-    monkeypatch.setattr(tracker_module, "_REST_SPREAD", 1.0)
+    monkeypatch.setattr(tracker_layout, "_REST_SPREAD", 1.0)
     clean = track(w.time, w.depth, w.force)
-    monkeypatch.setattr(tracker_module, "_REST_SPREAD", 0.0)
+    monkeypatch.setattr(tracker_layout, "_REST_SPREAD", 0.0)
     assert np.array_equal(track(w.time, w.depth, w.force).water_content, clean.water_content)
 
 
@@ -185,7 +185,7 @@ def test_under_depth_noise_streaming_a_snapshot_many_feet_and_a_refusal_agree_bi
     whole = track(t, z, f)
     for constant, off in (("_SMOOTH_NOISE", math.inf), ("_REST_SPREAD", 0.0)):
         with monkeypatch.context() as m:
-            m.setattr(tracker_module, constant, off)
+            m.setattr(tracker_layout, constant, off)
             other = track(t, z, f)
         assert not np.array_equal(other.water_content, whole.water_content), constant
 

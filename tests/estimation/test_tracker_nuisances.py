@@ -59,6 +59,7 @@ def test_interval_widens_with_the_misfit_average() -> None:
     """A misfit average above its reference widens the reported interval (a scale mixture), not the change flag's."""
     import dataclasses
 
+    from mudforce.estimation import _tracker_layout as tracker_layout
     from mudforce.estimation import tracker as T
     from mudforce.motions.gait import walk
 
@@ -72,8 +73,8 @@ def test_interval_widens_with_the_misfit_average() -> None:
     last = (float(wk.depth[-1]), float(wk.force[-1]), float(wk.time[-1] - previous))
     plain = tracker.update(*last)
     aux = np.array(state.aux)
-    for ratio, factor in ((1.0, 1.0), (9.0 * T._MISFIT_BLUR_REF, 3.0)):
-        aux[0, T._A_MISFIT] = ratio
+    for ratio, factor in ((1.0, 1.0), (9.0 * tracker_layout._MISFIT_BLUR_REF, 3.0)):
+        aux[0, tracker_layout._A_MISFIT] = ratio
         tracker.state = dataclasses.replace(state, aux=aux)
         est = tracker.update(*last)
         if factor == 1.0:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import mudforce.estimation.tracker as tracker_module
+from mudforce.estimation import _tracker_layout as tracker_layout
 from mudforce.estimation.tracker import TrackResult, track
 from mudforce.motions.gait import walk
 
@@ -30,7 +30,7 @@ def runs() -> Runs:
         for stride in (1, 2, 5):
             t, z, f = wk.time[::stride], wk.depth[::stride], wk.force[::stride]
             wide = track(t, z, f)
-            patch.setattr(tracker_module, "_RATE_WIDENING", 0.0)  # read when a tracker is made
+            patch.setattr(tracker_layout, "_RATE_WIDENING", 0.0)  # read when a tracker is made
             plain = track(t, z, f)
             patch.undo()
             out[stride] = (t, wide, plain)

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import mudforce.estimation.tracker as tracker_module
+from mudforce.estimation import _tracker_layout as tracker_layout
 from mudforce.estimation._tracker_step import _blurred_quantiles
 from mudforce.estimation.tracker import _blur_matrix, track
 from mudforce.model.foot import Foot
@@ -38,10 +38,10 @@ def _shallow_walk() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def test_a_shallow_sinkage_widens_the_interval_not_the_estimate(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
+    monkeypatch.setattr(tracker_layout, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
     t, z, f = _shallow_walk()
     wide = track(t, z, f)
-    monkeypatch.setattr(tracker_module, "_SHALLOW_WIDENING", 0.0)  # read when a tracker is made
+    monkeypatch.setattr(tracker_layout, "_SHALLOW_WIDENING", 0.0)  # read when a tracker is made
     plain = track(t, z, f)
     late = t >= 3.0
     assert np.array_equal(wide.water_content, plain.water_content)  # the fit's median either way
@@ -57,13 +57,13 @@ def test_a_shallow_sinkage_widens_the_interval_not_the_estimate(monkeypatch: pyt
 def test_the_widening_s_gain(monkeypatch: pytest.MonkeyPatch) -> None:
     # the same walk with the widening before issue 23's lag rows (s at 5, gain 1), then each constant alone: the
     # gain widens where s > 1, a smaller s widens less (both read when a tracker is made)
-    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
+    monkeypatch.setattr(tracker_layout, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
     t, z, f = _shallow_walk()
     late = t >= 3.0
     widths = []
     for c, k in ((5.0, 1.0), (4.0, 1.0), (5.0, 2.5)):
-        monkeypatch.setattr(tracker_module, "_SHALLOW_WIDENING", c)
-        monkeypatch.setattr(tracker_module, "_SHALLOW_GAIN", k)
+        monkeypatch.setattr(tracker_layout, "_SHALLOW_WIDENING", c)
+        monkeypatch.setattr(tracker_layout, "_SHALLOW_GAIN", k)
         r = track(t, z, f)
         widths.append(float(np.median((r.high - r.low)[late])))
     # measured: 10.4, 10.1 and 20.2 points since the twin bank runs the quick rule (10.2, 9.4, 20.2 with its 5-step
@@ -74,11 +74,11 @@ def test_the_widening_s_gain(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_deep_walks_and_one_offset_are_not_widened(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
+    monkeypatch.setattr(tracker_layout, "_HULL_MEMORY", 0.0)  # the intervals as read, not their hull over a second
     wk = walk(0.25, seed=3, duration=12.0, force_noise=0.2, bias=0.5)
     shallow = _shallow_walk()
     runs = [track(wk.time, wk.depth, wk.force), track(*shallow, depth_offsets=[0.0])]
-    monkeypatch.setattr(tracker_module, "_SHALLOW_WIDENING", 0.0)
+    monkeypatch.setattr(tracker_layout, "_SHALLOW_WIDENING", 0.0)
     plain = [track(wk.time, wk.depth, wk.force), track(*shallow, depth_offsets=[0.0])]
     late = wk.time >= 3.0  # the walk sinks 1-3 cm: s < 1 once its first stances are in
     assert np.array_equal(runs[0].low[late], plain[0].low[late])

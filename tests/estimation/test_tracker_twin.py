@@ -18,10 +18,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import mudforce.estimation.tracker as tracker_module
 from mudforce import MudTrackers
 from mudforce.errors import InputError
-from mudforce.estimation.tracker import _C_HULL, _O_HIGH, _O_LOW, _O_W, default_velocity_filter, track
+from mudforce.estimation import _tracker_layout as tracker_layout
+from mudforce.estimation._tracker_layout import _C_HULL, _O_HIGH, _O_LOW, _O_W
+from mudforce.estimation.tracker import default_velocity_filter, track
 from mudforce.model.foot import Foot
 from mudforce.model.velocity import VelocityFilter
 
@@ -31,7 +32,7 @@ FOOT = Foot.disc(0.05)
 
 
 def test_the_interval_is_the_union_of_the_two_banks_and_holds_the_truth(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)  # the union as read, not its hull over a second
+    monkeypatch.setattr(tracker_layout, "_HULL_MEMORY", 0.0)  # the union as read, not its hull over a second
     t, z, f = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
     r = track(t, z, f, FOOT)
     # the first bank alone (the tracker before the twin), sample by sample
@@ -192,7 +193,7 @@ def test_the_reported_interval_holds_a_posterior_that_jumps_between_two_modes(mo
     late = t >= 3.0
     r = track(t, z, f, FOOT)
     assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 541
-    monkeypatch.setattr(tracker_module, "_HULL_MEMORY", 0.0)
+    monkeypatch.setattr(tracker_layout, "_HULL_MEMORY", 0.0)
     read = track(t, z, f, FOOT)
     missed = late & ~((read.low <= truth) & (truth <= read.high)) & ~(read.changed | read.misfit)
     assert np.flatnonzero(missed).tolist() == list(range(105, 117))  # 5.25-5.8 s, the estimate at 34.6 %
@@ -210,4 +211,4 @@ def test_a_state_of_other_lag_hypotheses_is_refused_in_one_line() -> None:
     with pytest.raises(InputError, match=r"other feet, grid or options \(or of another mudforce version\)"):
         b.state = state
     assert np.array_equal(b._aux, before, equal_nan=True)
-    assert tracker_module._LAGS_A.tobytes() in a._state_key and tracker_module._LAGS_B.tobytes() in a._state_key
+    assert tracker_layout._LAGS_A.tobytes() in a._state_key and tracker_layout._LAGS_B.tobytes() in a._state_key

@@ -8,15 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = [
-    "DEFAULT_DEPTH_OFFSETS",
-    "DEFAULT_DEPTH_OFFSET_PRIOR",
-    "DEFAULT_FORCE_LAG_ALLOWANCE",
-    "DEFAULT_GRID",
-    "DEFAULT_MAX_STEP",
-    "MAX_FORCE",
-    "MISFIT_THRESHOLD",
-]
+# private: its public names are mudforce.estimation.tracker's, which imports them from here
+__all__: list[str] = []
 
 #: Largest |force| a tracker takes [N] (~1000 t, as a recording's force column: mudforce.io.tables.COLUMN_LIMITS):
 #: beyond it a finite force could overflow the likelihood's squares and leave the posterior NaN for good.

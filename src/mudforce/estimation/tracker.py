@@ -125,108 +125,8 @@ from mudforce._kernel.bounds import MAX_DEPTH, MAX_TIME, MIN_DT
 from mudforce._kernel.layout import S_CACHE_DT
 from mudforce._plumbing.deprecation import warn_renamed
 from mudforce.errors import InputError, feet_count, positive_number, real_array, real_number, true_or_false
+from mudforce.estimation import _tracker_layout as L
 from mudforce.estimation._tracker_layout import (
-    _A_ANCHOR,
-    _A_ANCHOR_HIGH,
-    _A_ANCHOR_LOW,
-    _A_CONTACT,
-    _A_D2VAR,
-    _A_DVAR,
-    _A_HOLD,
-    _A_HULL_HIGH,
-    _A_HULL_LOW,
-    _A_LAG,
-    _A_LAG_A,
-    _A_LAG_SD,
-    _A_MISFIT,
-    _A_MISFIT_T,
-    _A_NFREE,
-    _A_QUICK,
-    _A_RUN,
-    _A_RUN_QUIET,
-    _A_RUN_SQ,
-    _A_STARTED,
-    _A_TARE_PREV,
-    _A_TARE_VAR0,
-    _A_VAR,
-    _A_ZN,
-    _BLUR_FACTORS,
-    _C_BIAS0,
-    _C_BLUR_REF,
-    _C_DISC,
-    _C_DOF,
-    _C_FLOOR,
-    _C_FREE_MEMORY,
-    _C_GAIN,
-    _C_HULL,
-    _C_LAG,
-    _C_LEAD,
-    _C_LEVEL,
-    _C_MARGIN,
-    _C_MAX_DEPTH,
-    _C_MISFIT,
-    _C_MISFIT_RATIO,
-    _C_NOISE0,
-    _C_OFFSET_RES,
-    _C_OFFSET_TEMPER,
-    _C_QUICK,
-    _C_QUICK_OFF,
-    _C_QUICK_ON,
-    _C_QUICK_SINK,
-    _C_QUICK_SINK_MAX,
-    _C_RATE_GAIN,
-    _C_REST,
-    _C_REST_SPREAD,
-    _C_ROBUST_DEADBAND,
-    _C_ROBUST_WINDOW,
-    _C_SETTLE,
-    _C_SHALLOW,
-    _C_SHALLOW_GAIN,
-    _C_SMOOTH,
-    _C_SUBSTEP,
-    _C_TAU,
-    _C_TEMP,
-    _C_TEMPER,
-    _DEPTH_NOISE0,
-    _HULL_MEMORY,
-    _LAGS,
-    _LAGS_A,
-    _LAGS_B,
-    _MAX_FORCE_LAG,
-    _MAX_LEAD,
-    _MAX_MISFIT,
-    _MISFIT_BLUR_REF,
-    _MISFIT_DISCRETISATION,
-    _MISFIT_TEMPER_REF,
-    _N_AUX,
-    _N_CFG,
-    _N_LAGS,
-    _N_OUT,
-    _O_BIAS,
-    _O_CHANGED,
-    _O_HIGH,
-    _O_LAG,
-    _O_LAG_SD,
-    _O_LOW,
-    _O_MISFIT,
-    _O_NOISE,
-    _O_OFFSET,
-    _O_OFFSET_SD,
-    _O_PRED,
-    _O_W,
-    _OFFSET_TEMPER,
-    _QUICK_OFF,
-    _QUICK_ON,
-    _QUICK_SINK,
-    _QUICK_SINK_MAX,
-    _RATE_WIDENING,
-    _REST_SPREAD,
-    _SHALLOW_GAIN,
-    _SHALLOW_WIDENING,
-    _SMOOTH_NOISE,
-    _TWIN_DEADBAND,
-    _TWIN_OFFSET_SPAN,
-    _TWIN_WINDOW,
     DEFAULT_DEPTH_OFFSET_PRIOR,
     DEFAULT_DEPTH_OFFSETS,
     DEFAULT_FORCE_LAG_ALLOWANCE,
@@ -411,28 +311,29 @@ def _impossible_state(posterior: np.ndarray, aux: np.ndarray) -> str:
     sums = posterior.sum(axis=1)
     if not (np.all(posterior >= 0.0) and np.all(np.abs(sums - 1.0) <= 1e-9)):
         return "posterior is not probabilities summing to 1 for each foot"
-    for column, name in ((_A_NFREE, "free-sample count"), (_A_VAR, "force noise variance"), (_A_RUN, "tare run time"),
-                         (_A_RUN_QUIET, "tare run's quiet time"), (_A_RUN_SQ, "tare run's mean square"),
-                         (_A_CONTACT, "contact time"), (_A_HOLD, "change-flag hold"), (_A_MISFIT, "misfit average"),
-                         (_A_MISFIT_T, "misfit time"), (_A_DVAR, "depth noise variance"),
-                         (_A_D2VAR, "depth's second differences' mean square"),
-                         (_A_TARE_VAR0, "tare stretch's noise variance"),
-                         (_A_LAG_SD, "force lag spread"), (_A_LAG_A, "force lag's first stage")):
+    for column, name in ((L._A_NFREE, "free-sample count"), (L._A_VAR, "force noise variance"),
+                         (L._A_RUN, "tare run time"), (L._A_RUN_QUIET, "tare run's quiet time"),
+                         (L._A_RUN_SQ, "tare run's mean square"), (L._A_CONTACT, "contact time"),
+                         (L._A_HOLD, "change-flag hold"), (L._A_MISFIT, "misfit average"),
+                         (L._A_MISFIT_T, "misfit time"), (L._A_DVAR, "depth noise variance"),
+                         (L._A_D2VAR, "depth's second differences' mean square"),
+                         (L._A_TARE_VAR0, "tare stretch's noise variance"),
+                         (L._A_LAG_SD, "force lag spread"), (L._A_LAG_A, "force lag's first stage")):
         if np.any(aux[:, column] < 0.0):
             return f"{name} is negative"
-    for column, name in ((_A_STARTED, "started"), (_A_QUICK, "branch rule"), (_A_TARE_PREV, "tare")):
+    for column, name in ((L._A_STARTED, "started"), (L._A_QUICK, "branch rule"), (L._A_TARE_PREV, "tare")):
         if not np.all(np.isin(aux[:, column], (0.0, 1.0))):
             return f"{name} flag is not 0 or 1"
-    if not np.all((aux[:, _A_ZN] >= 0.0) & (aux[:, _A_ZN] <= 3.0)):
+    if not np.all((aux[:, L._A_ZN] >= 0.0) & (aux[:, L._A_ZN] <= 3.0)):
         return "depth count is not within [0, 3]"
-    longest = float(_LAGS.max())
-    if not np.all((aux[:, _A_LAG] >= 0.0) & (aux[:, _A_LAG] <= longest * (1.0 + 1e-9))):  # a mean of the lags
+    longest = float(L._LAGS.max())
+    if not np.all((aux[:, L._A_LAG] >= 0.0) & (aux[:, L._A_LAG] <= longest * (1.0 + 1e-9))):  # a mean of the lags
         return f"force lag is not within [0, {longest:g}] s"
-    anchor = aux[:, _A_ANCHOR]
+    anchor = aux[:, L._A_ANCHOR]
     set_ = ~np.isnan(anchor)
-    if not np.all((aux[set_, _A_ANCHOR_LOW] <= anchor[set_]) & (anchor[set_] <= aux[set_, _A_ANCHOR_HIGH])):
+    if not np.all((aux[set_, L._A_ANCHOR_LOW] <= anchor[set_]) & (anchor[set_] <= aux[set_, L._A_ANCHOR_HIGH])):
         return "change-flag anchor lies outside its interval"
-    hull_low, hull_high = aux[:, _A_HULL_LOW], aux[:, _A_HULL_HIGH]
+    hull_low, hull_high = aux[:, L._A_HULL_LOW], aux[:, L._A_HULL_HIGH]
     if not np.array_equal(np.isnan(hull_low), np.isnan(hull_high)) or np.any(hull_low > hull_high):
         return "reported interval's hull has its ends crossed or one of them missing"
     return ""
@@ -615,53 +516,53 @@ class MudTrackers:
         twin = true_or_false(twin, "twin")
         self.velocity_filter = (default_velocity_filter() if velocity_filter is None
                                 else resolve_velocity_filter(velocity_filter))
-        cfg = np.empty(_N_CFG, dtype=np.float64)
+        cfg = np.empty(L._N_CFG, dtype=np.float64)
         # the default rule follows each foot's depth noise measured online (quick while it is low, see
         # _QUICK_WINDOW); a rule given is kept as given
-        cfg[_C_QUICK] = 1.0 if velocity_filter is None else 0.0
-        cfg[_C_ROBUST_WINDOW] = float(self.velocity_filter.window)
-        cfg[_C_ROBUST_DEADBAND] = float(self.velocity_filter.deadband)
-        cfg[_C_QUICK_ON] = _QUICK_ON
-        cfg[_C_QUICK_OFF] = _QUICK_OFF
-        cfg[_C_QUICK_SINK] = _QUICK_SINK
-        cfg[_C_QUICK_SINK_MAX] = _QUICK_SINK_MAX
-        cfg[_C_TAU] = positive_number(tau, "tau", "s")
-        cfg[_C_MISFIT] = _at_most(positive_number(misfit, "misfit", "-"), "misfit", _MAX_MISFIT, "-")
-        cfg[_C_FLOOR] = _at_most(positive_number(floor, "floor", "N"), "floor", MAX_FORCE, "N")
-        cfg[_C_DOF] = positive_number(dof, "dof", "-")
-        cfg[_C_TEMP] = positive_number(correlation_time, "correlation_time", "s")
-        cfg[_C_NOISE0] = _at_most(positive_number(noise, "noise", "N"), "noise", MAX_FORCE, "N")
-        cfg[_C_BIAS0] = _at_most(positive_number(bias, "bias", "N"), "bias", MAX_FORCE, "N")
-        cfg[_C_FREE_MEMORY] = 500.0  # samples: the offset and noise follow slow drift over ~5 s of swing at 100 Hz
+        cfg[L._C_QUICK] = 1.0 if velocity_filter is None else 0.0
+        cfg[L._C_ROBUST_WINDOW] = float(self.velocity_filter.window)
+        cfg[L._C_ROBUST_DEADBAND] = float(self.velocity_filter.deadband)
+        cfg[L._C_QUICK_ON] = L._QUICK_ON
+        cfg[L._C_QUICK_OFF] = L._QUICK_OFF
+        cfg[L._C_QUICK_SINK] = L._QUICK_SINK
+        cfg[L._C_QUICK_SINK_MAX] = L._QUICK_SINK_MAX
+        cfg[L._C_TAU] = positive_number(tau, "tau", "s")
+        cfg[L._C_MISFIT] = _at_most(positive_number(misfit, "misfit", "-"), "misfit", L._MAX_MISFIT, "-")
+        cfg[L._C_FLOOR] = _at_most(positive_number(floor, "floor", "N"), "floor", MAX_FORCE, "N")
+        cfg[L._C_DOF] = positive_number(dof, "dof", "-")
+        cfg[L._C_TEMP] = positive_number(correlation_time, "correlation_time", "s")
+        cfg[L._C_NOISE0] = _at_most(positive_number(noise, "noise", "N"), "noise", MAX_FORCE, "N")
+        cfg[L._C_BIAS0] = _at_most(positive_number(bias, "bias", "N"), "bias", MAX_FORCE, "N")
+        cfg[L._C_FREE_MEMORY] = 500.0  # samples: the offset and noise follow slow drift over ~5 s of swing at 100 Hz
         step = float(np.max(np.diff(self.grid)))
-        cfg[_C_SETTLE] = max(0.04, 6.0 * step)  # [-] interval width under which an estimate counts as settled
-        cfg[_C_MARGIN] = max(0.01, 2.0 * step)  # [-] how far a settled interval must leave the anchor
-        cfg[_C_LEVEL] = level
-        cfg[_C_GAIN] = _non_negative(force_gain_uncertainty, "force_gain_uncertainty", "-")
-        if not cfg[_C_GAIN] < 0.5:
+        cfg[L._C_SETTLE] = max(0.04, 6.0 * step)  # [-] interval width under which an estimate counts as settled
+        cfg[L._C_MARGIN] = max(0.01, 2.0 * step)  # [-] how far a settled interval must leave the anchor
+        cfg[L._C_LEVEL] = level
+        cfg[L._C_GAIN] = _non_negative(force_gain_uncertainty, "force_gain_uncertainty", "-")
+        if not cfg[L._C_GAIN] < 0.5:
             raise InputError(f"force_gain_uncertainty must be within [0, 0.5) [-] (0.05 is 5 %), "
                              f"got {force_gain_uncertainty!r}")
-        cfg[_C_LAG] = _at_most(_non_negative(force_lag, "force_lag", "s"), "force_lag", _MAX_FORCE_LAG, "s")
-        cfg[_C_REST] = REST_SPEED
-        cfg[_C_MISFIT_RATIO] = MISFIT_THRESHOLD
-        cfg[_C_DISC] = _MISFIT_DISCRETISATION
-        cfg[_C_BLUR_REF] = _MISFIT_BLUR_REF
-        cfg[_C_TEMPER] = _MISFIT_TEMPER_REF
-        cfg[_C_OFFSET_TEMPER] = _OFFSET_TEMPER
-        cfg[_C_SUBSTEP] = _non_negative(max_step, "max_step", "s")
-        cfg[_C_HULL] = _HULL_MEMORY
-        cfg[_C_LEAD] = _MAX_LEAD
-        cfg[_C_SMOOTH] = _SMOOTH_NOISE
-        cfg[_C_REST_SPREAD] = _REST_SPREAD
+        cfg[L._C_LAG] = _at_most(_non_negative(force_lag, "force_lag", "s"), "force_lag", L._MAX_FORCE_LAG, "s")
+        cfg[L._C_REST] = REST_SPEED
+        cfg[L._C_MISFIT_RATIO] = MISFIT_THRESHOLD
+        cfg[L._C_DISC] = L._MISFIT_DISCRETISATION
+        cfg[L._C_BLUR_REF] = L._MISFIT_BLUR_REF
+        cfg[L._C_TEMPER] = L._MISFIT_TEMPER_REF
+        cfg[L._C_OFFSET_TEMPER] = L._OFFSET_TEMPER
+        cfg[L._C_SUBSTEP] = _non_negative(max_step, "max_step", "s")
+        cfg[L._C_HULL] = L._HULL_MEMORY
+        cfg[L._C_LEAD] = L._MAX_LEAD
+        cfg[L._C_SMOOTH] = L._SMOOTH_NOISE
+        cfg[L._C_REST_SPREAD] = L._REST_SPREAD
         self._cfg = cfg
         self.depth_offsets = _offsets(depth_offsets)
         # the largest |depth| taken [m]: the bank's models follow the depth plus each offset, within MAX_DEPTH
         self._max_depth = MAX_DEPTH - float(np.max(np.abs(self.depth_offsets)))
-        cfg[_C_MAX_DEPTH] = self._max_depth
-        cfg[_C_SHALLOW] = _SHALLOW_WIDENING
-        cfg[_C_SHALLOW_GAIN] = _SHALLOW_GAIN
-        cfg[_C_RATE_GAIN] = _RATE_WIDENING
-        cfg[_C_OFFSET_RES] = 0.5 * float(np.max(np.diff(self.depth_offsets))) if self.depth_offsets.size > 1 else 0.0
+        cfg[L._C_MAX_DEPTH] = self._max_depth
+        cfg[L._C_SHALLOW] = L._SHALLOW_WIDENING
+        cfg[L._C_SHALLOW_GAIN] = L._SHALLOW_GAIN
+        cfg[L._C_RATE_GAIN] = L._RATE_WIDENING
+        cfg[L._C_OFFSET_RES] = 0.5 * float(np.max(np.diff(self.depth_offsets))) if self.depth_offsets.size > 1 else 0.0
         prior = positive_number(depth_offset_prior, "depth_offset_prior", "m")
         with np.errstate(over="ignore"):  # an offset beyond 1e154 priors out: -inf, a prior probability of 0
             self._log_prior = np.ascontiguousarray(-0.5 * (self.depth_offsets / prior) ** 2)
@@ -684,12 +585,12 @@ class MudTrackers:
         # transposed: _blurred_quantiles reads them column by column
         # (one per factor of _BLUR_FACTORS, then the widened ones' piled twins: _blur_matrix's pile)
         self._blur = np.ascontiguousarray(np.stack(
-            [_blur_matrix(self.grid, self._edges, self.discrepancy * float(k)).T for k in _BLUR_FACTORS]
+            [_blur_matrix(self.grid, self._edges, self.discrepancy * float(k)).T for k in L._BLUR_FACTORS]
             + [_blur_matrix(self.grid, self._edges, self.discrepancy * float(k), pile=True).T
-               for k in _BLUR_FACTORS[1:]]))
+               for k in L._BLUR_FACTORS[1:]]))
         self._Q = np.zeros(G, dtype=np.float64)
         # scratch of the compiled step: the water content's and the offsets' posteriors, the lag filters' coefficients
-        self._work = np.zeros(G + self.depth_offsets.size + 1 + 4 * _N_LAGS, dtype=np.float64)
+        self._work = np.zeros(G + self.depth_offsets.size + 1 + 4 * L._N_LAGS, dtype=np.float64)
         self._scored = np.zeros(M, dtype=np.float64)  # the models scored on this sample, scratch of the compiled step
         mud = [MudParameters.from_water_content(float(w)) for w in self.grid]
         from mudforce.steppers.many import MudContacts
@@ -697,10 +598,10 @@ class MudTrackers:
         rows = self.n * self.depth_offsets.size
         self._bank = MudContacts(mud * rows, rows * G, self.foot, velocity_filter=self.velocity_filter, threads=1)
         self._zbuf = np.zeros(rows * G, dtype=np.float64)
-        self._L = np.zeros((self.n, (3 if cfg[_C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
+        self._L = np.zeros((self.n, (3 if cfg[L._C_GAIN] > 0.0 else 1) * M), dtype=np.float64)
         self._P = np.zeros((self.n, M), dtype=np.float64)
-        self._aux = np.zeros((self.n, _N_AUX + 4 * M), dtype=np.float64)
-        self._out = np.zeros((self.n, _N_OUT), dtype=np.float64)
+        self._aux = np.zeros((self.n, L._N_AUX + 4 * M), dtype=np.float64)
+        self._out = np.zeros((self.n, L._N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
         # the twin bank's reported interval [-], shape (n, 2), which this bank's also holds (NaN: no twin); an input
@@ -714,18 +615,18 @@ class MudTrackers:
         # the default rule's twin: the same models on the quick rule, whose interval the reported one also holds
         self._twin: MudTrackers | None = None
         if velocity_filter is None and twin:
-            near = self.depth_offsets[np.abs(self.depth_offsets) <= _TWIN_OFFSET_SPAN + 1e-12]
+            near = self.depth_offsets[np.abs(self.depth_offsets) <= L._TWIN_OFFSET_SPAN + 1e-12]
             self._twin = MudTrackers(
                 n, self.foot, water_contents=self.grid.tolist(), tau=tau, misfit=misfit, floor=floor, dof=dof,
                 correlation_time=correlation_time, noise=noise, bias=bias,
-                velocity_filter=VelocityFilter(_TWIN_WINDOW, _TWIN_DEADBAND), level=level, discrepancy=discrepancy,
+                velocity_filter=VelocityFilter(L._TWIN_WINDOW, L._TWIN_DEADBAND), level=level, discrepancy=discrepancy,
                 force_gain_uncertainty=force_gain_uncertainty, force_lag=force_lag,
                 depth_offsets=(near if near.size else self.depth_offsets).tolist(),
                 depth_offset_prior=depth_offset_prior, max_step=max_step)
             # the twin's interval is a guard of this bank's, not reported: it keeps no hull (_HULL_MEMORY); and it takes
             # the depths this bank takes, no more (its offsets span less: a depth it took, refused here, moved it)
-            self._twin._cfg[_C_HULL] = 0.0
-            self._twin._max_depth = self._twin._cfg[_C_MAX_DEPTH] = self._max_depth
+            self._twin._cfg[L._C_HULL] = 0.0
+            self._twin._max_depth = self._twin._cfg[L._C_MAX_DEPTH] = self._max_depth
             self._twin._state_key = self._twin._own_key()
         # what a snapshot must have been taken from (fixed once made, so built once here: about 0.4 MB with the twin,
         # 37 us a snapshot when built at each)
@@ -738,8 +639,8 @@ class MudTrackers:
         bank's rows as made (the branch rule's columns change later, as it follows the noise), and the force lag's
         hypotheses (what the state's lag columns mean: a state of a mudforce with other hypotheses is refused)."""
         return b"".join((self.grid.tobytes(), self._cfg.tobytes(), self._blur.tobytes(), self.depth_offsets.tobytes(),
-                         self._log_prior.tobytes(), self._bank.params_array.tobytes(), _LAGS_A.tobytes(),
-                         _LAGS_B.tobytes()))
+                         self._log_prior.tobytes(), self._bank.params_array.tobytes(), L._LAGS_A.tobytes(),
+                         L._LAGS_B.tobytes()))
 
     def reset(self) -> None:
         """Forget everything: the next update is a first sample, the posterior uniform."""
@@ -748,12 +649,12 @@ class MudTrackers:
         prior = np.exp(self._log_prior)
         self._P[:] = np.repeat(prior / (prior.sum() * self.grid.size), self.grid.size)
         self._aux[:] = 0.0
-        self._aux[:, _A_VAR] = self._cfg[_C_NOISE0] ** 2
-        self._aux[:, _A_DVAR] = _DEPTH_NOISE0**2
-        self._aux[:, _A_D2VAR] = _DEPTH_NOISE0**2
-        self._aux[:, _A_ANCHOR] = np.nan
-        self._aux[:, _A_HULL_LOW] = np.nan
-        self._aux[:, _A_HULL_HIGH] = np.nan
+        self._aux[:, L._A_VAR] = self._cfg[L._C_NOISE0] ** 2
+        self._aux[:, L._A_DVAR] = L._DEPTH_NOISE0**2
+        self._aux[:, L._A_D2VAR] = L._DEPTH_NOISE0**2
+        self._aux[:, L._A_ANCHOR] = np.nan
+        self._aux[:, L._A_HULL_LOW] = np.nan
+        self._aux[:, L._A_HULL_HIGH] = np.nan
         self._started = False
         if self._twin is not None:
             self._twin.reset()
@@ -770,8 +671,8 @@ class MudTrackers:
             bad = _track_step(dt, *twin._args)  # the same check of the sample as the first bank's, before any change
             if bad < 0:
                 twin._started = True
-                self._guard[:, 0] = twin._out[:, _O_LOW]
-                self._guard[:, 1] = twin._out[:, _O_HIGH]
+                self._guard[:, 0] = twin._out[:, L._O_LOW]
+                self._guard[:, 1] = twin._out[:, L._O_HIGH]
                 bad = _track_step(dt, *self._args)
         else:
             bad = _track_step(dt, *self._args)
@@ -806,10 +707,11 @@ class MudTrackers:
         self._forces[:] = f
         self._step(real_number(dt, "dt [s]"))
         o = self._out
-        return TrackEstimates(o[:, _O_W].copy(), o[:, _O_LOW].copy(), o[:, _O_HIGH].copy(), o[:, _O_PRED].copy(),
-                              o[:, _O_CHANGED] != 0.0, o[:, _O_BIAS].copy(), o[:, _O_NOISE].copy(),
-                              o[:, _O_MISFIT] != 0.0, o[:, _O_OFFSET].copy(), o[:, _O_OFFSET_SD].copy(),
-                              o[:, _O_LAG].copy(), o[:, _O_LAG_SD].copy())
+        return TrackEstimates(o[:, L._O_W].copy(), o[:, L._O_LOW].copy(), o[:, L._O_HIGH].copy(),
+                              o[:, L._O_PRED].copy(),
+                              o[:, L._O_CHANGED] != 0.0, o[:, L._O_BIAS].copy(), o[:, L._O_NOISE].copy(),
+                              o[:, L._O_MISFIT] != 0.0, o[:, L._O_OFFSET].copy(), o[:, L._O_OFFSET_SD].copy(),
+                              o[:, L._O_LAG].copy(), o[:, L._O_LAG_SD].copy())
 
 
     @property
@@ -832,8 +734,8 @@ class MudTrackers:
             raise InputError("this TrackerState was taken from a tracker of other feet, grid or options (or of "
                              "another mudforce version); expected one from a tracker made with the same arguments")
         if not (np.isfinite(value.posterior).all() and np.isfinite(value.log_posterior).all()
-                and np.isfinite(np.delete(value.aux, [_A_ANCHOR, _A_HULL_LOW, _A_HULL_HIGH], axis=1)).all()
-                and not np.isinf(value.aux[:, [_A_ANCHOR, _A_HULL_LOW, _A_HULL_HIGH]]).any()):
+                and np.isfinite(np.delete(value.aux, [L._A_ANCHOR, L._A_HULL_LOW, L._A_HULL_HIGH], axis=1)).all()
+                and not np.isinf(value.aux[:, [L._A_ANCHOR, L._A_HULL_LOW, L._A_HULL_HIGH]]).any()):
             raise InputError("a TrackerState holds non-finite values; expected one taken from a tracker")
         problem = _impossible_state(value.posterior, value.aux)
         if problem:
@@ -964,8 +866,8 @@ class MudTracker:
         # the columns _O_W .. _O_LAG_SD are TrackEstimate's fields in order (a test pins it); built without the
         # frozen dataclass's __init__ (ten object.__setattr__ calls, about a microsecond of the update)
         o = b._out[0].tolist()
-        o[_O_CHANGED] = o[_O_CHANGED] != 0.0
-        o[_O_MISFIT] = o[_O_MISFIT] != 0.0
+        o[L._O_CHANGED] = o[L._O_CHANGED] != 0.0
+        o[L._O_MISFIT] = o[L._O_MISFIT] != 0.0
         e = _new_object(TrackEstimate)
         e.__dict__.update(zip(_ESTIMATE_FIELDS, o, strict=True))
         return e
@@ -1155,7 +1057,7 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         check_force_varies(f, "", "recording",
                            f" while the foot is in the mud (deepest {float(np.max(z)) * 1e3:.3g} mm)")
     m = t.size
-    cols = np.empty((m, _N_OUT), dtype=np.float64)
+    cols = np.empty((m, L._N_OUT), dtype=np.float64)
     previous = t[0]
     for k in range(m):
         tracker._depths[0] = z[k]
@@ -1164,8 +1066,9 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         cols[k] = tracker._out[0]
         previous = t[k]
     # copies: a float64 input came back as the result's own array, which changed with the caller's buffer
-    return TrackResult(t.copy(), z.copy(), f.copy(), cols[:, _O_W], cols[:, _O_LOW], cols[:, _O_HIGH], cols[:, _O_PRED],
-                       cols[:, _O_CHANGED] != 0.0, cols[:, _O_BIAS], cols[:, _O_NOISE], cols[:, _O_MISFIT] != 0.0,
-                       cols[:, _O_OFFSET], cols[:, _O_OFFSET_SD], cols[:, _O_LAG], cols[:, _O_LAG_SD],
+    return TrackResult(t.copy(), z.copy(), f.copy(), cols[:, L._O_W], cols[:, L._O_LOW], cols[:, L._O_HIGH],
+                       cols[:, L._O_PRED], cols[:, L._O_CHANGED] != 0.0, cols[:, L._O_BIAS], cols[:, L._O_NOISE],
+                       cols[:, L._O_MISFIT] != 0.0,
+                       cols[:, L._O_OFFSET], cols[:, L._O_OFFSET_SD], cols[:, L._O_LAG], cols[:, L._O_LAG_SD],
                        (float(tracker.grid[0]), float(tracker.grid[-1])))
 
