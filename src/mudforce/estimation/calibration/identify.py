@@ -1046,6 +1046,16 @@ def identify_water_content(
                              bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
                              x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=evaluations)
 
+    def refit_from(w0: float, gain: float, sel: slice = slice(None), turns: bool = True) -> OptimizeResult:
+        """The joint fit (20 evaluations) from water content ``w0`` [-] at the current offset and lag, with the force
+        divided by ``gain`` [-], on the samples ``sel``, the turns read through the band unless ``turns`` is False:
+        the gain's profile, the gain read, and the rate check's two parts each refit this way."""
+
+        def residual(th: np.ndarray) -> np.ndarray:
+            return evaluate(float(th[0]), float(th[1]), float(th[2]), gain, sel, turns)[0]
+
+        return joint_fit(residual, np.array([w0, offset, lag]), 20)
+
     def best_w(cost: Callable[[float], float]) -> float:
         """The water content [-] minimising ``cost``: a coarse scan and the fine scan's valleys, then a bounded search
         about its best (the coarse scan alone, in 1-point steps, steps over the narrow valley below the family's 30 %
@@ -1100,12 +1110,7 @@ def identify_water_content(
             profile[g] = best_w(partial(ssr_at, offset=offset, lag=lag, gain=g))
             fits[i] = ssr_at(profile[g], offset, lag, g)
             if general:  # the offset and the lag refitted at each gain: held at 1's, they had taken part of it
-
-                def gain_residual(th: np.ndarray, g: float = g) -> np.ndarray:
-                    return evaluate(float(th[0]), float(th[1]), float(th[2]), g)[0]
-
-                at_g = joint_fit(gain_residual, np.array([profile[g], offset, lag]), 20)
-                fits[i] = min(2.0 * float(at_g.cost), fits[i])
+                fits[i] = min(2.0 * float(refit_from(profile[g], g).cost), fits[i])
         j = int(np.argmin(fits))
         if 0 < j < gains.size - 1 and gains[j] != 1.0 and min(fits[j - 1], fits[j + 1]) >= _GAIN_SHARPNESS * fits[j]:
             # the parabola's least through the grid's least and its two neighbours (both above it: a least between
@@ -1114,9 +1119,7 @@ def identify_water_content(
             curve = float(fits[j - 1] - 2.0 * fits[j] + fits[j + 1])
             gain = float(gains[j]) + 0.5 * step * float(fits[j - 1] - fits[j + 1]) / curve
         if gain != 1.0 and general:  # the joint fit redone at the gain read
-            w_gain = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain))
-            joint = joint_fit(lambda th: evaluate(float(th[0]), float(th[1]), float(th[2]), gain)[0],
-                              np.array([w_gain, offset, lag]), 20)
+            joint = refit_from(best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain)), gain)
             w_best, offset, lag = (float(x) for x in joint.x)
             c_best = 2.0 * float(joint.cost)
             jac = np.asarray(joint.jac, dtype=np.float64)
@@ -1175,19 +1178,10 @@ def identify_water_content(
             halves = []
             for sel in (slice(0, None, 2), slice(1, None, 2)):
                 w_half = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain, sel=sel))
-
-                def half_residual(th: np.ndarray, sel: slice = sel) -> np.ndarray:
-                    return evaluate(float(th[0]), float(th[1]), float(th[2]), gain, sel)[0]
-
-                refit = joint_fit(half_residual, np.array([w_half, offset, lag]), 20)
-                halves.append(float(refit.x[0]))
+                halves.append(float(refit_from(w_half, gain, sel).x[0]))
             rate_shift = abs(0.5 * (halves[0] + halves[1]) - w_best) + 0.5 * abs(halves[0] - halves[1])
-
-            def turn_residual(th: np.ndarray) -> np.ndarray:
-                return evaluate(float(th[0]), float(th[1]), float(th[2]), gain, slice(None), False)[0]
-
             w_turn = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain, turns=False))
-            rate_shift += abs(float(joint_fit(turn_residual, np.array([w_turn, offset, lag]), 20).x[0]) - w_best)
+            rate_shift += abs(float(refit_from(w_turn, gain, turns=False).x[0]) - w_best)
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
     # labels of a general motion leave small systematic errors that the likelihood does not see;
     # then the gain's shift, which no amount of data reduces
