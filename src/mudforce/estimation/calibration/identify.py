@@ -1108,9 +1108,9 @@ def identify_water_content(
             if g == 1.0:
                 continue
             profile[g] = best_w(partial(ssr_at, offset=offset, lag=lag, gain=g))
-            fits[i] = ssr_at(profile[g], offset, lag, g)
-            if general:  # the offset and the lag refitted at each gain: held at 1's, they had taken part of it
-                fits[i] = min(2.0 * float(refit_from(profile[g], g).cost), fits[i])
+            # on a motion the offset and the lag refitted at each gain (held at 1's, they had taken part of it; the
+            # refit starts where the held fit ends and never costs more)
+            fits[i] = 2.0 * float(refit_from(profile[g], g).cost) if general else ssr_at(profile[g], offset, lag, g)
         j = int(np.argmin(fits))
         if 0 < j < gains.size - 1 and gains[j] != 1.0 and min(fits[j - 1], fits[j + 1]) >= _GAIN_SHARPNESS * fits[j]:
             # the parabola's least through the grid's least and its two neighbours (both above it: a least between
