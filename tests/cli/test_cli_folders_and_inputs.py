@@ -134,7 +134,10 @@ CASES: dict[str, tuple[list[str], tuple[str, ...] | None]] = {
                         ("--height", "must not be negative")),
     "rise-negative": (["simulate", "--water-content", "25%", "--rise", "-5mm", "--out", "o.csv"],
                       ("--rise", "-5mm")),
-    "level-negative": (["identify", "t.csv", "--level", "-5%"], ("--level", "-5%")),
+    "level-negative": (["identify", "t.csv", "--level", "-5%"], ("--level", "-5%", "e.g. 95%")),
+    # the option's own example, not a water content's ("expected e.g. 25%" for a gain's uncertainty)
+    "gain-uncertainty-negative": (["identify", "t.csv", "--force-gain-uncertainty", "-5%"],
+                                  ("--force-gain-uncertainty: '-5%' must not be negative", "e.g. 5%")),
     # a level that rounds to 100 % was refused as if outside "between 0% and 100%"
     "level-rounds-to-100": (["identify", "t.csv", "--level", "99.99999999999%"],
                             ("--level: '99.99999999999%' rounds to 100%", "at most 99.9999999%")),

@@ -61,7 +61,8 @@ def _force_gain_uncertainty(value: str) -> float:
 
     text = str(value).strip()
     # 0 without its unit too (no other value is unambiguous without one); 0.0% and 0 % are 0%
-    gain = 0.0 if text == "0" else parse_quantity(text, "fraction", name="--force-gain-uncertainty", allow_zero=True)
+    gain = 0.0 if text == "0" else parse_quantity(text, "fraction", name="--force-gain-uncertainty", allow_zero=True,
+                                                     example="5%")
     if not 0.0 <= gain < 0.5:
         raise InputError(f"--force-gain-uncertainty: {value!r} must be in [0%, 50%), e.g. 5%")
     return gain
@@ -76,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.io.units import parse_quantity
 
     refuse_empty_inputs(("TRIAL.csv", args.trial, "a CSV file"))
-    asked = parse_quantity(args.level, "fraction", name="--level")  # > 0: at least 1e-7 %
+    asked = parse_quantity(args.level, "fraction", name="--level", example="95%")  # > 0: at least 1e-7 %
     level = round(asked, 9)
     if not level < 1.0:  # "between 0% and 100%" read as if 99.99999999999% were outside that range
         if not asked < 1.0:

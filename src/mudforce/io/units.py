@@ -79,7 +79,7 @@ def _a(kind: str) -> str:
 
 
 def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative: bool = False,
-                   allow_zero: bool = False) -> float:
+                   allow_zero: bool = False, example: str | None = None) -> float:
     """Parse ``text`` as a quantity of ``kind`` and return it in SI.
 
     Parameters
@@ -92,6 +92,9 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
         What the value is, for the error message (``"--depth"``).
     allow_negative, allow_zero : bool
         Accept values below or equal to zero (default: strictly positive).
+    example : str or None
+        The example the error message shows (default: the kind's, e.g. ``"25%"`` for a fraction); an option whose
+        values are not the kind's usual ones gives its own (``--force-gain-uncertainty``: ``"5%"``).
 
     Raises
     ------
@@ -101,7 +104,7 @@ def parse_quantity(text: str, kind: str, *, name: str = "value", allow_negative:
     """
     if kind not in _UNITS:
         raise ValueError(f"unknown quantity kind {kind!r}")
-    example = _EXAMPLES[kind]
+    example = _EXAMPLES[kind] if example is None else example
     match = _NUMBER.match(str(text))
     if match is None:
         raise _refused(name, f"cannot read {text!r} as {_a(kind)}", f"a number with a unit, e.g. {example}")
