@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import re
 from fractions import Fraction
+from typing import Any
 
 from mudforce.errors import InputError
 
@@ -152,7 +153,7 @@ def _refused(name: str, why: str, expected: str, lead: str = "expected") -> _Qua
     return _QuantityError(f"{name}: {why}; {lead} {expected}", why)
 
 
-def parse_list(text: str, kind: str, *, name: str = "value", **kwargs: bool) -> list[float]:
+def parse_list(text: str, kind: str, *, name: str = "value", **kwargs: Any) -> list[float]:
     """Parse a comma-separated list of quantities, e.g. ``"10mm/s,20mm/s"``."""
     items = [item for item in str(text).split(",") if item.strip()]
     if not items:
