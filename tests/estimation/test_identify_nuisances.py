@@ -159,17 +159,28 @@ def test_the_bias_stderr_holds_the_refinements_move(fine: tuple[np.ndarray, np.n
     assert abs(res.bias - 0.4) < 1.5 * res.bias_stderr and res.bias_stderr < 0.6
 
 
-def test_the_nuisances_standard_errors_hold_the_spread_over_the_episodes(
-        fine: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
-    """A 10-ms pure delay (no surface offset): least squares reads an offset of -0.18 mm +- 0.016 mm, 11 of its own
-    standard errors off the truth; the spread of the evidence over the contact episodes (a sandwich, as the water
-    content's ``episode_half_width``) gives +- 0.08 mm. Where least squares' own is the larger (a clean recording) it
-    is kept; the water content and its interval do not read these."""
-    res = identify_water_content(_trial(fine, force_delay=0.01))
-    assert res.depth_offset_stderr == pytest.approx(7.96e-5, rel=0.02)
-    assert abs(res.depth_offset) < 2.5 * res.depth_offset_stderr
-    clean = identify_water_content(_trial(fine))
-    assert clean.depth_offset_stderr == pytest.approx(3.04e-6, rel=0.02)
+@pytest.mark.parametrize(("chain", "offset", "lag"), [
+    ({}, 0.0, 0.0),
+    ({"depth_offset": 0.004}, -0.004, 0.0),
+    ({"force_lowpass": 0.02}, 0.0, 0.02),
+    ({"depth_noise": 0.001}, 0.0, 0.0),
+    ({"force_delay": 0.01}, 0.0, None),
+])
+def test_the_nuisances_standard_errors_hold_their_errors(fine: tuple[np.ndarray, np.ndarray, np.ndarray],
+                                                          chain: dict[str, float], offset: float,
+                                                          lag: float | None) -> None:
+    """The surface offset and the force lag each within three of their standard errors of the truth (least squares'
+    own read them to micrometres and microseconds: a 10-ms delay's offset 11 of them off, the clean walk's lag 1.5 of
+    a 0.04-ms error). A pure delay is no first-order low-pass: this walk reads 10 ms of it as 0.19 +- 0.99 ms, the
+    documented limit (docs/estimation.md, "The nuisances' standard errors"); its offset is still honest."""
+    res = identify_water_content(_trial(fine, **chain))
+    assert 0.0 < res.depth_offset_stderr < 1e-3 and abs(res.depth_offset - offset) < 3.0 * res.depth_offset_stderr
+    assert 0.0 < res.force_lag_stderr < 0.01
+    if lag is not None:
+        assert abs(res.force_lag - lag) < 3.0 * res.force_lag_stderr
+    else:
+        assert res.force_lag < 0.002 and res.force_lag_stderr < 0.002
+    assert res.low <= W <= res.high
 
 
 def test_the_issues_gain_case_on_the_lab_protocol_reads_the_gain() -> None:

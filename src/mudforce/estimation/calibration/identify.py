@@ -138,6 +138,10 @@ _FLOAT_MAX = float(np.finfo(np.float64).max)  # the largest finite float64: a bo
 MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
 MAX_FORCE_LAG = 0.05
+#: Half-widths of the secants that read the surface offset's [m] and the force lag's [s] part in their standard
+#: errors (:func:`_nuisance_stderr`; ours): 0.5 mm and 2 ms, a few times what the bench's recordings read them to,
+#: and wide enough to step over a branch switch that a move of a few micrometres makes at one sample.
+_NUISANCE_SECANTS = (0.0005, 0.002)
 #: The rate check's shift [-] above which identify warns that the model at the data's rate does not follow the
 #: motion closely (0.5 points; ours). On the sensor-chain bench the gait walks reach it only at 20 Hz, but most MuJoCo
 #: robot recordings reach it at every rate, 100 Hz included (docs/estimation.md, "identify's rate check on the MuJoCo
@@ -261,12 +265,14 @@ class Identification:
         The surface offset fitted [m]: the model follows ``depth + depth_offset``
         (a depth that reads 2 mm too deep gives -0.002); NaN on the protocol path.
     force_lag, force_lag_stderr : float
-        The force lag fitted [s]: the time constant of a first-order low-pass
-        on the model's force (a pure delay of ``d`` reads about ``d``, often less: the offset takes part of it);
-        NaN on the protocol path. The two standard errors are least squares' or, where larger, the spread of the
-        evidence over the contact episodes (a sandwich, as ``episode_half_width``); under a misfit of the form a
-        drift or a pure delay gives they still read small against the error (a 10-ms delay: the lag within two of
-        them on 2 of 10 walks), and a lag at its bound of 0 reads 0.
+        The force lag fitted [s]: the time constant of a first-order low-pass on the model's force (a pure delay
+        of ``d`` reads up to about ``d`` on a robot's trot, and under 1 ms for 5-10 ms on a smooth gait walk: see
+        below); NaN on the protocol path. The two standard errors add in quadrature the scatter (least squares'
+        or, where larger, the spread over the contact episodes, each read on secants 0.5 mm and 2 ms wide), the
+        rate check's move of each, and the misfit's worst case (:func:`_nuisance_stderr`); on the sensor-chain
+        bench each holds its truth within three of them but for one limit: a pure delay is no first-order
+        low-pass, and the lag that stands for it is not the delay (docs/estimation.md, "The nuisances' standard
+        errors").
     force_gain_uncertainty : float
         The force gain's relative uncertainty assumed [-] (an input).
     gain_shift : float
@@ -478,6 +484,42 @@ def _sandwich_covariance(jac: np.ndarray, r: np.ndarray, contact: np.ndarray) ->
     np.add.at(scores, block, jac * r[:, None])
     inv = np.linalg.pinv(jac.T @ jac)
     return inv @ (scores.T @ scores) @ inv * count / (count - 1), count
+
+
+def _nuisance_stderr(residual: Callable[[np.ndarray], np.ndarray], x: np.ndarray, jac: np.ndarray, r: np.ndarray,
+                     contact: np.ndarray, s2: float, moves: np.ndarray, unexplained: float) -> np.ndarray:
+    """Standard errors of the joint fit's (water content, surface offset [m], force lag [s]) (ours; the last two
+    are the ones reported).
+
+    Three parts in quadrature, each measured on the sensor-chain bench to be needed (docs/estimation.md, "The
+    nuisances' standard errors"):
+
+    - the scatter: least squares' ``s^2 (J^T J)^-1`` or, where larger, the spread over the contact episodes
+      (:func:`_sandwich_covariance`), with the offset's and the lag's columns of ``J`` read as secants over
+      :data:`_NUISANCE_SECANTS` on either side of the fit. The fit's own derivatives (a step of 1e-4 m or s) cross
+      the steps of a model run at the samples (a branch switch, the rest band's edge, a neck a sample early or
+      late): they read slopes a thousand times too steep, and errors of nanometres;
+    - the rate check's moves of each (``moves``: the same refits on the even and the odd samples and with the turns
+      on their branches): the model's own error at the data's rate, which the scatter does not see;
+    - the misfit's worst case, ``unexplained / rms(J_j)`` (as the interval's ``misfit_shift``): a residual the
+      family cannot explain (a delay read as a lag, the depth's unresolved motion) moves a nuisance by at most that.
+
+    ``residual`` maps ``x`` (water content, offset, lag) to the residuals [N]; ``jac`` is least squares' Jacobian
+    there [N per unit], ``r`` the residuals [N], ``contact`` where the model's force is not nil, ``s2`` the residual
+    variance [N^2] (widened for the residuals' correlation), ``unexplained`` the RMS residual beyond the noise [N].
+    """
+    wide = jac.copy()
+    for j, (step, low, high) in ((1, (_NUISANCE_SECANTS[0], -MAX_DEPTH_OFFSET, MAX_DEPTH_OFFSET)),
+                                 (2, (_NUISANCE_SECANTS[1], 0.0, MAX_FORCE_LAG))):
+        below, above = x.copy(), x.copy()
+        below[j], above[j] = max(x[j] - step, low), min(x[j] + step, high)
+        wide[:, j] = (residual(above) - residual(below)) / (above[j] - below[j])
+    scatter = np.diag(np.linalg.pinv(wide.T @ wide)) * s2
+    spread, _ = _sandwich_covariance(wide, r, contact)
+    variance = np.maximum(np.maximum(scatter, np.diag(spread)), 0.0) + moves**2
+    sensitivity = np.sqrt(np.mean(wide**2, axis=0))
+    worst = np.divide(unexplained, sensitivity, out=np.zeros(3), where=sensitivity > 0.0)
+    return np.asarray(np.sqrt(variance + worst**2), dtype=np.float64)
 
 
 @njit(cache=True, nogil=True)
@@ -1138,7 +1180,7 @@ def identify_water_content(
     jtj = jac.T @ jac
     cov = np.linalg.pinv(jtj)
     inflate = math.sqrt(max(float(cov[0, 0] * jtj[0, 0]), 1.0)) if jtj[0, 0] > 0 else 1.0
-    stderr = np.sqrt(np.maximum(np.diag(cov), 0.0) * s2)
+    stderr = np.full(3, math.nan)  # the surface offset's and the force lag's, read on the general path below
     # a gain off by +-g: the water content the same fit finds on the force divided by gain * (1 +- g)
     shifts = [0.0]
     for g in ((1.0 + force_gain_uncertainty, 1.0 - force_gain_uncertainty) if force_gain_uncertainty else ()):
@@ -1158,14 +1200,11 @@ def identify_water_content(
     # the nuisances' correlation with the water content
     low, high = w_best - inflate * (w_best - low), w_best + inflate * (high - w_best)
     rate_shift = sandwich = 0.0
+    rate_moves = np.zeros(3)
     if general:
         # the evidence's spread over the contact episodes, in case the misfit sits where the water content is read
         spread, episodes = _sandwich_covariance(jac, r, f_best != 0.0)
         sandwich = float(student_t.ppf(0.5 + 0.5 * level, episodes - 1) * math.sqrt(max(float(spread[0, 0]), 0.0)))
-        # the nuisances' standard errors hold the same spread over the episodes: least squares' own, s^2 (J^T J)^-1,
-        # read a 10-ms delay's lag at 0.7-8.6 ms (seeds 0-9) each +- 0.1-0.5 ms and the surface offset to 1-10 um
-        # where it erred by 10-500 um (the misfit of a delay, of a drift, of the depth noise is not white)
-        stderr = np.maximum(stderr, np.sqrt(np.maximum(np.diag(spread), 0.0)))
         low, high = min(low, w_best - sandwich), max(high, w_best + sandwich)
         # the rate check: the same fit with the model run on every other sample (the even ones, the odd ones).
         # At the data's rate the model is not the model of the true path (a touchdown or a reversal between two
@@ -1173,15 +1212,18 @@ def identify_water_content(
         # estimator at two rates, its turns read through the rest band as at the data's rate). Then its turns' own
         # part: the estimate's move with the turns read on their branches, at the data's rate (what the model does at
         # a turn between two samples is an error of the model's there; on the MuJoCo robots it is most of the
-        # check: docs/estimation.md, "identify's rate check on the MuJoCo robots"). The two add
+        # check: docs/estimation.md, "identify's rate check on the MuJoCo robots"). The two add; the offset's and the
+        # lag's moves in the same refits count in their standard errors (below)
         if n >= 16:
             halves = []
             for sel in (slice(0, None, 2), slice(1, None, 2)):
                 w_half = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain, sel=sel))
-                halves.append(float(refit_from(w_half, gain, sel).x[0]))
-            rate_shift = abs(0.5 * (halves[0] + halves[1]) - w_best) + 0.5 * abs(halves[0] - halves[1])
+                halves.append(np.asarray(refit_from(w_half, gain, sel).x, dtype=np.float64))
+            best_x = np.array([w_best, offset, lag])
+            rate_moves = np.abs(0.5 * (halves[0] + halves[1]) - best_x) + 0.5 * np.abs(halves[0] - halves[1])
             w_turn = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain, turns=False))
-            rate_shift += abs(float(refit_from(w_turn, gain, turns=False).x[0]) - w_best)
+            rate_moves = rate_moves + np.abs(np.asarray(refit_from(w_turn, gain, turns=False).x) - best_x)
+            rate_shift = float(rate_moves[0])
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
     # labels of a general motion leave small systematic errors that the likelihood does not see;
     # then the gain's shift, which no amount of data reduces
@@ -1241,6 +1283,9 @@ def identify_water_content(
         sensitivity = math.sqrt(float(np.mean(jac[:, 0] ** 2)))
         model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
         low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
+    if general:
+        stderr = _nuisance_stderr(lambda x: evaluate(float(x[0]), float(x[1]), float(x[2]), gain)[0],
+                                  np.array([w_best, offset, lag]), jac, r, f_best != 0.0, s2, rate_moves, unexplained)
     # the member that explains the data best by the flag's statistic (each sample over its own floor, the bias
     # re-profiled under those weights; offset, lag and the floors held at the estimate's). Least squares weighs
     # every sample alike, and a few samples whose floor is tens of newtons (an event between two samples, a stuck
