@@ -46,6 +46,20 @@ def test_robot_foot_with_a_5mm_surface_error_is_not_confidently_wrong() -> None:
         assert 0.0 < r.depth_offset_stderr[-1] <= 0.0025
 
 
+@pytest.mark.parametrize(("shift", "truth"), [(-0.004, -0.001), (-0.001, -0.004), (-0.007, 0.002)])
+def test_an_offset_between_two_hypotheses_is_within_its_standard_error(shift: float, truth: float) -> None:
+    """The same robot foot with its depth moved so that the surface errs by 1, 4 and -2 mm, between the hypotheses
+    (-6 to +6 mm by 3): the posterior sits on the nearest one, and its spread over the hypotheses alone read
+    -0.00 +- 0.11, -3.00 +- 0.09 and +3.00 +- 0.12 mm (the truth 21-26 of them off in a third of the samples); the
+    spread reported holds each hypothesis's cell (3 mm wide: +-0.87 mm), so the truth lies within 1.2 of it."""
+    t, z, f = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
+    r = track(t, z + shift, f, Foot.disc(0.05))
+    late = t - t[0] >= 3.0
+    assert r.depth_offset is not None and r.depth_offset_stderr is not None
+    assert np.all(r.depth_offset_stderr >= 0.003 / 12**0.5 - 1e-12)
+    assert np.all(np.abs(r.depth_offset[late] - truth) <= 2.0 * r.depth_offset_stderr[late])
+
+
 def test_offset_estimated_on_a_walk_and_zero_on_a_clean_one() -> None:
     w = walk(0.22, seed=4, duration=12.0, force_noise=0.2, bias=0.5)
     for shift in (0.0, 0.005):

@@ -97,6 +97,7 @@ from mudforce.estimation._tracker_layout import (
     _DEPTH_NOISE0,
     _DEPTH_NOISE_MEMORY,
     _END_REACH,
+    _LAG_CELL_VAR,
     _LAG_LOG_PRIOR,
     _LAG_WIDENING,
     _LAG_WIDENING_STEP,
@@ -188,6 +189,33 @@ def _blurred_quantiles(blur_t: np.ndarray, p: np.ndarray, q: np.ndarray, edges: 
             for g in range(G):
                 q[g] += blur_t[h, g] * ph
     return _quantile(q, edges, 0.5), _quantile(q, edges, half), _quantile(q, edges, 1.0 - half)
+
+
+@njit(cache=True, nogil=True)
+def _cell_variance(nodes: np.ndarray, o: int) -> float:  # pragma: no cover
+    """The variance of a value uniform over node ``o``'s cell [unit^2] (as :func:`_tracker_layout._cell_variances`,
+    unbounded below): the reported spread of the surface offset holds it."""
+    below = above = math.inf
+    for p in range(nodes.shape[0]):
+        d = nodes[p] - nodes[o]
+        if 0.0 < d < above:
+            above = d
+        if 0.0 < -d < below:
+            below = -d
+    if below == math.inf and above == math.inf:
+        return 0.0
+    width = 0.5 * ((above if below == math.inf else below) + (below if above == math.inf else above))
+    return width * width / 12.0
+
+
+@njit(cache=True, nogil=True)
+def _nearest_lag_cell(lag: float) -> float:  # pragma: no cover
+    """The cell variance [s^2] of the lag hypothesis nearest ``lag`` [s] (:data:`_LAG_CELL_VAR`)."""
+    best = 0
+    for k in range(_LAGS.shape[0]):
+        if abs(_LAGS[k] - lag) < abs(_LAGS[best] - lag):
+            best = k
+    return float(_LAG_CELL_VAR[best])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -699,6 +727,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         # the water content's posterior: the joint one summed over the surface offsets; and the offset's moments
         om = 0.0
         o2 = 0.0
+        oc = 0.0
         for g in range(G):
             marginal[g] = 0.0
         for o in range(NO):
@@ -708,14 +737,17 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 marginal[g] += P[j, o * G + g]
             om += po * offsets[o]
             o2 += po * offsets[o] * offsets[o]
+            oc += po * _cell_variance(offsets, o)
         out[j, _O_OFFSET] = om
         osd = math.sqrt(max(o2 - om * om, 0.0))
         if not free and not first:
             # the sinkage: the deepest depth plus the offset in contact, forgotten as the evidence is
             aux[j, _A_SINK] = max(aux[j, _A_SINK] * math.exp(-dt / tau), depths[j] + om)
         out[j, _O_LAG] = aux[j, _A_LAG]
-        out[j, _O_LAG_SD] = aux[j, _A_LAG_SD]
-        out[j, _O_OFFSET_SD] = osd
+        # the reported spreads hold each hypothesis's cell as well (the grid stands for a continuum; the interval's
+        # shallow widening below holds the offset's as _C_OFFSET_RES, the likelihood's scale the lag's as _C_LAG)
+        out[j, _O_LAG_SD] = math.sqrt(aux[j, _A_LAG_SD] ** 2 + _nearest_lag_cell(aux[j, _A_LAG]))
+        out[j, _O_OFFSET_SD] = math.sqrt(osd * osd + oc)
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         settled = w_high - w_low <= cfg[_C_SETTLE]  # the plain blur's interval: settled (the change flag's)

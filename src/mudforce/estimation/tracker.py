@@ -202,16 +202,20 @@ class TrackEstimate:
         the mud is off the model's family, or the sensors are corrupted
         beyond the allowances; the interval is then not to be trusted.
     depth_offset, depth_offset_stderr : float
-        Posterior mean and standard deviation of the surface offset [m]
-        over the tracker's ``depth_offsets``: the model follows the measured
-        depth plus it (as ``identify``'s ``depth_offset``), so a depth that
-        reads 5 mm too deep gives about -0.005.
+        Posterior mean of the surface offset [m] over the tracker's
+        ``depth_offsets``, and its standard deviation with each hypothesis's
+        cell (half-way to its neighbours; +-0.87 mm for the default 3-mm
+        grid) added: the model follows the measured depth plus it (as
+        ``identify``'s ``depth_offset``), so a depth that reads 5 mm too deep
+        gives about -0.005.
     force_lag, force_lag_stderr : float
-        Posterior mean and standard deviation of the force sensor's lag [s]:
-        the time constant of a first-order low-pass of the model's force (a
-        pure delay reads as about half of it), as ``identify``'s ``force_lag``; the
-        models' forces are low-passed by it, and its spread enters the
-        likelihood's scale (and so the interval).
+        Posterior mean of the force sensor's lag [s], the time constant of a
+        first-order low-pass of the model's force (a pure delay reads as
+        about half of it), as ``identify``'s ``force_lag``, and its standard
+        deviation with the nearest hypothesis's cell added (1.4-4.3 ms). The
+        models' forces are low-passed by it, and its spread over the
+        hypotheses (without the cell) enters the likelihood's scale (and so
+        the interval).
     """
 
     water_content: float
@@ -251,9 +255,9 @@ class TrackEstimates:
     misfit : numpy.ndarray of bool
         Where the model misses the force beyond its noise floor (see :class:`TrackEstimate`).
     depth_offset, depth_offset_stderr : numpy.ndarray
-        Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
+        Posterior mean and standard deviation (with its cell) of the surface offset [m] (see :class:`TrackEstimate`).
     force_lag, force_lag_stderr : numpy.ndarray
-        Posterior mean and standard deviation of the force lag [s] (see :class:`TrackEstimate`).
+        Posterior mean and standard deviation (with its cell) of the force lag [s] (see :class:`TrackEstimate`).
     """
 
     water_content: np.ndarray
@@ -915,9 +919,9 @@ class TrackResult:
     misfit : numpy.ndarray of bool
         Samples where the model missed the force beyond its noise floor (see :class:`TrackEstimate`).
     depth_offset, depth_offset_stderr : numpy.ndarray
-        Posterior mean and standard deviation of the surface offset [m] (see :class:`TrackEstimate`).
+        Posterior mean and standard deviation (with its cell) of the surface offset [m] (see :class:`TrackEstimate`).
     force_lag, force_lag_stderr : numpy.ndarray
-        Posterior mean and standard deviation of the force lag [s] (see :class:`TrackEstimate`).
+        Posterior mean and standard deviation (with its cell) of the force lag [s] (see :class:`TrackEstimate`).
     water_content_range : tuple of float
         The tracker's grid's first and last water content [-] (:data:`DEFAULT_GRID`'s, 0.15 and 0.35, unless
         ``water_contents`` was given): the family's ends that :attr:`family_edge` reads.
