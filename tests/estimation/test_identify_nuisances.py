@@ -164,22 +164,18 @@ def test_the_bias_stderr_holds_the_refinements_move(fine: tuple[np.ndarray, np.n
     ({"depth_offset": 0.004}, -0.004, 0.0),
     ({"force_lowpass": 0.02}, 0.0, 0.02),
     ({"depth_noise": 0.001}, 0.0, 0.0),
-    ({"force_delay": 0.01}, 0.0, None),
+    ({"force_delay": 0.01}, 0.0, 0.01),
 ])
 def test_the_nuisances_standard_errors_hold_their_errors(fine: tuple[np.ndarray, np.ndarray, np.ndarray],
-                                                          chain: dict[str, float], offset: float,
-                                                          lag: float | None) -> None:
+                                                          chain: dict[str, float], offset: float, lag: float) -> None:
     """The surface offset and the force lag each within three of their standard errors of the truth (least squares'
     own read them to micrometres and microseconds: a 10-ms delay's offset 11 of them off, the clean walk's lag 1.5 of
-    a 0.04-ms error). A pure delay is no first-order low-pass: this walk reads 10 ms of it as 0.19 +- 0.99 ms, the
-    documented limit (docs/estimation.md, "The nuisances' standard errors"); its offset is still honest."""
+    a 0.04-ms error). A pure delay is no first-order low-pass: this walk reads 10 ms of it as a lag of 0.19 ms, and
+    the same fit with a delay in its place reads 10.6 ms; the lag's standard error holds the difference (+-10.4 ms:
+    what the recording leaves open of the lag's shape). The water content is the same with or without these."""
     res = identify_water_content(_trial(fine, **chain))
     assert 0.0 < res.depth_offset_stderr < 1e-3 and abs(res.depth_offset - offset) < 3.0 * res.depth_offset_stderr
-    assert 0.0 < res.force_lag_stderr < 0.01
-    if lag is not None:
-        assert abs(res.force_lag - lag) < 3.0 * res.force_lag_stderr
-    else:
-        assert res.force_lag < 0.002 and res.force_lag_stderr < 0.002
+    assert 0.0 < res.force_lag_stderr < 0.015 and abs(res.force_lag - lag) < 3.0 * res.force_lag_stderr
     assert res.low <= W <= res.high
 
 

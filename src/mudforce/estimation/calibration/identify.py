@@ -138,6 +138,10 @@ _FLOAT_MAX = float(np.finfo(np.float64).max)  # the largest finite float64: a bo
 MAX_DEPTH_OFFSET = 0.01
 #: Largest force lag (first-order time constant) that identify fits [s] (50 ms).
 MAX_FORCE_LAG = 0.05
+#: The lag's shape (:func:`identify_water_content`'s fit with a pure delay in place of the low-pass, whose reading
+#: counts in the lag's standard error): its start's least delay [s] and its evaluations [-] (ours).
+_SHAPE_START = 0.005
+_SHAPE_EVALUATIONS = 20
 #: Half-widths of the secants that read the surface offset's [m] and the force lag's [s] part in their standard
 #: errors (:func:`_nuisance_stderr`; ours): 0.5 mm and 2 ms, a few times what the bench's recordings read them to,
 #: and wide enough to step over a branch switch that a move of a few micrometres makes at one sample.
@@ -266,12 +270,12 @@ class Identification:
         (a depth that reads 2 mm too deep gives -0.002); NaN on the protocol path.
     force_lag, force_lag_stderr : float
         The force lag fitted [s]: the time constant of a first-order low-pass on the model's force (a pure delay
-        of ``d`` reads up to about ``d`` on a robot's trot, and under 1 ms for 5-10 ms on a smooth gait walk: see
-        below); NaN on the protocol path. The two standard errors add in quadrature the scatter (least squares'
-        or, where larger, the spread over the contact episodes, each read on secants 0.5 mm and 2 ms wide), the
-        rate check's move of each, and the misfit's worst case (:func:`_nuisance_stderr`); on the sensor-chain
-        bench each holds its truth within three of them but for one limit: a pure delay is no first-order
-        low-pass, and the lag that stands for it is not the delay (docs/estimation.md, "The nuisances' standard
+        of ``d`` reads up to about ``d`` on a robot's trot, and under 1 ms for 5-10 ms on a smooth gait walk);
+        NaN on the protocol path. The two standard errors add in quadrature the scatter (least squares' or, where
+        larger, the spread over the contact episodes, each read on secants 0.5 mm and 2 ms wide), the rate check's
+        move of each, and the misfit's worst case (:func:`_nuisance_stderr`); the lag's also the lag's shape: the
+        mean delay the same fit reads with a pure delay in place of the low-pass, less the lag. On the
+        sensor-chain bench each holds its truth within three of them (docs/estimation.md, "The nuisances' standard
         errors").
     force_gain_uncertainty : float
         The force gain's relative uncertainty assumed [-] (an input).
@@ -1053,18 +1057,22 @@ def identify_water_content(
     moving = ~rest
 
     def evaluate(w: float, offset: float, lag: float, gain: float = 1.0,
-                 sel: slice = slice(None), turns: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
+                 sel: slice = slice(None), turns: bool = True,
+                 delay: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
         """Residual (model - measured / gain) [N], model force [N], measured force [N], bias [N], tare count.
 
         ``sel`` picks the samples the model is run on (every other one for the rate check); ``turns`` False reads
-        the turns on their branches, not through the rest band (the rate check's turns part).
+        the turns on their branches, not through the rest band (the rate check's turns part); ``delay`` [s] runs
+        the model on the depth that much earlier (the lag's shape, in its standard error).
         """
         if not general:
             f = CHEN2024.force(t, tr.depth, family(w).as_array(), foot)
             r0 = f - tr.force / gain
             return r0 + tare_correction(r0, tr.precontact), f, tr.force, tr.bias, tr.precontact
         ts, zs, fs = t[sel], tr.depth[sel] + offset, raw[sel]
-        still = rest if (sel == slice(None) and turns) else at_rest(ts, zs, turns=turns)
+        if delay > 0.0:  # the depth between its samples is smooth (the force, with its neck breaking, is not)
+            zs = np.interp(ts - delay, t, tr.depth) + offset
+        still = rest if (sel == slice(None) and turns and delay == 0.0) else at_rest(ts, zs, turns=turns)
         f, low, high = _force_and_band(ts, zs, family(w), foot, lag)
         pre, bias = 0, 0.0
         if tr.precontact:  # re-tare from the samples before the first contact of the offset depth
@@ -1284,6 +1292,14 @@ def identify_water_content(
         model_shift = unexplained / sensitivity if sensitivity > 0.0 else hi - lo
         low, high = max(min(low, w_best - model_shift), lo), min(max(high, w_best + model_shift), hi)
     if general:
+        # the lag's shape: the same fit with a pure delay in place of the low-pass. A delay is no first-order
+        # low-pass, and on a smooth walk a 5-ms one read as a lag of 0.05-0.7 ms; the mean delay the other shape
+        # reads is what the recording leaves open of the lag, and counts in its standard error
+        shape = least_squares(lambda th: evaluate(float(th[0]), float(th[1]), 0.0, gain, delay=float(th[2]))[0],
+                              np.array([w_best, offset, max(lag, _SHAPE_START)]),
+                              bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
+                              x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=_SHAPE_EVALUATIONS)
+        rate_moves[2] = math.hypot(rate_moves[2], float(shape.x[2]) - lag)
         stderr = _nuisance_stderr(lambda x: evaluate(float(x[0]), float(x[1]), float(x[2]), gain)[0],
                                   np.array([w_best, offset, lag]), jac, r, f_best != 0.0, s2, rate_moves, unexplained)
     # the member that explains the data best by the flag's statistic (each sample over its own floor, the bias
