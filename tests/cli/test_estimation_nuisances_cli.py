@@ -61,7 +61,12 @@ def test_identify_reads_and_prints_a_gain_the_walk_determines(tmp_path: Path) ->
     ])
     assert all(r.returncode == 0 for r in runs), [r.stderr for r in runs]
     lines = runs[1].stdout.splitlines()
-    assert lines[1].startswith("force gain read from the recording: 0.94") and len(lines) == 2
+    assert lines[2].startswith("force gain read from the recording: 0.94") and len(lines) == 3
     read = json.loads(runs[2].stdout)
+    # the sensor nuisances in a line of their own, as the JSON gives them (rounded)
+    assert lines[1] == (f"sensor nuisances fitted with it: surface offset {read['depth_offset_m'] * 1e3:+.2f} +- "
+                        f"{read['depth_offset_stderr_m'] * 1e3:.2f} mm (the model follows the depth plus it), force "
+                        f"lag {read['force_lag_s'] * 1e3:.1f} +- {read['force_lag_stderr_s'] * 1e3:.1f} ms (a "
+                        f"first-order low-pass), force bias {read['bias_N']:+.2f} +- {read['bias_stderr_N']:.2f} N")
     assert read["force_gain"] == pytest.approx(0.95, abs=0.01) and abs(read["water_content"] - 0.22) < 0.002
     assert "force gain read" not in runs[3].stdout
