@@ -503,8 +503,9 @@ def _nuisance_stderr(residual: Callable[[np.ndarray], np.ndarray], x: np.ndarray
       :data:`_NUISANCE_SECANTS` on either side of the fit. The fit's own derivatives (a step of 1e-4 m or s) cross
       the steps of a model run at the samples (a branch switch, the rest band's edge, a neck a sample early or
       late): they read slopes a thousand times too steep, and errors of nanometres;
-    - the rate check's moves of each (``moves``: the same refits on the even and the odd samples and with the turns
-      on their branches): the model's own error at the data's rate, which the scatter does not see;
+    - ``moves``, each nuisance's systematic moves: the rate check's (the same refits on the even and the odd samples
+      and with the turns on their branches: the model's own error at the data's rate, which the scatter does not
+      see) and, for the lag, its shape's (the mean delay a pure delay in its place reads, less the lag);
     - the misfit's worst case, ``unexplained / rms(J_j)`` (as the interval's ``misfit_shift``): a residual the
       family cannot explain (a delay read as a lag, the depth's unresolved motion) moves a nuisance by at most that.
 
@@ -1299,9 +1300,9 @@ def identify_water_content(
                               np.array([w_best, offset, max(lag, _SHAPE_START)]),
                               bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
                               x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=_SHAPE_EVALUATIONS)
-        rate_moves[2] = math.hypot(rate_moves[2], float(shape.x[2]) - lag)
+        moves = np.hypot(rate_moves, np.array([0.0, 0.0, float(shape.x[2]) - lag]))
         stderr = _nuisance_stderr(lambda x: evaluate(float(x[0]), float(x[1]), float(x[2]), gain)[0],
-                                  np.array([w_best, offset, lag]), jac, r, f_best != 0.0, s2, rate_moves, unexplained)
+                                  np.array([w_best, offset, lag]), jac, r, f_best != 0.0, s2, moves, unexplained)
     # the member that explains the data best by the flag's statistic (each sample over its own floor, the bias
     # re-profiled under those weights; offset, lag and the floors held at the estimate's). Least squares weighs
     # every sample alike, and a few samples whose floor is tens of newtons (an event between two samples, a stuck
