@@ -13,7 +13,8 @@ from mudforce.motions.gait import walk
 from mudforce_cli_harness import assert_refused, run_batch, run_cli, snapshot
 
 EXPECTED = ["time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
-            "changed", "misfit"]
+            "changed", "misfit", "depth_offset_m", "depth_offset_stderr_m", "force_lag_s", "force_lag_stderr_s",
+            "force_bias_N"]
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +49,14 @@ def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
     given = np.loadtxt(recording, delimiter=",", skiprows=1)
     r = track(given[:, 0], given[:, 1] * 1e-3, given[:, 2])
     np.testing.assert_allclose(data[:, 1:4], np.column_stack([r.water_content, r.low, r.high]), rtol=0, atol=1e-12)
+    # and the sensor nuisances, sample by sample, with the summary's line at the end
+    assert r.depth_offset is not None and r.depth_offset_stderr is not None and r.force_lag is not None
+    assert r.force_lag_stderr is not None
+    np.testing.assert_array_equal(data[:, 8:], np.column_stack([r.depth_offset, r.depth_offset_stderr, r.force_lag,
+                                                                r.force_lag_stderr, r.bias]))
+    assert (f"surface offset {1e3 * r.depth_offset[-1]:+.2f} +- {1e3 * r.depth_offset_stderr[-1]:.2f} mm (the model "
+            f"follows the depth plus it), force lag {1e3 * r.force_lag[-1]:.1f} +- {1e3 * r.force_lag_stderr[-1]:.1f} "
+            "ms (a first-order low-pass)") in proc.stdout
     assert "branch rule: the tracker's own, online" in proc.stdout
     assert (folder / "track.png").read_bytes().startswith(b"\x89PNG")
     # the misfit flag over the whole recording, which the final estimate alone hid (a force of noise alone read

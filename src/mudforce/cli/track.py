@@ -15,7 +15,11 @@ water_content_high (the estimate and its 95 % interval, fractions: 0.25 is
 25 %), force_predicted_N (the force the model predicts for the sample,
 offset included), force_N (as measured), changed (1 where a change of mud
 was flagged), misfit (1 where the model misses the data: the mud may not
-be in the Table I family, or the sensor chain is off). A force-gain error cannot be told from stiffer mud:
+be in the Table I family, or the sensor chain is off), depth_offset_m and
+depth_offset_stderr_m (the surface offset the model follows the depth plus,
+and its spread), force_lag_s and force_lag_stderr_s (the force sensor's lag
+as a first-order low-pass, and its spread), force_bias_N (the force offset
+tared). A force-gain error cannot be told from stiffer mud:
 --force-gain-uncertainty (default 5%) widens the interval by what it does.
 Everything is checked before anything is written; the
 outputs are replaced together (the CSV and the plot: both or neither) and
@@ -49,7 +53,8 @@ HELP = "track the mud's water content online along a recording (time, depth, for
 #: The output columns, in order (:attr:`mudforce.estimation.tracker.TrackResult.COLUMNS`; written out here so that
 #: building the command line does not import the tracker).
 COLUMNS = ("time_s", "water_content", "water_content_low", "water_content_high", "force_predicted_N", "force_N",
-           "changed", "misfit")
+           "changed", "misfit", "depth_offset_m", "depth_offset_stderr_m", "force_lag_s", "force_lag_stderr_s",
+           "force_bias_N")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -121,6 +126,7 @@ def run(args: argparse.Namespace) -> int:
             f"final water content: {100 * result.water_content[k]:.3g} % "
             f"(95 % interval {100 * result.low[k]:.3g}-{100 * result.high[k]:.3g} %)",
             f"force offset {result.bias[k]:.3g} N, noise {result.noise[k]:.3g} N (estimated while the foot was free)",
+            *_nuisance_line(result, k),
             "branch rule: the tracker's own, online (from the depth noise it estimates; a twin bank on a 2-step "
             "secant widens the interval)",
             "change of mud flagged at: " + (", ".join(f"{x:.4g} s" for x in flags[:10]) or "none")
@@ -132,6 +138,16 @@ def run(args: argparse.Namespace) -> int:
             lines.append(f"wrote plot to {plot}")
         print("\n".join(lines))
     return 0
+
+
+def _nuisance_line(result: TrackResult, k: int) -> list[str]:
+    """The summary's line on the surface offset and the force lag at sample ``k`` (none where not estimated)."""
+    if result.depth_offset is None or result.depth_offset_stderr is None or result.force_lag is None \
+            or result.force_lag_stderr is None:
+        return []
+    return [f"surface offset {1e3 * result.depth_offset[k]:+.2f} +- {1e3 * result.depth_offset_stderr[k]:.2f} mm "
+            f"(the model follows the depth plus it), force lag {1e3 * result.force_lag[k]:.1f} +- "
+            f"{1e3 * result.force_lag_stderr[k]:.1f} ms (a first-order low-pass)"]
 
 
 def _misfit_line(result: TrackResult) -> str:

@@ -956,7 +956,9 @@ class TrackResult:
 
     #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
-                                          "force_predicted_N", "force_N", "changed", "misfit")
+                                          "force_predicted_N", "force_N", "changed", "misfit", "depth_offset_m",
+                                          "depth_offset_stderr_m", "force_lag_s", "force_lag_stderr_s",
+                                          "force_bias_N")
 
     def _misfit(self) -> np.ndarray:
         return np.zeros(self.time.shape, dtype=bool) if self.misfit is None else self.misfit
@@ -974,10 +976,17 @@ class TrackResult:
         dry = bool(self.low.size and self.low[-1] <= self.water_content_range[0])
         return "both" if wet and dry else "wet" if wet else "dry" if dry else ""
 
+    def _nuisances(self) -> tuple[np.ndarray, ...]:
+        """The surface offset, its spread, the force lag, its spread and the force bias per sample (NaN where not
+        given)."""
+        none = np.full(self.time.shape, np.nan)
+        return tuple(none if x is None else np.asarray(x, dtype=np.float64) for x in (
+            self.depth_offset, self.depth_offset_stderr, self.force_lag, self.force_lag_stderr, self.bias))
+
     def columns(self) -> dict[str, np.ndarray]:
         """The per-sample data under the names of :attr:`COLUMNS` (``changed``, ``misfit`` as bool)."""
         arrays = (self.time, self.water_content, self.low, self.high, self.force_predicted, self.force, self.changed,
-                  self._misfit())
+                  self._misfit(), *self._nuisances())
         return dict(zip(self.COLUMNS, arrays, strict=True))
 
     def to_pandas(self) -> Any:
@@ -988,11 +997,13 @@ class TrackResult:
 
     def _csv_text(self) -> str:
         lines = [",".join(self.COLUMNS)]
+        nuisances = [x.tolist() for x in self._nuisances()]
         for row in zip(self.time.tolist(), self.water_content.tolist(), self.low.tolist(), self.high.tolist(),
                        self.force_predicted.tolist(), self.force.tolist(), self.changed.tolist(),
-                       self._misfit().tolist(), strict=True):
-            *values, changed, misfit = row
-            lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)},{int(misfit)}")
+                       self._misfit().tolist(), *nuisances, strict=True):
+            values, (changed, misfit), after = row[:6], row[6:8], row[8:]
+            lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)},{int(misfit)},"
+                         + ",".join(repr(float(v)) for v in after))
         return "\n".join(lines) + "\n"
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
