@@ -211,7 +211,7 @@ class TrackEstimate:
     force_lag, force_lag_stderr : float
         Posterior mean of the force sensor's lag [s], the time constant of a
         first-order low-pass of the model's force (a pure delay reads as
-        about half of it), as ``identify``'s ``force_lag``, and its standard
+        less than half of it), as ``identify``'s ``force_lag``, and its standard
         deviation with the nearest hypothesis's cell added (1.4-4.3 ms). The
         models' forces are low-passed by it, and its spread over the
         hypotheses (without the cell) enters the likelihood's scale (and so
