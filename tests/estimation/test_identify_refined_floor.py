@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mudforce.estimation.calibration.identify import _force_and_band, _refined_force_and_band
+from mudforce.estimation.calibration._recording_model import _force_and_band, _refined_force_and_band
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 

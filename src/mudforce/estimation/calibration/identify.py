@@ -84,15 +84,19 @@ from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 from scipy.optimize import OptimizeResult, brentq, least_squares, minimize_scalar
 from scipy.stats import chi2
 from scipy.stats import t as student_t
 
-from mudforce import _kernel as K
 from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_integer, is_real, shown
+from mudforce.estimation.calibration._recording_model import (
+    _band_residual,
+    _force_and_band,
+    _refined_force_and_band,
+    _with_neighbours,
+)
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.estimation.calibration.models import CHEN2024
@@ -110,11 +114,8 @@ from mudforce.estimation.nuisances import (
     check_force_gain_uncertainty,
     check_force_varies,
 )
-from mudforce.model.equations import rest_band_forces
 from mudforce.model.foot import Foot
-from mudforce.model.law3d import spring_stress
 from mudforce.model.parameters import WATER_CONTENT_RANGE, MudParameters
-from mudforce.steppers.simulation import run_compact
 
 __all__ = [
     "DEFAULT_FORCE_GAIN_UNCERTAINTY",
@@ -175,8 +176,6 @@ _GAIN_WARNING = 1.5
 #: scan's offset where the narrow one, its offset refitted, fits better (RMSE 0.60 against 0.76 N)
 _SECOND_VALLEY_GAP = 0.005
 _SECOND_VALLEY_RATIO = 4.0
-#: The contact state after necking, as the stepper's ``state`` output holds it (:class:`mudforce._kernel.ContactMode`).
-_NECKED = int(K.ContactMode.NECKED)
 #: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
 #: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
@@ -525,132 +524,6 @@ def _nuisance_stderr(residual: Callable[[np.ndarray], np.ndarray], x: np.ndarray
     sensitivity = np.sqrt(np.mean(wide**2, axis=0))
     worst = np.divide(unexplained, sensitivity, out=np.zeros(3), where=sensitivity > 0.0)
     return np.asarray(np.sqrt(variance + worst**2), dtype=np.float64)
-
-
-@njit(cache=True, nogil=True)
-def _lowpass_into(y: np.ndarray, x: np.ndarray, k: int, a: float, h: float, tau: float) -> None:  # pragma: no cover
-    """Sample ``k + 1`` of the first-order low-pass ``tau y' + y = x`` [same unit as ``x``], exact for ``x`` linear
-    between samples (ours), after a step of ``h`` [s] with ``a = exp(-h / tau)``."""
-    y[k + 1] = a * y[k] + (1.0 - a) * x[k] + (x[k + 1] - x[k]) * (1.0 - tau * (1.0 - a) / h)
-
-
-@njit(cache=True, nogil=True)
-def _np_min(a: float, b: float) -> float:  # pragma: no cover - compiled
-    """``np.minimum(a, b)``: NaN kept, ``b`` on a tie (the sign of a zero as numpy's)."""
-    return a if (a < b or a != a) else b
-
-
-@njit(cache=True, nogil=True)
-def _np_max(a: float, b: float) -> float:  # pragma: no cover - compiled
-    """``np.maximum(a, b)``: NaN kept, ``b`` on a tie (the sign of a zero as numpy's)."""
-    return a if (a > b or a != a) else b
-
-
-@njit(cache=True, nogil=True)
-def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, state: np.ndarray, mud: np.ndarray,
-                      spring: np.ndarray, k_m_i: float, k_m_w: float, area: float, lag: float
-                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # pragma: no cover - compiled
-    """The rest band ``(low, high)`` [N] about the model's ``force`` [N] at each sample, and all three through a
-    force lag ``lag`` [s] (see :func:`_force_and_band`).
-
-    At a sample in contact (``state`` > 0) the band is :func:`~mudforce.model.equations.rest_band_forces` at the
-    Maxwell strain ``depth - mud`` [m] and the spring stress ``spring`` [Pa] (its intrusion edge 0 at or above the
-    surface; after necking its withdrawal edge the post-necking force, the model's force there, as the engines'
-    :func:`~mudforce.engines.dynamics.rest_band.rest_band` has it), widened to hold the force; elsewhere it is the
-    force itself. With ``lag`` > 0 the three pass through
-    the first-order low-pass ``tau y' + y = x``, exact for ``x`` linear between samples (ours).
-
-    Speed plumbing: one compiled pass for what numpy did in a dozen (and one ``exp`` a sample for the three, not
-    three), the same operations in the same order, so the same bits.
-    """
-    n = force.size
-    low = np.empty(n)
-    high = np.empty(n)
-    for k in range(n):
-        f = force[k]
-        if state[k] > 0:
-            up, down = rest_band_forces(depth[k] - mud[k], spring[k], k_m_i, k_m_w, area)
-            if not depth[k] > 0.0:
-                down = 0.0
-            if state[k] == _NECKED:  # after necking the withdrawal edge is the post-necking force (Eq. (7))
-                up = f
-            low[k] = _np_min(_np_min(up, down), f)
-            high[k] = _np_max(_np_max(up, down), f)
-        else:
-            low[k] = f
-            high[k] = f
-    if not lag > 0.0 or n == 0:
-        return force, low, high
-    f_out, low_out, high_out = np.empty(n), np.empty(n), np.empty(n)
-    f_out[0], low_out[0], high_out[0] = force[0], low[0], high[0]
-    for k in range(n - 1):
-        h = time[k + 1] - time[k]
-        a = math.exp(-h / lag)
-        _lowpass_into(f_out, force, k, a, h, lag)
-        _lowpass_into(low_out, low, k, a, h, lag)
-        _lowpass_into(high_out, high, k, a, h, lag)
-    return f_out, low_out, high_out
-
-
-def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
-                    lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The model's force [N] along ``depth`` [m] (exact rule) and the rest band ``(low, high)`` [N] at each sample.
-
-    The band is that of :func:`mudforce.model.equations.rest_band_forces` at
-    the stepper's own Maxwell strain, widened to hold the model's force
-    (after necking the withdrawal edge is the post-necking force); out of the
-    mud it is the force itself. With ``lag`` > 0 [s] all three pass through
-    the first-order low-pass a force sensor applies (:func:`_band_through_lag`).
-    """
-    row = K.make_params(q.as_array(), foot.area, foot.width, 1, 0.0)[None, :]
-    bad, force, state, mud, _ = run_compact(time, depth, row, 1)
-    if bad >= 0:  # numerically impossible parameters: a huge, finite residual
-        force[bad:] = 1e6
-    # Eq. (4) at every sample, 0 above the surface (one compiled loop over the same function: its power gives the
-    # same bits in a loop as in a single call)
-    spring = spring_stress(depth, q.alpha, q.beta, foot.width)
-    # (time contiguous, as run_compact takes it: the half-rate runs' strided times compiled the loop a second time)
-    return _band_through_lag(np.ascontiguousarray(time), depth, force, state, mud, spring, q.k_m_i, q.k_m_w,  # type: ignore[no-any-return]
-                             foot.area, lag)
-
-
-def _with_neighbours(x: np.ndarray) -> np.ndarray:
-    """Each sample the largest of itself and its two neighbours (an event between two samples moves a coarser
-    model at a neighbour of the sample it moves the data at)."""
-    out: np.ndarray = x.copy()
-    out[1:-1] = np.maximum(x[1:-1], np.maximum(x[2:], x[:-2]))
-    return out
-
-
-#: Samples the refined interpolation puts in each step of the recording [-] (ours): the model's error at the data's
-#: rate is the difference of the model on the recording and on the refinement (Richardson); more changes it little.
-_REFINE = 4
-
-
-def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
-                            lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`_force_and_band` [N] at the samples, the model run on a cubic spline of ``depth`` [m] through them.
-
-    The spline (not-a-knot) puts :data:`_REFINE` steps in each step of the recording; it passes through every
-    sample, and between them it follows the motion's curvature where the stepper alone takes the depth as linear.
-    """
-    if time.size < 4:
-        return _force_and_band(time, depth, q, foot, lag)
-    frac = np.arange(_REFINE) / _REFINE
-    fine_t = np.concatenate([(time[:-1, None] + frac[None, :] * np.diff(time)[:, None]).ravel(), time[-1:]])
-    fine_z = CubicSpline(time, depth)(fine_t)
-    fine_z[::_REFINE] = depth
-    f, low, high = _force_and_band(fine_t, fine_z, q, foot, lag)
-    return f[::_REFINE], low[::_REFINE], high[::_REFINE]
-
-
-def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray,
-                   rest: np.ndarray) -> np.ndarray:
-    """The model's residual [N] (model minus ``measured``, both [N]); at the ``rest`` samples a foot at rest fits
-    anywhere in its rest band ``[low, high]`` [N], so the residual there is the measured force's distance outside
-    it (issue 23: rest is a band, not a branch). The one statement of that rule for the fit and the flag's member."""
-    out: np.ndarray = np.where(rest, np.clip(measured, low, high), model) - measured
-    return out
 
 
 @njit(cache=True, nogil=True)
