@@ -1169,10 +1169,9 @@ def identify_water_content(
         # the lag's shape: the same fit with a pure delay in place of the low-pass. A delay is no first-order
         # low-pass, and on a smooth walk a 5-ms one read as a lag of 0.05-0.7 ms; the mean delay the other shape
         # reads is what the recording leaves open of the lag, and counts in its standard error
-        shape = least_squares(lambda th: evaluate(float(th[0]), float(th[1]), 0.0, gain, delay=float(th[2]))[0],
-                              np.array([w_best, offset, max(lag, _SHAPE_START)]),
-                              bounds=([lo, -MAX_DEPTH_OFFSET, 0.0], [hi, MAX_DEPTH_OFFSET, MAX_FORCE_LAG]),
-                              x_scale=np.array([0.01, 0.001, 0.005]), diff_step=1e-4, max_nfev=_SHAPE_EVALUATIONS)
+        # (the joint fit's bounds and scales, the delay in the lag's place)
+        shape = joint_fit(lambda th: evaluate(float(th[0]), float(th[1]), 0.0, gain, delay=float(th[2]))[0],
+                          np.array([w_best, offset, max(lag, _SHAPE_START)]), _SHAPE_EVALUATIONS)
         moves = np.hypot(rate_moves, np.array([0.0, 0.0, float(shape.x[2]) - lag]))
         stderr = _nuisance_stderr(lambda x: evaluate(float(x[0]), float(x[1]), float(x[2]), gain)[0],
                                   np.array([w_best, offset, lag]), jac, r, f_best != 0.0, s2, moves, unexplained)
