@@ -158,16 +158,19 @@ def test_a_change_is_flagged_against_the_anchors_narrowed_interval(seed: int) ->
 def test_cell_variances_of_a_grid_of_hypotheses() -> None:
     """Each node stands for the values half-way to its neighbours (uniform: width^2 / 12); an end node's cell is as
     wide on its open side as on the other, bounded by ``lowest``; a node alone has none; the order does not matter;
-    the compiled step's offsets read the same."""
-    from mudforce.estimation._tracker_layout import _LAG_CELL_VAR, _LAGS, _cell_variances
-    from mudforce.estimation._tracker_step import _cell_variance
+    the lags (none below 0) read through the same rule."""
+    from mudforce.estimation._tracker_layout import _LAGS
+    from mudforce.estimation._tracker_step import _cell_variance, _nearest_lag_cell
+
+    def cells(nodes: np.ndarray, lowest: float = -np.inf) -> list[float]:
+        return [_cell_variance(nodes, o, lowest) for o in range(nodes.size)]
 
     offsets = np.array([0.003, -0.006, 0.0, 0.006, -0.003])
-    np.testing.assert_allclose(_cell_variances(offsets), 0.003**2 / 12.0, rtol=1e-12)
-    np.testing.assert_allclose([_cell_variance(offsets, o) for o in range(5)], 0.003**2 / 12.0, rtol=1e-12)
-    assert _cell_variances(np.array([0.0])).tolist() == [0.0] and _cell_variance(np.array([0.0]), 0) == 0.0
+    np.testing.assert_allclose(cells(offsets), 0.003**2 / 12.0, rtol=1e-12)
+    assert cells(np.array([0.0])) == [0.0]
     # the lags: 0 (its cell 0-5 ms), 10 (5-15), ..., 45 (37.5-52.5), 60 (52.5-67.5); the two-stage ones as their sums
-    assert np.sqrt(_LAG_CELL_VAR[list(_LAGS).index(0.0)]) == pytest.approx(0.005 / 12**0.5)
-    assert np.sqrt(_LAG_CELL_VAR[list(_LAGS).index(0.045)]) == pytest.approx(0.015 / 12**0.5)
-    np.testing.assert_allclose(_cell_variances(np.array([0.0, 0.01, 0.0])), [0.01**2 / 12.0] * 3)
-    np.testing.assert_allclose(_cell_variances(np.array([0.0, 0.01]), lowest=0.0), [0.005**2 / 12, 0.01**2 / 12])
+    assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.0), 0.0)) == pytest.approx(0.005 / 12**0.5)
+    assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.045), 0.0)) == pytest.approx(0.015 / 12**0.5)
+    assert _nearest_lag_cell(0.044) == _cell_variance(_LAGS, list(_LAGS).index(0.045), 0.0)
+    np.testing.assert_allclose(cells(np.array([0.0, 0.01, 0.0])), [0.01**2 / 12.0] * 3)
+    np.testing.assert_allclose(cells(np.array([0.0, 0.01]), lowest=0.0), [0.005**2 / 12, 0.01**2 / 12])

@@ -315,28 +315,6 @@ assert _LAGS.size == _N_LAGS and _LAGS_A.size == _N_LAGS
 #: until its force says otherwise: the prior puts 86 % on no lag, and its mean over the hypotheses is 1.6 ms; with a
 #: broader prior the lag the tracker starts with moved the early tare and the estimates of clean walks).
 _LAG_LOG_PRIOR = -_LAGS / 0.005
-
-
-def _cell_variances(nodes: np.ndarray, lowest: float = -np.inf) -> np.ndarray:
-    """The variance [unit^2] of a value uniform over each node's cell (ours): the cell runs half-way to the next
-    node on either side, as far on the side that has none as on the side that has one, and not below ``lowest``;
-    0 where there is one node alone. A posterior over a few hypotheses stands for a continuum, each node for its
-    cell: its spread over the nodes alone read a 2-mm offset as -3.00 +- 0.05 mm on the sensor-chain bench."""
-    values = np.asarray(nodes, dtype=np.float64)
-    distinct = np.unique(values)
-    if distinct.size < 2:
-        return np.zeros(values.size)
-    gaps = np.diff(distinct)
-    below = np.concatenate([[gaps[0]], gaps]) / 2.0
-    above = np.concatenate([gaps, [gaps[-1]]]) / 2.0
-    below = np.minimum(below, distinct - lowest)
-    width = dict(zip(distinct.tolist(), (below + above).tolist(), strict=True))
-    return np.array([width[float(v)] ** 2 / 12.0 for v in values])
-
-
-#: Each lag hypothesis's cell variance [s^2] (:func:`_cell_variances` of :data:`_LAGS`, none below 0): added to the
-#: reported spread of the lag (``force_lag_stderr``), not to the likelihood's.
-_LAG_CELL_VAR = _cell_variances(_LAGS, lowest=0.0)
 #: Memory of the online depth noise estimate [s of contact] (ours).
 _DEPTH_NOISE_MEMORY = 2.0
 #: A step within this many standard deviations of the depth noise (on the difference of two samples, the noise in
