@@ -118,6 +118,13 @@ def refuse_empty_inputs(*inputs: tuple[str, str | None, str]) -> None:
             raise InputError(f"{option}: empty name {name!r}; expected {what}")
 
 
+def nuisance_text(offset: float, offset_stderr: float, lag: float, lag_stderr: float) -> str:
+    """The surface offset [m] and the force lag [s], each with its standard error, as ``identify``'s and ``track``'s
+    summaries say them (millimetres and milliseconds)."""
+    return (f"surface offset {offset * 1e3:+.2f} +- {offset_stderr * 1e3:.2f} mm (the model follows the depth plus "
+            f"it), force lag {lag * 1e3:.1f} +- {lag_stderr * 1e3:.1f} ms (a first-order low-pass)")
+
+
 class _StoreOnce(argparse.Action):
     """argparse's ``store``, but an option given twice with different values (``--mass 5kg --mass 6kg``) is refused
     in one line naming both, where argparse kept the last without a word; the same value twice means one thing."""

@@ -29,7 +29,7 @@ import dataclasses
 import math
 from pathlib import Path
 
-from mudforce.cli import refuse_empty_inputs
+from mudforce.cli import nuisance_text, refuse_empty_inputs
 from mudforce.io import dumps_json
 from mudforce.model.foot import FOOT_EXAMPLES, Foot
 
@@ -109,10 +109,10 @@ def run(args: argparse.Namespace) -> int:
         print(f"water content {result.water_content:.2%} ({100 * level:.10g}% interval {lo:.2%} to {hi:.2%}), "
               f"RMSE {result.rmse:.3g} N{fit}")
         if math.isfinite(result.depth_offset):  # a motion's recording: the sensor nuisances fitted with it
-            print(f"sensor nuisances fitted with it: surface offset {result.depth_offset * 1e3:+.2f} +- "
-                  f"{result.depth_offset_stderr * 1e3:.2f} mm (the model follows the depth plus it), force lag "
-                  f"{result.force_lag * 1e3:.1f} +- {result.force_lag_stderr * 1e3:.1f} ms (a first-order low-pass), "
-                  f"force bias {result.bias:+.2f} +- {result.bias_stderr:.2f} N")
+            nuisances = nuisance_text(result.depth_offset, result.depth_offset_stderr, result.force_lag,
+                                      result.force_lag_stderr)
+            print(f"sensor nuisances fitted with it: {nuisances}, force bias {result.bias:+.2f} +- "
+                  f"{result.bias_stderr:.2f} N")
         if result.force_gain != 1.0:
             print(f"force gain read from the recording: {result.force_gain:.4g} (the measured force over the mud's: "
                   "a sensor's gain, or a mud uniformly stiffer or softer than Table I's at this water content)")

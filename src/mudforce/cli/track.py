@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mudforce.cli import refuse_empty_inputs
+from mudforce.cli import nuisance_text, refuse_empty_inputs
 from mudforce.cli._outputs import check_suffix
 from mudforce.errors import InputError
 from mudforce.io import check_output_path, refuse_overwriting_inputs
@@ -145,9 +145,8 @@ def _nuisance_line(result: TrackResult, k: int) -> list[str]:
     if result.depth_offset is None or result.depth_offset_stderr is None or result.force_lag is None \
             or result.force_lag_stderr is None:
         return []
-    return [f"surface offset {1e3 * result.depth_offset[k]:+.2f} +- {1e3 * result.depth_offset_stderr[k]:.2f} mm "
-            f"(the model follows the depth plus it), force lag {1e3 * result.force_lag[k]:.1f} +- "
-            f"{1e3 * result.force_lag_stderr[k]:.1f} ms (a first-order low-pass)"]
+    return [nuisance_text(float(result.depth_offset[k]), float(result.depth_offset_stderr[k]),
+                          float(result.force_lag[k]), float(result.force_lag_stderr[k]))]
 
 
 def _misfit_line(result: TrackResult) -> str:
