@@ -75,6 +75,7 @@ PINNED: dict[str, list[str]] = {
         "MAX_DEPTH_OFFSET",
         "MAX_FORCE_LAG",
         "MIN_HALF_WIDTH",
+        "NEAR_LIMITS_WARNING",
         "OTHER_MUD_WARNING",
         "REST_SPEED",
         "TAIL_SHARE_WARNING",

@@ -7,8 +7,10 @@ whose floor is tens of newtons (events between two samples) pull it, and its int
 truth (flagged, misfit ratio 2.49). The member that minimises the flag's statistic (each sample over its own floor)
 reads 17.64 %; the interval reaches it, +-0.25 points. The estimate is that of least squares. Since the interval
 also holds every water content whose statistic passes with the depth offset and force lag refitted there
-(test_identify_passing.py), it reaches 16.50 % here, and the misfit flag, read at the best of those (17.34 %, ratio
-1.15), is quiet; the rate check's warning stays.
+(test_identify_passing.py), it reaches 16.50 % here, and the misfit flag is read at the best of those (17.34 %, ratio
+1.15, 4.1 % of the samples beyond three floors): no reading past its limit, but two past 80 % of theirs, so the flag
+fires since 2026-12-01 (one of the in-family recordings that the combined reading costs); the rate check's warning
+stays.
 """
 
 from __future__ import annotations
@@ -78,8 +80,9 @@ def test_the_interval_reaches_the_member_and_the_truth(monkeypatch: pytest.Monke
     assert res.misfit_ratio == before.misfit_ratio
     assert res.warnings == before.warnings
     assert res.to_dict()["member_water_content"] == member
-    # with the members that pass refitted: the flag, read at the best of them (measured 1.15 at 17.34 %), is quiet;
-    # the rate check's warning stays. The estimate moves to that member (below), and the interval reaches below it
+    # with the members that pass refitted: the flag, read at the best of them (measured 1.15 at 17.34 %), passes each
+    # limit but fires on two readings near theirs (NEAR_LIMITS_WARNING); the rate check's warning stays. The estimate
+    # moves to that member (below), and the interval reaches below it
     # by the allowances least squares' estimate has: the margin, the gain's shift down (here the larger, 0.26 points)
     # and the rate check's (1.12 points; 1.33 before its half-rate fits read turns as the full fit and the turns'
     # own part was read apart): 15.71 % (15.49 % then; 16.50 %, a passing grid point, before those allowances
@@ -91,13 +94,14 @@ def test_the_interval_reaches_the_member_and_the_truth(monkeypatch: pytest.Monke
     # paths move the last bits, and the fits' tolerances carry that to the fourth digit)
     assert full.low == pytest.approx(0.1571, abs=5e-4)
     assert full.member_water_content == member and full.least_squares_water_content == res.water_content
-    assert full.misfit_ratio == pytest.approx(1.154, abs=0.005) and not full.model_misses_data
-    assert full.tail_share == pytest.approx(0.041, abs=0.001)  # under the tail's 4.5 %: quiet
+    assert full.misfit_ratio == pytest.approx(1.154, abs=0.005) and full.model_misses_data
+    assert full.tail_share == pytest.approx(0.041, abs=0.001)  # under the tail's 4.5 %, over 80 % of it
     assert abs(full.misfit_water_content - W_ROBOT) < 0.005
     # least squares' own statistic fails: the estimate is that member, by the truth, and the interval holds it
     assert full.water_content == full.misfit_water_content
     assert full.low + MIN_HALF_WIDTH <= full.water_content <= full.high - MIN_HALF_WIDTH
-    assert len(full.warnings) == 1 and full.warnings[0].startswith("the estimate moves by")
+    assert len(full.warnings) == 2 and full.warnings[0].startswith("two of the misfit flag's three readings")
+    assert full.warnings[1].startswith("the estimate moves by")
 
 
 def test_a_clean_in_family_walk_keeps_its_interval(monkeypatch: pytest.MonkeyPatch) -> None:

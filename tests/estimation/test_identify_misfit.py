@@ -86,8 +86,8 @@ def test_a_law_missing_many_samples_by_a_little_is_flagged_by_the_tail_too(monke
     edge had been the Maxwell element's, hundreds of newtons of suction, and the misfit floor with it: 1.31 since, so
     the ratio fires too); 5.4 % of the samples lie beyond three floors at the least statistic found, over the tail's
     4.5 %, so with the ratio's limit raised past it the tail alone still flags it, with its own warning
-    (docs/estimation.md, "What is not met"). An in-family recording near the limit stays quiet
-    (tests/estimation/test_identify_member.py: 4.1 %)."""
+    (docs/estimation.md, "What is not met"). An in-family recording at 4.1 % passes the tail's limit (its ratio
+    1.15 and that 4.1 % then fire the combined reading: tests/estimation/test_identify_member.py)."""
     from pathlib import Path
 
     from mudforce.estimation.calibration import identify as identify_module
@@ -133,6 +133,37 @@ def test_a_mud_read_at_the_family_s_edge_is_flagged_by_what_another_mud_explains
     assert res.other_mud == pytest.approx(1.035, abs=0.005) and res.other_mud > OTHER_MUD_WARNING
     assert res.model_misses_data and res.to_dict()["other_mud"] == res.other_mud
     assert sum(w.startswith("another mud explains 1 of the residual's mean square") for w in res.warnings) == 1
+
+
+def test_a_law_near_two_limits_at_once_is_flagged() -> None:
+    """A linear law F = k z along a MuJoCo walk's foot path at 50 Hz (the misfit-flag bench's seed 21, robot 0;
+    ``tests/estimation/data``), the truth 30.6 %: read at 24.1 % [22.5, 25.5] with a -7.4 mm depth offset, the ratio
+    at 1.242 (limit 1.25), 4.0 % of the samples beyond three floors (4.5 %) and another mud explaining 0.72 (0.9).
+    No reading alone fired, and the interval missed the truth: confidently wrong. Two readings past 80 % of their
+    limits fire the flag, with a warning of its own (docs/estimation.md, "Two readings near their limits")."""
+    from pathlib import Path
+
+    from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO
+    from mudforce.estimation.calibration.identify import (
+        NEAR_LIMITS_WARNING,
+        OTHER_MUD_WARNING,
+        TAIL_SHARE_WARNING,
+    )
+    from mudforce.motions.quadruped import ROBOT_FOOT
+
+    data = Path(__file__).parent / "data" / "robot_walk_linear_law_50hz_seed21.csv"
+    t, z, f = np.loadtxt(data, delimiter=",", skiprows=1, unpack=True)
+    res = identify_water_content(Trial("linear.csv", 0.3062, t, z, f), ROBOT_FOOT)
+    assert res.water_content == pytest.approx(0.2408, abs=5e-4) and res.interval[1] < 0.3062
+    assert res.misfit_ratio == pytest.approx(1.242, abs=0.002) and res.misfit_ratio <= MISFIT_WARNING_RATIO
+    assert res.tail_share == pytest.approx(0.0399, abs=0.0005) and res.tail_share <= TAIL_SHARE_WARNING
+    assert res.other_mud == pytest.approx(0.724, abs=0.005) and res.other_mud <= OTHER_MUD_WARNING
+    shares = (res.misfit_ratio / MISFIT_WARNING_RATIO, res.tail_share / TAIL_SHARE_WARNING,
+              res.other_mud / OTHER_MUD_WARNING)
+    assert sum(x > NEAR_LIMITS_WARNING for x in shares) == 3
+    assert res.model_misses_data and res.to_dict()["model_misses_data"] is True
+    assert sum(w.startswith("two of the misfit flag's three readings are past 80% of their limits")
+               for w in res.warnings) == 1
 
 
 def test_what_another_mud_explains_is_little_in_family_and_much_off_it(walks: list[Walk]) -> None:

@@ -122,6 +122,7 @@ __all__ = [
     "MAX_DEPTH_OFFSET",
     "MAX_FORCE_LAG",
     "MIN_HALF_WIDTH",
+    "NEAR_LIMITS_WARNING",
     "OTHER_MUD_WARNING",
     "REST_SPEED",
     "TAIL_SHARE_WARNING",
@@ -190,6 +191,15 @@ TAIL_SHARE_WARNING = 0.045
 #: family) may explain before the misfit flag fires (:attr:`Identification.other_mud`; ours, chosen on the misfit-flag
 #: bench: docs/estimation.md, "What another mud explains").
 OTHER_MUD_WARNING = 0.9
+#: Share of its limit [-] past which two of the flag's three readings fire it together (ours, 2026-12-01): the misfit
+#: ratio over :data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`, :attr:`Identification.tail_share`
+#: over :data:`TAIL_SHARE_WARNING` and :attr:`Identification.other_mud` over :data:`OTHER_MUD_WARNING`. A recording
+#: near two limits at once is rarer in family than one past a single limit: on the misfit-flag bench's twelve seeds
+#: the three off-family recordings of 1440 that no single reading caught (F = k z and alpha x2 along MuJoCo trots at
+#: 50 Hz) read 0.84-0.99 of two limits, and 11 more of the 1080 in-family ones fire with it; chosen there, then read on
+#: six fresh seeds: off family 720 of 720 flagged (719 without it), in family 13 of 540 (8) (docs/estimation.md,
+#: "Two readings near their limits").
+NEAR_LIMITS_WARNING = 0.8
 #: The parameters the off-family test varies, each by a relative step of :data:`_OTHER_MUD_STEP` (every parameter of
 #: Table I but the density, which only scales the drag with lambda).
 _OTHER_MUD_PARAMETERS = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "beta", "sigma_y", "zeta", "omega_0", "lambda_")
@@ -394,10 +404,12 @@ class Identification:
     @property
     def model_misses_data(self) -> bool:
         """True when the RMSE exceeds the noise floor by more than :data:`MISFIT_WARNING_RATIO`, when more than
-        :data:`TAIL_SHARE_WARNING` of the samples lie beyond three floors (:attr:`tail_share`), or when another mud
-        explains more than :data:`OTHER_MUD_WARNING` of the standardised residual's mean square (:attr:`other_mud`)."""
+        :data:`TAIL_SHARE_WARNING` of the samples lie beyond three floors (:attr:`tail_share`), when another mud
+        explains more than :data:`OTHER_MUD_WARNING` of the standardised residual's mean square (:attr:`other_mud`),
+        or when two of these three readings are past :data:`NEAR_LIMITS_WARNING` of their limits."""
         return (self.misfit_ratio > MISFIT_WARNING_RATIO or self.tail_share > TAIL_SHARE_WARNING
-                or self.other_mud > OTHER_MUD_WARNING)
+                or self.other_mud > OTHER_MUD_WARNING
+                or _near_limits(self.misfit_ratio, self.tail_share, self.other_mud))
 
     def to_dict(self) -> dict[str, object]:
         """The JSON object of ``mudforce identify --json``.
@@ -640,6 +652,13 @@ def _second_valley(grid: np.ndarray, costs: np.ndarray, best: int) -> float | No
         return None
     candidates = np.flatnonzero(inner)
     return float(grid[candidates[int(np.argmin(costs[candidates]))]])
+
+
+def _near_limits(ratio: float, tail_share: float, other_mud: float) -> bool:
+    """True when two of the misfit flag's three readings (the misfit ratio [-], the tail's share [-], what another mud
+    explains [-]) are past :data:`NEAR_LIMITS_WARNING` of their limits (ours; a NaN reading is past none)."""
+    shares = (ratio / MISFIT_WARNING_RATIO, tail_share / TAIL_SHARE_WARNING, other_mud / OTHER_MUD_WARNING)
+    return sum(x > NEAR_LIMITS_WARNING for x in shares) >= 2
 
 
 def _standardised(time: np.ndarray, depth: np.ndarray, foot: Foot, measured: np.ndarray, rest: np.ndarray,
@@ -1268,6 +1287,14 @@ def identify_water_content(
                         f"refitted there), where at most {OTHER_MUD_WARNING:g} would: the model's parameters fit the "
                         "data better off the Table I family than on it (another mud, or a model error) though the "
                         "misfit ratio and the tail read little; the estimate is the nearest water content")
+    elif _near_limits(ratio, tail_share, other_mud):
+        warnings.append(f"two of the misfit flag's three readings are past {NEAR_LIMITS_WARNING:.0%} of their limits "
+                        f"(misfit ratio {ratio:.3g} of {MISFIT_WARNING_RATIO:g}, {tail_share:.1%} of the samples "
+                        f"beyond three noise floors of {TAIL_SHARE_WARNING:.1%}, another mud explaining "
+                        f"{other_mud:.2g} of {OTHER_MUD_WARNING:g}), at the best water content found "
+                        f"({tail_at * 100:.4g} %, the depth offset and force lag refitted there): together they read "
+                        "more than an in-family recording does (another mud, or a model error); the estimate is the "
+                        "nearest water content")
     if rate_shift > _RATE_SHIFT_WARNING:
         warnings.append(f"the estimate moves by {rate_shift * 100:.2g} points when the model runs on every other "
                         "sample or reads the turns on their branches (the two moves added): at this rate the model "
