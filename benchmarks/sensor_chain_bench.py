@@ -373,7 +373,9 @@ def run_flag_bench(args: argparse.Namespace) -> int:
           f"seed {args.seed}; depth noise {'given' if args.known_depth_noise else 'estimated'}")
     print()
     print(f"Force noise {FORCE_NOISE:g} N, depth noise {DEPTH_NOISE * 1e3:g} mm, a bias in [-1, 1] N. Each cell: "
-          "misfit ratio min-max, flagged (> 1.25) / recordings; covered; confidently wrong (refused).")
+          "misfit ratio min-max, flagged / recordings (model_misses_data: the ratio > 1.25, the tail's share > "
+          "4.5 %, what another mud explains > 0.9, or two of these past 80 % of their limits); covered; confidently "
+          "wrong (refused).")
     print()
     print("| source | " + " | ".join(f"{r:g} Hz" for r in rates) + " |")
     print("|---|" + "---|" * len(rates))
