@@ -69,3 +69,55 @@ def test_numba_cache_is_keyed_on_the_shared_sources() -> None:
     assert locator.get_source_stamp()[1] == _cache.source_fingerprint()
     assert all(any(_cache._PACKAGE.glob(pattern)) for pattern in _cache.SOURCES)  # none renamed away
     assert not hasattr(_cache, "refresh")
+
+
+def test_every_name_a_compiled_function_takes_from_another_file_is_keyed() -> None:
+    """numba freezes another module's constants and inlines its callees into a compiled function's cached code, and
+    keys that code on the function's own file: every mudforce name that a compiled function (decorated ``njit``,
+    ``_compiled`` or ``overload``) reads from another file must come from one of :data:`_cache.SOURCES`, or an edit
+    of that file alone leaves the cached code silently the old one (the tracker's layout was not, until
+    2026-12-01). The decorators themselves and the error classes (raised by name) are exempt."""
+    import ast
+    from pathlib import Path
+
+    package = _cache._PACKAGE
+    keyed = {p.resolve() for pattern in _cache.SOURCES for p in package.glob(pattern)}
+    exempt = {(package / "_plumbing" / "jit.py").resolve(), (package / "errors.py").resolve()}
+    decorators = {"njit", "_compiled", "overload"}
+
+    def decorator_name(node: ast.expr) -> str:
+        while isinstance(node, ast.Call):
+            node = node.func
+        return node.attr if isinstance(node, ast.Attribute) else node.id if isinstance(node, ast.Name) else ""
+
+    def source(module: str) -> Path | None:
+        path = package.joinpath(*module.split(".")[1:])
+        for candidate in (path.with_suffix(".py"), path / "__init__.py"):
+            if candidate.exists():
+                return candidate.resolve()
+        return None
+
+    unkeyed = []
+    for path in sorted(package.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        imported: dict[str, Path | None] = {}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] == "mudforce":
+                for alias in node.names:
+                    imported[alias.asname or alias.name] = (source(f"{node.module}.{alias.name}")
+                                                            or source(node.module))
+            elif isinstance(node, ast.Import):
+                for alias in node.names:
+                    if alias.name.split(".")[0] == "mudforce":
+                        imported[alias.asname or alias.name.split(".")[0]] = source(alias.name)
+        for node in ast.walk(tree):
+            if not (isinstance(node, ast.FunctionDef) and any(decorator_name(d) in decorators
+                                                              for d in node.decorator_list)):
+                continue
+            body = [n for statement in node.body for n in ast.walk(statement)]
+            for name in sorted({n.id for n in body if isinstance(n, ast.Name)} & imported.keys()):
+                target = imported[name]
+                if target is not None and target != path.resolve() and target not in keyed | exempt:
+                    unkeyed.append(f"{path.relative_to(package)}:{node.name} reads {name} from "
+                                   f"{target.relative_to(package)}")
+    assert not unkeyed, unkeyed

@@ -9,7 +9,10 @@ the loops of ``_kernel.loops``, ``dynamics``, ``mujoco``...;
 :mod:`mudforce.engines.dynamics.rest_band` inside the built-in engine and the
 MuJoCo adapter's step (:mod:`mudforce.engines.mujoco._step`), which is itself
 inside :mod:`mudforce.engines.mujoco._fast`; and the engine's phase codes
-(:class:`mudforce.engines.dynamics.result.Phase`) are constants in its code. So
+(:class:`mudforce.engines.dynamics.result.Phase`) are constants in its code, as
+are the input bounds of :mod:`mudforce.model.bounds` in :mod:`mudforce._kernel.bounds`
+and the tracker's packed layout (:mod:`mudforce.estimation._tracker_layout`) in
+its step (:mod:`mudforce.estimation._tracker_step`). So
 after an edit of ``equations.py`` alone, their cached code would silently
 be the old model.
 
@@ -43,7 +46,9 @@ _PACKAGE = Path(__file__).resolve().parents[1]
 #: the sources compiled into other modules' code, relative to the package (globs)
 SOURCES = ("_plumbing/pow.py", "model/equations.py", "_kernel/*.py", "engines/dynamics/rest_band.py",
            "engines/dynamics/result.py", "engines/mujoco/_step.py",
-           "model/law3d.py", "model/granular.py")  # the 3-D law, compiled into step3d
+           "model/law3d.py", "model/granular.py",  # the 3-D law, compiled into step3d
+           "model/bounds.py",  # the input bounds, constants in _kernel.bounds
+           "estimation/_tracker_layout.py")  # the tracker's packed layout, constants in _tracker_step
 
 
 @functools.lru_cache(maxsize=1)
