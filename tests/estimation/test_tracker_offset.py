@@ -160,7 +160,7 @@ def test_cell_variances_of_a_grid_of_hypotheses() -> None:
     wide on its open side as on the other, bounded by ``lowest``; a node alone has none; the order does not matter;
     the lags (none below 0) read through the same rule."""
     from mudforce.estimation._tracker_layout import _LAGS
-    from mudforce.estimation._tracker_step import _cell_variance, _nearest_lag_cell
+    from mudforce.estimation._tracker_step import _cell_variance
 
     def cells(nodes: np.ndarray, lowest: float = -np.inf) -> list[float]:
         return [_cell_variance(nodes, o, lowest) for o in range(nodes.size)]
@@ -171,6 +171,29 @@ def test_cell_variances_of_a_grid_of_hypotheses() -> None:
     # the lags: 0 (its cell 0-5 ms), 10 (5-15), ..., 45 (37.5-52.5), 60 (52.5-67.5); the two-stage ones as their sums
     assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.0), 0.0)) == pytest.approx(0.005 / 12**0.5)
     assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.045), 0.0)) == pytest.approx(0.015 / 12**0.5)
-    assert _nearest_lag_cell(0.044) == _cell_variance(_LAGS, list(_LAGS).index(0.045), 0.0)
     np.testing.assert_allclose(cells(np.array([0.0, 0.01, 0.0])), [0.01**2 / 12.0] * 3)
     np.testing.assert_allclose(cells(np.array([0.0, 0.01]), lowest=0.0), [0.005**2 / 12, 0.01**2 / 12])
+
+
+def test_the_reported_lag_reads_the_evidence_without_the_prior() -> None:
+    """The reported lag is the hypotheses' tempered evidence under a flat prior, each hypothesis with its cell:
+    before any evidence, the hypotheses' mean and their whole spread; with evidence for one hypothesis, that one and
+    its cell (the bank's own lag, with the prior, is not what is reported)."""
+    from mudforce.estimation import _tracker_layout as L
+    from mudforce.estimation._tracker_step import _cell_variance, _lag_reading
+
+    lags = L._LAGS
+    cells = np.array([_cell_variance(lags, k, 0.0) for k in range(lags.size)])
+    aux = np.zeros((1, L._N_AUX))
+    mean, sd = _lag_reading(aux, 0, 4.0)
+    assert mean == pytest.approx(lags.mean(), rel=1e-12)
+    assert sd == pytest.approx(np.sqrt(lags.var() + cells.mean()), rel=1e-12)
+    # 40 nats for the 20-ms one-stage hypothesis (10 once tempered by 4) against the others: it, and its cell
+    k = int(np.flatnonzero((L._LAGS_A == 0.02) & (L._LAGS_B == 0.0))[0])
+    aux[0, L._A_LAG_L + k] = 40.0
+    weights = np.exp(np.where(np.arange(lags.size) == k, 10.0, 0.0) - 10.0)
+    weights /= weights.sum()
+    mean, sd = _lag_reading(aux, 0, 4.0)
+    assert mean == pytest.approx(weights @ lags, rel=1e-12)
+    assert sd == pytest.approx(np.sqrt(weights @ lags**2 - (weights @ lags) ** 2 + weights @ cells), rel=1e-12)
+    assert abs(mean - 0.02) < 1e-3 and sd == pytest.approx(0.01 / 12**0.5, rel=0.05)

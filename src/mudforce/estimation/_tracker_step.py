@@ -214,14 +214,29 @@ def _cell_variance(nodes: np.ndarray, o: int, lowest: float) -> float:  # pragma
     return float(width * width / 12.0)
 
 
-@njit(cache=True, nogil=True)
-def _nearest_lag_cell(lag: float) -> float:  # pragma: no cover
-    """The cell variance [s^2] of the lag hypothesis (:data:`_LAGS`, none below 0) nearest ``lag`` [s]."""
-    best = 0
+@njit(cache=True, nogil=True, error_model="numpy")
+def _lag_reading(aux: np.ndarray, j: int, temper: float) -> tuple[float, float]:  # pragma: no cover
+    """Foot ``j``'s force lag as reported [s] and its spread [s] (ours): the lag hypotheses' evidence
+    (``aux[j, _A_LAG_L + k]``, tempered by ``temper`` as the bank's) under a flat prior, each hypothesis standing for
+    its cell (:func:`_cell_variance`: the spread holds the posterior's mean cell variance).
+
+    The bank's own lag (``aux[j, _A_LAG]``, which low-passes the models' forces) keeps the prior
+    :data:`_LAG_LOG_PRIOR`, which holds the water content steady while the evidence is young; under that prior the
+    lag read a third to a half of a large one (a 20-ms delay as about 7 ms, 28 % of the sensor-chain bench's seed-22
+    samples beyond three spreads; a 5-ms delay as none, 39 %). Without it: 4 and 15 % (docs/estimation.md,
+    "MudTracker's spreads"). Before any evidence it reads the hypotheses' mean with their whole spread."""
+    top = -1e300
     for k in range(_LAGS.shape[0]):
-        if abs(_LAGS[k] - lag) < abs(_LAGS[best] - lag):
-            best = k
-    return _cell_variance(_LAGS, best, 0.0)
+        top = max(top, aux[j, _A_LAG_L + k] / temper)
+    z = m1 = m2 = cells = 0.0
+    for k in range(_LAGS.shape[0]):
+        p = math.exp(aux[j, _A_LAG_L + k] / temper - top)
+        z += p
+        m1 += p * _LAGS[k]
+        m2 += p * _LAGS[k] * _LAGS[k]
+        cells += p * _cell_variance(_LAGS, k, 0.0)
+    mean = m1 / z
+    return mean, math.sqrt(max(m2 / z - mean * mean, 0.0) + cells / z)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -749,10 +764,10 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         if not free and not first:
             # the sinkage: the deepest depth plus the offset in contact, forgotten as the evidence is
             aux[j, _A_SINK] = max(aux[j, _A_SINK] * math.exp(-dt / tau), depths[j] + om)
-        out[j, _O_LAG] = aux[j, _A_LAG]
-        # the reported spreads hold each hypothesis's cell as well (the grid stands for a continuum; the interval's
-        # shallow widening below holds the offset's as _C_OFFSET_RES, the likelihood's scale the lag's as _C_LAG)
-        out[j, _O_LAG_SD] = math.sqrt(aux[j, _A_LAG_SD] ** 2 + _nearest_lag_cell(aux[j, _A_LAG]))
+        # the reported lag: what the force says (no prior), each hypothesis with its cell; the offset's spread below
+        # holds its cell too (the grid stands for a continuum; the interval's shallow widening below holds the
+        # offset's as _C_OFFSET_RES, the likelihood's scale the bank's lag's as _C_LAG)
+        out[j, _O_LAG], out[j, _O_LAG_SD] = _lag_reading(aux, j, cfg[_C_OFFSET_TEMPER])
         out[j, _O_OFFSET_SD] = math.sqrt(osd * osd + oc)
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)

@@ -209,13 +209,15 @@ class TrackEstimate:
         ``identify``'s ``depth_offset``), so a depth that reads 5 mm too deep
         gives about -0.005.
     force_lag, force_lag_stderr : float
-        Posterior mean of the force sensor's lag [s], the time constant of a
-        first-order low-pass of the model's force (a pure delay reads as
-        less than half of it), as ``identify``'s ``force_lag``, and its standard
-        deviation with the nearest hypothesis's cell added (1.4-4.3 ms). The
-        models' forces are low-passed by it, and its spread over the
-        hypotheses (without the cell) enters the likelihood's scale (and so
-        the interval).
+        The force sensor's lag [s], the mean delay of a low-pass of the
+        model's force (one first-order stage or two), as ``identify``'s
+        ``force_lag``, read from the lag hypotheses' evidence without their
+        prior, and its standard deviation with each hypothesis's cell
+        (1.4-4.3 ms); before any contact, the hypotheses' mean (25 ms) and
+        their whole spread. The models' forces are low-passed by the bank's
+        own lag, the same evidence under an exponential prior of mean 5 ms,
+        whose spread over the hypotheses enters the likelihood's scale (and
+        so the interval).
     """
 
     water_content: float
