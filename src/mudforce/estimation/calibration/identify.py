@@ -195,7 +195,7 @@ OTHER_MUD_WARNING = 0.9
 #: ratio over :data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`, :attr:`Identification.tail_share`
 #: over :data:`TAIL_SHARE_WARNING` and :attr:`Identification.other_mud` over :data:`OTHER_MUD_WARNING`. A recording
 #: near two limits at once is rarer in family than one past a single limit: on the misfit-flag bench's twelve seeds
-#: the three off-family recordings of 1440 that no single reading caught (F = k z and alpha x2 along MuJoCo trots at
+#: the three off-family recordings of 1440 that no single reading caught (F = k z and alpha x2 along MuJoCo walks at
 #: 50 Hz) read 0.84-0.99 of two limits, and 11 more of the 1080 in-family ones fire with it; chosen there, then read on
 #: six fresh seeds: off family 720 of 720 flagged (719 without it), in family 13 of 540 (8) (docs/estimation.md,
 #: "Two readings near their limits").
