@@ -168,8 +168,10 @@ def test_cell_variances_of_a_grid_of_hypotheses() -> None:
     offsets = np.array([0.003, -0.006, 0.0, 0.006, -0.003])
     np.testing.assert_allclose(cells(offsets), 0.003**2 / 12.0, rtol=1e-12)
     assert cells(np.array([0.0])) == [0.0]
-    # the lags: 0 (its cell 0-5 ms), 10 (5-15), ..., 45 (37.5-52.5), 60 (52.5-67.5); the two-stage ones as their sums
-    assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.0), 0.0)) == pytest.approx(0.005 / 12**0.5)
+    # the lags: 0 (its cell 0-2.5 ms), 5 (2.5-7.5), 10 (7.5-15), ..., 45 (37.5-52.5), 60 (52.5-67.5); the two-stage
+    # ones as their sums
+    assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.0), 0.0)) == pytest.approx(0.0025 / 12**0.5)
+    assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.005), 0.0)) == pytest.approx(0.005 / 12**0.5)
     assert np.sqrt(_cell_variance(_LAGS, list(_LAGS).index(0.045), 0.0)) == pytest.approx(0.015 / 12**0.5)
     np.testing.assert_allclose(cells(np.array([0.0, 0.01, 0.0])), [0.01**2 / 12.0] * 3)
     np.testing.assert_allclose(cells(np.array([0.0, 0.01]), lowest=0.0), [0.005**2 / 12, 0.01**2 / 12])

@@ -107,6 +107,7 @@ from mudforce.estimation._tracker_layout import (
     _MISFIT_CLIP,
     _MISFIT_MIN_CONTACT,
     _N_AUX,
+    _N_BANK_LAGS,
     _O_BIAS,
     _O_CHANGED,
     _O_HIGH,
@@ -223,8 +224,9 @@ def _lag_reading(aux: np.ndarray, j: int, temper: float) -> tuple[float, float]:
     The bank's own lag (``aux[j, _A_LAG]``, which low-passes the models' forces) keeps the prior
     :data:`_LAG_LOG_PRIOR`, which holds the water content steady while the evidence is young; under that prior the
     lag read a third to a half of a large one (a 20-ms delay as about 7 ms, 28 % of the sensor-chain bench's seed-22
-    samples beyond three spreads; a 5-ms delay as none, 39 %). Without it: 4 and 15 % (docs/estimation.md,
-    "MudTracker's spreads"). Before any evidence it reads the hypotheses' mean with their whole spread."""
+    samples beyond three spreads; a 5-ms delay as none, 39 %). Without it: 4 and 15 %, and with the two hypotheses
+    at 5 ms that only this reading reads (:data:`_N_BANK_LAGS`), 12 and 0.3 % (docs/estimation.md, "MudTracker's
+    spreads"). Before any evidence it reads the hypotheses' mean with their whole spread."""
     top = -1e300
     for k in range(_LAGS.shape[0]):
         top = max(top, aux[j, _A_LAG_L + k] / temper)
@@ -603,9 +605,10 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 v = keep * aux[j, _A_LAG_L + k] + weight * (
                     -0.5 * (dof + 1.0) * math.log1p(rk * rk / (dof * sk)) - 0.5 * math.log(sk))
                 aux[j, _A_LAG_L + k] = v
-                top_k = max(top_k, v / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k])
+                if k < _N_BANK_LAGS:
+                    top_k = max(top_k, v / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k])
             zk = l1 = l2 = la = 0.0
-            for k in range(_LAGS.shape[0]):
+            for k in range(_N_BANK_LAGS):
                 pk = math.exp(aux[j, _A_LAG_L + k] / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k] - top_k)
                 zk += pk
                 l1 += pk * _LAGS[k]

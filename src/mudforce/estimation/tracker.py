@@ -213,11 +213,12 @@ class TrackEstimate:
         model's force (one first-order stage or two), as ``identify``'s
         ``force_lag``, read from the lag hypotheses' evidence without their
         prior, and its standard deviation with each hypothesis's cell
-        (1.4-4.3 ms); before any contact, the hypotheses' mean (25 ms) and
-        their whole spread. The models' forces are low-passed by the bank's
-        own lag, the same evidence under an exponential prior of mean 5 ms,
-        whose spread over the hypotheses enters the likelihood's scale (and
-        so the interval).
+        (0.7-4.3 ms); before any contact, the hypotheses' mean (21 ms) and
+        their whole spread (18 ms). The models' forces are low-passed by the
+        bank's own lag, the same evidence (nine of the eleven hypotheses:
+        not the two at 5 ms) under an exponential prior of mean 5 ms, whose
+        spread over the hypotheses enters the likelihood's scale (and so the
+        interval).
     """
 
     water_content: float
