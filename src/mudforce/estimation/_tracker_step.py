@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import Any, cast
 
 import numpy as np
 
@@ -215,11 +216,16 @@ def _cell_variance(nodes: np.ndarray, o: int, lowest: float) -> float:  # pragma
     return float(width * width / 12.0)
 
 
+#: Each lag hypothesis's cell variance [s^2] (:func:`_cell_variance`, none below 0): constants of :data:`_LAGS`,
+#: computed once here (through the same function, uncompiled) and not at every sample by :func:`_lag_reading`.
+_LAG_CELLS = np.array([cast(Any, _cell_variance).py_func(_LAGS, k, 0.0) for k in range(_LAGS.shape[0])])
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def _lag_reading(aux: np.ndarray, j: int, temper: float) -> tuple[float, float]:  # pragma: no cover
     """Foot ``j``'s force lag as reported [s] and its spread [s] (ours): the lag hypotheses' evidence
     (``aux[j, _A_LAG_L + k]``, tempered by ``temper`` as the bank's) under a flat prior, each hypothesis standing for
-    its cell (:func:`_cell_variance`: the spread holds the posterior's mean cell variance).
+    its cell (:data:`_LAG_CELLS`: the spread holds the posterior's mean cell variance).
 
     The bank's own lag (``aux[j, _A_LAG]``, which low-passes the models' forces) keeps the prior
     :data:`_LAG_LOG_PRIOR`, which holds the water content steady while the evidence is young; under that prior the
@@ -236,7 +242,7 @@ def _lag_reading(aux: np.ndarray, j: int, temper: float) -> tuple[float, float]:
         z += p
         m1 += p * _LAGS[k]
         m2 += p * _LAGS[k] * _LAGS[k]
-        cells += p * _cell_variance(_LAGS, k, 0.0)
+        cells += p * _LAG_CELLS[k]
     mean = m1 / z
     return mean, math.sqrt(max(m2 / z - mean * mean, 0.0) + cells / z)
 
