@@ -56,7 +56,7 @@ def test_track_writes_the_estimates_and_a_plot(recording: Path) -> None:
                                                                 r.force_lag_stderr, r.bias]))
     assert (f"surface offset {1e3 * r.depth_offset[-1]:+.2f} +- {1e3 * r.depth_offset_stderr[-1]:.2f} mm (the model "
             f"follows the depth plus it), force lag {1e3 * r.force_lag[-1]:.1f} +- {1e3 * r.force_lag_stderr[-1]:.1f} "
-            "ms (a first-order low-pass)") in proc.stdout
+            "ms (the mean delay of one or two low-pass stages)") in proc.stdout
     assert "branch rule: the tracker's own, online" in proc.stdout
     assert (folder / "track.png").read_bytes().startswith(b"\x89PNG")
     # the misfit flag over the whole recording, which the final estimate alone hid (a force of noise alone read

@@ -118,11 +118,17 @@ def refuse_empty_inputs(*inputs: tuple[str, str | None, str]) -> None:
             raise InputError(f"{option}: empty name {name!r}; expected {what}")
 
 
-def nuisance_text(offset: float, offset_stderr: float, lag: float, lag_stderr: float) -> str:
+#: What each estimator's force lag is, as its summary says it: identify fits one first-order low-pass; the tracker
+#: reads the mean delay of its hypotheses, each one first-order stage or two (:class:`~mudforce.TrackEstimate`).
+LAG_READINGS = {"identify": "a first-order low-pass", "track": "the mean delay of one or two low-pass stages"}
+
+
+def nuisance_text(offset: float, offset_stderr: float, lag: float, lag_stderr: float, reader: str) -> str:
     """The surface offset [m] and the force lag [s], each with its standard error, as ``identify``'s and ``track``'s
-    summaries say them (millimetres and milliseconds)."""
+    summaries say them (millimetres and milliseconds); ``reader`` (a key of :data:`LAG_READINGS`) says what the lag
+    is."""
     return (f"surface offset {offset * 1e3:+.2f} +- {offset_stderr * 1e3:.2f} mm (the model follows the depth plus "
-            f"it), force lag {lag * 1e3:.1f} +- {lag_stderr * 1e3:.1f} ms (a first-order low-pass)")
+            f"it), force lag {lag * 1e3:.1f} +- {lag_stderr * 1e3:.1f} ms ({LAG_READINGS[reader]})")
 
 
 class _StoreOnce(argparse.Action):

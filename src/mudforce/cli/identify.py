@@ -110,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
               f"RMSE {result.rmse:.3g} N{fit}")
         if math.isfinite(result.depth_offset):  # a motion's recording: the sensor nuisances fitted with it
             nuisances = nuisance_text(result.depth_offset, result.depth_offset_stderr, result.force_lag,
-                                      result.force_lag_stderr)
+                                      result.force_lag_stderr, "identify")
             print(f"sensor nuisances fitted with it: {nuisances}, force bias {result.bias:+.2f} +- "
                   f"{result.bias_stderr:.2f} N")
         if result.force_gain != 1.0:

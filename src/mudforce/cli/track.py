@@ -146,7 +146,7 @@ def _nuisance_line(result: TrackResult, k: int) -> list[str]:
             or result.force_lag_stderr is None:
         return []
     return [nuisance_text(float(result.depth_offset[k]), float(result.depth_offset_stderr[k]),
-                          float(result.force_lag[k]), float(result.force_lag_stderr[k]))]
+                          float(result.force_lag[k]), float(result.force_lag_stderr[k]), "track")]
 
 
 def _misfit_line(result: TrackResult) -> str:
