@@ -55,6 +55,12 @@ tendon makes the same constraint available for any body in any model.
 The errors: the band is taken from the mud state at the step's start
 (first order in the time step), and the friction constraint's softness
 lets a stuck foot creep (``impedance 0.9999``, time constant two steps).
+With ``integrator="implicitfast"`` MuJoCo's constraint solve does not see the
+damping the integrator makes implicit, so where a joint's damping over a step
+is a good part of its inertia (stiff servos on light legs, no armature) a
+servo's jump can make the friction row push the foot the way it moves: for a
+step or two the force lies inside the band while the foot moves
+(docs/dynamics.md, "MuJoCo"). Give the joints their actuators' armature.
 """
 
 from __future__ import annotations
