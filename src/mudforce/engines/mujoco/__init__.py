@@ -52,8 +52,9 @@ branches (:func:`mudforce.engines.dynamics.naive_drop`). Why not a joint's
 ``frictionloss``: a foot's vertical motion is rarely a single joint; the
 tendon makes the same constraint available for any body in any model.
 
-The errors: the band is taken from the mud state at the step's start
-(first order in the time step), and the friction constraint's softness
+The errors: the band is the one predicted for the step's end (each bound a
+trial step on its own branch, :attr:`MudAdapter.weight`), first order in the
+time step, and the friction constraint's softness
 lets a stuck foot creep (``impedance 0.9999``, time constant two steps).
 With ``integrator="implicitfast"`` MuJoCo's constraint solve does not see the
 damping the integrator makes implicit, so where a joint's damping over a step
