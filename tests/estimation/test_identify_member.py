@@ -80,9 +80,9 @@ def test_the_interval_reaches_the_member_and_the_truth(monkeypatch: pytest.Monke
     assert res.misfit_ratio == before.misfit_ratio
     assert res.warnings == before.warnings
     assert res.to_dict()["member_water_content"] == member
-    # with the members that pass refitted: the flag, read at the best of them (measured 1.15 at 17.34 %), passes each
-    # limit but fires on two readings near theirs (NEAR_LIMITS_WARNING); the rate check's warning stays. The estimate
-    # moves to that member (below), and the interval reaches below it
+    # with the members that pass refitted: the flag, read at the best of them (measured 1.06 at 17.35 %; 1.15 before
+    # the stuck foot's set), passes each limit but fires on two readings near theirs (NEAR_LIMITS_WARNING); the rate
+    # check's warning stays. The estimate moves to that member (below), and the interval reaches below it
     # by the allowances least squares' estimate has: the margin, the gain's shift down (here the larger, 0.26 points)
     # and the rate check's (1.12 points; 1.33 before its half-rate fits read turns as the full fit and the turns'
     # own part was read apart): 15.71 % (15.49 % then; 16.50 %, a passing grid point, before those allowances
@@ -94,8 +94,10 @@ def test_the_interval_reaches_the_member_and_the_truth(monkeypatch: pytest.Monke
     # paths move the last bits, and the fits' tolerances carry that to the fourth digit)
     assert full.low == pytest.approx(0.1571, abs=5e-4)
     assert full.member_water_content == member and full.least_squares_water_content == res.water_content
-    assert full.misfit_ratio == pytest.approx(1.154, abs=0.005) and full.model_misses_data
-    assert full.tail_share == pytest.approx(0.041, abs=0.001)  # under the tail's 4.5 %, over 80 % of it
+    # (1.154 and 4.1 % before the flag read a stuck foot's relaxations as a set: docs/estimation.md, "A stuck foot
+    # read as a set"; both still past 80 % of their limits)
+    assert full.misfit_ratio == pytest.approx(1.055, abs=0.005) and full.model_misses_data
+    assert full.tail_share == pytest.approx(0.039, abs=0.001)  # under the tail's 4.5 %, over 80 % of it
     assert abs(full.misfit_water_content - W_ROBOT) < 0.005
     # least squares' own statistic fails: the estimate is that member, by the truth, and the interval holds it
     assert full.water_content == full.misfit_water_content

@@ -31,10 +31,12 @@ def _identify(wk: Walk, force: np.ndarray) -> tuple[bool, float]:
 
 def test_quiet_on_clean_in_family_walks(walks: list[Walk]) -> None:
     """In family the RMSE is the noise: the ratio is near 1 (measured 0.80-0.93; 0.68-0.78 since it is read at the
-    best member, the depth offset and force lag refitted there) and nothing is flagged."""
+    best member, the depth offset and force lag refitted there; 0.54-0.69 since the flag reads the model where the
+    foot may be stuck as the set of the relaxations it may have had, the walks' pauses among them) and nothing is
+    flagged."""
     for wk in walks:
         flagged, ratio = _identify(wk, wk.force)
-        assert not flagged and 0.6 < ratio < 1.1
+        assert not flagged and 0.45 < ratio < 1.1
 
 
 def test_fires_on_a_granular_law(walks: list[Walk]) -> None:
@@ -111,28 +113,32 @@ def test_a_law_missing_many_samples_by_a_little_is_flagged_by_the_tail_too(monke
     assert sum("beyond three noise floors" in w for w in quiet_ratio.warnings) == 1
 
 
-def test_a_mud_read_at_the_family_s_edge_is_flagged_by_what_another_mud_explains() -> None:
+def test_a_mud_read_at_the_family_s_edge_is_flagged() -> None:
     """The one off-family recording of the flag bench's six seeds that neither the ratio nor the tail caught: a mud
     with alpha x2 and sigma_y x0.3 (W 21.5 %) along a MuJoCo trot's foot path at 50 Hz (seed 8, robot 0;
     ``tests/estimation/data``), read at the dry edge, 15 %, with the ratio at 1.20 and 4.2 % of the samples beyond
-    three floors. Varied off the family, the model's own parameters explain 1.01 of the standardised residual's mean
-    square there, over the 0.9 of the third reading, so the flag fires; the same trot in family reads 0.13 and 0.18
-    (docs/estimation.md, "What another mud explains")."""
+    three floors; the model's own parameters, varied off the family, explained 1.035 of the standardised residual's
+    mean square there, over the third reading's 0.9 (docs/estimation.md, "What another mud explains"). Since the flag
+    reads the model where the foot may be stuck as the set of the relaxations it may have had ("A stuck foot read as
+    a set"), the ratio reads 1.09, the tail 4.4 % and the other mud 0.45: flagged by two readings near their limits
+    (0.87 and 0.98 of them)."""
     from pathlib import Path
 
     from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO
-    from mudforce.estimation.calibration.identify import OTHER_MUD_WARNING, TAIL_SHARE_WARNING
+    from mudforce.estimation.calibration.identify import NEAR_LIMITS_WARNING, OTHER_MUD_WARNING, TAIL_SHARE_WARNING
     from mudforce.motions.quadruped import ROBOT_FOOT
 
     data = Path(__file__).parent / "data" / "robot_trot_alpha_x2_sigma_y_x03_50hz_seed8.csv"
     t, z, f = np.loadtxt(data, delimiter=",", skiprows=1, unpack=True)
     res = identify_water_content(Trial("alpha_x2.csv", 0.2154, t, z, f), ROBOT_FOOT)
     assert res.water_content == pytest.approx(0.15, abs=1e-3)
-    assert res.misfit_ratio == pytest.approx(1.200, abs=0.002) and res.misfit_ratio <= MISFIT_WARNING_RATIO
-    assert res.tail_share == pytest.approx(0.0419, abs=0.0005) and res.tail_share <= TAIL_SHARE_WARNING
-    assert res.other_mud == pytest.approx(1.035, abs=0.005) and res.other_mud > OTHER_MUD_WARNING
+    assert res.misfit_ratio == pytest.approx(1.093, abs=0.002) and res.misfit_ratio <= MISFIT_WARNING_RATIO
+    assert res.tail_share == pytest.approx(0.0439, abs=0.0005) and res.tail_share <= TAIL_SHARE_WARNING
+    assert res.other_mud == pytest.approx(0.453, abs=0.005) and res.other_mud <= OTHER_MUD_WARNING
+    assert res.misfit_ratio / MISFIT_WARNING_RATIO > NEAR_LIMITS_WARNING
+    assert res.tail_share / TAIL_SHARE_WARNING > NEAR_LIMITS_WARNING
     assert res.model_misses_data and res.to_dict()["other_mud"] == res.other_mud
-    assert sum(w.startswith("another mud explains 1 of the residual's mean square") for w in res.warnings) == 1
+    assert sum(w.startswith("two of the misfit flag's three readings") for w in res.warnings) == 1
 
 
 def test_a_law_near_two_limits_at_once_is_flagged() -> None:
@@ -178,6 +184,25 @@ def test_what_another_mud_explains_is_little_in_family_and_much_off_it(walks: li
         res = identify_water_content(Trial("walk.csv", 0.2, wk.time, wk.depth,
                                            force + 0.2 * rng.standard_normal(force.size)))
         assert res.other_mud > 1.5
+
+
+def test_what_another_mud_explains_has_its_own_warning(walks: list[Walk], monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the ratio and the tail read under their limits (here: the limits raised past them), the third reading
+    fires the flag alone and says so in its own warning."""
+    import mudforce.estimation.calibration.identify as identify_module
+
+    wk = walks[0]
+    q = wk.params[0]
+    odd = dataclasses.replace(q, alpha=2.0 * q.alpha, sigma_y=0.3 * q.sigma_y)
+    force = np.asarray(simulate(wk.time, wk.depth_true, odd, Foot.paper(), velocity_filter="exact").force)
+    noisy = force + 0.2 * np.random.default_rng(8).standard_normal(force.size)
+    trial = Trial("walk.csv", 0.2, wk.time, wk.depth, noisy)
+    monkeypatch.setattr(identify_module, "MISFIT_WARNING_RATIO", 1e3)
+    monkeypatch.setattr(identify_module, "TAIL_SHARE_WARNING", 1.0)
+    monkeypatch.setattr(identify_module, "NEAR_LIMITS_WARNING", 1e3)
+    res = identify_water_content(trial)
+    assert res.other_mud > identify_module.OTHER_MUD_WARNING and res.model_misses_data
+    assert sum(w.startswith("another mud explains") for w in res.warnings) == 1
 
 
 def test_a_force_of_the_wrong_sign_is_named_as_such() -> None:

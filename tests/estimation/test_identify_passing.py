@@ -2,13 +2,13 @@
 misfit flag reads the least statistic found (issue 23, points 4-5).
 
 The recording (tests/estimation/data/robot_model_lowpass_30ms_seed1.csv) is the sensor-chain bench's robot 4 of seed 1
-with the model's force along its path (16.12 % mud) under the row "low-pass 30 ms": 100 Hz, 0.2 N of force noise,
-0.03 mm of depth noise, the force through a 30-ms first-order low-pass. Least squares reads 20.64 %, its interval
-[18.63, 22.21] % misses the truth, flagged (misfit ratio 1.88). With the lag refitted at each water content the
-statistic passes down to the range's edge: the interval becomes [15.00, 22.21] % and holds the truth, and the flag,
-read at 15.00 % (ratio 0.89), is quiet. Least squares' own statistic failing, the estimate moves there too (15.00 %,
-1.12 points from the truth where least squares' is 4.52 points off; docs/estimation-history.md, "identify's estimate at
-the misfit member"), and, at the range's edge, is warned as such.
+with the model's force along its path (16.12 % mud) under the row "low-pass 30 ms": 100 Hz, 0.2 N of force noise, 0.03
+mm of depth noise, the force through a 30-ms first-order low-pass. Least squares reads 20.64 %, its interval [18.63,
+22.21] % misses the truth, flagged (misfit ratio 1.88). With the lag refitted at each water content the statistic passes
+down to the range's edge: the interval becomes [15.00, 22.21] % and holds the truth, and the flag, read at 15.00 %
+(ratio 0.68; 0.89 before the flag read a stuck foot's relaxations as a set), is quiet. Least squares' own statistic
+failing, the estimate moves there too (15.00 %, 1.12 points from the truth where least squares' is 4.52 points off;
+docs/estimation-history.md, "identify's estimate at the misfit member"), and, at the range's edge, is warned as such.
 """
 
 from __future__ import annotations
@@ -45,7 +45,8 @@ def test_the_refitted_members_reach_the_truth_that_least_squares_misses(monkeypa
     assert res.interval == (0.15, before.high)
     assert res.low <= W_ROBOT <= res.high
     assert res.misfit_water_content == 0.15
-    assert res.misfit_ratio == pytest.approx(0.887, abs=0.005)
+    # (0.887 before the flag read a stuck foot's relaxations as a set: docs/estimation.md, "A stuck foot read as a set")
+    assert res.misfit_ratio == pytest.approx(0.684, abs=0.005)
     assert not res.model_misses_data
     # the estimate (below) is at the range's edge, which is warned, as least squares' would be; and the rate check's
     # turns part (least squares with the turns read on their branches) moves it past 0.5 points (measured 0.70)

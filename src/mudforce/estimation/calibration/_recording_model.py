@@ -12,6 +12,7 @@ speed plumbing: the same operations in the same order as the numpy they replace,
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -145,6 +146,91 @@ def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameter
     fine_z[::_REFINE] = depth
     f, low, high = _force_and_band(fine_t, fine_z, q, foot, lag)
     return f[::_REFINE], low[::_REFINE], high[::_REFINE]
+
+
+#: The sticking test (:func:`_sticking`; ours): a stretch whose depth moves slower than the engines' own deadband
+#: (:data:`mudforce.engines.dynamics.result.REST_SPEED`, 0.1 mm/s) plus two standard errors of its slope is read as
+#: the foot possibly stuck; the slope is the depth's least-squares one over a centred window of the fewest samples
+#: that bring its standard error under :data:`_STICK_SLOPE_ERROR` [m/s] (0.25 mm/s), at most :data:`_STICK_WINDOW`
+#: [s] across (and at least three samples).
+_STICK_SPEED = 1e-4
+_STICK_SLOPE_ERROR = 2.5e-4
+_STICK_WINDOW = 0.06
+#: The creep up a stuck stretch is also read with [m a sample] (ours): small enough to leave the depth as it was
+#: (1 um over a second at 1 kHz), large enough that every step of it is one on the withdrawal branch.
+_CREEP_STEP = 1e-9
+
+
+class Sticking(NamedTuple):
+    """Where the foot may be stuck along a recording, and the two depths [m] the model also follows there
+    (:func:`_sticking`)."""
+
+    stuck: np.ndarray
+    held: np.ndarray
+    creep: np.ndarray
+
+
+def _sticking(time: np.ndarray, depth: np.ndarray, noise: float) -> Sticking:
+    """Where the foot may be stuck, and the depths the model also follows through those stretches (issue 23, point 4).
+
+    A stuck foot's Maxwell element relaxes with the intrusion parameters (the model's sticking, docs/model.md, as the
+    engines step it, with a deadband of 0.1 mm/s); the exact rule along a recorded depth reads the branch from the
+    sign of each step, which at a stuck foot is the creep's or the depth noise's, and after a few hundred
+    milliseconds the bands' edges differ by about 0.5 N, and the withdrawal that follows by as much. A recording
+    cannot tell a creep of 0.05 mm/s from one of 0.2 mm/s, so identify's flag reads the model as the set of the
+    relaxations the foot may have had (:func:`_model_set`). ``stuck`` [bool]: the samples, in the mud, whose centred
+    window's slope [m/s] is within :data:`_STICK_SPEED` plus two of its standard errors (``noise`` [m], the depth's)
+    of none. ``held`` [m]: the depth with each run of two or more of them held at the run's mean (no step: the
+    intrusion parameters' relaxation); ``creep`` [m]: the same, creeping up by :data:`_CREEP_STEP` a sample (the
+    withdrawal parameters'). Both the depth itself elsewhere.
+    """
+    n = depth.size
+    stuck = np.zeros(n, dtype=bool)
+    held = depth.copy()
+    creep = depth.copy()
+    if n < 3:
+        return Sticking(stuck, held, creep)
+    h = float(np.median(np.diff(time)))
+    largest = max(1, int(_STICK_WINDOW / (2.0 * h)))
+    m = 1
+    while m < largest and noise / (h * math.sqrt(m * (m + 1) * (2 * m + 1) / 3.0)) > _STICK_SLOPE_ERROR:
+        m += 1
+    if n < 2 * m + 1:
+        return Sticking(stuck, held, creep)
+    tw = np.lib.stride_tricks.sliding_window_view(time, 2 * m + 1)
+    zw = np.lib.stride_tricks.sliding_window_view(depth, 2 * m + 1)
+    dt = tw - tw.mean(axis=1, keepdims=True)
+    spread = np.sum(dt * dt, axis=1)
+    slope = np.sum(dt * (zw - zw.mean(axis=1, keepdims=True)), axis=1) / spread
+    stuck[m:n - m] = (np.abs(slope) <= _STICK_SPEED + 2.0 * noise / np.sqrt(spread)) & (depth[m:n - m] > 0.0)
+    where = np.flatnonzero(stuck)
+    if where.size:
+        for run in np.split(where, np.flatnonzero(np.diff(where) > 1) + 1):
+            if run.size >= 2:
+                held[run] = np.mean(depth[run])
+                creep[run] = held[run] - _CREEP_STEP * np.arange(run.size)
+    return Sticking(stuck, held, creep)
+
+
+def _model_set(time: np.ndarray, depth: np.ndarray, offset: float, sticking: Sticking, rest: np.ndarray,
+               q: MudParameters, foot: Foot, lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The model's force [N] along ``depth + offset`` [m] and, at each sample, the set ``[low, high]`` [N] the force
+    may lie in, all through the force lag ``lag`` [s].
+
+    Where the foot may be stuck (:func:`_sticking`) the model also runs along the ``sticking`` stretches held and
+    creeping up (each plus ``offset``): at the ``rest`` samples and the stuck ones the set is the union of the three
+    runs' rest bands, elsewhere the three forces and everything between. With no stuck sample it is the model's force
+    itself at a moving sample and its band at rest: :func:`_band_residual` with ``rest`` everywhere then gives the
+    same bits as :func:`_band_residual` of :func:`_force_and_band`.
+    """
+    f, low, high = _force_and_band(time, depth + offset, q, foot, lag)
+    if not sticking.stuck.any():
+        return f, np.where(rest, low, f), np.where(rest, high, f)
+    f2, low2, high2 = _force_and_band(time, sticking.held + offset, q, foot, lag)
+    f3, low3, high3 = _force_and_band(time, sticking.creep + offset, q, foot, lag)
+    band = rest | sticking.stuck
+    return (f, np.where(band, np.minimum(np.minimum(low, low2), low3), np.minimum(np.minimum(f, f2), f3)),
+            np.where(band, np.maximum(np.maximum(high, high2), high3), np.maximum(np.maximum(f, f2), f3)))
 
 
 def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray,

@@ -92,9 +92,12 @@ from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_integer, is_real, shown
 from mudforce.estimation.calibration._recording_model import (
+    Sticking,
     _band_residual,
     _force_and_band,
+    _model_set,
     _refined_force_and_band,
+    _sticking,
     _with_neighbours,
 )
 from mudforce.estimation.calibration.dataset import Trial
@@ -661,12 +664,14 @@ def _near_limits(ratio: float, tail_share: float, other_mud: float) -> bool:
     return sum(x > NEAR_LIMITS_WARNING for x in shares) >= 2
 
 
-def _standardised(time: np.ndarray, depth: np.ndarray, foot: Foot, measured: np.ndarray, rest: np.ndarray,
-                  floor: np.ndarray, q: MudParameters, offset: float, lag: float, bias: float = 0.0) -> np.ndarray:
-    """Each sample's residual over its ``floor`` [N] (:func:`_band_residual` of ``measured + bias`` [N]), the model of
-    ``q`` at ``depth + offset`` [m] through a force lag ``lag`` [s]."""
-    model, low, high = _force_and_band(time, depth + offset, q, foot, lag)
-    out: np.ndarray = _band_residual(model, low, high, measured + bias, rest) / floor
+def _standardised(time: np.ndarray, depth: np.ndarray, sticking: Sticking, foot: Foot, measured: np.ndarray,
+                  rest: np.ndarray, floor: np.ndarray, q: MudParameters, offset: float, lag: float,
+                  bias: float = 0.0) -> np.ndarray:
+    """Each sample's residual over its ``floor`` [N] (:func:`_band_residual` of ``measured + bias`` [N] against the
+    set of :func:`_model_set`), the model of ``q`` at ``depth + offset`` [m] (and through the ``sticking`` stretches)
+    through a force lag ``lag`` [s]."""
+    model, low, high = _model_set(time, depth, offset, sticking, rest, q, foot, lag)
+    out: np.ndarray = _band_residual(model, low, high, measured + bias, np.ones(model.size, dtype=bool)) / floor
     return out
 
 
@@ -948,6 +953,11 @@ def identify_water_content(
 
     rest = at_rest(t, tr.depth)
     moving = ~rest
+    # where the foot may be stuck: the flag's three readings take the model as the set of the relaxations a stuck
+    # foot may have had (_model_set); the fit, the floors, the interval's members and the estimate the exact rule
+    sticking = (_sticking(t, tr.depth, tr.depth_noise) if general
+                else Sticking(np.zeros(t.size, dtype=bool), tr.depth, tr.depth))
+    everywhere = np.ones(t.size, dtype=bool)
 
     def evaluate(w: float, offset: float, lag: float, gain: float = 1.0,
                  sel: slice = slice(None), turns: bool = True,
@@ -1235,20 +1245,26 @@ def identify_water_content(
                              [member, w_best])
         held = np.array([root(float(w), offset, lag) for w in readings])
         low, high, least_root, at = _passing_members(root, readings, held, member, (low, high), offset, lag, (lo, hi))
-        # the tail's share at the least statistic found (its offset, lag and re-profiled bias): the flag's second
-        # reading, which the statistic's clip hides
-        (tail_at, tail_offset, tail_lag), (_, moved) = min(seen.items(), key=lambda item: item[1][0])
-        z_tail = tr.depth + tail_offset
-        model_tail, low_tail, high_tail = _force_and_band(t, z_tail, family(tail_at), foot, tail_lag)
-        r_tail = _band_residual(model_tail, low_tail, high_tail, meas + moved, rest)
-        tail_share = float(np.mean(r_tail * r_tail / v > _TAIL_Z2))
-        # and what another mud would explain there (the flag's third reading)
-        other_mud = _other_mud(partial(_standardised, t, tr.depth, foot, meas + moved, rest, np.sqrt(v)), family,
-                               (tail_at, tail_offset, tail_lag), (lo, hi))
+        # the flag's three readings at the least statistic found (its offset and lag), the model read there as the set
+        # of the relaxations a stuck foot may have had (_model_set; the statistic again, its bias re-profiled):
+        # the statistic, the tail's share (which the statistic's clip hides) and what another mud would explain
+        (tail_at, flag_offset, flag_lag) = min(seen.items(), key=lambda item: item[1][0])[0]
+        z_flag = tr.depth + flag_offset
+        model_flag, low_flag, high_flag = _model_set(t, tr.depth, flag_offset, sticking, rest, family(tail_at), foot,
+                                                     flag_lag)
+        free_flag = (z_flag <= 0.0) & (model_flag**2 <= 1e-4 * v)
+        flag_statistic, moved = _bias_reprofiled(model_flag, low_flag, high_flag, meas, everywhere, v, free_flag)
+        r_flag = _band_residual(model_flag, low_flag, high_flag, meas + moved, everywhere)
+        tail_share = float(np.mean(r_flag * r_flag / v > _TAIL_Z2))
+        other_mud = _other_mud(partial(_standardised, t, tr.depth, sticking, foot, meas + moved, rest,
+                                       np.sqrt(v)), family, (tail_at, flag_offset, flag_lag), (lo, hi))
         misfit_w, estimate_fails = w_best, ratio > MISFIT_WARNING_RATIO
         if least_root < ratio:
-            floor = rmse / least_root if least_root > 0.0 else math.sqrt(float(np.mean(v)))
-            ratio, misfit_w = misfit_ratio(rmse, floor, scale), at
+            misfit_w = at
+        least_flag = min(least_root, math.sqrt(flag_statistic)) if math.isfinite(least_root) else least_root
+        if least_flag < ratio:
+            floor = rmse / least_flag if least_flag > 0.0 else math.sqrt(float(np.mean(v)))
+            ratio = misfit_ratio(rmse, floor, scale)
         # the estimate moves to that member only where least squares' own member fails the statistic: where it
         # passes, the data do not tell the two apart by the floor, and least squares (every sample alike) is kept.
         # Where it fails, the member read with the nuisances refitted is nearer the truth under a misread force lag
