@@ -264,7 +264,9 @@ class Identification:
         counting at most five floors (a sample whose branch the labels got wrong is not an off-family mud):
         about 1 when the family explains the trial to the noise. On the general path it is read where it is
         least: at the estimate, or at ``misfit_water_content`` with the depth offset and the force lag refitted
-        there, when a water content the interval holds explains the data better.
+        there, when a water content the interval holds explains the data better; there, where the foot may be
+        stuck, the model is read as the set of the relaxations a stuck foot may have had (as ``tail_share`` and
+        ``other_mud``; docs/estimation.md, "A stuck foot read as a set").
     off_family : float
         How far the data are off the family [N]: the RMS of the residual in
         excess of the noise, ``sqrt(max(rmse^2 - noise_floor^2, 0))``.
@@ -348,8 +350,9 @@ class Identification:
         that was moved to ``misfit_water_content``. NaN where the result was built without it.
     tail_share : float
         The share of the samples [-] whose residual lies beyond three noise floors at the least misfit statistic
-        found (its water content, depth offset, force lag and re-profiled bias): the misfit flag's second reading
-        (:data:`TAIL_SHARE_WARNING`). NaN on a protocol trial and on fewer than 8 samples (not read).
+        found (its water content, depth offset and force lag; the model read as a set where the foot may be stuck,
+        and the bias re-profiled against it): the misfit flag's second reading (:data:`TAIL_SHARE_WARNING`). NaN on
+        a protocol trial and on fewer than 8 samples (not read).
     other_mud : float
         The mean square [-] of the standardised residual (each sample's over its floor, clipped as the statistic
         clips it) at the least misfit statistic found that another mud would explain: the model's own parameters
