@@ -97,7 +97,8 @@ def test_the_interval_reaches_the_member_and_the_truth(monkeypatch: pytest.Monke
     # (1.154 and 4.1 % before the flag read a stuck foot's relaxations as a set: docs/estimation.md, "A stuck foot
     # read as a set"; both still past 80 % of their limits)
     assert full.misfit_ratio == pytest.approx(1.055, abs=0.005) and full.model_misses_data
-    assert full.tail_share == pytest.approx(0.039, abs=0.001)  # under the tail's 4.5 %, over 80 % of it
+    # (a share of 1001 samples: one sample's last bits move it by 0.001, as the force lag's shared low-pass did)
+    assert full.tail_share == pytest.approx(0.0385, abs=0.0015)  # under the tail's 4.5 %, over 80 % of it
     assert abs(full.misfit_water_content - W_ROBOT) < 0.005
     # least squares' own statistic fails: the estimate is that member, by the truth, and the interval holds it
     assert full.water_content == full.misfit_water_content

@@ -61,8 +61,8 @@ def _band_numpy(time: np.ndarray, depth: np.ndarray, force: np.ndarray, state: n
         y[0] = x[0]
         for k in range(x.size - 1):
             h = time[k + 1] - time[k]
-            a = math.exp(-h / lag)
-            y[k + 1] = a * y[k] + (1.0 - a) * x[k] + (x[k + 1] - x[k]) * (1.0 - lag * (1.0 - a) / h)
+            e, c = math.exp(-h / lag), -math.expm1(-h / lag) * lag / h
+            y[k + 1] = e * y[k] + (1.0 - c) * x[k + 1] - (e - c) * x[k]
         return y
 
     up, down = array_form(rest_band_forces)(depth - mud, spring, k_m_i, k_m_w, area)

@@ -48,7 +48,8 @@ SOURCES = ("_plumbing/pow.py", "model/equations.py", "_kernel/*.py", "engines/dy
            "engines/dynamics/result.py", "engines/mujoco/_step.py",
            "model/law3d.py", "model/granular.py",  # the 3-D law, compiled into step3d
            "model/bounds.py",  # the input bounds, constants in _kernel.bounds
-           "estimation/_tracker_layout.py")  # the tracker's packed layout, constants in _tracker_step
+           "estimation/_tracker_layout.py",  # the tracker's packed layout, constants in _tracker_step
+           "estimation/nuisances.py")  # the force lag's low-pass, in identify's model and the tracker's step
 
 
 @functools.lru_cache(maxsize=1)

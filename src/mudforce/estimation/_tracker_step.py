@@ -145,6 +145,7 @@ from mudforce.estimation._tracker_layout import (
     _TARE_TAIL,
     MAX_FORCE,
 )
+from mudforce.estimation.nuisances import _lowpass_coefficients, _lowpass_step
 
 __all__: list[str] = []
 
@@ -245,21 +246,6 @@ def _lag_reading(aux: np.ndarray, j: int, temper: float) -> tuple[float, float]:
         cells += p * _LAG_CELLS[k]
     mean = m1 / z
     return mean, math.sqrt(max(m2 / z - mean * mean, 0.0) + cells / z)
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _lowpass_coefficients(dt: float, lag: float) -> tuple[float, float]:
-    """``(e, c)`` of :func:`_lowpass_step` for a step of ``dt`` [s] and a lag ``lag`` > 0 [s]:
-    ``e = exp(-dt / lag)``, ``c = (1 - e) lag / dt`` (the latter through ``expm1``)."""
-    return math.exp(-dt / lag), -math.expm1(-dt / lag) * lag / dt
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _lowpass_step(e: float, c: float, y0: float, f0: float, f1: float) -> float:
-    """One step of the first-order low-pass ``lag y' + y = F`` (the force lag, ours), exact for a force linear over
-    the step from ``f0`` to ``f1`` [N]: ``y1 = e y0 + (1 - c) f1 - (e - c) f0`` [N], with ``(e, c)`` of
-    :func:`_lowpass_coefficients`."""
-    return e * y0 + (1.0 - c) * f1 - (e - c) * f0
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -1,13 +1,19 @@
 """What a robot's sensor chain does to a recording that the estimators allow for, shared by the offline
 (:mod:`mudforce.estimation.calibration.identify`) and online (:mod:`mudforce.estimation.tracker`) estimators.
 
-A light module (no scipy): the tracker imports it without the calibration package.
+A light module (no scipy): the tracker imports it without the calibration package. The force lag's first-order
+low-pass (:func:`_lowpass_coefficients`, :func:`_lowpass_step`) is written here once for both: identify's model of a
+recording and the tracker's hypotheses step it (the sensor chain's corruption, :mod:`mudforce.motions.sensor_chain`,
+keeps its own, the truth the two are tested against).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_real, shown
 
 __all__ = ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"]
@@ -33,3 +39,18 @@ def check_force_varies(force: np.ndarray, where: str, what: str, context: str = 
     if force.size and not np.any(force != force[0]):
         raise InputError(f"{where}the force is the same in every sample ({float(force[0]):.3g} N){context}: the {what} "
                          "carries no force to identify a water content from (is the column right?)")
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _lowpass_coefficients(dt: float, lag: float) -> tuple[float, float]:
+    """``(e, c)`` of :func:`_lowpass_step` for a step of ``dt`` [s] and a lag ``lag`` > 0 [s]:
+    ``e = exp(-dt / lag)``, ``c = (1 - e) lag / dt`` (the latter through ``expm1``)."""
+    return math.exp(-dt / lag), -math.expm1(-dt / lag) * lag / dt
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _lowpass_step(e: float, c: float, y0: float, f0: float, f1: float) -> float:
+    """One step of the first-order low-pass ``lag y' + y = F`` (the force lag, ours), exact for a force linear over
+    the step from ``f0`` to ``f1`` [N]: ``y1 = e y0 + (1 - c) f1 - (e - c) f0`` [N], with ``(e, c)`` of
+    :func:`_lowpass_coefficients`."""
+    return e * y0 + (1.0 - c) * f1 - (e - c) * f0

@@ -19,6 +19,7 @@ from scipy.interpolate import CubicSpline
 
 from mudforce import _kernel as K
 from mudforce._plumbing.jit import njit
+from mudforce.estimation.nuisances import _lowpass_coefficients, _lowpass_step
 from mudforce.model.equations import rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import spring_stress
@@ -29,13 +30,6 @@ __all__: list[str] = []
 
 #: The contact state after necking, as the stepper's ``state`` output holds it (:class:`mudforce._kernel.ContactMode`).
 _NECKED = int(K.ContactMode.NECKED)
-
-
-@njit(cache=True, nogil=True)
-def _lowpass_into(y: np.ndarray, x: np.ndarray, k: int, a: float, h: float, tau: float) -> None:  # pragma: no cover
-    """Sample ``k + 1`` of the first-order low-pass ``tau y' + y = x`` [same unit as ``x``], exact for ``x`` linear
-    between samples (ours), after a step of ``h`` [s] with ``a = exp(-h / tau)``."""
-    y[k + 1] = a * y[k] + (1.0 - a) * x[k] + (x[k + 1] - x[k]) * (1.0 - tau * (1.0 - a) / h)
 
 
 @njit(cache=True, nogil=True)
@@ -88,11 +82,10 @@ def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, st
     f_out, low_out, high_out = np.empty(n), np.empty(n), np.empty(n)
     f_out[0], low_out[0], high_out[0] = force[0], low[0], high[0]
     for k in range(n - 1):
-        h = time[k + 1] - time[k]
-        a = math.exp(-h / lag)
-        _lowpass_into(f_out, force, k, a, h, lag)
-        _lowpass_into(low_out, low, k, a, h, lag)
-        _lowpass_into(high_out, high, k, a, h, lag)
+        e, c = _lowpass_coefficients(time[k + 1] - time[k], lag)
+        f_out[k + 1] = _lowpass_step(e, c, f_out[k], force[k], force[k + 1])
+        low_out[k + 1] = _lowpass_step(e, c, low_out[k], low[k], low[k + 1])
+        high_out[k + 1] = _lowpass_step(e, c, high_out[k], high[k], high[k + 1])
     return f_out, low_out, high_out
 
 
