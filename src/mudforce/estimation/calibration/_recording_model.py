@@ -154,6 +154,34 @@ _STICK_WINDOW = 0.06
 _CREEP_STEP = 1e-9
 
 
+@njit(cache=True, nogil=True)
+def _window_slopes(time: np.ndarray, depth: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover
+    """The least-squares slope [m/s] of ``depth`` [m] over ``time`` [s] in each centred window of ``2 m + 1``
+    samples, and the window's ``sum((t - mean t)^2)`` [s^2], for the samples ``m`` to ``n - m - 1``. Speed plumbing:
+    a loop over the windows (no window copies: a ten-minute recording at 1 kHz has 600 000 of 61 samples)."""
+    n = time.size - 2 * m
+    slope = np.empty(n)
+    spread = np.empty(n)
+    width = 2 * m + 1
+    for k in range(n):
+        tm = 0.0
+        zm = 0.0
+        for i in range(k, k + width):
+            tm += time[i]
+            zm += depth[i]
+        tm /= width
+        zm /= width
+        stt = 0.0
+        stz = 0.0
+        for i in range(k, k + width):
+            d = time[i] - tm
+            stt += d * d
+            stz += d * (depth[i] - zm)
+        slope[k] = stz / stt
+        spread[k] = stt
+    return slope, spread
+
+
 class Sticking(NamedTuple):
     """Where the foot may be stuck along a recording, and the two depths [m] the model also follows there
     (:func:`_sticking`)."""
@@ -190,11 +218,7 @@ def _sticking(time: np.ndarray, depth: np.ndarray, noise: float) -> Sticking:
         m += 1
     if n < 2 * m + 1:
         return Sticking(stuck, held, creep)
-    tw = np.lib.stride_tricks.sliding_window_view(time, 2 * m + 1)
-    zw = np.lib.stride_tricks.sliding_window_view(depth, 2 * m + 1)
-    dt = tw - tw.mean(axis=1, keepdims=True)
-    spread = np.sum(dt * dt, axis=1)
-    slope = np.sum(dt * (zw - zw.mean(axis=1, keepdims=True)), axis=1) / spread
+    slope, spread = _window_slopes(time, depth, m)
     stuck[m:n - m] = (np.abs(slope) <= _STICK_SPEED + 2.0 * noise / np.sqrt(spread)) & (depth[m:n - m] > 0.0)
     where = np.flatnonzero(stuck)
     if where.size:
