@@ -92,7 +92,6 @@ from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_integer, is_real, shown
 from mudforce.estimation.calibration._recording_model import (
-    Sticking,
     _band_residual,
     _force_and_band,
     _model_set,
@@ -667,13 +666,13 @@ def _near_limits(ratio: float, tail_share: float, other_mud: float) -> bool:
     return sum(x > NEAR_LIMITS_WARNING for x in shares) >= 2
 
 
-def _standardised(time: np.ndarray, depth: np.ndarray, sticking: Sticking, foot: Foot, measured: np.ndarray,
-                  rest: np.ndarray, floor: np.ndarray, q: MudParameters, offset: float, lag: float,
+def _standardised(model_set: Callable[[MudParameters, float, float], tuple[np.ndarray, np.ndarray, np.ndarray]],
+                  measured: np.ndarray, floor: np.ndarray, q: MudParameters, offset: float, lag: float,
                   bias: float = 0.0) -> np.ndarray:
     """Each sample's residual over its ``floor`` [N] (:func:`_band_residual` of ``measured + bias`` [N] against the
-    set of :func:`_model_set`), the model of ``q`` at ``depth + offset`` [m] (and through the ``sticking`` stretches)
-    through a force lag ``lag`` [s]."""
-    model, low, high = _model_set(time, depth, offset, sticking, rest, q, foot, lag)
+    set ``model_set(q, offset, lag)``: :func:`_model_set` of the parameters ``q``, the depth offset ``offset`` [m]
+    and the force lag ``lag`` [s])."""
+    model, low, high = model_set(q, offset, lag)
     out: np.ndarray = _band_residual(model, low, high, measured + bias, np.ones(model.size, dtype=bool)) / floor
     return out
 
@@ -956,11 +955,6 @@ def identify_water_content(
 
     rest = at_rest(t, tr.depth)
     moving = ~rest
-    # where the foot may be stuck: the flag's three readings take the model as the set of the relaxations a stuck
-    # foot may have had (_model_set); the fit, the floors, the interval's members and the estimate the exact rule
-    sticking = (_sticking(t, tr.depth, tr.depth_noise) if general
-                else Sticking(np.zeros(t.size, dtype=bool), tr.depth, tr.depth))
-    everywhere = np.ones(t.size, dtype=bool)
 
     def evaluate(w: float, offset: float, lag: float, gain: float = 1.0,
                  sel: slice = slice(None), turns: bool = True,
@@ -1220,15 +1214,21 @@ def identify_water_content(
         v = np.maximum(noise_var + disc2, least)
         seen: dict[tuple[float, float, float], tuple[float, float]] = {}
 
+        def reprofiled(depth_offset: float, model: np.ndarray, band_low: np.ndarray, band_high: np.ndarray,
+                       banded: np.ndarray) -> tuple[float, float]:
+            """:func:`_bias_reprofiled` of the model at ``depth + depth_offset`` [m], its force ``model`` [N] and its
+            band ``[band_low, band_high]`` [N] read at the ``banded`` samples."""
+            z = tr.depth + depth_offset
+            free = (z <= 0.0) & (model**2 <= 1e-4 * v)  # out of the mud, the model's force nil (1 % of the floor)
+            return _bias_reprofiled(model, band_low, band_high, meas, banded, v, free)
+
         def statistic_at(w: float, depth_offset: float, force_lag: float) -> float:
             """The statistic [-] at water content ``w`` [-], the model at ``depth + depth_offset`` [m] through a
             force lag ``force_lag`` [s] (each point computed once, with its re-profiled bias)."""
             key = (w, depth_offset, force_lag)
             if key not in seen:
-                z = tr.depth + depth_offset
-                model, band_low, band_high = _force_and_band(t, z, family(w), foot, force_lag)
-                free = (z <= 0.0) & (model**2 <= 1e-4 * v)  # out of the mud, the model's force nil (1 % of the floor)
-                seen[key] = _bias_reprofiled(model, band_low, band_high, meas, rest, v, free)
+                seen[key] = reprofiled(depth_offset, *_force_and_band(t, tr.depth + depth_offset, family(w), foot,
+                                                                      force_lag), rest)
             return seen[key][0]
 
         def statistic(w: float) -> float:
@@ -1252,15 +1252,26 @@ def identify_water_content(
         # of the relaxations a stuck foot may have had (_model_set; the statistic again, its bias re-profiled):
         # the statistic, the tail's share (which the statistic's clip hides) and what another mud would explain
         (tail_at, flag_offset, flag_lag) = min(seen.items(), key=lambda item: item[1][0])[0]
-        z_flag = tr.depth + flag_offset
-        model_flag, low_flag, high_flag = _model_set(t, tr.depth, flag_offset, sticking, rest, family(tail_at), foot,
-                                                     flag_lag)
-        free_flag = (z_flag <= 0.0) & (model_flag**2 <= 1e-4 * v)
-        flag_statistic, moved = _bias_reprofiled(model_flag, low_flag, high_flag, meas, everywhere, v, free_flag)
-        r_flag = _band_residual(model_flag, low_flag, high_flag, meas + moved, everywhere)
+        # where the foot may be stuck (the fit, the floors, the interval's members and the estimate read the exact
+        # rule there too)
+        sticking = _sticking(t, tr.depth, tr.depth_noise)
+        everywhere = np.ones(t.size, dtype=bool)
+        flag_point = (family(tail_at), flag_offset, flag_lag)
+        flag_set = _model_set(t, tr.depth, flag_offset, sticking, rest, family(tail_at), foot, flag_lag)
+
+        def model_set(q: MudParameters, depth_offset: float,
+                      force_lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            """:func:`_model_set` of ``q`` at ``depth + depth_offset`` [m] through ``force_lag`` [s] (the flag's own
+            point computed once: the other mud's reading reads it twice more)."""
+            if (q, depth_offset, force_lag) == flag_point:
+                return flag_set
+            return _model_set(t, tr.depth, depth_offset, sticking, rest, q, foot, force_lag)
+
+        flag_statistic, moved = reprofiled(flag_offset, *flag_set, everywhere)
+        r_flag = _band_residual(*flag_set, meas + moved, everywhere)
         tail_share = float(np.mean(r_flag * r_flag / v > _TAIL_Z2))
-        other_mud = _other_mud(partial(_standardised, t, tr.depth, sticking, foot, meas + moved, rest,
-                                       np.sqrt(v)), family, (tail_at, flag_offset, flag_lag), (lo, hi))
+        other_mud = _other_mud(partial(_standardised, model_set, meas + moved, np.sqrt(v)), family,
+                               (tail_at, flag_offset, flag_lag), (lo, hi))
         misfit_w, estimate_fails = w_best, ratio > MISFIT_WARNING_RATIO
         if least_root < ratio:
             misfit_w = at
