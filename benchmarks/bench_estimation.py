@@ -37,9 +37,10 @@ asserts nothing::
 
     python benchmarks/bench_estimation.py --sensor-chain [--jobs N] [--quiet]
 
-``--sensor-chain --misfit-flag`` prints identify's misfit flag instead: on the clean recordings (in family) and on
-two off-family muds along the same paths (``F = k z``, and ``alpha`` x2 with ``sigma_y`` x0.3), at each of
-``--flag-rates``, with the depth noise estimated or (``--known-depth-noise``) given::
+``--sensor-chain --misfit-flag`` prints identify's misfit flag instead, then MudTracker's own on the same recordings:
+on the clean recordings (in family) and on two off-family muds along the same paths (``F = k z``, and ``alpha`` x2
+with ``sigma_y`` x0.3), at each of ``--flag-rates``, with identify's depth noise estimated or
+(``--known-depth-noise``) given::
 
     python benchmarks/bench_estimation.py --sensor-chain --misfit-flag --robots 4 --walks 2 --duration 10s
 """

@@ -319,7 +319,8 @@ FLAG_SOURCES = ("gait", "robot", "robot-model", "F = kz (gait)", "alpha x2, sigm
 
 def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequence[float],
                   known_depth_noise: bool) -> list[dict[str, Any]]:
-    """identify's misfit flag on one unit's clean recordings and on two off-family muds along the same path.
+    """identify's misfit flag, and MudTracker's, on one unit's clean recordings and on two off-family muds along the
+    same path.
 
     Off family: a granular law ``F = k z`` (``k`` matching the model's peak) and the mud with ``alpha`` x2 and
     ``sigma_y`` x0.3, each simulated at 2 kHz along the true path; every force through ``SensorChain(force_noise,
@@ -350,9 +351,17 @@ def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequ
                 out.append({"source": source, "rate": rate, "refused": True})
                 continue
             covered = res.interval[0] <= w <= res.interval[1]
+            # MudTracker's own (online) flag on the same recording: raised on any sample, and the samples after
+            # TRACK_AFTER whose interval misses the truth with the flag down
+            tr = track(tt, zz, ff, foot)
+            late = tt - tt[0] >= TRACK_AFTER
+            missed = (tr.low[late] > w) | (w > tr.high[late])
             out.append({"source": source, "rate": rate, "refused": False, "ratio": res.misfit_ratio,
                         "flag": res.model_misses_data, "covered": covered,
-                        "wrong": not covered and not res.warnings})
+                        "wrong": not covered and not res.warnings,
+                        "t_flag": tr.model_misses_data,
+                        "t_share": float(np.mean(tr.misfit[late])) if late.any() else 0.0,
+                        "t_wrong": int(np.sum(missed & ~tr.misfit[late]))})
     return out
 
 
@@ -390,6 +399,23 @@ def run_flag_bench(args: argparse.Namespace) -> int:
             span = f"{min(ratios):.2f}-{max(ratios):.2f}" if ratios else "-"
             cells.append(f"{span}, {sum(x['flag'] for x in ok)}/{len(rs)}; covered {sum(x['covered'] for x in ok)}; "
                          f"wrong {sum(x['wrong'] for x in ok)} ({len(rs) - len(ok)})")
+        if cells:
+            print(f"| {source} | " + " | ".join(cells) + " |")
+    print()
+    print(f"MudTracker's own misfit flag on the same recordings (track, default options). Each cell: flagged (the "
+          f"flag raised on any sample) / recordings; the mean share of samples flagged after {TRACK_AFTER:g} s; "
+          "samples after it confidently wrong (the interval misses the truth, the flag down).")
+    print()
+    print("| source | " + " | ".join(f"{r:g} Hz" for r in rates) + " |")
+    print("|---|" + "---|" * len(rates))
+    for source in FLAG_SOURCES:
+        cells = []
+        for rate in rates:
+            ok = [x for x in results if x["source"] == source and x["rate"] == rate and not x["refused"]]
+            if not ok:
+                break
+            cells.append(f"{sum(x['t_flag'] for x in ok)}/{len(ok)}; {np.mean([x['t_share'] for x in ok]):.1%}; "
+                         f"wrong {sum(x['t_wrong'] for x in ok)}")
         if cells:
             print(f"| {source} | " + " | ".join(cells) + " |")
     print()

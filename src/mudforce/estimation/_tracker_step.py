@@ -15,7 +15,7 @@ from typing import Any, cast
 import numpy as np
 
 from mudforce import _kernel as K
-from mudforce._kernel.layout import N_RING, P_DEADBAND, P_WINDOW, R_HEAD, R_T, R_Z, RING, store_cache
+from mudforce._kernel.layout import N_RING, P_DEADBAND, P_WINDOW, R_HEAD, R_N, R_T, R_Z, RING, store_cache
 from mudforce._kernel.transitions import step_cache
 from mudforce._plumbing.jit import njit
 from mudforce.engines.dynamics.rest_band import rest_band, rest_band_spread
@@ -128,6 +128,7 @@ from mudforce.estimation._tracker_layout import (
     _RATE_STEP,
     _REST_NOISE_EXCESS,
     _REST_NOISE_SIGMAS,
+    _REST_SPAN,
     _SMOOTH_BEND,
     _SMOOTH_BEND_STEP,
     _SMOOTH_MAX_STEP,
@@ -341,6 +342,27 @@ def _smoothed(aux: np.ndarray, j: int, dt: float, cfg: np.ndarray) -> bool:
     dvar = aux[j, _A_DVAR]
     return (aux[j, _A_ZN] >= 3.0 and dt <= _SMOOTH_MAX_STEP and dvar > cfg[_C_SMOOTH] * cfg[_C_SMOOTH]
             and (dt <= _SMOOTH_BEND_STEP or aux[j, _A_D2VAR] < _SMOOTH_BEND * dvar))
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _rest_step(j: int, step: float, dt: float, ring: np.ndarray, M: int) -> tuple[float, float]:
+    """The depth step [m] and its span [s] that foot ``j``'s rest test reads (ours, :data:`_REST_SPAN`): the
+    sample's own ``step`` over ``dt`` [s] where ``dt`` is at least :data:`_REST_SPAN`, else the step from the
+    newest depth the bank's ``ring`` holds at least that long before this sample's (the ring's depths are the ones
+    the bank stepped on, each plus one surface offset, which the difference cancels), or the sample's own where the
+    ring holds none so old (its first samples, or a branch rule of one step, which keeps no ring)."""
+    if dt >= _REST_SPAN * (1.0 - 1e-9) or ring.shape[1] < N_RING:
+        return step, dt
+    r0 = j * M
+    head = int(ring[r0, R_HEAD])
+    held = int(ring[r0, R_N])
+    t_head = ring[r0, R_T + head]
+    for k in range(1, held):
+        old = (head - k) % RING
+        span = t_head - ring[r0, R_T + old]
+        if span >= _REST_SPAN * (1.0 - 1e-9):
+            return ring[r0, R_Z + head] - ring[r0, R_Z + old], span
+    return step, dt
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -624,7 +646,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 d2var = aux[j, _A_D2VAR]
                 aux[j, _A_D2VAR] = d2var + (min(d2 * d2 / 6.0, 9.0 * d2var) - d2var) * w_noise
             excess = max(dvar - (_REST_NOISE_EXCESS * _DEPTH_NOISE0) ** 2, 0.0)
-            rest = abs(depths[j] - aux[j, _A_ZPREV]) <= cfg[_C_REST] * dt + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
+            step_z, span = _rest_step(j, depths[j] - aux[j, _A_ZPREV], dt, ring, M)
+            rest = abs(step_z) <= cfg[_C_REST] * span + _REST_NOISE_SIGMAS * math.sqrt(2.0 * excess)
             # ... and its band's ends move with that noise on the depth the bank steps on (_REST_SPREAD)
             zsd = cfg[_C_REST_SPREAD] * math.sqrt(excess / 3.0 if smooth else excess) if rest else 0.0
             # the misfit statistic: the squared standardised residual of the posterior's mean model
@@ -857,8 +880,11 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         out[j, _O_BIAS] = aux[j, _A_BIAS]
         out[j, _O_NOISE] = math.sqrt(aux[j, _A_VAR])
         out[j, _O_CHANGED] = changed
+        # the misfit flag: this bank's average over its threshold, and the twin bank's flag raised too where one runs
+        # (``guard[j, 2]``): the family holds both branch rules, as the reported interval does (_TWIN_WINDOW)
         out[j, _O_MISFIT] = 1.0 if (aux[j, _A_CONTACT] >= _MISFIT_MIN_CONTACT
-                                    and aux[j, _A_MISFIT] > cfg[_C_MISFIT_RATIO]) else 0.0
+                                    and aux[j, _A_MISFIT] > cfg[_C_MISFIT_RATIO]
+                                    and (math.isnan(guard[j, 0]) or guard[j, 2] != 0.0)) else 0.0
         aux[j, _A_PPREV] = pred
         aux[j, _A_PSUB] = pred
         aux[j, _A_Z3] = aux[j, _A_Z2]

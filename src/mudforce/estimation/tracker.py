@@ -74,9 +74,9 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   surface offsets within 3 mm of zero) runs beside the first on the quick
   rule (a secant over 2 steps with a 2.5 mm/s deadband) for every foot at
   every depth, and the reported interval is the union of the two banks'
-  (the estimate and the misfit flag are the first bank's; the change flag
-  reads the union, below): the branch rule is a model choice the data
-  seldom settle, and deep wet robots read points low on the 10-step rule
+  (the estimate is the first bank's, the misfit flag is raised where both
+  banks' are; the change flag reads the union, below): the branch rule is
+  a model choice the data seldom settle, and deep wet robots read points low on the 10-step rule
   (the more under a lagged force, which the lag then absorbs) and right on
   the quick one, while noisy gait walks read the other way. A given
   ``velocity_filter`` has no twin.
@@ -198,9 +198,12 @@ class TrackEstimate:
     misfit : bool
         True while the model misses the force beyond its noise floor (the
         average squared residual of the last ``tau`` seconds of contact,
-        in units of the likelihood's scale, above :data:`MISFIT_THRESHOLD`):
-        the mud is off the model's family, or the sensors are corrupted
-        beyond the allowances; the interval is then not to be trusted.
+        in units of the likelihood's scale, above :data:`MISFIT_THRESHOLD`,
+        in the first bank and in the twin bank both where one runs): the mud
+        is off the model's family, or the sensors are corrupted beyond the
+        allowances; the interval is then not to be trusted. A quiet flag does
+        not show the mud in the family: off-family muds go unflagged on most
+        robot paths at 50 Hz (docs/estimation.md, "MudTracker's flag").
     depth_offset, depth_offset_stderr : float
         Posterior mean of the surface offset [m] over the tracker's
         ``depth_offsets``, and its standard deviation with each hypothesis's
@@ -611,9 +614,10 @@ class MudTrackers:
         self._out = np.zeros((self.n, L._N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
-        # the twin bank's reported interval [-], shape (n, 2), which this bank's also holds (NaN: no twin); an input
-        # of the compiled step, written before each step
-        self._guard = np.full((self.n, 2), math.nan, dtype=np.float64)
+        # the twin bank's reported interval [-] and misfit flag (1 raised, 0 not), shape (n, 3): the reported interval
+        # holds the twin's, and the misfit flag is raised only where the twin's is too (NaN: no twin); an input of the
+        # compiled step, written before each step
+        self._guard = np.full((self.n, 3), math.nan, dtype=np.float64)
         bank = self._bank
         buf, layout = _pack(self)  # the arrays above become views of one buffer
         # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
@@ -680,6 +684,7 @@ class MudTrackers:
                 twin._started = True
                 self._guard[:, 0] = twin._out[:, L._O_LOW]
                 self._guard[:, 1] = twin._out[:, L._O_HIGH]
+                self._guard[:, 2] = twin._out[:, L._O_MISFIT]
                 bad = _track_step(dt, *self._args)
         else:
             bad = _track_step(dt, *self._args)
