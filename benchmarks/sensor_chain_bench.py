@@ -62,7 +62,7 @@ from mudforce.estimation.tracker import track
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.motions.gait import gait
-from mudforce.motions.sensor_chain import SensorChain, apply
+from mudforce.motions.sensor_chain import SensorChain, apply, drift_path
 from mudforce.steppers.simulation import simulate
 
 FINE_RATE = 2000.0  # [Hz] the clean simulation
@@ -174,6 +174,7 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
                 "t_minutes": float(tt[-1] - tt[0]) / 60.0,
                 "t_width": float(np.median(tr.high[late] - tr.low[late])) * 100.0 if late.any() else math.nan,
             }
+            item.update(_nuisances(res, tr, late, chain, tt, cseed))
             if fit_it and index < fit_recordings and not tracker_only:
                 start = time.perf_counter()
                 try:
@@ -182,6 +183,27 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
                     item["fit"] = {"ok": False, "flagged": True, "wrong": False, "beyond": [], "params": 0}
                 item["fit"]["seconds"] = time.perf_counter() - start
             out.append(item)
+    return out
+
+
+def _nuisances(res: Any, tr: Any, late: np.ndarray, chain: SensorChain, tt: np.ndarray,
+               cseed: int) -> dict[str, Any]:
+    """The surface offset and the force lag each estimator read, against the chain's (issue 23, point 3): identify's
+    beyond three standard errors (None where it gave none, or where the offset drifts: no one value is the truth),
+    the tracker's samples after TRACK_AFTER beyond three spreads. The offset's truth is ``-(depth_offset +
+    drift(t))`` (the models follow the depth plus the offset); the lag's the chain's mean delay, ``force_delay +
+    force_lowpass``."""
+    offset = -(chain.depth_offset + drift_path(tt, chain, cseed))
+    lag = chain.force_delay + chain.force_lowpass
+    out: dict[str, Any] = {"i_offset": None, "i_lag": None, "t_offset": None, "t_lag": None}
+    if res is not None and math.isfinite(getattr(res, "depth_offset_stderr", math.nan)):
+        if chain.drift == 0.0:
+            out["i_offset"] = bool(abs(res.depth_offset - offset[0]) > 3.0 * res.depth_offset_stderr)
+        out["i_lag"] = bool(abs(res.force_lag - lag) > 3.0 * res.force_lag_stderr)
+    if getattr(tr, "depth_offset_stderr", None) is not None and late.any():  # (absent on old code)
+        out["t_offset"] = int(np.sum(np.abs(tr.depth_offset[late] - offset[late])
+                                     > 3.0 * tr.depth_offset_stderr[late]))
+        out["t_lag"] = int(np.sum(np.abs(tr.force_lag[late] - lag) > 3.0 * tr.force_lag_stderr[late]))
     return out
 
 
@@ -257,6 +279,22 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         lines.append(f"| {row} | {kind} | {len(rs)} | {within / max(n, 1):.0%} | {cov / max(n, 1):.0%} | "
                      f"{good}/{len(rs)} | {wrong / max(n, 1):.1%} ({wrong}) | {med:.2f} | {width:.1f} | {changes} | "
                      f"{rate:.2f} | {verdict} |")
+    lines += ["", "### The nuisances (issue 23, point 3): read beyond three standard errors", "",
+              "identify: recordings whose surface offset or force lag is beyond three standard errors of the chain's "
+              "(the offset not judged under a drift); MudTracker: samples after "
+              f"{TRACK_AFTER:g} s beyond three spreads. The lag's truth is the chain's mean delay (delay plus "
+              "low-pass).", "",
+              "| corruption | set | identify: offset | identify: lag | MudTracker: offset | MudTracker: lag |",
+              "|---|---|---|---|---|---|"]
+    for r, (row, kind, _, _) in enumerate(ROWS):
+        rs = [x for x in results if x["row"] == r]
+        cells = []
+        for key, per in (("i_offset", False), ("i_lag", False), ("t_offset", True), ("t_lag", True)):
+            got = [x for x in rs if x.get(key) is not None]
+            k = sum(int(x[key]) for x in got)
+            n = sum(x["t_n"] for x in got) if per else len(got)
+            cells.append("-" if not got else f"{k / max(n, 1):.1%} ({k})" if per else f"{k}/{n}")
+        lines.append(f"| {row} | {kind} | " + " | ".join(cells) + " |")
     return lines
 
 

@@ -178,14 +178,17 @@ def test_cell_variances_of_a_grid_of_hypotheses() -> None:
 
 
 def test_the_reported_lag_reads_the_evidence_without_the_prior() -> None:
-    """The reported lag is the hypotheses' tempered evidence under a flat prior, each hypothesis with its cell:
-    before any evidence, the hypotheses' mean and their whole spread; with evidence for one hypothesis, that one and
-    its cell (the bank's own lag, with the prior, is not what is reported)."""
+    """The reported lag is the hypotheses' tempered evidence under a flat prior, each hypothesis with its cell, the
+    low-passes (``_LAGS``) and the pure delays (``_DELAYS``, each on the delays' own nodes) alike: before any
+    evidence, the hypotheses' mean and their whole spread; with evidence for one hypothesis, that one and its cell
+    (the bank's own lag, with the prior, is not what is reported)."""
     from mudforce.estimation import _tracker_layout as L
     from mudforce.estimation._tracker_step import _cell_variance, _lag_reading
 
-    lags = L._LAGS
-    cells = np.array([_cell_variance(lags, k, 0.0) for k in range(lags.size)])
+    delay_nodes = np.concatenate(([0.0], L._DELAYS))
+    lags = np.concatenate((L._LAGS, L._DELAYS))
+    cells = np.array([_cell_variance(L._LAGS, k, 0.0) for k in range(L._LAGS.size)]
+                     + [_cell_variance(delay_nodes, k + 1, 0.0) for k in range(L._DELAYS.size)])
     aux = np.zeros((1, L._N_AUX))
     mean, sd = _lag_reading(aux, 0, 4.0)
     assert mean == pytest.approx(lags.mean(), rel=1e-12)
@@ -199,3 +202,8 @@ def test_the_reported_lag_reads_the_evidence_without_the_prior() -> None:
     assert mean == pytest.approx(weights @ lags, rel=1e-12)
     assert sd == pytest.approx(np.sqrt(weights @ lags**2 - (weights @ lags) ** 2 + weights @ cells), rel=1e-12)
     assert abs(mean - 0.02) < 1e-3 and sd == pytest.approx(0.01 / 12**0.5, rel=0.05)
+    # ... and for the 30-ms delay instead: it, and its cell (25-35 ms)
+    aux[0, L._A_LAG_L + k] = 0.0
+    aux[0, L._A_DEL_L + list(L._DELAYS).index(0.03)] = 40.0
+    mean, sd = _lag_reading(aux, 0, 4.0)
+    assert abs(mean - 0.03) < 1e-3 and sd == pytest.approx(0.01 / 12**0.5, rel=0.05)

@@ -66,7 +66,15 @@ _A_D2VAR = _A_QUICK + 11  # the depth's second differences' mean square over 6 [
 _A_TARE_EW = _A_QUICK + 12  # the tare residuals' short mean over the current stretch of tare samples [N] (_TARE_SHORT)
 _A_TARE_VAR0 = _A_QUICK + 13  # the force noise variance where that stretch began [N^2] (its clip's)
 _A_TARE_PREV = _A_QUICK + 14  # 1 where the sample before was a tare sample, else 0
-_N_AUX = _A_QUICK + 15
+_A_CLOCK = _A_QUICK + 15  # the time of the last (sub)step since the first sample [s] (the delay hypotheses' ring)
+_A_DHEAD = _A_QUICK + 16  # the ring's newest entry
+_A_DN = _A_QUICK + 17  # the entries it holds
+_N_DELAYS = 6  # pure delay hypotheses of the reported lag (_DELAYS)
+_A_DEL_L = _A_QUICK + 18  # then one per delay hypothesis: its log-likelihood (forgotten as the lag hypotheses')
+_N_DRING = 64  # the ring's entries: the mean model's force at the last (sub)steps
+_A_DRING = _A_DEL_L + _N_DELAYS  # then the ring's forces [N]
+_A_DRING_T = _A_DRING + _N_DRING  # then their times [s] (on _A_CLOCK)
+_N_AUX = _A_DRING_T + _N_DRING
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -322,6 +330,15 @@ assert _LAGS.size == _N_LAGS and _LAGS_A.size == _N_LAGS
 #: until its force says otherwise: the prior puts 86 % on no lag, and its mean over the hypotheses is 1.6 ms; with a
 #: broader prior the lag the tracker starts with moved the early tare and the estimates of clean walks).
 _LAG_LOG_PRIOR = -_LAGS / 0.005
+#: The reported lag's pure delay hypotheses [s] (ours): the mean model's force shifted that much later, read off a
+#: ring of its (sub)step values (linear between them; the oldest held where the ring reaches no further back: 64
+#: steps, 40 ms at up to 1.6 kHz). A sensor's delay is not a low-pass: a 20-ms delay's sharp edges fit a low-pass of
+#: 10 ms better than one of 20, and the low-pass hypotheses alone read it at about half, beyond three spreads on
+#: 9-15 % of the sensor-chain bench's samples with the water content and the offset known. These serve the reported
+#: lag and its spread only, beside the low-pass hypotheses under one flat prior; the bank's own lag reads the
+#: low-passes (:data:`_N_BANK_LAGS`).
+_DELAYS = np.array([0.005, 0.01, 0.015, 0.02, 0.03, 0.04])
+assert _DELAYS.size == _N_DELAYS
 #: Memory of the online depth noise estimate [s of contact] (ours).
 _DEPTH_NOISE_MEMORY = 2.0
 #: A step within this many standard deviations of the depth noise (on the difference of two samples, the noise in

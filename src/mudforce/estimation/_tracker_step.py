@@ -25,8 +25,14 @@ from mudforce.estimation._tracker_layout import (
     _A_ANCHOR_HIGH,
     _A_ANCHOR_LOW,
     _A_BIAS,
+    _A_CLOCK,
     _A_CONTACT,
     _A_D2VAR,
+    _A_DEL_L,
+    _A_DHEAD,
+    _A_DN,
+    _A_DRING,
+    _A_DRING_T,
     _A_DVAR,
     _A_FPREV,
     _A_HOLD,
@@ -95,6 +101,7 @@ from mudforce.estimation._tracker_layout import (
     _C_TAU,
     _C_TEMP,
     _C_TEMPER,
+    _DELAYS,
     _DEPTH_NOISE0,
     _DEPTH_NOISE_MEMORY,
     _END_REACH,
@@ -109,6 +116,7 @@ from mudforce.estimation._tracker_layout import (
     _MISFIT_MIN_CONTACT,
     _N_AUX,
     _N_BANK_LAGS,
+    _N_DRING,
     _O_BIAS,
     _O_CHANGED,
     _O_HIGH,
@@ -221,6 +229,9 @@ def _cell_variance(nodes: np.ndarray, o: int, lowest: float) -> float:  # pragma
 #: Each lag hypothesis's cell variance [s^2] (:func:`_cell_variance`, none below 0): constants of :data:`_LAGS`,
 #: computed once here (through the same function, uncompiled) and not at every sample by :func:`_lag_reading`.
 _LAG_CELLS = np.array([cast(Any, _cell_variance).py_func(_LAGS, k, 0.0) for k in range(_LAGS.shape[0])])
+#: ... and each delay hypothesis's, on the delays' own nodes with no delay among them (:data:`_DELAYS`).
+_DELAY_NODES = np.concatenate(([0.0], _DELAYS))
+_DELAY_CELLS = np.array([cast(Any, _cell_variance).py_func(_DELAY_NODES, k + 1, 0.0) for k in range(_DELAYS.shape[0])])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -238,6 +249,8 @@ def _lag_reading(aux: np.ndarray, j: int, temper: float) -> tuple[float, float]:
     top = -1e300
     for k in range(_LAGS.shape[0]):
         top = max(top, aux[j, _A_LAG_L + k] / temper)
+    for k in range(_DELAYS.shape[0]):
+        top = max(top, aux[j, _A_DEL_L + k] / temper)
     z = m1 = m2 = cells = 0.0
     for k in range(_LAGS.shape[0]):
         p = math.exp(aux[j, _A_LAG_L + k] / temper - top)
@@ -245,6 +258,12 @@ def _lag_reading(aux: np.ndarray, j: int, temper: float) -> tuple[float, float]:
         m1 += p * _LAGS[k]
         m2 += p * _LAGS[k] * _LAGS[k]
         cells += p * _LAG_CELLS[k]
+    for k in range(_DELAYS.shape[0]):  # the pure delays beside them (_DELAYS), each its own mean delay
+        p = math.exp(aux[j, _A_DEL_L + k] / temper - top)
+        z += p
+        m1 += p * _DELAYS[k]
+        m2 += p * _DELAYS[k] * _DELAYS[k]
+        cells += p * _DELAY_CELLS[k]
     mean = m1 / z
     return mean, math.sqrt(max(m2 / z - mean * mean, 0.0) + cells / z)
 
@@ -287,6 +306,40 @@ def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool 
         aux[j, _A_LAG_Y + k], aux[j, _A_LAG_Y2 + k] = _two_stages(e, cache[2 + 4 * k], e2, cache[4 + 4 * k],
                                                                   aux[j, _A_LAG_Y + k], aux[j, _A_LAG_Y2 + k],
                                                                   aux[j, _A_PSUB], mean)
+    # the delay hypotheses' ring (_DELAYS): the mean model's force at this (sub)step's time
+    if first:
+        aux[j, _A_CLOCK] = 0.0
+        aux[j, _A_DN] = 0.0
+        head = 0
+    else:
+        aux[j, _A_CLOCK] += h
+        head = (int(aux[j, _A_DHEAD]) + 1) % _N_DRING
+    aux[j, _A_DHEAD] = head
+    aux[j, _A_DN] = min(aux[j, _A_DN] + 1.0, float(_N_DRING))
+    aux[j, _A_DRING + head] = mean
+    aux[j, _A_DRING_T + head] = aux[j, _A_CLOCK]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _delayed(aux: np.ndarray, j: int, d: float) -> float:
+    """Foot ``j``'s mean model force [N] ``d`` [s] before its last (sub)step, from the delay hypotheses' ring (ours,
+    :data:`_DELAYS`): linear between the two entries about that time, the oldest held where the ring reaches no
+    further back."""
+    head = int(aux[j, _A_DHEAD])
+    held = int(aux[j, _A_DN])
+    when = aux[j, _A_CLOCK] - d
+    newer = head
+    for k in range(1, held):
+        older = (head - k) % _N_DRING
+        t_old = aux[j, _A_DRING_T + older]
+        if t_old <= when:
+            t_new = aux[j, _A_DRING_T + newer]
+            u = (when - t_old) / (t_new - t_old) if t_new > t_old else 1.0
+            y: float = aux[j, _A_DRING + older] + u * (aux[j, _A_DRING + newer] - aux[j, _A_DRING + older])
+            return y
+        newer = older
+    oldest: float = aux[j, _A_DRING + newer]
+    return oldest
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -621,6 +674,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 aux[j, _A_LAG_L + k] = v
                 if k < _N_BANK_LAGS:
                     top_k = max(top_k, v / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k])
+            for k in range(_DELAYS.shape[0]):  # the reported lag's pure delays, scored the same way
+                yk = _delayed(aux, j, _DELAYS[k])
+                rk = f - bias - yk
+                sk = var + bias_var + floor2 + misfit2 * yk * yk
+                aux[j, _A_DEL_L + k] = keep * aux[j, _A_DEL_L + k] + weight * (
+                    -0.5 * (dof + 1.0) * math.log1p(rk * rk / (dof * sk)) - 0.5 * math.log(sk))
             zk = l1 = l2 = la = 0.0
             for k in range(_N_BANK_LAGS):
                 pk = math.exp(aux[j, _A_LAG_L + k] / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k] - top_k)
@@ -786,6 +845,10 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         # holds its cell too (the grid stands for a continuum; the interval's shallow widening below holds the
         # offset's as _C_OFFSET_RES, the likelihood's scale the bank's lag's as _C_LAG)
         out[j, _O_LAG], out[j, _O_LAG_SD] = _lag_reading(aux, j, cfg[_C_OFFSET_TEMPER])
+        # ... and its spread holds what the twin bank reads (``guard[j, 3]``): the branch rule is a model choice, and
+        # the lag takes up what a rule misses (a deep wet robot's 30-ms low-pass read as 45 ms on the first bank's)
+        if not math.isnan(guard[j, 0]):
+            out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (out[j, _O_LAG] - guard[j, 3]) ** 2)
         out[j, _O_OFFSET_SD] = math.sqrt(osd * osd + oc)
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)

@@ -614,10 +614,10 @@ class MudTrackers:
         self._out = np.zeros((self.n, L._N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
-        # the twin bank's reported interval [-] and misfit flag (1 raised, 0 not), shape (n, 3): the reported interval
-        # holds the twin's, and the misfit flag is raised only where the twin's is too (NaN: no twin); an input of the
-        # compiled step, written before each step
-        self._guard = np.full((self.n, 3), math.nan, dtype=np.float64)
+        # the twin bank's reported interval [-], misfit flag (1 raised, 0 not) and force lag [s], shape (n, 4): the
+        # reported interval holds the twin's, the misfit flag is raised only where the twin's is too, and the lag's
+        # spread holds the twin's lag (NaN: no twin); an input of the compiled step, written before each step
+        self._guard = np.full((self.n, 4), math.nan, dtype=np.float64)
         bank = self._bank
         buf, layout = _pack(self)  # the arrays above become views of one buffer
         # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
@@ -685,6 +685,7 @@ class MudTrackers:
                 self._guard[:, 0] = twin._out[:, L._O_LOW]
                 self._guard[:, 1] = twin._out[:, L._O_HIGH]
                 self._guard[:, 2] = twin._out[:, L._O_MISFIT]
+                self._guard[:, 3] = twin._out[:, L._O_LAG]
                 bad = _track_step(dt, *self._args)
         else:
             bad = _track_step(dt, *self._args)
