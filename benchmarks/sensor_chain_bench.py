@@ -195,7 +195,8 @@ def _nuisances(res: Any, tr: Any, late: np.ndarray, chain: SensorChain, tt: np.n
     force_lowpass``."""
     offset = -(chain.depth_offset + drift_path(tt, chain, cseed))
     lag = chain.force_delay + chain.force_lowpass
-    out: dict[str, Any] = {"i_offset": None, "i_lag": None, "t_offset": None, "t_lag": None}
+    out: dict[str, Any] = {"i_offset": None, "i_lag": None, "t_offset": None, "t_lag": None,
+                           "i_warned": res is not None and bool(res.warnings)}
     if res is not None and math.isfinite(getattr(res, "depth_offset_stderr", math.nan)):
         if chain.drift == 0.0:
             out["i_offset"] = bool(abs(res.depth_offset - offset[0]) > 3.0 * res.depth_offset_stderr)
@@ -281,7 +282,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
                      f"{rate:.2f} | {verdict} |")
     lines += ["", "### The nuisances (issue 23, point 3): read beyond three standard errors", "",
               "identify: recordings whose surface offset or force lag is beyond three standard errors of the chain's "
-              "(the offset not judged under a drift); MudTracker: samples after "
+              "(the offset not judged under a drift), and how many of those identify gave no warning; MudTracker: "
+              "samples after "
               f"{TRACK_AFTER:g} s beyond three spreads. The lag's truth is the chain's mean delay (delay plus "
               "low-pass).", "",
               "| corruption | set | identify: offset | identify: lag | MudTracker: offset | MudTracker: lag |",
@@ -293,7 +295,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
             got = [x for x in rs if x.get(key) is not None]
             k = sum(int(x[key]) for x in got)
             n = sum(x["t_n"] for x in got) if per else len(got)
-            cells.append("-" if not got else f"{k / max(n, 1):.1%} ({k})" if per else f"{k}/{n}")
+            quiet = sum(int(x[key]) for x in got if not x.get("i_warned", False))
+            cells.append("-" if not got else f"{k / max(n, 1):.1%} ({k})" if per else f"{k}/{n} ({quiet} unwarned)")
         lines.append(f"| {row} | {kind} | " + " | ".join(cells) + " |")
     return lines
 
