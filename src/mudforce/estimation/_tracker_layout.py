@@ -417,9 +417,9 @@ _QUICK_SINK_MAX = 0.040
 #: The twin bank's branch rule [steps], [m/s] (ours): with the default rule, a second, smaller bank of the same models
 #: runs beside the first on the quick rule (:data:`_QUICK_WINDOW`, :data:`_QUICK_DEADBAND`) for every foot, at every
 #: depth and speed, and the reported interval is the union of the two banks' intervals (the estimate is the first
-#: bank's; the misfit flag is raised where both banks' are). The branch rule is a model choice the data seldom settle:
-#: on the sensor-chain bench wet
-#: robots (seeds 10, 13, 16: 32-34 %, 31-70 mm deep) read 2-4 points low on the 10-step rule with a 3-6-point interval
+#: bank's; the misfit flag is raised where both banks' are; the lag's and the offset's spreads hold the twin's
+#: readings). The branch rule is a model choice the data seldom settle: on the sensor-chain bench wet robots (seeds
+#: 10, 13, 16: 32-34 %, 31-70 mm deep) read 2-4 points low on the 10-step rule with a 3-6-point interval
 #: (confidently wrong on up to 74 % of a recording's samples) and right on shorter secants, while wet gait walks under
 #: 1 mm of depth noise and seed 3's 74-mm robot read 1-3 points high on them: no one rule is right for every foot, and
 #: the interval holds both. The twin ran a 5-step secant (no deadband) until 2026-11-29; on the quick rule it also

@@ -75,8 +75,9 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   rule (a secant over 2 steps with a 2.5 mm/s deadband) for every foot at
   every depth, and the reported interval is the union of the two banks'
   (the estimate is the first bank's, the misfit flag is raised where both
-  banks' are; the change flag reads the union, below): the branch rule is
-  a model choice the data seldom settle, and deep wet robots read points low on the 10-step rule
+  banks' are, the nuisances' spreads hold the twin's readings; the change
+  flag reads the union, below): the branch rule is a model choice the data
+  seldom settle, and deep wet robots read points low on the 10-step rule
   (the more under a lagged force, which the lag then absorbs) and right on
   the quick one, while noisy gait walks read the other way. A given
   ``velocity_filter`` has no twin.
