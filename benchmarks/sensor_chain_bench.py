@@ -49,7 +49,7 @@ import argparse
 import math
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -406,6 +406,22 @@ def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequ
     return out
 
 
+def _print_flag_table(results: Sequence[dict[str, Any]], rates: Sequence[float],
+                      cell: Callable[[list[dict[str, Any]]], str]) -> None:
+    """One table of the flag bench: a row per source, a column per rate, each cell ``cell`` of its recordings."""
+    print("| source | " + " | ".join(f"{r:g} Hz" for r in rates) + " |")
+    print("|---|" + "---|" * len(rates))
+    for source in FLAG_SOURCES:
+        cells = []
+        for rate in rates:
+            rs = [x for x in results if x["source"] == source and x["rate"] == rate]
+            if not rs:
+                break
+            cells.append(cell(rs))
+        if cells:
+            print(f"| {source} | " + " | ".join(cells) + " |")
+
+
 def run_flag_bench(args: argparse.Namespace) -> int:
     """The misfit flag's table: in family (gait, robot, robot-model) it should stay quiet, off family fire."""
     from mudforce.io.units import parse_quantity
@@ -427,38 +443,27 @@ def run_flag_bench(args: argparse.Namespace) -> int:
           "4.5 %, what another mud explains > 0.9, or two of these past 80 % of their limits); covered; confidently "
           "wrong (refused).")
     print()
-    print("| source | " + " | ".join(f"{r:g} Hz" for r in rates) + " |")
-    print("|---|" + "---|" * len(rates))
-    for source in FLAG_SOURCES:
-        cells = []
-        for rate in rates:
-            rs = [x for x in results if x["source"] == source and x["rate"] == rate]
-            if not rs:
-                break
-            ok = [x for x in rs if not x["refused"]]
-            ratios = [x["ratio"] for x in ok]
-            span = f"{min(ratios):.2f}-{max(ratios):.2f}" if ratios else "-"
-            cells.append(f"{span}, {sum(x['flag'] for x in ok)}/{len(rs)}; covered {sum(x['covered'] for x in ok)}; "
-                         f"wrong {sum(x['wrong'] for x in ok)} ({len(rs) - len(ok)})")
-        if cells:
-            print(f"| {source} | " + " | ".join(cells) + " |")
+    def identify_cell(rs: list[dict[str, Any]]) -> str:
+        ok = [x for x in rs if not x["refused"]]
+        ratios = [x["ratio"] for x in ok]
+        span = f"{min(ratios):.2f}-{max(ratios):.2f}" if ratios else "-"
+        return (f"{span}, {sum(x['flag'] for x in ok)}/{len(rs)}; covered {sum(x['covered'] for x in ok)}; "
+                f"wrong {sum(x['wrong'] for x in ok)} ({len(rs) - len(ok)})")
+
+    def tracker_cell(rs: list[dict[str, Any]]) -> str:
+        ok = [x for x in rs if not x["refused"]]
+        if not ok:
+            return "-"
+        return (f"{sum(x['t_flag'] for x in ok)}/{len(ok)}; {np.mean([x['t_share'] for x in ok]):.1%}; "
+                f"wrong {sum(x['t_wrong'] for x in ok)}")
+
+    _print_flag_table(results, rates, identify_cell)
     print()
     print(f"MudTracker's own misfit flag on the same recordings (track, default options). Each cell: flagged (the "
           f"flag raised on any sample) / recordings; the mean share of samples flagged after {TRACK_AFTER:g} s; "
           "samples after it confidently wrong (the interval misses the truth, the flag down).")
     print()
-    print("| source | " + " | ".join(f"{r:g} Hz" for r in rates) + " |")
-    print("|---|" + "---|" * len(rates))
-    for source in FLAG_SOURCES:
-        cells = []
-        for rate in rates:
-            ok = [x for x in results if x["source"] == source and x["rate"] == rate and not x["refused"]]
-            if not ok:
-                break
-            cells.append(f"{sum(x['t_flag'] for x in ok)}/{len(ok)}; {np.mean([x['t_share'] for x in ok]):.1%}; "
-                         f"wrong {sum(x['t_wrong'] for x in ok)}")
-        if cells:
-            print(f"| {source} | " + " | ".join(cells) + " |")
+    _print_flag_table(results, rates, tracker_cell)
     print()
     print(f"wall time {time.perf_counter() - start:.0f} s")
     return 0
