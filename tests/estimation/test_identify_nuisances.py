@@ -193,3 +193,22 @@ def test_the_issues_gain_case_on_the_lab_protocol_reads_the_gain() -> None:
         clean = identify_water_content(t, ds.foot)
         bare = identify_water_content(t, ds.foot, force_gain_uncertainty=0.0)
         assert clean.force_gain == 1.0 and clean.water_content == bare.water_content
+
+
+def test_the_offset_s_standard_error_holds_what_a_delay_in_the_lag_s_place_reads() -> None:
+    """A 5-ms delay on a wet walk (the sensor-chain bench's seed-48 gait walk 0, row "delay 5 ms": W 31.5 %, 30 s at
+    100 Hz) is read as a low-pass of about nothing, and the surface moves by the delay times the touchdown's speed:
+    -0.083 mm for none. With a delay in the lag's place the fit explains the data as well and reads another offset;
+    that move counts in the offset's standard error (+-0.096 mm; +-0.025 before, 3.3 of them off)."""
+    rng = np.random.default_rng([48, 1, 0])
+    w = float(rng.uniform(0.15, 0.35))
+    path = gait(int(rng.integers(0, 2**31)), duration=30.0, rate=2000.0)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(w), Foot.paper(),
+                     velocity_filter="exact").force
+    chain = SensorChain(force_noise=0.2, depth_noise=3e-5, force_bias=-0.4426441032329733, rate=100.0,
+                        force_delay=0.005)
+    t, z, f = apply(path.time, path.depth, np.asarray(force), chain, 552491422)
+    res = identify_water_content(Trial("walk.csv", w, t, z, f))
+    assert abs(res.depth_offset + 0.0825e-3) < 0.002e-3  # measured -0.0825 mm
+    assert abs(res.depth_offset) < 3.0 * res.depth_offset_stderr  # measured 0.86 of them
+    assert res.low <= w <= res.high

@@ -146,6 +146,9 @@ MAX_FORCE_LAG = 0.05
 #: counts in the lag's standard error): its start's least delay [s] and its evaluations [-] (ours).
 _SHAPE_START = 0.005
 _SHAPE_EVALUATIONS = 20
+#: The offset that fit reads counts in the offset's standard error where its sum of squares is within this many
+#: residual variances of the low-pass fit's (chi-squared's 95 % quantile, one degree of freedom; ours).
+_SHAPE_OFFSET_CHI2 = 3.841
 #: Half-widths of the secants that read the surface offset's [m] and the force lag's [s] part in their standard
 #: errors (:func:`_nuisance_stderr`; ours): 0.5 mm and 2 ms, a few times what the bench's recordings read them to,
 #: and wide enough to step over a branch switch that a move of a few micrometres makes at one sample.
@@ -287,7 +290,8 @@ class Identification:
         NaN on the protocol path. The two standard errors add in quadrature the scatter (least squares' or, where
         larger, the spread over the contact episodes, each read on secants 0.5 mm and 2 ms wide), the rate check's
         move of each, and the misfit's worst case (:func:`_nuisance_stderr`); the lag's also the lag's shape: the
-        mean delay the same fit reads with a pure delay in place of the low-pass, less the lag. On the
+        mean delay the same fit reads with a pure delay in place of the low-pass, less the lag; the offset's the
+        offset that fit reads, less the offset, where it explains the data as well. On the
         sensor-chain bench each holds its truth within three of them (docs/estimation.md, "The nuisances' standard
         errors").
     force_gain_uncertainty : float
@@ -521,7 +525,9 @@ def _nuisance_stderr(residual: Callable[[np.ndarray], np.ndarray], x: np.ndarray
       late): they read slopes a thousand times too steep, and errors of nanometres;
     - ``moves``, each nuisance's systematic moves: the rate check's (the same refits on the even and the odd samples
       and with the turns on their branches: the model's own error at the data's rate, which the scatter does not
-      see) and, for the lag, its shape's (the mean delay a pure delay in its place reads, less the lag);
+      see) and, for the lag, its shape's (the mean delay a pure delay in its place reads, less the lag), and for the
+      offset the offset that fit reads, less the offset, where its sum of squares is within
+      :data:`_SHAPE_OFFSET_CHI2` residual variances of the low-pass fit's;
     - the misfit's worst case, ``unexplained / rms(J_j)`` (as the interval's ``misfit_shift``): a residual the
       family cannot explain (a delay read as a lag, the depth's unresolved motion) moves a nuisance by at most that.
 
@@ -1198,7 +1204,14 @@ def identify_water_content(
         # (the joint fit's bounds and scales, the delay in the lag's place)
         shape = joint_fit(lambda th: evaluate(float(th[0]), float(th[1]), 0.0, gain, delay=float(th[2]))[0],
                           np.array([w_best, offset, max(lag, _SHAPE_START)]), _SHAPE_EVALUATIONS)
-        moves = np.hypot(rate_moves, np.array([0.0, 0.0, float(shape.x[2]) - lag]))
+        # ... and the surface offset it reads counts in the offset's, where that fit explains the data as well
+        # (its sum of squares within chi-squared's 95 % quantile, one degree, times the residual variance of the
+        # low-pass's; _SHAPE_OFFSET_CHI2): a delay read as no lag moves the surface by the delay times the
+        # touchdown's speed (0.05-0.11 mm on wet walks whose offset read to 0.02 mm), while a delay fit that ends
+        # hundreds of times worse (20 evaluations from the low-pass's answer) says nothing of the offset
+        same = 2.0 * float(shape.cost) <= float(np.sum(r**2)) + _SHAPE_OFFSET_CHI2 * s2
+        moves = np.hypot(rate_moves, np.array([0.0, float(shape.x[1]) - offset if same else 0.0,
+                                               float(shape.x[2]) - lag]))
         stderr = _nuisance_stderr(lambda x: evaluate(float(x[0]), float(x[1]), float(x[2]), gain)[0],
                                   np.array([w_best, offset, lag]), jac, r, f_best != 0.0, s2, moves, unexplained)
     # the member that explains the data best by the flag's statistic (each sample over its own floor, the bias
