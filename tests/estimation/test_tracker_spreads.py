@@ -14,10 +14,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from mudforce.estimation import _tracker_layout as L
-from mudforce.estimation._tracker_step import _delayed
+from mudforce.estimation._tracker_step import _delayed_forces
 from mudforce.estimation.tracker import track
 from mudforce.model.foot import Foot
 from mudforce.model.velocity import VelocityFilter
@@ -36,11 +35,14 @@ def test_a_delay_reads_the_ring_linearly_between_its_steps() -> None:
     aux[0, L._A_DHEAD] = 4
     aux[0, L._A_DN] = 5
     aux[0, L._A_CLOCK] = 0.04
-    assert _delayed(aux, 0, 0.0) == 40.0
-    assert _delayed(aux, 0, 0.005) == pytest.approx(35.0, rel=1e-12)
-    assert _delayed(aux, 0, 0.02) == pytest.approx(20.0, rel=1e-12)
-    assert _delayed(aux, 0, 0.035) == pytest.approx(5.0, rel=1e-12)
-    assert _delayed(aux, 0, 0.1) == 0.0  # beyond the ring's oldest: the oldest
+
+    def delayed(*delays: float) -> np.ndarray:
+        _delayed_forces(aux, 0, np.array(delays), L._A_DEL_Y)  # (one walk for all: ascending)
+        return aux[0, L._A_DEL_Y:L._A_DEL_Y + len(delays)].copy()
+
+    # beyond the ring's oldest: the oldest
+    np.testing.assert_allclose(delayed(0.0, 0.005, 0.02, 0.035, 0.1), [40.0, 35.0, 20.0, 5.0, 0.0], rtol=1e-12)
+    np.testing.assert_allclose(delayed(0.02), [20.0], rtol=1e-12)  # one alone reads the same
     # a ring that wrapped: the head at 1, the oldest entry at 2
     ring = np.roll(np.arange(L._N_DRING, dtype=float), 2)  # entry i holds step (i - 2) % 64
     aux[0, L._A_DRING:L._A_DRING + L._N_DRING] = ring
@@ -48,8 +50,7 @@ def test_a_delay_reads_the_ring_linearly_between_its_steps() -> None:
     aux[0, L._A_DHEAD] = 1
     aux[0, L._A_DN] = L._N_DRING
     aux[0, L._A_CLOCK] = 63e-3
-    assert _delayed(aux, 0, 0.0105) == pytest.approx(52.5, rel=1e-12)
-    assert _delayed(aux, 0, 1.0) == 0.0
+    np.testing.assert_allclose(delayed(0.0105, 1.0), [52.5, 0.0], rtol=1e-12)
 
 
 def test_a_pure_delay_on_a_gait_walk_stays_within_the_lag_s_spread() -> None:

@@ -71,10 +71,19 @@ _A_DHEAD = _A_QUICK + 16  # the ring's newest entry
 _A_DN = _A_QUICK + 17  # the entries it holds
 _N_DELAYS = 6  # pure delay hypotheses of the reported lag (_DELAYS)
 _A_DEL_L = _A_QUICK + 18  # then one per delay hypothesis: its log-likelihood (forgotten as the lag hypotheses')
+_A_DEL_Y = _A_DEL_L + _N_DELAYS  # then one per delay hypothesis: the mean model's force that much before [N]
 _N_DRING = 64  # the ring's entries: the mean model's force at the last (sub)steps
-_A_DRING = _A_DEL_L + _N_DELAYS  # then the ring's forces [N]
+_A_DRING = _A_DEL_Y + _N_DELAYS  # then the ring's forces [N]
 _A_DRING_T = _A_DRING + _N_DRING  # then their times [s] (on _A_CLOCK)
 _N_AUX = _A_DRING_T + _N_DRING
+
+# the twin bank's readings this bank's step takes (MudTrackers._guard, NaN where no twin runs)
+_G_LOW = 0  # its reported interval's low end [-] (the reported interval holds the twin's)
+_G_HIGH = 1  # and high end [-]
+_G_MISFIT = 2  # its misfit flag, 1 raised, 0 not (the misfit flag is raised only where the twin's is too)
+_G_LAG = 3  # its force lag [s] (the lag's spread holds it)
+_G_OFFSET = 4  # its surface offset [m] (the offset's spread holds it)
+_N_GUARD = 5
 
 # outputs, columns of MudTrackers._out
 _O_W = 0
@@ -338,7 +347,7 @@ _LAG_LOG_PRIOR = -_LAGS / 0.005
 #: lag and its spread only, beside the low-pass hypotheses under one flat prior; the bank's own lag reads the
 #: low-passes (:data:`_N_BANK_LAGS`).
 _DELAYS = np.array([0.005, 0.01, 0.015, 0.02, 0.03, 0.04])
-assert _DELAYS.size == _N_DELAYS
+assert _DELAYS.size == _N_DELAYS and np.all(np.diff(_DELAYS) > 0.0)  # ascending: read off the ring in one walk
 #: Memory of the online depth noise estimate [s of contact] (ours).
 _DEPTH_NOISE_MEMORY = 2.0
 #: A step within this many standard deviations of the depth noise (on the difference of two samples, the noise in

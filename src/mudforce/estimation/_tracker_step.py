@@ -29,6 +29,7 @@ from mudforce.estimation._tracker_layout import (
     _A_CONTACT,
     _A_D2VAR,
     _A_DEL_L,
+    _A_DEL_Y,
     _A_DHEAD,
     _A_DN,
     _A_DRING,
@@ -105,6 +106,11 @@ from mudforce.estimation._tracker_layout import (
     _DEPTH_NOISE0,
     _DEPTH_NOISE_MEMORY,
     _END_REACH,
+    _G_HIGH,
+    _G_LAG,
+    _G_LOW,
+    _G_MISFIT,
+    _G_OFFSET,
     _LAG_LOG_PRIOR,
     _LAG_WIDENING,
     _LAG_WIDENING_STEP,
@@ -321,25 +327,28 @@ def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool 
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _delayed(aux: np.ndarray, j: int, d: float) -> float:
-    """Foot ``j``'s mean model force [N] ``d`` [s] before its last (sub)step, from the delay hypotheses' ring (ours,
-    :data:`_DELAYS`): linear between the two entries about that time, the oldest held where the ring reaches no
-    further back."""
+def _delayed_forces(aux: np.ndarray, j: int, delays: np.ndarray, column: int) -> None:
+    """Foot ``j``'s mean model force [N] each of ``delays`` [s] (ascending) before its last (sub)step, from the delay
+    hypotheses' ring, into ``aux[j, column + k]`` (ours, :data:`_DELAYS`): linear between the two entries about that
+    time, the oldest held where the ring reaches no further back; one walk back through the ring for them all."""
     head = int(aux[j, _A_DHEAD])
     held = int(aux[j, _A_DN])
-    when = aux[j, _A_CLOCK] - d
+    clock = aux[j, _A_CLOCK]
+    d = 0
     newer = head
     for k in range(1, held):
         older = (head - k) % _N_DRING
         t_old = aux[j, _A_DRING_T + older]
-        if t_old <= when:
+        while d < delays.shape[0] and t_old <= clock - delays[d]:
             t_new = aux[j, _A_DRING_T + newer]
-            u = (when - t_old) / (t_new - t_old) if t_new > t_old else 1.0
-            y: float = aux[j, _A_DRING + older] + u * (aux[j, _A_DRING + newer] - aux[j, _A_DRING + older])
-            return y
+            u = (clock - delays[d] - t_old) / (t_new - t_old) if t_new > t_old else 1.0
+            aux[j, column + d] = aux[j, _A_DRING + older] + u * (aux[j, _A_DRING + newer] - aux[j, _A_DRING + older])
+            d += 1
+        if d == delays.shape[0]:
+            return
         newer = older
-    oldest: float = aux[j, _A_DRING + newer]
-    return oldest
+    for k in range(d, delays.shape[0]):
+        aux[j, column + k] = aux[j, _A_DRING + newer]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -674,8 +683,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 aux[j, _A_LAG_L + k] = v
                 if k < _N_BANK_LAGS:
                     top_k = max(top_k, v / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k])
+            _delayed_forces(aux, j, _DELAYS, _A_DEL_Y)
             for k in range(_DELAYS.shape[0]):  # the reported lag's pure delays, scored the same way
-                yk = _delayed(aux, j, _DELAYS[k])
+                yk = aux[j, _A_DEL_Y + k]
                 rk = f - bias - yk
                 sk = var + bias_var + floor2 + misfit2 * yk * yk
                 aux[j, _A_DEL_L + k] = keep * aux[j, _A_DEL_L + k] + weight * (
@@ -845,17 +855,16 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         # holds its cell too (the grid stands for a continuum; the interval's shallow widening below holds the
         # offset's as _C_OFFSET_RES, the likelihood's scale the bank's lag's as _C_LAG)
         out[j, _O_LAG], out[j, _O_LAG_SD] = _lag_reading(aux, j, cfg[_C_OFFSET_TEMPER])
-        # ... and its spread holds what the twin bank reads (``guard[j, 3]``): the branch rule is a model choice, and
-        # the lag takes up what a rule misses (a deep wet robot's 30-ms low-pass read as 45 ms on the first bank's)
-        if not math.isnan(guard[j, 0]):
-            out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (out[j, _O_LAG] - guard[j, 3]) ** 2)
         out[j, _O_OFFSET_SD] = math.sqrt(osd * osd + oc)
-        # the reported offset's spread too (``guard[j, 4]``; the twin's offsets are the three within 3 mm, so beyond
-        # them this is wider than the first bank's own doubt, and not read within them: that lost the combined rows,
-        # whose drift takes the offset past 3 mm): on the deep wet robots at 20 Hz under a lag the first bank read a
-        # -5 mm offset as +2 to +3 mm with a 2.4-mm spread
-        if not math.isnan(guard[j, 0]):
-            out[j, _O_OFFSET_SD] = math.sqrt(out[j, _O_OFFSET_SD] ** 2 + (out[j, _O_OFFSET] - guard[j, 4]) ** 2)
+        # ... and each spread holds what the twin bank reads: the branch rule is a model choice, and the nuisances take
+        # up what a rule misses (a deep wet robot's 30-ms low-pass read as 45 ms on the first bank's rule; at 20 Hz
+        # under a lag a -5 mm offset read as +2 to +3 mm with a 2.4-mm spread). The twin's offsets are the three
+        # within 3 mm, so beyond them the offset's is wider than the first bank's own doubt; read within them it lost
+        # the combined rows, whose drift takes the offset past 3 mm
+        if not math.isnan(guard[j, _G_LOW]):
+            out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (out[j, _O_LAG] - guard[j, _G_LAG]) ** 2)
+            out[j, _O_OFFSET_SD] = math.sqrt(out[j, _O_OFFSET_SD] ** 2
+                                             + (out[j, _O_OFFSET] - guard[j, _G_OFFSET]) ** 2)
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         settled = w_high - w_low <= cfg[_C_SETTLE]  # the plain blur's interval: settled (the change flag's)
@@ -900,9 +909,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         # within, reaches that end (ours, _END_REACH)
         w_low, w_high = _reach_ends(w_low, w_high, edges[0], edges[edges.shape[0] - 1], half)
         # the reported interval also holds the twin bank's, where one runs (``guard``; NaN where none does)
-        if not math.isnan(guard[j, 0]):
-            w_low = min(w_low, guard[j, 0])
-            w_high = max(w_high, guard[j, 1])
+        if not math.isnan(guard[j, _G_LOW]):
+            w_low = min(w_low, guard[j, _G_LOW])
+            w_high = max(w_high, guard[j, _G_HIGH])
         # change flag: a settled estimate whose reported interval lies clear of the anchor's (ours, 2026-11-29: the
         # reported intervals, not the fit's plain ones, so that the flag never says more than the intervals do; and
         # the anchor's interval, not its point, so that a posterior flipping between two modes that the reported
@@ -950,10 +959,10 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         out[j, _O_NOISE] = math.sqrt(aux[j, _A_VAR])
         out[j, _O_CHANGED] = changed
         # the misfit flag: this bank's average over its threshold, and the twin bank's flag raised too where one runs
-        # (``guard[j, 2]``): the family holds both branch rules, as the reported interval does (_TWIN_WINDOW)
+        # (``guard[j, _G_MISFIT]``): the family holds both branch rules, as the reported interval does (_TWIN_WINDOW)
         out[j, _O_MISFIT] = 1.0 if (aux[j, _A_CONTACT] >= _MISFIT_MIN_CONTACT
                                     and aux[j, _A_MISFIT] > cfg[_C_MISFIT_RATIO]
-                                    and (math.isnan(guard[j, 0]) or guard[j, 2] != 0.0)) else 0.0
+                                    and (math.isnan(guard[j, _G_LOW]) or guard[j, _G_MISFIT] != 0.0)) else 0.0
         aux[j, _A_PPREV] = pred
         aux[j, _A_PSUB] = pred
         aux[j, _A_Z3] = aux[j, _A_Z2]

@@ -617,11 +617,9 @@ class MudTrackers:
         self._out = np.zeros((self.n, L._N_OUT), dtype=np.float64)
         self._depths = np.zeros(self.n, dtype=np.float64)
         self._forces = np.zeros(self.n, dtype=np.float64)
-        # the twin bank's reported interval [-], misfit flag (1 raised, 0 not), force lag [s] and surface offset [m],
-        # shape (n, 5): the reported interval holds the twin's, the misfit flag is raised only where the twin's is too,
-        # and the lag's and the offset's spreads hold the twin's readings (NaN: no twin); an input of the compiled
-        # step, written before each step
-        self._guard = np.full((self.n, 5), math.nan, dtype=np.float64)
+        # the twin bank's readings this bank's step takes (its columns L._G_LOW ... L._G_OFFSET; NaN: no twin), an input
+        # of the compiled step, written before each step
+        self._guard = np.full((self.n, L._N_GUARD), math.nan, dtype=np.float64)
         bank = self._bank
         buf, layout = _pack(self)  # the arrays above become views of one buffer
         # the compiled step's arrays after dt, in its order (all updated in place, never rebound)
@@ -686,11 +684,11 @@ class MudTrackers:
             bad = _track_step(dt, *twin._args)  # the same check of the sample as the first bank's, before any change
             if bad < 0:
                 twin._started = True
-                self._guard[:, 0] = twin._out[:, L._O_LOW]
-                self._guard[:, 1] = twin._out[:, L._O_HIGH]
-                self._guard[:, 2] = twin._out[:, L._O_MISFIT]
-                self._guard[:, 3] = twin._out[:, L._O_LAG]
-                self._guard[:, 4] = twin._out[:, L._O_OFFSET]
+                self._guard[:, L._G_LOW] = twin._out[:, L._O_LOW]
+                self._guard[:, L._G_HIGH] = twin._out[:, L._O_HIGH]
+                self._guard[:, L._G_MISFIT] = twin._out[:, L._O_MISFIT]
+                self._guard[:, L._G_LAG] = twin._out[:, L._O_LAG]
+                self._guard[:, L._G_OFFSET] = twin._out[:, L._O_OFFSET]
                 bad = _track_step(dt, *self._args)
         else:
             bad = _track_step(dt, *self._args)
