@@ -295,8 +295,13 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
             got = [x for x in rs if x.get(key) is not None]
             k = sum(int(x[key]) for x in got)
             n = sum(x["t_n"] for x in got) if per else len(got)
-            quiet = sum(int(x[key]) for x in got if not x.get("i_warned", False))
-            cells.append("-" if not got else f"{k / max(n, 1):.1%} ({k})" if per else f"{k}/{n} ({quiet} unwarned)")
+            if not got:
+                cells.append("-")
+            elif per:  # the tracker's: samples
+                cells.append(f"{k / max(n, 1):.1%} ({k})")
+            else:  # identify's: recordings, and those it gave no warning
+                quiet = sum(int(x[key]) for x in got if not x["i_warned"])
+                cells.append(f"{k}/{n} ({quiet} unwarned)")
         lines.append(f"| {row} | {kind} | " + " | ".join(cells) + " |")
     return lines
 
