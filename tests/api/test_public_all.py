@@ -53,9 +53,10 @@ PINNED: dict[str, list[str]] = {
         "register_model", "save_dataset", "synthesize", "synthesize_gait", "tare",
     ],
     "mudforce.estimation.calibration.branches": [
-        "CREEP_SAMPLES", "CREEP_SIGMAS", "CUT", "JUMP_REWARD_CAP", "QUIET_MIN_WINDOWS", "QUIET_ORDER", "QUIET_QUANTILE",
-        "QUIET_RATIO", "QUIET_SCALE", "QUIET_WINDOW", "SWITCH_COST", "corner_preserving_smooth", "creep_withdrawals",
-        "denoise_depth", "estimate_force_noise",
+        "CREEP_SAMPLES", "CREEP_SIGMAS", "CUT", "JUMP_REWARD_CAP", "QUIET_FINE_MIN_SAMPLES", "QUIET_FINE_ORDER",
+        "QUIET_FINE_RATIO", "QUIET_FINE_SCALE", "QUIET_FINE_WINDOW", "QUIET_MIN_WINDOWS", "QUIET_ORDER",
+        "QUIET_QUANTILE", "QUIET_RATIO", "QUIET_SCALE", "QUIET_WINDOW", "SWITCH_COST", "corner_preserving_smooth",
+        "creep_withdrawals", "denoise_depth", "estimate_force_noise",
         "estimate_quiet_noise", "label_branches", "rest_steps",
     ],
     "mudforce.estimation.calibration.dataset": [

@@ -11,6 +11,11 @@ import pytest
 from mudforce.errors import InputError
 from mudforce.estimation.calibration import Trial, identify_water_content
 from mudforce.estimation.calibration.branches import (
+    QUIET_FINE_MIN_SAMPLES,
+    QUIET_FINE_ORDER,
+    QUIET_FINE_RATIO,
+    QUIET_FINE_SCALE,
+    QUIET_FINE_WINDOW,
     QUIET_MIN_WINDOWS,
     QUIET_ORDER,
     QUIET_QUANTILE,
@@ -42,6 +47,52 @@ def test_the_quantile_reads_white_noise_right() -> None:
     windows = values.size // QUIET_WINDOW
     levels = np.median(values[:windows * QUIET_WINDOW].reshape(windows, QUIET_WINDOW), axis=1) / 0.6744897501960817
     assert float(np.quantile(levels, QUIET_QUANTILE)) == pytest.approx(QUIET_SCALE, rel=0.01)
+
+
+def test_the_finer_quantile_reads_white_noise_right() -> None:
+    """The finer reading's scale is what its quantile of sliding windows' levels reads on white noise."""
+    from mudforce.estimation.calibration.branches import _unit_differences
+
+    rng = np.random.default_rng(9)
+    t = np.arange(200_000) * 0.05
+    values = np.abs(_unit_differences(t, rng.normal(size=t.size), QUIET_FINE_ORDER))
+    levels = np.median(np.lib.stride_tricks.sliding_window_view(values, QUIET_FINE_WINDOW), axis=1)
+    assert float(np.quantile(levels, QUIET_QUANTILE)) / 0.6744897501960817 == pytest.approx(QUIET_FINE_SCALE,
+                                                                                            rel=0.01)
+
+
+def test_the_finer_reading_never_takes_white_noise_low() -> None:
+    """On white noise of the fewest samples it reads (and more), the finer reading is never taken: it would have to
+    read under a third of the whole estimate (200 seeded records of each length)."""
+    rng = np.random.default_rng(10)
+    for n in (QUIET_FINE_MIN_SAMPLES, 600, 3000):
+        t = np.cumsum(rng.uniform(0.04, 0.06, n))
+        for _ in range(200):
+            z = 3e-5 * rng.normal(size=n)
+            assert estimate_quiet_noise(t, z) == estimate_force_noise(t, z)
+
+
+def test_a_robot_at_20_hz_reads_its_stances_not_its_swings() -> None:
+    """A MuJoCo trot at 20 Hz: a stance lasts five samples between swings of centimetres, every window of fifth
+    differences holds a swing, and the whole record read 1.44 mm for 0.03 mm of noise; the finer reading reads the
+    stances, and identify's interval holds the truth (it held it before too, read from 1.4 mm)."""
+    pytest.importorskip("mujoco")
+    from mudforce.motions.quadruped import ROBOT_FOOT, robot_walk
+
+    run = robot_walk("trot", W, seed=3, duration=10.0)
+    chain = SensorChain(force_noise=0.2, depth_noise=DEPTH_NOISE, force_bias=0.4, rate=20.0)
+    tt, zz, ff = apply(run.time, run.depth, run.force_contact, chain, 5)
+    whole = estimate_force_noise(tt, zz)
+    read = estimate_quiet_noise(tt, zz)
+    assert whole > 30 * DEPTH_NOISE  # measured 1.44 mm
+    assert whole > QUIET_FINE_RATIO * read and DEPTH_NOISE < read < 5 * DEPTH_NOISE  # measured 0.097 mm
+    res = identify_water_content(Trial("trot", W, tt, zz, ff), ROBOT_FOOT)
+    assert res.depth_noise == read
+    assert res.unresolved_depth == pytest.approx(np.sqrt(whole**2 - read**2), rel=1e-12)
+    assert res.low <= W <= res.high  # measured 25.03 % [23.12, 27.76]
+    # too few samples for the finer reading: the whole record's estimate, as before
+    short = QUIET_FINE_MIN_SAMPLES - 1
+    assert estimate_quiet_noise(tt[:short], zz[:short]) == estimate_force_noise(tt[:short], zz[:short])
 
 
 def test_stationary_noise_keeps_the_whole_estimate_bit_for_bit() -> None:
