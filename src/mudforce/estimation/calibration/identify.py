@@ -1298,9 +1298,13 @@ def identify_water_content(
         # or depth offset (docs/estimation-history.md, "identify's estimate at the misfit member")
         if estimate_fails:
             estimate = misfit_w
-            # with the allowances least squares' estimate has: the gain's shift and the rate check's
-            low = max(min(low, estimate - MIN_HALF_WIDTH - shift_down - rate_shift), lo)
-            high = min(max(high, estimate + MIN_HALF_WIDTH + shift_up + rate_shift), hi)
+            # with the allowances least squares' estimate has: the evidence's spread over the contact episodes (the
+            # member is read from the same episodes; without it a shallow dry robot under a 30-ms low-pass, read at
+            # 17.17 % for 16.33, held [16.37, 26.43], unflagged: docs/estimation-history.md, "identify's moved
+            # estimate holds the episodes' spread"), the gain's shift and the rate check's
+            reach = max(MIN_HALF_WIDTH, sandwich)
+            low = max(min(low, estimate - reach - shift_down - rate_shift), lo)
+            high = min(max(high, estimate + reach + shift_up + rate_shift), hi)
     # at the range's edge: the reported estimate, or least squares' where the estimate moved off it
     edge = [name for name, x in (("the estimate", estimate), ("least squares' estimate", w_best))
             if x - lo < 1e-3 or hi - x < 1e-3]
