@@ -205,7 +205,7 @@ def estimate_quiet_noise(time: np.ndarray, signal: np.ndarray) -> float:
     to 19 mm for 0.03 mm on the sensor-chain bench's MuJoCo robots at 20 Hz). A finer reading is then taken: the
     same quantile of the levels of second differences (:data:`QUIET_FINE_ORDER`) in sliding windows of
     :data:`QUIET_FINE_WINDOW`, over what it reads on white noise (:data:`QUIET_FINE_SCALE`), where the estimate above
-    reads more than :data:`QUIET_FINE_RATIO` times as much (0.06-0.2 mm on those robots; never at 50 Hz or above
+    reads more than :data:`QUIET_FINE_RATIO` times as much (0.05-0.4 mm on those robots; never at 50 Hz or above
     on the bench's recordings), on records of :data:`QUIET_FINE_MIN_SAMPLES` or more (also below
     :data:`QUIET_MIN_WINDOWS`' windows: its sliding windows scatter less). A foot that never rests still reads its
     motion.
