@@ -327,6 +327,18 @@ def _lag_hypotheses(aux: np.ndarray, j: int, h: float, mean: float, first: bool 
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _hypothesis_score(score: float, force: float, measured: float, base: float, misfit2: float, dof: float,
+                      keep: float, weight: float) -> float:  # pragma: no cover
+    """A force lag or delay hypothesis's log-likelihood [-] after one sample (ours): its last ``score`` forgotten by
+    ``keep`` [-], plus ``weight`` [-] times the Student-t log-density (``dof`` [-]) of the tared ``measured`` force
+    [N] about the mean model's ``force`` through the hypothesis [N], on the scale ``base + misfit2 * force^2``
+    [N^2] (the noise, the tare's and the floor's variances, and the misfit's share of the force)."""
+    r = measured - force
+    s = base + misfit2 * force * force
+    return keep * score + weight * (-0.5 * (dof + 1.0) * math.log1p(r * r / (dof * s)) - 0.5 * math.log(s))
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _delayed_forces(aux: np.ndarray, j: int, delays: np.ndarray, column: int) -> None:
     """Foot ``j``'s mean model force [N] each of ``delays`` [s] (ascending) before its last (sub)step, from the delay
     hypotheses' ring, into ``aux[j, column + k]`` (ours, :data:`_DELAYS`): linear between the two entries about that
@@ -675,21 +687,15 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             # content's evidence, and tempered as the surface offsets': a wrong lag is a misfit at every change)
             top_k = -1e300
             for k in range(_LAGS.shape[0]):
-                yk = aux[j, _A_LAG_Y2 + k]
-                rk = f - bias - yk
-                sk = var + bias_var + floor2 + misfit2 * yk * yk
-                v = keep * aux[j, _A_LAG_L + k] + weight * (
-                    -0.5 * (dof + 1.0) * math.log1p(rk * rk / (dof * sk)) - 0.5 * math.log(sk))
+                v = _hypothesis_score(aux[j, _A_LAG_L + k], aux[j, _A_LAG_Y2 + k], f - bias, var + bias_var + floor2,
+                                      misfit2, dof, keep, weight)
                 aux[j, _A_LAG_L + k] = v
                 if k < _N_BANK_LAGS:
                     top_k = max(top_k, v / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k])
             _delayed_forces(aux, j, _DELAYS, _A_DEL_Y)
             for k in range(_DELAYS.shape[0]):  # the reported lag's pure delays, scored the same way
-                yk = aux[j, _A_DEL_Y + k]
-                rk = f - bias - yk
-                sk = var + bias_var + floor2 + misfit2 * yk * yk
-                aux[j, _A_DEL_L + k] = keep * aux[j, _A_DEL_L + k] + weight * (
-                    -0.5 * (dof + 1.0) * math.log1p(rk * rk / (dof * sk)) - 0.5 * math.log(sk))
+                aux[j, _A_DEL_L + k] = _hypothesis_score(aux[j, _A_DEL_L + k], aux[j, _A_DEL_Y + k], f - bias,
+                                                         var + bias_var + floor2, misfit2, dof, keep, weight)
             zk = l1 = l2 = la = 0.0
             for k in range(_N_BANK_LAGS):
                 pk = math.exp(aux[j, _A_LAG_L + k] / cfg[_C_OFFSET_TEMPER] + _LAG_LOG_PRIOR[k] - top_k)
