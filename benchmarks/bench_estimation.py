@@ -43,6 +43,8 @@ with ``sigma_y`` x0.3), at each of ``--flag-rates``, with identify's depth noise
 (``--known-depth-noise``) given::
 
     python benchmarks/bench_estimation.py --sensor-chain --misfit-flag --robots 4 --walks 2 --duration 10s
+
+and with ``--family-window 10s`` (and ``--duration 20s``) a third table: MudTracker with its family check.
 """
 
 from __future__ import annotations
@@ -97,6 +99,9 @@ def main() -> int:
     parser.add_argument("--flag-rates", default="50Hz,100Hz,1000Hz", help="--misfit-flag: the rates")
     parser.add_argument("--known-depth-noise", action="store_true",
                         help="--misfit-flag: give identify the chain's depth noise (as a robot that logs it)")
+    parser.add_argument("--family-window", default=None,
+                        help="--misfit-flag: also MudTracker with its family check (track(family_window=...): "
+                             "identify's flag on the last WINDOW, e.g. 10s, every 2.5 s); --duration must exceed it")
     parser.add_argument("--tracker-only", action="store_true",
                         help="--sensor-chain: only the MudTracker rows (identify and fit skipped)")
     args = parser.parse_args()

@@ -306,6 +306,32 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
     return lines
 
 
+def _run_units(unit: Callable[..., list[dict[str, Any]]], units: Sequence[tuple[str, int]], args: argparse.Namespace,
+               label: str, *rest: Any) -> list[dict[str, Any]]:
+    """``unit(kind, i, *rest)`` over every unit, on ``args.jobs`` worker processes, with a progress line; the
+    results in the order of completion (the caller sorts them)."""
+    results: list[dict[str, Any]] = []
+    with Progress(len(units), label, quiet=args.quiet) as progress:
+        if args.jobs == 1:
+            for kind, i in units:
+                results += unit(kind, i, *rest)
+                progress.update(1, f"{kind} {i}")
+            return results
+        from concurrent.futures import as_completed
+
+        from mudforce.reproduce.jobs import executor
+
+        pool = executor(args.jobs)
+        try:
+            futures = {pool.submit(unit, kind, i, *rest): (kind, i) for kind, i in units}
+            for future in as_completed(futures):
+                results += future.result()
+                progress.update(1, "{} {}".format(*futures[future]))
+        finally:
+            pool.shutdown()
+    return results
+
+
 def run_bench(args: argparse.Namespace) -> int:
     """Run the bench and print its tables (markdown); returns 0."""
     from mudforce.io.units import parse_quantity
@@ -320,29 +346,9 @@ def run_bench(args: argparse.Namespace) -> int:
             return 2
     if args.jobs < 1 or min(args.robots, args.walks, args.fit_recordings) < 0:
         raise InputError("--jobs must be >= 1; --robots, --walks and --fit-recordings >= 0")
-    units = _units(args)
     start = time.perf_counter()
-    results: list[dict[str, Any]] = []
-    with Progress(len(units), "sensor-chain bench", quiet=args.quiet) as progress:
-        if args.jobs == 1:
-            for kind, i in units:
-                results += run_unit(kind, i, args.seed, duration, args.fit_recordings, args.tracker_only)
-                progress.update(1, f"{kind} {i}")
-        else:
-            from concurrent.futures import as_completed
-
-            from mudforce.reproduce.jobs import executor
-
-            pool = executor(args.jobs)
-            try:
-                futures = {pool.submit(run_unit, kind, i, args.seed, duration, args.fit_recordings,
-                                       args.tracker_only): (kind, i)
-                           for kind, i in units}
-                for future in as_completed(futures):
-                    results += future.result()
-                    progress.update(1, "{} {}".format(*futures[future]))
-            finally:
-                pool.shutdown()
+    results = _run_units(run_unit, _units(args), args, "sensor-chain bench", args.seed, duration,
+                         args.fit_recordings, args.tracker_only)
     results.sort(key=lambda x: (SOURCES.index(x["source"]), x["index"], x["row"]))  # independent of the workers
     elapsed = time.perf_counter() - start
     sources = [s for s in SOURCES if any(x["source"] == s for x in results)]
@@ -364,7 +370,7 @@ FLAG_SOURCES = ("gait", "robot", "robot-model", "F = kz (gait)", "alpha x2, sigm
 
 
 def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequence[float],
-                  known_depth_noise: bool) -> list[dict[str, Any]]:
+                  known_depth_noise: bool, family_window: float | None = None) -> list[dict[str, Any]]:
     """identify's misfit flag, and MudTracker's, on one unit's clean recordings and on two off-family muds along the
     same path.
 
@@ -399,15 +405,31 @@ def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequ
             covered = res.interval[0] <= w <= res.interval[1]
             # MudTracker's own (online) flag on the same recording: raised on any sample, and the samples after
             # TRACK_AFTER whose interval misses the truth with the flag down
-            tr = track(tt, zz, ff, foot)
+            # (with the family check where asked: the tracker's own estimates and flag are the same bits either way)
+            tr = track(tt, zz, ff, foot) if family_window is None else track(tt, zz, ff, foot,
+                                                                               family_window=family_window)
             late = tt - tt[0] >= TRACK_AFTER
             missed = (tr.low[late] > w) | (w > tr.high[late])
-            out.append({"source": source, "rate": rate, "refused": False, "ratio": res.misfit_ratio,
-                        "flag": res.model_misses_data, "covered": covered,
-                        "wrong": not covered and not res.warnings,
-                        "t_flag": tr.model_misses_data,
-                        "t_share": float(np.mean(tr.misfit[late])) if late.any() else 0.0,
-                        "t_wrong": int(np.sum(missed & ~tr.misfit[late]))})
+            own = np.asarray(tr.misfit, dtype=bool)
+            item = {"source": source, "rate": rate, "refused": False, "ratio": res.misfit_ratio,
+                    "flag": res.model_misses_data, "covered": covered,
+                    "wrong": not covered and not res.warnings,
+                    "t_flag": bool(np.any(own)),
+                    "t_share": float(np.mean(own[late])) if late.any() else 0.0,
+                    "t_wrong": int(np.sum(missed & ~own[late]))}
+            if family_window is not None:
+                # the family check beside the tracker (the tracker's own estimates are the same bits with it or
+                # without): checks flagged and told nothing, and the samples from the first check on whose interval
+                # misses the truth with both flags down
+                fam = tr.family_checks
+                flags = np.asarray(tr.family_misfit)
+                after = np.arange(tt.size) >= (fam[0][0] if fam else tt.size)
+                miss = (tr.low > w) | (w > tr.high)
+                item.update(f_checks=len(fam), f_flagged=sum(v.model_misses_data is True for _, v in fam),
+                            f_none=sum(v.model_misses_data is None for _, v in fam), f_any=bool(flags.any()),
+                            f_n=int(after.sum()), f_share=float(np.mean((flags | own)[after])) if after.any()
+                            else 0.0, f_wrong=int(np.sum(miss & after & ~flags & ~own)))
+            out.append(item)
     return out
 
 
@@ -433,13 +455,14 @@ def run_flag_bench(args: argparse.Namespace) -> int:
 
     duration = parse_quantity(args.duration or "10s", "time", name="--duration")
     rates = [parse_quantity(r, "frequency", name="--flag-rates") for r in args.flag_rates.split(",")]
-    units = _units(args)
+    family_window = None if args.family_window is None else parse_quantity(args.family_window, "time",
+                                                                           name="--family-window")
+    if args.jobs < 1:
+        raise InputError("--jobs must be >= 1")
     start = time.perf_counter()
-    results: list[dict[str, Any]] = []
-    with Progress(len(units), "misfit-flag bench", quiet=args.quiet) as progress:
-        for kind, i in units:
-            results += run_flag_unit(kind, i, args.seed, duration, rates, args.known_depth_noise)
-            progress.update(1, f"{kind} {i}")
+    results = _run_units(run_flag_unit, _units(args), args, "misfit-flag bench", args.seed, duration, rates,
+                         args.known_depth_noise, family_window)
+    # the cells count and pool their recordings: the same tables in any order of completion
     print(f"## identify's misfit flag: {args.robots} MuJoCo runs, {args.walks} gait walks of {duration:g} s, "
           f"seed {args.seed}; depth noise {'given' if args.known_depth_noise else 'estimated'}")
     print()
@@ -470,5 +493,22 @@ def run_flag_bench(args: argparse.Namespace) -> int:
     print()
     _print_flag_table(results, rates, tracker_cell)
     print()
+    if family_window is not None:
+        def family_cell(rs: list[dict[str, Any]]) -> str:
+            ok = [x for x in rs if not x["refused"]]
+            if not ok:
+                return "-"
+            return (f"{sum(x['f_any'] for x in ok)}/{len(ok)}; {sum(x['f_flagged'] for x in ok)}/"
+                    f"{sum(x['f_checks'] for x in ok)} ({sum(x['f_none'] for x in ok)}); "
+                    f"{np.mean([x['f_share'] for x in ok]):.1%}; wrong {sum(x['f_wrong'] for x in ok)}")
+
+        print(f"MudTracker with its family check (track(family_window={family_window:g}): identify's misfit flag on "
+              f"the last {family_window:g} s, every 2.5 s). Each cell: recordings flagged by a check / recordings; "
+              "checks flagged / checks (told nothing); the mean share of the samples from the first check on with "
+              "either flag raised; samples from the first check on confidently wrong (the interval misses the "
+              "truth, both flags down).")
+        print()
+        _print_flag_table(results, rates, family_cell)
+        print()
     print(f"wall time {time.perf_counter() - start:.0f} s")
     return 0

@@ -245,6 +245,10 @@ PINNED: dict[str, list[str]] = {
         "COLUMN_LIMITS", "COLUMN_UNITS", "NUMBER", "POSE_COLUMNS", "WRITE_BLOCK", "is_pose_trajectory",
         "read_columns", "read_poses", "read_trajectory", "write_csv",
     ],
+    "mudforce.estimation.family_check": [
+        "DEFAULT_FAMILY_EVERY", "DEFAULT_FAMILY_WINDOW", "FamilyCheck", "FamilyVerdict", "SWING_CLEARANCE",
+        "check_family",
+    ],
     "mudforce.estimation.nuisances": ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"],
     "mudforce.estimation.tracker": [
         "DEFAULT_DEPTH_OFFSETS", "DEFAULT_DEPTH_OFFSET_PRIOR", "DEFAULT_FORCE_LAG_ALLOWANCE", "DEFAULT_GRID",

@@ -102,6 +102,37 @@ def test_the_summary_says_where_the_misfit_was_flagged_and_when_the_interval_rea
     assert _edge_line(narrow).startswith("the interval reaches the family's wet end (30 %)")
 
 
+def test_the_family_check_adds_a_column_and_a_line_and_finds_a_granular_law_off_the_family(tmp_path: Path) -> None:
+    """``--family-check 10s``: identify's misfit flag on the last 10 s every 2.5 s (FamilyCheck), a column
+    family_misfit (1 from the first check that found the mud off the family) and a summary line; the other columns
+    the same as without it."""
+    wk = walk(0.24, seed=6, duration=15.0, force_noise=0.2, bias=0.3)
+    kz = float(np.max(wk.force)) / float(np.max(wk.depth)) * np.maximum(wk.depth, 0.0) + 0.3
+    for name, force in (("walk.csv", wk.force), ("kz.csv", kz)):
+        with (tmp_path / name).open("w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(["time_s", "depth_m", "force_N"])
+            for row in zip(wk.time.tolist(), wk.depth.tolist(), force.tolist(), strict=True):
+                writer.writerow([repr(v) for v in row])
+    runs = run_batch([(["track", "walk.csv", "--out", "w.csv", "--family-check", "10s"], tmp_path),
+                      (["track", "kz.csv", "--out", "k.csv", "--family-check", "10s"], tmp_path),
+                      (["track", "kz.csv", "--out", "plain.csv"], tmp_path)])
+    for run in runs:
+        assert run.returncode == 0, run.stderr
+    assert ("family check (identify's misfit flag on the last 10 s, every 2.5 s): 3 checks, 0 told nothing, none "
+            "found the mud off the family") in runs[0].stdout
+    assert ("family check (identify's misfit flag on the last 10 s, every 2.5 s): 3 checks, 0 told nothing, 3 "
+            "found the mud off the family (first at 10 s, and at the end): the mud may not be in the model's "
+            "family") in runs[1].stdout
+    assert "family check" not in runs[2].stdout
+    rows = {name: list(csv.reader((tmp_path / name).open(newline=""))) for name in ("w.csv", "k.csv", "plain.csv")}
+    assert rows["k.csv"][0] == [*EXPECTED, "family_misfit"] and rows["plain.csv"][0] == EXPECTED
+    flags = np.array([r[-1] for r in rows["k.csv"][1:]], dtype=int)
+    assert flags[:1000].sum() == 0 and flags[1000:].all()  # from the first check (10 s, sample 1000) on
+    assert not np.array([r[-1] for r in rows["w.csv"][1:]], dtype=int).any()
+    assert [r[:-1] for r in rows["k.csv"]] == rows["plain.csv"]
+
+
 BAD_INPUTS = [
     (None, ["missing.csv", "--out", "o.csv"], "file not found"),
     ("time_s,depth_m\n0,0\n0.01,0\n", ["in.csv", "--out", "o.csv"], "missing column force_N"),
@@ -111,6 +142,10 @@ BAD_INPUTS = [
     ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "in.csv"], "is the input file"),
     ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--plot", "o.jpg"], ".png"),
     ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--foot", "blob"], "--foot"),
+    ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--family-check", "10"],
+     "--family-check"),
+    ("time_s,depth_m,force_N\n0,0,0\n0.01,0,0\n", ["in.csv", "--out", "o.csv", "--family-check", "10s",
+                                                    "--family-every", "0s"], "--family-every"),
 ]
 
 

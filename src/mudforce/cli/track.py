@@ -19,7 +19,10 @@ be in the Table I family, or the sensor chain is off), depth_offset_m and
 depth_offset_stderr_m (the surface offset the model follows the depth plus,
 and its spread), force_lag_s and force_lag_stderr_s (the force sensor's lag
 as a first-order low-pass, and its spread), force_bias_N (the force offset
-tared). A force-gain error cannot be told from stiffer mud:
+tared), and with --family-check WINDOW family_misfit (1 from a check that
+found the mud off the Table I family: identify's misfit flag on the last
+WINDOW of samples, every --family-every, as mudforce.estimation.family_check
+runs it online). A force-gain error cannot be told from stiffer mud:
 --force-gain-uncertainty (default 5%) widens the interval by what it does.
 Everything is checked before anything is written; the
 outputs are replaced together (the CSV and the plot: both or neither) and
@@ -70,6 +73,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force-gain-uncertainty", default="5%",
                         help="relative uncertainty of the force sensor's gain (default 5%%, as identify's): a gain "
                              "error reads as stiffer or softer mud, so the interval spans what each gain would read")
+    parser.add_argument("--family-check", metavar="WINDOW", default=None,
+                        help="also test the mud's family online: identify's misfit flag on the samples of the last "
+                             "WINDOW (e.g. 10s) every --family-every; adds the column family_misfit (costs "
+                             "identify's time per check)")
+    parser.add_argument("--family-every", metavar="TIME", default="2.5s",
+                        help="how often the family check runs, in the recording's time (default 2.5s)")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
 
 
@@ -89,6 +98,11 @@ def run(args: argparse.Namespace) -> int:
     from mudforce.cli.identify import _force_gain_uncertainty
 
     gain = _force_gain_uncertainty(args.force_gain_uncertainty)  # identify's and fit's reading
+    from mudforce.io.units import parse_quantity
+
+    window = None if args.family_check is None else parse_quantity(args.family_check, "time", name="--family-check",
+                                                                   example="10s")
+    every = parse_quantity(args.family_every, "time", name="--family-every", example="2.5s")
 
     from mudforce.io.tables import COLUMN_UNITS, check_time, read_columns
 
@@ -104,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
     # the tracker's own branch rule, as a robot's loop runs it: the file's depth noise read from the whole file
     # (as `simulate` does) gave a rule that the sensor-chain bench never measures, and with no twin bank
     # (docs/estimation-history.md, "`mudforce track` runs the tracker's own branch rule")
-    result = track(time, depth, force, foot, force_gain_uncertainty=gain)
+    result = track(time, depth, force, foot, force_gain_uncertainty=gain, family_window=window, family_every=every)
     png: bytes | None = None
     if plot is not None:
         from mudforce.estimation.tracking_plots import plot_track
@@ -132,7 +146,8 @@ def run(args: argparse.Namespace) -> int:
             "change of mud flagged at: " + (", ".join(f"{x:.4g} s" for x in flags[:10]) or "none")
             + (f" and {flags.size - 10} more" if flags.size > 10 else ""),
         ]
-        lines += [line for line in (_misfit_line(result), _edge_line(result)) if line]
+        lines += [line for line in (_misfit_line(result), _family_line(result, window, every), _edge_line(result))
+                  if line]
         lines.append(f"wrote {time.size} rows to {out}")
         if plot is not None:
             lines.append(f"wrote plot to {plot}")
@@ -162,6 +177,22 @@ def _misfit_line(result: TrackResult) -> str:
     now = " (flagged at the end)" if flagged[-1] else ""
     return (f"model misses the data (misfit): flagged on {100 * flagged.mean():.3g} % of the samples, last at "
             f"{last:.4g} s{now}: the mud may not be in the model's family, or the recording not what it seems")
+
+
+def _family_line(result: TrackResult, window: float | None, every: float) -> str:
+    """The summary's line on the family check (none where it did not run)."""
+    if window is None or result.family_misfit is None:
+        return ""
+    checks = result.family_checks
+    told = [(k, v) for k, v in checks if v.model_misses_data is not None]
+    off = [k for k, v in told if v.model_misses_data]
+    head = (f"family check (identify's misfit flag on the last {window:g} s, every {every:g} s): {len(checks)} "
+            f"checks, {len(checks) - len(told)} told nothing")
+    if not off:
+        return head + ", none found the mud off the family"
+    return (head + f", {len(off)} found the mud off the family (first at {float(result.time[off[0]]):.4g} s"
+            + (", and at the end)" if result.family_misfit[-1] else ")")
+            + ": the mud may not be in the model's family, or the recording not what it seems")
 
 
 def _edge_line(result: TrackResult) -> str:

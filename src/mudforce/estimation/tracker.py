@@ -137,6 +137,7 @@ from mudforce.estimation._tracker_layout import (
     MISFIT_THRESHOLD,
 )
 from mudforce.estimation._tracker_step import _blur_matrix, _check_bounds, _pack, _restore_step_cache, _track_step
+from mudforce.estimation.family_check import DEFAULT_FAMILY_EVERY, FamilyCheck, FamilyVerdict, _feed, _flags
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_varies
 from mudforce.model.bounds import check_finite, check_times
 from mudforce.model.foot import Foot
@@ -937,11 +938,20 @@ class TrackResult:
     water_content_range : tuple of float
         The tracker's grid's first and last water content [-] (:data:`DEFAULT_GRID`'s, 0.15 and 0.35, unless
         ``water_contents`` was given): the family's ends that :attr:`family_edge` reads.
+    family_misfit : numpy.ndarray of bool or None
+        With ``track(..., family_window=...)``: True from each sample where the family check
+        (:class:`~mudforce.estimation.family_check.FamilyCheck`: identify's misfit flag on the last
+        ``family_window`` seconds) found the mud off the family, until a later check that found it in; a check
+        that told nothing (the foot out of the mud) leaves it as it was. None where the check did not run.
+    family_checks : tuple of (int, FamilyVerdict)
+        Each check's sample index and verdict, in order (empty where the check did not run).
     model_misses_data : bool
-        (Property.) True when the misfit flag was raised on any sample of the recording (``misfit.any()``; the name
-        of :attr:`~mudforce.estimation.calibration.Identification.model_misses_data`): the mud may not be in the
+        (Property.) True when the misfit flag or the family check's was raised on any sample of the recording
+        (``misfit.any()``, ``family_misfit.any()``; the name of
+        :attr:`~mudforce.estimation.calibration.Identification.model_misses_data`): the mud may not be in the
         Table I family, or the sensor chain is off (a force of noise alone, a depth in mm read as m). A final
-        estimate with its flag down can follow a recording flagged nearly throughout.
+        estimate with its flag down can follow a recording flagged nearly throughout. The tracker's own flag is
+        quiet on in-family mud but is not a test of the family (docs/estimation.md); the family check is.
     family_edge : str
         (Property.) ``"wet"`` when the final interval reaches the family's wet end (``high[-1] >=
         water_content_range[1]``: the mud may be wetter than the family holds), ``"dry"`` when it reaches its dry
@@ -965,8 +975,11 @@ class TrackResult:
     force_lag: np.ndarray | None = None
     force_lag_stderr: np.ndarray | None = None
     water_content_range: tuple[float, float] = (DEFAULT_GRID[0], DEFAULT_GRID[-1])
+    family_misfit: np.ndarray | None = None
+    family_checks: tuple[tuple[int, FamilyVerdict], ...] = ()
 
-    #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order.
+    #: The columns of :meth:`to_csv` (and of ``mudforce track --out``), in order; ``family_misfit`` follows them
+    #: where the family check ran.
     COLUMNS: ClassVar[tuple[str, ...]] = ("time_s", "water_content", "water_content_low", "water_content_high",
                                           "force_predicted_N", "force_N", "changed", "misfit", "depth_offset_m",
                                           "depth_offset_stderr_m", "force_lag_s", "force_lag_stderr_s",
@@ -977,8 +990,8 @@ class TrackResult:
 
     @property
     def model_misses_data(self) -> bool:
-        """True when the misfit flag was raised on any sample (see the class's attributes)."""
-        return bool(np.any(self._misfit()))
+        """True when the misfit flag or the family check's was raised on any sample (see the class's attributes)."""
+        return bool(np.any(self._misfit())) or bool(self.family_misfit is not None and np.any(self.family_misfit))
 
     @property
     def family_edge(self) -> str:
@@ -996,10 +1009,14 @@ class TrackResult:
             self.depth_offset, self.depth_offset_stderr, self.force_lag, self.force_lag_stderr, self.bias))
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The per-sample data under the names of :attr:`COLUMNS` (``changed``, ``misfit`` as bool)."""
+        """The per-sample data under the names of :attr:`COLUMNS` (``changed``, ``misfit`` as bool), and
+        ``family_misfit`` (bool) where the family check ran."""
         arrays = (self.time, self.water_content, self.low, self.high, self.force_predicted, self.force, self.changed,
                   self._misfit(), *self._nuisances())
-        return dict(zip(self.COLUMNS, arrays, strict=True))
+        out = dict(zip(self.COLUMNS, arrays, strict=True))
+        if self.family_misfit is not None:
+            out["family_misfit"] = self.family_misfit
+        return out
 
     def to_pandas(self) -> Any:
         """A :class:`pandas.DataFrame` with the columns of :meth:`to_csv` (needs pandas)."""
@@ -1008,7 +1025,8 @@ class TrackResult:
         return to_pandas(self.columns())
 
     def _csv_text(self) -> str:
-        lines = [",".join(self.COLUMNS)]
+        family = self.family_misfit
+        lines = [",".join(self.COLUMNS + (("family_misfit",) if family is not None else ()))]
         nuisances = [x.tolist() for x in self._nuisances()]
         for row in zip(self.time.tolist(), self.water_content.tolist(), self.low.tolist(), self.high.tolist(),
                        self.force_predicted.tolist(), self.force.tolist(), self.changed.tolist(),
@@ -1016,6 +1034,8 @@ class TrackResult:
             values, (changed, misfit), after = row[:6], row[6:8], row[8:]
             lines.append(",".join(repr(float(v)) for v in values) + f",{int(changed)},{int(misfit)},"
                          + ",".join(repr(float(v)) for v in after))
+        if family is not None:
+            lines[1:] = [f"{line},{int(x)}" for line, x in zip(lines[1:], family.tolist(), strict=True)]
         return "\n".join(lines) + "\n"
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
@@ -1044,7 +1064,8 @@ class TrackResult:
         return plot_track(self, path, truth=truth, title=title)
 
 
-def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options: Any) -> TrackResult:
+def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, *, family_window: float | None = None,
+          family_every: float = DEFAULT_FAMILY_EVERY, **options: Any) -> TrackResult:
     """Run a :class:`MudTracker` over a whole recording (offline convenience; same results as online).
 
     Parameters
@@ -1057,8 +1078,15 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         Measured force [N].
     foot : Foot, optional
         The foot (the paper's by default).
+    family_window : float, optional
+        Also run the family check beside the tracker (:class:`~mudforce.estimation.family_check.FamilyCheck`:
+        identify's misfit flag on the samples of the last ``family_window`` seconds [s], online, the same verdicts
+        as a :class:`FamilyCheck` fed sample by sample): the result's ``family_misfit`` and ``family_checks``.
+        None (default): not run (it costs identify's time per check, about 0.3 s per 10 s of samples at 50 Hz).
+    family_every : float
+        How often the family check runs [s] of the recording (default 2.5).
     **options
-        As for :class:`MudTrackers`.
+        As for :class:`MudTrackers` (``force_gain_uncertainty`` also goes to the family check).
 
     Raises
     ------
@@ -1078,6 +1106,10 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
     check_finite(f, "force", "N")
     tracker = _one_foot(foot, options)
     _check_bounds(z, f, tracker._max_depth, t)
+    if family_window is not None:  # its options checked before any work
+        checker = FamilyCheck(foot, window=family_window, every=family_every,
+                              force_gain_uncertainty=options.get("force_gain_uncertainty",
+                                                                 DEFAULT_FORCE_GAIN_UNCERTAINTY))
     # a force of one value while the foot is in the mud (a sensor unplugged, the wrong column) is identify's refusal:
     # the tracker read it as the wettest mud, 34 % (27.6-35.2 %) for a 25 % protocol, its misfit flag quiet at the end
     if f.size > 1 and np.any(z > 0.0):
@@ -1092,10 +1124,15 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, **options
         tracker._step(float(t[k] - previous) if k else 1.0)
         cols[k] = tracker._out[0]
         previous = t[k]
+    family: np.ndarray | None = None
+    checks: tuple[tuple[int, FamilyVerdict], ...] = ()
+    if family_window is not None:
+        checks = tuple(_feed(checker, t, z, f))
+        family = _flags(checks, m)
     # copies: a float64 input came back as the result's own array, which changed with the caller's buffer
     return TrackResult(t.copy(), z.copy(), f.copy(), cols[:, L._O_W], cols[:, L._O_LOW], cols[:, L._O_HIGH],
                        cols[:, L._O_PRED], cols[:, L._O_CHANGED] != 0.0, cols[:, L._O_BIAS], cols[:, L._O_NOISE],
                        cols[:, L._O_MISFIT] != 0.0,
                        cols[:, L._O_OFFSET], cols[:, L._O_OFFSET_SD], cols[:, L._O_LAG], cols[:, L._O_LAG_SD],
-                       (float(tracker.grid[0]), float(tracker.grid[-1])))
+                       (float(tracker.grid[0]), float(tracker.grid[-1])), family, checks)
 
