@@ -246,7 +246,7 @@ PINNED: dict[str, list[str]] = {
         "read_columns", "read_poses", "read_trajectory", "write_csv",
     ],
     "mudforce.estimation.family_check": [
-        "DEFAULT_FAMILY_EVERY", "DEFAULT_FAMILY_WINDOW", "FamilyCheck", "FamilyVerdict", "SWING_CLEARANCE",
+        "DEFAULT_FAMILY_EVERY", "DEFAULT_FAMILY_WINDOW", "SWING_CLEARANCE", "FamilyCheck", "FamilyVerdict",
         "check_family",
     ],
     "mudforce.estimation.nuisances": ["DEFAULT_FORCE_GAIN_UNCERTAINTY", "REST_SPEED", "check_force_gain_uncertainty"],

@@ -118,7 +118,8 @@ def run(args: argparse.Namespace) -> int:
     # the tracker's own branch rule, as a robot's loop runs it: the file's depth noise read from the whole file
     # (as `simulate` does) gave a rule that the sensor-chain bench never measures, and with no twin bank
     # (docs/estimation-history.md, "`mudforce track` runs the tracker's own branch rule")
-    result = track(time, depth, force, foot, force_gain_uncertainty=gain, family_window=window, family_every=every)
+    result = track(time, depth, force, foot, force_gain_uncertainty=gain, family_window=window, family_every=every,
+                   quiet=args.quiet)
     png: bytes | None = None
     if plot is not None:
         from mudforce.estimation.tracking_plots import plot_track

@@ -44,9 +44,9 @@ from mudforce.model.foot import Foot
 __all__ = [
     "DEFAULT_FAMILY_EVERY",
     "DEFAULT_FAMILY_WINDOW",
+    "SWING_CLEARANCE",
     "FamilyCheck",
     "FamilyVerdict",
-    "SWING_CLEARANCE",
     "check_family",
 ]
 
@@ -299,7 +299,8 @@ def _verdict(t: np.ndarray, z: np.ndarray, f: np.ndarray, foot: Foot, gain: floa
 
 def check_family(time: Any, depth: Any, force: Any, foot: Foot | None = None, *,
                  window: float = DEFAULT_FAMILY_WINDOW, every: float = DEFAULT_FAMILY_EVERY,
-                 force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY) -> list[tuple[int, FamilyVerdict]]:
+                 force_gain_uncertainty: float = DEFAULT_FORCE_GAIN_UNCERTAINTY,
+                 quiet: bool = True) -> list[tuple[int, FamilyVerdict]]:
     """Run a :class:`FamilyCheck` over a whole recording (the same verdicts as online).
 
     Parameters
@@ -308,6 +309,8 @@ def check_family(time: Any, depth: Any, force: Any, foot: Foot | None = None, *,
         Sample times [s] (strictly increasing), foot depths [m] (positive down), measured forces [N].
     foot, window, every, force_gain_uncertainty
         As for :class:`FamilyCheck`.
+    quiet : bool
+        No progress line (default); False: one on stderr when it is a terminal (each check is an identify).
 
     Returns
     -------
@@ -324,17 +327,25 @@ def check_family(time: Any, depth: Any, force: Any, foot: Foot | None = None, *,
     check_finite(f, "force", "N")
     _check_bounds(z, f, MAX_DEPTH, t)
     return _feed(FamilyCheck(foot, window=window, every=every, force_gain_uncertainty=force_gain_uncertainty),
-                 t, z, f)
+                 t, z, f, quiet)
 
 
-def _feed(checker: FamilyCheck, t: np.ndarray, z: np.ndarray, f: np.ndarray) -> list[tuple[int, FamilyVerdict]]:
-    """``checker`` fed a checked recording sample by sample: each check's sample index and verdict."""
+def _feed(checker: FamilyCheck, t: np.ndarray, z: np.ndarray, f: np.ndarray,
+          quiet: bool = True) -> list[tuple[int, FamilyVerdict]]:
+    """``checker`` fed a checked recording sample by sample: each check's sample index and verdict (with a progress
+    line on a terminal unless ``quiet``: each check is an identify)."""
+    from mudforce._plumbing.progress import Progress
+
     out = []
     steps = np.diff(t, prepend=t[0])
-    for k in range(t.size):
-        verdict = checker.update(float(z[k]), float(f[k]), float(steps[k]))
-        if verdict is not None:
-            out.append((k, verdict))
+    span = float(t[-1] - t[0])
+    due = 0 if span < checker.window else int((span - checker.window) // checker.every) + 1
+    with Progress(due, "family check", quiet=quiet) as progress:
+        for k in range(t.size):
+            verdict = checker.update(float(z[k]), float(f[k]), float(steps[k]))
+            if verdict is not None:
+                out.append((k, verdict))
+                progress.update(1, f"at {verdict.time:.4g} s")
     return out
 
 

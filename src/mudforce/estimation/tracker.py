@@ -1065,7 +1065,7 @@ class TrackResult:
 
 
 def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, *, family_window: float | None = None,
-          family_every: float = DEFAULT_FAMILY_EVERY, **options: Any) -> TrackResult:
+          family_every: float = DEFAULT_FAMILY_EVERY, quiet: bool = True, **options: Any) -> TrackResult:
     """Run a :class:`MudTracker` over a whole recording (offline convenience; same results as online).
 
     Parameters
@@ -1085,6 +1085,8 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, *, family
         None (default): not run (it costs identify's time per check, about 0.3 s per 10 s of samples at 50 Hz).
     family_every : float
         How often the family check runs [s] of the recording (default 2.5).
+    quiet : bool
+        No progress line for the family check (default); False: one on stderr when it is a terminal.
     **options
         As for :class:`MudTrackers` (``force_gain_uncertainty`` also goes to the family check).
 
@@ -1127,7 +1129,7 @@ def track(time: Any, depth: Any, force: Any, foot: Foot | None = None, *, family
     family: np.ndarray | None = None
     checks: tuple[tuple[int, FamilyVerdict], ...] = ()
     if family_window is not None:
-        checks = tuple(_feed(checker, t, z, f))
+        checks = tuple(_feed(checker, t, z, f, quiet))
         family = _flags(checks, m)
     # copies: a float64 input came back as the result's own array, which changed with the caller's buffer
     return TrackResult(t.copy(), z.copy(), f.copy(), cols[:, L._O_W], cols[:, L._O_LOW], cols[:, L._O_HIGH],
