@@ -9,9 +9,11 @@ The family test that the sensor-chain bench measures is
 :func:`~mudforce.estimation.calibration.identify_water_content`'s
 (``model_misses_data``: the whole window at one water content, its
 nuisances fitted and its noise floors read from the data). :class:`FamilyCheck`
-runs that test online: it keeps the last ``window`` seconds of samples and,
-every ``every`` seconds of the stream, identifies them and reports the
-verdict (:class:`FamilyVerdict`). :func:`check_family` does the same over a
+runs that test online: it keeps the last two ``window`` seconds of samples
+and, every ``every`` seconds of the stream, identifies the last ``window``
+seconds and back to the foot's last touchdown before them
+(:meth:`FamilyCheck.samples`), and reports the verdict
+(:class:`FamilyVerdict`). :func:`check_family` does the same over a
 whole recording, and ``track(..., family_window=...)`` (``mudforce track
 --family-check``) carries the verdicts beside the tracker's estimates.
 
@@ -198,8 +200,8 @@ class FamilyCheck:
         return clock >= self._due
 
     def _make_room(self, clock: float) -> None:
-        """Drop the samples older than two windows (as of ``clock``; the window starts at a swing's top at most one
-        window before its last ``window`` seconds), then grow the store if it is still full."""
+        """Drop the samples older than two windows (as of ``clock``; a window starts at most one window before its
+        last ``window`` seconds), then grow the store if it is still full."""
         times = self._data[0, self._lo:self._n]
         keep = self._lo + int(np.searchsorted(times, clock - 2.0 * self.window, side="right"))
         held = self._n - keep
@@ -220,8 +222,9 @@ class FamilyCheck:
             return lo if opens else None
         k = np.arange(begin, min(end, n - 1))
         for last in k[(depths[k] <= 0.0) & (depths[k + 1] > 0.0)][::-1].tolist():  # touchdowns, the latest first
-            deeper = np.flatnonzero(depths[:last] > 0.0)
-            top = int(deeper[-1]) + 1 if deeper.size else 0  # the run above the surface that ends at `last`
+            deeper = begin + np.flatnonzero(depths[begin:last] > 0.0)
+            top = int(deeper[-1]) + 1 if deeper.size else begin  # the run above the surface that ends at `last`,
+            # within the lead (held samples older than it may be dropped at any time: the answer must not depend on it)
             if float(np.min(depths[top:last + 1])) <= -SWING_CLEARANCE:
                 return lo + int(last)
         return lo if opens else None
