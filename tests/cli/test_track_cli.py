@@ -96,6 +96,17 @@ def test_the_summary_says_where_the_misfit_was_flagged_and_when_the_interval_rea
     # an interval over the whole family (a recording that told little) reaches both ends: the summary said wet alone
     both = result([0] * 5, 0.148, 0.352)
     assert both.family_edge == "both" and _edge_line(both) == _edge_line(wet) + "\n" + _edge_line(dry)
+    # a family check that found the mud off the family while the tracker's own flag stayed down: the misfit line
+    # reads the tracker's own flag (it read the first flagged sample of none: IndexError), the family line the check's
+    from mudforce.cli.track import _family_line
+    from mudforce.estimation.family_check import FamilyVerdict
+
+    checked = result([0] * 5, family_misfit=np.array([0, 0, 1, 1, 1], dtype=bool),  # type: ignore[arg-type]
+                     family_checks=((2, FamilyVerdict(1.0, 0.0, 3, True)),))  # type: ignore[arg-type]
+    assert checked.model_misses_data and _misfit_line(checked) == "model misses the data (misfit): never flagged"
+    assert _family_line(checked, 1.0, 0.5).startswith(
+        "family check (identify's misfit flag on the last 1 s, every 0.5 s): 1 check, 0 told nothing, 1 found the "
+        "mud off the family (first at 1 s, and at the end)")
     # the ends of the grid the tracker ran on (track() records them), not the default grid's
     narrow = result([0] * 5, 0.22, 0.3, water_content_range=(0.2, 0.3))
     assert narrow.family_edge == "wet"

@@ -171,9 +171,9 @@ def _misfit_line(result: TrackResult) -> str:
     read 34.1 % [27.5, 35.2] without a word)."""
     if result.misfit is None:
         return ""
-    if not result.model_misses_data:
-        return "model misses the data (misfit): never flagged"
     flagged, time = result.misfit, result.time
+    if not flagged.any():  # the tracker's own flag (the family check's has its own line)
+        return "model misses the data (misfit): never flagged"
     last = float(time[np.flatnonzero(flagged)[-1]])
     now = " (flagged at the end)" if flagged[-1] else ""
     return (f"model misses the data (misfit): flagged on {100 * flagged.mean():.3g} % of the samples, last at "
@@ -188,7 +188,7 @@ def _family_line(result: TrackResult, window: float | None, every: float) -> str
     told = [(k, v) for k, v in checks if v.model_misses_data is not None]
     off = [k for k, v in told if v.model_misses_data]
     head = (f"family check (identify's misfit flag on the last {window:g} s, every {every:g} s): {len(checks)} "
-            f"checks, {len(checks) - len(told)} told nothing")
+            f"check{'' if len(checks) == 1 else 's'}, {len(checks) - len(told)} told nothing")
     if not off:
         return head + ", none found the mud off the family"
     return (head + f", {len(off)} found the mud off the family (first at {float(result.time[off[0]]):.4g} s"
