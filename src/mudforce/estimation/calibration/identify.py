@@ -153,6 +153,8 @@ _SHAPE_OFFSET_CHI2 = 3.841
 #: errors (:func:`_nuisance_stderr`; ours): 0.5 mm and 2 ms, a few times what the bench's recordings read them to,
 #: and wide enough to step over a branch switch that a move of a few micrometres makes at one sample.
 _NUISANCE_SECANTS = (0.0005, 0.002)
+#: The offsets [m] about each half-rate fit's at which the rate check reads the offset's move on a profile (ours).
+_OFFSET_PROFILE = np.linspace(-2e-4, 2e-4, 21)
 #: The rate check's shift [-] above which identify warns that the model at the data's rate does not follow the
 #: motion closely (0.5 points; ours). On the sensor-chain bench the gait walks reach it only at 20 Hz, but most MuJoCo
 #: robot recordings reach it at every rate, 100 Hz included (docs/estimation.md, "identify's rate check on the MuJoCo
@@ -1137,6 +1139,18 @@ def identify_water_content(
             rate_moves = np.abs(0.5 * (halves[0] + halves[1]) - best_x) + 0.5 * np.abs(halves[0] - halves[1])
             w_turn = best_w(partial(ssr_at, offset=offset, lag=lag, gain=gain, turns=False))
             rate_moves = rate_moves + np.abs(np.asarray(refit_from(w_turn, gain, turns=False).x) - best_x)
+            # the offset's move read again on a profile: each half's sum of squares over offsets about its fit's (its
+            # water content and lag held), the least taken. A refit from the full fit's answer can stop where it
+            # started (the sum of squares, a model run at the samples, is stepped below the finite differences'
+            # 0.1 mm): on a robot's model force it read a move of 0.26 um where the offset was 0.075 mm off, 7
+            # standard errors (docs/estimation-history.md, "identify's offset: the rate check's move on a profile")
+            profiled = []
+            for sel, half in zip((slice(0, None, 2), slice(1, None, 2)), halves, strict=True):
+                trial_offsets = np.clip(half[1] + _OFFSET_PROFILE, -MAX_DEPTH_OFFSET, MAX_DEPTH_OFFSET)
+                sums = [ssr_at(float(half[0]), float(d), float(half[2]), gain, sel) for d in trial_offsets]
+                profiled.append(float(trial_offsets[int(np.argmin(sums))]))
+            profile_move = abs(0.5 * (profiled[0] + profiled[1]) - offset) + 0.5 * abs(profiled[0] - profiled[1])
+            rate_moves[1] = max(rate_moves[1], profile_move)
             rate_shift = float(rate_moves[0])
     # resolution floor: the family is interpolated between rows 5 points apart, and the branch
     # labels of a general motion leave small systematic errors that the likelihood does not see;
