@@ -8,8 +8,9 @@ through ``SensorChain(force_noise=0.2, depth_noise=3e-5, force_bias=...)`` at 10
 * Clean, the tracker reads no lag (0.00 +- 0.01 ms) and never flags a misfit, and its force noise 0.24 N (the
   chain's 0.2 N; 1.63 N, its offset 0.8 N off, while the tare took a run of samples it could not explain:
   ``tracker._TARE_RUN``).
-* Its force low-passed by 30 ms (here on the 100-Hz samples), the lag reads 30.0 +- 0.3 ms and the interval covers
-  the truth throughout, but the estimate reads 3.4 points high (median after 3 s, at most 3.97; 3.5 at the end; 3.0,
+* Its force low-passed by 30 ms (here on the 100-Hz samples), the lag reads 30.0 +- 7.0 ms (its spread holding 0.3
+  of the lag beyond the 10-ms allowance since 2026-12-02: test_tracker_spreads.py) and the interval covers the truth
+  throughout, but the estimate reads 3.4 points high (median after 3 s, at most 3.97; 3.5 at the end; 3.0,
   3.95 and 0.6 with the noise read as 1.7 N, before ``tracker._TARE_RUN``): this
   foot sinks deeper stance by stance (24 mm in its first second, 67 mm by 7 s), and while its sinkage is within
   10-40 mm the bank takes the quick branch rule where it moves, which reads deep fast feet high
@@ -70,7 +71,7 @@ def test_low_passed_force_lag_is_estimated_and_the_truth_covered(recording: tupl
     t, z, f = apply(*recording, SensorChain(force_lowpass=0.03), 0)
     r = track(t, z, f, FOOT)
     assert r.force_lag is not None and r.force_lag_stderr is not None
-    # the lag found: 30 ms (measured 30.0 +- 0.3 ms)
+    # the lag found: 30 ms (measured 30.0 +- 7.0 ms; +- 3.6 ms before its spread held the lag beyond the allowance)
     assert abs(r.force_lag[-1] - 0.03) <= max(2.0 * r.force_lag_stderr[-1], 0.001)
     assert 0.0 < r.force_lag_stderr[-1] <= 0.008
     covered, wrong = _judged(r)

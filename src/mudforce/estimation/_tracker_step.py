@@ -112,6 +112,7 @@ from mudforce.estimation._tracker_layout import (
     _G_MISFIT,
     _G_OFFSET,
     _LAG_LOG_PRIOR,
+    _LAG_SPREAD_WIDENING,
     _LAG_WIDENING,
     _LAG_WIDENING_STEP,
     _LAGS,
@@ -871,6 +872,11 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (out[j, _O_LAG] - guard[j, _G_LAG]) ** 2)
             out[j, _O_OFFSET_SD] = math.sqrt(out[j, _O_OFFSET_SD] ** 2
                                              + (out[j, _O_OFFSET] - guard[j, _G_OFFSET]) ** 2)
+        # ... and a lag beyond the allowance the water content and the offset the bank reads trade with, which its
+        # hypotheses, scored on the bank's mean model, do not see (ours, _LAG_SPREAD_WIDENING)
+        lag_beyond = max(out[j, _O_LAG] - cfg[_C_LAG], 0.0)
+        if lag_beyond > 0.0:
+            out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (_LAG_SPREAD_WIDENING * lag_beyond) ** 2)
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         settled = w_high - w_low <= cfg[_C_SETTLE]  # the plain blur's interval: settled (the change flag's)
