@@ -111,3 +111,13 @@ def test_a_lag_beyond_the_allowance_widens_its_spread() -> None:
     # a lag within the allowance is not widened: the clean recording's spread is its hypotheses' cell
     clean = track(*np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True), Foot.disc(0.05))
     assert clean.force_lag[-1] < 0.001 and clean.force_lag_stderr[-1] == pytest.approx(0.0025 / 12**0.5, rel=0.01)
+
+
+def test_at_20_hz_the_lag_s_spread_holds_the_interpolated_part_of_a_sample() -> None:
+    # every fifth sample of the robot's recording (20 Hz): each sample spans five 10-ms steps, and the spread holds
+    # the four the substeps interpolate as a uniform, 40 ms / sqrt(12) = 11.5 ms, in quadrature; at 100 Hz nothing
+    t, z, f = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
+    t, z, f = apply(t, z, f, SensorChain(force_delay=0.01, force_lowpass=0.01, force_noise=0.2), 2)
+    r = track(t[::5], z[::5], f[::5], Foot.disc(0.05))
+    assert np.all(r.force_lag_stderr[1:] >= 0.04 / 12**0.5)
+    assert np.all(np.abs(r.force_lag[r.time >= 3.0] - 0.02) <= 3.0 * r.force_lag_stderr[r.time >= 3.0])
