@@ -10,23 +10,14 @@ It now holds the spread of the evidence over the contact episodes there too, as 
 
 from __future__ import annotations
 
-from pathlib import Path
-
-import numpy as np
-
-from mudforce.estimation.calibration import identify_water_content
-from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.identify import MIN_HALF_WIDTH
-from mudforce.model.foot import Foot
+from robot_recording import identify_robot
 
-DATA = Path(__file__).parent / "data" / "robot_shallow_dry_lowpass_30ms_seed49.csv"
 W_ROBOT = 0.16332000593685272
-ROBOT_FOOT = Foot.disc(0.05)  # the quadruped's spherical foot: its contact is the 50 mm disc
 
 
 def test_the_moved_estimate_s_interval_holds_the_episodes_spread() -> None:
-    data = np.loadtxt(DATA, delimiter=",", skiprows=1)
-    res = identify_water_content(Trial("robot6", W_ROBOT, data[:, 0], data[:, 1], data[:, 2]), ROBOT_FOOT)
+    res = identify_robot("robot_shallow_dry_lowpass_30ms_seed49.csv", "robot6", W_ROBOT)
     assert res.least_squares_water_content > 0.22  # measured 23.04 %
     assert abs(res.water_content - 0.172) < 0.002  # the member: measured 17.20 %
     assert res.episode_half_width > MIN_HALF_WIDTH  # measured 0.88 points

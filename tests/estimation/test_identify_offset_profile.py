@@ -11,22 +11,13 @@ larger move counts.
 
 from __future__ import annotations
 
-from pathlib import Path
+from robot_recording import identify_robot
 
-import numpy as np
-
-from mudforce.estimation.calibration import identify_water_content
-from mudforce.estimation.calibration.dataset import Trial
-from mudforce.model.foot import Foot
-
-DATA = Path(__file__).parent / "data" / "robot_model_wet_deep_offset_minus_5mm_seed49.csv"
 W_ROBOT = 0.34417422788562346
-ROBOT_FOOT = Foot.disc(0.05)  # the quadruped's spherical foot: its contact is the 50 mm disc
 
 
 def test_the_offset_s_standard_error_holds_the_half_rate_move_read_on_a_profile() -> None:
-    data = np.loadtxt(DATA, delimiter=",", skiprows=1)
-    res = identify_water_content(Trial("robot-model4", W_ROBOT, data[:, 0], data[:, 1], data[:, 2]), ROBOT_FOOT)
+    res = identify_robot("robot_model_wet_deep_offset_minus_5mm_seed49.csv", "robot-model4", W_ROBOT)
     assert abs(res.depth_offset - 0.005) < 1e-4  # measured 4.9252 mm
     assert res.depth_offset_stderr > 0.03e-3  # measured 0.0413 mm (0.0107 before: the scatter alone)
     assert abs(res.depth_offset - 0.005) < 3.0 * res.depth_offset_stderr  # measured 1.8 standard errors (7.0 before)
