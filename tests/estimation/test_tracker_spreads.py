@@ -114,8 +114,9 @@ def test_a_lag_beyond_the_allowance_widens_its_spread() -> None:
 
 
 def test_at_20_hz_the_lag_s_spread_holds_the_interpolated_part_of_a_sample() -> None:
-    # every fifth sample of the robot's recording (20 Hz): each sample spans five 10-ms steps, and the spread holds
-    # the four the substeps interpolate as a uniform, 40 ms / sqrt(12) = 11.5 ms, in quadrature; at 100 Hz nothing
+    # every fifth sample of the robot's recording (20 Hz): each sample interval is 50 ms, and the spread holds the
+    # 40 ms beyond one 10-ms step, which the substeps interpolate, as a uniform, 40 ms / sqrt(12) = 11.5 ms, in
+    # quadrature; at 100 Hz nothing
     t, z, f = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
     t, z, f = apply(t, z, f, SensorChain(force_delay=0.01, force_lowpass=0.01, force_noise=0.2), 2)
     r = track(t[::5], z[::5], f[::5], Foot.disc(0.05))

@@ -877,11 +877,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         lag_beyond = max(out[j, _O_LAG] - cfg[_C_LAG], 0.0)
         if lag_beyond > 0.0:
             out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (_LAG_SPREAD_WIDENING * lag_beyond) ** 2)
-        # ... and the part of a sample interval the substeps interpolate, as a uniform spread: a lag under a sample
-        # is read through the model between two samples (ours; the interval's low-rate widening for the water content)
-        sample_spans = int(min(dt / _RATE_STEP, float(_MAX_SUBSTEPS)) + 0.5)
-        if sample_spans > 1 and not first:
-            out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + (sample_spans - 1.0) ** 2 * _RATE_STEP**2 / 12.0)
+        # ... and the part of a sample interval beyond one 10-ms step, which the substeps interpolate, as a uniform
+        # spread: a lag under a sample is read through the model between two samples (ours; the interval's low-rate
+        # widening for the water content). Read on dt itself, so a jittered clock does not make it jump
+        interpolated = min(dt, _MAX_SUBSTEPS * _RATE_STEP) - _RATE_STEP
+        if interpolated > 0.0 and not first:
+            out[j, _O_LAG_SD] = math.sqrt(out[j, _O_LAG_SD] ** 2 + interpolated * interpolated / 12.0)
         # the fit's posterior blurred by the model discrepancy (Q = blur @ P): the change flag's
         w_mid, w_low, w_high = _blurred_quantiles(blur[0], marginal, Q, edges, half)
         settled = w_high - w_low <= cfg[_C_SETTLE]  # the plain blur's interval: settled (the change flag's)

@@ -221,10 +221,11 @@ class TrackEstimate:
         prior, and its standard deviation with each hypothesis's cell
         (0.7-4.3 ms) and, with the twin bank, the difference from the twin's
         reading added; beyond the lag allowance ``A`` also ``0.3 (lag - A)``,
-        and where a sample spans ``k > 1`` 10-ms steps ``(k - 1) 10 ms /
+        and where the sample interval ``dt`` exceeds 10 ms ``(dt - 10 ms) /
         sqrt(12)``, each in quadrature (docs/tracking.md, "The lag's spread
-        holds a lag beyond the allowance"); before any contact, the hypotheses' mean (21 ms) and
-        their whole spread (16.5 ms with the widening). The models' forces are low-passed by the
+        holds a lag beyond the allowance"); before any contact, the
+        hypotheses' mean (21 ms) and their whole spread (16.5 ms with the
+        widening). The models' forces are low-passed by the
         bank's own lag, the same evidence (nine of the eleven hypotheses:
         not the two at 5 ms) under an exponential prior of mean 5 ms, whose
         spread over the hypotheses enters the likelihood's scale (and so the
