@@ -4,10 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
-from mudforce.estimation.calibration import Identification, identify_water_content
-from mudforce.estimation.calibration.dataset import Trial
+from mudforce.estimation.calibration import Identification, identify_water_content, load_trial
 from mudforce.model.foot import Foot
 
 DATA = Path(__file__).parent / "estimation" / "data"
@@ -15,8 +12,7 @@ DATA = Path(__file__).parent / "estimation" / "data"
 ROBOT_FOOT = Foot.disc(0.05)
 
 
-def identify_robot(filename: str, name: str, water_content: float) -> Identification:
-    """identify on ``DATA / filename`` (columns time [s], depth [m], force [N]) with the robot's foot, the trial named
-    ``name`` with its true water content [-]."""
-    data = np.loadtxt(DATA / filename, delimiter=",", skiprows=1)
-    return identify_water_content(Trial(name, water_content, data[:, 0], data[:, 1], data[:, 2]), ROBOT_FOOT)
+def identify_robot(filename: str, water_content: float) -> Identification:
+    """identify on ``DATA / filename`` (read by the package's own ``load_trial``: ``time_s, depth_m, force_N``) with
+    the robot's foot, the trial carrying its true water content [-]."""
+    return identify_water_content(load_trial(DATA / filename, water_content), ROBOT_FOOT)

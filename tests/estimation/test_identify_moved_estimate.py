@@ -17,7 +17,7 @@ W_ROBOT = 0.16332000593685272
 
 
 def test_the_moved_estimate_s_interval_holds_the_episodes_spread() -> None:
-    res = identify_robot("robot_shallow_dry_lowpass_30ms_seed49.csv", "robot6", W_ROBOT)
+    res = identify_robot("robot_shallow_dry_lowpass_30ms_seed49.csv", W_ROBOT)
     assert res.least_squares_water_content > 0.22  # measured 23.04 %
     assert abs(res.water_content - 0.172) < 0.002  # the member: measured 17.20 %
     assert res.episode_half_width > MIN_HALF_WIDTH  # measured 0.88 points

@@ -17,7 +17,7 @@ W_ROBOT = 0.34417422788562346
 
 
 def test_the_offset_s_standard_error_holds_the_half_rate_move_read_on_a_profile() -> None:
-    res = identify_robot("robot_model_wet_deep_offset_minus_5mm_seed49.csv", "robot-model4", W_ROBOT)
+    res = identify_robot("robot_model_wet_deep_offset_minus_5mm_seed49.csv", W_ROBOT)
     assert abs(res.depth_offset - 0.005) < 1e-4  # measured 4.9252 mm
     assert res.depth_offset_stderr > 0.03e-3  # measured 0.0413 mm (0.0107 before: the scatter alone)
     assert abs(res.depth_offset - 0.005) < 3.0 * res.depth_offset_stderr  # measured 1.8 standard errors (7.0 before)

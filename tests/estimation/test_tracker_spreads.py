@@ -100,16 +100,15 @@ def test_a_lag_beyond_the_allowance_widens_its_spread() -> None:
     # the robot's force low-passed by 30 ms: read 30.0 +- 7.0 ms at the end (+- 3.6 ms without the widening's 6.0); at
     # every sample the spread holds 0.3 of the lag beyond the 10-ms allowance. On seed 22's sensor-chain bench a 30-ms
     # low-pass read about 20 ms on shallow dry robots, with 3.5-ms spreads: 8.0 % of the samples beyond three, 0.2 % now
-    t, z, f = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
-    t, z, f = apply(t, z, f, SensorChain(force_lowpass=0.03), 0)
-    r = track(t, z, f, Foot.disc(0.05))
+    recording = np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True)
+    r = track(*apply(*recording, SensorChain(force_lowpass=0.03), 0), Foot.disc(0.05))
     beyond = np.maximum(r.force_lag - 0.01, 0.0)
     assert np.all(r.force_lag_stderr >= L._LAG_SPREAD_WIDENING * beyond)
     assert L._LAG_SPREAD_WIDENING == 0.3
     assert abs(r.force_lag[-1] - 0.03) < 1e-4
     assert r.force_lag_stderr[-1] == pytest.approx(0.0070, abs=2e-4)
     # a lag within the allowance is not widened: the clean recording's spread is its hypotheses' cell
-    clean = track(*np.loadtxt(DATA, delimiter=",", skiprows=1, unpack=True), Foot.disc(0.05))
+    clean = track(*recording, Foot.disc(0.05))
     assert clean.force_lag[-1] < 0.001 and clean.force_lag_stderr[-1] == pytest.approx(0.0025 / 12**0.5, rel=0.01)
 
 
