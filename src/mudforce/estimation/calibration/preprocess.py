@@ -29,6 +29,7 @@ import numpy as np
 from scipy.ndimage import median_filter
 from scipy.optimize import least_squares
 
+from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_real, real_array, shown
 from mudforce.estimation.calibration.branches import (
     creep_withdrawals,
@@ -424,19 +425,67 @@ def snap_reversal(time: np.ndarray, force: np.ndarray, motion: Motion, *, ambigu
     return replace(motion, corner_time=(ta, tb, float(new), td))
 
 
+@njit(cache=True, nogil=True)
+def _increasing_sse(z: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
+    """``out[k]``: the least sum of squares [m^2] of ``z[:k] - g`` over non-decreasing ``g`` (``k = 0 .. n``).
+
+    Pool-adjacent-violators run once along ``z``, the blocks' sums of squares kept as it goes (merging blocks of
+    ``n1, n2`` samples and means ``m1, m2`` adds ``n1 n2 / (n1 + n2) (m1 - m2)^2``).
+    """
+    n = z.size
+    out = np.zeros(n + 1)
+    mean = np.empty(n)
+    count = np.empty(n)
+    top = 0
+    total = 0.0
+    for i in range(n):
+        mean[top] = z[i]
+        count[top] = 1.0
+        top += 1
+        while top > 1 and mean[top - 2] > mean[top - 1]:
+            n1, n2 = count[top - 2], count[top - 1]
+            d = mean[top - 2] - mean[top - 1]
+            total += n1 * n2 / (n1 + n2) * d * d
+            mean[top - 2] = (n1 * mean[top - 2] + n2 * mean[top - 1]) / (n1 + n2)
+            count[top - 2] = n1 + n2
+            top -= 1
+        out[i + 1] = total
+    return out
+
+
+def _unimodal_rms(depth: np.ndarray) -> float:
+    """The least RMS [m] of ``depth`` about any sequence that rises and then falls (unimodal regression).
+
+    Every intrude/hold/withdraw motion that :func:`fit_motion` accepts (start and end below the hold) rises and
+    then falls, so its RMS depth residual is at least this: a floor that tells a gait from a protocol without the
+    corner search (speed plumbing for :func:`is_protocol`; the answer is the same).
+    """
+    z = np.asarray(depth, dtype=float)
+    if z.size == 0:
+        return 0.0
+    rising = _increasing_sse(np.ascontiguousarray(z))
+    falling = _increasing_sse(np.ascontiguousarray(z[::-1]))[::-1]
+    return math.sqrt(max(float(np.min(rising + falling)), 0.0) / z.size)
+
+
 def is_protocol(trial: Trial) -> Motion | None:
     """The trial's fitted motion if it is an intrude/hold/withdraw protocol starting above the surface, else None.
 
     A protocol is recognised when :func:`fit_motion` succeeds and the depth
     lies on the fitted piecewise-linear motion to within 1.5 times the
-    depth noise (a sway, a second step or a re-push leaves far more).
+    depth noise (a sway, a second step or a re-push leaves far more). A
+    depth farther than that from every rise-then-fall (:func:`_unimodal_rms`)
+    is no protocol without the fit.
     """
+    noise = estimate_depth_noise(trial.time, trial.depth)
+    limit = 1.5 * noise + 1e-7
+    if _unimodal_rms(trial.depth) > limit * (1.0 + 1e-6):  # (a margin far above the sums' rounding)
+        return None
     try:
         motion = fit_motion(trial.time, trial.depth, name=trial.name)
     except InputError:
         return None
-    noise = estimate_depth_noise(trial.time, trial.depth)
-    if motion.depth_noise > 1.5 * noise + 1e-7:
+    if motion.depth_noise > limit:
         return None
     return motion
 
