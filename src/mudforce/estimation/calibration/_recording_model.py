@@ -44,6 +44,11 @@ def _np_max(a: float, b: float) -> float:  # pragma: no cover - compiled
     return a if (a > b or a != a) else b
 
 
+#: Distinct sample steps whose low-pass coefficients :func:`_band_through_lag` keeps [-] (speed plumbing; a step
+#: beyond them is computed each time it comes).
+_STEP_TABLE = 32
+
+
 @njit(cache=True, nogil=True)
 def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, state: np.ndarray, mud: np.ndarray,
                       spring: np.ndarray, k_m_i: float, k_m_w: float, area: float, lag: float
@@ -58,8 +63,8 @@ def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, st
     force itself. With ``lag`` > 0 the three pass through
     the first-order low-pass ``tau y' + y = x``, exact for ``x`` linear between samples (ours).
 
-    Speed plumbing: one compiled pass for what numpy did in a dozen (and one ``exp`` a sample for the three, not
-    three), the same operations in the same order, so the same bits.
+    Speed plumbing: one compiled pass for what numpy did in a dozen (one ``exp`` for the three, and one per distinct
+    step, not per sample), the same operations in the same order, so the same bits.
     """
     n = force.size
     low = np.empty(n)
@@ -81,8 +86,24 @@ def _band_through_lag(time: np.ndarray, depth: np.ndarray, force: np.ndarray, st
         return force, low, high
     f_out, low_out, high_out = np.empty(n), np.empty(n), np.empty(n)
     f_out[0], low_out[0], high_out[0] = force[0], low[0], high[0]
+    # a recording's steps take a dozen distinct values (a clock's rounding): each one's (e, c) is computed once and
+    # kept in a small table, read back where the step is the same to the bit (the same numbers as computing it anew)
+    steps = np.empty(_STEP_TABLE)
+    es = np.empty(_STEP_TABLE)
+    cs = np.empty(_STEP_TABLE)
+    held = 0
     for k in range(n - 1):
-        e, c = _lowpass_coefficients(time[k + 1] - time[k], lag)
+        h = time[k + 1] - time[k]
+        j = 0
+        while j < held and steps[j] != h:
+            j += 1
+        if j < held:
+            e, c = es[j], cs[j]
+        else:
+            e, c = _lowpass_coefficients(h, lag)
+            if held < _STEP_TABLE:
+                steps[held], es[held], cs[held] = h, e, c
+                held += 1
         f_out[k + 1] = _lowpass_step(e, c, f_out[k], force[k], force[k + 1])
         low_out[k + 1] = _lowpass_step(e, c, low_out[k], low[k], low[k + 1])
         high_out[k + 1] = _lowpass_step(e, c, high_out[k], high[k], high[k + 1])
