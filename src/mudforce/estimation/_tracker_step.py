@@ -955,11 +955,14 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 aux[j, _A_ANCHOR_LOW] = max(aux[j, _A_ANCHOR_LOW], w_low)
                 aux[j, _A_ANCHOR_HIGH] = min(aux[j, _A_ANCHOR_HIGH], w_high)
         # the reported interval: the hull over about the last cfg[_C_HULL] seconds (_HULL_MEMORY), each end relaxing
-        # toward the current one where that is narrower, afresh at a change flag (which read the current interval)
+        # toward the current one where that is narrower; through a change flag too (the flag reads the current
+        # interval, and the estimate moves at once; the interval forgets in the hull's own time, so that a false
+        # flag does not leave a narrow interval clear of the truth: 2026-12-02, a shallow robot's posterior flipping
+        # between two modes flagged at the wet one and missed for 0.6 s when the hull started afresh there)
         if cfg[_C_HULL] > 0.0:
             h_low = aux[j, _A_HULL_LOW]
             h_high = aux[j, _A_HULL_HIGH]
-            if changed == 0.0 and not first and h_low == h_low:  # (NaN: no interval yet)
+            if not first and h_low == h_low:  # (NaN: no interval yet)
                 keep_hull = 1.0 if free else math.exp(-dt / cfg[_C_HULL])  # (contact time, as the evidence's)
                 if h_low < w_low:
                     w_low = w_low + (h_low - w_low) * keep_hull

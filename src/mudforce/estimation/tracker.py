@@ -96,9 +96,10 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   one, no change is flagged.
 * **Memory of the interval.** The interval returned is the hull of the
   last second or so of those intervals: each end relaxes toward the
-  current one with a time constant of 1 s where that is narrower, and
-  starts afresh at a change flag (which reads the current interval, not
-  the hull). A posterior that jumps between two modes for a fraction of a
+  current one with a time constant of 1 s where that is narrower, a
+  change flag included (the flag reads the current interval, not the
+  hull; the interval forgets the old mud in the hull's time, so a false
+  flag does not leave it clear of the truth). A posterior that jumps between two modes for a fraction of a
   second has not told them apart, and the interval keeps both. An end
   that leaves out only a sliver at the grid's end, where the posterior is
   about as dense as within, reaches that end: a foot that says almost
