@@ -99,8 +99,9 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   current one with a time constant of 1 s where that is narrower, a
   change flag included (the flag reads the current interval, not the
   hull; the interval forgets the old mud in the hull's time, so a false
-  flag does not leave it clear of the truth). A posterior that jumps between two modes for a fraction of a
-  second has not told them apart, and the interval keeps both. An end
+  flag does not leave it clear of the truth). A posterior that jumps
+  between two modes for a fraction of a second has not told them apart,
+  and the interval keeps both. An end
   that leaves out only a sliver at the grid's end, where the posterior is
   about as dense as within, reaches that end: a foot that says almost
   nothing reports the whole grid, not the grid less a sliver at each end.

@@ -4,9 +4,10 @@
 the force and the band ``[F_up, F_down]`` a foot at rest may carry (Eq. (2)-(3)'s edges at the stepper's own Maxwell
 strain), all three through the first-order low-pass a force sensor applies; :func:`_refined_force_and_band` the same
 on a cubic spline of the depth (the model's error at the data's rate is the difference); :func:`_band_residual` the
-residual with a foot at rest compared with its band (issue 23: rest is a band, not a branch). The compiled loops are
-speed plumbing: the same operations in the same order as the numpy they replace, so the same bits. Private to
-:mod:`mudforce.estimation.calibration.identify`.
+residual with a foot at rest compared with its band (issue 23: rest is a band, not a branch), and :func:`_slow_steps`
+the steps read as rest. The compiled loops are speed plumbing: the same operations in the same order as the numpy
+they replace, so the same bits. Private to :mod:`mudforce.estimation.calibration.identify` (fit reads
+:func:`_slow_steps` for its misfit warning).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from scipy.interpolate import CubicSpline
 
 from mudforce import _kernel as K
 from mudforce._plumbing.jit import njit
-from mudforce.estimation.nuisances import _lowpass_coefficients, _lowpass_step
+from mudforce.estimation.nuisances import REST_SPEED, _lowpass_coefficients, _lowpass_step
 from mudforce.model.equations import rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import spring_stress
@@ -269,6 +270,20 @@ def _model_set(time: np.ndarray, depth: np.ndarray, offset: float, sticking: Sti
     band = rest | sticking.stuck
     return (f, np.where(band, np.minimum(np.minimum(low, low2), low3), np.minimum(np.minimum(f, f2), f3)),
             np.where(band, np.maximum(np.maximum(high, high2), high3), np.maximum(np.maximum(f, f2), f3)))
+
+
+#: A step in the mud within this many depth noises (beyond the rest speed) of no motion counts as rest [-] (ours):
+#: on a robot foot at rest the depth the model follows still moves by a fraction of a depth noise from sample to
+#: sample, and a branch the depth cannot tell is read through the rest band.
+_REST_NOISE_SIGMAS = 0.5
+
+
+def _slow_steps(step: np.ndarray, dt: np.ndarray, depth_noise: float) -> np.ndarray:
+    """The steps a foot at rest could have made [bool]: ``|step|`` [m] within the rest speed
+    (:data:`~mudforce.estimation.nuisances.REST_SPEED`) times the step's ``dt`` [s] plus :data:`_REST_NOISE_SIGMAS`
+    depth noises ``depth_noise`` [m]. identify's rest samples, and fit's misfit warning's share of them."""
+    out: np.ndarray = np.abs(step) <= REST_SPEED * dt + _REST_NOISE_SIGMAS * depth_noise
+    return out
 
 
 def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray,

@@ -64,6 +64,7 @@ from mudforce.errors import (
     shown,
     true_or_false,
 )
+from mudforce.estimation.calibration._recording_model import _slow_steps
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import (
@@ -92,7 +93,7 @@ from mudforce.estimation.calibration.uncertainty import (
     motion_sensitivity,
     profiled_in_place,
 )
-from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_gain_uncertainty
+from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, check_force_gain_uncertainty
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import PARAMETER_RANGES
 
@@ -280,14 +281,13 @@ _REST_SHARE_HINT = 0.25
 
 def _rest_share(prepared: Sequence[PreparedTrial]) -> float:
     """The share [-] of the general-path trials' samples in the mud (depth > 0) at which the foot is at rest, as
-    identify reads rest: a step under ``REST_SPEED`` [m/s] times the sample interval plus half the depth noise. 0 for
-    lab-protocol trials (their hold is the paper's relaxation, on the branch)."""
+    identify reads rest (:func:`~mudforce.estimation.calibration._recording_model._slow_steps`). 0 for lab-protocol
+    trials (their hold is the paper's relaxation, on the branch)."""
     at_rest = in_mud = 0
     for tr in prepared:
         if tr.motion is not None or tr.time.size < 2:
             continue
-        step = np.abs(np.diff(tr.depth))
-        still = step <= REST_SPEED * np.diff(tr.time) + 0.5 * tr.depth_noise
+        still = _slow_steps(np.diff(tr.depth), np.diff(tr.time), tr.depth_noise)
         mud = tr.depth[1:] > 0.0
         at_rest += int(np.count_nonzero(still & mud))
         in_mud += int(np.count_nonzero(mud))

@@ -96,6 +96,7 @@ from mudforce.estimation.calibration._recording_model import (
     _force_and_band,
     _model_set,
     _refined_force_and_band,
+    _slow_steps,
     _sticking,
     _with_neighbours,
 )
@@ -165,10 +166,6 @@ _OFFSET_PROFILE = np.linspace(-2e-4, 2e-4, 21)
 #: robot recordings reach it at every rate, 100 Hz included (docs/estimation.md, "identify's rate check on the MuJoCo
 #: robots": the check reads turns on their branches, so it also holds an error of the robots' that is not the rate's).
 _RATE_SHIFT_WARNING = 0.005
-#: A step in the mud within this many depth noises (beyond the rest speed) of no motion counts as rest [-] (ours):
-#: on a robot foot at rest the depth the model follows still moves by a fraction of a depth noise from sample to
-#: sample, and a branch the depth cannot tell is read through the rest band.
-_REST_NOISE_SIGMAS = 0.5
 #: A sample where the motion changes (down, rest, up) is read through the rest band when a step beside it moves by
 #: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
 #: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
@@ -970,8 +967,7 @@ def identify_water_content(
         if not general:
             return np.zeros(time.size, dtype=bool)
         step = np.diff(depth)
-        tol = REST_SPEED * np.diff(time) + _REST_NOISE_SIGMAS * tr.depth_noise
-        slow = np.abs(step) <= tol
+        slow = _slow_steps(step, np.diff(time), tr.depth_noise)
         still = np.concatenate([[False], slow])
         if not turns:
             return still
