@@ -67,7 +67,9 @@ def test_fit_of_a_walk_that_starts_in_the_mud_reaches_the_noise_and_the_truth(be
     truth = below.params[0].to_dict()
     for name in fit.free:
         se = fit.stderr[name]
-        assert se is not None and 0.0 < se < 0.15 * fit.parameters[name], name
+        # b_m_w's 23 % (10 % while the fit read a foot at rest on the branch: the rest band, issue 23, keeps of those
+        # samples only what a stuck foot must carry); the others 0.4-8 %
+        assert se is not None and 0.0 < se < (0.3 if name == "b_m_w" else 0.1) * fit.parameters[name], name
         assert abs(fit.parameters[name] - truth[name]) < 2.0 * se, name
     (trial,) = fit.trials
     assert trial.bias_method == "estimated"

@@ -24,7 +24,7 @@ from mudforce.estimation.nuisances import REST_SPEED, _lowpass_coefficients, _lo
 from mudforce.model.equations import rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import spring_stress
-from mudforce.model.parameters import MudParameters
+from mudforce.model.parameters import PARAMETER_NAMES, MudParameters
 from mudforce.steppers.simulation import run_compact
 
 __all__: list[str] = []
@@ -121,16 +121,27 @@ def _force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot:
     mud it is the force itself. With ``lag`` > 0 [s] all three pass through
     the first-order low-pass a force sensor applies (:func:`_band_through_lag`).
     """
-    row = K.make_params(q.as_array(), foot.area, foot.width, 1, 0.0)[None, :]
+    return _vector_force_and_band(time, depth, q.as_array(), foot, lag)
+
+
+_K_M_I, _K_M_W, _ALPHA, _BETA = (PARAMETER_NAMES.index(n) for n in ("k_m_i", "k_m_w", "alpha", "beta"))
+
+
+def _vector_force_and_band(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: Foot,
+                           lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_force_and_band` for the paper's parameters as a vector ``values`` [SI] in
+    :data:`~mudforce.model.parameters.PARAMETER_NAMES`' order (the fit's vector: no :class:`MudParameters` made,
+    so none checked, at each of its evaluations)."""
+    row = K.make_params(values, foot.area, foot.width, 1, 0.0)[None, :]
     bad, force, state, mud, _ = run_compact(time, depth, row, 1)
     if bad >= 0:  # numerically impossible parameters: a huge, finite residual
         force[bad:] = 1e6
     # Eq. (4) at every sample, 0 above the surface (one compiled loop over the same function: its power gives the
     # same bits in a loop as in a single call)
-    spring = spring_stress(depth, q.alpha, q.beta, foot.width)
+    spring = spring_stress(depth, float(values[_ALPHA]), float(values[_BETA]), foot.width)
     # (time contiguous, as run_compact takes it: the half-rate runs' strided times compiled the loop a second time)
-    return _band_through_lag(np.ascontiguousarray(time), depth, force, state, mud, spring, q.k_m_i, q.k_m_w,  # type: ignore[no-any-return]
-                             foot.area, lag)
+    return _band_through_lag(np.ascontiguousarray(time), depth, force, state, mud, spring,  # type: ignore[no-any-return]
+                             float(values[_K_M_I]), float(values[_K_M_W]), foot.area, lag)
 
 
 def _with_neighbours(x: np.ndarray) -> np.ndarray:
@@ -284,6 +295,30 @@ def _slow_steps(step: np.ndarray, dt: np.ndarray, depth_noise: float) -> np.ndar
     depth noises ``depth_noise`` [m]. identify's rest samples, and fit's misfit warning's share of them."""
     out: np.ndarray = np.abs(step) <= REST_SPEED * dt + _REST_NOISE_SIGMAS * depth_noise
     return out
+
+
+#: A sample where the motion changes (down, rest, up) is read through the rest band when a step beside it moves by
+#: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
+#: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
+_TURN_SIGMAS = 3.0
+
+
+def _rest_samples(time: np.ndarray, depth: np.ndarray, depth_noise: float, turns: bool = True) -> np.ndarray:
+    """The samples read through the rest band [bool] (general path): those whose step moved the foot less than the
+    rest speed and the depth noise ``depth_noise`` [m] (:func:`_slow_steps`), and (``turns``) those where the motion
+    changes direction or stops (down, rest, up) with a step beside them clearly moving (:data:`_TURN_SIGMAS`).
+    ``time`` [s], ``depth`` [m]. The one statement of which samples are rest, for identify and fit."""
+    step = np.diff(depth)
+    slow = _slow_steps(step, np.diff(time), depth_noise)
+    still: np.ndarray = np.concatenate([[False], slow])
+    if not turns:
+        return still
+    # where the motion changes (down, rest, up) at a sample, the change happened anywhere between its two
+    # neighbours: at the sample the foot may already be on the other branch, so the band is all it tells
+    motion = np.where(slow, 0, np.where(step > 0.0, 1, -1))
+    clear = np.abs(step) > _TURN_SIGMAS * depth_noise
+    still[1:-1] |= (motion[:-1] != motion[1:]) & (clear[:-1] | clear[1:])
+    return still
 
 
 def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray,

@@ -64,7 +64,7 @@ from mudforce.errors import (
     shown,
     true_or_false,
 )
-from mudforce.estimation.calibration._recording_model import _slow_steps
+from mudforce.estimation.calibration._recording_model import _band_residual, _rest_samples
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import (
@@ -185,25 +185,49 @@ class _Piece:
     rows go) is found once, so that an evaluation is the model's run and
     three passes over the rows, written where :class:`_Objective` returns
     them.
+
+    With ``rest`` (a recording of any motion, a model with a rest band) ``force`` gives ``(force, low, high)`` [N]
+    and the rows are :func:`_rest_band_rows`.
     """
 
-    __slots__ = ("force", "measured", "precontact", "prior", "rows", "skip")
+    __slots__ = ("force", "measured", "precontact", "prior", "rest", "rows", "skip")
 
-    def __init__(self, force: Callable[[np.ndarray], np.ndarray], skip: int, measured: np.ndarray, rows: slice,
-                 prior: int, precontact: int) -> None:
+    def __init__(self, force: Callable[[np.ndarray], Any], skip: int, measured: np.ndarray, rows: slice,
+                 prior: int, precontact: int, rest: np.ndarray | None = None) -> None:
         self.force = force  # values -> the model's force [N] (the rows' samples from skip on)
         self.skip = skip
         self.measured = np.ascontiguousarray(measured)
         self.rows = rows
         self.prior = prior
         self.precontact = precontact
+        self.rest = rest
 
     def write(self, values: np.ndarray, out: np.ndarray) -> None:
         """Write the rows for parameters ``values`` [SI] into ``out`` (:func:`profiled`'s numbers, bit for bit)."""
+        if self.rest is not None:
+            force, low, high = (a[self.skip:] for a in self.force(values))
+            out[self.rows], offset = _rest_band_rows(force, low, high, self.measured, self.rest, self.precontact)
+            out[self.prior] = offset * math.sqrt(self.precontact)
+            return
         force = self.force(values)
         r = out[self.rows]
         np.subtract(force[self.skip:] if self.skip else force, self.measured, out=r)
         out[self.prior] = profiled_in_place(r, self.precontact)
+
+
+def _rest_band_rows(force: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
+                    precontact: int) -> tuple[np.ndarray, float]:
+    """A recording's residual [N] with a foot at rest read through its band, and the tare offset [N] profiled out.
+
+    The model's ``force`` [N] minus the ``measured`` one [N] less the offset, except at the ``rest`` samples, where a
+    stuck foot carries its load anywhere in its band ``[low, high]`` [N] and the residual is the distance outside
+    it (:func:`~mudforce.estimation.calibration._recording_model._band_residual`, as identify reads rest). The
+    offset is :func:`~mudforce.estimation.calibration.preprocess.tare_correction`'s over the moving samples alone
+    (a sample at rest says nothing of it inside its band), as identify's bias is.
+    """
+    moving = ~rest
+    offset = -float(np.sum((force - measured)[moving])) / max(int(np.count_nonzero(moving)) + precontact, 1)
+    return _band_residual(force, low, high, measured - offset, rest), offset
 
 
 class _Objective:
@@ -236,22 +260,29 @@ class _Objective:
         windows = []
         for g, group in enumerate(self.groups):
             for i, tr in enumerate(group):
-                if self.tails is not None:
-                    k = tr.reversal_index
-                    spec = (self.tails[g][i], 0, tr.force[k:])
+                rest = _rest_of(self.model, tr)
+                a, b = tr.intrusion_window if self.window == "intrusion" else (0, tr.time.size)
+                k = tr.reversal_index if self.window == "withdrawal" else 0
+                spec: tuple[Callable[[np.ndarray], Any], int, np.ndarray, np.ndarray | None]
+                if rest is not None and rest[max(a, k):b].any():  # a foot at rest: read through its band
+                    assert self.model.rest_band is not None  # (_rest_of gives none without)
+                    band = self.model.rest_band(tr.time[a:b], tr.depth[a:b], self.foot)
+                    spec = (band, k, tr.force[max(a, k):b], rest[max(a, k):b])
+                elif self.tails is not None:
+                    spec = (self.tails[g][i], 0, tr.force[k:], None)
                 elif self.window == "intrusion":  # the force up to the reversal does not depend on what follows
-                    a, b = tr.intrusion_window  # a trial that starts in the mud: its first touchdown, from a free foot
-                    spec = (trajectory_force(self.model, self.foot, tr.time[a:b], tr.depth[a:b]), 0, tr.force[a:b])
+                    # a trial that starts in the mud: its first touchdown, from a free foot
+                    spec = (trajectory_force(self.model, self.foot, tr.time[a:b], tr.depth[a:b]), 0, tr.force[a:b],
+                            None)
                 else:
-                    k = tr.reversal_index if self.window == "withdrawal" else 0
-                    spec = (trajectory_force(self.model, self.foot, tr.time, tr.depth), k, tr.force[k:])
+                    spec = (trajectory_force(self.model, self.foot, tr.time, tr.depth), k, tr.force[k:], None)
                 windows.append((g, spec, n_data, tr.precontact))
                 n_data += spec[2].size
         self._size = n_data + len(windows)
         pieces: list[list[_Piece]] = [[] for _ in self.groups]
-        for j, (g, (force, skip, measured), start, precontact) in enumerate(windows):
+        for j, (g, (force, skip, measured, rest), start, precontact) in enumerate(windows):
             pieces[g].append(_Piece(force, skip, measured, slice(start, start + measured.size), n_data + j,
-                                    precontact))
+                                    precontact, rest))
         return pieces
 
     def values(self, x: np.ndarray) -> list[np.ndarray]:
@@ -273,36 +304,47 @@ class _Objective:
         return float(r @ r)
 
 
-#: The share of the samples in the mud at rest [-] from which fit's misfit warning names the rest band as a likely
-#: cause (ours; fit reads a foot at rest on the model's branch: issue 23, point 2, not met for fit). On the sensor-chain
-#: bench's clean MuJoCo robot recordings it is 0.49-0.63 and the model at the true parameters misses them by 3-12 N.
-_REST_SHARE_HINT = 0.25
-
-
-def _rest_share(prepared: Sequence[PreparedTrial]) -> float:
-    """The share [-] of the general-path trials' samples in the mud (depth > 0) at which the foot is at rest, as
-    identify reads rest (:func:`~mudforce.estimation.calibration._recording_model._slow_steps`). 0 for lab-protocol
-    trials (their hold is the paper's relaxation, on the branch)."""
-    at_rest = in_mud = 0
-    for tr in prepared:
-        if tr.motion is not None or tr.time.size < 2:
-            continue
-        still = _slow_steps(np.diff(tr.depth), np.diff(tr.time), tr.depth_noise)
-        mud = tr.depth[1:] > 0.0
-        at_rest += int(np.count_nonzero(still & mud))
-        in_mud += int(np.count_nonzero(mud))
-    return at_rest / in_mud if in_mud else 0.0
+def _rest_of(model: ForceModel, tr: PreparedTrial) -> np.ndarray | None:
+    """The samples of ``tr`` the fit reads through the model's rest band [bool] (a recording of any motion: identify's
+    rest, :func:`~mudforce.estimation.calibration._recording_model._rest_samples`), or None where it reads every
+    sample on the branch: a lab protocol (its hold is the paper's relaxation, on the branch), or a model without a
+    band."""
+    if model.rest_band is None or tr.motion is not None or tr.time.size < 2:
+        return None
+    return _rest_samples(tr.time, tr.depth, tr.depth_noise)
 
 
 def _trial_residual(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray, window: str) -> np.ndarray:
+    """The residual [N] of one trial's ``window`` (no offset profiled out), at rest the distance outside the band."""
     t, z, f = tr.time, tr.depth, tr.force
     k = tr.reversal_index
+    rest = _rest_of(model, tr)
+    a, b = tr.intrusion_window if window == "intrusion" else (0, t.size)
+    if rest is not None and model.rest_band is not None:
+        band = model.rest_band(t[a:b], z[a:b], foot)(values)
+        r: np.ndarray = _band_residual(*band, f[a:b], rest[a:b])
+        return r if window != "withdrawal" else r[k:]
     if window == "intrusion":  # the force up to the reversal does not depend on what follows
-        a, b = tr.intrusion_window  # a trial that starts in the mud: its first touchdown, from a free foot
+        # a trial that starts in the mud: its first touchdown, from a free foot
         head: np.ndarray = model.force(t[a:b], z[a:b], values, foot) - f[a:b]
         return head
-    r: np.ndarray = model.force(t, z, values, foot) - f
+    r = model.force(t, z, values, foot) - f
     return r[k:] if window == "withdrawal" else r
+
+
+def _fitted(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray) -> tuple[np.ndarray, float]:
+    """The model's force along ``tr`` [N] and the tare offset [N] the fit profiles out of it.
+
+    At a sample at rest (:func:`_rest_of`) the model's force is the point of its rest band nearest the measured
+    force less the offset (what a stuck foot of this mud could carry there), so that the residual is the objective's.
+    """
+    rest = _rest_of(model, tr)
+    if rest is not None and model.rest_band is not None:
+        force, low, high = model.rest_band(tr.time, tr.depth, foot)(values)
+        r, offset = _rest_band_rows(force, low, high, tr.force, rest, tr.precontact)
+        return r + (tr.force - offset), offset
+    fitted = model.force(tr.time, tr.depth, values, foot)
+    return fitted, tare_correction(fitted - tr.force, tr.precontact)
 
 
 def _log_bounds(model: ForceModel, names: Sequence[str], search: bool = False) -> tuple[np.ndarray, np.ndarray]:
@@ -563,7 +605,8 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     stderr: dict[str, float | None] = {n: None for n in names}
     # a trial's force sign-flipped (compression negative) first: the misfit it causes is said below in general words
     warnings: list[str] = [w for w in map(_force_sign_warning, prepared) if w]
-    residuals = [model.force(tr.time, tr.depth, values, foot) - tr.force for tr in prepared]
+    fits = [_fitted(model, foot, tr, values) for tr in prepared]
+    residuals = [fitted - tr.force for tr, (fitted, _) in zip(prepared, fits, strict=True)]
     inflation = correlation_inflation(residuals)
     sub = cov[np.ix_(list(free_cols), list(free_cols))] * inflation
     if spread is not None:  # trials that disagree more than the noise says: the jackknife's variance wins
@@ -603,9 +646,7 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     if model.diagnose is not None:
         warnings.extend(model.diagnose(values, prepared, foot))
     trial_fits = []
-    for tr, r in zip(prepared, residuals, strict=True):
-        fitted = r + tr.force
-        offset = tare_correction(r, tr.precontact)
+    for tr, r, (fitted, offset) in zip(prepared, residuals, fits, strict=True):
         force = tr.force - offset
         scatter = max(tr.force_noise, _rms(r + offset))
         trial_fits.append(TrialFit(
@@ -636,15 +677,10 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
     ratio = misfit_ratio(rmse, floor, scale)
     if ratio > MISFIT_WARNING_RATIO:
-        rest = _rest_share(prepared)
-        why = (f"; {rest:.0%} of the samples in the mud are a foot at rest, which fit reads on the model's branch "
-               "where a stuck foot (an engine's, a robot's) may carry its load anywhere in the rest band: identify "
-               "reads the band (docs/estimation.md, \"What is not met\")") if rest >= _REST_SHARE_HINT else ""
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
                         f"(force noise {force_noise:.3g} N, with the depth noise carried through): "
                         "the model misses systematic features of the data (or the fit did not converge); "
-                        "the standard errors are widened for the residuals' correlation, but read them with care"
-                        + why)
+                        "the standard errors are widened for the residuals' correlation, but read them with care")
     ws = {tr.trial.water_content for tr in prepared}
     w = ws.pop() if len(ws) == 1 else math.nan
     return ConditionFit(water_content=w, model=model.name, parameters=params, stderr=stderr, free=tuple(free),

@@ -96,7 +96,7 @@ from mudforce.estimation.calibration._recording_model import (
     _force_and_band,
     _model_set,
     _refined_force_and_band,
-    _slow_steps,
+    _rest_samples,
     _sticking,
     _with_neighbours,
 )
@@ -166,10 +166,6 @@ _OFFSET_PROFILE = np.linspace(-2e-4, 2e-4, 21)
 #: robot recordings reach it at every rate, 100 Hz included (docs/estimation.md, "identify's rate check on the MuJoCo
 #: robots": the check reads turns on their branches, so it also holds an error of the robots' that is not the rate's).
 _RATE_SHIFT_WARNING = 0.005
-#: A sample where the motion changes (down, rest, up) is read through the rest band when a step beside it moves by
-#: more than this many depth noises [-] (ours): there the depth, not the force, fixed the branch, and the change
-#: happened anywhere between the neighbours (at 50-100 Hz a robot foot turns between two samples).
-_TURN_SIGMAS = 3.0
 #: The force gain is read on a grid of this many uncertainties about 1 (ours) ...
 _GAIN_STEPS = np.linspace(-2.0, 2.0, 9)
 #: ... where the least squares' cost at both neighbours of the grid's least (inside the grid, off 1) is at least this
@@ -961,22 +957,10 @@ def identify_water_content(
     raw = tr.trial.force
 
     def at_rest(time: np.ndarray, depth: np.ndarray, turns: bool = True) -> np.ndarray:
-        """Samples read through the rest band (general path; none on a protocol): those whose step moved the foot
-        less than the rest speed (and the depth noise), and (``turns``) those where the motion changes direction or
-        stops."""
+        """Samples read through the rest band (:func:`_rest_samples` on the general path; none on a protocol)."""
         if not general:
             return np.zeros(time.size, dtype=bool)
-        step = np.diff(depth)
-        slow = _slow_steps(step, np.diff(time), tr.depth_noise)
-        still = np.concatenate([[False], slow])
-        if not turns:
-            return still
-        # where the motion changes (down, rest, up) at a sample, the change happened anywhere between its two
-        # neighbours: at the sample the foot may already be on the other branch, so the band is all it tells
-        motion = np.where(slow, 0, np.where(step > 0.0, 1, -1))
-        clear = np.abs(step) > _TURN_SIGMAS * tr.depth_noise
-        still[1:-1] |= (motion[:-1] != motion[1:]) & (clear[:-1] | clear[1:])
-        return still
+        return _rest_samples(time, depth, tr.depth_noise, turns)
 
     rest = at_rest(t, tr.depth)
     moving = ~rest

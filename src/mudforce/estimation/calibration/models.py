@@ -26,6 +26,7 @@ import numpy as np
 
 from mudforce import _kernel as K
 from mudforce.errors import InputError, is_real, shown, true_or_false
+from mudforce.estimation.calibration._recording_model import _vector_force_and_band
 from mudforce.estimation.calibration.preprocess import PreparedTrial
 from mudforce.model.baselines import DEFAULT_K_RFT, drft_force, granular_rft_force, maxwell_only_force
 from mudforce.model.equations import array_form, relaxation_time
@@ -130,6 +131,12 @@ class ForceModel:
         The parameters the force is jointly proportional to (``F(c p) = c F(p)`` when each of them is
         multiplied by ``c``): a force sensor whose gain is off by ``1 + g`` reads as all of them off by
         ``1 + g``, so the fit widens their standard errors by the gain's uncertainty.
+    rest_band : callable, optional
+        ``rest_band(time, depth, foot) -> band``, with ``band(values) -> (force, low, high)`` [N] along that
+        trajectory: the model's force and, at each sample, the band ``[low, high]`` a foot at rest may carry (a
+        stuck foot carries its load anywhere in it). With one, the fit reads the samples of a recording of any
+        motion at which the foot is at rest through the band, not on the branch (issue 23: rest is a band); without
+        one it reads every sample on the model's force.
     """
 
     name: str
@@ -145,6 +152,8 @@ class ForceModel:
     units: Mapping[str, str] = field(default_factory=dict)
     resume: Callable[[np.ndarray, np.ndarray, np.ndarray, Foot, int], Callable[[np.ndarray], np.ndarray]] | None = None
     force_scale: tuple[str, ...] = ()
+    rest_band: Callable[[np.ndarray, np.ndarray, Foot], Callable[[np.ndarray], tuple[np.ndarray, np.ndarray,
+                                                                                    np.ndarray]]] | None = None
 
     def __post_init__(self) -> None:
         # a list raised TypeError (unhashable) at register_model, 3 was registered and then refused by get_model
@@ -316,6 +325,20 @@ def _chen_resume(time: np.ndarray, depth: np.ndarray, values: np.ndarray, foot: 
     return tail
 
 
+def _chen_rest_band(time: np.ndarray, depth: np.ndarray,
+                    foot: Foot) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """``values -> (force, low, high)`` [N] along one trajectory: the paper's force (exact rule, the same bits as
+    :func:`_chen_force`) and the rest band about it at each sample, as identify reads a foot at rest
+    (Eqs. (2)-(3)'s edges at the stepper's own Maxwell strain, widened to hold the force)."""
+    t = np.ascontiguousarray(time, dtype=np.float64)
+    z = np.ascontiguousarray(depth, dtype=np.float64)
+
+    def band(values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return _vector_force_and_band(t, z, values, foot, 0.0)
+
+    return band
+
+
 def _chen_diagnose(values: np.ndarray, trials: Sequence[PreparedTrial], foot: Foot) -> list[str]:
     params = MudParameters.from_dict(dict(zip(PARAMETER_NAMES, map(float, values), strict=True)))
     necks: list[float] = []
@@ -362,6 +385,7 @@ CHEN2024 = ForceModel(
     units=PARAMETER_UNITS,
     # every stress of Eqs. (1)-(9) is linear in these jointly (the necking test compares two of them)
     force_scale=("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "sigma_y", "rho_m"),
+    rest_band=_chen_rest_band,
 )
 
 # ---------------------------------------------------------------------------- the baselines
