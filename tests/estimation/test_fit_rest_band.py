@@ -18,6 +18,7 @@ import math
 import numpy as np
 import pytest
 
+import mudforce.estimation.calibration.fit as fit_module
 from mudforce.estimation.calibration import ConditionFit, fit_condition, load_trial, prepare_trial
 from mudforce.estimation.calibration._recording_model import _rest_samples
 from mudforce.estimation.calibration.fit import _rest_band_rows, _rest_of
@@ -73,3 +74,29 @@ def test_a_lab_protocol_and_a_model_without_a_band_read_every_sample_on_the_bran
     in_mud = robot.depth > 0.0
     assert 0.1 < np.mean(rest[in_mud]) < 0.2  # 14 %
     assert _rest_of(dataclasses.replace(CHEN2024, rest_band=None), robot) is None
+
+
+# The sensor-chain bench's robot 0 of seed 67: the front-left foot of the MuJoCo quadruped, gait ``walk``, in mud of
+# W = 23.29 %, MuJoCo's force through the clean chain (as above), its first 15 s
+# (tests/estimation/data/robot_walk_stuck_seed67.csv). The foot sticks at three of four samples in the mud, and the
+# engine relaxes a stuck foot's mud on the intrusion branch, where the depth as recorded (its creep and noise) reads
+# other steps: the fit on the depth as recorded put b_m_w at 0.69 times the truth, 7.8 standard errors off.
+STUCK = 0.23286629998045047
+
+
+def test_a_stuck_foot_read_both_ways_widens_what_depends_on_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    trial = load_trial(DATA / "robot_walk_stuck_seed67.csv", STUCK)
+    truth = MudParameters.from_water_content(STUCK).to_dict()
+    fit = fit_condition([trial], ROBOT_FOOT, seed=0)
+    value, se = fit.parameters["b_m_w"], fit.stderr["b_m_w"]
+    assert se is not None and abs(value - truth["b_m_w"]) < 3.0 * se  # 2.4 standard errors
+    assert any(w.startswith("b_m_w depends on how a stuck foot's mud relaxes") for w in fit.warnings)
+    for name in ("k_m_w", "sigma_y", "beta"):  # what the two readings agree on keeps its standard error
+        assert not any(w.startswith(f"{name} depends on") for w in fit.warnings)
+        assert fit.stderr[name] is not None and fit.stderr[name] < 0.05 * fit.parameters[name]
+    # read one way only, b_m_w was confidently wrong
+    monkeypatch.setattr(fit_module, "_held_reading", lambda *args: None)
+    one = fit_condition([trial], ROBOT_FOOT, seed=0)
+    assert one.parameters["b_m_w"] == value
+    assert abs(one.parameters["b_m_w"] - truth["b_m_w"]) > 6.0 * (one.stderr["b_m_w"] or 0.0)  # 7.8
+    assert not any("b_m_w" in w for w in one.warnings)
