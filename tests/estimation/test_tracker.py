@@ -42,7 +42,9 @@ def test_converges_on_stationary_mud_and_covers_the_truth(seed: int, w: float) -
     assert np.all((r.high - r.low)[late] <= 0.04)  # informative: narrower than 4 points
     assert not r.changed.any()  # no change flagged on stationary mud
     # offset tared and noise estimated while the foot is free
-    assert r.bias[-1] == pytest.approx(-1.0, abs=0.1)
+    # (seed 2: -0.893, one tare sample fewer a swing since the tracker waits for a raised foot to come down before it
+    # tares, tests/estimation/test_tracker_cling.py; -0.900 before)
+    assert r.bias[-1] == pytest.approx(-1.0, abs=0.12)
     assert r.noise[-1] == pytest.approx(0.3, rel=0.25)
 
 

@@ -69,8 +69,11 @@ _A_TARE_PREV = _A_QUICK + 14  # 1 where the sample before was a tare sample, els
 _A_CLOCK = _A_QUICK + 15  # the time of the last (sub)step since the first sample [s] (the delay hypotheses' ring)
 _A_DHEAD = _A_QUICK + 16  # the ring's newest entry
 _A_DN = _A_QUICK + 17  # the entries it holds
+_A_CLING = _A_QUICK + 18  # 1 while mud may still cling to a foot above the surface (_CLING_SIGMAS), else 0
+_A_CLING_Z = _A_QUICK + 19  # the depth the bank stepped on at the last sample with clinging models [m]
+_A_CLING_N = _A_QUICK + 20  # samples in a row since then that lie beyond _CLING_SIGMAS below it [-]
 _N_DELAYS = 6  # pure delay hypotheses of the reported lag (_DELAYS)
-_A_DEL_L = _A_QUICK + 18  # then one per delay hypothesis: its log-likelihood (forgotten as the lag hypotheses')
+_A_DEL_L = _A_QUICK + 21  # then one per delay hypothesis: its log-likelihood (forgotten as the lag hypotheses')
 _A_DEL_Y = _A_DEL_L + _N_DELAYS  # then one per delay hypothesis: the mean model's force that much before [N]
 _N_DRING = 64  # the ring's entries: the mean model's force at the last (sub)steps
 _A_DRING = _A_DEL_Y + _N_DELAYS  # then the ring's forces [N]
@@ -313,6 +316,17 @@ _TARE_SHORT_SIGMAS = 2.0
 #: the low-pass's tail, and the tare took that tail for the offset (the sensor-chain bench's "low-pass 30 ms", seed
 #: 36: 10 of 20 robot recordings ended 0.3-2.8 N off; with this bound 4, 0.5-1.3 N off).
 _TARE_TAIL = 1.0
+#: Mud may cling to a foot above the surface (ours, 2026-12-02): a probable model's force is not zero while the depth
+#: it follows is above the surface (suction before necking, Eq. (7)'s post-necking force after), and in the paper's
+#: model that force holds until the foot moves down. Under a noisy depth the bank's branch rule reads noise as a step
+#: down, its models let go at once, and the tare took the mud's hold for the sensor's offset: on the sensor-chain
+#: bench's seed 64, "depth noise 1 mm", a gait walk's first tare came 0.2 s into a hold of 2.7 N and its offset read
+#: 2.2 N for the whole walk (the truth -0.3 N), the estimate 10 points dry. No sample is tared until the depth the bank
+#: steps on has come down, on this many of its noise's standard deviations beyond where the models last clung, on two
+#: samples in a row, or by twice as many on one [-] (a false release under white noise alone: 2-5 samples in a hundred
+#: thousand; at 20 Hz a swing comes down in two samples, and on the bench's "hard, all" two in a row never came).
+_CLING_SIGMAS = 5.0
+_CLING_SAMPLES = 2
 
 #: A model of a surface offset other than the most probable one that holds less than this share of the posterior
 #: [-] (ours) is spared: scored on one sample in ``_SPARE_TURN * correlation_time / dt`` only, in turn, its score

@@ -25,6 +25,9 @@ from mudforce.estimation._tracker_layout import (
     _A_ANCHOR_HIGH,
     _A_ANCHOR_LOW,
     _A_BIAS,
+    _A_CLING,
+    _A_CLING_N,
+    _A_CLING_Z,
     _A_CLOCK,
     _A_CONTACT,
     _A_D2VAR,
@@ -102,6 +105,8 @@ from mudforce.estimation._tracker_layout import (
     _C_TAU,
     _C_TEMP,
     _C_TEMPER,
+    _CLING_SAMPLES,
+    _CLING_SIGMAS,
     _DELAYS,
     _DEPTH_NOISE0,
     _DEPTH_NOISE_MEMORY,
@@ -582,6 +587,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         tail = _TARE_TAIL * math.sqrt(max(aux[j, _A_VAR], floor2))  # [N]
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
+        clinging = False  # ... one of them says a force with its depth above the surface (_CLING_SIGMAS)
+        # the depth the bank stepped on [m]
+        z_bank = (depths[j] + aux[j, _A_ZPREV] + aux[j, _A_Z2]) / 3.0 if smooth else depths[j]
         o_map = 0  # the most probable surface offset (before this sample)
         p_map = -1.0
         for o in range(NO):
@@ -602,6 +610,8 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
                 free = False
             if (not zero or not settled) and po >= _TARE_MASS:
                 tare = False
+                if not zero and z_bank + offsets[o] <= 0.0:
+                    clinging = True
             if po > p_map:
                 p_map = po
                 o_map = o
@@ -611,6 +621,23 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             aux[j, _A_PSUB] = pred
         # the mean model's force low-passed by each lag hypothesis (every sample: a lag runs on into the swing)
         _lag_hypotheses(aux, j, h_sub, pred, first, lag_cache)
+        # mud that may still cling to a foot above the surface: no tare until the depth has clearly come down
+        if clinging:
+            aux[j, _A_CLING] = 1.0
+            aux[j, _A_CLING_Z] = z_bank
+            aux[j, _A_CLING_N] = 0.0
+        elif aux[j, _A_CLING] != 0.0:
+            z_sd = math.sqrt(aux[j, _A_DVAR] / 3.0 if smooth else aux[j, _A_DVAR])
+            down = z_bank - aux[j, _A_CLING_Z]
+            if down > _CLING_SIGMAS * z_sd:
+                aux[j, _A_CLING_N] += 1.0
+                # two samples in a row, or one at twice the distance (at 20 Hz a swing comes down in two samples)
+                if aux[j, _A_CLING_N] >= _CLING_SAMPLES or down > 2.0 * _CLING_SIGMAS * z_sd:
+                    aux[j, _A_CLING] = 0.0
+            else:
+                aux[j, _A_CLING_N] = 0.0
+        if aux[j, _A_CLING] != 0.0:
+            tare = False
         if tare:
             # every model says zero force: the measurement is offset plus noise (tare)
             nfree = min(aux[j, _A_NFREE] + 1.0, cfg[_C_FREE_MEMORY])
