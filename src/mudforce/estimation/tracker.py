@@ -196,7 +196,8 @@ class TrackEstimate:
     changed : bool
         True on the sample at which the tracker decided the mud has changed.
     bias : float
-        Estimated force-sensor offset [N] (tared while the foot is free).
+        Estimated force-sensor offset [N] (tared while the foot is free, and not while mud may still cling to a
+        raised foot).
     noise : float
         Estimated force-sensor noise, standard deviation [N].
     misfit : bool
