@@ -4,10 +4,11 @@
 the force and the band ``[F_up, F_down]`` a foot at rest may carry (Eq. (2)-(3)'s edges at the stepper's own Maxwell
 strain), all three through the first-order low-pass a force sensor applies; :func:`_refined_force_and_band` the same
 on a cubic spline of the depth (the model's error at the data's rate is the difference); :func:`_band_residual` the
-residual with a foot at rest compared with its band (issue 23: rest is a band, not a branch), and :func:`_slow_steps`
-the steps read as rest. The compiled loops are speed plumbing: the same operations in the same order as the numpy
-they replace, so the same bits. Private to :mod:`mudforce.estimation.calibration.identify` (fit reads
-:func:`_slow_steps` for its misfit warning).
+residual with a foot at rest compared with its band (issue 23: rest is a band, not a branch), and
+:func:`_rest_samples` the samples read as rest. The compiled loops are speed plumbing: the same operations in the
+same order as the numpy they replace, so the same bits. Private to the calibration package: identify, fit (the rest
+samples, the band's residual, the sticking stretches) and the paper's model's ``rest_band``
+(:func:`_vector_force_and_band`).
 """
 
 from __future__ import annotations
@@ -292,7 +293,7 @@ _REST_NOISE_SIGMAS = 0.5
 def _slow_steps(step: np.ndarray, dt: np.ndarray, depth_noise: float) -> np.ndarray:
     """The steps a foot at rest could have made [bool]: ``|step|`` [m] within the rest speed
     (:data:`~mudforce.estimation.nuisances.REST_SPEED`) times the step's ``dt`` [s] plus :data:`_REST_NOISE_SIGMAS`
-    depth noises ``depth_noise`` [m]. identify's rest samples, and fit's misfit warning's share of them."""
+    depth noises ``depth_noise`` [m]. The first part of :func:`_rest_samples`."""
     out: np.ndarray = np.abs(step) <= REST_SPEED * dt + _REST_NOISE_SIGMAS * depth_noise
     return out
 

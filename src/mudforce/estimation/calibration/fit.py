@@ -384,8 +384,7 @@ def _held_reading(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTria
     for tr in prepared:
         sticking = _sticking(tr.time, tr.depth, tr.depth_noise) if _rest_of(model, tr) is not None else None
         held.append(tr if sticking is None else dataclasses.replace(tr, depth=sticking.held))
-    if all(h is tr for h, tr in zip(held, prepared, strict=True)) or all(
-            np.array_equal(h.depth, tr.depth) for h, tr in zip(held, prepared, strict=True)):
+    if all(np.array_equal(h.depth, tr.depth) for h, tr in zip(held, prepared, strict=True)):  # nothing sticks
         return None
     other = _run_stage(model, foot, held, values, idx, "all", "local",
                        FitOptions(starts=1, max_nfev=options.max_nfev), seed)
@@ -690,9 +689,10 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
                                 "(the end of its profile); the standard error is widened to reach it, "
                                 "read it as a range, not a measurement")
         if held is not None:  # a stuck foot read both ways (_held_reading): hold the held reading's 3-SE interval
+            # (both fitted on their logarithms, so > 0)
             other, other_se = float(held[0][names.index(n)]), float(held[1][k])
             reach = (abs(math.log(other / value)) + 3.0 * (other_se if math.isfinite(other_se) else 0.0)) / 3.0
-            if value > 0.0 and other > 0.0 and reach * value > (stderr[n] or 0.0):
+            if reach * value > (stderr[n] or 0.0):
                 if reach * value > 1.5 * (stderr[n] or 0.0):
                     warnings.append(f"{n} depends on how a stuck foot's mud relaxes, which this recording cannot "
                                     f"tell: read with each stuck stretch's depth held (the engines' sticking) it is "
