@@ -425,6 +425,13 @@ def _smoothed(aux: np.ndarray, j: int, dt: float, cfg: np.ndarray) -> bool:
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _bank_depth(depth: float, aux: np.ndarray, j: int, smooth: bool) -> float:
+    """The depth [m] foot ``j``'s bank steps on this sample: its ``depth`` [m], or with ``smooth``
+    (:func:`_smoothed`) the mean of it and the two before it."""
+    return (depth + aux[j, _A_ZPREV] + aux[j, _A_Z2]) / 3.0 if smooth else depth
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _rest_step(j: int, step: float, dt: float, ring: np.ndarray, M: int) -> tuple[float, float]:
     """The depth step [m] and its span [s] that foot ``j``'s rest test reads (ours, :data:`_REST_SPAN`): the
     sample's own ``step`` over ``dt`` [s] where ``dt`` is at least :data:`_REST_SPAN`, else the step from the
@@ -545,11 +552,9 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
     for s in range(1, nsub + 1):
         u = s / nsub
         for j in range(n):
-            z_now = depths[j]
-            z_before = aux[j, _A_ZPREV]
-            if _smoothed(aux, j, dt, cfg):  # a noisy depth: its three-sample mean, one sample behind
-                z_now = (depths[j] + aux[j, _A_ZPREV] + aux[j, _A_Z2]) / 3.0
-                z_before = (aux[j, _A_ZPREV] + aux[j, _A_Z2] + aux[j, _A_Z3]) / 3.0
+            smooth_j = _smoothed(aux, j, dt, cfg)  # a noisy depth: its three-sample mean, one sample behind
+            z_now = _bank_depth(depths[j], aux, j, smooth_j)
+            z_before = (aux[j, _A_ZPREV] + aux[j, _A_Z2] + aux[j, _A_Z3]) / 3.0 if smooth_j else aux[j, _A_ZPREV]
             zj = z_now if s == nsub else z_before + (z_now - z_before) * u
             for o in range(NO):
                 zo = zj + offsets[o]
@@ -588,8 +593,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         free = True  # every model says zero force: the sample says nothing of the mud
         tare = True  # every model of every surface offset that holds _TARE_MASS of the posterior says zero force
         clinging = False  # ... one of them says a force with its depth above the surface (_CLING_SIGMAS)
-        # the depth the bank stepped on [m]
-        z_bank = (depths[j] + aux[j, _A_ZPREV] + aux[j, _A_Z2]) / 3.0 if smooth else depths[j]
+        z_bank = _bank_depth(depths[j], aux, j, smooth)  # the depth the bank stepped on [m]
         o_map = 0  # the most probable surface offset (before this sample)
         p_map = -1.0
         for o in range(NO):
