@@ -19,11 +19,12 @@ import numpy as np
 import pytest
 
 import mudforce.estimation.calibration.fit as fit_module
-from mudforce.estimation.calibration import ConditionFit, fit_condition, load_trial, prepare_trial
+from mudforce.estimation.calibration import ConditionFit, Trial, fit_condition, load_trial, prepare_trial
 from mudforce.estimation.calibration._recording_model import _rest_samples
-from mudforce.estimation.calibration.fit import _rest_band_rows, _rest_of
+from mudforce.estimation.calibration.fit import _discretisation_of, _rest_band_rows, _rest_of
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.estimation.calibration.synth import synthesize
+from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from robot_recording import DATA, ROBOT_FOOT
 
@@ -37,7 +38,10 @@ def robot_fit() -> ConditionFit:
 
 def test_a_robot_s_own_mud_is_fitted_through_the_rest_band(robot_fit: ConditionFit) -> None:
     assert robot_fit.rmse < 0.35  # 0.31 N; 5.5 N read on the branch
-    assert robot_fit.misfit_ratio < 1.6  # 1.44; 26 on the branch
+    # the floor holds the model's own discretisation error at 100 Hz (a foot that turns between two samples): 0.283 N
+    # over a force noise of 0.19 N, and the misfit flag is down (1.10; 1.44 before, 26 on the branch)
+    assert robot_fit.noise_floor > 1.3 * robot_fit.force_noise
+    assert robot_fit.misfit_ratio < 1.2 and not robot_fit.model_misses_data
     truth = MudParameters.from_water_content(TRUTH).to_dict()
     for name in ("k_m_i", "k_m_w", "alpha", "beta", "sigma_y"):
         value, se = robot_fit.parameters[name], robot_fit.stderr[name]
@@ -67,6 +71,9 @@ def test_the_rest_rows_are_the_distance_outside_the_band_with_the_offset_read_wh
 def test_a_lab_protocol_and_a_model_without_a_band_read_every_sample_on_the_branch() -> None:
     protocol = prepare_trial(synthesize(seed=1, repeats=1, water_contents=(0.2,), velocities=(0.01,)).trials[0])
     assert protocol.motion is not None and _rest_of(CHEN2024, protocol) is None  # its hold is the paper's relaxation
+    # and its floor is the noise alone: the model follows the fitted noise-free motion, the paper's
+    values = CHEN2024.vector(MudParameters.from_water_content(0.2).to_dict())
+    assert not _discretisation_of(CHEN2024, Foot.paper(), protocol, values, "band").any()
     robot = prepare_trial(load_trial(DATA / "robot_walk_fast_seed1.csv", TRUTH))
     rest = _rest_of(CHEN2024, robot)
     assert rest is not None
@@ -93,10 +100,81 @@ def test_a_stuck_foot_read_both_ways_widens_what_depends_on_it(monkeypatch: pyte
     assert any(w.startswith("b_m_w depends on how a stuck foot's mud relaxes") for w in fit.warnings)
     for name in ("k_m_w", "sigma_y", "beta"):  # what the two readings agree on keeps its standard error
         assert not any(w.startswith(f"{name} depends on") for w in fit.warnings)
-        assert fit.stderr[name] is not None and fit.stderr[name] < 0.05 * fit.parameters[name]
-    # read one way only, b_m_w was confidently wrong
+        assert fit.stderr[name] is not None and fit.stderr[name] < 0.07 * fit.parameters[name]  # beta 6.2 % (the pull)
+    # read one way only, b_m_w is beyond 3 standard errors
     monkeypatch.setattr(fit_module, "_held_reading", lambda *args: None)
     one = fit_condition([trial], ROBOT_FOOT, seed=0)
     assert one.parameters["b_m_w"] == value
-    assert abs(one.parameters["b_m_w"] - truth["b_m_w"]) > 6.0 * (one.stderr["b_m_w"] or 0.0)  # 7.8
-    assert not any("b_m_w" in w for w in one.warnings)
+    assert abs(one.parameters["b_m_w"] - truth["b_m_w"]) > 4.0 * (one.stderr["b_m_w"] or 0.0)  # 4.7
+    # (7.8 and unwarned before the band's pull was measured; now the pull names it)
+    said = [w for w in one.warnings if "b_m_w" in w]
+    assert said and said[0].startswith("b_m_w is read with a foot at rest anywhere in its")
+
+
+# The sensor-chain bench's walk 0 of seed 70 (mudforce.motions.gait, W = 30.05 %, the model's force on its branch at
+# 2 kHz), through the clean chain at 100 Hz. Its stances lie on the branch; read through the band (which scores every
+# sample inside it zero however wide it is) the fit widened the band over the noise at its edge: zeta 5.6 and b_m_i
+# 5.2 standard errors off, an RMSE a quarter below the force noise, no warning.
+WALK = 0.3005414565222564
+
+
+@pytest.fixture(scope="module")
+def walk_trial() -> Trial:
+    from mudforce import simulate
+    from mudforce.motions.gait import gait
+    from mudforce.motions.sensor_chain import SensorChain, apply
+
+    path = gait(2060653588, duration=30.0, rate=2000.0)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(WALK), velocity_filter="exact").force
+    chain = SensorChain(force_noise=0.2, depth_noise=3e-5, force_bias=-0.5788, rate=100.0)
+    t, z, f = apply(path.time, path.depth, np.asarray(force), chain, 12345)
+    return Trial("walk0", WALK, t, z, f)
+
+
+def test_a_walk_whose_stances_lie_on_the_branch_is_read_on_the_branch(walk_trial: Trial,
+                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    truth = MudParameters.from_water_content(WALK).to_dict()
+    fit = fit_condition([walk_trial], seed=0)
+    assert fit.rest_reading == "branch"
+    assert fit.rmse < 0.21 and 0.7 < fit.misfit_ratio < 1.1  # 0.204 N, the force noise; 0.81 (the floor holds the
+    # model's own discretisation error at 100 Hz, the sway's turns between two samples)
+    assert not fit.warnings
+    for name in fit.free:
+        value, se = fit.parameters[name], fit.stderr[name]
+        assert se is not None and abs(math.log(value / truth[name])) < 2.0 * se / value, name  # within 0.5
+    assert fit.to_dict()["rest_reading"] == "branch"
+    assert ConditionFit.from_dict(fit.to_dict()).rest_reading == "branch"
+    # read through the band alone, zeta is 5.6 standard errors of its own off; the band's pull, measured on data
+    # made from the fit, widens what it moves and says so
+    monkeypatch.setattr(fit_module, "_narrowest_reading", lambda model, foot, prepared, values, *args: ("band", values))
+    band = fit_condition([walk_trial], seed=0)
+    assert band.rest_reading == "band" and band.rmse < 0.17  # 0.158 N: the band swallowed a quarter of the noise
+    assert any(w.startswith("zeta is read with a foot at rest anywhere in its rest band") for w in band.warnings)
+    for name in band.free:
+        value, se = band.parameters[name], band.stderr[name]
+        assert se is not None and abs(math.log(value / truth[name])) < 3.0 * se / value, name
+
+
+def test_a_robot_s_stuck_foot_keeps_the_band(robot_fit: ConditionFit) -> None:
+    assert robot_fit.rest_reading == "band"  # read on the branch it misses by newtons (above)
+
+
+def test_at_50_hz_a_walk_s_turns_are_read_through_the_band_and_its_stances_on_the_branch() -> None:
+    # the bench's walk 2 of seed 70 (W = 30.26 %) through the clean chain at 50 Hz: the stances' sway turns between
+    # two samples, where the branch at the sample is either; read through the band everywhere zeta and omega_0 were
+    # 3.0 standard errors off, unwarned
+    from mudforce import simulate
+    from mudforce.motions.gait import gait
+    from mudforce.motions.sensor_chain import SensorChain, apply
+
+    w = 0.3025702053107937
+    path = gait(1460984761, duration=30.0, rate=2000.0)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(w), velocity_filter="exact").force
+    chain = SensorChain(force_noise=0.2, depth_noise=3e-5, force_bias=0.097, rate=50.0)
+    t, z, f = apply(path.time, path.depth, np.asarray(force), chain, 12347)
+    fit = fit_condition([Trial("walk2", w, t, z, f)], seed=2)
+    assert fit.rest_reading == "turns"
+    truth = MudParameters.from_water_content(w).to_dict()
+    for name in fit.free:
+        value, se = fit.parameters[name], fit.stderr[name]
+        assert se is not None and abs(math.log(value / truth[name])) < 1.5 * se / value, name  # within 0.4

@@ -14,6 +14,7 @@ samples, the band's residual, the sticking stretches) and the paper's model's ``
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -158,21 +159,58 @@ def _with_neighbours(x: np.ndarray) -> np.ndarray:
 _REFINE = 4
 
 
-def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
-                            lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`_force_and_band` [N] at the samples, the model run on a cubic spline of ``depth`` [m] through them.
+#: ``run(time [s], depth [m]) -> (force, low, high)`` [N]: a model along a depth, its force and its rest band.
+Run = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+def _refined_run(time: np.ndarray, depth: np.ndarray, run: Run) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``run`` [N] at the samples, the model run on a cubic spline of ``depth`` [m] through them.
 
     The spline (not-a-knot) puts :data:`_REFINE` steps in each step of the recording; it passes through every
     sample, and between them it follows the motion's curvature where the stepper alone takes the depth as linear.
     """
     if time.size < 4:
-        return _force_and_band(time, depth, q, foot, lag)
+        return run(time, depth)
     frac = np.arange(_REFINE) / _REFINE
     fine_t = np.concatenate([(time[:-1, None] + frac[None, :] * np.diff(time)[:, None]).ravel(), time[-1:]])
     fine_z = CubicSpline(time, depth)(fine_t)
     fine_z[::_REFINE] = depth
-    f, low, high = _force_and_band(fine_t, fine_z, q, foot, lag)
+    f, low, high = run(fine_t, fine_z)
     return f[::_REFINE], low[::_REFINE], high[::_REFINE]
+
+
+def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
+                            lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_force_and_band` [N] at the samples, the model run on a cubic spline of ``depth`` [m] through them
+    (:func:`_refined_run`)."""
+    return _refined_run(time, depth, lambda t, z: _force_and_band(t, z, q, foot, lag))
+
+
+def _discretisation(time: np.ndarray, depth: np.ndarray, run: Run, rest: np.ndarray,
+                    force: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The model's own discretisation error at the data's rate, sample by sample [N^2], estimated from the data (issue
+    23, point 4), and its half-rate part alone [N^2].
+
+    ``run`` is the model along ``depth`` [m] at ``time`` [s], ``force`` [N] the model's force at the samples as
+    read, ``rest`` the samples read through the band. The model at half the rate (the even samples, the odd ones)
+    against ``force`` at the moving samples: an event between two samples (a touchdown, a reversal, a neck) moves
+    the half-rate model at a neighbour of the sample it moves the data at, so each sample takes the largest of
+    itself and its two neighbours (:func:`_with_neighbours`); and the model on the recording against the model on a
+    refined cubic interpolation of it (:func:`_refined_run`): the stepper takes the depth as linear between the
+    samples, the spline follows the motion's curvature (the speed changing within a step, an apex or a stop between
+    two samples); their difference is the model's error at the data's rate to leading order. At rest the band's
+    edges are compared (the band is what is read). identify's and fit's one statement of it.
+    """
+    moving = ~rest
+    disc2 = np.zeros(time.size)
+    for sel in (slice(0, None, 2), slice(1, None, 2)):
+        half = run(time[sel], depth[sel])[0]
+        disc2[sel] = np.where(moving[sel], half - force[sel], 0.0) ** 2
+    ref = _refined_run(time, depth, run)
+    own = run(time, depth)
+    edges = np.maximum((ref[1] - own[1]) ** 2, (ref[2] - own[2]) ** 2)
+    half2 = _with_neighbours(disc2)
+    return _with_neighbours(np.maximum(disc2, np.where(rest, edges, (ref[0] - own[0]) ** 2))), half2
 
 
 #: The sticking test (:func:`_sticking`; ours): a stretch whose depth moves slower than the engines' own deadband

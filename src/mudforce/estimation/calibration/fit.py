@@ -10,10 +10,17 @@ rest, or turns between two samples, is read through the model's rest band
 (:attr:`ForceModel.rest_band <mudforce.estimation.calibration.models.ForceModel.rest_band>`,
 as identify reads it): a stuck foot carries its load anywhere in
 ``[F_up, F_down]``, and the residual there is the force's distance outside it
-(issue 23: rest is a band, not a branch). Where the foot sticks, the fit is
-also read with the stuck stretches' depth held still (the engines' sticking);
-when that reads the data as well, each standard error is widened to hold
-both readings (ours: :func:`_held_reading`).
+(issue 23: rest is a band, not a branch). A band is no likelihood: every
+sample inside it costs nothing however wide it is, so a fit of nine free
+parameters can widen it over the noise of the samples at its edge (a walk
+whose stances lie on the branch read ``zeta`` 5.6 standard errors off,
+unwarned). Where the branch reads those samples to their noise, or the
+branch with the band at the turns alone, the fit keeps that reading (ours:
+:func:`_narrowest_reading`); the band where neither does, as on a robot
+whose stuck foot carries its load anywhere in it. Where
+the foot sticks, the fit is also read with the stuck stretches' depth held
+still (the engines' sticking); when that reads the data as well, each
+standard error is widened to hold both readings (ours: :func:`_held_reading`).
 
 The fit is staged, as Section III-A of [1] suggests (:data:`CHEN2024.stages
 <mudforce.estimation.calibration.models.CHEN2024>`):
@@ -74,7 +81,7 @@ from mudforce.errors import (
     shown,
     true_or_false,
 )
-from mudforce.estimation.calibration._recording_model import _band_residual, _rest_samples, _sticking
+from mudforce.estimation.calibration._recording_model import _band_residual, _discretisation, _rest_samples, _sticking
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import (
@@ -249,8 +256,9 @@ class _Objective:
 
     def __init__(self, model: ForceModel, foot: Foot, groups: Sequence[Sequence[PreparedTrial]],
                  base: Sequence[np.ndarray], slots: Sequence[Sequence[tuple[int, int]]], window: str,
-                 prefix_fixed: bool = False) -> None:
+                 prefix_fixed: bool = False, reading: str = "band") -> None:
         self.model = model
+        self.reading = reading  # how the samples at rest are read (_rest_of)
         self.foot = foot
         self.groups = groups
         self.base = [b.copy() for b in base]
@@ -270,7 +278,7 @@ class _Objective:
         windows = []
         for g, group in enumerate(self.groups):
             for i, tr in enumerate(group):
-                rest = _rest_of(self.model, tr)
+                rest = _rest_of(self.model, tr, self.reading)
                 a, b = tr.intrusion_window if self.window == "intrusion" else (0, tr.time.size)
                 k = tr.reversal_index if self.window == "withdrawal" else 0
                 spec: tuple[Callable[[np.ndarray], Any], int, np.ndarray, np.ndarray | None]
@@ -314,14 +322,24 @@ class _Objective:
         return float(r @ r)
 
 
-def _rest_of(model: ForceModel, tr: PreparedTrial) -> np.ndarray | None:
+#: How the fit may read the samples of a recording at which the foot is at rest (:func:`_rest_of`), the narrowest
+#: first: every sample on the model's branch; the band at the turns alone (where the motion changes between two
+#: samples), the slow samples on the branch; the band at every sample at rest (identify's reading).
+_READINGS = ("branch", "turns", "band")
+
+
+def _rest_of(model: ForceModel, tr: PreparedTrial, reading: str = "band") -> np.ndarray | None:
     """The samples of ``tr`` the fit reads through the model's rest band [bool] (a recording of any motion: identify's
-    rest, :func:`~mudforce.estimation.calibration._recording_model._rest_samples`), or None where it reads every
-    sample on the branch: a lab protocol (its hold is the paper's relaxation, on the branch), or a model without a
-    band."""
-    if model.rest_band is None or tr.motion is not None or tr.time.size < 2:
+    rest, :func:`~mudforce.estimation.calibration._recording_model._rest_samples`; with ``reading`` ``"turns"`` the
+    samples where the motion changes alone, not those merely slow), or None where it reads every sample on the
+    branch: ``reading`` ``"branch"``, a lab protocol (its hold is the paper's relaxation, on the branch), or a model
+    without a band."""
+    if model.rest_band is None or tr.motion is not None or tr.time.size < 2 or reading == "branch":
         return None
-    return _rest_samples(tr.time, tr.depth, tr.depth_noise)
+    rest = _rest_samples(tr.time, tr.depth, tr.depth_noise)
+    if reading == "turns":
+        rest &= ~_rest_samples(tr.time, tr.depth, tr.depth_noise, turns=False)
+    return rest
 
 
 def _trial_residual(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray, window: str) -> np.ndarray:
@@ -342,19 +360,105 @@ def _trial_residual(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np
     return r[k:] if window == "withdrawal" else r
 
 
-def _fitted(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray) -> tuple[np.ndarray, float]:
+def _fitted(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray,
+            reading: str = "band") -> tuple[np.ndarray, float]:
     """The model's force along ``tr`` [N] and the tare offset [N] the fit profiles out of it.
 
     At a sample at rest (:func:`_rest_of`) the model's force is the point of its rest band nearest the measured
     force less the offset (what a stuck foot of this mud could carry there), so that the residual is the objective's.
+    ``reading``: :func:`_rest_of`'s.
     """
-    rest = _rest_of(model, tr)
+    rest = _rest_of(model, tr, reading)
     if rest is not None and model.rest_band is not None:
         force, low, high = model.rest_band(tr.time, tr.depth, foot)(values)
         r, offset = _rest_band_rows(force, low, high, tr.force, rest, tr.precontact)
         return r + (tr.force - offset), offset
     fitted = model.force(tr.time, tr.depth, values, foot)
     return fitted, tare_correction(fitted - tr.force, tr.precontact)
+
+
+#: A narrower reading (:func:`_narrowest_reading`) is kept when its residual's RMS, with the noise its band hides put
+#: back, is within this factor of the band reading's [-] (ours). On the sensor-chain bench's clean 100-Hz walks of
+#: seed 70 (``mudforce.motions.gait``, the model's force on its branch) the branch reading's factor reads 0.997-1.032;
+#: on its MuJoCo robots, both sources, whose feet stick or turn between two samples, 5.1-15.5.
+_READING_TIE = 1.1
+
+
+def _rows_and_hidden(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
+                     idx: list[int], reading: str) -> tuple[float, float]:
+    """The objective's sum of squares [N^2] of a ``reading`` at ``values`` [SI] (free ``idx``), and the noise its band
+    hides [N^2]: at each sample read through the band and inside it, the variance of its noise floor
+    (:func:`~mudforce.estimation.calibration.preprocess.noise_floor_parts`)."""
+    rows = _Objective(model, foot, [prepared], [values], [[(0, i)] for i in idx], "all",
+                      reading=reading)(np.log(values[idx]))
+    hidden, start = 0.0, 0
+    for tr in prepared:
+        stop = start + tr.time.size
+        rest = _rest_of(model, tr, reading)
+        if rest is not None:
+            def force_at(z: np.ndarray, tr: PreparedTrial = tr) -> np.ndarray:
+                return model.force(tr.time, z, values, foot)
+
+            var = noise_floor_parts(tr, rows[start:stop], force_at)[0]
+            hidden += float(np.sum(var[rest & (rows[start:stop] == 0.0)]))
+        start = stop
+    return float(rows @ rows), hidden
+
+
+def _narrowest_reading(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
+                       idx: list[int], options: FitOptions, seed: int) -> tuple[str, np.ndarray]:
+    """The narrowest reading of the samples at rest (:data:`_READINGS`) that reads the data as well as the band
+    does, and its fit: ``(reading, values [SI])`` (ours; issue 23, point 5 for fit).
+
+    The band reading (``values``, the fit with every sample at rest read through the rest band) scores a sample
+    inside the band zero however wide the band is, so the fit gains the noise of every sample at the band's edge by
+    widening it (each sample's noise a free parameter: a Neyman-Scott bias). On the bench's clean walks of seed 70,
+    whose stances lie on the branch (the model's own force), it read ``zeta`` and ``omega_0`` 3-6 standard errors off
+    and ``k_m_i``, ``b_m_i`` up to 5, with no warning and an RMSE a quarter below the force noise; at 50 Hz 3. This
+    refits locally from ``values``, every free parameter ``idx``, with the samples at rest read on the branch, then
+    with the band at the turns alone (at 50 Hz a stance's sway turns between two samples, where the branch at the
+    sample is either); the first whose sum of squares, with the noise its band hides put back
+    (:func:`_rows_and_hidden`), is within :data:`_READING_TIE` (on the RMS) of the band reading's explains the rest
+    as well as any point of the band does, and is the fit (the same walks: every parameter within 1.5 standard
+    errors). A foot that carries its load anywhere in the band (MuJoCo's stuck foot) is missed by newtons on both,
+    and the band reading stays.
+    """
+    cost, hidden = _rows_and_hidden(model, foot, prepared, values, idx, "band")
+    for reading in _READINGS[:-1]:
+        other = _run_stage(model, foot, prepared, values, idx, "all", "local",
+                           FitOptions(starts=1, max_nfev=options.max_nfev), seed, reading=reading)
+        c, h = _rows_and_hidden(model, foot, prepared, other, idx, reading)
+        if c + h <= _READING_TIE**2 * (cost + hidden):
+            return reading, other
+    return "band", values
+
+
+def _band_pull(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray, idx: list[int],
+               options: FitOptions, seed: int, reading: str) -> np.ndarray:
+    """How far the band of a ``reading`` pulls each free parameter ``idx`` [-, on the logarithm], measured on data
+    made from the fit itself (ours; issue 23, point 5 for fit).
+
+    A band scores every sample inside it zero, and the noise of the samples at its edge pulls the fit toward wider
+    bands (:func:`_narrowest_reading`), by an amount its standard errors do not hold. This makes each recording
+    again from ``values`` [SI]: the model's force along its depth, on its branch (a stuck foot's load at the band's
+    edge, where the pull is largest), the tare offset and a normal noise of the recording's force noise (seeded by
+    ``seed``); and refits it locally twice, on the branch (its truth's own reading: no pull) and through the band of
+    ``reading``. Their difference, on the same noise, is the pull: on the bench's 20-Hz walks of seed 70, where the
+    band reading stays (the branch misses the turns between the samples), ``zeta`` low and ``omega_0`` high by up to
+    3 standard errors.
+    """
+    rng = np.random.default_rng([seed, 0x8A4D])
+    made = []
+    for tr in prepared:
+        own = model.force(tr.time, tr.depth, values, foot)
+        offset = _fitted(model, foot, tr, values, reading)[1]
+        sigma = tr.force_noise if math.isfinite(tr.force_noise) else 0.0
+        made.append(dataclasses.replace(tr, force=own + offset + rng.normal(0.0, sigma, own.size)))
+    local = FitOptions(starts=1, max_nfev=options.max_nfev)
+    on_branch = _run_stage(model, foot, made, values, idx, "all", "local", local, seed, reading="branch")
+    on_band = _run_stage(model, foot, made, values, idx, "all", "local", local, seed, reading=reading)
+    pull: np.ndarray = np.log(on_band[idx] / on_branch[idx])
+    return pull
 
 
 #: The held reading (:func:`_held_reading`) ties with the fit's own when its RMSE is within this factor of the fit's
@@ -366,7 +470,7 @@ _HELD_TIE = 1.1
 
 def _held_reading(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
                   idx: list[int], options: FitOptions, seed: int,
-                  rmse: float) -> tuple[np.ndarray, np.ndarray] | None:
+                  rmse: float, reading: str = "band") -> tuple[np.ndarray, np.ndarray] | None:
     """The fit with a stuck foot's depth held still, where that reads the data as well: ``(values [SI], standard
     errors of the free log-parameters [-])``, else None (ours; issue 23, point 5 for fit).
 
@@ -382,13 +486,13 @@ def _held_reading(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTria
     """
     held: list[PreparedTrial] = []
     for tr in prepared:
-        sticking = _sticking(tr.time, tr.depth, tr.depth_noise) if _rest_of(model, tr) is not None else None
+        sticking = _sticking(tr.time, tr.depth, tr.depth_noise) if _rest_of(model, tr, reading) is not None else None
         held.append(tr if sticking is None else dataclasses.replace(tr, depth=sticking.held))
     if all(np.array_equal(h.depth, tr.depth) for h, tr in zip(held, prepared, strict=True)):  # nothing sticks
         return None
     other = _run_stage(model, foot, held, values, idx, "all", "local",
-                       FitOptions(starts=1, max_nfev=options.max_nfev), seed)
-    obj = _Objective(model, foot, [held], [other], [[(0, i)] for i in idx], "all")
+                       FitOptions(starts=1, max_nfev=options.max_nfev), seed, reading=reading)
+    obj = _Objective(model, foot, [held], [other], [[(0, i)] for i in idx], "all", reading=reading)
     x = np.log(other[idx])
     residual = obj(x)
     data = residual[: -len(held)]
@@ -481,7 +585,7 @@ def _profiler(obj: _Objective, x: np.ndarray, jac: np.ndarray, lo: np.ndarray, h
                 if t == _PROFILE_STEPS[0]:  # the first step along the linearised path, then from the last refit
                     start = np.clip(x + side * t * se_log * path, lo, hi)
                 sub = _Objective(obj.model, obj.foot, obj.groups, [b.copy() for b in obj.values(x)],
-                                 [obj.slots[i] for i in others], obj.window)
+                                 [obj.slots[i] for i in others], obj.window, reading=obj.reading)
                 for g, i in obj.slots[j]:
                     sub.base[g][i] = math.exp(xj)
                 fitted = _least_squares(sub, start[others], lo[others], hi[others], max_nfev)
@@ -570,9 +674,9 @@ def _stage_indices(model: ForceModel, stage: FitStage, free: Sequence[str]) -> l
 
 def _run_stage(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
                idx: list[int], window: str, search: str, options: FitOptions, seed: int,
-               prefix_fixed: bool = False) -> np.ndarray:
+               prefix_fixed: bool = False, reading: str = "band") -> np.ndarray:
     names = [model.parameter_names[i] for i in idx]
-    obj = _Objective(model, foot, [prepared], [values], [[(0, i)] for i in idx], window, prefix_fixed)
+    obj = _Objective(model, foot, [prepared], [values], [[(0, i)] for i in idx], window, prefix_fixed, reading)
     lo, hi = _log_bounds(model, names)
     current = np.log(values[idx])
     if search == "global":
@@ -592,6 +696,27 @@ def _run_stage(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial],
     out: np.ndarray = values.copy()
     out[idx] = np.exp(best_x)
     return out
+
+
+def _discretisation_of(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray,
+                       reading: str) -> np.ndarray:
+    """The model's own discretisation error at ``tr``'s rate, sample by sample [N^2], at ``values`` [SI]
+    (:func:`~mudforce.estimation.calibration._recording_model._discretisation`, identify's reading; issue 23, point 4):
+    zeros on a lab protocol (the fitted noise-free motion, the paper's) or a trial of fewer than eight samples."""
+    if tr.motion is not None or tr.time.size < 8:
+        return np.zeros(tr.time.size)
+    band = model.rest_band
+
+    def run(t: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if band is not None:
+            out: tuple[np.ndarray, np.ndarray, np.ndarray] = band(t, z, foot)(values)
+            return out
+        f = model.force(t, z, values, foot)
+        return f, f, f
+
+    rest = _rest_of(model, tr, reading)
+    rest = np.zeros(tr.time.size, dtype=bool) if rest is None else rest
+    return _discretisation(tr.time, tr.depth, run, rest, run(tr.time, tr.depth)[0])[0]
 
 
 #: The normal law's 97.5 % point [-]: +-this many standard errors is a 95 % interval.
@@ -653,13 +778,14 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
                     free: Sequence[str], cov: np.ndarray, determined: np.ndarray, free_cols: Sequence[int],
                     stage_rmse: dict[str, float], spread: np.ndarray | None = None,
                     profile: _Profile | None = None, force_gain_uncertainty: float = 0.0,
-                    held: tuple[np.ndarray, np.ndarray] | None = None) -> ConditionFit:
+                    held: tuple[np.ndarray, np.ndarray] | None = None, rest_reading: str = "",
+                    pull: np.ndarray | None = None) -> ConditionFit:
     names = model.parameter_names
     params = {n: float(v) for n, v in zip(names, values, strict=True)}
     stderr: dict[str, float | None] = {n: None for n in names}
     # a trial's force sign-flipped (compression negative) first: the misfit it causes is said below in general words
     warnings: list[str] = [w for w in map(_force_sign_warning, prepared) if w]
-    fits = [_fitted(model, foot, tr, values) for tr in prepared]
+    fits = [_fitted(model, foot, tr, values, rest_reading or "band") for tr in prepared]
     residuals = [fitted - tr.force for tr, (fitted, _) in zip(prepared, fits, strict=True)]
     inflation = correlation_inflation(residuals)
     sub = cov[np.ix_(list(free_cols), list(free_cols))] * inflation
@@ -698,6 +824,14 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
                                     f"tell: read with each stuck stretch's depth held (the engines' sticking) it is "
                                     f"{other:.4g}; the standard error is widened to hold both readings")
                 stderr[n] = reach * value
+        if pull is not None and math.isfinite(float(pull[k])):  # the band's pull (_band_pull): hold it
+            # as the held reading's: value +- 3 SE reaches the reading without the pull, 3 of its SE beyond
+            reach = (stderr[n] or 0.0) + abs(float(pull[k])) * value / 3.0
+            if reach > 1.5 * (stderr[n] or 0.0):
+                warnings.append(f"{n} is read with a foot at rest anywhere in its rest band, which pulls it by "
+                                f"{math.expm1(float(pull[k])):+.1%} on data made from this fit; the standard error "
+                                "is widened to hold that")
+            stderr[n] = reach
         relative = max(se_log, (stderr[n] or 0.0) / value if value > 0 else 0.0)
         if relative > POOR_RELATIVE_STDERR:
             warnings.append(f"{n} is poorly determined: relative standard error {relative:.0%}")
@@ -739,10 +873,24 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
                         "surface estimate, or a filter before the fit) removes it")
     rmse = _rms(all_res)
     scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
+    disc_said = ""
+    if noise and any(tr.motion is None for tr in prepared):
+        from mudforce.estimation.calibration.identify import _MISFIT_CLIP  # (identify imports this module)
+
+        # a recording of any motion: the floor holds the model's own discretisation error at the data's rate, each
+        # at its own sample, as identify's (the RMS of the residuals each over its own floor): local, it excuses
+        # the samples where an event between two samples moves the model, and no others
+        disc = np.concatenate([_discretisation_of(model, foot, tr, values, rest_reading or "band") for tr in prepared])
+        v = np.maximum(floor_var + disc, max((1e-4 * scale) ** 2, 1e-18))
+        standardised = math.sqrt(float(np.mean(np.minimum(all_res**2 / v, _MISFIT_CLIP))))
+        floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(v)))
+        disc_said = (f" and the model's own discretisation error at this rate, "
+                     f"{math.sqrt(float(np.mean(disc))):.3g} N RMS")
     ratio = misfit_ratio(rmse, floor, scale)
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
-                        f"(force noise {force_noise:.3g} N, with the depth noise carried through): "
+                        f"(force noise {force_noise:.3g} N, with the depth noise carried through"
+                        f"{disc_said}): "
                         "the model misses systematic features of the data (or the fit did not converge); "
                         "the standard errors are widened for the residuals' correlation, but read them with care")
     ws = {tr.trial.water_content for tr in prepared}
@@ -750,7 +898,7 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     return ConditionFit(water_content=w, model=model.name, parameters=params, stderr=stderr, free=tuple(free),
                         rmse=rmse, force_noise=force_noise, trials=tuple(trial_fits), correlation=corr,
                         warnings=tuple(dict.fromkeys(warnings)), stage_rmse=stage_rmse, misfit_ratio=ratio,
-                        noise_floor=floor)
+                        noise_floor=floor, rest_reading=rest_reading)
 
 
 @one_blas_thread
@@ -831,7 +979,11 @@ def fit_condition(
     idx_all = [m.parameter_names.index(n) for n in free_names]
     values = _run_stage(m, foot, prepared, values, idx_all, "all", "local", FitOptions(
         starts=1, max_nfev=options.max_nfev), seed)
-    obj = _Objective(m, foot, [prepared], [values], [[(0, i)] for i in idx_all], "all")
+    reading = ""
+    if any(r is not None and bool(r.any()) for r in (_rest_of(m, tr) for tr in prepared)):
+        # a band scores every sample inside it zero: the narrowest reading that reads the data as well
+        reading, values = _narrowest_reading(m, foot, prepared, values, idx_all, options, seed)
+    obj = _Objective(m, foot, [prepared], [values], [[(0, i)] for i in idx_all], "all", reading=reading or "band")
     x = np.log(values[idx_all])
     residual = obj(x)
     stage_rmse["joint"] = _rms(residual[: -len(prepared)])  # without the tare-prior rows
@@ -845,11 +997,14 @@ def fit_condition(
     spread = _jackknife_spread(jac, residual, groups)
     lo, hi = _log_bounds(m, free_names)
     profile = _profiler(obj, x, jac, lo, hi, max(options.max_nfev // 4, 20))
-    held = _held_reading(m, foot, prepared, values, idx_all, options, seed, stage_rmse["joint"])
+    held = _held_reading(m, foot, prepared, values, idx_all, options, seed, stage_rmse["joint"], reading or "band")
+    pull = None
+    if reading in ("band", "turns"):  # a band pulls the fit toward wider bands: measured, and held in the errors
+        pull = _band_pull(m, foot, prepared, values, idx_all, options, seed, reading)
     if progress is not None:
         progress.update(1, "joint polish")
     return _condition_from(m, foot, prepared, values, free_names, cov, determined, list(range(len(idx_all))),
-                           stage_rmse, spread, profile, force_gain_uncertainty, held)
+                           stage_rmse, spread, profile, force_gain_uncertainty, held, reading, pull)
 
 
 # ---------------------------------------------------------------------------- a dataset
@@ -962,6 +1117,8 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
                 force_gain_uncertainty: float = 0.0) -> list[ConditionFit]:
     """Refit all conditions jointly, with the ``shared`` parameters tied across them."""
     options = _options(options)
+    # the samples at rest read as the widest of the conditions' readings
+    reading = max((f.rest_reading for f in fits if f.rest_reading), key=_READINGS.index, default="band")
     names = model.parameter_names
     base = [model.vector(f.parameters) for f in fits]
     slots: list[list[tuple[int, int]]] = []
@@ -978,7 +1135,7 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
                 slots.append([(g, names.index(n))])
                 x0.append(math.log(base[g][names.index(n)]))
                 labels.append((g, n))
-    obj = _Objective(model, foot, groups, base, slots, "all")
+    obj = _Objective(model, foot, groups, base, slots, "all", reading=reading)
     lo, hi = _log_bounds(model, [n for _, n in labels])
     x = _least_squares(obj, np.array(x0), lo, hi, options.max_nfev * 2)
     residual = obj(x)
@@ -1010,6 +1167,6 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
         fnames = tuple(order[k] for k in perm)
         out.append(_condition_from(model, foot, prepared, values[g], fnames, cov, determined, cols,
                                    {**fits[g].stage_rmse, "shared": _rms(residual)}, spread, profile,
-                                   force_gain_uncertainty))
+                                   force_gain_uncertainty, rest_reading=fits[g].rest_reading and reading))
     return out
 

@@ -93,12 +93,11 @@ from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_integer, is_real, shown
 from mudforce.estimation.calibration._recording_model import (
     _band_residual,
+    _discretisation,
     _force_and_band,
     _model_set,
-    _refined_force_and_band,
     _rest_samples,
     _sticking,
-    _with_neighbours,
 )
 from mudforce.estimation.calibration.dataset import Trial
 from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
@@ -182,8 +181,8 @@ _GAIN_WARNING = 1.5
 #: scan's offset where the narrow one, its offset refitted, fits better (RMSE 0.60 against 0.76 N)
 _SECOND_VALLEY_GAP = 0.005
 _SECOND_VALLEY_RATIO = 4.0
-#: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
-#: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
+#: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's; fit's
+#: too): a sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
 #: A sample is in the statistic's tail when its residual is beyond three floors (``r^2 / floor^2 > 9``) [-] (ours).
 _TAIL_Z2 = 9.0
@@ -1172,21 +1171,14 @@ def identify_water_content(
     disc2 = np.zeros(n)
     half2 = disc2  # the half-rate part alone (the interval's measure of the misfit, below)
     if general and n >= 8:
-        # the model at half the rate (the even samples, the odd ones) against the model at the data's rate; an
-        # event between two samples (a touchdown, a reversal, a neck) moves the half-rate model at a neighbour
-        # of the sample it moves the data at, so each sample takes the largest of itself and its two neighbours
-        for sel in (slice(0, None, 2), slice(1, None, 2)):
-            half = _force_and_band(t[sel], tr.depth[sel] + offset, family(w_best), foot, lag)[0]
-            disc2[sel] = np.where(moving[sel], half - f_best[sel], 0.0) ** 2
-        # and the model on the recording against the model on a refined cubic interpolation of it: the stepper
-        # takes the depth as linear between the samples, the spline follows the motion's curvature (the speed
-        # changing within a step, an apex or a stop between two samples); their difference is the model's error
-        # at the data's rate to leading order. At rest the band's edges are compared (the band is what is read)
-        ref = _refined_force_and_band(t, tr.depth + offset, family(w_best), foot, lag)
-        own = _force_and_band(t, tr.depth + offset, family(w_best), foot, lag)
-        edges = np.maximum((ref[1] - own[1]) ** 2, (ref[2] - own[2]) ** 2)
-        half2 = _with_neighbours(disc2)
-        disc2 = _with_neighbours(np.maximum(disc2, np.where(rest, edges, (ref[0] - own[0]) ** 2)))
+        # the model at half the rate against the model at the data's rate, and on the recording against a refined
+        # cubic interpolation of it (_discretisation)
+        best_mud = family(w_best)
+
+        def run(tt: np.ndarray, zz: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            return _force_and_band(tt, zz, best_mud, foot, lag)
+
+        disc2, half2 = _discretisation(t, tr.depth + offset, run, rest, f_best)
     discretisation = math.sqrt(float(np.mean(disc2)))
     # the statistic: the RMS of the residuals each divided by its own floor. The discretisation error
     # is local (a branch switch or a necking a sample early or late can move the half-rate model by

@@ -172,7 +172,17 @@ class ConditionFit:
     noise_floor : float
         The RMSE a perfect model would leave [N]: the force noise and the
         depth noise carried through the model's sensitivity to the depth
-        (:func:`~mudforce.estimation.calibration.preprocess.noise_floor`).
+        (:func:`~mudforce.estimation.calibration.preprocess.noise_floor`);
+        on a recording of any motion (not a lab protocol) also the model's
+        own discretisation error at the data's rate, estimated from the data
+        as identify's, each sample over its own floor (issue 23, point 4).
+    rest_reading : str
+        How the samples at which a foot is at rest (or turns between two samples) were read: ``"band"``, anywhere
+        in the model's rest band (a stuck foot carries its load there); ``"branch"``, on the model's branch, which
+        reads them to their noise; ``"turns"``, the band at the turns alone and the slow samples on the branch. The
+        fit keeps the narrowest that reads the data as well as the band (a band scores every sample inside it zero,
+        and would let the fit widen it over the noise). ``""`` where no sample is read so (a lab protocol, a model
+        without a band, a foot never at rest).
     """
 
     water_content: float
@@ -188,6 +198,7 @@ class ConditionFit:
     stage_rmse: dict[str, float] = field(default_factory=dict)
     misfit_ratio: float = math.nan
     noise_floor: float = math.nan
+    rest_reading: str = ""
 
     @property
     def model_misses_data(self) -> bool:
@@ -212,7 +223,8 @@ class ConditionFit:
                    trials=tuple(TrialFit.from_dict(t, w) for t in data["trials"]),
                    correlation=matrix.reshape(len(corr["parameters"]), len(corr["parameters"])),
                    warnings=tuple(data["warnings"]), misfit_ratio=_nan_if_none(data.get("misfit_ratio")),
-                   noise_floor=_nan_if_none(data.get("noise_floor_N")))
+                   noise_floor=_nan_if_none(data.get("noise_floor_N")),
+                   rest_reading=str(data.get("rest_reading", "")))
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of one condition in ``fit.json``."""
@@ -227,6 +239,7 @@ class ConditionFit:
             "noise_floor_N": _finite_or_none(self.noise_floor),
             "misfit_ratio": _finite_or_none(self.misfit_ratio),
             "model_misses_data": self.model_misses_data,
+            "rest_reading": self.rest_reading,
             "trials": [t.to_dict() for t in self.trials],
             "correlation": {"parameters": list(self.free), "matrix": corr},
             "warnings": list(self.warnings),
