@@ -21,10 +21,9 @@ import pytest
 import mudforce.estimation.calibration.fit as fit_module
 from mudforce.estimation.calibration import ConditionFit, Trial, fit_condition, load_trial, prepare_trial
 from mudforce.estimation.calibration._recording_model import _rest_samples
-from mudforce.estimation.calibration.fit import _discretisation_of, _rest_band_rows, _rest_of
+from mudforce.estimation.calibration.fit import _rest_band_rows, _rest_of
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.estimation.calibration.synth import synthesize
-from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from robot_recording import DATA, ROBOT_FOOT
 
@@ -38,10 +37,7 @@ def robot_fit() -> ConditionFit:
 
 def test_a_robot_s_own_mud_is_fitted_through_the_rest_band(robot_fit: ConditionFit) -> None:
     assert robot_fit.rmse < 0.35  # 0.31 N; 5.5 N read on the branch
-    # the floor holds the model's own discretisation error at 100 Hz (a foot that turns between two samples): 0.283 N
-    # over a force noise of 0.19 N, and the misfit flag is down (1.10; 1.44 before, 26 on the branch)
-    assert robot_fit.noise_floor > 1.3 * robot_fit.force_noise
-    assert robot_fit.misfit_ratio < 1.2 and not robot_fit.model_misses_data
+    assert robot_fit.misfit_ratio < 1.6  # 1.44; 26 on the branch
     truth = MudParameters.from_water_content(TRUTH).to_dict()
     for name in ("k_m_i", "k_m_w", "alpha", "beta", "sigma_y"):
         value, se = robot_fit.parameters[name], robot_fit.stderr[name]
@@ -71,9 +67,6 @@ def test_the_rest_rows_are_the_distance_outside_the_band_with_the_offset_read_wh
 def test_a_lab_protocol_and_a_model_without_a_band_read_every_sample_on_the_branch() -> None:
     protocol = prepare_trial(synthesize(seed=1, repeats=1, water_contents=(0.2,), velocities=(0.01,)).trials[0])
     assert protocol.motion is not None and _rest_of(CHEN2024, protocol) is None  # its hold is the paper's relaxation
-    # and its floor is the noise alone: the model follows the fitted noise-free motion, the paper's
-    values = CHEN2024.vector(MudParameters.from_water_content(0.2).to_dict())
-    assert not _discretisation_of(CHEN2024, Foot.paper(), protocol, values, "band").any()
     robot = prepare_trial(load_trial(DATA / "robot_walk_fast_seed1.csv", TRUTH))
     rest = _rest_of(CHEN2024, robot)
     assert rest is not None
@@ -136,8 +129,7 @@ def test_a_walk_whose_stances_lie_on_the_branch_is_read_on_the_branch(walk_trial
     truth = MudParameters.from_water_content(WALK).to_dict()
     fit = fit_condition([walk_trial], seed=0)
     assert fit.rest_reading == "branch"
-    assert fit.rmse < 0.21 and 0.7 < fit.misfit_ratio < 1.1  # 0.204 N, the force noise; 0.81 (the floor holds the
-    # model's own discretisation error at 100 Hz, the sway's turns between two samples)
+    assert fit.rmse < 0.21 and 0.9 < fit.misfit_ratio < 1.1  # 0.204 N, 0.97: the force noise, no less
     assert not fit.warnings
     for name in fit.free:
         value, se = fit.parameters[name], fit.stderr[name]

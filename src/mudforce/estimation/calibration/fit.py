@@ -17,10 +17,12 @@ whose stances lie on the branch read ``zeta`` 5.6 standard errors off,
 unwarned). Where the branch reads those samples to their noise, or the
 branch with the band at the turns alone, the fit keeps that reading (ours:
 :func:`_narrowest_reading`); the band where neither does, as on a robot
-whose stuck foot carries its load anywhere in it. Where
-the foot sticks, the fit is also read with the stuck stretches' depth held
-still (the engines' sticking); when that reads the data as well, each
-standard error is widened to hold both readings (ours: :func:`_held_reading`).
+whose stuck foot carries its load anywhere in it, and then the band's
+pull, measured on data made from the fit, widens the standard errors
+(ours: :func:`_band_pull`). Where the foot sticks, the fit is also read
+with the stuck stretches' depth held still (the engines' sticking); when
+that reads the data as well, each standard error is widened to hold both
+readings (ours: :func:`_held_reading`).
 
 The fit is staged, as Section III-A of [1] suggests (:data:`CHEN2024.stages
 <mudforce.estimation.calibration.models.CHEN2024>`):
@@ -81,7 +83,7 @@ from mudforce.errors import (
     shown,
     true_or_false,
 )
-from mudforce.estimation.calibration._recording_model import _band_residual, _discretisation, _rest_samples, _sticking
+from mudforce.estimation.calibration._recording_model import _band_residual, _rest_samples, _sticking
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
 from mudforce.estimation.calibration.preprocess import (
@@ -698,27 +700,6 @@ def _run_stage(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial],
     return out
 
 
-def _discretisation_of(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.ndarray,
-                       reading: str) -> np.ndarray:
-    """The model's own discretisation error at ``tr``'s rate, sample by sample [N^2], at ``values`` [SI]
-    (:func:`~mudforce.estimation.calibration._recording_model._discretisation`, identify's reading; issue 23, point 4):
-    zeros on a lab protocol (the fitted noise-free motion, the paper's) or a trial of fewer than eight samples."""
-    if tr.motion is not None or tr.time.size < 8:
-        return np.zeros(tr.time.size)
-    band = model.rest_band
-
-    def run(t: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        if band is not None:
-            out: tuple[np.ndarray, np.ndarray, np.ndarray] = band(t, z, foot)(values)
-            return out
-        f = model.force(t, z, values, foot)
-        return f, f, f
-
-    rest = _rest_of(model, tr, reading)
-    rest = np.zeros(tr.time.size, dtype=bool) if rest is None else rest
-    return _discretisation(tr.time, tr.depth, run, rest, run(tr.time, tr.depth)[0])[0]
-
-
 #: The normal law's 97.5 % point [-]: +-this many standard errors is a 95 % interval.
 _Z95 = 1.959963984540054
 
@@ -873,24 +854,10 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
                         "surface estimate, or a filter before the fit) removes it")
     rmse = _rms(all_res)
     scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
-    disc_said = ""
-    if noise and any(tr.motion is None for tr in prepared):
-        from mudforce.estimation.calibration.identify import _MISFIT_CLIP  # (identify imports this module)
-
-        # a recording of any motion: the floor holds the model's own discretisation error at the data's rate, each
-        # at its own sample, as identify's (the RMS of the residuals each over its own floor): local, it excuses
-        # the samples where an event between two samples moves the model, and no others
-        disc = np.concatenate([_discretisation_of(model, foot, tr, values, rest_reading or "band") for tr in prepared])
-        v = np.maximum(floor_var + disc, max((1e-4 * scale) ** 2, 1e-18))
-        standardised = math.sqrt(float(np.mean(np.minimum(all_res**2 / v, _MISFIT_CLIP))))
-        floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(v)))
-        disc_said = (f" and the model's own discretisation error at this rate, "
-                     f"{math.sqrt(float(np.mean(disc))):.3g} N RMS")
     ratio = misfit_ratio(rmse, floor, scale)
     if ratio > MISFIT_WARNING_RATIO:
         warnings.append(f"RMSE {rmse:.3g} N is {ratio:.2g} times the noise floor {floor:.3g} N "
-                        f"(force noise {force_noise:.3g} N, with the depth noise carried through"
-                        f"{disc_said}): "
+                        f"(force noise {force_noise:.3g} N, with the depth noise carried through): "
                         "the model misses systematic features of the data (or the fit did not converge); "
                         "the standard errors are widened for the residuals' correlation, but read them with care")
     ws = {tr.trial.water_content for tr in prepared}
