@@ -24,6 +24,7 @@ from mudforce.estimation.calibration._recording_model import _rest_samples
 from mudforce.estimation.calibration.fit import _rest_band_rows, _rest_of
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.estimation.calibration.synth import synthesize
+from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from robot_recording import DATA, ROBOT_FOOT
 
@@ -170,3 +171,28 @@ def test_at_50_hz_a_walk_s_turns_are_read_through_the_band_and_its_stances_on_th
     for name in fit.free:
         value, se = fit.parameters[name], fit.stderr[name]
         assert se is not None and abs(math.log(value / truth[name])) < 1.5 * se / value, name  # within 0.4
+
+
+def test_fit_shared_holds_the_band_s_pull_too(walk_trial: Trial, monkeypatch: pytest.MonkeyPatch) -> None:
+    # two walks, the rest read through the band (forced): the joint refit with k_m_w and b_m_w shared widens each
+    # condition's standard errors by the band's pull on its own trials, as one condition's fit does
+    from mudforce import simulate
+    from mudforce.estimation.calibration import Dataset, fit_dataset
+    from mudforce.motions.gait import gait
+    from mudforce.motions.sensor_chain import SensorChain, apply
+
+    path = gait(7, duration=15.0, rate=2000.0)
+    force = simulate(path.time, path.depth, MudParameters.from_water_content(0.3), velocity_filter="exact").force
+    t, z, f = apply(path.time, path.depth, np.asarray(force),
+                    SensorChain(force_noise=0.2, depth_noise=3e-5, force_bias=0.3, rate=100.0), 7)
+    dataset = Dataset(Foot.paper(), (walk_trial, Trial("walk7", 0.3, t, z, f)))  # 30.05 % and 30 %: one k_m_w, b_m_w
+    monkeypatch.setattr(fit_module, "_narrowest_reading", lambda model, foot, prepared, values, *args: ("band", values))
+    result = fit_dataset(dataset, shared=("k_m_w", "b_m_w"), quiet=True)
+    assert [c.rest_reading for c in result.conditions] == ["band", "band"]
+    truth = {c.water_content: MudParameters.from_water_content(c.water_content).to_dict() for c in result.conditions}
+    assert any("read with a foot at rest anywhere in its rest band" in w for c in result.conditions
+               for w in c.warnings)
+    for c in result.conditions:
+        for name in c.free:
+            value, se = c.parameters[name], c.stderr[name]
+            assert se is not None and abs(math.log(value / truth[c.water_content][name])) < 3.0 * se / value, name

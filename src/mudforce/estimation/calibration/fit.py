@@ -1037,7 +1037,7 @@ def fit_dataset(
                                       force_gain_uncertainty=force_gain_uncertainty))
         if shared and len(fits) > 1:
             fits = _fit_shared(m, dataset.foot, prepared_groups, fits, free_names, tuple(shared), options,
-                               force_gain_uncertainty)
+                               force_gain_uncertainty, seed)
             progress.update(1, "shared")
     return FitResult(conditions=tuple(fits), model=m.name, shared=tuple(shared), seed=seed, foot=dataset.foot,
                      force_gain_uncertainty=force_gain_uncertainty)
@@ -1081,7 +1081,7 @@ def fit_by_velocity(
 
 def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]], fits: list[ConditionFit],
                 free: Sequence[str], shared: tuple[str, ...], options: FitOptions | None,
-                force_gain_uncertainty: float = 0.0) -> list[ConditionFit]:
+                force_gain_uncertainty: float = 0.0, seed: int = 0) -> list[ConditionFit]:
     """Refit all conditions jointly, with the ``shared`` parameters tied across them."""
     options = _options(options)
     # the samples at rest read as the widest of the conditions' readings
@@ -1132,8 +1132,12 @@ def _fit_shared(model: ForceModel, foot: Foot, groups: list[list[PreparedTrial]]
         perm = sorted(range(len(order)), key=lambda k: names.index(order[k]))
         cols = [cols[k] for k in perm]
         fnames = tuple(order[k] for k in perm)
+        rest_g = fits[g].rest_reading and reading
+        # where a band is read, its pull on this condition's own trials (every one of its free parameters refitted)
+        pull = (_band_pull(model, foot, prepared, values[g], [names.index(n) for n in fnames], options,
+                           seed + 104729 * g, rest_g) if rest_g in ("band", "turns") else None)
         out.append(_condition_from(model, foot, prepared, values[g], fnames, cov, determined, cols,
                                    {**fits[g].stage_rmse, "shared": _rms(residual)}, spread, profile,
-                                   force_gain_uncertainty, rest_reading=fits[g].rest_reading and reading))
+                                   force_gain_uncertainty, rest_reading=rest_g, pull=pull))
     return out
 
