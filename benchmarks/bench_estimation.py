@@ -87,8 +87,8 @@ def main() -> int:
     parser.add_argument("--robots", type=int, default=10,
                         help="--sensor-chain: MuJoCo quadruped recordings (default 10, two per gait)")
     parser.add_argument("--walks", type=int, default=10, help="--sensor-chain: gait() recordings (default 10)")
-    parser.add_argument("--fit-recordings", type=int, default=2,
-                        help="--sensor-chain: recordings of each source fitted, on the fit rows (default 2)")
+    parser.add_argument("--fit-recordings", type=int, default=4,
+                        help="--sensor-chain: recordings of each source fitted, on the fit rows (default 4)")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help="--sensor-chain: worker processes (default: one per core; the tables are the same for "
                              "any number, the fits' times aside)")

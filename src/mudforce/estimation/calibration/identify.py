@@ -92,6 +92,7 @@ from mudforce._plumbing.blas import one_blas_thread
 from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_integer, is_real, shown
 from mudforce.estimation.calibration._recording_model import (
+    _REST_NOISE_SIGMAS,
     _band_residual,
     _discretisation,
     _force_and_band,
@@ -100,13 +101,13 @@ from mudforce.estimation.calibration._recording_model import (
     _sticking,
 )
 from mudforce.estimation.calibration.dataset import Trial
-from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO, misfit_ratio
+from mudforce.estimation.calibration.fit import DEPTH_NOISE_SHARE_WARNING, MISFIT_WARNING_RATIO, misfit_ratio
 from mudforce.estimation.calibration.models import CHEN2024
 from mudforce.estimation.calibration.preprocess import (
     MIN_PRECONTACT_SAMPLES,
     PreparedTrial,
     _force_sign_warning,
-    noise_floor,
+    noise_floor_parts,
     prepare_trial,
     tare_correction,
 )
@@ -950,6 +951,7 @@ def identify_water_content(
     (trial.trial if isinstance(trial, PreparedTrial) else trial).check_bounds()
     tr = trial if isinstance(trial, PreparedTrial) else prepare_trial(trial, depth_noise=depth_noise,
                                                                        depth_noise_from="quiet")
+    read_noise = depth_noise is None and not isinstance(trial, PreparedTrial)  # the depth noise read, not given
     check_force_varies(tr.trial.force, f"{tr.trial.name}: ", "trial")
     t = tr.time
     general = tr.motion is None
@@ -1167,7 +1169,7 @@ def identify_water_content(
     best_values = family(w_best).as_array()
     # the floor a perfect member of the family would leave, sample by sample: force noise, depth noise
     # carried through, and the model's own discretisation error at the data's rate
-    var = noise_floor(tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))
+    var, depth_var = noise_floor_parts(tr, f_best - meas, lambda z: CHEN2024.force(t, z + offset, best_values, foot))
     disc2 = np.zeros(n)
     half2 = disc2  # the half-rate part alone (the interval's measure of the misfit, below)
     if general and n >= 8:
@@ -1362,6 +1364,17 @@ def identify_water_content(
                         f"recording), well beyond the force gain uncertainty given ({force_gain_uncertainty:.3g}): a "
                         "sensor gain that far off, or a mud uniformly stiffer or softer than Table I's at this water "
                         "content; the estimate is read with the force divided by it")
+    depth_share = float(np.mean(depth_var) / np.mean(var)) if float(np.mean(var)) > 0.0 else 0.0
+    moves_rest = _REST_NOISE_SIGMAS * tr.depth_noise > REST_SPEED * float(np.median(np.diff(t))) if n > 1 else False
+    if general and read_noise and depth_share > DEPTH_NOISE_SHARE_WARNING and moves_rest:
+        # the floor is mostly the depth noise read from the recording, and that reading decides which samples are
+        # rest: the flag is as blind as the reading is large (at 20 Hz a robot's foot that never rests reads its
+        # motion between the samples as noise, 2.5 mm for 0.03; a stiff mud's floor may be mostly a true 0.04 mm)
+        warnings.append(f"the depth noise read from the recording ({tr.depth_noise * 1e3:.2g} mm) carries "
+                        f"{depth_share:.0%} of the noise floor and decides which samples are read as rest: the misfit "
+                        "flag, the rest and the interval rest on that reading, and where the foot does not rest the "
+                        "motion between the samples reads as noise; give the depth noise the robot knows "
+                        "(--depth-noise) if it is smaller")
     if general and (abs(offset) > 0.95 * MAX_DEPTH_OFFSET or lag > 0.95 * MAX_FORCE_LAG):
         warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
