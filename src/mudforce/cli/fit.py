@@ -15,8 +15,12 @@ stay fixed unless --free names them. fit.json holds, per water content,
 the 11 parameters in SI, their standard errors (null where fixed or not
 determined), the RMSE over all samples and per trial, the noise floor and
 misfit_ratio (RMSE / floor; model_misses_data above 1.25), the parameter
-correlation matrix, and warnings for parameters the data cannot determine
-and for a model that misses the data.
+correlation matrix, warnings for parameters the data cannot determine
+and for a model that misses the data, and, for a recording of any motion,
+rest_reading: how a foot at rest was read (the narrowest of the branch,
+the rest band at the turns alone, or the rest band everywhere that reads
+the data as well as the band; where a band stays its pull widens the
+standard errors).
 
 With --report DIR, the fit and its report are built aside and swapped in
 together once both are complete (DIR must be new, empty or an earlier
@@ -162,9 +166,12 @@ def run(args: argparse.Namespace) -> int:
             staged.commit()
     if not args.quiet:
         for c in result.conditions:
+            rest = {"band": ", a foot at rest read through its rest band",
+                    "branch": ", a foot at rest read on the branch",
+                    "turns": ", the turns read through the rest band"}.get(c.rest_reading, "")
             print(f"W = {c.water_content:.1%}: RMSE {c.rmse:.3f} N (force noise {c.force_noise:.3f} N, "
                   f"noise floor {c.noise_floor:.3f} N), "
-                  f"{len(c.trials)} trials, {len(c.warnings)} warning(s)")
+                  f"{len(c.trials)} trials{rest}, {len(c.warnings)} warning(s)")
             for w in c.warnings:
                 print(f"  warning: {w}")
         print(f"wrote {args.out}" + (f" and {args.report}/report.md" if args.report else ""))
