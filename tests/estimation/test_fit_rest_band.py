@@ -75,6 +75,12 @@ def test_a_lab_protocol_and_a_model_without_a_band_read_every_sample_on_the_bran
     in_mud = robot.depth > 0.0
     assert 0.1 < np.mean(rest[in_mud]) < 0.2  # 14 %
     assert _rest_of(dataclasses.replace(CHEN2024, rest_band=None), robot) is None
+    # the narrower readings (_narrowest_reading): the turns alone, and none
+    slow = _rest_samples(robot.time, robot.depth, robot.depth_noise, turns=False)
+    turns = _rest_of(CHEN2024, robot, "turns")
+    assert turns is not None and turns.any()
+    np.testing.assert_array_equal(turns, rest & ~slow)
+    assert _rest_of(CHEN2024, robot, "branch") is None
 
 
 # The sensor-chain bench's robot 0 of seed 67: the front-left foot of the MuJoCo quadruped, gait ``walk``, in mud of
