@@ -11,12 +11,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mudforce.estimation.calibration._recording_model import _force_and_band, _refined_force_and_band
+from mudforce.estimation.calibration._recording_model import _force_and_band, _refined_run
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 
 Q = MudParameters.from_water_content(0.25)
 FOOT = Foot.paper()
+
+
+def _refined_force_and_band(t: np.ndarray, depth: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The model of ``Q`` [N] run on a cubic spline of ``depth`` [m] through the samples ``t`` [s], no lag."""
+    return _refined_run(t, depth, lambda tt, zz: _force_and_band(tt, zz, Q, FOOT, 0.0))
 
 
 def _depth(t: np.ndarray) -> np.ndarray:
@@ -29,7 +34,7 @@ def _difference(rate: float) -> tuple[float, float]:
     """(refined - recording, true path - recording) [N], largest over one second at ``rate`` [Hz]."""
     t = np.arange(0.0, 1.0 + 1e-9, 1.0 / rate)
     own = _force_and_band(t, _depth(t), Q, FOOT, 0.0)[0]
-    ref = _refined_force_and_band(t, _depth(t), Q, FOOT, 0.0)[0]
+    ref = _refined_force_and_band(t, _depth(t))[0]
     fine = np.linspace(0.0, t[-1], 64 * (t.size - 1) + 1)
     true = _force_and_band(fine, _depth(fine), Q, FOOT, 0.0)[0][::64]
     return float(np.max(np.abs(ref - own))), float(np.max(np.abs(true - own)))
@@ -38,7 +43,7 @@ def _difference(rate: float) -> tuple[float, float]:
 def test_linear_motion_has_no_discretisation_error() -> None:
     t = np.arange(0.0, 1.0 + 1e-9, 0.02)
     depth = 0.002 + 0.02 * t
-    for own, ref in zip(_force_and_band(t, depth, Q, FOOT, 0.0), _refined_force_and_band(t, depth, Q, FOOT, 0.0),
+    for own, ref in zip(_force_and_band(t, depth, Q, FOOT, 0.0), _refined_force_and_band(t, depth),
                         strict=True):
         np.testing.assert_allclose(ref, own, rtol=0.0, atol=1e-9)
 

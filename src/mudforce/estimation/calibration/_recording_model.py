@@ -2,8 +2,9 @@
 
 :func:`_force_and_band` runs the paper's model (the exact rule) along the recorded depth and gives, at each sample,
 the force and the band ``[F_up, F_down]`` a foot at rest may carry (Eq. (2)-(3)'s edges at the stepper's own Maxwell
-strain), all three through the first-order low-pass a force sensor applies; :func:`_refined_force_and_band` the same
-on a cubic spline of the depth (the model's error at the data's rate is the difference); :func:`_band_residual` the
+strain), all three through the first-order low-pass a force sensor applies; :func:`_refined_run` any such model on a
+cubic spline of the depth, and :func:`_discretisation` from it and from the model at half the rate the model's error
+at the data's rate (identify's floor); :func:`_band_residual` the
 residual with a foot at rest compared with its band (issue 23: rest is a band, not a branch), and
 :func:`_rest_samples` the samples read as rest. The compiled loops are speed plumbing: the same operations in the
 same order as the numpy they replace, so the same bits. Private to the calibration package: identify, fit (the rest
@@ -177,13 +178,6 @@ def _refined_run(time: np.ndarray, depth: np.ndarray, run: Run) -> tuple[np.ndar
     fine_z[::_REFINE] = depth
     f, low, high = run(fine_t, fine_z)
     return f[::_REFINE], low[::_REFINE], high[::_REFINE]
-
-
-def _refined_force_and_band(time: np.ndarray, depth: np.ndarray, q: MudParameters, foot: Foot,
-                            lag: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`_force_and_band` [N] at the samples, the model run on a cubic spline of ``depth`` [m] through them
-    (:func:`_refined_run`)."""
-    return _refined_run(time, depth, lambda t, z: _force_and_band(t, z, q, foot, lag))
 
 
 def _discretisation(time: np.ndarray, depth: np.ndarray, run: Run, rest: np.ndarray,
