@@ -5,7 +5,8 @@ front-left foot of the MuJoCo quadruped, gait ``walk-fast``, in mud of W = 28.85
 noise 0.2 N, depth noise 0.03 mm, 100 Hz), 10 s. At 14 % of its samples in the mud the foot is at rest or turns
 between two samples, and there it carries its load anywhere in its rest band; read on the model's branch, those
 samples missed the truth by tens of newtons and the fit distorted the mud to follow them (RMSE 5.5 N, 26 times the
-noise floor; ``b_m_i`` x11600 at its bound, ``alpha`` x0.28). Read through the band it fits to 0.31 N (floor 0.22 N)
+noise floor; ``b_m_i`` x11600 at its bound, ``alpha`` x0.28). Read through the band it fits to 0.31 N (floor 0.28 N
+with the model's error between two samples, 0.22 N of noise)
 with the stiffnesses, ``alpha``, ``beta`` and ``sigma_y`` within 1 standard error of the truth; ``b_m_w`` reads 0.63
 times the truth (4.5 standard errors), named in a warning (the neck breaks before the withdrawal relaxation shows).
 """
@@ -38,7 +39,9 @@ def robot_fit() -> ConditionFit:
 
 def test_a_robot_s_own_mud_is_fitted_through_the_rest_band(robot_fit: ConditionFit) -> None:
     assert robot_fit.rmse < 0.35  # 0.31 N; 5.5 N read on the branch
-    assert robot_fit.misfit_ratio < 1.6  # 1.44; 26 on the branch
+    # 1.10 of a floor that holds the model's error between two samples (1.44 of the noise alone, flagged); 26 on
+    # the branch
+    assert robot_fit.misfit_ratio < 1.25
     truth = MudParameters.from_water_content(TRUTH).to_dict()
     for name in ("k_m_i", "k_m_w", "alpha", "beta", "sigma_y"):
         value, se = robot_fit.parameters[name], robot_fit.stderr[name]
@@ -136,7 +139,8 @@ def test_a_walk_whose_stances_lie_on_the_branch_is_read_on_the_branch(walk_trial
     truth = MudParameters.from_water_content(WALK).to_dict()
     fit = fit_condition([walk_trial], seed=0)
     assert fit.rest_reading == "branch"
-    assert fit.rmse < 0.21 and 0.9 < fit.misfit_ratio < 1.1  # 0.204 N, 0.97: the force noise, no less
+    assert 0.19 < fit.rmse < 0.21  # 0.204 N: the force noise (0.2 N), no less
+    assert 0.7 < fit.misfit_ratio < 1.0  # 0.81 (0.97 of the noise alone): the floor holds the model's error
     assert not fit.warnings
     for name in fit.free:
         value, se = fit.parameters[name], fit.stderr[name]

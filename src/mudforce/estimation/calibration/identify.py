@@ -182,8 +182,8 @@ _GAIN_WARNING = 1.5
 #: scan's offset where the narrow one, its offset refitted, fits better (RMSE 0.60 against 0.76 N)
 _SECOND_VALLEY_GAP = 0.005
 _SECOND_VALLEY_RATIO = 4.0
-#: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's): a
-#: sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
+#: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's; fit's
+#: too): a sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
 #: A sample is in the statistic's tail when its residual is beyond three floors (``r^2 / floor^2 > 9``) [-] (ours).
 _TAIL_Z2 = 9.0

@@ -172,10 +172,13 @@ class ConditionFit:
     noise_floor : float
         The RMSE a perfect model would leave [N]: the force noise and the
         depth noise carried through the model's sensitivity to the depth
-        (:func:`~mudforce.estimation.calibration.preprocess.noise_floor`).
-        Not the model's own discretisation error at the data's rate, as
-        identify's: fit estimates no force lag, and a lag's misfit lies
-        where that error does (docs/estimation.md, "fit").
+        (:func:`~mudforce.estimation.calibration.preprocess.noise_floor`);
+        on a recording of any motion (not a lab protocol) also the model's
+        own discretisation error at the data's rate, estimated from the data
+        as identify's, each sample over its own floor (issue 23, point 4).
+        A force lag's misfit lies where that error does, and fit estimates
+        no lag: the lag the residual holds is read apart, and warned of
+        (docs/estimation.md, "fit").
     rest_reading : str
         How the samples at which a foot is at rest (or turns between two samples) were read: ``"band"``, anywhere
         in the model's rest band (a stuck foot carries its load there); ``"branch"``, on the model's branch, which
