@@ -930,7 +930,6 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
         floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(v)))
         disc_said = (f" and the model's own discretisation error at this rate, "
                      f"{math.sqrt(float(np.mean(disc))):.3g} N RMS")
-    if disc_said:
         # the floor holds the model's error between two samples, and a force lag's misfit lies at the same samples
         # (fit fits no lag): the lag the residual holds is read apart from the floor
         # (a lag only, the sensor chain's: a lead of up to 2.7 ms reads on clean MuJoCo runs at 50 Hz, where an
