@@ -140,7 +140,7 @@ def test_a_walk_whose_stances_lie_on_the_branch_is_read_on_the_branch(walk_trial
     fit = fit_condition([walk_trial], seed=0)
     assert fit.rest_reading == "branch"
     assert 0.19 < fit.rmse < 0.21  # 0.204 N: the force noise (0.2 N), no less
-    assert 0.7 < fit.misfit_ratio < 1.0  # 0.81 (0.97 of the noise alone): the floor holds the model's error
+    assert 0.7 < fit.misfit_ratio < 1.0  # 0.80 (0.97 of the noise alone): the floor holds the model's error
     assert not fit.warnings
     for name in fit.free:
         value, se = fit.parameters[name], fit.stderr[name]

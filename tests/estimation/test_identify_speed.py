@@ -15,8 +15,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mudforce import _kernel as K
-from mudforce.estimation.calibration._recording_model import _band_residual, _band_through_lag, _force_and_band
-from mudforce.estimation.calibration.identify import _MISFIT_CLIP, _bias_reprofiled
+from mudforce.estimation.calibration._recording_model import (
+    _MISFIT_CLIP,
+    _band_residual,
+    _band_through_lag,
+    _bias_reprofiled,
+    _force_and_band,
+)
 from mudforce.model.equations import array_form, rest_band_forces
 from mudforce.model.foot import Foot
 from mudforce.model.law3d import spring_stress

@@ -89,11 +89,12 @@ from scipy.stats import chi2
 from scipy.stats import t as student_t
 
 from mudforce._plumbing.blas import one_blas_thread
-from mudforce._plumbing.jit import njit
 from mudforce.errors import InputError, is_integer, is_real, shown
 from mudforce.estimation.calibration._recording_model import (
+    _MISFIT_CLIP,
     _REST_NOISE_SIGMAS,
     _band_residual,
+    _bias_reprofiled,
     _discretisation,
     _force_and_band,
     _model_set,
@@ -182,9 +183,6 @@ _GAIN_WARNING = 1.5
 #: scan's offset where the narrow one, its offset refitted, fits better (RMSE 0.60 against 0.76 N)
 _SECOND_VALLEY_GAP = 0.005
 _SECOND_VALLEY_RATIO = 4.0
-#: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's; fit's
-#: too): a sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
-_MISFIT_CLIP = 25.0
 #: A sample is in the statistic's tail when its residual is beyond three floors (``r^2 / floor^2 > 9``) [-] (ours).
 _TAIL_Z2 = 9.0
 #: Largest share of the samples in the tail before the misfit flag fires [-] (ours; 4.5 %, 15 times a normal
@@ -563,89 +561,6 @@ def _nuisance_stderr(wide: np.ndarray, r: np.ndarray, contact: np.ndarray, s2: f
     sensitivity = np.sqrt(np.mean(wide**2, axis=0))
     worst = np.divide(unexplained, sensitivity, out=np.zeros(3), where=sensitivity > 0.0)
     return np.asarray(np.sqrt(variance + worst**2), dtype=np.float64)
-
-
-@njit(cache=True, nogil=True)
-def _misfit_terms(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
-                  variance: np.ndarray, free: np.ndarray, d: float, r: np.ndarray, cost_terms: np.ndarray,
-                  stat_terms: np.ndarray) -> None:  # pragma: no cover - compiled
-    """Each sample's residual ``r`` [N] (:func:`_band_residual` of ``measured + d`` [N]) and its two terms [-] of
-    :func:`_bias_reprofiled`: ``r^2 / variance`` capped at :data:`_MISFIT_CLIP` (``stat_terms``), and uncapped at
-    the ``free`` samples (``cost_terms``). numpy's operations, one pass (``np.clip`` and ``np.minimum`` as numpy
-    has them: NaN kept, the bound on a tie), so the same bits."""
-    for k in range(model.size):
-        m = measured[k] + d
-        if rest[k]:
-            c = m if m > low[k] else low[k]
-            c = c if c < high[k] else high[k]
-        else:
-            c = model[k]
-        rk = c - m
-        r[k] = rk
-        z2 = rk * rk / variance[k]
-        capped = z2 if (z2 < _MISFIT_CLIP or z2 != z2) else _MISFIT_CLIP
-        cost_terms[k] = z2 if free[k] else capped
-        stat_terms[k] = capped
-
-
-@njit(cache=True, nogil=True)
-def _newton_terms(r: np.ndarray, variance: np.ndarray, free: np.ndarray, picked: np.ndarray,
-                  weights: np.ndarray) -> int:  # pragma: no cover - compiled
-    """The samples a Newton step of :func:`_bias_reprofiled` reads (inside their clip, or ``free``; a residual not
-    0), in order: ``r / variance`` into ``picked`` [1/N], ``1 / variance`` into ``weights`` [1/N^2]; returns their
-    count."""
-    count = 0
-    for k in range(r.size):
-        if ((r[k] * r[k] < _MISFIT_CLIP * variance[k]) or free[k]) and r[k] != 0.0:
-            picked[count] = r[k] / variance[k]
-            weights[count] = 1.0 / variance[k]
-            count += 1
-    return count
-
-
-def _bias_reprofiled(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray, rest: np.ndarray,
-                     variance: np.ndarray, free: np.ndarray) -> tuple[float, float]:
-    """The misfit statistic [-], ``mean(min(r_k^2 / variance_k, 25))``, the force bias re-profiled under its weights;
-    and the bias moved [N] (the residuals are those of ``measured`` plus it).
-
-    ``model`` [N] is the model's force, ``low``, ``high`` [N] the rest band (``rest`` samples: the residual is the
-    measured force's distance outside it), ``measured`` [N] the force with the least-squares bias removed,
-    ``variance`` [N^2] each sample's floor. The bias is moved from the least-squares one to the nearest local minimum
-    of the statistic (Newton steps on the samples inside their clip, halved until the statistic does not rise; ours):
-    least squares weighs every sample alike, so a few samples with a floor of tens of newtons (an event between two
-    samples) set the bias that a sample out of the mud, whose floor is the force noise, then reads. The ``free``
-    samples (the foot above the surface, the model's force nil) read the bias itself, with no branch to misread: the
-    re-profile weighs them uncapped, so that it cannot give them up to fit the samples in the mud.
-
-    Speed plumbing: the per-sample arithmetic in two compiled passes (:func:`_misfit_terms`,
-    :func:`_newton_terms`), the sums and means numpy's own, so the same bits as the rule written in numpy alone
-    (``tests/estimation/test_identify_speed.py``) and several times faster: it runs thousands of times an identify.
-    """
-    n = model.size
-    r, r_new, cost_terms, stat_terms, picked, weights = (np.empty(n) for _ in range(6))
-
-    def residual(d: float, out: np.ndarray) -> tuple[float, float]:
-        _misfit_terms(model, low, high, measured, rest, variance, free, d, out, cost_terms, stat_terms)
-        return float(np.mean(cost_terms)), float(np.mean(stat_terms))
-
-    d = 0.0
-    cost, stat = residual(d, r)
-    for _ in range(30):
-        count = _newton_terms(r, variance, free, picked, weights)
-        if count == 0:
-            break
-        step = float(np.sum(picked[:count]) / np.sum(weights[:count]))
-        cost_new = stat_new = 0.0
-        while abs(step) > 1e-9:
-            cost_new, stat_new = residual(d + step, r_new)
-            if cost_new <= cost:
-                break
-            step *= 0.5
-        if abs(step) <= 1e-9:
-            break
-        d, cost, stat = d + step, cost_new, stat_new
-        r, r_new = r_new, r
-    return stat, d
 
 
 def _scan_minimum(cost: Callable[[float], float], points: np.ndarray, *, ties_to_search: bool) -> float:

@@ -1,0 +1,68 @@
+"""fit's misfit flag reads its statistic as identify reads its own (issue 23, point 4 for fit: a flag that means
+off-family): the force bias re-profiled under the statistic's weights, and a stuck foot's model read as the set of
+the relaxations it may have had.
+
+The recording (tests/estimation/data/robot_model_turns_seed70.csv) is the sensor-chain bench's robot 2 of seed 70:
+the front-left foot of the MuJoCo quadruped, gait ``trot``, the model's own force along it (``robot-model``) in mud
+of W = 17.28 %, through the clean chain (force noise 0.2 N, depth noise 0.03 mm, a bias, 100 Hz), 10 s. In family by
+construction. Its stances sway, and at a few samples the foot turned between two samples, where the force flips
+between the rest band's edges (up to 47 N): least squares' tare took half a newton from them, and every sample out
+of the mud then read 3-4 force noises off. The fit read 2.16 times its floor, flagged; with the set alone, the bias
+held at least squares', 2.03; re-profiled, 1.03.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mudforce.estimation.calibration.fit as fit_module
+from mudforce.estimation.calibration import ConditionFit, fit_condition, load_trial
+from mudforce.estimation.calibration.fit import MISFIT_WARNING_RATIO
+from mudforce.estimation.calibration.models import CHEN2024
+from mudforce.estimation.calibration.preprocess import noise_floor_parts
+from robot_recording import DATA, ROBOT_FOOT
+
+W = 0.1727765209380063
+FILE = "robot_model_turns_seed70.csv"
+
+
+@pytest.fixture(scope="module")
+def fit() -> ConditionFit:
+    return fit_condition([load_trial(DATA / FILE, W)], ROBOT_FOOT, seed=2)
+
+
+def _held_at_least_squares(model: np.ndarray, low: np.ndarray, high: np.ndarray, measured: np.ndarray,
+                           rest: np.ndarray, variance: np.ndarray, free: np.ndarray) -> tuple[float, float]:
+    """The statistic with the bias where least squares left it (the rule before the re-profile)."""
+    r = np.where(rest, np.clip(measured, low, high), model) - measured
+    return float(np.mean(np.minimum(r**2 / variance, 25.0))), 0.0
+
+
+def test_an_in_family_robot_path_is_within_its_floor(fit: ConditionFit) -> None:
+    assert fit.misfit_ratio < 1.15  # 1.03
+    assert not any(w.startswith("RMSE") for w in fit.warnings)
+
+
+def test_with_the_bias_held_at_least_squares_the_same_fit_was_flagged(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(fit_module, "_bias_reprofiled", _held_at_least_squares)
+    held = fit_condition([load_trial(DATA / FILE, W)], ROBOT_FOOT, seed=2)
+    assert held.misfit_ratio > 1.8  # 2.03
+    assert any(w.startswith("RMSE") for w in held.warnings)
+
+
+def test_the_statistic_does_not_depend_on_the_bias_it_starts_from(fit: ConditionFit) -> None:
+    # the re-profile moves the bias to the statistic's own minimum: started half a newton off either way (what the
+    # flipped samples did to least squares' tare), it reads the same
+    tr = fit_module._prepare([load_trial(DATA / FILE, W)])[0]
+    values = CHEN2024.vector(fit.parameters)
+    reading = fit.rest_reading or "band"
+    fitted, offset = fit_module._fitted(CHEN2024, ROBOT_FOOT, tr, values, reading)
+    disc = fit_module._discretisation_of(CHEN2024, ROBOT_FOOT, tr, values, reading)
+    floor = noise_floor_parts(tr, fitted, lambda z: CHEN2024.force(tr.time, z, values, ROBOT_FOOT))[0]
+    variance = floor + disc
+    stats = [fit_module._flag_statistic(CHEN2024, ROBOT_FOOT, tr, values, reading, offset + d, variance)
+             for d in (-0.5, 0.0, 0.5)]
+    assert stats[1] == pytest.approx(fit.misfit_ratio**2, rel=1e-9)
+    assert max(stats) - min(stats) < 0.02 * stats[1]
+    assert MISFIT_WARNING_RATIO**2 > max(stats)
