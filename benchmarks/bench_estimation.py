@@ -102,6 +102,8 @@ def main() -> int:
     parser.add_argument("--family-window", default=None,
                         help="--misfit-flag: also MudTracker with its family check (track(family_window=...): "
                              "identify's flag on the last WINDOW, e.g. 10s, every 2.5 s); --duration must exceed it")
+    parser.add_argument("--fit-flag", action="store_true",
+                        help="--misfit-flag: also fit_condition's misfit flag on every recording (a few minutes more)")
     parser.add_argument("--tracker-only", action="store_true",
                         help="--sensor-chain: only the MudTracker rows (identify and fit skipped)")
     args = parser.parse_args()

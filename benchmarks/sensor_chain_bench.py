@@ -118,8 +118,9 @@ def _clean(kind: str, index: int, seed: int, duration: float) -> list[tuple[str,
     return [("gait", w, foot, path.time, path.depth, np.asarray(force))]
 
 
-def _fit_row(fit: Any, w: float) -> dict[str, Any]:
-    truth = MudParameters.from_water_content(w).to_dict()
+def _fit_row(fit: Any, w: float, truth: dict[str, float] | None = None) -> dict[str, Any]:
+    """One fit judged against ``truth`` (name -> value [SI]; Table I's row at ``w`` [-] by default)."""
+    truth = MudParameters.from_water_content(w).to_dict() if truth is None else truth
     beyond, undetermined = [], []
     for name in fit.free:
         se = fit.stderr[name]
@@ -370,7 +371,8 @@ FLAG_SOURCES = ("gait", "robot", "robot-model", "F = kz (gait)", "alpha x2, sigm
 
 
 def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequence[float],
-                  known_depth_noise: bool, family_window: float | None = None) -> list[dict[str, Any]]:
+                  known_depth_noise: bool, family_window: float | None = None,
+                  with_fit: bool = False) -> list[dict[str, Any]]:
     """identify's misfit flag, and MudTracker's, on one unit's clean recordings and on two off-family muds along the
     same path.
 
@@ -429,6 +431,12 @@ def run_flag_unit(kind: str, index: int, seed: int, duration: float, rates: Sequ
                             f_none=sum(v.model_misses_data is None for _, v in fam), f_any=bool(flags.any()),
                             f_n=int(after.sum()), f_share=float(np.mean((flags | own)[after])) if after.any()
                             else 0.0, f_wrong=int(np.sum(miss & after & ~flags & ~own)))
+            if with_fit:  # fit's own misfit flag on the same recording (one recording a fit, seeded as the bench's)
+                fit = fit_condition([Trial(f"{source}{index}", w, tt, zz, ff)], foot, seed=index)
+                # judged against the mud that made the force: the odd mud's own parameters; a linear law has none
+                truth = odd.to_dict() if source.startswith("alpha x2") else None
+                wrong = None if source.startswith("F = kz") else _fit_row(fit, w, truth)["wrong"]
+                item.update(fit_ratio=fit.misfit_ratio, fit_flag=fit.model_misses_data, fit_wrong=wrong)
             out.append(item)
     return out
 
@@ -461,7 +469,7 @@ def run_flag_bench(args: argparse.Namespace) -> int:
         raise InputError("--jobs must be >= 1")
     start = time.perf_counter()
     results = _run_units(run_flag_unit, _units(args), args, "misfit-flag bench", args.seed, duration, rates,
-                         args.known_depth_noise, family_window)
+                         args.known_depth_noise, family_window, args.fit_flag)
     # the cells count and pool their recordings: the same tables in any order of completion
     print(f"## identify's misfit flag: {args.robots} MuJoCo runs, {args.walks} gait walks of {duration:g} s, "
           f"seed {args.seed}; depth noise {'given' if args.known_depth_noise else 'estimated'}")
@@ -509,6 +517,25 @@ def run_flag_bench(args: argparse.Namespace) -> int:
               "truth, both flags down).")
         print()
         _print_flag_table(results, rates, family_cell)
+        print()
+    if args.fit_flag:
+        def fit_cell(rs: list[dict[str, Any]]) -> str:
+            ok = [x for x in rs if not x["refused"]]
+            if not ok:
+                return "-"
+            ratios = [x["fit_ratio"] for x in ok]
+            judged = [x["fit_wrong"] for x in ok if x["fit_wrong"] is not None]
+            return (f"{min(ratios):.2f}-{max(ratios):.2f}, {sum(x['fit_flag'] for x in ok)}/{len(ok)}; "
+                    f"wrong {sum(judged) if judged else '-'}")
+
+        print("fit_condition's own misfit flag on the same recordings (one recording a fit, seed the unit's index). "
+              "Each cell: misfit ratio min-max, flagged (model_misses_data: the ratio > 1.25) / recordings; fits "
+              "confidently wrong (a parameter beyond 3 standard errors of the mud that made the force, nothing "
+              "warned; '-' for the linear law, which has no such parameters). The two off-family muds are inside "
+              "fit's nine-parameter family (alpha z^beta with beta free; alpha and sigma_y free): its flag cannot "
+              "tell them, identify's does.")
+        print()
+        _print_flag_table(results, rates, fit_cell)
         print()
     print(f"wall time {time.perf_counter() - start:.0f} s")
     return 0
