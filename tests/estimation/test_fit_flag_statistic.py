@@ -7,8 +7,9 @@ the front-left foot of the MuJoCo quadruped, gait ``trot``, the model's own forc
 of W = 17.28 %, through the clean chain (force noise 0.2 N, depth noise 0.03 mm, a bias, 100 Hz), 10 s. In family by
 construction. Its stances sway, and at a few samples the foot turned between two samples, where the force flips
 between the rest band's edges (up to 47 N): least squares' tare took half a newton from them, and every sample out
-of the mud then read 3-4 force noises off. The fit read 2.16 times its floor, flagged; with the set alone, the bias
-held at least squares', 2.03; re-profiled, 1.03.
+of the mud then read 3-4 force noises off. The fit read 2.16 times its floor, flagged; re-profiled, 1.03, and 0.91
+with the model along the depth as recorded in the set too (before the depth's denoising); with the set but the bias
+held at least squares', 1.93.
 """
 
 from __future__ import annotations
@@ -40,14 +41,14 @@ def _held_at_least_squares(model: np.ndarray, low: np.ndarray, high: np.ndarray,
 
 
 def test_an_in_family_robot_path_is_within_its_floor(fit: ConditionFit) -> None:
-    assert fit.misfit_ratio < 1.15  # 1.03
+    assert fit.misfit_ratio < 1.1  # 0.91
     assert not any(w.startswith("RMSE") for w in fit.warnings)
 
 
 def test_with_the_bias_held_at_least_squares_the_same_fit_was_flagged(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(fit_module, "_bias_reprofiled", _held_at_least_squares)
     held = fit_condition([load_trial(DATA / FILE, W)], ROBOT_FOOT, seed=2)
-    assert held.misfit_ratio > 1.8  # 2.03
+    assert held.misfit_ratio > 1.8  # 1.93
     assert any(w.startswith("RMSE") for w in held.warnings)
 
 

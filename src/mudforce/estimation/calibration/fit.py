@@ -765,15 +765,20 @@ def _flag_statistic(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np
     (issue 23, point 4): ``variance`` [N^2] each sample's floor, the discretisation error included; at the samples
     read through the rest band (:func:`_rest_of` of ``reading``) and where the foot may be stuck
     (:func:`~mudforce.estimation.calibration._recording_model._sticking`), the model is the set of the relaxations
-    a stuck foot may have had (its depth as recorded, held, creeping up: identify's
-    :func:`~mudforce.estimation.calibration._recording_model._model_set`, here of any model with a band); and the
+    a stuck foot may have had (its depth as read, held, creeping up: identify's
+    :func:`~mudforce.estimation.calibration._recording_model._model_set`, here of any model with a band), and at
+    every sample the set also holds the model along the depth as recorded, before
+    :func:`~mudforce.estimation.calibration.branches.denoise_depth` (which moves a sample by up to three depth
+    noises, and where the noise is read from a robot's motion, 0.12 mm for 0.03, moved a touch of 0.23 mm out of the
+    mud: the model then missed the -5 N neck that followed for 0.2 s); and the
     force bias, the fit's least-squares ``offset`` [N], is re-profiled under the statistic's weights
     (:func:`~mudforce.estimation.calibration._recording_model._bias_reprofiled`). Least squares weighs every sample
     alike, and a few samples whose branch flips between two samples (a turn, a stance's sway) pulled the tare by half
     a newton, which each sample out of the mud then read as 3-4 force noises (the model's own force along a MuJoCo
     trot, 100 Hz: 2.16 times its floor, 1.03 read so; tests/estimation/test_fit_flag_statistic.py). On the
     sensor-chain bench's ten 10-s MuJoCo runs of seeds 70 and 78 at 50 Hz, 100 Hz and 1 kHz, both sources, clean fits
-    flagged 23 -> 11 of 120."""
+    flagged 23 -> 11 of 120 with the bias re-profiled and the stuck set, -> 3 with the recorded depth too (seed 80,
+    read after the first two: 8 -> 3 of 60)."""
     measured = tr.force - offset
     rest = _rest_of(model, tr, reading)
     band = model.rest_band
@@ -786,6 +791,9 @@ def _flag_statistic(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np
     sticking = _sticking(tr.time, tr.depth, tr.depth_noise)
     if sticking.stuck.any():
         runs += [band(tr.time, sticking.held, foot)(values), band(tr.time, sticking.creep, foot)(values)]
+    recorded = np.asarray(tr.trial.depth, dtype=np.float64)
+    if recorded.shape == tr.depth.shape and not np.array_equal(recorded, tr.depth):
+        runs.append(band(tr.time, recorded, foot)(values))  # the depth as recorded, before denoise_depth
     force = runs[0][0]
     banded = rest | sticking.stuck
     forces = np.array([r[0] for r in runs])
