@@ -15,7 +15,8 @@ stretches, the flag's statistic) and the paper's model's ``rest_band`` (:func:`_
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from functools import reduce
 from typing import NamedTuple
 
 import numpy as np
@@ -311,9 +312,17 @@ def _model_set(time: np.ndarray, depth: np.ndarray, offset: float, sticking: Sti
         return f, np.where(rest, low, f), np.where(rest, high, f)
     f2, low2, high2 = _force_and_band(time, sticking.held + offset, q, foot, lag)
     f3, low3, high3 = _force_and_band(time, sticking.creep + offset, q, foot, lag)
-    band = rest | sticking.stuck
-    return (f, np.where(band, np.minimum(np.minimum(low, low2), low3), np.minimum(np.minimum(f, f2), f3)),
-            np.where(band, np.maximum(np.maximum(high, high2), high3), np.maximum(np.maximum(f, f2), f3)))
+    return _union([(f, low, high), (f2, low2, high2), (f3, low3, high3)], rest | sticking.stuck)
+
+
+def _union(runs: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
+           banded: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The set several runs of a model span [N]: ``(force, low, high)``, ``force`` the first run's; at the
+    ``banded`` samples ``[low, high]`` holds every run's rest band, elsewhere every run's force and everything between.
+    ``runs``: each ``(force, low, high)`` [N] along one depth. :func:`_model_set`'s and fit's flag's one statement."""
+    forces, lows, highs = zip(*runs, strict=True)
+    return (forces[0], np.where(banded, reduce(np.minimum, lows), reduce(np.minimum, forces)),
+            np.where(banded, reduce(np.maximum, highs), reduce(np.maximum, forces)))
 
 
 #: A step in the mud within this many depth noises (beyond the rest speed) of no motion counts as rest [-] (ours):

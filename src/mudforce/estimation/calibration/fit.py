@@ -89,6 +89,7 @@ from mudforce.estimation.calibration._recording_model import (
     _discretisation,
     _rest_samples,
     _sticking,
+    _union,
 )
 from mudforce.estimation.calibration.dataset import Dataset, Trial
 from mudforce.estimation.calibration.models import FitStage, ForceModel, get_model, trajectory_force
@@ -794,11 +795,7 @@ def _flag_statistic(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np
     recorded = np.asarray(tr.trial.depth, dtype=np.float64)
     if recorded.shape == tr.depth.shape and not np.array_equal(recorded, tr.depth):
         runs.append(band(tr.time, recorded, foot)(values))  # the depth as recorded, before denoise_depth
-    force = runs[0][0]
-    banded = rest | sticking.stuck
-    forces = np.array([r[0] for r in runs])
-    low = np.where(banded, np.min([r[1] for r in runs], axis=0), forces.min(axis=0))
-    high = np.where(banded, np.max([r[2] for r in runs], axis=0), forces.max(axis=0))
+    force, low, high = _union(runs, rest | sticking.stuck)
     free = (tr.depth <= 0.0) & (force**2 <= 1e-4 * variance)
     return _bias_reprofiled(force, low, high, measured, np.ones(tr.time.size, dtype=bool), variance, free)[0]
 
@@ -976,11 +973,11 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
         discs = [_discretisation_of(model, foot, tr, values, rest_reading or "band") for tr in prepared]
         disc = np.concatenate(discs)
         least = max((1e-4 * scale) ** 2, 1e-18)
-        v = np.maximum(floor_var + disc, least)
-        terms = [_flag_statistic(model, foot, tr, values, rest_reading or "band", offset,
-                                 np.maximum(total + d, least)) * tr.time.size
-                 for tr, (total, _), d, (_, offset) in zip(prepared, parts, discs, fits, strict=True)]
+        vs = [np.maximum(total + d, least) for (total, _), d in zip(parts, discs, strict=True)]
+        terms = [_flag_statistic(model, foot, tr, values, rest_reading or "band", offset, vi) * tr.time.size
+                 for tr, vi, (_, offset) in zip(prepared, vs, fits, strict=True)]
         standardised = math.sqrt(sum(terms) / all_res.size)
+        v = np.concatenate(vs)
         floor = rmse / standardised if standardised > 0.0 else math.sqrt(float(np.mean(v)))
         disc_said = (f" and the model's own discretisation error at this rate, "
                      f"{math.sqrt(float(np.mean(disc))):.3g} N RMS")
