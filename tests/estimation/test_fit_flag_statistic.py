@@ -45,11 +45,46 @@ def test_an_in_family_robot_path_is_within_its_floor(fit: ConditionFit) -> None:
     assert not any(w.startswith("RMSE") for w in fit.warnings)
 
 
+def _no_refit(obj: object, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: float) -> np.ndarray:
+    """The robust refit left where least squares ended (the flag read at least squares' fit alone)."""
+    return x
+
+
 def test_with_the_bias_held_at_least_squares_the_same_fit_was_flagged(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(fit_module, "_bias_reprofiled", _held_at_least_squares)
+    monkeypatch.setattr(fit_module, "_robust_refit", _no_refit)
     held = fit_condition([load_trial(DATA / FILE, W)], ROBOT_FOOT, seed=2)
     assert held.misfit_ratio > 1.8  # 1.93
     assert any(w.startswith("RMSE") for w in held.warnings)
+    assert held.misfit_parameters == {}
+
+
+def test_a_fit_that_fails_the_statistic_is_also_read_at_a_robust_refit(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where least squares' fit fails the flag's statistic (here made to, the bias held where least squares left it:
+    1.93), the flag is also read at a refit from it with a bounded loss (scipy's arctan, at the floor), and reads
+    the better where that passes clearly: 0.67, under 80 % of the limit, its tail too. The parameters, their
+    standard errors and the RMSE stay least squares', and a warning says where the flag was read."""
+    monkeypatch.setattr(fit_module, "_bias_reprofiled", _held_at_least_squares)
+    read = fit_condition([load_trial(DATA / FILE, W)], ROBOT_FOOT, seed=2)
+    monkeypatch.setattr(fit_module, "_robust_refit", _no_refit)
+    alone = fit_condition([load_trial(DATA / FILE, W)], ROBOT_FOOT, seed=2)
+    assert alone.misfit_ratio > 1.8 and read.misfit_ratio < 0.8 * MISFIT_WARNING_RATIO  # 0.67
+    assert not read.model_misses_data
+    assert read.parameters == alone.parameters and read.stderr == alone.stderr and read.rmse == alone.rmse
+    assert read.noise_floor == pytest.approx(read.rmse / read.misfit_ratio, rel=1e-12)
+    assert set(read.misfit_parameters) == set(read.parameters) and read.misfit_parameters != read.parameters
+    said = [w for w in read.warnings if w.startswith("least squares misses the data by 1.9 times")]
+    assert len(said) == 1 and "misfit_parameters" in said[0]
+    assert not any(w.startswith("RMSE") for w in read.warnings)
+    again = ConditionFit.from_dict(read.to_dict())
+    assert again.misfit_parameters == read.misfit_parameters and again.misfit_ratio == read.misfit_ratio
+
+
+def test_the_refit_is_held_to_identify_s_limits() -> None:
+    from mudforce.estimation.calibration import identify
+
+    assert fit_module._ROBUST_TAIL == identify.TAIL_SHARE_WARNING
+    assert fit_module._ROBUST_NEAR == identify.NEAR_LIMITS_WARNING
 
 
 def test_the_statistic_does_not_depend_on_the_bias_it_starts_from(fit: ConditionFit) -> None:

@@ -168,7 +168,9 @@ class ConditionFit:
         Stage name -> RMSE [N] over that stage's samples when it ended.
     misfit_ratio : float
         ``rmse / noise_floor`` [-] (see :func:`misfit_ratio`): about 1 when the
-        model explains the data to the sensors' noise.
+        model explains the data to the sensors' noise. On a recording of any
+        motion, the misfit flag's statistic (each residual over its own floor),
+        read at ``misfit_parameters`` where those are given.
     noise_floor : float
         The RMSE a perfect model would leave [N]: the force noise and the
         depth noise carried through the model's sensitivity to the depth
@@ -186,6 +188,12 @@ class ConditionFit:
         fit keeps the narrowest that reads the data as well as the band (a band scores every sample inside it zero,
         and would let the fit widen it over the noise). ``""`` where no sample is read so (a lab protocol, a model
         without a band, a foot never at rest).
+    misfit_parameters : dict
+        Name -> value [SI] of the mud the misfit flag was read at, where that is not ``parameters`` (ours): on a
+        recording of any motion whose least-squares fit fails the flag's statistic, a refit from it with a loss
+        that weighs a sample beyond the floor less (a few samples, a neck or a branch switch between two samples,
+        can pull least squares off a mud that explains the rest); the flag reads the better of the two, and a
+        warning says so. Empty where the flag is read at ``parameters``.
     """
 
     water_content: float
@@ -202,6 +210,7 @@ class ConditionFit:
     misfit_ratio: float = math.nan
     noise_floor: float = math.nan
     rest_reading: str = ""
+    misfit_parameters: dict[str, float] = field(default_factory=dict)
 
     @property
     def model_misses_data(self) -> bool:
@@ -227,7 +236,8 @@ class ConditionFit:
                    correlation=matrix.reshape(len(corr["parameters"]), len(corr["parameters"])),
                    warnings=tuple(data["warnings"]), misfit_ratio=_nan_if_none(data.get("misfit_ratio")),
                    noise_floor=_nan_if_none(data.get("noise_floor_N")),
-                   rest_reading=str(data.get("rest_reading", "")))
+                   rest_reading=str(data.get("rest_reading", "")),
+                   misfit_parameters={k: float(v) for k, v in (data.get("misfit_parameters") or {}).items()})
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of one condition in ``fit.json``."""
@@ -243,6 +253,7 @@ class ConditionFit:
             "misfit_ratio": _finite_or_none(self.misfit_ratio),
             "model_misses_data": self.model_misses_data,
             "rest_reading": self.rest_reading,
+            "misfit_parameters": dict(self.misfit_parameters),
             "trials": [t.to_dict() for t in self.trials],
             "correlation": {"parameters": list(self.free), "matrix": corr},
             "warnings": list(self.warnings),
