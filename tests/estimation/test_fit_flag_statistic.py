@@ -102,3 +102,33 @@ def test_the_statistic_does_not_depend_on_the_bias_it_starts_from(fit: Condition
     assert stats[1] == pytest.approx(fit.misfit_ratio**2, rel=1e-9)
     assert max(stats) - min(stats) < 0.02 * stats[1]
     assert MISFIT_WARNING_RATIO**2 > max(stats)
+
+
+def _truth_reading(trial: object, touch: float, monkeypatch: pytest.MonkeyPatch) -> tuple[float, float]:
+    """fit's flag read at the truth's own parameters (statistic, tail) with ``touch`` depth noises of touch."""
+    from mudforce.model.parameters import MudParameters
+
+    monkeypatch.setattr(fit_module, "_TOUCH_SIGMAS", touch)
+    tr = fit_module._prepare([trial])[0]
+    values = CHEN2024.vector(MudParameters.from_water_content(TOUCH_W).to_dict())
+    fitted, offset = fit_module._fitted(CHEN2024, ROBOT_FOOT, tr, values, "band")
+    disc = fit_module._discretisation_of(CHEN2024, ROBOT_FOOT, tr, values, "band")
+    floor = noise_floor_parts(tr, fitted, lambda z: CHEN2024.force(tr.time, z, values, ROBOT_FOOT))[0]
+    return fit_module._flag_reading(CHEN2024, ROBOT_FOOT, tr, values, "band", offset, np.maximum(floor + disc, 1e-6))
+
+
+#: The truth of robot_model_touch_seed83.csv [-].
+TOUCH_W = 0.21328286397020033
+
+
+def test_a_touch_between_two_samples_is_in_the_set(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The sensor-chain bench's robot 0 of seed 83 (the model's own force along the MuJoCo foot, 100 Hz, the clean
+    chain, 10 s; robot_model_touch_seed83.csv): at 1.69 s the foot is 23 um above the surface, hovers within 0.5 mm
+    of it for 0.24 s and lifts with a suction of -20 N for 0.15 s. At the samples it never re-enters the mud, and the
+    model along the depth read nothing there: the truth's own parameters read 1.79 times the floor. Out of the mud
+    the set holds the model along the depth three depth noises deeper, which touches, and its neck is the data's."""
+    trial = load_trial(DATA / "robot_model_touch_seed83.csv", TOUCH_W)
+    stat, tail = _truth_reading(trial, 3.0, monkeypatch)
+    before, before_tail = _truth_reading(trial, 0.0, monkeypatch)
+    assert np.sqrt(before) > 1.5 and before_tail > 0.1  # 1.79, 16.7 % of the samples beyond three floors
+    assert np.sqrt(stat) < 0.6 and tail < 0.01  # 0.34, none
