@@ -375,6 +375,22 @@ def _band_residual(model: np.ndarray, low: np.ndarray, high: np.ndarray, measure
 #: Largest squared standardised residual one sample adds to the misfit statistic [-] (ours, as the tracker's; fit's
 #: too): a sample whose branch the labels got wrong counts as five floors, not as an off-family mud.
 _MISFIT_CLIP = 25.0
+#: A sample is in the statistic's tail when its residual is beyond three floors (``r^2 / floor^2 > 9``) [-] (ours).
+_TAIL_Z2 = 9.0
+#: Largest share of the samples in the tail before identify's misfit flag fires [-] (ours; 4.5 %, 15 times a normal
+#: law's 0.3 %): the statistic clips each sample at five floors, so a law missing a fifth of the samples by a
+#: little reads like one missing a few by much; the share tells them apart (docs/estimation.md, "The share of
+#: samples beyond three floors").
+TAIL_SHARE_WARNING = 0.045
+#: Share of its limit [-] past which two of the flag's three readings fire it together (ours, 2026-12-01): the misfit
+#: ratio over :data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`, ``Identification.tail_share`` over
+#: :data:`TAIL_SHARE_WARNING` and ``Identification.other_mud`` over ``identify.OTHER_MUD_WARNING``. A recording near
+#: two limits at once is rarer in family than one past a single limit: on the misfit-flag bench's twelve seeds the
+#: three off-family recordings of 1440 that no single reading caught (F = k z and alpha x2 along MuJoCo walks at
+#: 50 Hz) read 0.84-0.99 of two limits, and 11 more of the 1080 in-family ones fire with it; chosen there, then read
+#: on six fresh seeds: off family 720 of 720 flagged (719 without it), in family 13 of 540 (8) (docs/estimation.md,
+#: "Two readings near their limits"). fit's flag holds its robust refit under this share of each limit too.
+NEAR_LIMITS_WARNING = 0.8
 
 
 @njit(cache=True, nogil=True)

@@ -84,6 +84,9 @@ from mudforce.errors import (
     true_or_false,
 )
 from mudforce.estimation.calibration._recording_model import (
+    _TAIL_Z2,
+    NEAR_LIMITS_WARNING,
+    TAIL_SHARE_WARNING,
     _band_residual,
     _bias_reprofiled,
     _discretisation,
@@ -537,11 +540,12 @@ _TOUCH_SIGMAS = 3.0
 #: Most evaluations of the robust refit that fit's misfit flag is read at, where least squares fails it (ours; from
 #: least squares' optimum it stops in 25-40 on the sensor-chain bench's 1-kHz MuJoCo runs) [-].
 _ROBUST_NFEV = 100
-#: The tail limit the refit is held to, a share of samples beyond three floors [-]: identify's ``TAIL_SHARE_WARNING``.
-_ROBUST_TAIL = 0.045
-#: The share of each limit (the ratio's, the tail's) the refit must stay under for the flag to be read there [-]:
-#: identify's ``NEAR_LIMITS_WARNING`` (the 1-kHz MuJoCo runs it unflags read 0.83 and 1.7-2.0 %).
-_ROBUST_NEAR = 0.8
+#: The limits the refit is held to [-]: identify's tail (``TAIL_SHARE_WARNING``, a share of samples beyond three
+#: floors), and the share of each limit, the ratio's and the tail's, it must stay under for the flag to be read there
+#: (``NEAR_LIMITS_WARNING``; the 1-kHz MuJoCo runs it unflags read 0.83 and 1.7-2.0 %). One definition each, in
+#: ``_recording_model``, identify's and fit's.
+_ROBUST_TAIL = TAIL_SHARE_WARNING
+_ROBUST_NEAR = NEAR_LIMITS_WARNING
 
 
 def _robust_refit(obj: _Objective, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: float) -> np.ndarray:
@@ -827,23 +831,30 @@ def _flag_reading(model: ForceModel, foot: Foot, tr: PreparedTrial, values: np.n
         every = np.zeros(tr.time.size, dtype=bool)
         stat, d = _bias_reprofiled(force, force, force, measured, every, variance,
                                    (tr.depth <= 0.0) & (force**2 <= 1e-4 * variance))
-        return stat, float(np.mean((force - measured - d) ** 2 > 9.0 * variance))
+        return stat, _tail(_band_residual(force, force, force, measured + d, every), variance)
     runs = [band(tr.time, tr.depth, foot)(values)]
     sticking = _sticking(tr.time, tr.depth, tr.depth_noise)
     if sticking.stuck.any():
         runs += [band(tr.time, sticking.held, foot)(values), band(tr.time, sticking.creep, foot)(values)]
     recorded = np.asarray(tr.trial.depth, dtype=np.float64)
-    if recorded.shape == tr.depth.shape and not np.array_equal(recorded, tr.depth):
+    if recorded.shape != tr.depth.shape:
+        recorded = tr.depth
+    if not np.array_equal(recorded, tr.depth):
         runs.append(band(tr.time, recorded, foot)(values))  # the depth as recorded, before denoise_depth
     force, low, high = _union(runs, rest | sticking.stuck)
+    out = tr.depth <= 0.0
     if tr.depth_noise > 0.0:  # a touch between two samples that the samples cannot exclude, out of the mud
-        deeper = np.maximum(tr.depth, recorded) if recorded.shape == tr.depth.shape else tr.depth
-        touched = band(tr.time, deeper + _TOUCH_SIGMAS * tr.depth_noise, foot)(values)[0]
-        out = tr.depth <= 0.0
+        touched = band(tr.time, np.maximum(tr.depth, recorded) + _TOUCH_SIGMAS * tr.depth_noise, foot)(values)[0]
         low, high = np.where(out, np.minimum(low, touched), low), np.where(out, np.maximum(high, touched), high)
-    free = (tr.depth <= 0.0) & (force**2 <= 1e-4 * variance)
-    stat, d = _bias_reprofiled(force, low, high, measured, np.ones(tr.time.size, dtype=bool), variance, free)
-    return stat, float(np.mean((np.clip(measured + d, low, high) - measured - d) ** 2 > 9.0 * variance))
+    free = out & (force**2 <= 1e-4 * variance)
+    every = np.ones(tr.time.size, dtype=bool)
+    stat, d = _bias_reprofiled(force, low, high, measured, every, variance, free)
+    return stat, _tail(_band_residual(force, low, high, measured + d, every), variance)
+
+
+def _tail(residual: np.ndarray, variance: np.ndarray) -> float:
+    """The share of samples whose ``residual`` [N] is beyond three floors (``variance`` [N^2]) [-]: identify's tail."""
+    return float(np.mean(residual**2 > _TAIL_Z2 * variance))
 
 
 def _statistic_terms(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTrial], values: np.ndarray,
@@ -1033,7 +1044,7 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
     scale = max(float(np.max(np.abs(np.concatenate([t.force for t in trial_fits])))), 1.0)
     disc_said = ""
     misfit_values: np.ndarray | None = None  # the mud the flag is read at, where not least squares' (refit)
-    ls_ratio = standardised_ls = math.nan
+    ls_ratio = math.nan
     if noise and any(tr.motion is None for tr in prepared):
         # a recording of any motion: the floor holds the model's own discretisation error at the data's rate, each
         # at its own sample, as identify's (the RMS of the residuals each over its own floor): local, it excuses
@@ -1060,15 +1071,14 @@ def _condition_from(model: ForceModel, foot: Foot, prepared: Sequence[PreparedTr
             # taken because least squares failed, excuses a few samples, not a model that misses a whole kind of
             # sample (the paper's model without its rest band, a stuck foot read on the branch: 1.18 and 3.2 %)
             if again <= _ROBUST_NEAR * MISFIT_WARNING_RATIO and tail <= _ROBUST_NEAR * _ROBUST_TAIL:
-                misfit_values, ls_ratio = robust, misfit_ratio(rmse, floor, scale)
-                standardised_ls, standardised = standardised, again
+                misfit_values, ls_ratio, standardised = robust, misfit_ratio(rmse, floor, scale), again
         disc_said = (f" and the model's own discretisation error at this rate, "
                      f"{math.sqrt(float(np.mean(disc))):.3g} N RMS")
         # the floor holds the model's error between two samples, and a force lag's misfit lies at the same samples
         # (fit fits no lag): the lag the residual holds is read apart from the floor
         # (a lag only, the sensor chain's: a lead of up to 2.7 ms reads on clean MuJoCo runs at 50 Hz, where an
         # impact between two samples moves the model ahead of its samples)
-        tau, tau_se = _residual_lag(trial_fits, rmse / standardised_ls if misfit_values is not None else floor)
+        tau, tau_se = _residual_lag(trial_fits, floor)  # least squares' floor (the refit's is set below)
         if math.isfinite(tau) and tau > max(_LAG_MIN, _LAG_SIGMAS * tau_se):
             sigmas = tau / tau_se if tau_se > 0 else math.inf
             warnings.append(f"the force lags the depth by {tau * 1e3:.2g} ms beyond what the fitted mud's "

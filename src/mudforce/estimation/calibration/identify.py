@@ -93,6 +93,9 @@ from mudforce.errors import InputError, is_integer, is_real, shown
 from mudforce.estimation.calibration._recording_model import (
     _MISFIT_CLIP,
     _REST_NOISE_SIGMAS,
+    _TAIL_Z2,
+    NEAR_LIMITS_WARNING,
+    TAIL_SHARE_WARNING,
     _band_residual,
     _bias_reprofiled,
     _discretisation,
@@ -183,26 +186,10 @@ _GAIN_WARNING = 1.5
 #: scan's offset where the narrow one, its offset refitted, fits better (RMSE 0.60 against 0.76 N)
 _SECOND_VALLEY_GAP = 0.005
 _SECOND_VALLEY_RATIO = 4.0
-#: A sample is in the statistic's tail when its residual is beyond three floors (``r^2 / floor^2 > 9``) [-] (ours).
-_TAIL_Z2 = 9.0
-#: Largest share of the samples in the tail before the misfit flag fires [-] (ours; 4.5 %, 15 times a normal
-#: law's 0.3 %): the statistic clips each sample at five floors, so a law missing a fifth of the samples by a
-#: little reads like one missing a few by much; the share tells them apart (docs/estimation.md, "The share of
-#: samples beyond three floors").
-TAIL_SHARE_WARNING = 0.045
 #: Largest mean square of the standardised residual [-] that another mud (the model's own parameters varied off the
 #: family) may explain before the misfit flag fires (:attr:`Identification.other_mud`; ours, chosen on the misfit-flag
 #: bench: docs/estimation.md, "What another mud explains").
 OTHER_MUD_WARNING = 0.9
-#: Share of its limit [-] past which two of the flag's three readings fire it together (ours, 2026-12-01): the misfit
-#: ratio over :data:`~mudforce.estimation.calibration.fit.MISFIT_WARNING_RATIO`, :attr:`Identification.tail_share`
-#: over :data:`TAIL_SHARE_WARNING` and :attr:`Identification.other_mud` over :data:`OTHER_MUD_WARNING`. A recording
-#: near two limits at once is rarer in family than one past a single limit: on the misfit-flag bench's twelve seeds
-#: the three off-family recordings of 1440 that no single reading caught (F = k z and alpha x2 along MuJoCo walks at
-#: 50 Hz) read 0.84-0.99 of two limits, and 11 more of the 1080 in-family ones fire with it; chosen there, then read on
-#: six fresh seeds: off family 720 of 720 flagged (719 without it), in family 13 of 540 (8) (docs/estimation.md,
-#: "Two readings near their limits").
-NEAR_LIMITS_WARNING = 0.8
 #: The parameters the off-family test varies, each by a relative step of :data:`_OTHER_MUD_STEP` (every parameter of
 #: Table I but the density, which only scales the drag with lambda).
 _OTHER_MUD_PARAMETERS = ("k_m_i", "b_m_i", "k_m_w", "b_m_w", "alpha", "beta", "sigma_y", "zeta", "omega_0", "lambda_")
