@@ -1099,6 +1099,9 @@ def identify_water_content(
 
     floor = floor_of(disc2)
     ratio = misfit_ratio(rmse, floor, scale)
+    # the same statistic with the depth noise's part of the floor taken out: where a depth noise read from the
+    # recording decides the rest, the flag may be quiet only because of that reading (the warning below)
+    ratio_without_depth = misfit_ratio(rmse, floor_of(disc2 - depth_var), scale)
     # the misfit's worst case: a residual of RMS `unexplained` that the family cannot explain moves the estimate by
     # at most unexplained / rms(dF/dW) (Cauchy-Schwarz on the Gauss-Newton step); the interval holds that much on
     # each side. What the noise does not explain counts, the discretisation error included: the flag excuses it as
@@ -1268,15 +1271,18 @@ def identify_water_content(
                         "content; the estimate is read with the force divided by it")
     depth_share = float(np.mean(depth_var) / np.mean(var)) if float(np.mean(var)) > 0.0 else 0.0
     moves_rest = _REST_NOISE_SIGMAS * tr.depth_noise > REST_SPEED * float(np.median(np.diff(t))) if n > 1 else False
-    if general and read_noise and depth_share > DEPTH_NOISE_SHARE_WARNING and moves_rest:
-        # the floor is mostly the depth noise read from the recording, and that reading decides which samples are
-        # rest: the flag is as blind as the reading is large (at 20 Hz a robot's foot that never rests reads its
-        # motion between the samples as noise, 2.5 mm for 0.03; a stiff mud's floor may be mostly a true 0.04 mm)
+    leans_on_depth = depth_share > DEPTH_NOISE_SHARE_WARNING or ratio_without_depth > MISFIT_WARNING_RATIO
+    if general and read_noise and leans_on_depth and moves_rest:
+        # the floor is mostly the depth noise read from the recording, or the flag would fire without that part of
+        # it, and that reading decides which samples are rest: the flag is as blind as the reading is large (at
+        # 20 Hz a robot's foot that never rests reads its motion between the samples as noise, 2.5 mm for 0.03,
+        # carrying 48-57 % of the floor; a stiff mud's floor may be mostly a true 0.04 mm)
         warnings.append(f"the depth noise read from the recording ({tr.depth_noise * 1e3:.2g} mm) carries "
-                        f"{depth_share:.0%} of the noise floor and decides which samples are read as rest: the misfit "
-                        "flag, the rest and the interval rest on that reading, and where the foot does not rest the "
-                        "motion between the samples reads as noise; give the depth noise the robot knows "
-                        "(--depth-noise) if it is smaller")
+                        f"{depth_share:.0%} of the noise floor (without it the misfit ratio would read "
+                        f"{ratio_without_depth:.3g}, against {MISFIT_WARNING_RATIO:g}) and decides which samples are "
+                        "read as rest: the misfit flag, the rest and the interval rest on that reading, and where the "
+                        "foot does not rest the motion between the samples reads as noise; give the depth noise the "
+                        "robot knows (--depth-noise) if it is smaller")
     if general and (abs(offset) > 0.95 * MAX_DEPTH_OFFSET or lag > 0.95 * MAX_FORCE_LAG):
         warnings.append(f"the fitted sensor nuisances reach their limits (surface offset {offset * 1e3:.3g} mm, "
                         f"force lag {lag * 1e3:.3g} ms; at most {MAX_DEPTH_OFFSET * 1e3:g} mm and "
