@@ -820,8 +820,10 @@ def identify_water_content(
 
     depth_noise : float, optional
         The depth's noise [m] when the recording system knows it (:func:`prepare_trial
-        <mudforce.estimation.calibration.preprocess.prepare_trial>`); None (default): estimated from the depth.
-        Only for a raw :class:`Trial` (a prepared one already holds its noise).
+        <mudforce.estimation.calibration.preprocess.prepare_trial>`); None (default): estimated from the depth,
+        and a warning says where that reading decides which samples are rest and the misfit flag leans on it (most
+        of the floor, or the flag would fire without it: at a low rate a foot that never rests reads its motion
+        between the samples as noise). Only for a raw :class:`Trial` (a prepared one already holds its noise).
 
     Returns
     -------
