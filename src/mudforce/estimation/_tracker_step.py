@@ -111,6 +111,7 @@ from mudforce.estimation._tracker_layout import (
     _DEPTH_NOISE0,
     _DEPTH_NOISE_MEMORY,
     _END_REACH,
+    _END_REACH_FROM,
     _G_HIGH,
     _G_LAG,
     _G_LOW,
@@ -183,14 +184,27 @@ def _quantile(p: np.ndarray, edges: np.ndarray, q: float) -> float:
 
 
 @njit(cache=True, nogil=True)
+def _reach_share(half: float, dense: float) -> float:
+    """How far [-] (0: not at all, 1: all the way) an interval's end moves toward the grid's, its tail there holding
+    ``half`` [-] of the posterior and the interval as dense over the same width holding ``dense`` [-] (ours,
+    :data:`_END_REACH`): all the way from that ratio's :data:`_END_REACH`, none below :data:`_END_REACH_FROM`, and
+    in proportion between, so that a tail thinning across the threshold moves the end continuously."""
+    if half >= _END_REACH * dense:
+        return 1.0
+    if half <= _END_REACH_FROM * dense:
+        return 0.0
+    return (half / dense - _END_REACH_FROM) / (_END_REACH - _END_REACH_FROM)
+
+
+@njit(cache=True, nogil=True)
 def _reach_ends(low: float, high: float, first: float, last: float, half: float) -> tuple[float, float]:
-    """The interval ``[low, high]`` [-] with an end moved to the grid's (``first``, ``last``) where the tail it leaves
-    out there is at least :data:`_END_REACH` times as dense as the interval (ours): each tail holds ``half`` of the
+    """The interval ``[low, high]`` [-] with an end moved toward the grid's (``first``, ``last``) where the tail it
+    leaves out there is dense beside the interval (ours, :func:`_reach_share`): each tail holds ``half`` of the
     posterior, the interval ``1 - 2 half``."""
     inside = (1.0 - 2.0 * half) / max(high - low, 1e-12)
-    reach_low = half >= _END_REACH * inside * (low - first)
-    reach_high = half >= _END_REACH * inside * (last - high)
-    return (first if reach_low else low), (last if reach_high else high)
+    new_low = low - (low - first) * _reach_share(half, inside * (low - first))
+    new_high = high + (last - high) * _reach_share(half, inside * (last - high))
+    return new_low, new_high
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
