@@ -1040,6 +1040,38 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
 
 
 @njit(cache=True, nogil=True)
+def _track_pair(dt: float, t_states: np.ndarray, t_ring: np.ndarray, t_params: np.ndarray, t_forces: np.ndarray,
+                t_scratch: np.ndarray, t_index: np.ndarray, t_buf: np.ndarray, t_layout: np.ndarray,
+                states: np.ndarray, ring: np.ndarray, params: np.ndarray, forces: np.ndarray, scratch: np.ndarray,
+                index: np.ndarray, buf: np.ndarray, layout: np.ndarray) -> int:
+    """The twin bank's :func:`_track_step` (``t_``), its readings copied into the first bank's guard, then the first
+    bank's, in one call (speed plumbing: the same arithmetic as the two calls and the copies between them from Python,
+    without their dispatch). The twin's depths and forces are the first bank's, copied in first. Returns the first
+    foot either bank refused (the twin checks first, and nothing has changed then), else -1."""
+    a = layout[:, 0]
+    d0 = layout[:, 1]
+    d1 = layout[:, 2]
+    ta = t_layout[:, 0]
+    td0 = t_layout[:, 1]
+    td1 = t_layout[:, 2]
+    n = d0[1]
+    t_buf[ta[1]:ta[1] + n] = buf[a[1]:a[1] + n]  # depths
+    t_buf[ta[2]:ta[2] + n] = buf[a[2]:a[2] + n]  # measured forces
+    bad = _track_step(dt, t_states, t_ring, t_params, t_forces, t_scratch, t_index, t_buf, t_layout)
+    if bad >= 0:
+        return bad
+    t_out = t_buf[ta[10]:ta[10] + td0[10] * td1[10]].reshape((td0[10], td1[10]))
+    guard = buf[a[15]:a[15] + d0[15] * d1[15]].reshape((d0[15], d1[15]))
+    for j in range(n):
+        guard[j, _G_LOW] = t_out[j, _O_LOW]
+        guard[j, _G_HIGH] = t_out[j, _O_HIGH]
+        guard[j, _G_MISFIT] = t_out[j, _O_MISFIT]
+        guard[j, _G_LAG] = t_out[j, _O_LAG]
+        guard[j, _G_OFFSET] = t_out[j, _O_OFFSET]
+    return _track_step(dt, states, ring, params, forces, scratch, index, buf, layout)
+
+
+@njit(cache=True, nogil=True)
 def _restore_step_cache(states: np.ndarray, params: np.ndarray, dts: np.ndarray) -> None:
     """Each row's step-length cache recomputed for the step length ``dts[j]`` [s] it was for (skipped unless > 0).
 

@@ -138,7 +138,14 @@ from mudforce.estimation._tracker_layout import (
     MAX_FORCE,
     MISFIT_THRESHOLD,
 )
-from mudforce.estimation._tracker_step import _blur_matrix, _check_bounds, _pack, _restore_step_cache, _track_step
+from mudforce.estimation._tracker_step import (
+    _blur_matrix,
+    _check_bounds,
+    _pack,
+    _restore_step_cache,
+    _track_pair,
+    _track_step,
+)
 from mudforce.estimation.family_check import DEFAULT_FAMILY_EVERY, FamilyCheck, FamilyVerdict, _feed, _flags
 from mudforce.estimation.nuisances import DEFAULT_FORCE_GAIN_UNCERTAINTY, REST_SPEED, check_force_varies
 from mudforce.model.bounds import check_finite, check_times
@@ -687,17 +694,9 @@ class MudTrackers:
             raise InputError(f"dt must be within [{MIN_DT:g}, {MAX_TIME:g}] s after the first sample, got {dt!r}")
         twin = self._twin
         if twin is not None:  # the twin first: the reported interval, and so the change flag, holds its interval
-            twin._depths[:] = self._depths  # (inputs of its step only: a refused sample changes no state)
-            twin._forces[:] = self._forces
-            bad = _track_step(dt, *twin._args)  # the same check of the sample as the first bank's, before any change
+            bad = _track_pair(dt, *twin._args, *self._args)
             if bad < 0:
                 twin._started = True
-                self._guard[:, L._G_LOW] = twin._out[:, L._O_LOW]
-                self._guard[:, L._G_HIGH] = twin._out[:, L._O_HIGH]
-                self._guard[:, L._G_MISFIT] = twin._out[:, L._O_MISFIT]
-                self._guard[:, L._G_LAG] = twin._out[:, L._O_LAG]
-                self._guard[:, L._G_OFFSET] = twin._out[:, L._O_OFFSET]
-                bad = _track_step(dt, *self._args)
         else:
             bad = _track_step(dt, *self._args)
         if bad >= 0:  # the first foot refused (the feet before it passed): beyond the bounds, or not finite
