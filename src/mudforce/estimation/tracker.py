@@ -105,6 +105,8 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   that leaves out only a sliver at the grid's end, where the posterior is
   about as dense as within, reaches that end: a foot that says almost
   nothing reports the whole grid, not the grid less a sliver at each end.
+  Between a quarter and an eighth of the interval's density it moves part
+  of the way, in proportion, so that the reported end never jumps.
 
 Where it lives: the classes and :func:`track` here; the constants and the
 arrays' layout in :mod:`mudforce.estimation._tracker_layout`; the speed
