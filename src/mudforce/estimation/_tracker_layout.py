@@ -72,8 +72,10 @@ _A_DN = _A_QUICK + 17  # the entries it holds
 _A_CLING = _A_QUICK + 18  # 1 while mud may still cling to a foot above the surface (_CLING_SIGMAS), else 0
 _A_CLING_Z = _A_QUICK + 19  # the depth the bank stepped on at the last sample with clinging models [m]
 _A_CLING_N = _A_QUICK + 20  # samples in a row since then that lie beyond _CLING_SIGMAS below it [-]
+_A_JUMP = _A_QUICK + 21  # seconds of contact left in which the hull holds its ends after the estimate jumped [s]
+_A_W_LAST = _A_QUICK + 22  # the last sample's estimate [-] (a jump is read against it)
 _N_DELAYS = 6  # pure delay hypotheses of the reported lag (_DELAYS)
-_A_DEL_L = _A_QUICK + 21  # then one per delay hypothesis: its log-likelihood (forgotten as the lag hypotheses')
+_A_DEL_L = _A_QUICK + 23  # then one per delay hypothesis: its log-likelihood (forgotten as the lag hypotheses')
 _A_DEL_Y = _A_DEL_L + _N_DELAYS  # then one per delay hypothesis: the mean model's force that much before [N]
 _N_DRING = 64  # the ring's entries: the mean model's force at the last (sub)steps
 _A_DRING = _A_DEL_Y + _N_DELAYS  # then the ring's forces [N]
@@ -481,6 +483,14 @@ _TWIN_DEADBAND = _QUICK_DEADBAND
 #: median width grows 3.4 -> 3.8 (seed 0) and 6.1 -> 6.6 points (seed 22). docs/tracking.md, "The reported interval's
 #: memory".
 _HULL_MEMORY = 1.0
+#: A jump of the estimate [-] in one sample (ours, 2026-12-03): beyond it the posterior has moved from one mode to
+#: another, and the hull holds its ends, unrelaxed, for ``_HULL_MEMORY`` seconds of contact before it forgets in its
+#: own time. Relaxed toward a far interval at once, an end moved by a share of the whole gap each sample: the fresh
+#: seed 93's flag bench, a MuJoCo-model robot foot sinking 2-5 mm into 15.19 % mud at 50 Hz, whose posterior went
+#: from 15.9 to 34.3 % at a swing (the models' necks read against a sensor that reads none) and back 0.7 s later,
+#: had its reported low end go from 14.75 to 18.58 % in the 0.3 s of stance between, leaving the truth out (14
+#: samples, unflagged).
+_HULL_JUMP = 0.02
 #: The most log-likelihood [nats, untempered] by which any scored model may trail the best (ours, 2026-11-30):
 #: a model further behind is raised to this distance. Forgetting alone (``tau``) lets the old mud lead a new one by
 #: the whole evidence of ``tau`` seconds (about 400 nats on a walk at 18 % against 28 %), which a change must first

@@ -42,6 +42,7 @@ from mudforce.estimation._tracker_layout import (
     _A_HOLD,
     _A_HULL_HIGH,
     _A_HULL_LOW,
+    _A_JUMP,
     _A_LAG,
     _A_LAG_A,
     _A_LAG_L,
@@ -65,6 +66,7 @@ from mudforce.estimation._tracker_layout import (
     _A_TARE_VAR0,
     _A_TURN,
     _A_VAR,
+    _A_W_LAST,
     _A_Z2,
     _A_Z3,
     _A_ZN,
@@ -117,6 +119,7 @@ from mudforce.estimation._tracker_layout import (
     _G_LOW,
     _G_MISFIT,
     _G_OFFSET,
+    _HULL_JUMP,
     _LAG_LOG_PRIOR,
     _LAG_SPREAD_WIDENING,
     _LAG_WIDENING,
@@ -1007,14 +1010,21 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
         if cfg[_C_HULL] > 0.0:
             h_low = aux[j, _A_HULL_LOW]
             h_high = aux[j, _A_HULL_HIGH]
+            # a jump of the estimate (the posterior from one mode to another) holds the hull's ends for the hull's
+            # own time of contact before they relax (_HULL_JUMP)
+            if not first and abs(w_mid - aux[j, _A_W_LAST]) > _HULL_JUMP:
+                aux[j, _A_JUMP] = cfg[_C_HULL]
+            aux[j, _A_W_LAST] = w_mid
             if not first and h_low == h_low:  # (NaN: no interval yet)
-                keep_hull = 1.0 if free else math.exp(-dt / cfg[_C_HULL])  # (contact time, as the evidence's)
+                keep_hull = 1.0 if free or aux[j, _A_JUMP] > 0.0 else math.exp(-dt / cfg[_C_HULL])  # (contact time)
                 if h_low < w_low:
                     w_low = w_low + (h_low - w_low) * keep_hull
                 if h_high > w_high:
                     w_high = w_high + (h_high - w_high) * keep_hull
             aux[j, _A_HULL_LOW] = w_low
             aux[j, _A_HULL_HIGH] = w_high
+            if not free:
+                aux[j, _A_JUMP] = max(aux[j, _A_JUMP] - dt, 0.0)
             # an end the hull relaxed to a sliver from the grid's reaches it too (_END_REACH on what is reported; the
             # hull keeps its own ends, else a reached end would be held there by the hull for good)
             w_low, w_high = _reach_ends(w_low, w_high, edges[0], edges[edges.shape[0] - 1], half)

@@ -101,7 +101,9 @@ with forgetting) is set out in ``docs/tracking.md``; in short:
   hull; the interval forgets the old mud in the hull's time, so a false
   flag does not leave it clear of the truth). A posterior that jumps
   between two modes for a fraction of a second has not told them apart,
-  and the interval keeps both. An end
+  and the interval keeps both: after the estimate jumps by more than 2
+  points in one sample, the hull's ends are held, unrelaxed, for its own
+  time of contact before they relax. An end
   that leaves out only a sliver at the grid's end, where the posterior is
   about as dense as within, reaches that end: a foot that says almost
   nothing reports the whole grid, not the grid less a sliver at each end.
@@ -344,7 +346,8 @@ def _impossible_state(posterior: np.ndarray, aux: np.ndarray) -> str:
     for column, name in ((L._A_NFREE, "free-sample count"), (L._A_VAR, "force noise variance"),
                          (L._A_RUN, "tare run time"), (L._A_RUN_QUIET, "tare run's quiet time"),
                          (L._A_RUN_SQ, "tare run's mean square"), (L._A_CONTACT, "contact time"),
-                         (L._A_HOLD, "change-flag hold"), (L._A_MISFIT, "misfit average"),
+                         (L._A_HOLD, "change-flag hold"), (L._A_JUMP, "hull's hold after a jump"),
+                         (L._A_MISFIT, "misfit average"),
                          (L._A_MISFIT_T, "misfit time"), (L._A_DVAR, "depth noise variance"),
                          (L._A_D2VAR, "depth's second differences' mean square"),
                          (L._A_TARE_VAR0, "tare stretch's noise variance"),
