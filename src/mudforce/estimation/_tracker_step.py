@@ -1064,14 +1064,15 @@ def _track_pair(dt: float, t_states: np.ndarray, t_ring: np.ndarray, t_params: n
     ta = t_layout[:, 0]
     td0 = t_layout[:, 1]
     td1 = t_layout[:, 2]
-    n = d0[1]
-    t_buf[ta[1]:ta[1] + n] = buf[a[1]:a[1] + n]  # depths
-    t_buf[ta[2]:ta[2] + n] = buf[a[2]:a[2] + n]  # measured forces
+    n = d0[_SLOT_DEPTHS]
+    t_buf[ta[_SLOT_DEPTHS]:ta[_SLOT_DEPTHS] + n] = buf[a[_SLOT_DEPTHS]:a[_SLOT_DEPTHS] + n]
+    t_buf[ta[_SLOT_FORCES]:ta[_SLOT_FORCES] + n] = buf[a[_SLOT_FORCES]:a[_SLOT_FORCES] + n]
     bad = _track_step(dt, t_states, t_ring, t_params, t_forces, t_scratch, t_index, t_buf, t_layout)
     if bad >= 0:
         return bad
-    t_out = t_buf[ta[10]:ta[10] + td0[10] * td1[10]].reshape((td0[10], td1[10]))
-    guard = buf[a[15]:a[15] + d0[15] * d1[15]].reshape((d0[15], d1[15]))
+    o, g = _SLOT_OUT, _SLOT_GUARD
+    t_out = t_buf[ta[o]:ta[o] + td0[o] * td1[o]].reshape((td0[o], td1[o]))
+    guard = buf[a[g]:a[g] + d0[g] * d1[g]].reshape((d0[g], d1[g]))
     for j in range(n):
         guard[j, _G_LOW] = t_out[j, _O_LOW]
         guard[j, _G_HIGH] = t_out[j, _O_HIGH]
@@ -1111,6 +1112,11 @@ def _check_bounds(depths: np.ndarray, forces: np.ndarray, max_depth: float, time
 #: The tracker's own arrays packed for :func:`_track_step`, in its order.
 _PACKED = ("_zbuf", "_depths", "_forces", "_edges", "_L", "_P", "_aux", "_cfg", "_blur", "_Q", "_out", "_scored",
            "depth_offsets", "_log_prior", "_work", "_guard")
+#: The places in :data:`_PACKED` of the arrays :func:`_track_pair` copies between the two banks.
+_SLOT_DEPTHS = _PACKED.index("_depths")
+_SLOT_FORCES = _PACKED.index("_forces")
+_SLOT_OUT = _PACKED.index("_out")
+_SLOT_GUARD = _PACKED.index("_guard")
 
 
 def _pack(owner: object) -> tuple[np.ndarray, np.ndarray]:
