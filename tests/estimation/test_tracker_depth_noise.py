@@ -162,8 +162,9 @@ def test_a_standing_foot_under_depth_noise_does_not_drift_out_of_its_interval(mo
     monkeypatch.setattr(tracker_layout, "_REST_SPREAD", 0.0)  # the band's ends as read (read when a tracker is made)
     before = track(t, z, f)
     missed = late & ~((before.low <= truth) & (truth <= before.high)) & ~(before.changed | before.misfit)
-    # (58 since the tare waits for a raised foot to come down, tests/estimation/test_tracker_cling.py)
-    assert np.sum(missed) == 58 and np.max(before.water_content[stance]) > 0.34  # measured 34.01 %
+    # (58 since the tare waits for a raised foot to come down, tests/estimation/test_tracker_cling.py, at 34.01 %;
+    # none since the noisy depth's deadband, _SMOOTH_DEADBAND_SIGMAS, which alone keeps it at 33.82 %)
+    assert np.sum(missed) == 0 and np.max(before.water_content[stance]) > np.max(r.water_content[stance])
     # a clean depth has no noise beyond the branch rule's: read as before, to the bit
     w = walk(0.25, seed=2, duration=8.0, force_noise=0.2, depth_noise=3e-5)
     monkeypatch.setattr(tracker_layout, "_REST_SPREAD", 1.0)

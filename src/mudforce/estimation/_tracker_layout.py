@@ -524,6 +524,17 @@ _SMOOTH_MAX_STEP = 0.025
 #: bend of the depth); with the test at 100 Hz "depth noise 1 mm" lost 1-3 points on three seeds.
 _SMOOTH_BEND_STEP = 0.0125
 _SMOOTH_BEND = 2.0
+#: Where the bank steps on the depth's three-sample mean (:data:`_SMOOTH_NOISE`), the noise-robust branch rule's
+#: deadband is at least this many standard deviations of its secant's noise on that mean [-] (ours, 2026-12-03),
+#: ``sqrt(2) noise / sqrt(3) / (window h)`` with ``noise`` the depth noise measured online and ``h`` the bank's step,
+#: rounded up to a quarter octave above the rule's own (so that the rows' rule is not rewritten each sample). The
+#: rule is made for 0.03 mm of noise (a deadband of 2.1 mm/s): under 1 mm its secant's noise is about 8 mm/s, and on
+#: the sensor-chain bench's seed 70 (a gait walk in 26.3 % mud, "depth noise 1 mm") one sample of a slow withdrawal
+#: read +2.7 mm/s, every model went from its neck back to contact and necked again at a 17-mm strain (+16 then -38 N
+#: where the sensor read 1 N), and the drier models, back first, took the estimate 6.5 points dry and the interval
+#: off the truth for 1.2 s (120 samples). One deviation: that run 0 samples, rows 8 and 13 of eight seeds within
+#: -1.7 to +2.4 points (mean -0.1). At three deviations slow motion read as rest: seed 64's row lost 13 points.
+_SMOOTH_DEADBAND_SIGMAS = 1.0
 #: The twin bank holds the surface offsets of the first within this of zero [m] (ours; all of them where none is):
 #: -3, 0, +3 mm of the default five, three fifths of the first bank's cost. With the default offsets' middle three
 #: the bench's tuning seeds' confidently wrong shares were those with a twin of all five to 0.2 % of a row's samples;

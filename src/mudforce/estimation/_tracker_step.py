@@ -155,6 +155,7 @@ from mudforce.estimation._tracker_layout import (
     _REST_SPAN,
     _SMOOTH_BEND,
     _SMOOTH_BEND_STEP,
+    _SMOOTH_DEADBAND_SIGMAS,
     _SMOOTH_MAX_STEP,
     _SPARE_MASS,
     _SPARE_TURN,
@@ -496,6 +497,13 @@ def _branch_rule(j: int, depth: float, dt: float, offsets: np.ndarray, aux: np.n
     aux[j, _A_QUICK] = 1.0 if quick else 0.0
     window = _QUICK_WINDOW if quick else cfg[_C_ROBUST_WINDOW]
     deadband = _QUICK_DEADBAND if quick else cfg[_C_ROBUST_DEADBAND]
+    if not quick and _smoothed(aux, j, dt, cfg):
+        # the noise-robust rule's deadband held above its secant's noise on the depth's three-sample mean
+        # (_SMOOTH_DEADBAND_SIGMAS), in quarter octaves above its own
+        h = dt / max(1.0, float(int(dt / cfg[_C_SUBSTEP] + 0.5)))  # the bank's step [s]
+        wanted = _SMOOTH_DEADBAND_SIGMAS * math.sqrt(2.0 * aux[j, _A_DVAR] / 3.0) / (window * h)
+        if wanted > deadband > 0.0:
+            deadband *= 2.0 ** (math.ceil(4.0 * math.log2(wanted / deadband)) / 4.0)
     if params[r0, P_WINDOW] != window or params[r0, P_DEADBAND] != deadband:
         for m in range(M):
             params[r0 + m, P_WINDOW] = window
