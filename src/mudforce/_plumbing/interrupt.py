@@ -19,6 +19,13 @@ the command carries on to finish and exit 0.
   (:meth:`mudforce.io.StagedOutputs.commit`), and the command line exits
   with status 130 after a command that ends normally despite it.
 
+:func:`settle`, once the command line has caught the interrupt, releases
+what the frames it cut short held, with what their finalisers raise
+silenced: an interrupt inside a finaliser (numba's compiler frees LLVM
+objects that way) can leave an object half-closed, whose next finaliser
+call then fails, and Python printed that as ``Exception ignored in: ...``
+with a traceback after the one line ``mudforce: interrupted``.
+
 Where SIGINT is ignored (a background job of a non-interactive shell), it
 stays ignored.
 
@@ -31,13 +38,15 @@ from __future__ import annotations
 
 import _thread
 import contextlib
+import gc
 import signal
 import sys
 import threading
+import traceback
 from collections.abc import Callable, Iterator
 from typing import Any
 
-__all__ = ["check", "held", "pending", "watch"]
+__all__ = ["check", "held", "pending", "settle", "watch"]
 
 #: Delay before an interrupt lost in a callback is raised again [s].
 _RETRY_S = 0.01
@@ -54,6 +63,24 @@ def check() -> None:
     """Raise :class:`KeyboardInterrupt` if an interrupt came during the current :func:`watch`."""
     if _pending:
         raise KeyboardInterrupt
+
+
+def settle(exc: BaseException) -> None:
+    """Release the frames the interrupt ``exc`` cut short (their locals, then a collection), with anything their
+    finalisers raise dropped, not printed; ``sys.unraisablehook`` comes back on leaving. For the command line's
+    handler of :class:`KeyboardInterrupt`: the command is over and exits with status 130."""
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = _drop
+    try:
+        if exc.__traceback__ is not None:
+            traceback.clear_frames(exc.__traceback__)  # (the frame still running is skipped)
+        gc.collect()
+    finally:
+        sys.unraisablehook = previous_hook
+
+
+def _drop(unraisable: Any) -> None:
+    """An unraisable exception, dropped (:func:`settle`)."""
 
 
 def _handler(signum: int, frame: Any) -> None:

@@ -198,7 +198,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InputError as exc:
         print(f"mudforce {args.command}: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        _interrupt.settle(exc)  # what the interrupt cut short is freed now, its finalisers' errors unprinted
         print("mudforce: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
