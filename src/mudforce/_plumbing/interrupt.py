@@ -75,6 +75,8 @@ def settle(exc: BaseException) -> None:
         if exc.__traceback__ is not None:
             traceback.clear_frames(exc.__traceback__)  # (the frame still running is skipped)
         gc.collect()
+    except KeyboardInterrupt:
+        pass  # a second Ctrl-C while freeing: the command is interrupted already
     finally:
         sys.unraisablehook = previous_hook
 
