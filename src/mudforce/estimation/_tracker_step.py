@@ -431,6 +431,15 @@ def _lag_substep(j: int, h: float, forces: np.ndarray, P: np.ndarray, aux: np.nd
     aux[j, _A_PSUB] = mean
 
 
+@njit(cache=True, nogil=True)
+def _substeps(dt: float, cfg: np.ndarray) -> int:
+    """The substeps [-] the bank takes over a sample interval ``dt`` [s]: ``round(dt / cfg[_C_SUBSTEP])``, 1 to
+    :data:`_MAX_SUBSTEPS` (1 where ``cfg[_C_SUBSTEP]`` is 0: no substeps)."""
+    if cfg[_C_SUBSTEP] <= 0.0:
+        return 1
+    return max(1, min(_MAX_SUBSTEPS, int(min(dt / cfg[_C_SUBSTEP], float(_MAX_SUBSTEPS)) + 0.5)))
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def _smoothed(aux: np.ndarray, j: int, dt: float, cfg: np.ndarray) -> bool:
     """Whether foot ``j``'s bank steps on the depth's three-sample mean this sample, ``dt`` [s] after the last, and
@@ -500,7 +509,7 @@ def _branch_rule(j: int, depth: float, dt: float, offsets: np.ndarray, aux: np.n
     if not quick and _smoothed(aux, j, dt, cfg):
         # the noise-robust rule's deadband held above its secant's noise on the depth's three-sample mean
         # (_SMOOTH_DEADBAND_SIGMAS), in quarter octaves above its own
-        h = dt / max(1.0, float(int(dt / cfg[_C_SUBSTEP] + 0.5)))  # the bank's step [s]
+        h = dt / _substeps(dt, cfg)  # the bank's step [s]
         wanted = _SMOOTH_DEADBAND_SIGMAS * math.sqrt(2.0 * aux[j, _A_DVAR] / 3.0) / (window * h)
         if wanted > deadband > 0.0:
             deadband *= 2.0 ** (math.ceil(4.0 * math.log2(wanted / deadband)) / 4.0)
@@ -571,9 +580,7 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             _branch_rule(j, depths[j], dt, offsets, aux, ring, params, cfg, M)
     # the bank is stepped at no more than cfg[_C_SUBSTEP] per step: a longer sample interval is cut into substeps,
     # the depth interpolated linearly between the samples (the model's discretisation at a low data rate)
-    nsub = 1
-    if cfg[_C_SUBSTEP] > 0.0 and aux[0, _A_STARTED] != 0.0:
-        nsub = max(1, min(_MAX_SUBSTEPS, int(min(dt / cfg[_C_SUBSTEP], float(_MAX_SUBSTEPS)) + 0.5)))
+    nsub = _substeps(dt, cfg) if aux[0, _A_STARTED] != 0.0 else 1
     for s in range(1, nsub + 1):
         u = s / nsub
         for j in range(n):
