@@ -138,12 +138,15 @@ def _fit_row(fit: Any, w: float, truth: dict[str, float] | None = None) -> dict[
 
 
 def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: int,
-             tracker_only: bool = False) -> list[dict[str, Any]]:
-    """Every row's results on the recordings of one unit (one MuJoCo run: two sources; one gait: one)."""
+             tracker_only: bool = False, rows: Sequence[int] | None = None) -> list[dict[str, Any]]:
+    """Every row's results (or those of ``rows``, indices into :data:`ROWS`) on the recordings of one unit (one
+    MuJoCo run: two sources; one gait: one). A row's recordings are the same whichever rows run with it."""
     out = []
     for source, w, foot, t, z, f in _clean(kind, index, seed, duration):
         bias = float(np.random.default_rng([seed, 2, index, SOURCES.index(source)]).uniform(-1.0, 1.0))
         for r, (_row, _, corruption, fit_it) in enumerate(ROWS):
+            if rows is not None and r not in rows:
+                continue
             fields = {"force_noise": FORCE_NOISE, "depth_noise": DEPTH_NOISE, "force_bias": bias, "rate": RATE,
                       **corruption}
             chain = SensorChain(**fields)
@@ -165,7 +168,7 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
             misfit = getattr(tr, "misfit", None)  # (absent before the misfit flag: the bench also runs on old code)
             tflag = tr.changed[late] if misfit is None else tr.changed[late] | misfit[late]
             item: dict[str, Any] = {
-                "row": r, "source": source, "index": index, "w": w,
+                "seed": seed, "row": r, "source": source, "index": index, "w": w,
                 "error": math.nan if res is None else (res.water_content - w) * 100.0, "covered": covered,
                 "flagged": flagged, "refused": res is None,
                 "wrong": not covered and not flagged,
@@ -218,11 +221,13 @@ def _pct(k: int, n: int) -> str:
 
 
 def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[str]:
+    ran = sorted({x["row"] for x in results})
     lines = ["### identify_water_content", "",
              "| corruption | set | n | within 1.5 pt | covers truth | flagged (refused) | confidently wrong | "
              "wrong by source (" + " / ".join(sources) + ") | median abs error [pt] | acceptance |",
              "|---|---|---|---|---|---|---|---|---|---|"]
-    for r, (row, kind, _, _) in enumerate(ROWS):
+    for r in ran:
+        row, kind = ROWS[r][:2]
         rs = [x for x in results if x["row"] == r]
         n = len(rs)
         within = sum(abs(x["error"]) <= 1.5 for x in rs)
@@ -239,10 +244,12 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
             verdict = "pass" if n and within >= 0.9 * n and cov >= 0.9 * n else "FAIL"
         lines.append(f"| {row} | {kind} | {n} | {_pct(within, n)} | {_pct(cov, n)} | {_pct(flag, n)} ({refused}) | "
                      f"{_pct(wrong, n)} | {by} | {med:.2f} | {verdict} |")
-    lines += ["", "### fit_condition (one recording per fit)", "",
-              "| corruption | set | fits | all parameters within 3 SE | flagged | confidently wrong | "
-              "parameters beyond 3 SE | median time [s] | acceptance |", "|---|---|---|---|---|---|---|---|---|"]
-    for r, (row, kind, _, fit_it) in enumerate(ROWS):
+    if any("fit" in x for x in results):
+        lines += ["", "### fit_condition (one recording per fit)", "",
+                  "| corruption | set | fits | all parameters within 3 SE | flagged | confidently wrong | "
+                  "parameters beyond 3 SE | median time [s] | acceptance |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in ran:
+        row, kind, _, fit_it = ROWS[r]
         fs = [x["fit"] for x in results if x["row"] == r and "fit" in x]
         if not fit_it or not fs:
             continue
@@ -260,7 +267,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
               "recordings covered >= 80 % | samples confidently wrong | median abs final error [pt] | "
               "median interval width [pt] | change flags (all false) | per 10 min | acceptance |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r, (row, kind, _, _) in enumerate(ROWS):
+    for r in ran:
+        row, kind = ROWS[r][:2]
         rs = [x for x in results if x["row"] == r]
         n = sum(x["t_n"] for x in rs)
         within = sum(x["t_within"] for x in rs)
@@ -289,7 +297,8 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
               "low-pass).", "",
               "| corruption | set | identify: offset | identify: lag | MudTracker: offset | MudTracker: lag |",
               "|---|---|---|---|---|---|"]
-    for r, (row, kind, _, _) in enumerate(ROWS):
+    for r in ran:
+        row, kind = ROWS[r][:2]
         rs = [x for x in results if x["row"] == r]
         cells = []
         for key, per in (("i_offset", False), ("i_lag", False), ("t_offset", True), ("t_lag", True)):
@@ -333,11 +342,114 @@ def _run_units(unit: Callable[..., list[dict[str, Any]]], units: Sequence[tuple[
     return results
 
 
+def parse_rows(spec: str | None) -> list[int] | None:
+    """``--rows``: comma-separated row numbers as the tables list them (from 1) and set names (``baseline``,
+    ``standard``, ``hard``); indices into :data:`ROWS`, None for every row."""
+    if not spec:
+        return None
+    rows: set[int] = set()
+    for token in (x.strip() for x in spec.split(",")):
+        sets = [r for r, (_, kind, _, _) in enumerate(ROWS) if kind == token]
+        if sets:
+            rows.update(sets)
+        elif token.isdigit() and 1 <= int(token) <= len(ROWS):
+            rows.add(int(token) - 1)
+        else:
+            raise InputError(f"--rows: {token!r} is not a row; expected row numbers 1-{len(ROWS)} as the tables "
+                             "list them, or baseline, standard, hard, comma-separated (e.g. 3,6,standard)")
+    return sorted(rows)
+
+
+def parse_seeds(spec: str | None, seed: int) -> list[int]:
+    """``--seeds``: ``A-B`` (inclusive) or comma-separated seeds; ``[seed]`` when not given."""
+    if not spec:
+        return [seed]
+    try:
+        if "-" in spec:
+            a, b = (int(x) for x in spec.split("-", 1))
+            seeds = list(range(a, b + 1))
+        else:
+            seeds = [int(x) for x in spec.split(",")]
+    except ValueError:
+        seeds = []
+    if not seeds or min(seeds) < 0:
+        raise InputError(f"--seeds: {spec!r} is not a list of seeds; expected A-B or comma-separated seeds >= 0 "
+                         "(e.g. 97-106)")
+    return seeds
+
+
+def _wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """The Wilson score interval of a share k/n [-] (95 % by default)."""
+    if n == 0:
+        return math.nan, math.nan
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return centre - half, centre + half
+
+
+def _per_recording(rs: Sequence[dict[str, Any]], key: str) -> tuple[float, float, float]:
+    """The tracker's pooled share of samples ``key`` [-], and a 95 % interval on it read over recordings (the samples
+    of one recording are not independent; each recording's share, weighted by its samples: a ratio estimator)."""
+    n = np.array([x["t_n"] for x in rs if x["t_n"]], dtype=float)
+    k = np.array([x[key] for x in rs if x["t_n"]], dtype=float)
+    if n.size < 2:
+        return math.nan, math.nan, math.nan
+    share = k.sum() / n.sum()
+    resid = (k - share * n) / n.mean()
+    se = float(np.sqrt(np.sum(resid**2) / (n.size * (n.size - 1))))
+    return share, max(share - 1.96 * se, 0.0), min(share + 1.96 * se, 1.0)
+
+
+def _pooled_table(results: Sequence[dict[str, Any]], seeds: Sequence[int]) -> list[str]:
+    """Across seeds: each standard row's shares pooled over every seed's recordings, with 95 % intervals, and how
+    many seeds pass it alone (the letter asks >= 90 % of identify's recordings within and covered, >= 80 % of the
+    tracker's samples)."""
+    lines = [f"### Pooled over {len(seeds)} seeds ({seeds[0]}-{seeds[-1]})" if seeds == list(range(seeds[0],
+             seeds[-1] + 1)) else f"### Pooled over seeds {', '.join(map(str, seeds))}", "",
+             "Shares pooled over every seed's recordings, with 95 % intervals (identify's: Wilson's on the "
+             "recordings; the tracker's: over recordings, its samples pooled within each), and the seeds on which "
+             "the row passes alone.", "",
+             "| corruption | set | identify within 1.5 pt | identify covers | identify: seeds passing | "
+             "tracker within 1.5 pt | tracker covered | tracker: seeds passing |", "|---|---|---|---|---|---|---|---|"]
+
+    def share(k: int, n: int) -> str:
+        lo, hi = _wilson(k, n)
+        return f"{k}/{n} = {k / n:.1%} [{lo:.1%}, {hi:.1%}]" if n else "-"
+
+    def tshare(rs: Sequence[dict[str, Any]], key: str) -> str:
+        s, lo, hi = _per_recording(rs, key)
+        return f"{s:.1%} [{lo:.1%}, {hi:.1%}]" if math.isfinite(s) else "-"
+
+    for r in sorted({x["row"] for x in results}):
+        row, kind = ROWS[r][:2]
+        if kind == "hard":
+            continue
+        rs = [x for x in results if x["row"] == r]
+        n = 0 if all(x["refused"] for x in rs) else len(rs)  # (none ran: --tracker-only)
+        within = sum(abs(x["error"]) <= 1.5 for x in rs)
+        cov = sum(x["covered"] for x in rs)
+        i_pass = t_pass = 0
+        for seed in seeds:
+            ss = [x for x in rs if x["seed"] == seed]
+            m = len(ss)
+            i_pass += bool(n and m) and sum(abs(x["error"]) <= 1.5 for x in ss) >= 0.9 * m and sum(
+                x["covered"] for x in ss) >= 0.9 * m
+            tn = sum(x["t_n"] for x in ss)
+            t_pass += bool(tn) and sum(x["t_within"] for x in ss) >= 0.8 * tn and sum(
+                x["t_cov"] for x in ss) >= 0.8 * tn
+        lines.append(f"| {row} | {kind} | {share(within, n)} | {share(cov, n)} | {i_pass}/{len(seeds)} | "
+                     f"{tshare(rs, 't_within')} | {tshare(rs, 't_cov')} | {t_pass}/{len(seeds)} |")
+    return lines
+
+
 def run_bench(args: argparse.Namespace) -> int:
     """Run the bench and print its tables (markdown); returns 0."""
     from mudforce.io.units import parse_quantity
 
     duration = parse_quantity(args.duration or "30s", "time", name="--duration")
+    rows = parse_rows(args.rows)
+    seeds = parse_seeds(args.seeds, args.seed)
     if args.robots:
         try:
             import mujoco  # noqa: F401
@@ -348,18 +460,27 @@ def run_bench(args: argparse.Namespace) -> int:
     if args.jobs < 1 or min(args.robots, args.walks, args.fit_recordings) < 0:
         raise InputError("--jobs must be >= 1; --robots, --walks and --fit-recordings >= 0")
     start = time.perf_counter()
-    results = _run_units(run_unit, _units(args), args, "sensor-chain bench", args.seed, duration,
-                         args.fit_recordings, args.tracker_only)
-    results.sort(key=lambda x: (SOURCES.index(x["source"]), x["index"], x["row"]))  # independent of the workers
+    results = []
+    for seed in seeds:
+        label = "sensor-chain bench" + (f", seed {seed}" if len(seeds) > 1 else "")
+        results += _run_units(run_unit, _units(args), args, label, seed, duration, args.fit_recordings,
+                              args.tracker_only, rows)
+    # (independent of the workers)
+    results.sort(key=lambda x: (x["seed"], SOURCES.index(x["source"]), x["index"], x["row"]))
     elapsed = time.perf_counter() - start
     sources = [s for s in SOURCES if any(x["source"] == s for x in results)]
-    counts = ", ".join(f"{sum(1 for x in results if x['source'] == s and x['row'] == 0)} {s}" for s in sources)
-    print(f"## Sensor-chain bench: {counts} recordings of {duration:g} s, seed {args.seed}")
+    first = min(x["row"] for x in results) if results else 0
+    counts = ", ".join(f"{sum(1 for x in results if x['source'] == s and x['row'] == first)} {s}" for s in sources)
+    print(f"## Sensor-chain bench: {counts} recordings of {duration:g} s, "
+          + (f"seed {seeds[0]}" if len(seeds) == 1 else f"seeds {args.seeds}, pooled"))
     print()
     print(f"Every row: force noise {FORCE_NOISE:g} N, depth noise {DEPTH_NOISE * 1e3:g} mm, a bias in [-1, 1] N, "
           f"{RATE:g} Hz unless the row says otherwise; W in [15 %, 35 %].")
     print()
     print("\n".join(_tables(results, sources)))
+    if len(seeds) > 1:
+        print()
+        print("\n".join(_pooled_table(results, seeds)))
     print()
     print(f"wall time {elapsed:.0f} s with --jobs {args.jobs}")
     return 0
