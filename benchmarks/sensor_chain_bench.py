@@ -404,7 +404,9 @@ def _per_recording(rs: Sequence[dict[str, Any]], key: str) -> tuple[float, float
 def _pooled_table(results: Sequence[dict[str, Any]], seeds: Sequence[int]) -> list[str]:
     """Across seeds: each standard row's shares pooled over every seed's recordings, with 95 % intervals, and how
     many seeds pass it alone (the letter asks >= 90 % of identify's recordings within and covered, >= 80 % of the
-    tracker's samples)."""
+    tracker's samples); none where only hard rows ran."""
+    if all(ROWS[x["row"]][1] == "hard" for x in results):
+        return []
     lines = [f"### Pooled over {len(seeds)} seeds ({seeds[0]}-{seeds[-1]})" if seeds == list(range(seeds[0],
              seeds[-1] + 1)) else f"### Pooled over seeds {', '.join(map(str, seeds))}", "",
              "Shares pooled over every seed's recordings, with 95 % intervals (identify's: Wilson's on the "
@@ -478,9 +480,10 @@ def run_bench(args: argparse.Namespace) -> int:
           f"{RATE:g} Hz unless the row says otherwise; W in [15 %, 35 %].")
     print()
     print("\n".join(_tables(results, sources)))
-    if len(seeds) > 1:
+    pooled = _pooled_table(results, seeds) if len(seeds) > 1 else []
+    if pooled:
         print()
-        print("\n".join(_pooled_table(results, seeds)))
+        print("\n".join(pooled))
     print()
     print(f"wall time {elapsed:.0f} s with --jobs {args.jobs}")
     return 0
