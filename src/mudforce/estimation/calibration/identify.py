@@ -274,7 +274,8 @@ class Identification:
         of ``d`` reads up to about ``d`` on a robot's trot, and under 1 ms for 5-10 ms on a smooth gait walk);
         NaN on the protocol path. The two standard errors add in quadrature the scatter (least squares' or, where
         larger, the spread over the contact episodes, each read on secants 0.5 mm and 2 ms wide), the rate check's
-        move of each, and the misfit's worst case (:func:`_nuisance_stderr`); the lag's also the lag's shape: the
+        move of each, the move of each under a further gain change of ``force_gain_uncertainty`` (the refits of
+        ``gain_shift``), and the misfit's worst case (:func:`_nuisance_stderr`); the lag's also the lag's shape: the
         mean delay the same fit reads with a pure delay in place of the low-pass, less the lag; the offset's the
         offset that fit reads, less the offset, where it explains the data as well. On the
         sensor-chain bench each holds its truth within three of them (docs/estimation.md, "The nuisances' standard
@@ -534,7 +535,8 @@ def _nuisance_stderr(wide: np.ndarray, r: np.ndarray, contact: np.ndarray, s2: f
       and with the turns on their branches: the model's own error at the data's rate, which the scatter does not
       see) and, for the lag, its shape's (the mean delay a pure delay in its place reads, less the lag), and for the
       offset the offset that fit reads, less the offset, where its sum of squares is within
-      :data:`_SHAPE_OFFSET_CHI2` residual variances of the low-pass fit's;
+      :data:`_SHAPE_OFFSET_CHI2` residual variances of the low-pass fit's; and each one's move under the force gain's
+      uncertainty (the joint fit on the force divided by the gain times ``1 +- force_gain_uncertainty``);
     - the misfit's worst case, ``unexplained / rms(J_j)`` (as the interval's ``misfit_shift``): a residual the
       family cannot explain (a delay read as a lag, the depth's unresolved motion) moves a nuisance by at most that.
 
