@@ -216,6 +216,19 @@ def _units(args: argparse.Namespace) -> list[tuple[str, int]]:
     return [("robot", i) for i in range(args.robots)] + [("gait", i) for i in range(args.walks)]
 
 
+def _identify_passes(rs: Sequence[dict[str, Any]]) -> bool:
+    """A standard row's acceptance for identify on the recordings ``rs``: >= 90 % within 1.5 points and covered."""
+    n = len(rs)
+    return bool(n) and sum(abs(x["error"]) <= 1.5 for x in rs) >= 0.9 * n and sum(x["covered"] for x in rs) >= 0.9 * n
+
+
+def _tracker_passes(rs: Sequence[dict[str, Any]]) -> bool:
+    """A standard row's acceptance for the tracker on the recordings ``rs`` (before its false change flags): >= 80 %
+    of the samples after TRACK_AFTER within 1.5 points and covered."""
+    n = sum(x["t_n"] for x in rs)
+    return bool(n) and sum(x["t_within"] for x in rs) >= 0.8 * n and sum(x["t_cov"] for x in rs) >= 0.8 * n
+
+
 def _pct(k: int, n: int) -> str:
     return f"{k}/{n} ({k / n:.0%})" if n else "-"
 
@@ -241,7 +254,7 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         if kind == "hard":
             verdict = "pass" if wrong == 0 else "FAIL"
         else:
-            verdict = "pass" if n and within >= 0.9 * n and cov >= 0.9 * n else "FAIL"
+            verdict = "pass" if _identify_passes(rs) else "FAIL"
         lines.append(f"| {row} | {kind} | {n} | {_pct(within, n)} | {_pct(cov, n)} | {_pct(flag, n)} ({refused}) | "
                      f"{_pct(wrong, n)} | {by} | {med:.2f} | {verdict} |")
     if any("fit" in x for x in results):
@@ -281,7 +294,7 @@ def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[s
         if kind == "hard":
             verdict = "pass" if wrong == 0 else "FAIL"
         else:
-            verdict = "pass" if n and cov >= 0.8 * n and within >= 0.8 * n else "FAIL"
+            verdict = "pass" if _tracker_passes(rs) else "FAIL"
         changes = sum(x.get("t_changes", 0) for x in rs)
         rate = 10.0 * changes / max(sum(x.get("t_minutes", 0.0) for x in rs), 1e-9)
         if rate > 1.0:  # issue 23: at most one false change flag per 10 minutes
@@ -431,15 +444,9 @@ def _pooled_table(results: Sequence[dict[str, Any]], seeds: Sequence[int]) -> li
         n = 0 if all(x["refused"] for x in rs) else len(rs)  # (none ran: --tracker-only)
         within = sum(abs(x["error"]) <= 1.5 for x in rs)
         cov = sum(x["covered"] for x in rs)
-        i_pass = t_pass = 0
-        for seed in seeds:
-            ss = [x for x in rs if x["seed"] == seed]
-            m = len(ss)
-            i_pass += bool(n and m) and sum(abs(x["error"]) <= 1.5 for x in ss) >= 0.9 * m and sum(
-                x["covered"] for x in ss) >= 0.9 * m
-            tn = sum(x["t_n"] for x in ss)
-            t_pass += bool(tn) and sum(x["t_within"] for x in ss) >= 0.8 * tn and sum(
-                x["t_cov"] for x in ss) >= 0.8 * tn
+        per_seed = [[x for x in rs if x["seed"] == seed] for seed in seeds]
+        i_pass = sum(bool(n) and _identify_passes(ss) for ss in per_seed)
+        t_pass = sum(_tracker_passes(ss) for ss in per_seed)
         lines.append(f"| {row} | {kind} | {share(within, n)} | {share(cov, n)} | {i_pass}/{len(seeds)} | "
                      f"{tshare(rs, 't_within')} | {tshare(rs, 't_cov')} | {t_pass}/{len(seeds)} |")
     return lines
