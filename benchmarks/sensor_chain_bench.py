@@ -170,7 +170,7 @@ def run_unit(kind: str, index: int, seed: int, duration: float, fit_recordings: 
             item: dict[str, Any] = {
                 "seed": seed, "row": r, "source": source, "index": index, "w": w,
                 "error": math.nan if res is None else (res.water_content - w) * 100.0, "covered": covered,
-                "flagged": flagged, "refused": res is None,
+                "flagged": flagged, "refused": res is None, "identified": not tracker_only,
                 "wrong": not covered and not flagged,
                 "t_n": int(late.sum()), "t_within": int(np.sum(np.abs(tw - w) <= 0.015)), "t_cov": int(tcov.sum()),
                 "t_wrong": int(np.sum(~tcov & ~tflag)), "t_final": (tr.water_content[-1] - w) * 100.0,
@@ -235,11 +235,14 @@ def _pct(k: int, n: int) -> str:
 
 def _tables(results: Sequence[dict[str, Any]], sources: Sequence[str]) -> list[str]:
     ran = sorted({x["row"] for x in results})
+    # (--tracker-only: identify did not run, and its table would read every recording as refused)
+    identified = any(x.get("identified", True) for x in results)
     lines = ["### identify_water_content", "",
              "| corruption | set | n | within 1.5 pt | covers truth | flagged (refused) | confidently wrong | "
              "wrong by source (" + " / ".join(sources) + ") | median abs error [pt] | acceptance |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
-    for r in ran:
+             "|---|---|---|---|---|---|---|---|---|---|"] if identified else [
+             "### identify_water_content", "", "Not run (--tracker-only)."]
+    for r in ran if identified else ():
         row, kind = ROWS[r][:2]
         rs = [x for x in results if x["row"] == r]
         n = len(rs)
@@ -441,13 +444,13 @@ def _pooled_table(results: Sequence[dict[str, Any]], seeds: Sequence[int]) -> li
         if kind == "hard":
             continue
         rs = [x for x in results if x["row"] == r]
-        n = 0 if all(x["refused"] for x in rs) else len(rs)  # (none ran: --tracker-only)
+        n = len(rs) if any(x.get("identified", True) for x in rs) else 0  # (none ran: --tracker-only)
         within = sum(abs(x["error"]) <= 1.5 for x in rs)
         cov = sum(x["covered"] for x in rs)
         per_seed = [[x for x in rs if x["seed"] == seed] for seed in seeds]
-        i_pass = sum(bool(n) and _identify_passes(ss) for ss in per_seed)
+        i_pass = f"{sum(_identify_passes(ss) for ss in per_seed)}/{len(seeds)}" if n else "-"
         t_pass = sum(_tracker_passes(ss) for ss in per_seed)
-        lines.append(f"| {row} | {kind} | {share(within, n)} | {share(cov, n)} | {i_pass}/{len(seeds)} | "
+        lines.append(f"| {row} | {kind} | {share(within, n)} | {share(cov, n)} | {i_pass} | "
                      f"{tshare(rs, 't_within')} | {tshare(rs, 't_cov')} | {t_pass}/{len(seeds)} |")
     return lines
 
