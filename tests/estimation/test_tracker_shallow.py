@@ -184,3 +184,35 @@ def test_a_shallow_dry_foot_whose_tail_thins_is_not_left_out() -> None:
     assert not r.misfit[late].any() and not r.changed.any()  # nothing flagged: the interval must hold the truth
     assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 1351
     assert np.median(r.water_content[late]) == pytest.approx(0.1768, abs=0.002)  # measured 17.68 %
+
+
+def test_a_wide_early_interval_holds_the_hull() -> None:
+    """The sensor-chain bench's seed 103, ``robot`` 6: the MuJoCo quadruped's foot (a 50 mm disc, a bound) standing
+    about 2 mm deep in W = 15.01 % mud (the grid's dry end), MuJoCo's force, through "standard, all (-)" (offset -2 mm,
+    drift -2 mm over 30 s, low-pass 10 ms, gain -5 %, depth noise 1 mm, 50 Hz), 30 s. It reads 26 % from its first
+    contact, with an interval of about [19.8, 32.3] % before the hull at 3.0-3.7 s. The hull's low end relaxed
+    toward it from 15.2 % and left the truth out by up to 1.75 points at 3.44-3.68 s, unflagged (15 samples). An
+    interval wider than half the grid now holds the hull in the stream's first ``_HULL_HOLD`` seconds of contact;
+    the estimate is the same."""
+    assert tracker_layout._HULL_HOLD == 3.0 and tracker_layout._HULL_WIDE == 0.5
+    truth = 0.1500968698063424
+    t, z, f = np.loadtxt(Path(__file__).parent / "data" / "robot_shallow_dry_standard_all_minus_seed103.csv",
+                         delimiter=",", skiprows=1, unpack=True)
+    r = track(t, z, f, Foot.disc(0.05))
+    late = t >= 3.0
+    assert not r.misfit[late].any() and not r.changed.any()  # nothing flagged: the interval must hold the truth
+    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 1351
+    held = (t >= 3.4) & (t <= 3.7)
+    assert np.max(r.low[held]) < 0.1495  # measured: the grid's 14.75 %, and 14.92 % from 3.66 s (16.38 % before)
+    assert np.median(r.water_content[held]) == pytest.approx(0.258, abs=0.002)  # measured 25.8 %: the same estimate
+
+
+def test_a_clean_deep_walk_s_early_interval_is_not_held() -> None:
+    """A clean walk 1-3 cm deep narrows under half the grid within about a second of contact: the hold of a wide
+    early interval (``_HULL_HOLD``) leaves its reported interval as before (measured the same to 0.1 points at 1, 2,
+    3 and 4 s)."""
+    wk = walk(0.25, seed=3, duration=4.0, force_noise=0.2, bias=0.5)
+    r = track(wk.time, wk.depth, wk.force)
+    at = np.searchsorted(wk.time, [2.0, 3.0, 4.0 - 1e-9])
+    assert r.low[at] == pytest.approx([0.214, 0.227, 0.232], abs=0.001)
+    assert r.high[at] == pytest.approx([0.286, 0.273, 0.268], abs=0.001)

@@ -119,7 +119,9 @@ from mudforce.estimation._tracker_layout import (
     _G_LOW,
     _G_MISFIT,
     _G_OFFSET,
+    _HULL_HOLD,
     _HULL_JUMP,
+    _HULL_WIDE,
     _LAG_LOG_PRIOR,
     _LAG_SPREAD_WIDENING,
     _LAG_WIDENING,
@@ -1030,8 +1032,12 @@ def _track_step(dt: float, states: np.ndarray, ring: np.ndarray, params: np.ndar
             if not first and abs(w_mid - aux[j, _A_W_LAST]) > _HULL_JUMP:
                 aux[j, _A_JUMP] = cfg[_C_HULL]
             aux[j, _A_W_LAST] = w_mid
+            # so does an interval that spans most of the grid in the stream's first seconds of contact (_HULL_HOLD)
+            early_wide = (aux[j, _A_CONTACT] < _HULL_HOLD
+                          and w_high - w_low > _HULL_WIDE * (edges[edges.shape[0] - 1] - edges[0]))
             if not first and h_low == h_low:  # (NaN: no interval yet)
-                keep_hull = 1.0 if free or aux[j, _A_JUMP] > 0.0 else math.exp(-dt / cfg[_C_HULL])  # (contact time)
+                keep_hull = (1.0 if free or aux[j, _A_JUMP] > 0.0 or early_wide
+                             else math.exp(-dt / cfg[_C_HULL]))  # (contact time)
                 if h_low < w_low:
                     w_low = w_low + (h_low - w_low) * keep_hull
                 if h_high > w_high:
