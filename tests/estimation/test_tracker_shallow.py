@@ -4,7 +4,7 @@ point 5 online).
 Every recording the tracker was confidently wrong on, on the sensor-chain bench's seeds 1 and 2, is a robot foot that
 sinks 2-3.5 mm, read through a surface offset known to about 1.5 mm (half the step between two offset hypotheses):
 the depth the force is read at is uncertain by half itself. The reported interval's blur is then widened by
-``k sqrt(s^2 - 1)``, ``s = 4 sqrt(sd^2 + (step / 2)^2 + noise^2) / sinkage`` (``tracker._SHALLOW_WIDENING``; the
+``k sqrt(s^2 - 1)``, ``s = 4.5 sqrt(sd^2 + (step / 2)^2 + noise^2) / sinkage`` (``tracker._SHALLOW_WIDENING``; the
 depth noise measured online in it since 2026-11-30), ``k = 2.5``
 (``tracker._SHALLOW_GAIN``; was ``s`` at 5 and ``k`` 1, which left seed 3's robot on 16.7 % mud, sinking 3.1 mm,
 confidently wrong under a lagged force); the estimate stays the fit's median, and the interval is the hull of the
@@ -216,3 +216,23 @@ def test_a_clean_deep_walk_s_early_interval_is_not_held() -> None:
     at = np.searchsorted(wk.time, [2.0, 3.0, 4.0 - 1e-9])
     assert r.low[at] == pytest.approx([0.214, 0.227, 0.232], abs=0.001)
     assert r.high[at] == pytest.approx([0.286, 0.273, 0.268], abs=0.001)
+
+
+def test_a_shallow_foot_under_a_drifting_surface_is_not_left_out() -> None:
+    """The sensor-chain bench's fresh seed 110, ``robot-model`` 4: the model's force along the MuJoCo quadruped's foot
+    (a 50 mm disc) sinking 3.5-5.5 mm into W = 19.66 % mud, through "drift +2 mm / 30 s" (100 Hz), 30 s. The surface
+    offset is read on the 0-mm hypothesis throughout while the surface drifts 1.6 mm by 24.6 s: more than half the
+    3-mm step between two hypotheses, which the shallow widening held as the offset's resolution. The estimate drifts
+    3 points dry, and with ``s`` at 4 times the ratio the interval's wet end left the truth out by up to 0.11 points
+    at 24.63-25.03 s, unflagged (42 samples). At 4.5 times it misses none; the estimate is the same."""
+    assert tracker_layout._SHALLOW_WIDENING == 4.5
+    truth = 0.19664954190323725
+    t, z, f = np.loadtxt(Path(__file__).parent / "data" / "robot_model_shallow_drift_plus_2mm_seed110.csv",
+                         delimiter=",", skiprows=1, unpack=True)
+    r = track(t, z, f, Foot.disc(0.05))
+    late = t >= 3.0
+    assert not r.misfit[late].any() and not r.changed.any()  # nothing flagged: the interval must hold the truth
+    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 2701
+    at = (t >= 24.6) & (t <= 25.05)
+    assert np.min(r.high[at]) > truth + 0.001  # measured: the wet end at least 20.67 % there (19.55 % at 4 times)
+    assert np.median(r.water_content[at]) == pytest.approx(0.168, abs=0.002)  # measured 16.8 %: the same estimate
