@@ -203,7 +203,7 @@ _BLUR_FACTORS = np.array([1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 9.0, 13.5])
 #: 19.66 % mud) under "drift +2 mm / 30 s", its offset read on the 0 hypothesis while the surface had drifted 1.6 mm,
 #: drifted 3 points dry and was left out by up to 0.11 points for 0.4 s at 24.6 s, unflagged (42 samples; docs/
 #: tracking.md, "A drifting surface under a shallow foot"). Over twenty seeds' tracker rows: none confidently wrong,
-#: within the same on every row, the median width +0.0 to +1.0 points (+0.3 median), false change flags 8 -> 3.
+#: within the same on every row, the median width +0.0 to +1.0 points (+0.3 median), false change flags 10 -> 5.
 _SHALLOW_WIDENING = 4.5
 #: The shallow-sinkage widening's gain [-] (ours, see :data:`_SHALLOW_WIDENING`): the blur's widening per unit of
 #: ``sqrt(s^2 - 1)``. Was 1 with ``s`` at 5 times the ratio: seed 3's robot on 16.7 % mud (sinkage 3.1 mm, ``s``
