@@ -20,7 +20,7 @@ import pytest
 
 from mudforce.estimation import _tracker_layout as tracker_layout
 from mudforce.estimation._tracker_step import _blurred_quantiles
-from mudforce.estimation.tracker import _blur_matrix, track
+from mudforce.estimation.tracker import TrackResult, _blur_matrix, track
 from mudforce.model.foot import Foot
 from mudforce.model.parameters import MudParameters
 from mudforce.motions.gait import gait, walk
@@ -168,6 +168,18 @@ def test_the_reach_toward_the_grids_end_is_continuous() -> None:
     assert np.max(np.diff(reported)) < 1e-3  # no jump: at most 0.1 points for a step of 1e-3 points
 
 
+def _covered_unflagged(filename: str, truth: float) -> tuple[np.ndarray, TrackResult]:
+    """A kept sensor-chain recording of the MuJoCo quadruped's foot (``data/filename``: ``time_s, depth_m,
+    force_N``) tracked with its 50 mm disc: nothing flagged, and every sample's interval after 3 s holds ``truth``
+    [-] (the tracker is never confidently wrong there). Returns the times [s] and the result."""
+    t, z, f = np.loadtxt(Path(__file__).parent / "data" / filename, delimiter=",", skiprows=1, unpack=True)
+    r = track(t, z, f, Foot.disc(0.05))
+    late = t >= 3.0
+    assert not r.misfit[late].any() and not r.changed.any()  # nothing flagged: the interval must hold the truth
+    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))
+    return t, r
+
+
 def test_a_shallow_dry_foot_whose_tail_thins_is_not_left_out() -> None:
     """The sensor-chain bench's seed 90, ``robot`` 6: the MuJoCo quadruped's foot (a 50 mm disc) sinking 2.4-4.2 mm
     into W = 16.64 % mud, MuJoCo's force, through "standard, all (-)" (offset -2 mm, drift -2 mm over 30 s, low-pass
@@ -176,14 +188,8 @@ def test_a_shallow_dry_foot_whose_tail_thins_is_not_left_out() -> None:
     whose dry end left the truth out by up to 0.7 points from 3.00 to 3.42 s, unflagged (22 samples), after its end
     stepped from the grid's 14.75 % to 16.87 % in one sample at 2.76 s. With the end moved in proportion between
     ``_END_REACH_FROM`` and ``_END_REACH`` it misses none; the estimate is the same."""
-    truth = 0.1664156855131229
-    t, z, f = np.loadtxt(Path(__file__).parent / "data" / "robot_shallow_dry_standard_all_minus_seed90.csv",
-                         delimiter=",", skiprows=1, unpack=True)
-    r = track(t, z, f, Foot.disc(0.05))
-    late = t >= 3.0
-    assert not r.misfit[late].any() and not r.changed.any()  # nothing flagged: the interval must hold the truth
-    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 1351
-    assert np.median(r.water_content[late]) == pytest.approx(0.1768, abs=0.002)  # measured 17.68 %
+    t, r = _covered_unflagged("robot_shallow_dry_standard_all_minus_seed90.csv", 0.1664156855131229)  # 1351 samples
+    assert np.median(r.water_content[t >= 3.0]) == pytest.approx(0.1768, abs=0.002)  # measured 17.68 %
 
 
 def test_a_wide_early_interval_holds_the_hull() -> None:
@@ -195,13 +201,7 @@ def test_a_wide_early_interval_holds_the_hull() -> None:
     interval wider than half the grid now holds the hull in the stream's first ``_HULL_HOLD`` seconds of contact;
     the estimate is the same."""
     assert tracker_layout._HULL_HOLD == 3.0 and tracker_layout._HULL_WIDE == 0.5
-    truth = 0.1500968698063424
-    t, z, f = np.loadtxt(Path(__file__).parent / "data" / "robot_shallow_dry_standard_all_minus_seed103.csv",
-                         delimiter=",", skiprows=1, unpack=True)
-    r = track(t, z, f, Foot.disc(0.05))
-    late = t >= 3.0
-    assert not r.misfit[late].any() and not r.changed.any()  # nothing flagged: the interval must hold the truth
-    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 1351
+    t, r = _covered_unflagged("robot_shallow_dry_standard_all_minus_seed103.csv", 0.1500968698063424)  # 1351
     held = (t >= 3.4) & (t <= 3.7)
     assert np.max(r.low[held]) < 0.1495  # measured: the grid's 14.75 %, and 14.92 % from 3.66 s (16.38 % before)
     assert np.median(r.water_content[held]) == pytest.approx(0.258, abs=0.002)  # measured 25.8 %: the same estimate
@@ -227,12 +227,7 @@ def test_a_shallow_foot_under_a_drifting_surface_is_not_left_out() -> None:
     at 24.63-25.03 s, unflagged (42 samples). At 4.5 times it misses none; the estimate is the same."""
     assert tracker_layout._SHALLOW_WIDENING == 4.5
     truth = 0.19664954190323725
-    t, z, f = np.loadtxt(Path(__file__).parent / "data" / "robot_model_shallow_drift_plus_2mm_seed110.csv",
-                         delimiter=",", skiprows=1, unpack=True)
-    r = track(t, z, f, Foot.disc(0.05))
-    late = t >= 3.0
-    assert not r.misfit[late].any() and not r.changed.any()  # nothing flagged: the interval must hold the truth
-    assert np.all((r.low[late] <= truth) & (truth <= r.high[late]))  # measured: every one of the 2701
+    t, r = _covered_unflagged("robot_model_shallow_drift_plus_2mm_seed110.csv", truth)  # all 2701 samples after 3 s
     at = (t >= 24.6) & (t <= 25.05)
     assert np.min(r.high[at]) > truth + 0.001  # measured: the wet end at least 20.67 % there (19.55 % at 4 times)
     assert np.median(r.water_content[at]) == pytest.approx(0.168, abs=0.002)  # measured 16.8 %: the same estimate
